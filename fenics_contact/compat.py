@@ -1,0 +1,54 @@
+"""Every dolfinx call whose spelling differs between supported versions.
+
+Chosen by feature checks (does the attribute exist), never by version
+strings. Other modules import dolfinx only for calls that are the same in
+all supported versions.
+"""
+from __future__ import annotations
+
+import typing
+
+import dolfinx.fem.petsc as fem_petsc
+from dolfinx import fem
+
+if typing.TYPE_CHECKING:
+    from petsc4py import PETSc
+
+
+def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None = None):
+    """Lagrange-type space; ``shape=(gdim,)`` for a vector space."""
+    if hasattr(fem, "functionspace"):  # dolfinx >= 0.8
+        return fem.functionspace(mesh, (family, degree, *([shape] if shape else [])))
+    if shape:
+        return fem.VectorFunctionSpace(mesh, (family, degree), dim=shape[0])
+    return fem.FunctionSpace(mesh, (family, degree))
+
+
+def petsc_vec(f: fem.Function) -> "PETSc.Vec":
+    """The PETSc vector wrapping a Function's values (shares memory)."""
+    return f.x.petsc_vec if hasattr(f.x, "petsc_vec") else f.vector
+
+
+def lift_and_set_bc(b: "PETSc.Vec", a, bcs, x0: "PETSc.Vec", scale: float) -> None:
+    """``b -= scale * A (g - x0)`` on free rows, ``b = scale (g - x0)`` on Dirichlet rows."""
+    try:
+        fem_petsc.apply_lifting(b, [a], bcs=[bcs], x0=[x0], scale=scale)
+    except TypeError:  # dolfinx >= 0.8 renamed ``scale`` to ``alpha``
+        fem_petsc.apply_lifting(b, [a], bcs=[bcs], x0=[x0], alpha=scale)
+    b.ghostUpdate(addv=_petsc().InsertMode.ADD, mode=_petsc().ScatterMode.REVERSE)
+    try:
+        fem_petsc.set_bc(b, bcs, x0, scale)
+    except TypeError:
+        fem_petsc.set_bc(b, bcs, x0, alpha=scale)
+
+
+def bc_dofs(bc) -> "typing.Any":
+    """Local dof indices (owned and ghost) constrained by a DirichletBC."""
+    dofs, first_ghost = bc.dof_indices()
+    return dofs[:first_ghost] if first_ghost is not None else dofs
+
+
+def _petsc():
+    from petsc4py import PETSc
+
+    return PETSc

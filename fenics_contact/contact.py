@@ -1,0 +1,180 @@
+"""A contact surface against a rigid obstacle: the one place a law becomes UFL.
+
+``ContactSurface`` ties a law (:mod:`laws`), an obstacle (:mod:`obstacles`)
+and a tagged part of the boundary. It owns the contact measure (nodal or
+Gauss quadrature), the law's parameters as ``Constant`` (scalars) and
+``Function`` (fields, on a space whose dofs sit at the quadrature points),
+the UFL surface term ``F(g) dg[v]`` and the augmentation update.
+"""
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from .compat import function_space, petsc_vec
+from .laws import ContactLaw, ufl_ops
+from .obstacles import Obstacle
+from .projection import SurfaceProjector
+
+QUADRATURES = ("nodal", "gauss")
+
+# Reference-facet vertex rules (trapezoid and its 2D analogues) by facet cell name.
+_VERTEX_RULES = {
+    "interval": (((0.0,), (1.0,)), (0.5, 0.5)),
+    "triangle": (((0.0, 0.0), (1.0, 0.0), (0.0, 1.0)), (1 / 6,) * 3),
+    "quadrilateral": (((0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)), (0.25,) * 4),
+}
+
+
+def contact_measure(mesh, facet_tags, tag: int, quadrature: str) -> ufl.Measure:
+    """``ds`` on the tagged facets with the vertex rule (``nodal``) or the degree-2 Gauss rule."""
+    if quadrature == "nodal":
+        facet_cell = mesh.ufl_cell().facet_types()[0].cellname()
+        pts, wts = _VERTEX_RULES[facet_cell]
+        md = {"quadrature_rule": "custom", "quadrature_degree": 1,
+              "quadrature_points": pts, "quadrature_weights": wts}
+    elif quadrature == "gauss":
+        md = {"quadrature_degree": 2}
+    else:
+        raise ValueError(f"contact quadrature must be one of {QUADRATURES}, got {quadrature!r}")
+    return ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=tag, metadata=md)
+
+
+def check_facet_tag(mesh, facet_tags, tag: int, name: str) -> np.ndarray:
+    """Facets with ``tag``; raise ``ValueError`` naming ``name`` if no rank has any."""
+    if facet_tags is None or facet_tags.dim != mesh.topology.dim - 1:
+        raise ValueError(f"{name}: the mesh has no facet tags (need facets of dimension {mesh.topology.dim - 1})")
+    facets = facet_tags.indices[facet_tags.values == tag]
+    if mesh.comm.allreduce(len(facets), op=MPI.SUM) == 0:
+        present = sorted(set().union(*mesh.comm.allgather(set(np.unique(facet_tags.values).tolist()))))
+        raise ValueError(f"{name}: facet tag {tag} is absent from the mesh; tags present: {present}")
+    return facets
+
+
+class ContactSurface:
+    """Contact of the tagged boundary ``tag`` of the body with displacement ``u`` against ``obstacle``.
+
+    The current position is ``x = X + u`` (also for linear elasticity, so a
+    curved obstacle is followed exactly). ``load`` is the scalar ``Constant``
+    that moves the obstacle.
+    """
+
+    def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
+        mesh = u.function_space.mesh
+        self.name, self.u, self.law, self.obstacle, self.quadrature = name, u, law, obstacle, quadrature
+        self.facets = check_facet_tag(mesh, facet_tags, tag, f"contact surface {name!r}")
+        self.ds = contact_measure(mesh, facet_tags, tag, quadrature)
+        obstacle.bind(load)
+        x = ufl.SpatialCoordinate(mesh) + u
+        self.gap = obstacle.gap(x)
+        self.normal = obstacle.normal(x)
+
+        # Law parameters: scalars as Constants, fields at the quadrature points.
+        self.S = function_space(mesh, "Lagrange" if quadrature == "nodal" else "DG", 1)
+        self.constants = {k: fem.Constant(mesh, float(v)) for k, v in law.scalars.items()}
+        self.fields = {}
+        for k, v in law.fields.items():
+            f = fem.Function(self.S, name=k)
+            f.x.array[:] = v
+            self.fields[k] = f
+        self.params = {**self.constants, **self.fields}
+        self.pressure = law.force(self.gap, self.params, ufl_ops())
+
+        self.projector = SurfaceProjector(self.S, self.ds)
+        self._gap_rhs = self.projector.compile(self.gap)
+        self._aug_rhs = {k: self.projector.compile(e)
+                         for k, e in law.augment_fields(self.gap, self.params, ufl_ops()).items()}
+        self._gap_now = fem.Function(self.S)
+        self._gap_prev = None
+        self._force_forms = [fem.form(self.pressure * self.normal[i] * self.ds) for i in range(mesh.geometry.dim)]
+        self._area_form = fem.form(fem.Constant(mesh, 1.0) * self.ds)
+        self._mean_p_form = fem.form(self.pressure * self.ds)
+        self.comm = mesh.comm
+
+        # Output: nodal values of gap and pressure on P1, for XDMF and the figures.
+        P1 = function_space(mesh, "Lagrange", 1)
+        self._out = self.projector if quadrature == "nodal" else SurfaceProjector(
+            P1, contact_measure(mesh, facet_tags, tag, "nodal"))
+        self.gap_out = fem.Function(P1, name="gap")
+        self.pressure_out = fem.Function(P1, name="contact_pressure")
+        self._out_rhs = [(self._out.compile(self.gap), self.gap_out),
+                         (self._out.compile(self.pressure), self.pressure_out)]
+
+    # --- forms -----------------------------------------------------------
+    def residual(self, v: ufl.Argument) -> ufl.Form:
+        """Surface term ``F(g) dg[v] ds`` of the residual (``dg[v] = -n . v`` for a rigid obstacle)."""
+        return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds
+
+    # --- state -----------------------------------------------------------
+    def state(self) -> dict:
+        """A copy of the augmentable state (field arrays, scalar values)."""
+        return {"fields": {k: f.x.array.copy() for k, f in self.fields.items()},
+                "constants": {k: float(c.value) for k, c in self.constants.items()},
+                "gap_prev": None if self._gap_prev is None else self._gap_prev.copy()}
+
+    def restore(self, state: dict) -> None:
+        for k, a in state["fields"].items():
+            self.fields[k].x.array[:] = a
+        for k, v in state["constants"].items():
+            self.constants[k].value = v
+        self._gap_prev = None if state["gap_prev"] is None else state["gap_prev"].copy()
+
+    def constraint_change(self) -> float:
+        """``R = sqrt(sum (g_new - g_old)^2)`` over the quadrature points since the last call (inf first)."""
+        self.projector.project(self._gap_rhs, self._gap_now)
+        now = petsc_vec(self._gap_now)
+        R = np.inf
+        if self._gap_prev is not None:
+            R = float(np.sqrt(self.comm.allreduce(np.sum((self._owned(now.array) - self._owned(self._gap_prev)) ** 2))))
+        self._gap_prev = now.array.copy()
+        return R
+
+    def forget_gap(self) -> None:
+        """Start a new augmentation sequence (a new load step)."""
+        self._gap_prev = None
+
+    def augment(self) -> None:
+        """One augmentation (Box 1 / Uzawa): fields from the converged gap, then scalars."""
+        new = {k: self.projector.project(rhs, fem.Function(self.S)) for k, rhs in self._aug_rhs.items()}
+        for k, f in new.items():
+            self.fields[k].x.array[:] = f.x.array
+        for k, v in self.law.augment_scalars({k: float(c.value) for k, c in self.constants.items()}).items():
+            self.constants[k].value = v
+
+    def _owned(self, a: np.ndarray) -> np.ndarray:
+        n = self.S.dofmap.index_map.size_local * self.S.dofmap.index_map_bs
+        return a[:n]
+
+    # --- figures ---------------------------------------------------------
+    def total_force(self) -> np.ndarray:
+        """Force of the obstacle on the body, ``int F n ds`` (per unit thickness in 2D)."""
+        return np.array([self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in self._force_forms])
+
+    def update_output(self) -> None:
+        """Nodal gap and pressure into ``gap_out`` and ``pressure_out``."""
+        for rhs, f in self._out_rhs:
+            self._out.project(rhs, f)
+
+    def surface_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Coordinates, gap and pressure at the contact-surface vertices, gathered on every rank."""
+        self.update_output()
+        V = self.gap_out.function_space
+        dofs = self._out.surface_dofs
+        x = V.tabulate_dof_coordinates()[dofs]
+        data = [np.concatenate(a) for a in zip(*self.comm.allgather(
+            (x, self.gap_out.x.array[dofs], self.pressure_out.x.array[dofs])))]
+        order = np.lexsort(data[0].T[::-1])
+        return data[0][order], data[1][order], data[2][order]
+
+    def max_penetration(self) -> float:
+        """Largest gap over the contact vertices (positive = penetration, negative = open)."""
+        return float(np.max(self.surface_values()[1]))
+
+    def area(self) -> float:
+        return self.comm.allreduce(fem.assemble_scalar(self._area_form), op=MPI.SUM)
+
+    def mean_pressure(self) -> float:
+        return self.comm.allreduce(fem.assemble_scalar(self._mean_p_form), op=MPI.SUM) / self.area()

@@ -1,0 +1,211 @@
+"""Normal contact laws: a gap (and a state) mapped to a contact pressure.
+
+Sign convention, used everywhere in the suite: the normal gap ``g`` is
+positive for **penetration** and negative for an open contact (the
+cross-constraints paper's convention). The contact pressure ``F(g)`` is
+positive in compression. The surface term built from a law is
+``+ F(g) * dg[v]`` in the residual, with ``dg[v]`` the variation of ``g``.
+
+A law is written once against a tiny operator namespace (``ops``) so that the
+same formula gives UFL (for the forms) and NumPy (for tests and reports):
+``ops.exp``, ``ops.max``, ``ops.min``. Parameters are held in a mapping
+``c``: *scalars* (one value on the whole surface, ``Constant`` in the forms)
+and *fields* (a value per contact quadrature point, ``Function`` in the
+forms; augmentation updates them).
+"""
+from __future__ import annotations
+
+import math
+import types
+from typing import Any, Mapping
+
+import numpy as np
+
+NUMPY = types.SimpleNamespace(exp=np.exp, max=np.maximum, min=np.minimum)
+
+
+def ufl_ops() -> types.SimpleNamespace:
+    """The UFL operator namespace (imported lazily: laws work without UFL)."""
+    import ufl
+
+    return types.SimpleNamespace(exp=ufl.exp, max=ufl.max_value, min=ufl.min_value)
+
+
+def _check_positive(name: str, value: float) -> float:
+    value = float(value)
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+def _check_nonnegative(name: str, value: float) -> float:
+    value = float(value)
+    if not (math.isfinite(value) and value >= 0.0):
+        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+    return value
+
+
+class ContactLaw:
+    """Base class: ``force`` (F), ``potential`` (P, dP/dg = F), ``stiffness`` (K = dF/dg).
+
+    ``scalars`` and ``fields`` give the initial values of the parameters;
+    ``augment`` returns the new parameter values after a converged solve
+    (``{}`` for a law without augmentation).
+    """
+
+    name = "law"
+    scalars: dict[str, float]
+    fields: dict[str, float]
+
+    def force(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
+        raise NotImplementedError
+
+    def potential(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
+        raise NotImplementedError
+
+    def stiffness(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
+        raise NotImplementedError
+
+    @property
+    def augmentable(self) -> bool:
+        return bool(self.fields)
+
+    def augment_fields(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> dict[str, Any]:
+        """New field values (same keys as ``fields``) from the converged gap."""
+        return {}
+
+    def augment_scalars(self, c: Mapping[str, float]) -> dict[str, float]:
+        """New scalar values after an augmentation."""
+        return {}
+
+    def parameters(self) -> dict[str, float]:
+        return {**self.scalars, **self.fields}
+
+    def values(self) -> dict[str, float]:
+        """Initial parameter values as plain floats (for NumPy evaluation)."""
+        return self.parameters()
+
+
+class Penalty(ContactLaw):
+    """Penalty: ``P = K/2 <g>^2``, ``F = K <g>``, ``K`` for ``g > 0``. ``K`` in pressure per length."""
+
+    name = "penalty"
+
+    def __init__(self, K: float):
+        self.scalars = {"K": _check_positive("penalty K", K)}
+        self.fields = {}
+
+    def force(self, g, c, ops=NUMPY):
+        return c["K"] * ops.max(g, 0.0)
+
+    def potential(self, g, c, ops=NUMPY):
+        gp = ops.max(g, 0.0)
+        return 0.5 * c["K"] * gp * gp
+
+    def stiffness(self, g, c, ops=NUMPY):
+        # Heaviside written through max/min so that it is exact 0 or 1 in
+        # both back-ends: <g>/g is avoided (0/0 at g = 0).
+        return c["K"] * _heaviside(g, ops)
+
+
+class AugmentedLagrangian(ContactLaw):
+    """Augmented Lagrangian (Uzawa): ``F = <lam + K g>``, then ``lam <- F(g)`` after each solve.
+
+    ``lam`` is a pressure field on the contact surface (initially ``lam0``).
+    """
+
+    name = "auglag"
+
+    def __init__(self, K: float, lam0: float = 0.0):
+        self.scalars = {"K": _check_positive("penalty K", K)}
+        self.fields = {"lam": _check_nonnegative("initial multiplier lam0", lam0)}
+
+    def force(self, g, c, ops=NUMPY):
+        return ops.max(c["lam"] + c["K"] * g, 0.0)
+
+    def potential(self, g, c, ops=NUMPY):
+        # P such that dP/dg = F: (1/2K) <lam + K g>^2, shifted to P(0) = lam^2/(2K)
+        s = ops.max(c["lam"] + c["K"] * g, 0.0)
+        return s * s / (2.0 * c["K"])
+
+    def stiffness(self, g, c, ops=NUMPY):
+        return c["K"] * _heaviside(c["lam"] + c["K"] * g, ops)
+
+    def augment_fields(self, g, c, ops=NUMPY):
+        return {"lam": self.force(g, c, ops)}
+
+
+class CrossConstraints(ContactLaw):
+    """Cross-constraints law of Zavarise, Wriggers & Schrefler (1998).
+
+    ``F_hat``: target pressure at ``g = 0`` (``>= 0``; ``0`` is the penalty
+    method), ``K_hat``: stiffness at ``g = 0`` (``> 0``), ``a`` in ``[0, 1)``:
+    shape parameter (``a > 0.1`` gives adhesion), ``tau >= 1``: factor on
+    ``K_hat`` at each augmentation.
+
+    Open side (``g <= 0``): ``F = F_hat/(1-a) (e^(A g) - a e^(A a g))`` with
+    ``A = K_hat / ((1+a) F_hat)``. Closed side (``g > 0``): the parabola
+    ``F = F_hat + K_hat g`` (stiffness capped at ``K_hat``). Exponents are
+    evaluated at ``min(g, 0)`` and ``A`` is bounded, so nothing overflows and
+    ``F_hat -> 0`` gives the penalty law without a division by zero.
+    Augmentation: ``F_hat <- max(F(g), 0)`` per point, ``K_hat <- tau K_hat``.
+    """
+
+    name = "cross"
+
+    def __init__(self, K_hat: float, F_hat: float = 0.0, a: float = 0.0, tau: float = 1.0):
+        K_hat = _check_positive("cross-constraints K_hat", K_hat)
+        F_hat = _check_nonnegative("cross-constraints F_hat", F_hat)
+        a = float(a)
+        if not (0.0 <= a < 1.0):
+            raise ValueError(f"cross-constraints shape parameter a must be in [0, 1), got {a!r}")
+        tau = float(tau)
+        if not (math.isfinite(tau) and tau >= 1.0):
+            raise ValueError(f"cross-constraints factor tau must be >= 1, got {tau!r}")
+        self.a, self.tau = a, tau
+        self.scalars = {"K_hat": K_hat}
+        self.fields = {"F_hat": F_hat}
+
+    def _exponent(self, g, c, ops):
+        # A * min(g, 0) <= 0 always; A <= 1e200 / (1 + a) keeps A finite for F_hat = 0.
+        A = c["K_hat"] / ((1.0 + self.a) * ops.max(c["F_hat"], 1e-200 * c["K_hat"]))
+        return A * ops.min(g, 0.0)
+
+    def force(self, g, c, ops=NUMPY):
+        a, x = self.a, self._exponent(g, c, ops)
+        open_ = c["F_hat"] / (1.0 - a) * (ops.exp(x) - a * ops.exp(a * x)) if a else c["F_hat"] * ops.exp(x)
+        return open_ + c["K_hat"] * ops.max(g, 0.0)
+
+    def potential(self, g, c, ops=NUMPY):
+        a, x = self.a, self._exponent(g, c, ops)
+        k = c["F_hat"] ** 2 * (1.0 + a) / (c["K_hat"] * (1.0 - a))
+        gp = ops.max(g, 0.0)
+        return k * (ops.exp(x) - ops.exp(a * x)) + c["F_hat"] * gp + 0.5 * c["K_hat"] * gp * gp
+
+    def stiffness(self, g, c, ops=NUMPY):
+        a, x = self.a, self._exponent(g, c, ops)
+        # At x = 0 (closed side) this is K_hat; the open branch vanishes for F_hat = 0.
+        open_ = (ops.exp(x) - a * a * ops.exp(a * x)) / (1.0 - a * a)
+        on = _heaviside(c["F_hat"], ops)  # F_hat = 0: no open branch at all
+        return c["K_hat"] * (on * open_ + (1.0 - on) * _heaviside(g, ops))
+
+    def augment_fields(self, g, c, ops=NUMPY):
+        return {"F_hat": ops.max(self.force(g, c, ops), 0.0)}
+
+    def augment_scalars(self, c):
+        return {"K_hat": self.tau * float(c["K_hat"])}
+
+
+def _heaviside(x, ops):
+    """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
+    return ops.min(ops.max(x * 1e300, 0.0), 1.0)
+
+
+METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian}
+
+
+def make_law(method: str, **params: float) -> ContactLaw:
+    """Build a law by method name (``penalty``, ``cross``, ``auglag``)."""
+    if method not in METHODS:
+        raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
+    return METHODS[method](**params)

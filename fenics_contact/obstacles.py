@@ -1,0 +1,108 @@
+"""Rigid analytic obstacles as UFL of the current position ``x = X + u``.
+
+An obstacle gives the normal gap ``g(x)`` (positive = penetration, see
+:mod:`fenics_contact.laws`) and the unit normal ``n(x)`` pointing from the
+obstacle into the body's admissible side. It may move rigidly with the load
+parameter ``t``: its reference point is ``point + t * motion``.
+"""
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+import ufl
+
+
+class Obstacle:
+    """Base class. ``bind(load)`` must be called before ``gap``/``normal``."""
+
+    def __init__(self, point: Sequence[float], motion: Sequence[float] | None = None):
+        self.point = np.asarray(point, dtype=float)
+        self.motion = np.zeros_like(self.point) if motion is None else np.asarray(motion, dtype=float)
+        if self.motion.shape != self.point.shape:
+            raise ValueError(f"obstacle motion {self.motion} must have the dimension of its point {self.point}")
+        self._load = None
+
+    def bind(self, load: ufl.core.expr.Expr) -> None:
+        """Attach the load parameter (a scalar ``Constant``) that moves the obstacle."""
+        self._load = load
+
+    def _origin(self) -> ufl.core.expr.Expr:
+        if self._load is None:
+            raise RuntimeError("obstacle is not bound to a load parameter: call bind(load) first")
+        return ufl.as_vector(list(self.point)) + self._load * ufl.as_vector(list(self.motion))
+
+    def gap(self, x: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
+        raise NotImplementedError
+
+    def normal(self, x: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
+        raise NotImplementedError
+
+    def describe(self) -> dict:
+        return {"type": type(self).__name__, "point": self.point.tolist(), "motion": self.motion.tolist()}
+
+
+class HalfPlane(Obstacle):
+    """Rigid half-space ``(x - p) . n < 0``; ``n`` (any orientation) points into the body."""
+
+    def __init__(self, point, normal, motion=None):
+        super().__init__(point, motion)
+        n = np.asarray(normal, dtype=float)
+        if n.shape != self.point.shape or not np.linalg.norm(n) > 0:
+            raise ValueError(f"half-plane normal {normal} must be a nonzero vector of dimension {self.point.size}")
+        self.n = n / np.linalg.norm(n)
+
+    def gap(self, x):
+        return -ufl.dot(x - self._origin(), ufl.as_vector(list(self.n)))
+
+    def normal(self, x):
+        return ufl.as_vector(list(self.n))
+
+    def describe(self):
+        return {**super().describe(), "normal": self.n.tolist()}
+
+
+class Ball(Obstacle):
+    """Rigid disk (2D), cylinder with an axis (3D) or sphere (3D) of radius ``radius``.
+
+    ``body_outside=True``: the body lies outside the obstacle (a pin, a
+    punch); ``False``: the body lies inside a rigid cavity.
+    """
+
+    def __init__(self, center, radius: float, motion=None, axis=None, body_outside: bool = True):
+        super().__init__(center, motion)
+        if not float(radius) > 0:
+            raise ValueError(f"obstacle radius must be > 0, got {radius!r}")
+        self.radius = float(radius)
+        self.axis = None if axis is None else np.asarray(axis, float) / np.linalg.norm(axis)
+        self.sign = 1.0 if body_outside else -1.0
+
+    def _radial(self, x):
+        d = x - self._origin()
+        if self.axis is not None:
+            a = ufl.as_vector(list(self.axis))
+            d = d - ufl.dot(d, a) * a
+        return d
+
+    def gap(self, x):
+        return self.sign * (self.radius - ufl.sqrt(ufl.dot(self._radial(x), self._radial(x))))
+
+    def normal(self, x):
+        d = self._radial(x)
+        return self.sign * d / ufl.sqrt(ufl.dot(d, d))
+
+    def describe(self):
+        return {**super().describe(), "radius": self.radius, "body_outside": self.sign > 0,
+                "axis": None if self.axis is None else self.axis.tolist()}
+
+
+def Cylinder(center, radius, motion=None, axis=None, body_outside=True) -> Ball:
+    """A disk in 2D; in 3D a cylinder about ``axis`` (required)."""
+    if len(center) == 3 and axis is None:
+        raise ValueError("a 3D cylinder obstacle needs its axis")
+    return Ball(center, radius, motion, axis, body_outside)
+
+
+def Sphere(center, radius, motion=None, body_outside=True) -> Ball:
+    """A rigid sphere (3D)."""
+    return Ball(center, radius, motion, None, body_outside)

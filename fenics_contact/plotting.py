@@ -1,0 +1,105 @@
+"""Pictures: deformed meshes (pyvista, off screen) and pressure profiles (matplotlib, Agg).
+
+pyvista and matplotlib are imported inside the functions, so this module imports
+without them.
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from dolfinx.fem import Function, FunctionSpace
+
+
+def _vtk_mesh(V: FunctionSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """VTK (topology, cell types, dof coordinates) of the owned cells of V."""
+    from dolfinx import plot
+
+    create = getattr(plot, "create_vtk_mesh", None) or plot.vtk_mesh  # dolfinx < 0.7 / >= 0.7
+    return create(V)
+
+
+def _cell_nodes(V: FunctionSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(local dof-node indices per owned cell in VTK order, VTK cell types, node coordinates)."""
+    topology, cell_types, x = _vtk_mesh(V)
+    return topology.reshape(-1, V.dofmap.dof_layout.num_dofs + 1)[:, 1:], cell_types, x
+
+
+def plot_deformed(u: Function, scalar: Function, path: str | Path, title: str = "",
+                  scale: float = 1.0, clim: Sequence[float] | None = None) -> None:
+    """Save a picture of the mesh warped by ``scale * u``, coloured by ``scalar``.
+
+    ``u``: vector P1 Function (2D or 3D); ``scalar``: scalar P1 Function on the
+    same mesh, its name titles the scalar bar; ``clim``: colour range (default:
+    data range). 2D meshes are viewed from +z. Collective: every rank calls it;
+    the owned cells are gathered to rank 0, which renders and writes ``path``.
+    Updates the ghost values of ``u`` and ``scalar``.
+    """
+    V, S = u.function_space, scalar.function_space
+    comm = V.mesh.comm
+    u.x.scatter_forward()
+    scalar.x.scatter_forward()
+    cells, cell_types, x = _cell_nodes(V)
+    scalar_cells, _, _ = _cell_nodes(S)
+    if comm.allreduce(scalar_cells.shape != cells.shape or S.dofmap.index_map_bs != 1):
+        raise ValueError("scalar must be a scalar Function with u's cells and nodes per cell")
+    bs = V.dofmap.index_map_bs
+    disp = np.zeros((x.shape[0], 3))
+    disp[:, :bs] = u.x.array.real.reshape(-1, bs)[:, :3]
+    points = (x + scale * disp)[cells].reshape(-1, 3)  # one copy of each node per cell
+    values = scalar.x.array.real[scalar_cells].reshape(-1)
+    gathered = comm.gather((points, values, cell_types, cells.shape[1]), root=0)
+    if comm.rank != 0:
+        return
+
+    import pyvista
+
+    pyvista.OFF_SCREEN = True
+    points = np.concatenate([g[0] for g in gathered])
+    values = np.concatenate([g[1] for g in gathered])
+    cell_types = np.concatenate([g[2] for g in gathered]).astype(np.uint8)
+    k = max(g[3] for g in gathered)
+    connectivity = np.hstack([np.full((len(cell_types), 1), k), np.arange(len(points)).reshape(-1, k)])
+    grid = pyvista.UnstructuredGrid(connectivity.ravel(), cell_types, points)
+    grid.point_data[scalar.name] = values
+    plotter = pyvista.Plotter(off_screen=True, window_size=(1200, 900))
+    plotter.add_mesh(grid, scalars=scalar.name, cmap="viridis", clim=clim,
+                     scalar_bar_args={"title": scalar.name, "vertical": True})
+    if title:
+        plotter.add_title(title, font_size=12)
+    if V.mesh.geometry.dim == 2:
+        plotter.view_xy()
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    plotter.screenshot(str(path))
+    plotter.close()
+
+
+def plot_profile(x: np.ndarray, p: np.ndarray, path: str | Path, x_ref: np.ndarray | None = None,
+                 p_ref: np.ndarray | None = None, xlabel: str = "x",
+                 ylabel: str = "contact pressure", labels: Sequence[str] = ("computed", "reference"),
+                 title: str = "") -> None:
+    """Save a plot of the computed points ``(x, p)``, sorted by x, over the reference curve.
+
+    Not collective: call it on one rank (rank 0) with gathered arrays.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.4, 4.4))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    if x_ref is not None and p_ref is not None:
+        ax.plot(x_ref, p_ref, "-", color="black", lw=1.5, label=labels[1])
+    order = np.argsort(x)
+    ax.plot(np.asarray(x)[order], np.asarray(p)[order], "o-", ms=3, lw=0.8, color="tab:red",
+            label=labels[0])
+    ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(str(path), dpi=150)

@@ -1,0 +1,75 @@
+"""The nonlinear problem: bulk energy, loads, Dirichlet data and contact surfaces.
+
+All forms are compiled once here; the load parameter ``t`` is a ``Constant``
+and Dirichlet values are ``Constant``s rescaled by :meth:`set_load`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx.fem.petsc as fem_petsc
+
+from .contact import ContactSurface
+from .materials import Material
+
+
+@dataclass
+class Dirichlet:
+    """``u_i = t * amplitude`` on ``dofs`` of the (sub)space ``V`` (``amplitude`` at ``t = 1``)."""
+
+    V: fem.FunctionSpace
+    dofs: np.ndarray
+    amplitude: float = 0.0
+    value: fem.Constant = field(init=False)
+    bc: object = field(init=False)
+
+    def __post_init__(self):
+        self.value = fem.Constant(self.V.mesh, 0.0)
+        self.bc = fem.dirichletbc(self.value, self.dofs, self.V)
+
+
+class ContactProblem:
+    """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian."""
+
+    def __init__(self, u: fem.Function, material: Material, load: fem.Constant,
+                 dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[ContactSurface] = (),
+                 tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = ()):
+        self.u, self.material, self.load = u, material, load
+        self.dirichlet, self.contacts = list(dirichlet), list(contacts)
+        self.bcs = [d.bc for d in self.dirichlet]
+        V = u.function_space
+        v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
+        bulk = ufl.derivative(material.energy(u) * ufl.dx, u, v)
+        residual = bulk
+        for t, ds in tractions:
+            residual -= load * ufl.dot(t, v) * ds
+        for c in self.contacts:
+            residual += c.residual(v)
+        self.F = fem.form(residual)
+        self.J = fem.form(ufl.derivative(residual, u, du))
+        self._bulk = fem.form(bulk)
+        self.comm = V.mesh.comm
+
+    def set_load(self, t: float) -> None:
+        """Load parameter ``t``: obstacles move by ``t * motion``, tractions and Dirichlet values scale by ``t``."""
+        self.load.value = t
+        for d in self.dirichlet:
+            d.value.value = t * d.amplitude
+
+    def reaction(self, dofs: np.ndarray) -> float:
+        """Sum of the internal forces ``dW[phi_i]`` over ``dofs`` (local, owned-or-ghost indices)
+        of ``u``'s space, summed over ranks: the force the support exerts on the body."""
+        r = fem_petsc.assemble_vector(self._bulk)
+        r.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        n_owned = self.u.function_space.dofmap.index_map.size_local * self.u.function_space.dofmap.index_map_bs
+        local = float(np.sum(r.array[dofs[dofs < n_owned]]))
+        r.destroy()
+        return self.comm.allreduce(local, op=MPI.SUM)
+

@@ -1,0 +1,47 @@
+"""Benchmark scenes: data plus one builder each, shared by demos, tests and benchmarks.
+
+A builder returns a :class:`Setup`; ``figures()`` returns the scene's figures
+(reduced over all ranks) after a solve.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+from dolfinx import fem
+
+from ..contact import ContactSurface
+from ..problem import ContactProblem
+
+
+@dataclass
+class Setup:
+    """What a scene builder returns."""
+
+    name: str
+    problem: ContactProblem
+    contacts: list[ContactSurface]
+    loads: Sequence[float]
+    parameters: dict
+    figures: Callable[[], dict]
+    fields: list[fem.Function] = field(default_factory=list)
+
+    @property
+    def dofs(self) -> int:
+        V = self.problem.u.function_space
+        return V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+
+
+def scene_names() -> list[str]:
+    return ["block", "hertz"]
+
+
+def build(name: str, **kwargs) -> Setup:
+    """Build scene ``name`` (``block``, ``hertz``) with keyword arguments of its builder."""
+    if name == "block":
+        from .block import build as b
+    elif name == "hertz":
+        from .hertz import build as b
+    else:
+        raise ValueError(f"unknown scene {name!r}; accepted: {', '.join(scene_names())}")
+    return b(**kwargs)

@@ -1,0 +1,62 @@
+"""``block``: elastic block pressed on a rigid frictionless foundation (Zavarise et al. 1998).
+
+Height 2, E = 1000, nu = 0.3, linear elasticity, plane strain; the top is
+moved down by 0.32 (vertical displacement imposed, horizontal free), the
+base rests on the rigid half-plane y = 0. The paper's figure with the
+block's width is missing: the state is uniform for any width, so we model
+the right half of a block 2 wide (symmetry u_x = 0 on x = 0). Exact
+pressure ``E/(1-nu^2) * 0.32/2 = 175.8243``; with a penetration ``d`` the
+pressure is ``175.8243 (1 - d/0.32)``.
+"""
+from __future__ import annotations
+
+from dolfinx import fem
+from mpi4py import MPI
+
+from ..compat import function_space
+from ..contact import ContactSurface
+from ..laws import ContactLaw
+from ..materials import LinearElastic
+from ..meshes import BOTTOM, LEFT, RECT_TOP as TOP, rectangle
+from ..obstacles import HalfPlane
+from ..problem import ContactProblem, Dirichlet
+from . import Setup
+
+HEIGHT, HALF_WIDTH, E, NU, DISPLACEMENT = 2.0, 1.0, 1000.0, 0.3, 0.32
+EXACT_PRESSURE = E / (1 - NU**2) * DISPLACEMENT / HEIGHT
+
+
+def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
+          comm: MPI.Comm = MPI.COMM_WORLD, quadrilateral: bool = False) -> Setup:
+    mesh, _, facet_tags = rectangle(comm, HALF_WIDTH, HEIGHT, nx, ny, quadrilateral)
+    V = function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V, name="displacement")
+    load = fem.Constant(mesh, 0.0)
+    fdim = mesh.topology.dim - 1
+    top = facet_tags.indices[facet_tags.values == TOP]
+    left = facet_tags.indices[facet_tags.values == LEFT]
+    top_y = fem.locate_dofs_topological(V.sub(1), fdim, top)
+    dirichlet = [Dirichlet(V.sub(1), top_y, -DISPLACEMENT),
+                 Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, left))]
+    contact = ContactSurface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
+    material = LinearElastic(E, NU)
+    problem = ContactProblem(u, material, load, dirichlet, [contact])
+
+    def figures() -> dict:
+        force = contact.total_force()
+        return {"contact_pressure": contact.mean_pressure(),
+                "max_penetration": contact.max_penetration(),
+                "total_force": 2 * force[1],
+                "reaction_top": -2 * problem.reaction(top_y),
+                "exact_pressure": EXACT_PRESSURE,
+                "pressure_error": abs(contact.mean_pressure() - EXACT_PRESSURE) / EXACT_PRESSURE}
+
+    params = {"E": E, "nu": NU, "height": HEIGHT, "width": 2 * HALF_WIDTH, "displacement": DISPLACEMENT,
+              "nx": nx, "ny": ny, "quadrature": quadrature, "model": "half (symmetry x = 0)"}
+    return Setup("block", problem, [contact], [1.0], params, figures,
+                 [u, contact.gap_out, contact.pressure_out])
+
+
+def reference() -> dict:
+    return {"contact_pressure": EXACT_PRESSURE}
+

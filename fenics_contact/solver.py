@@ -1,0 +1,223 @@
+"""The solver driver: PETSc SNES, load stepping with cutback, augmentation loop, record.
+
+PETSc options: the defaults below are set under the options prefix only when
+absent, so anything given on the command line (``-fc_snes_rtol 1e-12``) or
+in ``options`` wins. The same options must be given on every rank.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx.fem.petsc as fem_petsc
+
+from .compat import lift_and_set_bc, petsc_vec
+from .problem import ContactProblem
+
+DEFAULT_OPTIONS = {
+    "snes_type": "newtonls",
+    "snes_linesearch_type": "bt",
+    "snes_rtol": 1e-11,
+    "snes_atol": 1e-10,
+    "snes_stol": 1e-14,
+    "snes_max_it": 30,
+    "ksp_type": "preonly",
+    "pc_type": "lu",
+    "pc_factor_mat_solver_type": "mumps",
+}
+
+
+class ConvergenceError(RuntimeError):
+    """A load step failed even after the allowed cutbacks."""
+
+
+@dataclass
+class StepRecord:
+    """One converged (or failed) load step: Newton residual histories per solve (one per augmentation)."""
+
+    step: int
+    load: float
+    residuals: list[list[float]] = field(default_factory=list)
+    constraint_change: list[float] = field(default_factory=list)
+    augmentations: int = 0
+    augmentation_converged: bool = True
+    converged: bool = False
+    reason: int = 0
+    wall_time_s: float = 0.0
+
+    @property
+    def newton_iterations(self) -> int:
+        return sum(max(len(r) - 1, 0) for r in self.residuals)
+
+    def as_dict(self) -> dict:
+        return {"step": self.step, "load": self.load, "newton_iterations": self.newton_iterations,
+                "residuals": self.residuals, "constraint_change": self.constraint_change,
+                "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
+                "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s}
+
+
+class Solver:
+    """Drives a :class:`ContactProblem` through a sequence of load values.
+
+    ``augment_max`` augmentations at most per load step (0: none), stopping
+    when ``R = ||g_new - g_old|| <= augment_tol``. A step whose SNES
+    diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
+    called after every converged step (output). ``quiet`` silences the
+    progress lines.
+    """
+
+    def __init__(self, problem: ContactProblem, prefix: str = "fc_", options: dict | None = None,
+                 augment_max: int = 0, augment_tol: float = 1e-12, max_cutbacks: int = 4,
+                 quiet: bool = False, on_step: Callable[[float], None] | None = None):
+        if augment_max < 0:
+            raise ValueError(f"augment_max must be >= 0, got {augment_max}")
+        if not augment_tol > 0:
+            raise ValueError(f"augment_tol must be > 0, got {augment_tol}")
+        self.problem, self.quiet, self.on_step = problem, quiet, on_step
+        self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
+        # Options already in the database (command line) win; ours are removed
+        # after setFromOptions so that they do not leak into the next solver.
+        opts = PETSc.Options()
+        ours = [k for k in {**DEFAULT_OPTIONS, **(options or {})} if not opts.hasName(prefix + k)]
+        for k in ours:
+            opts[prefix + k] = {**DEFAULT_OPTIONS, **(options or {})}[k]
+        u = problem.u
+        self._b = fem_petsc.create_vector(problem.F)
+        self._A = fem_petsc.create_matrix(problem.J)
+        self._x = petsc_vec(u).copy()
+        self.snes = PETSc.SNES().create(problem.comm)
+        self.snes.setOptionsPrefix(prefix)
+        self.snes.setFunction(self._residual, self._b)
+        self.snes.setJacobian(self._jacobian, self._A)
+        self.snes.setMonitor(self._monitor)
+        self.snes.setFromOptions()
+        self.snes.getKSP().setFromOptions()
+        for k in ours:
+            opts.delValue(prefix + k)
+        self.records: list[StepRecord] = []
+        self._history: list[float] = []
+        self.t = 0.0
+
+    # --- SNES callbacks ---------------------------------------------------
+    def _set_u(self, x: PETSc.Vec) -> None:
+        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        x.copy(petsc_vec(self.problem.u))
+        self.problem.u.x.scatter_forward()
+
+    def _residual(self, snes, x, b):
+        self._set_u(x)
+        with b.localForm() as bl:
+            bl.set(0.0)
+        fem_petsc.assemble_vector(b, self.problem.F)
+        lift_and_set_bc(b, self.problem.J, self.problem.bcs, x, -1.0)
+
+    def _jacobian(self, snes, x, A, P):
+        A.zeroEntries()
+        fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
+        A.assemble()
+
+    def _monitor(self, snes, it, norm):
+        self._history.append(float(norm))
+
+    # --- driver -----------------------------------------------------------
+    def _newton(self) -> int:
+        self._history = []
+        petsc_vec(self.problem.u).copy(self._x)
+        self.snes.solve(None, self._x)
+        self._set_u(self._x)
+        return self.snes.getConvergedReason()
+
+    def _snapshot(self):
+        return petsc_vec(self.problem.u).copy(), [c.state() for c in self.problem.contacts]
+
+    def _rollback(self, snap) -> None:
+        snap[0].copy(petsc_vec(self.problem.u))
+        self.problem.u.x.scatter_forward()
+        for c, s in zip(self.problem.contacts, snap[1]):
+            c.restore(s)
+
+    def _step(self, t: float, number: int) -> StepRecord:
+        """Solve at load ``t`` with the augmentation loop; the record says whether it converged."""
+        rec = StepRecord(step=number, load=t)
+        start = time.perf_counter()
+        self.problem.set_load(t)
+        augmentable = [c for c in self.problem.contacts if c.law.augmentable]
+        for c in augmentable:
+            c.forget_gap()
+        while True:
+            rec.reason = self._newton()
+            rec.residuals.append(self._history)
+            if rec.reason <= 0:
+                break
+            if not self.augment_max or not augmentable:
+                rec.converged = True
+                break
+            R = max(c.constraint_change() for c in augmentable)
+            if np.isfinite(R):
+                rec.constraint_change.append(R)
+            if R <= self.augment_tol:
+                rec.converged = True
+                break
+            if rec.augmentations == self.augment_max:
+                rec.converged, rec.augmentation_converged = True, False
+                break
+            for c in augmentable:
+                c.augment()
+            rec.augmentations += 1
+        rec.wall_time_s = self.problem.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+        return rec
+
+    def run(self, loads: Sequence[float]) -> list[StepRecord]:
+        """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
+        for target in loads:
+            cuts = 0
+            while self.t != target:
+                t = target if cuts == 0 else self.t + (target - self.t) / 2**cuts
+                snap = self._snapshot()
+                rec = self._step(t, len(self.records) + 1)
+                if rec.converged:
+                    self.records.append(rec)
+                    self.t = t
+                    self._progress(rec)
+                    if self.on_step is not None:
+                        self.on_step(t)
+                    cuts = 0
+                    continue
+                self._rollback(snap)
+                self._progress(rec, failed=True)
+                cuts += 1
+                if cuts > self.max_cutbacks:
+                    self.records.append(rec)
+                    raise ConvergenceError(
+                        f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
+                        f"{self.max_cutbacks} cutbacks: SNES reason {_reason(rec.reason)}; the last converged "
+                        f"state (t = {self.t:.6g}) has been written")
+        return self.records
+
+    def _progress(self, rec: StepRecord, failed: bool = False) -> None:
+        if self.quiet:
+            return
+        last = rec.residuals[-1][-1] if rec.residuals and rec.residuals[-1] else float("nan")
+        tag = f"FAILED ({_reason(rec.reason)}), cutting the step" if failed else (
+            f"aug {rec.augmentations:2d} R {rec.constraint_change[-1]:.2e}" if rec.constraint_change else "")
+        PETSc.Sys.Print(f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
+                        f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}", comm=self.problem.comm)
+
+    def summary(self) -> dict:
+        """Totals over the converged steps."""
+        done = [r for r in self.records if r.converged]
+        return {"newton_iterations": sum(r.newton_iterations for r in done),
+                "augmentations": sum(r.augmentations for r in done),
+                "load_steps": len(done),
+                "converged": bool(self.records) and all(r.converged for r in self.records),
+                "steps": [r.as_dict() for r in self.records]}
+
+
+def _reason(code: int) -> str:
+    names = {v: k for k, v in vars(PETSc.SNES.ConvergedReason).items() if isinstance(v, int)}
+    return f"{names.get(code, '?')} ({code})"

@@ -1,0 +1,72 @@
+"""Tests of fenics_contact.meshes (serial and under mpirun)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import ufl
+from dolfinx import cpp, fem
+from dolfinx.mesh import compute_midpoints
+from mpi4py import MPI
+
+from fenics_contact import meshes
+
+comm = MPI.COMM_WORLD
+
+
+@pytest.fixture(scope="module")
+def hertz():
+    return meshes.hertz_quarter_disk(comm)
+
+
+def _total(value: float) -> float:
+    return comm.allreduce(value, op=MPI.SUM)
+
+
+def _integral(mesh, measure) -> float:
+    return _total(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * measure)))
+
+
+def test_hertz_tags_and_measures(hertz):
+    mesh, cell_tags, facet_tags = hertz
+    for tag in (meshes.CONTACT, meshes.SYMMETRY, meshes.TOP):
+        assert _total(int(np.count_nonzero(facet_tags.values == tag))) > 0
+    assert _total(int(np.count_nonzero(cell_tags.values == meshes.DOMAIN))) > 0
+    meshes.check_tags(facet_tags, meshes.HERTZ_FACETS, comm)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+    assert abs(_integral(mesh, ds(meshes.CONTACT)) - math.pi / 2) < 1e-3
+    assert abs(_integral(mesh, ds(meshes.SYMMETRY)) - 1.0) < 1e-12
+    assert abs(_integral(mesh, ds(meshes.TOP)) - 1.0) < 1e-12
+    assert abs(_integral(mesh, ufl.dx(domain=mesh)) - math.pi / 4) < 1e-3
+
+
+def test_hertz_graded(hertz):
+    mesh = hertz[0]
+    tdim = mesh.topology.dim
+    cells = np.arange(mesh.topology.index_map(tdim).size_local, dtype=np.int32)
+    h = cpp.mesh.h(mesh._mesh, tdim, cells)  # dolfinx 0.5: the C++ mesh is Mesh._mesh
+    r = np.linalg.norm(compute_midpoints(mesh, tdim, cells)[:, :2], axis=1)
+    near = comm.allreduce(h[r < 0.05].max(initial=0.0), op=MPI.MAX)
+    far = comm.allreduce(h[r > 0.8].min(initial=np.inf), op=MPI.MIN)
+    assert near < 2.0 / 400  # about h_contact = R/400
+    assert far > 0.05  # about h_far = R/10
+    num_cells = _total(len(cells))
+    assert 5_000 < num_cells < 50_000
+
+
+def test_rectangle_tags():
+    for quadrilateral in (False, True):
+        mesh, cell_tags, facet_tags = meshes.rectangle(comm, 2.0, 0.5, 8, 4, quadrilateral)
+        assert cell_tags is None
+        meshes.check_tags(facet_tags, meshes.RECTANGLE_FACETS, comm)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        lengths = {meshes.BOTTOM: 2.0, meshes.RIGHT: 0.5, meshes.RECT_TOP: 2.0, meshes.LEFT: 0.5}
+        for tag, length in lengths.items():
+            assert abs(_integral(mesh, ds(tag)) - length) < 1e-12
+
+
+def test_check_tags_names_missing_tag():
+    _, _, facet_tags = meshes.rectangle(comm, 1.0, 1.0, 2, 2)
+    with pytest.raises(ValueError, match=r"facet tag 'contact'=7 is absent .*\[11, 12, 13, 14\]"):
+        meshes.check_tags(facet_tags, {"bottom": meshes.BOTTOM, "contact": 7}, comm)
