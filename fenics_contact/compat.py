@@ -52,3 +52,11 @@ def _petsc():
     from petsc4py import PETSc
 
     return PETSc
+
+
+def interpolate_expression(f: fem.Function, expr) -> fem.Function:
+    """``f`` = ``expr`` (UFL) evaluated at the interpolation points of ``f``'s space, cell by cell."""
+    pts = f.function_space.element.interpolation_points
+    f.interpolate(fem.Expression(expr, pts() if callable(pts) else pts))
+    f.x.scatter_forward()
+    return f

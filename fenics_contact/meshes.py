@@ -48,8 +48,8 @@ def hertz_quarter_disk(
     """Lower-right quarter (x >= 0, y <= R) of the disk of radius R centred at (0, R).
 
     P1 triangles of size ``h_contact`` (default R/400) within distance
-    ``contact_width`` (default R/5) of the contact point (0, 0), growing
-    linearly with the distance to ``h_far`` (default R/10). Facet tags:
+    ``contact_width`` (default R/5) of the contact point (0, 0); beyond, the size
+    grows linearly, by 0.25 per unit distance, up to ``h_far`` (default R/10). Facet tags:
     CONTACT (the arc from (0, 0) to (R, R)), SYMMETRY (x = 0), TOP (y = R);
     cell tag DOMAIN. Initialises and finalises gmsh (on every rank).
 

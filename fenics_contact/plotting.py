@@ -5,7 +5,10 @@ without them.
 """
 from __future__ import annotations
 
-from collections.abc import Sequence
+import contextlib
+import os
+import sys
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -27,6 +30,21 @@ def _cell_nodes(V: FunctionSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(local dof-node indices per owned cell in VTK order, VTK cell types, node coordinates)."""
     topology, cell_types, x = _vtk_mesh(V)
     return topology.reshape(-1, V.dofmap.dof_layout.num_dofs + 1)[:, 1:], cell_types, x
+
+
+@contextlib.contextmanager
+def _deepbind() -> Iterator[None]:
+    """Within the block, load extension modules with RTLD_NOW | RTLD_DEEPBIND.
+
+    dolfinx 0.5 leaves the dlopen flags at RTLD_GLOBAL, and its exported C++ std::regex
+    symbols then override VTK's (other C++ ABI): VTK aborts in std::bad_alloc.
+    """
+    flags = sys.getdlopenflags()
+    sys.setdlopenflags(os.RTLD_NOW | getattr(os, "RTLD_DEEPBIND", 0))
+    try:
+        yield
+    finally:
+        sys.setdlopenflags(flags)
 
 
 def plot_deformed(u: Function, scalar: Function, path: str | Path, title: str = "",
@@ -53,9 +71,14 @@ def plot_deformed(u: Function, scalar: Function, path: str | Path, title: str = 
     points = (x + scale * disp)[cells].reshape(-1, 3)  # one copy of each node per cell
     values = scalar.x.array.real[scalar_cells].reshape(-1)
     gathered = comm.gather((points, values, cell_types, cells.shape[1]), root=0)
-    if comm.rank != 0:
-        return
+    if comm.rank == 0:
+        with _deepbind():
+            _render(gathered, scalar.name, V.mesh.geometry.dim, path, title, clim)
 
+
+def _render(gathered: list, name: str, gdim: int, path: str | Path, title: str,
+            clim: Sequence[float] | None) -> None:
+    """Render the gathered (points, values, cell types, nodes per cell) with pyvista."""
     import pyvista
 
     pyvista.OFF_SCREEN = True
@@ -65,13 +88,13 @@ def plot_deformed(u: Function, scalar: Function, path: str | Path, title: str = 
     k = max(g[3] for g in gathered)
     connectivity = np.hstack([np.full((len(cell_types), 1), k), np.arange(len(points)).reshape(-1, k)])
     grid = pyvista.UnstructuredGrid(connectivity.ravel(), cell_types, points)
-    grid.point_data[scalar.name] = values
+    grid.point_data[name] = values
     plotter = pyvista.Plotter(off_screen=True, window_size=(1200, 900))
-    plotter.add_mesh(grid, scalars=scalar.name, cmap="viridis", clim=clim,
-                     scalar_bar_args={"title": scalar.name, "vertical": True})
+    plotter.add_mesh(grid, scalars=name, cmap="viridis", clim=clim,
+                     scalar_bar_args={"title": name, "vertical": True})
     if title:
         plotter.add_title(title, font_size=12)
-    if V.mesh.geometry.dim == 2:
+    if gdim == 2:
         plotter.view_xy()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     plotter.screenshot(str(path))

@@ -1,0 +1,36 @@
+# make demo: set up (apt packages, venv) and run every demo under mpirun -n 2 into results/
+# make test: set up and run ruff and the tests, serial and under mpirun -n 2
+VENV   ?= .venv
+PY     := $(VENV)/bin/python
+NP     ?= 2
+export OMPI_ALLOW_RUN_AS_ROOT=1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+MPIRUN := mpirun -n $(NP)
+DEMOS  := block hertz
+
+.PHONY: setup demo test lint test-serial test-mpi clean
+
+setup:
+	@VENV=$(VENV) bash scripts/setup.sh
+
+demo: setup
+	@for d in $(DEMOS); do \
+	  echo "== demos/$$d.py (mpirun -n $(NP))"; \
+	  $(MPIRUN) $(PY) demos/$$d.py --out results/$$d --quiet || exit 1; \
+	done
+	@$(PY) demos/table.py results
+
+lint: setup
+	$(VENV)/bin/ruff check fenics_contact demos tests
+
+test-serial: setup
+	$(PY) -m pytest -q tests
+
+test-mpi: setup
+	$(MPIRUN) $(PY) -m pytest -q -p no:cacheprovider tests
+
+test: lint test-serial test-mpi
+
+clean:
+	rm -rf results .pytest_cache

@@ -1,0 +1,53 @@
+"""Elastic cylinder on a rigid plane, against Hertz (plane strain, linear elasticity).
+
+    python demos/hertz.py --method auglag
+    mpirun -n 2 python demos/hertz.py --method cross --refinement 1 -fc_snes_monitor
+
+Quarter of a disk (R = 1, E = 1000, nu = 0.3) pressed on the plane y = 0;
+p0 and a are compared with Hertz for the computed load. Writes hertz.xdmf,
+summary.json, hertz_deformed.png and hertz_pressure.png to --out.
+"""
+from pathlib import Path
+
+import numpy as np
+from dolfinx import fem
+
+from fenics_contact import cli
+from fenics_contact.compat import function_space, interpolate_expression
+from fenics_contact.run import run
+from fenics_contact.scenes import hertz
+
+# 1. Options: formulation, parameters, mesh refinement, load steps.
+p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
+p.add_argument("--refinement", type=int, default=0, help="halve the contact mesh size this many times")
+p.add_argument("--steps", type=int, default=2, help="load steps")
+p.set_defaults(augment_tol=1e-10)
+args = cli.parse(p)
+out = Path(args.out or "results/hertz")
+
+# 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
+setup = hertz.build(cli.law_from_args(args), args.quadrature, args.refinement, args.steps)
+
+# 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
+summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
+              args.augment, args.augment_tol, args.quiet)
+
+# 4. Pictures: von Mises stress on the deformed quarter disk; pressure against Hertz.
+if not args.no_pictures:
+    from fenics_contact.plotting import plot_deformed, plot_profile
+
+    u = setup.problem.u
+    s = setup.problem.material.stress(u)
+    dev = s - (s[0, 0] + s[1, 1]) / 2 * np.eye(2)
+    mises = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
+                                                name="von_Mises_stress_2D"),
+                                   (3.0 / 2.0 * (dev[0, 0] ** 2 + dev[1, 1] ** 2 + 2 * dev[0, 1] ** 2)) ** 0.5)
+    plot_deformed(u, mises, out / "hertz_deformed.png", title=f"hertz, {args.method} (displacement x50)", scale=50)
+    x, g, pr = setup.contacts[0].surface_values()
+    if setup.problem.comm.rank == 0:
+        a, p0 = summary["a_hertz"], summary["p0_hertz"]
+        xr = np.linspace(0, a, 200)
+        keep = x[:, 0] <= 2.5 * a
+        plot_profile(x[keep, 0], pr[keep], out / "hertz_pressure.png", x_ref=xr, p_ref=p0 * np.sqrt(1 - (xr / a) ** 2),
+                     xlabel="x (distance from the contact centre)", labels=(args.method, "Hertz"),
+                     title=f"hertz: p0 {summary['p0']:.4g} (Hertz {p0:.4g}), a {summary['a']:.4g} (Hertz {a:.4g})")

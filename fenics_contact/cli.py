@@ -1,0 +1,69 @@
+"""Command-line options shared by the demos (and the benchmarks): method, parameters, output.
+
+Arguments that argparse does not know are handed to PETSc's options
+database, so ``-fc_snes_monitor`` or ``-fc_snes_linesearch_type basic``
+work on any demo (``fc_`` is the solver's options prefix).
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Sequence
+
+from petsc4py import PETSc
+
+from .laws import METHODS, ContactLaw, make_law
+from .contact import QUADRATURES
+
+
+def parser(description: str, default_K: float) -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(description=description, epilog="Other -options go to PETSc (prefix fc_).",
+                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    p.add_argument("--method", choices=list(METHODS), default="cross", help="contact formulation")
+    p.add_argument("--K", type=float, default=default_K,
+                   help="penalty K (penalty, auglag) or stiffness K_hat at g = 0 (cross)")
+    p.add_argument("--F-hat", type=float, default=0.0, help="cross: target pressure at g = 0")
+    p.add_argument("--a", type=float, default=0.0, help="cross: shape parameter in [0, 1)")
+    p.add_argument("--tau", type=float, default=1.0, help="cross: K_hat <- tau K_hat per augmentation")
+    p.add_argument("--augment", type=int, default=None,
+                   help="max augmentations per load step (default: 0 for penalty, 10 otherwise)")
+    p.add_argument("--augment-tol", type=float, default=1e-12, help="stop when ||g_new - g_old|| <= this")
+    p.add_argument("--quadrature", choices=QUADRATURES, default="nodal", help="contact quadrature")
+    p.add_argument("--out", default=None, help="output directory (default: results/<scene>)")
+    p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+    return p
+
+
+def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argparse.Namespace:
+    """Parse our options; insert the rest (which must start with '-') into PETSc's options."""
+    args, rest = p.parse_known_args(sys.argv[1:] if argv is None else argv)
+    stray = [r for r in rest if not r.startswith("-") and not _is_value(r)]
+    if stray:
+        p.error(f"unrecognised arguments: {' '.join(stray)}")
+    if rest:
+        PETSc.Options().insertString(" ".join(rest))
+    if args.augment is None:
+        args.augment = 0 if args.method == "penalty" else 10
+    return args
+
+
+def _is_value(s: str) -> bool:
+    try:
+        float(s)
+        return True
+    except ValueError:
+        return s.isidentifier()
+
+
+def law_from_args(args: argparse.Namespace) -> ContactLaw:
+    """The contact law named by ``--method`` with its parameters."""
+    if args.method == "cross":
+        return make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
+    return make_law(args.method, K=args.K)
+
+
+def method_parameters(args: argparse.Namespace) -> dict:
+    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"]}[args.method]
+    return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
+            "quadrature": args.quadrature}

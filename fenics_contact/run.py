@@ -1,0 +1,59 @@
+"""Run a scene set-up: solve, write XDMF per step and ``summary.json``, print the table."""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from .output import XDMFWriter, write_summary
+from .scenes import Setup
+from .solver import ConvergenceError, Solver
+
+
+def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
+        augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None) -> dict:
+    """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once.
+
+    Returns the summary (also in ``out/summary.json``). A step that fails
+    after cutbacks writes the summary with ``converged: false`` and re-raises.
+    """
+    out = Path(out)
+    comm = setup.problem.comm
+    start = time.perf_counter()
+    with XDMFWriter(out / f"{setup.name}.xdmf", setup.problem.u.function_space.mesh, setup.fields) as xdmf:
+
+        def on_step(t: float) -> None:
+            for c in setup.contacts:
+                c.update_output()
+            xdmf.write(t)
+
+        solver = Solver(setup.problem, augment_max=augment_max, augment_tol=augment_tol, quiet=quiet,
+                        options=options, on_step=on_step)
+        error = None
+        try:
+            solver.run(setup.loads)
+        except ConvergenceError as exc:
+            error = str(exc)
+    wall = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+    record = solver.summary()
+    summary = {"scene": setup.name, "method": method, "parameters": {**setup.parameters, **method_params},
+               "dofs": setup.dofs, "ranks": comm.size, "wall_time_s": wall,
+               "newton_iterations": record["newton_iterations"], "augmentations": record["augmentations"],
+               "load_steps": record["load_steps"], "converged": record["converged"] and error is None,
+               "error": error, **(setup.figures() if solver.records and solver.t > 0 else {}),
+               "steps": record["steps"]}
+    write_summary(out / "summary.json", summary, comm)
+    if error is not None:
+        raise ConvergenceError(error)
+    if not quiet:
+        figures = {k: v for k, v in summary.items() if isinstance(v, float) and k != "wall_time_s"}
+        PETSc.Sys.Print(f"{setup.name} / {method}: dofs {setup.dofs}, ranks {comm.size}, newton "
+                        f"{summary['newton_iterations']}, augmentations {summary['augmentations']}, "
+                        f"{wall:.2f} s", comm=comm)
+        for k, v in figures.items():
+            PETSc.Sys.Print(f"  {k:18s} {v: .10g}", comm=comm)
+    return summary
+
+

@@ -1,0 +1,88 @@
+"""``hertz``: elastic cylinder on a rigid plane, plane strain, linear elasticity.
+
+A disk of radius ``R`` pressed between two rigid plates is symmetric about
+its horizontal diameter and its vertical diameter, so we model the quarter
+``x >= 0, y <= R`` (the half of the lower half-disk): ``u_x = 0`` on
+``x = 0``; on the diameter ``y = R`` the vertical displacement is the
+uniform ``-t * approach`` (mirror symmetry of the two contacts), the
+horizontal one free. The plate is the rigid half-plane ``y <= 0``. Figures
+are for the whole cylinder: the quarter's force is doubled. The mesh is
+graded toward the contact (gmsh, :func:`fenics_contact.meshes.hertz_quarter_disk`).
+
+Hertz (plane strain, rigid plane, load ``P`` per unit length,
+``E* = E/(1-nu^2)``): ``a = sqrt(4 P R / (pi E*))``, ``p0 = 2P/(pi a)``.
+The default approach gives ``a/R ~ 0.09``, small enough for Hertz's
+half-space assumption (error ``O((a/R)^2)``).
+"""
+from __future__ import annotations
+
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+
+from ..compat import function_space
+from ..contact import ContactSurface
+from ..laws import ContactLaw
+from ..materials import LinearElastic
+from ..meshes import CONTACT, SYMMETRY, TOP, hertz_quarter_disk
+from ..obstacles import HalfPlane
+from ..problem import ContactProblem, Dirichlet
+from . import Setup
+
+R, E, NU = 1.0, 1000.0, 0.3
+APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
+DEFAULT_K = 1e6  # penalty scale ~ E / h_contact
+
+
+def hertz(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:
+    """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length."""
+    Es = E / (1 - nu**2)
+    a = np.sqrt(4 * P * R / (np.pi * Es))
+    return float(a), float(2 * P / (np.pi * a))
+
+
+def contact_half_width(x: np.ndarray, p: np.ndarray) -> float:
+    """Edge of the pressure profile ``p(x)`` (``x`` ascending from the centre).
+
+    Hertz's ``p^2`` is linear in ``x^2``; it is extrapolated linearly in
+    ``x^2`` from the last two loaded points to zero, and clamped to the
+    interval between the last loaded and the first unloaded point.
+    """
+    loaded = np.flatnonzero(p > 1e-8 * p.max())
+    i = loaded[-1]
+    if i == 0 or i + 1 >= len(x):
+        return float(x[i])
+    x2, p2 = x[i - 1 : i + 1] ** 2, p[i - 1 : i + 1] ** 2
+    edge2 = x2[1] - p2[1] * (x2[1] - x2[0]) / (p2[1] - p2[0]) if p2[0] != p2[1] else x2[1]
+    return float(np.sqrt(np.clip(edge2, x[i] ** 2, x[i + 1] ** 2)))
+
+
+def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
+          comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+    """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact)."""
+    h = R / 400 / 2**refinement
+    mesh, _, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R)
+    V = function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V, name="displacement")
+    load = fem.Constant(mesh, 0.0)
+    fdim = mesh.topology.dim - 1
+    top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
+    sym_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
+    dirichlet = [Dirichlet(V.sub(1), top_y, -APPROACH), Dirichlet(V.sub(0), sym_x)]
+    contact = ContactSurface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
+    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact])
+
+    def figures() -> dict:
+        x, _, p = contact.surface_values()
+        P = 2 * contact.total_force()[1]
+        a_h, p0_h = hertz(P)
+        p0, a = float(p.max()), contact_half_width(x[:, 0], p)
+        return {"total_force": P, "reaction_top": -2 * problem.reaction(top_y), "p0": p0, "a": a,
+                "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
+                "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(p > 0)),
+                "h_contact": h}
+
+    params = {"E": E, "nu": NU, "R": R, "approach": APPROACH, "h_contact": h, "refinement": refinement,
+              "quadrature": quadrature, "model": "quarter disk (symmetry x = 0 and y = R)"}
+    return Setup("hertz", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
+                 [u, contact.gap_out, contact.pressure_out])
