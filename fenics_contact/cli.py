@@ -12,8 +12,8 @@ from typing import Sequence
 
 from petsc4py import PETSc
 
-from .laws import METHODS, ContactLaw, make_law
 from .contact import QUADRATURES
+from .laws import METHODS, ContactLaw, make_law
 
 
 def parser(description: str, default_K: float) -> argparse.ArgumentParser:

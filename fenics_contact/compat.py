@@ -24,12 +24,12 @@ def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None
     return fem.FunctionSpace(mesh, (family, degree))
 
 
-def petsc_vec(f: fem.Function) -> "PETSc.Vec":
+def petsc_vec(f: fem.Function) -> PETSc.Vec:
     """The PETSc vector wrapping a Function's values (shares memory)."""
     return f.x.petsc_vec if hasattr(f.x, "petsc_vec") else f.vector
 
 
-def lift_and_set_bc(b: "PETSc.Vec", a, bcs, x0: "PETSc.Vec", scale: float) -> None:
+def lift_and_set_bc(b: PETSc.Vec, a, bcs, x0: PETSc.Vec, scale: float) -> None:
     """``b -= scale * A (g - x0)`` on free rows, ``b = scale (g - x0)`` on Dirichlet rows."""
     try:
         fem_petsc.apply_lifting(b, [a], bcs=[bcs], x0=[x0], scale=scale)
@@ -42,7 +42,7 @@ def lift_and_set_bc(b: "PETSc.Vec", a, bcs, x0: "PETSc.Vec", scale: float) -> No
         fem_petsc.set_bc(b, bcs, x0, alpha=scale)
 
 
-def bc_dofs(bc) -> "typing.Any":
+def bc_dofs(bc) -> typing.Any:
     """Local dof indices (owned and ghost) constrained by a DirichletBC."""
     dofs, first_ghost = bc.dof_indices()
     return dofs[:first_ghost] if first_ghost is not None else dofs

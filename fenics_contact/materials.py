@@ -28,7 +28,7 @@ class Material:
         self.E, self.nu = float(E), float(nu)
 
     @classmethod
-    def from_lame(cls, lmbda: float, mu: float) -> "Material":
+    def from_lame(cls, lmbda: float, mu: float) -> Material:
         if not (mu > 0 and lmbda > -2.0 * mu / 3.0):
             raise ValueError(f"Lamé constants need mu > 0 and lambda > -2 mu/3, got {lmbda!r}, {mu!r}")
         return cls(mu * (3 * lmbda + 2 * mu) / (lmbda + mu), lmbda / (2 * (lmbda + mu)))

@@ -12,12 +12,11 @@ the contact surface get an identity row and the value 0.
 """
 from __future__ import annotations
 
+import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import ufl
 from dolfinx import fem
 from petsc4py import PETSc
-
-import dolfinx.fem.petsc as fem_petsc
 
 from .compat import petsc_vec
 

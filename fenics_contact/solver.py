@@ -10,18 +10,17 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
+import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
-
-import dolfinx.fem.petsc as fem_petsc
 
 from .compat import lift_and_set_bc, petsc_vec
 from .problem import ContactProblem
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
-    "snes_linesearch_type": "bt",
+    "snes_linesearch_type": "l2",  # bt stalls on the exponential branch of cross-constraints
     "snes_rtol": 1e-11,
     "snes_atol": 1e-10,
     "snes_stol": 1e-14,

@@ -17,7 +17,8 @@ from ..compat import function_space
 from ..contact import ContactSurface
 from ..laws import ContactLaw
 from ..materials import LinearElastic
-from ..meshes import BOTTOM, LEFT, RECT_TOP as TOP, rectangle
+from ..meshes import BOTTOM, LEFT, rectangle
+from ..meshes import RECT_TOP as TOP
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
