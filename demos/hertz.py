@@ -10,6 +10,7 @@ summary.json, hertz_deformed.png and hertz_pressure.png to --out.
 from pathlib import Path
 
 import numpy as np
+import ufl
 from dolfinx import fem
 
 from fenics_contact import cli
@@ -38,7 +39,7 @@ if not args.no_pictures:
 
     u = setup.problem.u
     s = setup.problem.material.stress(u)
-    dev = s - (s[0, 0] + s[1, 1]) / 2 * np.eye(2)
+    dev = s - ufl.tr(s) / 2 * ufl.Identity(2)
     mises = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
                                                 name="von_Mises_stress_2D"),
                                    (3.0 / 2.0 * (dev[0, 0] ** 2 + dev[1, 1] ** 2 + 2 * dev[0, 1] ** 2)) ** 0.5)
