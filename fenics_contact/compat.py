@@ -60,3 +60,12 @@ def interpolate_expression(f: fem.Function, expr) -> fem.Function:
     f.interpolate(fem.Expression(expr, pts() if callable(pts) else pts))
     f.x.scatter_forward()
     return f
+
+
+def cell_sizes(mesh, dim: int, entities):
+    """Size ``h`` (largest edge) of the given local entities."""
+    if hasattr(mesh, "h"):  # dolfinx >= 0.8
+        return mesh.h(dim, entities)
+    from dolfinx import cpp
+
+    return cpp.mesh.h(mesh._mesh, dim, entities)  # dolfinx 0.5: the C++ mesh is Mesh._mesh

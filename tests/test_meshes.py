@@ -6,11 +6,12 @@ import math
 import numpy as np
 import pytest
 import ufl
-from dolfinx import cpp, fem
+from dolfinx import fem
 from dolfinx.mesh import compute_midpoints
 from mpi4py import MPI
 
 from fenics_contact import meshes
+from fenics_contact.compat import cell_sizes
 
 comm = MPI.COMM_WORLD
 
@@ -45,7 +46,7 @@ def test_hertz_graded(hertz):
     mesh = hertz[0]
     tdim = mesh.topology.dim
     cells = np.arange(mesh.topology.index_map(tdim).size_local, dtype=np.int32)
-    h = cpp.mesh.h(mesh._mesh, tdim, cells)  # dolfinx 0.5: the C++ mesh is Mesh._mesh
+    h = cell_sizes(mesh, tdim, cells)
     r = np.linalg.norm(compute_midpoints(mesh, tdim, cells)[:, :2], axis=1)
     near = comm.allreduce(h[r < 0.05].max(initial=0.0), op=MPI.MAX)
     far = comm.allreduce(h[r > 0.8].min(initial=np.inf), op=MPI.MIN)

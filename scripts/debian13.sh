@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Second test lane: the suite on Debian 13's dolfinx (0.9) in a debootstrap root.
+# The root folder ($DEB13, default .debian13) is made once and reused; the
+# project is copied into it (no bind mount needed) and the tests run there
+# serially and under mpirun -n 2.
+# OPTIONAL=1 (used by `make test`): skip, saying why, when this machine cannot build the lane.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+DEB13=${DEB13:-.debian13}
+OPTIONAL=${OPTIONAL:-0}
+
+skip() {
+  if [ "$OPTIONAL" = 1 ]; then echo "debian13 lane: SKIPPED: $1"; exit 0; fi
+  echo "debian13 lane: cannot run: $1" >&2; exit 1
+}
+
+[ "$(id -u)" -eq 0 ] || skip "needs root (chroot)"
+if ! command -v debootstrap >/dev/null; then
+  command -v apt-get >/dev/null || skip "no debootstrap and no apt-get to install it"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -q debootstrap >/dev/null || skip "apt-get install debootstrap failed"
+fi
+
+if [ ! -x "$DEB13/usr/bin/apt-get" ]; then
+  echo "debian13 lane: debootstrap --variant=minbase trixie $DEB13"
+  rm -rf "$DEB13"
+  debootstrap --variant=minbase trixie "$DEB13" >/dev/null || skip "debootstrap failed"
+fi
+if ! chroot "$DEB13" python3 -c "import dolfinx, gmsh, pytest" 2>/dev/null; then
+  echo "debian13 lane: installing python3-dolfinx python3-gmsh python3-pytest in $DEB13"
+  chroot "$DEB13" /bin/sh -c "apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q \
+    --no-install-recommends python3-dolfinx python3-gmsh python3-pytest openmpi-bin >/dev/null"
+fi
+echo "debian13 lane: dolfinx $(chroot "$DEB13" python3 -c 'import dolfinx; print(dolfinx.__version__)')"
+
+rm -rf "$DEB13/project" && mkdir -p "$DEB13/project"
+cp -a pyproject.toml fenics_contact tests "$DEB13/project/"
+find "$DEB13/project" -name __pycache__ -prune -exec rm -rf {} +
+
+# Debian 13's Open MPI may hang here without these transport choices.
+run() {
+  chroot "$DEB13" /usr/bin/env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+    OMPI_MCA_btl=self,sm OMPI_MCA_pml=ob1 OMPI_MCA_rmaps_base_oversubscribe=1 HOME=/root \
+    PYTHONPATH=/project /bin/sh -c "cd /project && $1"
+}
+start=$(date +%s)
+run "python3 -m pytest -q -p no:cacheprovider tests"
+run "mpirun -n 2 python3 -m pytest -q -p no:cacheprovider tests"
+echo "debian13 lane: passed in $(( $(date +%s) - start )) s"
