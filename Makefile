@@ -31,7 +31,7 @@ test-mpi: setup
 	$(MPIRUN) $(PY) -m pytest -q -p no:cacheprovider tests
 
 # Debian 13 (dolfinx 0.9) lane in a debootstrap root; `make test` skips it, saying so, where it cannot run.
-test-debian13:
+test-debian13: setup
 	bash scripts/debian13.sh
 
 test: lint test-serial test-mpi
