@@ -16,7 +16,7 @@ from mpi4py import MPI
 from ..compat import function_space
 from ..contact import ContactSurface
 from ..laws import ContactLaw
-from ..materials import LinearElastic
+from ..materials import MODELS
 from ..meshes import BOTTOM, LEFT, rectangle
 from ..meshes import RECT_TOP as TOP
 from ..obstacles import HalfPlane
@@ -28,7 +28,9 @@ EXACT_PRESSURE = E / (1 - NU**2) * DISPLACEMENT / HEIGHT
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
-          comm: MPI.Comm = MPI.COMM_WORLD, quadrilateral: bool = False) -> Setup:
+          comm: MPI.Comm = MPI.COMM_WORLD, quadrilateral: bool = False, model: str = "linear",
+          steps: int = 1) -> Setup:
+    """``model``: ``linear`` (the paper's) or ``neohookean`` (finite strain, same E and nu)."""
     mesh, _, facet_tags = rectangle(comm, HALF_WIDTH, HEIGHT, nx, ny, quadrilateral)
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
@@ -40,7 +42,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
     dirichlet = [Dirichlet(V.sub(1), top_y, -DISPLACEMENT),
                  Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, left))]
     contact = ContactSurface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
-    material = LinearElastic(E, NU)
+    material = MODELS[model](E, NU)
     problem = ContactProblem(u, material, load, dirichlet, [contact])
 
     def figures() -> dict:
@@ -53,8 +55,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
                 "pressure_error": abs(contact.mean_pressure() - EXACT_PRESSURE) / EXACT_PRESSURE}
 
     params = {"E": E, "nu": NU, "height": HEIGHT, "width": 2 * HALF_WIDTH, "displacement": DISPLACEMENT,
-              "nx": nx, "ny": ny, "quadrature": quadrature, "model": "half (symmetry x = 0)"}
-    return Setup("block", problem, [contact], [1.0], params, figures,
+              "nx": nx, "ny": ny, "quadrature": quadrature, "material": model, "model": "half (symmetry x = 0)"}
+    return Setup("block", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
                  [u, contact.gap_out, contact.pressure_out])
 
 
