@@ -7,6 +7,7 @@ work on any demo (``fc_`` is the solver's options prefix).
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 from typing import Sequence
 
@@ -37,6 +38,9 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
 
 def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argparse.Namespace:
     """Parse our options; insert the rest (which must start with '-') into PETSc's options."""
+    # UFL warns about every custom quadrature rule; the nodal rule is one on purpose.
+    # (The compiler lines on a form's first JIT come from cffi, hard-coded verbose.)
+    logging.getLogger("UFL").setLevel(logging.ERROR)
     args, rest = p.parse_known_args(sys.argv[1:] if argv is None else argv)
     stray = [r for r in rest if not r.startswith("-") and not _is_value(r)]
     if stray:
