@@ -9,7 +9,8 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 MPIRUN := mpirun -n $(NP)
 DEMOS  := block hertz
 
-.PHONY: setup demo test lint test-serial test-mpi test-debian13 clean
+
+.PHONY: setup demo bench test lint test-serial test-mpi test-debian13 clean
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
@@ -20,6 +21,10 @@ demo: setup
 	  $(MPIRUN) $(PY) demos/$$d.py --out results/$$d --quiet || exit 1; \
 	done
 	@$(PY) demos/table.py results
+
+# speed against accuracy, every method on the same scene (quick sweep of block and hertz)
+bench: setup
+	$(PY) demos/bench.py --quick --out results/bench
 
 lint: setup
 	$(VENV)/bin/ruff check fenics_contact demos tests

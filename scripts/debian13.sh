@@ -37,7 +37,7 @@ fi
 echo "debian13 lane: dolfinx $(chroot "$DEB13" python3 -c 'import dolfinx; print(dolfinx.__version__)')"
 
 rm -rf "$DEB13/project" && mkdir -p "$DEB13/project"
-cp -a pyproject.toml fenics_contact tests scripts "$DEB13/project/"
+cp -a pyproject.toml fenics_contact tests scripts demos "$DEB13/project/"
 find "$DEB13/project" -name __pycache__ -prune -exec rm -rf {} +
 
 # Debian 13's Open MPI may hang here without these transport choices.
