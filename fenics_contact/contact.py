@@ -15,6 +15,7 @@ from mpi4py import MPI
 
 from .compat import function_space, petsc_vec
 from .laws import ContactLaw, ufl_ops
+from .meshes import check_tags
 from .obstacles import Obstacle
 from .projection import SurfaceProjector
 
@@ -43,14 +44,11 @@ def contact_measure(mesh, facet_tags, tag: int, quadrature: str) -> ufl.Measure:
 
 
 def check_facet_tag(mesh, facet_tags, tag: int, name: str) -> np.ndarray:
-    """Facets with ``tag``; raise ``ValueError`` naming ``name`` if no rank has any."""
+    """Local facets with ``tag``; raise ``ValueError`` naming ``name`` if no rank has any."""
     if facet_tags is None or facet_tags.dim != mesh.topology.dim - 1:
         raise ValueError(f"{name}: the mesh has no facet tags (need facets of dimension {mesh.topology.dim - 1})")
-    facets = facet_tags.indices[facet_tags.values == tag]
-    if mesh.comm.allreduce(len(facets), op=MPI.SUM) == 0:
-        present = sorted(set().union(*mesh.comm.allgather(set(np.unique(facet_tags.values).tolist()))))
-        raise ValueError(f"{name}: facet tag {tag} is absent from the mesh; tags present: {present}")
-    return facets
+    check_tags(facet_tags, {name: tag}, mesh.comm)
+    return facet_tags.indices[facet_tags.values == tag]
 
 
 class ContactSurface:
@@ -65,7 +63,7 @@ class ContactSurface:
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
         mesh = u.function_space.mesh
         self.name, self.u, self.law, self.obstacle, self.quadrature = name, u, law, obstacle, quadrature
-        self.facets = check_facet_tag(mesh, facet_tags, tag, f"contact surface {name!r}")
+        self.facets = check_facet_tag(mesh, facet_tags, tag, name)
         self.ds = contact_measure(mesh, facet_tags, tag, quadrature)
         obstacle.bind(load)
         x = ufl.SpatialCoordinate(mesh) + u
@@ -123,7 +121,10 @@ class ContactSurface:
         self._gap_prev = None if state["gap_prev"] is None else state["gap_prev"].copy()
 
     def constraint_change(self) -> float:
-        """``R = sqrt(sum (g_new - g_old)^2)`` over the quadrature points since the last call (inf first)."""
+        """``R = sqrt(sum (g_new - g_old)^2)`` over the state dofs since the last call (inf first).
+
+        Nodal quadrature: the dofs are the quadrature-point values. Gauss: the
+        DG1 vertex values, a fixed invertible map of the Gauss-point values."""
         self.projector.project(self._gap_rhs, self._gap_now)
         now = petsc_vec(self._gap_now)
         R = np.inf

@@ -26,7 +26,7 @@ def _u(comm):
 def test_absent_facet_tag_is_named(comm):
     u, tags = _u(comm)
     load = fem.Constant(u.function_space.mesh, 0.0)
-    with pytest.raises(ValueError, match="facet tag 99 is absent from the mesh"):
+    with pytest.raises(ValueError, match="facet tag 'contact'=99 is absent from the mesh"):
         ContactSurface(u, tags, 99, HalfPlane([0, 0], [0, 1]), Penalty(1e5), load)
 
 
