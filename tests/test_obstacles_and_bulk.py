@@ -84,3 +84,32 @@ def test_neohookean_block_tends_to_linear_at_small_strain():
             p[m] = s.figures()["contact_pressure"]
         rel[t] = abs(p["neohookean"] - p["linear"]) / p["linear"]
     assert rel[1e-3] < 1e-3 and rel[1.0] > 10 * rel[1e-3]
+
+
+@pytest.mark.parametrize("law", [Penalty(1e5), CrossConstraints(1e5, 0.0)], ids=["penalty", "cross"])
+def test_moving_rigid_cylinder_indents_a_block(law):
+    """A rigid disk (R = 1) moved 0.02 into an elastic block: curved gap of x + u, equilibrium, Newton rate."""
+    from fenics_contact.meshes import BOTTOM, LEFT, RECT_TOP, rectangle
+
+    comm = MPI.COMM_WORLD
+    msh, _, tags = rectangle(comm, 1.0, 1.0, 20, 20)
+    V = function_space(msh, "Lagrange", 1, (2,))
+    u = fem.Function(V)
+    load = fem.Constant(msh, 0.0)
+    dofs = lambda i, t: fem.locate_dofs_topological(V.sub(i), 1, tags.indices[tags.values == t])  # noqa: E731
+    bcs = [Dirichlet(V.sub(1), dofs(1, BOTTOM)), Dirichlet(V.sub(0), dofs(0, LEFT))]
+    disk = Cylinder([0.0, 2.0], 1.0, motion=[0.0, -0.02])
+    c = ContactSurface(u, tags, RECT_TOP, disk, law, load)
+    problem = ContactProblem(u, LinearElastic(1000.0, 0.3), load, bcs, [c])
+    solver = Solver(problem, quiet=True)
+    solver.run([0.5, 1.0])
+    force = c.total_force()
+    reaction = problem.reaction(dofs(1, BOTTOM))
+    assert force[1] < 0 and np.isclose(-force[1], reaction, rtol=1e-8)  # obstacle pushes down, base pushes up
+    x, g, p = c.surface_values()
+    assert p[0] == p.max() and p[-1] == 0.0  # loaded under the disk's axis, free at the far edge
+    # quadratic convergence once the contact set has settled (consistent tangent of the curved
+    # gap): measured from the first residual, the last step about doubles the digits gained
+    r = np.array(solver.records[-1].residuals[-1])
+    assert r[-1] < 1e-10 * r[0] and len(r) <= 8
+    assert np.log(r[-1] / r[0]) / np.log(r[-2] / r[0]) > 1.8
