@@ -15,14 +15,14 @@ from dolfinx import fem
 from fenics_contact import cli
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.run import run
-from fenics_contact.scenes import block
+from fenics_contact.scenes import block, build
 
 # 1. Options: the formulation and its parameters (K = 1e5 as in the paper).
 args = cli.parse(cli.parser(__doc__.splitlines()[0], default_K=1e5))
 out = Path(args.out or "results/block")
 
 # 2. The scene: mesh, material, Dirichlet data, the rigid foundation and the contact law.
-setup = block.build(cli.law_from_args(args), quadrature=args.quadrature)
+setup = build("block", law=cli.law_from_args(args), quadrature=args.quadrature)
 
 # 3. Solve (one load step, augmentations as asked), write XDMF and summary.json.
 summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet)

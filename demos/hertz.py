@@ -16,7 +16,7 @@ from dolfinx import fem
 from fenics_contact import cli
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.run import run
-from fenics_contact.scenes import hertz
+from fenics_contact.scenes import build, hertz
 
 # 1. Options: formulation, parameters, mesh refinement, load steps.
 p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
@@ -27,7 +27,8 @@ args = cli.parse(p)
 out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
-setup = hertz.build(cli.law_from_args(args), args.quadrature, args.refinement, args.steps)
+setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
+              steps=args.steps)
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},

@@ -31,7 +31,9 @@ SCENES = ("block", "hertz")
 DEFAULT_K = {"block": 1e5, "hertz": 1e6}  # the demos' defaults
 ERROR = {"block": "pressure_error", "hertz": "p0_error"}
 COLUMNS = ["scene", "method", "K", "F_hat", "augment", "quadrature", "refinement", "dofs", "wall_time_s",
-           "newton_iterations", "augmentations", "converged", "error", "process_time_s"]
+           "newton_iterations", "augmentations", "converged", "error", "process_time_s", "setup_time_s",
+           "assembly_s", "linear_solve_s", "augmentation_s", "memory_peak_mb", "linear_solve_floor_s",
+           "ratio_to_linear_solve"]
 AUGMENT = 10  # max augmentations per load step for the augmented variants
 ERROR_FLOOR = 1e-16  # errors are drawn at least this large on the log axis (an exact answer is 0)
 
@@ -88,7 +90,9 @@ def run_one(scene: str, cfg: dict, folder: Path, timeout: float = 1800.0) -> dic
     return {"scene": scene, **cfg, "dofs": s.get("dofs", 0), "wall_time_s": s.get("wall_time_s", nan),
             "newton_iterations": s.get("newton_iterations", 0), "augmentations": s.get("augmentations", 0),
             "converged": bool(ok and s.get("converged", False)), "error": s.get(ERROR[scene], nan),
-            "process_time_s": time.perf_counter() - start}
+            "process_time_s": time.perf_counter() - start, "setup_time_s": s.get("setup_time_s", nan),
+            **{k: s.get("time_split", {}).get(k, nan) for k in ("assembly_s", "linear_solve_s", "augmentation_s")},
+            **{k: s.get(k, nan) for k in ("memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve")}}
 
 
 def bench(scene: str, out: str | Path, runs: Sequence[dict], pictures: bool = True, quiet: bool = False,
@@ -123,7 +127,8 @@ def write_rows(rows: Sequence[dict], csv_path: Path, json_path: Path) -> None:
 def read_rows(csv_path: str | Path) -> list[dict]:
     """The rows of a ``<scene>.csv`` with their types back."""
     ints, floats = {"augment", "dofs", "newton_iterations", "augmentations"}, {
-        "K", "F_hat", "wall_time_s", "error", "process_time_s"}
+        "K", "F_hat", "wall_time_s", "error", "process_time_s", "setup_time_s", "assembly_s", "linear_solve_s",
+        "augmentation_s", "memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve"}
     rows = []
     with open(csv_path, newline="") as f:
         for r in csv.DictReader(f):

@@ -1,6 +1,7 @@
 """Run a scene set-up: solve, write XDMF per step and ``summary.json``, print the table."""
 from __future__ import annotations
 
+import resource
 import time
 from pathlib import Path
 
@@ -38,8 +39,12 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
             error = str(exc)
     wall = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
     record = solver.summary()
+    floor = solver.linear_solve_time()
+    memory = comm.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, op=MPI.MAX)
     summary = {"scene": setup.name, "method": method, "parameters": {**setup.parameters, **method_params},
                "dofs": setup.dofs, "ranks": comm.size, "wall_time_s": wall,
+               "setup_time_s": setup.build_time_s, "time_split": record["time_split"],
+               "linear_solve_floor_s": floor, "ratio_to_linear_solve": wall / floor, "memory_peak_mb": memory,
                "newton_iterations": record["newton_iterations"], "augmentations": record["augmentations"],
                "load_steps": record["load_steps"], "converged": record["converged"] and error is None,
                "error": error, **(setup.figures() if solver.records and solver.t > 0 else {}),

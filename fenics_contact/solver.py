@@ -101,6 +101,9 @@ class Solver:
         self.records: list[StepRecord] = []
         self._history: list[float] = []
         self.t = 0.0
+        # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
+        # (their difference is the linear solves and SNES's vector work), augmentation updates.
+        self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0}
 
     # --- SNES callbacks ---------------------------------------------------
     def _set_u(self, x: PETSc.Vec) -> None:
@@ -109,16 +112,20 @@ class Solver:
         self.problem.u.x.scatter_forward()
 
     def _residual(self, snes, x, b):
+        start = time.perf_counter()
         self._set_u(x)
         with b.localForm() as bl:
             bl.set(0.0)
         fem_petsc.assemble_vector(b, self.problem.F)
         lift_and_set_bc(b, self.problem.J, self.problem.bcs, x, -1.0)
+        self.timings["assembly_s"] += time.perf_counter() - start
 
     def _jacobian(self, snes, x, A, P):
+        start = time.perf_counter()
         A.zeroEntries()
         fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
         A.assemble()
+        self.timings["assembly_s"] += time.perf_counter() - start
 
     def _monitor(self, snes, it, norm):
         self._history.append(float(norm))
@@ -127,7 +134,9 @@ class Solver:
     def _newton(self) -> int:
         self._history = []
         petsc_vec(self.problem.u).copy(self._x)
+        start = time.perf_counter()
         self.snes.solve(None, self._x)
+        self.timings["snes_s"] += time.perf_counter() - start
         self._set_u(self._x)
         return self.snes.getConvergedReason()
 
@@ -156,6 +165,7 @@ class Solver:
             if not self.augment_max or not augmentable:
                 rec.converged = True
                 break
+            start_aug = time.perf_counter()
             R = max(c.constraint_change() for c in augmentable)
             if np.isfinite(R):
                 rec.constraint_change.append(R)
@@ -168,6 +178,7 @@ class Solver:
             for c in augmentable:
                 c.augment()
             rec.augmentations += 1
+            self.timings["augmentation_s"] += time.perf_counter() - start_aug
         rec.wall_time_s = self.problem.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
         return rec
 
@@ -207,10 +218,32 @@ class Solver:
         PETSc.Sys.Print(f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
                         f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}", comm=self.problem.comm)
 
+    def linear_solve_time(self) -> float:
+        """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
+        (factorization included): the cost floor of one linear elastic solve on this mesh (max over ranks)."""
+        old = self.snes.getKSP()
+        ksp = PETSc.KSP().create(self.problem.comm)
+        ksp.setType(old.getType())
+        ksp.getPC().setType(old.getPC().getType())
+        if old.getPC().getType() in ("lu", "cholesky"):
+            ksp.getPC().setFactorSolverType(old.getPC().getFactorSolverType())
+        x = self._b.duplicate()
+        start = time.perf_counter()
+        self._jacobian(self.snes, self._x, self._A, self._A)
+        ksp.setOperators(self._A)
+        ksp.solve(self._b, x)
+        elapsed = time.perf_counter() - start
+        ksp.destroy()
+        x.destroy()
+        return self.problem.comm.allreduce(elapsed, op=MPI.MAX)
+
     def summary(self) -> dict:
-        """Totals over the converged steps."""
+        """Totals over the converged steps; the time split is the maximum over ranks."""
         done = [r for r in self.records if r.converged]
-        return {"newton_iterations": sum(r.newton_iterations for r in done),
+        t = {k: self.problem.comm.allreduce(v, op=MPI.MAX) for k, v in self.timings.items()}
+        split = {"assembly_s": t["assembly_s"], "linear_solve_s": max(t["snes_s"] - t["assembly_s"], 0.0),
+                 "augmentation_s": t["augmentation_s"]}
+        return {"time_split": split,"newton_iterations": sum(r.newton_iterations for r in done),
                 "augmentations": sum(r.augmentations for r in done),
                 "load_steps": len(done),
                 "converged": bool(self.records) and all(r.converged for r in self.records),

@@ -5,10 +5,12 @@ A builder returns a :class:`Setup`; ``figures()`` returns the scene's figures
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 from dolfinx import fem
+from mpi4py import MPI
 
 from ..contact import ContactSurface
 from ..problem import ContactProblem
@@ -25,6 +27,7 @@ class Setup:
     parameters: dict
     figures: Callable[[], dict]
     fields: list[fem.Function] = field(default_factory=list)
+    build_time_s: float = 0.0  # mesh, spaces and form compilation (max over ranks)
 
     @property
     def dofs(self) -> int:
@@ -44,4 +47,8 @@ def build(name: str, **kwargs) -> Setup:
         from .hertz import build as b
     else:
         raise ValueError(f"unknown scene {name!r}; accepted: {', '.join(scene_names())}")
-    return b(**kwargs)
+    start = time.perf_counter()
+    setup = b(**kwargs)
+    comm = setup.problem.comm
+    setup.build_time_s = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+    return setup

@@ -1,0 +1,22 @@
+"""The run plumbing: summary.json has the documented figures, reduced over ranks, and a sane time split."""
+import json
+
+from fenics_contact.laws import CrossConstraints
+from fenics_contact.run import run
+from fenics_contact.scenes import build
+
+
+def test_summary_has_the_documented_keys(tmp_path_factory, comm):
+    out = comm.bcast(str(tmp_path_factory.mktemp("run")) if comm.rank == 0 else None)
+    setup = build("block", law=CrossConstraints(1e5, 100.0), comm=comm)
+    returned = run(setup, out, "cross", {"K": 1e5, "F_hat": 100.0}, augment_max=10, quiet=True)
+    s = json.load(open(f"{out}/summary.json"))
+    for key in ("scene", "method", "parameters", "dofs", "ranks", "wall_time_s", "newton_iterations",
+                "augmentations", "converged", "contact_pressure", "max_penetration", "steps"):
+        assert key in s, key
+    assert s["ranks"] == comm.size and s["dofs"] == 90 and s["converged"] and s["augmentations"] == 6
+    assert s["newton_iterations"] == sum(len(r) - 1 for r in s["steps"][0]["residuals"])
+    split = s["time_split"]
+    assert all(v >= 0 for v in split.values()) and sum(split.values()) <= s["wall_time_s"]
+    assert s["linear_solve_floor_s"] > 0 and s["ratio_to_linear_solve"] > 1 and s["memory_peak_mb"] > 0
+    assert returned["contact_pressure"] == s["contact_pressure"]
