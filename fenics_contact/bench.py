@@ -55,6 +55,8 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
                           refinement=refinement) for K in penalty_K]
             runs += [dict(method=m, K=K, F_hat=0.0, augment=aug, quadrature=quadrature, refinement=refinement)
                      for m in ("cross", "auglag") for aug in (0, AUGMENT) for K in other_K]
+        # the reference: exact nodal enforcement by PETSc SNES VI (no parameter; K = 0 in the rows)
+        runs.append(dict(method="vi", K=0.0, F_hat=0.0, augment=0, quadrature="nodal", refinement=refinement))
     return runs
 
 
@@ -160,9 +162,9 @@ def pareto_front(times: Sequence[float], errors: Sequence[float]) -> np.ndarray:
 
 # ---------------------------------------------------------------------------------------------- charts
 
-COLOURS = {"penalty": "tab:blue", "cross": "tab:orange", "auglag": "tab:green"}
+COLOURS = {"penalty": "tab:blue", "cross": "tab:orange", "auglag": "tab:green", "vi": "tab:red"}
 MARKERS = {None: "o", 0: "o", 1: "^", 2: "s", 3: "D"}  # by refinement
-SIZES = {"penalty": 11.0, "cross": 8.0, "auglag": 5.0}  # coinciding methods stay visible (concentric)
+SIZES = {"penalty": 11.0, "cross": 8.0, "auglag": 5.0, "vi": 7.0}  # coinciding methods stay visible (concentric)
 
 
 def _variant(r: dict) -> str:
@@ -237,7 +239,7 @@ def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> 
     for r in rows:
         groups.setdefault((r["method"], r["augment"] > 0, r["refinement"]), []).append(r)
     for (method, augmented, refinement), rs in groups.items():
-        rs = sorted(rs, key=lambda r: r["K"])
+        rs = sorted((r for r in rs if r["K"] > 0), key=lambda r: r["K"])  # vi has no K
         c = COLOURS[method]
         ok = [r for r in rs if r["converged"]]
         ax.plot([r["K"] for r in ok], [r["newton_iterations"] for r in ok], color=c, lw=1.5,

@@ -48,7 +48,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if rest:
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
-        args.augment = 0 if args.method == "penalty" else 10
+        args.augment = 0 if args.method in ("penalty", "vi") else 10
     return args
 
 
@@ -64,10 +64,12 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
     """The contact law named by ``--method`` with its parameters."""
     if args.method == "cross":
         return make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
+    if args.method == "vi":
+        return make_law("vi")
     return make_law(args.method, K=args.K)
 
 
 def method_parameters(args: argparse.Namespace) -> dict:
-    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"]}[args.method]
+    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": []}[args.method]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
             "quadrature": args.quadrature}

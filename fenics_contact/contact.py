@@ -79,7 +79,7 @@ class ContactSurface:
             f.x.array[:] = v
             self.fields[k] = f
         self.params = {**self.constants, **self.fields}
-        self.pressure = law.force(self.gap, self.params, ufl_ops())
+        self.pressure = self._pressure()
 
         self.projector = SurfaceProjector(self.S, self.ds)
         self._gap_rhs = self.projector.compile(self.gap)
@@ -100,6 +100,17 @@ class ContactSurface:
         self.pressure_out = fem.Function(P1, name="contact_pressure")
         self._out_rhs = [(self._out.compile(self.gap), self.gap_out),
                          (self._out.compile(self.pressure), self.pressure_out)]
+
+    def _pressure(self) -> ufl.core.expr.Expr:
+        return self.law.force(self.gap, self.params, ufl_ops())
+
+    # --- hooks of the solver (used by exact enforcement, see :mod:`bounds`) ----
+    def bounds(self, t: float, like):
+        """Variable bounds ``(lower, upper)`` on the unknowns at load ``t``, or None (a law, no bounds)."""
+        return None
+
+    def after_solve(self, problem) -> None:
+        """Called after every converged Newton solve."""
 
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:

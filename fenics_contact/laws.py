@@ -196,16 +196,30 @@ class CrossConstraints(ContactLaw):
         return {"K_hat": self.tau * float(c["K_hat"])}
 
 
+class Exact(ContactLaw):
+    """No law: exact nodal non-penetration (``g <= 0``) as bounds on the unknowns, solved by PETSc
+    SNES VI (:mod:`fenics_contact.bounds`); the pressure is the nodal reaction. Flat, axis-aligned
+    rigid obstacles only. No parameter."""
+
+    name = "vi"
+
+    def __init__(self):
+        self.scalars, self.fields = {}, {}
+
+    def force(self, g, c, ops=NUMPY):
+        raise TypeError("method 'vi' has no contact law: its pressure is the reaction at the bounds")
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
-METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian}
+METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (``penalty``, ``cross``, ``auglag``)."""
+    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``)."""
     if method not in METHODS:
         raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
     return METHODS[method](**params)

@@ -15,6 +15,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .compat import petsc_vec
 from .contact import ContactSurface
 from .materials import Material
 
@@ -50,7 +51,9 @@ class ContactProblem:
         for t, ds in tractions:
             residual -= load * ufl.dot(t, v) * ds
         for c in self.contacts:
-            residual += c.residual(v)
+            term = c.residual(v)
+            if term is not None:  # exact enforcement adds bounds, not a term
+                residual += term
         self.F = fem.form(residual)
         self.J = fem.form(ufl.derivative(residual, u, du))
         self._bulk = fem.form(bulk)
@@ -62,13 +65,18 @@ class ContactProblem:
         for d in self.dirichlet:
             d.value.value = t * d.amplitude
 
+    def internal_force(self) -> np.ndarray:
+        """Internal forces ``dW[phi_i]`` at the current state, local array (owned and ghost dofs)."""
+        r = fem.Function(self.u.function_space)
+        vec = petsc_vec(r)
+        fem_petsc.assemble_vector(vec, self._bulk)
+        vec.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        r.x.scatter_forward()
+        return r.x.array.copy()
+
     def reaction(self, dofs: np.ndarray) -> float:
-        """Sum of the internal forces ``dW[phi_i]`` over ``dofs`` (local, owned-or-ghost indices)
-        of ``u``'s space, summed over ranks: the force the support exerts on the body."""
-        r = fem_petsc.assemble_vector(self._bulk)
-        r.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        """Sum of the internal forces over ``dofs`` (local, owned-or-ghost indices of ``u``'s space),
+        summed over ranks: the force the support exerts on the body."""
         n_owned = self.u.function_space.dofmap.index_map.size_local * self.u.function_space.dofmap.index_map_bs
-        local = float(np.sum(r.array[dofs[dofs < n_owned]]))
-        r.destroy()
-        return self.comm.allreduce(local, op=MPI.SUM)
+        return self.comm.allreduce(float(np.sum(self.internal_force()[dofs[dofs < n_owned]])), op=MPI.SUM)
 

@@ -82,9 +82,12 @@ class Solver:
         # Options already in the database (command line) win; ours are removed
         # after setFromOptions so that they do not leak into the next solver.
         opts = PETSc.Options()
-        ours = [k for k in {**DEFAULT_OPTIONS, **(options or {})} if not opts.hasName(prefix + k)]
+        self._bounded = any(c.bounds(0.0, petsc_vec(problem.u)) is not None for c in problem.contacts)
+        defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self._bounded else {})}
+        wanted = {**defaults, **(options or {})}
+        ours = [k for k in wanted if not opts.hasName(prefix + k)]
         for k in ours:
-            opts[prefix + k] = {**DEFAULT_OPTIONS, **(options or {})}[k]
+            opts[prefix + k] = wanted[k]
         u = problem.u
         self._b = fem_petsc.create_vector(problem.F)
         self._A = fem_petsc.create_matrix(problem.J)
@@ -140,6 +143,15 @@ class Solver:
         self._set_u(self._x)
         return self.snes.getConvergedReason()
 
+    def _bounds(self, t: float) -> tuple[PETSc.Vec, PETSc.Vec]:
+        """The tightest bounds of all contact surfaces at load ``t``."""
+        pairs = [b for b in (c.bounds(t, self._x) for c in self.problem.contacts) if b is not None]
+        lower, upper = pairs[0]
+        for lo, up in pairs[1:]:
+            lower.pointwiseMax(lower, lo)
+            upper.pointwiseMin(upper, up)
+        return lower, upper
+
     def _snapshot(self):
         return petsc_vec(self.problem.u).copy(), [c.state() for c in self.problem.contacts]
 
@@ -154,6 +166,9 @@ class Solver:
         rec = StepRecord(step=number, load=t)
         start = time.perf_counter()
         self.problem.set_load(t)
+        if self._bounded:
+            lower, upper = self._bounds(t)
+            self.snes.setVariableBounds(lower, upper)
         augmentable = [c for c in self.problem.contacts if c.law.augmentable]
         for c in augmentable:
             c.forget_gap()
@@ -162,6 +177,8 @@ class Solver:
             rec.residuals.append(self._history)
             if rec.reason <= 0:
                 break
+            for c in self.problem.contacts:
+                c.after_solve(self.problem)
             if not self.augment_max or not augmentable:
                 rec.converged = True
                 break

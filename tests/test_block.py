@@ -67,3 +67,18 @@ def test_augmented_lagrangian_reaches_the_exact_pressure(quadrature):
     f, rec = solve(AugmentedLagrangian(1e5), quadrature, augment_max=10)
     assert rec.converged and rec.augmentation_converged and rec.constraint_change[-1] <= 1e-12
     assert np.isclose(f["contact_pressure"], EXACT, rtol=1e-8)
+
+
+def test_snes_vi_is_exact_in_one_load_step():
+    from fenics_contact.laws import Exact
+
+    f, rec = solve(Exact())
+    assert rec.converged and np.isclose(f["contact_pressure"], EXACT, rtol=1e-10)
+    assert abs(f["max_penetration"]) <= 1e-12
+
+
+def test_snes_vi_rejects_what_it_cannot_enforce():
+    from fenics_contact.laws import Exact
+
+    with pytest.raises(ValueError, match="quadrature 'nodal'"):
+        solve(Exact(), quadrature="gauss")

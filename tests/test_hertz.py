@@ -35,3 +35,13 @@ def test_p0_and_a_within_2_percent_and_equilibrium(law):
 def test_refinement_reduces_p0_error():
     errors = [solve(AugmentedLagrangian(hertz.DEFAULT_K), r)["p0_error"] for r in (0, 1)]
     assert errors[1] < errors[0]
+
+
+def test_snes_vi_reference_is_the_augmented_limit():
+    """Exact nodal enforcement (SNES VI) and converged augmentation solve the same discrete problem."""
+    from fenics_contact.laws import Exact
+
+    vi = solve(Exact())
+    aug = solve(AugmentedLagrangian(hertz.DEFAULT_K))
+    assert np.isclose(vi["p0"], aug["p0"], rtol=1e-6) and np.isclose(vi["a"], aug["a"], rtol=1e-6)
+    assert np.isclose(vi["total_force"], vi["reaction_top"], rtol=1e-8)

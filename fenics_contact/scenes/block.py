@@ -13,8 +13,8 @@ from __future__ import annotations
 from dolfinx import fem
 from mpi4py import MPI
 
+from ..bounds import contact_surface
 from ..compat import function_space
-from ..contact import ContactSurface
 from ..laws import ContactLaw
 from ..materials import MODELS
 from ..meshes import BOTTOM, LEFT, rectangle
@@ -41,7 +41,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, top)
     dirichlet = [Dirichlet(V.sub(1), top_y, -DISPLACEMENT),
                  Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, left))]
-    contact = ContactSurface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
+    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
     material = MODELS[model](E, NU)
     problem = ContactProblem(u, material, load, dirichlet, [contact])
 

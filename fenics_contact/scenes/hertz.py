@@ -20,8 +20,8 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
+from ..bounds import contact_surface
 from ..compat import function_space
-from ..contact import ContactSurface
 from ..laws import ContactLaw
 from ..materials import LinearElastic
 from ..meshes import CONTACT, SYMMETRY, TOP, hertz_quarter_disk
@@ -69,7 +69,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
     sym_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
     dirichlet = [Dirichlet(V.sub(1), top_y, -APPROACH), Dirichlet(V.sub(0), sym_x)]
-    contact = ContactSurface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
+    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
     problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact])
 
     def figures() -> dict:
