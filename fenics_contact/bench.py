@@ -60,6 +60,15 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
     return runs
 
 
+def _say(line: str) -> None:
+    """One progress line, from rank 0 only (the tests run the harness on every rank of an mpirun job)."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank == 0:
+        sys.stdout.write(line + "\n")
+        sys.stdout.flush()
+
+
 def run_name(cfg: dict) -> str:
     ref = "" if cfg.get("refinement") is None else f"_r{cfg['refinement']}"
     return f"{cfg['method']}_K{cfg['K']:.3g}_F{cfg['F_hat']:g}_aug{cfg['augment']}_{cfg['quadrature']}{ref}"
@@ -106,7 +115,7 @@ def bench(scene: str, out: str | Path, runs: Sequence[dict], pictures: bool = Tr
         row = run_one(scene, cfg, out / scene / run_name(cfg), timeout)
         rows.append(row)
         if not quiet:
-            print(f"[{scene} {i + 1}/{len(runs)}] {run_name(cfg):40s} converged {row['converged']!s:5s} "
+            _say(f"[{scene} {i + 1}/{len(runs)}] {run_name(cfg):40s} converged {row['converged']!s:5s} "
                   f"newton {row['newton_iterations']:3d} error {row['error']:.3e} "
                   f"time {row['wall_time_s']:.3f} s", flush=True)
     write_rows(rows, out / f"{scene}.csv", out / f"{scene}.json")
@@ -281,7 +290,7 @@ def main(argv: Sequence[str] | None = None) -> None:
             continue
         rows = bench(scene, out, sweep(scene, args.quick), quiet=args.quiet, timeout=args.timeout)
         failed = sum(not r["converged"] for r in rows)
-        print(f"{scene}: {len(rows)} runs ({failed} failed) in {time.perf_counter() - start:.1f} s -> "
+        _say(f"{scene}: {len(rows)} runs ({failed} failed) in {time.perf_counter() - start:.1f} s -> "
               f"{out / scene}.csv, {out / scene}_pareto.png, {out / scene}_iterations.png", flush=True)
 
 

@@ -26,6 +26,8 @@ _BIG = 1e300  # "no bound" (PETSc's VI treats |bound| >= 1e20 as infinite)
 class BoundContact(ContactSurface):
     """A contact surface enforced exactly by bounds; same figures and output as :class:`ContactSurface`."""
 
+    bounded = True
+
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
         if not isinstance(obstacle, HalfPlane) or np.count_nonzero(obstacle.n) != 1:

@@ -105,6 +105,8 @@ class ContactSurface:
         return self.law.force(self.gap, self.params, ufl_ops())
 
     # --- hooks of the solver (used by exact enforcement, see :mod:`bounds`) ----
+    bounded = False  # True: the surface is enforced by variable bounds (SNES VI), not by a law
+
     def bounds(self, t: float, like):
         """Variable bounds ``(lower, upper)`` on the unknowns at load ``t``, or None (a law, no bounds)."""
         return None

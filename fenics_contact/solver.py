@@ -82,7 +82,7 @@ class Solver:
         # Options already in the database (command line) win; ours are removed
         # after setFromOptions so that they do not leak into the next solver.
         opts = PETSc.Options()
-        self._bounded = any(c.bounds(0.0, petsc_vec(problem.u)) is not None for c in problem.contacts)
+        self._bounded = any(c.bounded for c in problem.contacts)
         defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self._bounded else {})}
         wanted = {**defaults, **(options or {})}
         ours = [k for k in wanted if not opts.hasName(prefix + k)]
@@ -145,7 +145,7 @@ class Solver:
 
     def _bounds(self, t: float) -> tuple[PETSc.Vec, PETSc.Vec]:
         """The tightest bounds of all contact surfaces at load ``t``."""
-        pairs = [b for b in (c.bounds(t, self._x) for c in self.problem.contacts) if b is not None]
+        pairs = [c.bounds(t, self._x) for c in self.problem.contacts if c.bounded]
         lower, upper = pairs[0]
         for lo, up in pairs[1:]:
             lower.pointwiseMax(lower, lo)
