@@ -8,6 +8,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 DEB13=${DEB13:-.debian13}
 OPTIONAL=${OPTIONAL:-0}
+PROJECT=${DEB13_PROJECT:-project}  # folder of the root the project is copied into (one per checkout sharing a root)
+PY=${PY:-.venv/bin/python}
+TESTS=${DEB13_TESTS:-tests}  # pytest arguments (a subset while developing)
 
 skip() {
   if [ "$OPTIONAL" = 1 ]; then echo "debian13 lane: SKIPPED: $1"; exit 0; fi
@@ -36,22 +39,22 @@ if ! chroot "$DEB13" python3 -c "import dolfinx, gmsh, pytest, matplotlib" 2>/de
 fi
 echo "debian13 lane: dolfinx $(chroot "$DEB13" python3 -c 'import dolfinx; print(dolfinx.__version__)')"
 
-rm -rf "$DEB13/project" && mkdir -p "$DEB13/project"
-cp -a pyproject.toml fenics_contact tests scripts demos "$DEB13/project/"
-find "$DEB13/project" -name __pycache__ -prune -exec rm -rf {} +
+rm -rf "$DEB13/$PROJECT" && mkdir -p "$DEB13/$PROJECT"
+cp -a pyproject.toml fenics_contact tests scripts demos "$DEB13/$PROJECT/"
+find "$DEB13/$PROJECT" -name __pycache__ -prune -exec rm -rf {} +
 
 # Debian 13's Open MPI may hang here without these transport choices.
 run() {
   chroot "$DEB13" /usr/bin/env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
     OMPI_MCA_btl=self,sm OMPI_MCA_pml=ob1 OMPI_MCA_rmaps_base_oversubscribe=1 HOME=/root \
-    PYTHONPATH=/project /bin/sh -c "cd /project && $1"
+    PYTHONPATH=/$PROJECT /bin/sh -c "cd /$PROJECT && $1"
 }
 start=$(date +%s)
-run "python3 -m pytest -q -p no:cacheprovider tests"
-run "mpirun -n 2 python3 -m pytest -q -p no:cacheprovider tests"
+run "python3 -m pytest -q -p no:cacheprovider $TESTS"
+run "mpirun -n 2 python3 -m pytest -q -p no:cacheprovider $TESTS"
 # Same figures on both dolfinx versions: block and hertz, 1e-8 relative.
-.venv/bin/python scripts/lane_figures.py "$DEB13/project/figures-debian12.json"
+"$PY" scripts/lane_figures.py "$DEB13/$PROJECT/figures-debian12.json"
 run "python3 scripts/lane_figures.py figures-debian13.json"
-.venv/bin/python scripts/lane_figures.py --compare "$DEB13/project/figures-debian12.json" \
-  "$DEB13/project/figures-debian13.json"
+"$PY" scripts/lane_figures.py --compare "$DEB13/$PROJECT/figures-debian12.json" \
+  "$DEB13/$PROJECT/figures-debian13.json"
 echo "debian13 lane: passed in $(( $(date +%s) - start )) s"

@@ -5,6 +5,8 @@ A builder returns a :class:`Setup`; ``figures()`` returns the scene's figures
 """
 from __future__ import annotations
 
+import importlib
+import pkgutil
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -36,17 +38,15 @@ class Setup:
 
 
 def scene_names() -> list[str]:
-    return ["block", "hertz"]
+    """Every scene module of this package (each defines ``build``)."""
+    return sorted(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_"))
 
 
 def build(name: str, **kwargs) -> Setup:
-    """Build scene ``name`` (``block``, ``hertz``) with keyword arguments of its builder."""
-    if name == "block":
-        from .block import build as b
-    elif name == "hertz":
-        from .hertz import build as b
-    else:
+    """Build scene ``name`` (see :func:`scene_names`) with keyword arguments of its builder."""
+    if name not in scene_names():
         raise ValueError(f"unknown scene {name!r}; accepted: {', '.join(scene_names())}")
+    b = importlib.import_module(f"{__name__}.{name}").build
     start = time.perf_counter()
     setup = b(**kwargs)
     comm = setup.problem.comm
