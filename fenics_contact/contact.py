@@ -8,10 +8,12 @@ the UFL surface term ``F(g) dg[v]`` and the augmentation update.
 """
 from __future__ import annotations
 
+import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import ufl
 from dolfinx import fem
 from mpi4py import MPI
+from petsc4py import PETSc
 
 from .compat import function_space, petsc_vec
 from .laws import ContactLaw, ufl_ops
@@ -161,6 +163,31 @@ class ContactSurface:
     def _owned(self, a: np.ndarray) -> np.ndarray:
         n = self.S.dofmap.index_map.size_local * self.S.dofmap.index_map_bs
         return a[:n]
+
+    # --- per-iteration status (failure detection, see solver.py) -------------
+    def closed_points(self) -> np.ndarray:
+        """Flags ``g > 0`` (closed) at this rank's contact points (owned state dofs on the surface), at the
+        current ``u``. Nodal quadrature: one flag per contact vertex; Gauss: per DG1 dof (Gauss point map)."""
+        if not hasattr(self, "_gap_status"):
+            self._gap_status = fem.Function(self.S)
+        self.projector.project(self._gap_rhs, self._gap_status)
+        return self._gap_status.x.array[self.projector.surface_dofs] > 0.0
+
+    def point_forces(self) -> tuple[np.ndarray, np.ndarray]:
+        """Coordinates and nodal contact forces ``F(g_i) int phi_i ds`` (per unit thickness in 2D) of this
+        rank's contact vertices at the current ``u`` (nodal quadrature only, where they are exact)."""
+        if self.quadrature != "nodal":
+            raise ValueError("point_forces needs quadrature 'nodal' (one contact point per vertex)")
+        if not hasattr(self, "_weights"):
+            b = fem_petsc.assemble_vector(self.projector.compile(fem.Constant(self.S.mesh, 1.0)))
+            b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+            self._weights = b.array[self.projector.surface_dofs].copy()  # int phi_i ds
+            b.destroy()
+            self._p_now = fem.Function(self.S)
+            self._p_rhs = self.projector.compile(self.pressure)
+        self.projector.project(self._p_rhs, self._p_now)
+        dofs = self.projector.surface_dofs
+        return self.S.tabulate_dof_coordinates()[dofs], self._p_now.x.array[dofs] * self._weights
 
     # --- figures ---------------------------------------------------------
     def total_force(self) -> np.ndarray:

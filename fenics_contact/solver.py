@@ -1,5 +1,11 @@
 """The solver driver: PETSc SNES, load stepping with cutback, augmentation loop, record.
 
+Every Newton iterate logs its residual and the active set of the contact
+points (closed, ``g > 0``); a failed solve is classified by
+:func:`fenics_contact.failure.classify` (cycling, stagnation, divergence,
+linear-solve failure / ill-conditioning) and recorded in the step's
+``failure`` (and in ``summary.json``) instead of a bare "did not converge".
+
 PETSc options: the defaults below are set under the options prefix only when
 absent, so anything given on the command line (``-fc_snes_rtol 1e-12``) or
 in ``options`` wins. The same options must be given on every rank.
@@ -15,6 +21,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from . import failure as _failure
 from .compat import lift_and_set_bc, petsc_vec
 from .problem import ContactProblem
 
@@ -32,7 +39,11 @@ DEFAULT_OPTIONS = {
 
 
 class ConvergenceError(RuntimeError):
-    """A load step failed even after the allowed cutbacks."""
+    """A load step failed even after the allowed cutbacks; ``failure`` says why (see :mod:`failure`)."""
+
+    def __init__(self, message: str, failure: dict | None = None):
+        super().__init__(message)
+        self.failure = failure
 
 
 @dataclass
@@ -48,6 +59,8 @@ class StepRecord:
     converged: bool = False
     reason: int = 0
     wall_time_s: float = 0.0
+    closed_points: list[list[int]] = field(default_factory=list)  # closed contact points per iterate, per solve
+    failure: dict | None = None  # why the last solve failed (failure.classify), with step, load, augmentation
 
     @property
     def newton_iterations(self) -> int:
@@ -57,7 +70,8 @@ class StepRecord:
         return {"step": self.step, "load": self.load, "newton_iterations": self.newton_iterations,
                 "residuals": self.residuals, "constraint_change": self.constraint_change,
                 "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
-                "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s}
+                "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s,
+                "closed_points": self.closed_points, "failure": self.failure}
 
 
 class Solver:
@@ -66,18 +80,22 @@ class Solver:
     ``augment_max`` augmentations at most per load step (0: none), stopping
     when ``R = ||g_new - g_old|| <= augment_tol``. A step whose SNES
     diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
-    called after every converged step (output). ``quiet`` silences the
-    progress lines.
+    called after every converged step (output); ``on_iterate(it)`` after
+    every Newton iterate, with ``problem.u`` at that iterate. ``quiet``
+    silences the progress lines.
     """
 
     def __init__(self, problem: ContactProblem, prefix: str = "fc_", options: dict | None = None,
                  augment_max: int = 0, augment_tol: float = 1e-12, max_cutbacks: int = 4,
-                 quiet: bool = False, on_step: Callable[[float], None] | None = None):
+                 quiet: bool = False, on_step: Callable[[float], None] | None = None,
+                 on_iterate: Callable[[int], None] | None = None):
         if augment_max < 0:
             raise ValueError(f"augment_max must be >= 0, got {augment_max}")
         if not augment_tol > 0:
             raise ValueError(f"augment_tol must be > 0, got {augment_tol}")
-        self.problem, self.quiet, self.on_step = problem, quiet, on_step
+        if max_cutbacks < 0:
+            raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
+        self.problem, self.quiet, self.on_step, self.on_iterate = problem, quiet, on_step, on_iterate
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
         # Options already in the database (command line) win; ours are removed
         # after setFromOptions so that they do not leak into the next solver.
@@ -102,7 +120,10 @@ class Solver:
         for k in ours:
             opts.delValue(prefix + k)
         self.records: list[StepRecord] = []
+        self.failures: list[dict] = []  # every failed solve, also those rescued by a cutback
         self._history: list[float] = []
+        self._sets: list = []  # active-set fingerprint per iterate of the current solve
+        self._closed: list[int] = []
         self.t = 0.0
         # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
         # (their difference is the linear solves and SNES's vector work), augmentation updates.
@@ -132,10 +153,25 @@ class Solver:
 
     def _monitor(self, snes, it, norm):
         self._history.append(float(norm))
+        self._log_iterate(snes, it)
+
+    def _log_iterate(self, snes, it: int) -> None:
+        """Active set (closed contact points) at the current iterate, for the failure diagnosis."""
+        laws = [c for c in self.problem.contacts if not c.bounded]
+        if not laws and self.on_iterate is None:
+            return
+        self._set_u(snes.getSolution())
+        if laws:
+            flags = np.concatenate([c.closed_points() for c in laws])
+            digest, closed = _failure.fingerprint(flags, self.problem.comm)
+            self._sets.append(digest)
+            self._closed.append(closed)
+        if self.on_iterate is not None:
+            self.on_iterate(it)
 
     # --- driver -----------------------------------------------------------
     def _newton(self) -> int:
-        self._history = []
+        self._history, self._sets, self._closed = [], [], []
         petsc_vec(self.problem.u).copy(self._x)
         start = time.perf_counter()
         self.snes.solve(None, self._x)
@@ -175,7 +211,10 @@ class Solver:
         while True:
             rec.reason = self._newton()
             rec.residuals.append(self._history)
+            rec.closed_points.append(self._closed)
             if rec.reason <= 0:
+                rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
+                               **self._diagnose(rec.reason)}
                 break
             for c in self.problem.contacts:
                 c.after_solve(self.problem)
@@ -199,6 +238,13 @@ class Solver:
         rec.wall_time_s = self.problem.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
         return rec
 
+    def _diagnose(self, reason: int) -> dict:
+        """Classify the failed solve just done (see :mod:`fenics_contact.failure`)."""
+        ksp = self.snes.getKSP().getConvergedReason()
+        return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason),
+                                 _failure.reason_name(PETSc.KSP.ConvergedReason, ksp),
+                                 self._history, self._sets, self._closed)
+
     def run(self, loads: Sequence[float]) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
         for target in loads:
@@ -216,21 +262,22 @@ class Solver:
                     cuts = 0
                     continue
                 self._rollback(snap)
+                self.failures.append(rec.failure)
                 self._progress(rec, failed=True)
                 cuts += 1
                 if cuts > self.max_cutbacks:
                     self.records.append(rec)
                     raise ConvergenceError(
                         f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
-                        f"{self.max_cutbacks} cutbacks: SNES reason {_reason(rec.reason)}; the last converged "
-                        f"state (t = {self.t:.6g}) has been written")
+                        f"{self.max_cutbacks} cutbacks: {_describe(rec.failure)}, SNES reason {_reason(rec.reason)}; "
+                        f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
         return self.records
 
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
         if self.quiet:
             return
         last = rec.residuals[-1][-1] if rec.residuals and rec.residuals[-1] else float("nan")
-        tag = f"FAILED ({_reason(rec.reason)}), cutting the step" if failed else (
+        tag = f"FAILED: {_describe(rec.failure)} ({_reason(rec.reason)}), cutting the step" if failed else (
             f"aug {rec.augmentations:2d} R {rec.constraint_change[-1]:.2e}" if rec.constraint_change else "")
         PETSc.Sys.Print(f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
                         f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}", comm=self.problem.comm)
@@ -264,9 +311,21 @@ class Solver:
                 "augmentations": sum(r.augmentations for r in done),
                 "load_steps": len(done),
                 "converged": bool(self.records) and all(r.converged for r in self.records),
+                "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,
+                "failures": self.failures,
                 "steps": [r.as_dict() for r in self.records]}
 
 
 def _reason(code: int) -> str:
     names = {v: k for k, v in vars(PETSc.SNES.ConvergedReason).items() if isinstance(v, int)}
     return f"{names.get(code, '?')} ({code})"
+
+
+def _describe(failure: dict | None) -> str:
+    """One line for a failure record."""
+    if not failure:
+        return "no diagnosis"
+    text = f"{failure['kind']} after {failure['iterations']} iterations (augmentation {failure['augmentation']})"
+    if failure["kind"] == "cycling" and failure.get("period"):
+        text += f", active set repeating with period {failure['period']} from iterate {failure['start']}"
+    return text
