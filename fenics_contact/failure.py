@@ -11,6 +11,8 @@ in this order of precedence:
     factorization or a NaN/Inf in the Krylov solve (KSP ``DIVERGED_PC_FAILED``,
     ``DIVERGED_NANORINF``, ``DIVERGED_BREAKDOWN``) is ``ill_conditioning``
     (singular or near-singular Jacobian), any other KSP failure ``linear_solve``.
+    Also ``ill_conditioning``: a condition estimate of the last Jacobian
+    (:func:`condition_estimate`, direct solvers only) above ``ILL_CONDITIONED``.
 ``divergence``
     a non-finite residual, SNES ``DIVERGED_DTOL``/``DIVERGED_FNORM_NAN``, or a
     final residual above ``1e4`` times the first.
@@ -35,6 +37,7 @@ from typing import Hashable, Sequence
 import numpy as np
 from mpi4py import MPI
 
+ILL_CONDITIONED = 1e12  # condition estimate above which a failed solve is blamed on the Jacobian
 KINDS = ("linear_solve", "ill_conditioning", "divergence", "cycling", "stagnation", "max_iterations")
 
 # KSP reasons that mean a singular or numerically unusable operator (PETSc KSPConvergedReason).
@@ -74,21 +77,51 @@ def _revisiting(sets: Sequence[Hashable], window: int = 8) -> bool:
     return changes >= window // 2 and seen_before
 
 
+def condition_estimate(A, ksp, iterations: int = 15) -> float | None:
+    """Estimate of the 2-norm condition number of ``A`` (a PETSc Mat): power iteration for ``||A||``
+    times inverse iteration (with ``ksp``'s factorization of ``A``) for ``||A^-1||``. None unless ``ksp``
+    is a direct solve (LU or Cholesky) already set up with ``A``. Collective; a lower bound in general."""
+    if ksp.getPC().getType() not in ("lu", "cholesky"):
+        return None
+    x, y = A.createVecs()
+    norms = []
+    for apply in (lambda a, b: A.mult(a, b), lambda a, b: ksp.solve(a, b)):
+        x.setRandom()
+        x.normalize()
+        growth = 0.0
+        for _ in range(iterations):
+            apply(x, y)
+            growth = y.norm()
+            if not np.isfinite(growth) or growth == 0.0:
+                break
+            y.copy(x)
+            x.scale(1.0 / growth)
+        norms.append(growth)
+    x.destroy()
+    y.destroy()
+    cond = norms[0] * norms[1]
+    return float(cond) if np.isfinite(cond) else float("inf")
+
+
 def classify(snes_reason: str, ksp_reason: str, residuals: Sequence[float], sets: Sequence[Hashable],
-             closed: Sequence[int]) -> dict:
+             closed: Sequence[int], condition: float | None = None) -> dict:
     """Name the failure of one Newton solve (see the module docstring).
 
     ``snes_reason``/``ksp_reason``: PETSc reason names; ``residuals``: residual norm per iterate (iterate 0
     first); ``sets``: active-set fingerprints per iterate (may be empty: no law-based contact);
-    ``closed``: closed points per iterate. Returns ``{"kind", "iterations", "detail"}``.
+    ``closed``: closed points per iterate; ``condition``: condition estimate of the last Jacobian (or None).
+    Returns ``{"kind", "iterations", ...}`` with the reasons, the first and last residual and the estimate.
     """
     r = np.asarray(residuals, dtype=float)
     its = max(len(r) - 1, 0)
     out = {"iterations": its, "snes_reason": snes_reason, "ksp_reason": ksp_reason,
-           "residual_first": float(r[0]) if len(r) else None, "residual_last": float(r[-1]) if len(r) else None}
-    if snes_reason == "DIVERGED_LINEAR_SOLVE":
-        kind = "ill_conditioning" if ksp_reason in _ILL_CONDITIONED_KSP else "linear_solve"
-        return {"kind": kind, **out}
+           "residual_first": float(r[0]) if len(r) else None, "residual_last": float(r[-1]) if len(r) else None,
+           "condition_estimate": condition}
+    if snes_reason == "DIVERGED_LINEAR_SOLVE" and ksp_reason not in _ILL_CONDITIONED_KSP and not (
+            condition is not None and condition > ILL_CONDITIONED):
+        return {"kind": "linear_solve", **out}
+    if ksp_reason in _ILL_CONDITIONED_KSP or (condition is not None and condition > ILL_CONDITIONED):
+        return {"kind": "ill_conditioning", **out}
     if (len(r) and not np.all(np.isfinite(r))) or snes_reason in ("DIVERGED_DTOL", "DIVERGED_FNORM_NAN") or (
             len(r) > 1 and r[-1] > 1e4 * r[0]):
         return {"kind": "divergence", **out}

@@ -240,10 +240,13 @@ class Solver:
 
     def _diagnose(self, reason: int) -> dict:
         """Classify the failed solve just done (see :mod:`fenics_contact.failure`)."""
-        ksp = self.snes.getKSP().getConvergedReason()
-        return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason),
-                                 _failure.reason_name(PETSc.KSP.ConvergedReason, ksp),
-                                 self._history, self._sets, self._closed)
+        ksp = self.snes.getKSP()
+        ksp_reason = _failure.reason_name(PETSc.KSP.ConvergedReason, ksp.getConvergedReason())
+        condition = None
+        if ksp_reason not in ("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED"):  # a failed factorization: no estimate
+            condition = _failure.condition_estimate(self._A, ksp)
+        return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
+                                 self._history, self._sets, self._closed, condition)
 
     def run(self, loads: Sequence[float]) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
