@@ -15,7 +15,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .compat import function_space, petsc_vec
+from .compat import entities_to_geometry, function_space, petsc_vec
 from .laws import ContactLaw, ufl_ops
 from .meshes import check_tags
 from .obstacles import Obstacle
@@ -209,6 +209,44 @@ class ContactSurface:
             (x, self.gap_out.x.array[dofs], self.pressure_out.x.array[dofs])))]
         order = np.lexsort(data[0].T[::-1])
         return data[0][order], data[1][order], data[2][order]
+
+    def contact_zones(self, relative: float = 1e-3) -> list[dict]:
+        """Connected sets of loaded contact vertices along the surface (vertices of a common facet are
+        connected), the same on every rank. Loaded: pressure above ``relative`` times the largest on the
+        surface (not ``g > 0``: a law with an open-side branch carries load at a small opening). For each
+        zone the number of points, the mean and range of their reference coordinates and the largest
+        pressure, sorted by the mean x."""
+        mesh = self.u.function_space.mesh
+        fdim = mesh.topology.dim - 1
+        mesh.topology.create_connectivity(fdim, 0)
+        nodes = mesh.geometry.x[entities_to_geometry(mesh, fdim, self.facets)] if len(self.facets) else np.zeros(
+            (0, fdim + 1, 3))
+        facets = np.concatenate(self.comm.allgather(nodes))
+        x, g, p = self.surface_values()
+        scale = 1e-9 * max(float(np.ptp(x)) if x.size else 1.0, 1.0)
+        key = lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))  # noqa: E731
+        index = {key(c): i for i, c in enumerate(x)}
+        parent = list(range(len(x)))
+
+        def root(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        closed = p > relative * p.max() if p.size and p.max() > 0 else np.zeros(len(p), bool)
+        for f in facets:
+            ids = [index.get(key(c)) for c in f]
+            ids = [i for i in ids if i is not None and closed[i]]
+            for a, b in zip(ids[:-1], ids[1:]):
+                parent[root(a)] = root(b)
+        groups: dict[int, list[int]] = {}
+        for i in np.flatnonzero(closed):
+            groups.setdefault(root(i), []).append(i)
+        zones = [{"points": len(ids), "X_mean": x[ids].mean(axis=0).tolist(), "X_min": x[ids].min(axis=0).tolist(),
+                  "X_max": x[ids].max(axis=0).tolist(), "pressure_max": float(p[ids].max())}
+                 for ids in groups.values()]
+        return sorted(zones, key=lambda z: z["X_mean"][0])
 
     def max_penetration(self) -> float:
         """Largest gap over the contact vertices (positive = penetration, negative = open)."""

@@ -1,8 +1,25 @@
 """Meshes for the contact benchmarks, with named physical tags.
 
-``hertz_quarter_disk`` is built with gmsh on rank 0 and distributed with
-``dolfinx.io.gmshio.model_to_mesh``; ``rectangle`` uses
-``dolfinx.mesh.create_rectangle``. All functions are collective on ``comm``.
+``hertz_quarter_disk`` and ``seal_section`` are built with gmsh on rank 0 and
+distributed with ``dolfinx.io.gmshio.model_to_mesh``; ``rectangle`` uses
+``dolfinx.mesh.create_rectangle``, ``ring_quarter`` maps it to polar
+coordinates. All functions are collective on ``comm``.
+
+Seal geometry (``seal_section``; the paper's Figure 17 is not available, so
+this is our design from its data): a band of thickness 1, the annular
+sector between the concentric circular arcs R_out = 10 and R_in = 9 (the
+"two circular arcs"), curved as a valley (U) between the plates y = 0 and
+y = 7: centre (0, R_out), so the outer arc touches the lower plate at its
+bottom (0, 0); the ends are cut radially where the inner arc reaches the
+upper plate, at the angle phi from the bottom with ``R_out - R_in cos phi =
+7`` (phi = 70.5 degrees), so the two inner (upper) corners touch the upper
+plate. The section is symmetric about x = 0; ``seal_section`` meshes the
+right half. Flattening to plates 1 apart (= the thickness) straightens the
+band: the upper contacts travel from the corners along the inner face
+toward the middle, the bottom contact zone splits into two that move apart
+as the middle lifts, and the outer (lower) corners come down onto the
+lower plate. The band cannot fold onto itself in this loading, so no
+self-contact is needed (the suite has no self-contact).
 """
 from __future__ import annotations
 
@@ -39,6 +56,10 @@ RING_INNER = 22
 RING_AXIS = 23  # x = 0
 RING_MID = 24  # the horizontal diameter y = R_out
 RING_FACETS = {"outer": RING_OUTER, "inner": RING_INNER, "axis": RING_AXIS, "mid": RING_MID}
+# Tags of ``seal_section``: the free boundary, the symmetry line x = 0, the cell tag.
+SEAL_BOUNDARY = 31
+SEAL_SYMMETRY = 32
+SEAL_DOMAIN = 33
 
 # Slope of the mesh size with distance in the graded zone (size / length).
 _GRADING = 0.25
@@ -207,3 +228,75 @@ def ring_quarter(comm: MPI.Comm, R_out: float, R_in: float, n_theta: int, n_r: i
     facet_tags.name = "facet_tags"
     msh.name = "ring_quarter"
     return msh, None, facet_tags
+
+
+def seal_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
+    """The U-shaped seal section (see the module docstring): arc centre ``C``, half-angle ``phi`` (radians,
+    from the bottom), the corners of the right end. Lower plate y = 0, upper plate y = ``gap``."""
+    if not (0 < R_in < R_out):
+        raise ValueError(f"seal radii need 0 < R_in < R_out, got R_in={R_in!r}, R_out={R_out!r}")
+    if not (R_out - R_in < gap < R_out):
+        raise ValueError(f"plate distance gap must be in (R_out - R_in, R_out), got {gap!r}")
+    phi = math.acos((R_out - gap) / R_in)
+    C = (0.0, R_out)
+    corner = lambda r: (C[0] + r * math.sin(phi), C[1] - r * math.cos(phi))  # noqa: E731
+    return {"C": C, "phi": phi, "corner_out": corner(R_out), "corner_in": corner(R_in), "R_out": R_out,
+            "R_in": R_in, "gap": gap}
+
+
+def seal_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
+                 gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Right half (x >= 0) of the U-shaped seal section (module docstring), structured quadrilaterals of size
+    about ``h`` (at least 2 through the thickness). Facet tags SEAL_BOUNDARY (outer arc, end, inner arc),
+    SEAL_SYMMETRY (x = 0); cell tag SEAL_DOMAIN.
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``.
+    """
+    if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
+        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
+    geo_data = seal_geometry(R_out, R_in, gap)
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        error = ""
+        if comm.rank == 0:
+            try:
+                _build_seal(geo_data, h)
+            except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
+                error = f"gmsh failed to mesh the seal: {exc}"
+        error = comm.bcast(error, root=0)
+        if error:
+            raise RuntimeError(error)
+        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+    finally:
+        gmsh.finalize()
+    mesh.name = "seal_section"
+    return mesh, cell_tags, facet_tags
+
+
+def _build_seal(d: dict, h: float) -> None:
+    gmsh.model.add("seal")
+    geo = gmsh.model.geo
+    Ro, Ri, phi = d["R_out"], d["R_in"], d["phi"]
+    C = geo.addPoint(*d["C"], 0.0)
+    bottom_out, bottom_in = geo.addPoint(0.0, d["C"][1] - Ro, 0.0), geo.addPoint(0.0, d["C"][1] - Ri, 0.0)
+    end_out, end_in = geo.addPoint(*d["corner_out"], 0.0), geo.addPoint(*d["corner_in"], 0.0)
+    outer = geo.addCircleArc(bottom_out, C, end_out)
+    end = geo.addLine(end_out, end_in)
+    inner = geo.addCircleArc(end_in, C, bottom_in)
+    symmetry = geo.addLine(bottom_in, bottom_out)
+    surface = geo.addPlaneSurface([geo.addCurveLoop([outer, end, inner, symmetry])])
+    n_t = max(2, round((Ro - Ri) / h))
+    n_l = max(4, round(0.5 * (Ro + Ri) * phi / h))
+    for c in (outer, inner):
+        geo.mesh.setTransfiniteCurve(c, n_l + 1)
+    for c in (end, symmetry):
+        geo.mesh.setTransfiniteCurve(c, n_t + 1)
+    geo.mesh.setTransfiniteSurface(surface)
+    geo.mesh.setRecombine(2, surface)
+    geo.synchronize()
+    gmsh.model.addPhysicalGroup(1, [outer, end, inner], SEAL_BOUNDARY)
+    gmsh.model.addPhysicalGroup(1, [symmetry], SEAL_SYMMETRY)
+    gmsh.model.addPhysicalGroup(2, [surface], SEAL_DOMAIN)
+    gmsh.model.mesh.generate(2)

@@ -16,26 +16,31 @@ from .solver import ConvergenceError, Solver
 
 def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
         augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None, max_cutbacks: int = 4,
-        on_iterate: Callable[[int], None] | None = None) -> dict:
+        on_iterate: Callable[[int], None] | None = None, predictor: bool = False,
+        on_step: Callable[[float], None] | None = None) -> dict:
     """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once.
 
     Returns the summary (also in ``out/summary.json``). A step that fails
     after ``max_cutbacks`` cutbacks writes the summary with ``converged: false``
     and ``failure`` (kind, step, iterations: :mod:`fenics_contact.failure`)
-    and re-raises. ``on_iterate(it)`` is called after every Newton iterate.
+    and re-raises. ``on_iterate(it)`` is called after every Newton iterate, ``on_step(t)`` after every
+    converged step (after its output); ``predictor``: see :class:`Solver`.
     """
     out = Path(out)
     comm = setup.problem.comm
     start = time.perf_counter()
     with XDMFWriter(out / f"{setup.name}.xdmf", setup.problem.u.function_space.mesh, setup.fields) as xdmf:
 
-        def on_step(t: float) -> None:
+        def write(t: float) -> None:
             for c in setup.contacts:
                 c.update_output()
             xdmf.write(t)
+            if on_step is not None:
+                on_step(t)
 
         solver = Solver(setup.problem, augment_max=augment_max, augment_tol=augment_tol, quiet=quiet,
-                        options=options, on_step=on_step, max_cutbacks=max_cutbacks, on_iterate=on_iterate)
+                        options=options, on_step=write, max_cutbacks=max_cutbacks, on_iterate=on_iterate,
+                        predictor=predictor)
         error = failure = None
         try:
             solver.run(setup.loads)

@@ -82,13 +82,15 @@ class Solver:
     diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
     called after every converged step (output); ``on_iterate(it)`` after
     every Newton iterate, with ``problem.u`` at that iterate. ``quiet``
-    silences the progress lines.
+    silences the progress lines. ``predictor=True`` starts each load step
+    from the linear extrapolation in ``t`` of the last two converged states
+    (secant predictor) instead of the last converged state.
     """
 
     def __init__(self, problem: ContactProblem, prefix: str = "fc_", options: dict | None = None,
                  augment_max: int = 0, augment_tol: float = 1e-12, max_cutbacks: int = 4,
                  quiet: bool = False, on_step: Callable[[float], None] | None = None,
-                 on_iterate: Callable[[int], None] | None = None):
+                 on_iterate: Callable[[int], None] | None = None, predictor: bool = False):
         if augment_max < 0:
             raise ValueError(f"augment_max must be >= 0, got {augment_max}")
         if not augment_tol > 0:
@@ -96,6 +98,8 @@ class Solver:
         if max_cutbacks < 0:
             raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
         self.problem, self.quiet, self.on_step, self.on_iterate = problem, quiet, on_step, on_iterate
+        self.predictor = predictor
+        self._converged: list[tuple[float, np.ndarray]] = []  # last two converged (t, u), for the predictor
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
         # Options already in the database (command line) win; ours are removed
         # after setFromOptions so that they do not leak into the next solver.
@@ -208,6 +212,9 @@ class Solver:
         augmentable = [c for c in self.problem.contacts if c.law.augmentable]
         for c in augmentable:
             c.forget_gap()
+        if self.predictor and len(self._converged) == 2:
+            (t0, u0), (t1, u1) = self._converged
+            self.problem.u.x.array[:] = u1 + (t - t1) / (t1 - t0) * (u1 - u0)
         while True:
             rec.reason = self._newton()
             rec.residuals.append(self._history)
@@ -250,6 +257,8 @@ class Solver:
 
     def run(self, loads: Sequence[float]) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
+        if self.predictor and not self._converged:
+            self._converged = [(self.t, self.problem.u.x.array.copy())]
         for target in loads:
             cuts = 0
             while self.t != target:
@@ -259,6 +268,8 @@ class Solver:
                 if rec.converged:
                     self.records.append(rec)
                     self.t = t
+                    if self.predictor:
+                        self._converged = [*self._converged[-1:], (t, self.problem.u.x.array.copy())]
                     self._progress(rec)
                     if self.on_step is not None:
                         self.on_step(t)
