@@ -81,7 +81,7 @@ def condition_estimate(A, ksp, iterations: int = 15) -> float | None:
     """Estimate of the 2-norm condition number of ``A`` (a PETSc Mat): power iteration for ``||A||``
     times inverse iteration (with ``ksp``'s factorization of ``A``) for ``||A^-1||``. None unless ``ksp``
     is a direct solve (LU or Cholesky) already set up with ``A``. Collective; a lower bound in general."""
-    if ksp.getPC().getType() not in ("lu", "cholesky"):
+    if ksp.getPC().getType() not in ("lu", "cholesky") or not A.assembled:  # no Jacobian yet: no estimate
         return None
     x, y = A.createVecs()
     norms = []
