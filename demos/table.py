@@ -5,6 +5,7 @@ from pathlib import Path
 
 FIGURES = {"block": ("contact_pressure", "exact_pressure", "pressure_error"),
            "hertz": ("p0", "p0_hertz", "p0_error")}
+# ring and seal have no reference value; their summaries give iterations and time (and methods.md compares methods)
 
 root = Path(sys.argv[1] if len(sys.argv) > 1 else "results")
 rows = [json.loads(p.read_text()) for p in sorted(root.glob("*/summary.json"))]

@@ -5,8 +5,25 @@ distributed with ``dolfinx.io.gmshio.model_to_mesh``; ``rectangle`` uses
 ``dolfinx.mesh.create_rectangle``, ``ring_quarter`` maps it to polar
 coordinates. All functions are collective on ``comm``.
 
-Seal geometry (``seal_section``; the paper's Figure 17 is not available, so
-this is our design from its data): a band of thickness 1, the annular
+Seal geometry (the paper's Figure 17 is not available, so this is our
+design from its data; the seal scene uses the S by default).
+
+S (``seal_s_section``): a band of thickness 1 bent into an S lying on its
+side: two annular sectors bounded by arcs of radii R_out = 10 and R_in = 9
+and of opposite curvature, the left one (centre C1) convex upward, the
+right one (centre C2) convex downward, joined tangentially across the
+segment of the line C1-C2 between radii 9 and 10 (|C1 C2| = 19 =
+R_out + R_in, so the outer arc of one continues the inner arc of the
+other). The top of the left outer arc touches the upper plate y = 7, the
+bottom of the right outer arc the lower plate y = 0 (plates 7 apart). Each
+sector spans 93.7 degrees, symmetric about its vertical, ends cut radially;
+the section is point-symmetric about the middle of the junction, (0, 3.5).
+Squeezed, the S rolls (contacts travel toward the middle), then its ends
+touch the opposite plates at their corners, then the zone under each hump
+splits in two. The band cannot fold onto itself in this loading, so no
+self-contact is needed (the suite has no self-contact).
+
+U (``seal_section``): a band of thickness 1, the annular
 sector between the concentric circular arcs R_out = 10 and R_in = 9 (the
 "two circular arcs"), curved as a valley (U) between the plates y = 0 and
 y = 7: centre (0, R_out), so the outer arc touches the lower plate at its
@@ -299,4 +316,91 @@ def _build_seal(d: dict, h: float) -> None:
     gmsh.model.addPhysicalGroup(1, [outer, end, inner], SEAL_BOUNDARY)
     gmsh.model.addPhysicalGroup(1, [symmetry], SEAL_SYMMETRY)
     gmsh.model.addPhysicalGroup(2, [surface], SEAL_DOMAIN)
+    gmsh.model.mesh.generate(2)
+
+
+def seal_s_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
+    """Key points of the S-shaped seal section (see ``seal_s_section``): arc centres ``C1``, ``C2``, the
+    junction direction ``beta`` (radians, from C1 toward C2), the end angle ``end`` of the left sector (from C1)
+    and the centre of symmetry ``P0``. Lower plate y = 0, upper plate y = ``gap``."""
+    if not (0 < R_in < R_out):
+        raise ValueError(f"seal radii need 0 < R_in < R_out, got R_in={R_in!r}, R_out={R_out!r}")
+    dy, d = R_out - gap / 2, (R_out + R_in) / 2
+    if not (0 < dy < d):
+        raise ValueError(f"plate distance gap must be in ({2 * (R_out - d)!r}, {2 * R_out!r}), got {gap!r}")
+    dx = math.sqrt(d**2 - dy**2)
+    beta = math.atan2(dy, dx)
+    return {"C1": (-dx, gap / 2 - dy), "C2": (dx, gap / 2 + dy), "beta": beta, "end": math.pi - beta,
+            "P0": (0.0, gap / 2), "R_out": R_out, "R_in": R_in, "gap": gap}
+
+
+def seal_s_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
+                   gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+    """The S-shaped seal section: a band of thickness R_out - R_in made of two annular sectors (arcs R_out and
+    R_in) of opposite curvature joined tangentially across the segment of the line C1-C2 between radii R_in and
+    R_out (|C1 C2| = R_out + R_in, so the outer arc of one continues the inner arc of the other). The top of
+    the left sector's outer arc touches y = ``gap``, the bottom of the right one's touches y = 0; each sector
+    spans pi - 2 beta, symmetric about its vertical, ends cut radially; point-symmetric about ``P0``, the middle
+    of the junction, where a mesh vertex sits. Structured quadrilaterals of size about ``h``. Facet tag
+    SEAL_BOUNDARY (the whole boundary), cell tag SEAL_DOMAIN.
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``.
+    """
+    if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
+        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
+    data = seal_s_geometry(R_out, R_in, gap)
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        error = ""
+        if comm.rank == 0:
+            try:
+                _build_seal_s(data, h)
+            except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
+                error = f"gmsh failed to mesh the seal: {exc}"
+        error = comm.bcast(error, root=0)
+        if error:
+            raise RuntimeError(error)
+        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+    finally:
+        gmsh.finalize()
+    mesh.name = "seal_s_section"
+    return mesh, cell_tags, facet_tags
+
+
+def _build_seal_s(d: dict, h: float) -> None:
+    gmsh.model.add("seal_s")
+    geo = gmsh.model.geo
+    (c1x, c1y), (c2x, c2y), beta, end = d["C1"], d["C2"], d["beta"], d["end"]
+    Ro, Ri = d["R_out"], d["R_in"]
+
+    def polar(cx, cy, r, a):
+        return geo.addPoint(cx + r * math.cos(a), cy + r * math.sin(a), 0.0)
+
+    C1, C2 = geo.addPoint(c1x, c1y, 0.0), geo.addPoint(c2x, c2y, 0.0)
+    j_up, j_low = polar(c1x, c1y, Ro, beta), polar(c1x, c1y, Ri, beta)
+    p0 = geo.addPoint(*d["P0"], 0.0)
+    l_out, l_in = polar(c1x, c1y, Ro, end), polar(c1x, c1y, Ri, end)
+    r_out, r_in = polar(c2x, c2y, Ro, end + math.pi), polar(c2x, c2y, Ri, end + math.pi)
+    n_t = max(2, 2 * round((Ro - Ri) / h / 2))
+    n_l = max(4, round(0.5 * (Ro + Ri) * (end - beta) / h))
+    a1, e1, b1 = geo.addCircleArc(j_up, C1, l_out), geo.addLine(l_out, l_in), geo.addCircleArc(l_in, C1, j_low)
+    m1, m2 = geo.addLine(j_low, p0), geo.addLine(p0, j_up)
+    a2, e2, b2 = geo.addCircleArc(j_low, C2, r_out), geo.addLine(r_out, r_in), geo.addCircleArc(r_in, C2, j_up)
+    s1 = geo.addPlaneSurface([geo.addCurveLoop([a1, e1, b1, m1, m2])])
+    s2 = geo.addPlaneSurface([geo.addCurveLoop([a2, e2, b2, -m2, -m1])])
+    for c in (a1, b1, a2, b2):
+        geo.mesh.setTransfiniteCurve(c, n_l + 1)
+    for c in (e1, e2):
+        geo.mesh.setTransfiniteCurve(c, n_t + 1)
+    for c in (m1, m2):
+        geo.mesh.setTransfiniteCurve(c, n_t // 2 + 1)
+    geo.mesh.setTransfiniteSurface(s1, cornerTags=[j_up, l_out, l_in, j_low])
+    geo.mesh.setTransfiniteSurface(s2, cornerTags=[j_low, r_out, r_in, j_up])
+    for surface in (s1, s2):
+        geo.mesh.setRecombine(2, surface)
+    geo.synchronize()
+    gmsh.model.addPhysicalGroup(1, [a1, e1, b1, a2, e2, b2], SEAL_BOUNDARY)
+    gmsh.model.addPhysicalGroup(2, [s1, s2], SEAL_DOMAIN)
     gmsh.model.mesh.generate(2)
