@@ -21,6 +21,7 @@ demo: setup
 	  $(MPIRUN) $(PY) demos/$$d.py --out results/$$d --quiet || exit 1; \
 	done
 	@$(PY) demos/table.py results
+	@cat results/methods.md 2>/dev/null || true
 
 # speed against accuracy, every method on the same scene (quick sweep of block and hertz)
 bench: setup
