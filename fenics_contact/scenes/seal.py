@@ -74,6 +74,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
     else:  # the S: u(P0) = (0, -t/2) at the centre of symmetry
         p0 = np.array(seal_s_geometry(R_OUT, R_IN, GAP)["P0"])
         centre = dmesh.locate_entities(mesh, 0, lambda x: np.hypot(x[0] - p0[0], x[1] - p0[1]) < 1e-8)
+        mesh.topology.create_connectivity(0, mesh.topology.dim)  # vertex dofs (dolfinx >= 0.6 needs it)
         cx, cy = (fem.locate_dofs_topological(V.sub(i), 0, centre) for i in (0, 1))
         dirichlet = [Dirichlet(V.sub(0), cx), Dirichlet(V.sub(1), cy, -0.5)]
     lower = ContactSurface(u, facet_tags, SEAL_BOUNDARY, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
