@@ -19,8 +19,9 @@ Writes to --out: summary.json and ring.xdmf (cross-constraints), penalty/
 and auglag/ (the same for those), ring_forces.csv|md and ring_forces.png
 (contact forces of the active points against the iteration after the first
 augmentation), methods.csv|md (method, converged, iterations, time) and
-ring_deformed.png.
+ring_deformed.png, first_step.json (the first step's penetrations, plate force, closed points).
 """
+import json
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +33,7 @@ from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty
 from fenics_contact.run import run
 from fenics_contact.scenes import build, ring
-from fenics_contact.solver import ConvergenceError
+from fenics_contact.solver import ConvergenceError, Solver
 
 # 1. Options: mesh and the paper's data (K = K^ = 1e5, F^ = 0, one augmentation).
 p = cli.parser(__doc__.splitlines()[0], default_K=ring.K)
@@ -70,8 +71,17 @@ for method, (label, law) in METHODS.items():
         summaries[method] = run(setup, folder, method, {**cli.method_parameters(args), "label": label}, args.augment,
                                 args.augment_tol, args.quiet, options=OPTIONS, max_cutbacks=0, on_iterate=on_iterate)
     except ConvergenceError as exc:
-        summaries[method] = {**__import__("json").load(open(folder / "summary.json")), "exception": str(exc)}
+        summaries[method] = {**json.load(open(folder / "summary.json")), "exception": str(exc)}
     forces[method] = history
+
+# The first step alone (identical for the three laws: F^ = 0, lam = 0): penetrations against the paper's.
+first = build("ring", law=Penalty(args.K), n_theta=args.n_theta, n_r=args.n_r)
+Solver(first.problem, quiet=True, options=OPTIONS).run(first.loads)
+first_step = {**first.figures(), "paper_penetration_centre": ring.PAPER_PENETRATION[0],
+              "paper_penetration_neighbour": ring.PAPER_PENETRATION[1]}
+if comm.rank == 0:
+    print("first step:", {k: round(v, 8) for k, v in first_step.items()})
+    (out / "first_step.json").write_text(json.dumps(first_step, indent=1))
 
 # 3. The forces of the active points (closed at some iterate) after the first augmentation, printed and plotted.
 rows = []
@@ -118,8 +128,6 @@ if not args.no_pictures:
         fig.tight_layout()
         fig.savefig(str(out / "ring_forces.png"), dpi=150)
     setup = build("ring", law=CrossConstraints(args.K, 0.0), n_theta=args.n_theta, n_r=args.n_r)
-    from fenics_contact.solver import Solver
-
     Solver(setup.problem, augment_max=args.augment, quiet=True, options=OPTIONS).run(setup.loads)
     u = setup.problem.u
     syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1), name="sigma_yy"),
