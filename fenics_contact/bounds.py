@@ -17,7 +17,7 @@ from petsc4py import PETSc
 
 from .compat import bc_dofs, petsc_vec
 from .contact import ContactSurface
-from .laws import ContactLaw, Exact
+from .laws import ContactLaw, Coulomb, Exact
 from .obstacles import HalfPlane, Obstacle
 
 _BIG = 1e300  # "no bound" (PETSc's VI treats |bound| >= 1e20 as infinite)
@@ -79,6 +79,11 @@ class BoundContact(ContactSurface):
 
 
 def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact") -> ContactSurface:
-    """A :class:`ContactSurface` for a law, or a :class:`BoundContact` for method ``vi``."""
+    """A :class:`ContactSurface` for a law, a :class:`BoundContact` for method ``vi``, or a
+    :class:`fenics_contact.condensed.CondensedContact` for method ``coulomb``."""
+    if isinstance(law, Coulomb):
+        from .condensed import CondensedContact  # imports this module
+
+        return CondensedContact(u, facet_tags, tag, obstacle, law, load, quadrature, name)
     cls = BoundContact if isinstance(law, Exact) else ContactSurface
     return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name)

@@ -114,6 +114,12 @@ class ContactSurface:
     def after_solve(self, problem) -> None:
         """Called after every converged Newton solve."""
 
+    solves_step = False  # True: the surface solves a whole load step itself (:meth:`solve_step`), no SNES
+
+    def solve_step(self, problem) -> tuple[int, list[float], str]:
+        """Solve the load step at ``problem.load``: ``(reason as SNES's, residual history, failure message)``."""
+        raise NotImplementedError
+
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Surface term ``F(g) dg[v] ds`` of the residual (``dg[v] = -n . v`` for a rigid obstacle)."""

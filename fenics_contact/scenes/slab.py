@@ -132,5 +132,6 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     params = {"E": E, "nu": NU, "width": WIDTH, "height": HEIGHT, "top_pressure": TOP_PRESSURE,
               "side_pressure": SIDE_PRESSURE, "nx": nx, "ny": ny, "refinement": refinement, "steps": steps,
               "quadrature": quadrature, "model": "half slab (symmetry u_x = 0 on x = 0), Q1, plane strain"}
+    extra = [contact.traction_out] if hasattr(contact, "traction_out") else []
     return Setup("slab", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
-                 [u, contact.gap_out, contact.pressure_out])
+                 [u, contact.gap_out, contact.pressure_out, *extra])
