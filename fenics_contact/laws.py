@@ -230,7 +230,8 @@ def _heaviside(x, ops):
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
-METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact, "coulomb": Coulomb}
+METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact,
+           "coulomb": Coulomb}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
