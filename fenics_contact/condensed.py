@@ -105,7 +105,7 @@ class CondensedContact(BoundContact):
         # sticking vertices s = 0 exactly after one step, so c hardly enters the active-set decisions.
         self.c_scale, self.retries = 1.0, 2
         self.kt = 1 - self.k  # the tangential component
-        Vt, parent_t = u.function_space.sub(self.kt).collapse()
+        _, parent_t = u.function_space.sub(self.kt).collapse()
         self._parent_t = np.asarray(parent_t, dtype=np.int32)
         self.traction_out = fem.Function(self._Vk, name="tangential_traction")
         self._ready = False
@@ -209,7 +209,6 @@ class CondensedContact(BoundContact):
         self._diag = float(np.mean(np.abs(np.diag(self.S)))) if nc else 1.0
         self._uc = np.zeros(nc)  # last solution
         self._ref = np.zeros(len(self._it))  # tangential displacement at the last converged step
-        self._R = np.zeros(nc)
         self._ready = True
         self.timings["condense_s"] += comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
 
