@@ -28,6 +28,8 @@ from fenics_contact.scenes import build, pin
 p = cli.parser(__doc__.splitlines()[0], default_K=pin.DEFAULT_K)
 p.add_argument("--refinement", type=int, default=0, help="halve the mesh size at the hole this many times")
 p.add_argument("--steps", type=int, default=1, help="load steps")
+p.add_argument("--gap", choices=pin.GAPS, default="linearized",
+               help="linearized (small displacements) or current (exact gap of the deformed position)")
 p.add_argument("--convergence", action="store_true", help="run refinements 0, 1, 2 and plot the angle against h")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
@@ -39,10 +41,10 @@ def solve(refinement: int, folder: Path) -> dict:
     """2.-4. Build the scene at ``refinement``, solve, write XDMF, summary.json, the CSV and the pictures."""
     # 2. The scene: graded half plate, symmetry u_x = 0 on x = 0, traction P0 on the top, the rigid pin.
     setup = build("pin", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=refinement,
-                  steps=args.steps)
+                  steps=args.steps, gap=args.gap)
 
     # 3. Solve (load steps, augmentations), write XDMF and summary.json.
-    summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps},
+    summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps, "gap": args.gap},
                   args.augment, args.augment_tol, args.quiet)
 
     # 4. The pressure along the pin (CSV on rank 0) and the pictures.

@@ -3,10 +3,15 @@
 Equilibrium with the applied traction, mesh convergence of the contact angle,
 load independence of the neat fit, agreement of the laws and of 1 and 2 ranks.
 """
+import math
+
 import numpy as np
 import pytest
+import ufl
+from dolfinx import fem
 from mpi4py import MPI
 
+from fenics_contact import meshes
 from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Exact
 from fenics_contact.scenes import pin
 from fenics_contact.solver import Solver
@@ -86,6 +91,22 @@ def test_parallel_equals_serial():
         assert abs(parallel[k] - v) <= 1e-8 * scale, (k, parallel[k], v)
 
 
+def test_pin_plate_mesh_tags_and_measures():
+    comm = MPI.COMM_WORLD
+    mesh, _, tags = meshes.pin_plate(comm, R=1.0, half_width=2.0, below=3.0, above=4.0, h_contact=0.05)
+    meshes.check_tags(tags, meshes.PIN_FACETS, comm)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
+
+    def integral(measure):
+        return comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * measure)), op=MPI.SUM)
+
+    assert abs(integral(ds(meshes.CONTACT)) - math.pi) < 1e-3  # the half hole
+    assert abs(integral(ds(meshes.SYMMETRY)) - (3.0 + 4.0 - 2.0)) < 1e-12
+    assert abs(integral(ds(meshes.TOP)) - 2.0) < 1e-12
+    assert abs(integral(ds(meshes.FREE)) - (2.0 + 7.0)) < 1e-12
+    assert abs(integral(ufl.dx(domain=mesh)) - (2.0 * 7.0 - math.pi / 2)) < 1e-3
+
+
 def test_bad_input():
     with pytest.raises(ValueError, match="refinement must be an integer >= 0"):
         pin.build(AugmentedLagrangian(1e6), refinement=-1)
@@ -93,6 +114,8 @@ def test_bad_input():
         pin.build(AugmentedLagrangian(1e6), gap="exact")
     with pytest.raises(ValueError, match="h_contact must be in"):
         pin.build(AugmentedLagrangian(1e6), h_contact=2.0)
+    with pytest.raises(ValueError, match="must extend beyond the hole radius"):
+        meshes.pin_plate(MPI.COMM_WORLD, R=1.0, half_width=0.5)
     with pytest.raises(ValueError, match="method 'vi' needs a half-plane"):
         pin.build(Exact())
     with pytest.raises(ValueError, match="no contact at the pin's bottom"):
