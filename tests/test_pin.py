@@ -48,10 +48,6 @@ def test_contact_angle_converges_under_two_refinements(refinements):
     changes = np.abs(np.diff(angles))
     assert changes[1] < 1.0, angles
     assert changes[1] < changes[0], angles
-    # the estimate lies within the discrete edge: the contact zone has about angle / (h/R rad) vertices
-    for f in refinements:
-        spacing = np.degrees(f["h_contact"] / pin.R)
-        assert abs(f["contact_nodes"] - f["contact_angle_deg"] / spacing) < 3, f
 
 
 def test_neat_fit_is_homogeneous_in_the_load():
