@@ -35,6 +35,17 @@ def refinements():
     return [solve(AugmentedLagrangian(pin.DEFAULT_K), r) for r in range(3)]
 
 
+def test_contact_angle_recovers_a_square_root_edge():
+    """p = sqrt(1 - theta/theta_c) (p^2 linear, as at a smooth contact edge): the edge is found exactly."""
+    theta = np.linspace(0.0, 180.0, 158)
+    for theta_c in (61.3, 83.77, 90.0):
+        p = np.sqrt(np.clip(1 - theta / theta_c, 0, None))
+        assert np.isclose(pin.contact_angle(theta, p), theta_c, rtol=1e-12)
+    # a second zone further on (here near the top) does not count
+    p = np.sqrt(np.clip(1 - theta / 50.0, 0, None)) + (theta > 170)
+    assert np.isclose(pin.contact_angle(theta, p), 50.0, rtol=1e-12)
+
+
 def test_total_contact_force_is_the_applied_traction(refinements):
     for f in refinements:
         assert f["applied_force"] == pin.P0 * pin.HALF_WIDTH
