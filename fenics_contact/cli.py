@@ -29,6 +29,7 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
     p.add_argument("--augment", type=int, default=None,
                    help="max augmentations per load step (default: 0 for penalty, 10 otherwise)")
     p.add_argument("--augment-tol", type=float, default=1e-12, help="stop when ||g_new - g_old|| <= this")
+    p.add_argument("--mu", type=float, default=0.0, help="Coulomb friction coefficient (method coulomb)")
     p.add_argument("--quadrature", choices=QUADRATURES, default="nodal", help="contact quadrature")
     p.add_argument("--out", default=None, help="output directory (default: results/<scene>)")
     p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
@@ -48,7 +49,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if rest:
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
-        args.augment = 0 if args.method in ("penalty", "vi") else 10
+        args.augment = 0 if args.method in ("penalty", "vi", "coulomb") else 10
     return args
 
 
@@ -66,10 +67,13 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
         return make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
     if args.method == "vi":
         return make_law("vi")
+    if args.method == "coulomb":
+        return make_law("coulomb", mu=args.mu)
     return make_law(args.method, K=args.K)
 
 
 def method_parameters(args: argparse.Namespace) -> dict:
-    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": []}[args.method]
+    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
+            "coulomb": ["mu"]}[args.method]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
             "quadrature": args.quadrature}

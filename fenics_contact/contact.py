@@ -57,20 +57,27 @@ class ContactSurface:
     """Contact of the tagged boundary ``tag`` of the body with displacement ``u`` against ``obstacle``.
 
     The current position is ``x = X + u`` (also for linear elasticity, so a
-    curved obstacle is followed exactly). ``load`` is the scalar ``Constant``
-    that moves the obstacle.
+    curved obstacle is followed exactly). ``linearized=True``: the
+    small-displacement gap ``g(X) - n(X) . u`` with the normal at the
+    reference point instead (the classical Signorini problem; homogeneous in
+    ``u`` for an initially touching contact). ``load`` is the scalar
+    ``Constant`` that moves the obstacle.
     """
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
-                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
         mesh = u.function_space.mesh
         self.name, self.u, self.law, self.obstacle, self.quadrature = name, u, law, obstacle, quadrature
         self.facets = check_facet_tag(mesh, facet_tags, tag, name)
         self.ds = contact_measure(mesh, facet_tags, tag, quadrature)
         obstacle.bind(load)
-        x = ufl.SpatialCoordinate(mesh) + u
-        self.gap = obstacle.gap(x)
-        self.normal = obstacle.normal(x)
+        X = ufl.SpatialCoordinate(mesh)
+        if linearized:  # first order in u: dg/du = -n (n points from the obstacle into the body)
+            self.normal = obstacle.normal(X)
+            self.gap = obstacle.gap(X) - ufl.dot(self.normal, u)
+        else:
+            self.gap = obstacle.gap(X + u)
+            self.normal = obstacle.normal(X + u)
 
         # Law parameters: scalars as Constants, fields at the quadrature points.
         self.S = function_space(mesh, "Lagrange" if quadrature == "nodal" else "DG", 1)
@@ -115,6 +122,12 @@ class ContactSurface:
 
     def after_solve(self, problem) -> None:
         """Called after every converged Newton solve."""
+
+    solves_step = False  # True: the surface solves a whole load step itself (:meth:`solve_step`), no SNES
+
+    def solve_step(self, problem) -> tuple[int, list[float], str]:
+        """Solve the load step at ``problem.load``: ``(reason as SNES's, residual history, failure message)``."""
+        raise NotImplementedError
 
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:

@@ -222,16 +222,32 @@ class Exact(ContactLaw):
         raise TypeError("method 'vi' has no contact law: its pressure is the reaction at the bounds")
 
 
+class Coulomb(ContactLaw):
+    """No law: exact Signorini contact with Coulomb friction (coefficient ``mu >= 0``), solved on the
+    stiffness condensed onto the contact dofs (:mod:`fenics_contact.condensed`, method ``coulomb``).
+    Linear elasticity, flat rigid obstacle, nodal contact. No penalty parameter."""
+
+    name = "coulomb"
+
+    def __init__(self, mu: float = 0.0):
+        self.mu = _check_nonnegative("friction coefficient mu", mu)
+        self.scalars, self.fields = {}, {}
+
+    def force(self, g, c, ops=NUMPY):
+        raise TypeError("method 'coulomb' has no contact law: its pressure is the nodal contact reaction")
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
-METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact}
+METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact,
+           "coulomb": Coulomb}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``)."""
+    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``, ``coulomb``)."""
     if method not in METHODS:
         raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
     return METHODS[method](**params)

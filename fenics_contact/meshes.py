@@ -1,7 +1,8 @@
 """Meshes for the contact benchmarks, with named physical tags.
 
-``hertz_quarter_disk`` and ``seal_section`` are built with gmsh on rank 0 and
-distributed with ``dolfinx.io.gmshio.model_to_mesh``; ``rectangle`` uses
+``hertz_quarter_disk``, ``pin_plate``, ``seal_s_section`` and ``seal_section``
+are built with gmsh on rank 0 and distributed with
+``dolfinx.io.gmshio.model_to_mesh``; ``rectangle`` uses
 ``dolfinx.mesh.create_rectangle``, ``ring_quarter`` maps it to polar
 coordinates. All functions are collective on ``comm``.
 
@@ -32,10 +33,9 @@ upper plate, at the angle phi from the bottom with ``R_out - R_in cos phi =
 7`` (phi = 70.5 degrees), so the two inner (upper) corners touch the upper
 plate. The section is symmetric about x = 0; ``seal_section`` meshes the
 right half. Flattening to plates 1 apart (= the thickness) straightens the
-band: the upper contacts travel from the corners along the inner face
-toward the middle, the bottom contact zone splits into two that move apart
-as the middle lifts, and the outer (lower) corners come down onto the
-lower plate. The band cannot fold onto itself in this loading, so no
+band: the upper plate holds the two inner corners throughout, and the
+bottom contact zone splits into two that move apart as the middle lifts
+(t = 4.5). The band cannot fold onto itself in this loading, so no
 self-contact is needed (the suite has no self-contact).
 """
 from __future__ import annotations
@@ -59,6 +59,7 @@ DOMAIN = 1
 CONTACT = 1
 SYMMETRY = 2
 TOP = 3
+FREE = 4  # traction-free sides of ``pin_plate``
 # Facet tags of ``rectangle`` (its top is RECT_TOP: TOP is taken above).
 BOTTOM = 11
 RIGHT = 12
@@ -66,6 +67,7 @@ RECT_TOP = 13
 LEFT = 14
 # Name -> tag maps, e.g. for ``check_tags``.
 HERTZ_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP}
+PIN_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP, "free": FREE}
 RECTANGLE_FACETS = {"bottom": BOTTOM, "right": RIGHT, "top": RECT_TOP, "left": LEFT}
 # Facet tags of ``ring_quarter``.
 RING_OUTER = 21
@@ -110,23 +112,32 @@ def hertz_quarter_disk(
     if h_far < h_contact:
         raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
 
+    mesh, cell_tags, facet_tags = _from_gmsh(
+        comm, lambda: _build_quarter_disk(R, h_contact, h_far, contact_width), "the quarter disk")
+    mesh.name = "hertz_quarter_disk"
+    return mesh, cell_tags, facet_tags
+
+
+def _from_gmsh(comm: MPI.Comm, build, what: str) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Run ``build()`` (adds and meshes a 2D gmsh model) on rank 0 and distribute the mesh with its tags.
+
+    Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
+    """
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         error = ""
         if comm.rank == 0:
             try:
-                _build_quarter_disk(R, h_contact, h_far, contact_width)
+                build()
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
-                error = f"gmsh failed to mesh the quarter disk: {exc}"
+                error = f"gmsh failed to mesh {what}: {exc}"
         error = comm.bcast(error, root=0)
         if error:
             raise RuntimeError(error)
-        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
     finally:
         gmsh.finalize()
-    mesh.name = "hertz_quarter_disk"
-    return mesh, cell_tags, facet_tags
 
 
 def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width: float) -> None:
@@ -146,19 +157,96 @@ def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width:
     gmsh.model.addPhysicalGroup(1, [top], TOP)
     gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
 
+    distance = gmsh.model.mesh.field.add("Distance")
+    gmsh.model.mesh.field.setNumbers(distance, "PointsList", [origin])
+    _grade_toward(distance, h_contact, h_far, contact_width)
+    gmsh.model.mesh.generate(2)
+
+
+def pin_plate(
+    comm: MPI.Comm,
+    R: float = 1.0,
+    half_width: float = 5.0,
+    below: float = 5.0,
+    above: float = 5.0,
+    h_contact: float | None = None,
+    h_far: float | None = None,
+    band: float | None = None,
+) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Right half (x >= 0) of a rectangular plate with a circular hole of radius R centred at the origin.
+
+    The plate spans ``0 <= x <= half_width``, ``-below <= y <= above``. P1
+    triangles of size ``h_contact`` (default R/50) within ``band`` (default
+    R/10) of the hole, then growing by 0.25 per unit distance up to ``h_far``
+    (default R/2). Facet tags: CONTACT (the half hole, from (0, -R) through
+    (R, 0) to (0, R)), SYMMETRY (the two pieces of x = 0), TOP (y = above),
+    FREE (y = -below and x = half_width); cell tag DOMAIN.
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``.
+    """
+    h_contact = R / 50 if h_contact is None else h_contact
+    h_far = R / 2 if h_far is None else h_far
+    band = R / 10 if band is None else band
+    for name, value in (("R", R), ("half_width", half_width), ("below", below), ("above", above),
+                        ("h_contact", h_contact), ("h_far", h_far), ("band", band)):
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    if not (half_width > R and below > R and above > R):
+        raise ValueError(f"the plate (half_width={half_width}, below={below}, above={above}) must extend "
+                         f"beyond the hole radius R={R} on every side")
+    if h_far < h_contact:
+        raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
+    mesh, cell_tags, facet_tags = _from_gmsh(
+        comm, lambda: _build_pin_plate(R, half_width, below, above, h_contact, h_far, band), "the pin plate")
+    mesh.name = "pin_plate"
+    return mesh, cell_tags, facet_tags
+
+
+def _build_pin_plate(R: float, half_width: float, below: float, above: float, h_contact: float,
+                     h_far: float, band: float) -> None:
+    """Build and mesh the half plate with a hole in the current gmsh session."""
+    gmsh.model.add("pin_plate")
+    geo = gmsh.model.geo
+    centre = geo.addPoint(0.0, 0.0, 0.0)
+    corners = [geo.addPoint(x, y, 0.0) for x, y in
+               ((0.0, -below), (half_width, -below), (half_width, above), (0.0, above))]
+    hole_top, hole_side, hole_bottom = (geo.addPoint(x, y, 0.0) for x, y in ((0.0, R), (R, 0.0), (0.0, -R)))
+    bottom = geo.addLine(corners[0], corners[1])
+    right = geo.addLine(corners[1], corners[2])
+    top = geo.addLine(corners[2], corners[3])
+    sym_upper = geo.addLine(corners[3], hole_top)
+    arcs = [geo.addCircleArc(hole_top, centre, hole_side), geo.addCircleArc(hole_side, centre, hole_bottom)]
+    sym_lower = geo.addLine(hole_bottom, corners[0])
+    loop = geo.addCurveLoop([bottom, right, top, sym_upper, *arcs, sym_lower])
+    surface = geo.addPlaneSurface([loop])
+    geo.synchronize()
+    gmsh.model.addPhysicalGroup(1, arcs, CONTACT)
+    gmsh.model.addPhysicalGroup(1, [sym_upper, sym_lower], SYMMETRY)
+    gmsh.model.addPhysicalGroup(1, [top], TOP)
+    gmsh.model.addPhysicalGroup(1, [bottom, right], FREE)
+    gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
+
+    # Exact distance to the hole (a gmsh Distance field samples the curve).
+    distance = gmsh.model.mesh.field.add("MathEval")
+    gmsh.model.mesh.field.setString(distance, "F", f"Sqrt(x*x + y*y) - {R!r}")
+    _grade_toward(distance, h_contact, h_far, band)
+    gmsh.model.mesh.generate(2)
+
+
+def _grade_toward(distance: int, h_near: float, h_far: float, width: float) -> None:
+    """Background size: ``h_near`` where the gmsh field ``distance`` is below ``width``, then growing
+    by ``_GRADING`` per unit distance up to ``h_far``."""
     field = gmsh.model.mesh.field
-    distance = field.add("Distance")
-    field.setNumbers(distance, "PointsList", [origin])
     threshold = field.add("Threshold")
     field.setNumber(threshold, "InField", distance)
-    field.setNumber(threshold, "SizeMin", h_contact)
+    field.setNumber(threshold, "SizeMin", h_near)
     field.setNumber(threshold, "SizeMax", h_far)
-    field.setNumber(threshold, "DistMin", contact_width)
-    field.setNumber(threshold, "DistMax", contact_width + (h_far - h_contact) / _GRADING)
+    field.setNumber(threshold, "DistMin", width)
+    field.setNumber(threshold, "DistMax", width + (h_far - h_near) / _GRADING)
     field.setAsBackgroundMesh(threshold)
     for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
         gmsh.option.setNumber(f"Mesh.{option}", 0)
-    gmsh.model.mesh.generate(2)
 
 
 def rectangle(
@@ -273,21 +361,7 @@ def seal_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: flo
     if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
         raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
     geo_data = seal_geometry(R_out, R_in, gap)
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        error = ""
-        if comm.rank == 0:
-            try:
-                _build_seal(geo_data, h)
-            except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
-                error = f"gmsh failed to mesh the seal: {exc}"
-        error = comm.bcast(error, root=0)
-        if error:
-            raise RuntimeError(error)
-        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
-    finally:
-        gmsh.finalize()
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: _build_seal(geo_data, h), "the seal")
     mesh.name = "seal_section"
     return mesh, cell_tags, facet_tags
 
@@ -350,21 +424,7 @@ def seal_s_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: f
     if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
         raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
     data = seal_s_geometry(R_out, R_in, gap)
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        error = ""
-        if comm.rank == 0:
-            try:
-                _build_seal_s(data, h)
-            except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
-                error = f"gmsh failed to mesh the seal: {exc}"
-        error = comm.bcast(error, root=0)
-        if error:
-            raise RuntimeError(error)
-        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
-    finally:
-        gmsh.finalize()
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: _build_seal_s(data, h), "the seal")
     mesh.name = "seal_s_section"
     return mesh, cell_tags, facet_tags
 

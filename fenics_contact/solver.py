@@ -61,6 +61,7 @@ class StepRecord:
     wall_time_s: float = 0.0
     closed_points: list[list[int]] = field(default_factory=list)  # closed contact points per iterate, per solve
     failure: dict | None = None  # why the last solve failed (failure.classify), with step, load, augmentation
+    message: str = ""  # why a step failed, from a surface that solves the step itself
 
     @property
     def newton_iterations(self) -> int:
@@ -71,7 +72,7 @@ class StepRecord:
                 "residuals": self.residuals, "constraint_change": self.constraint_change,
                 "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
                 "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s,
-                "closed_points": self.closed_points, "failure": self.failure}
+                "closed_points": self.closed_points, "failure": self.failure, "message": self.message}
 
 
 class Solver:
@@ -177,7 +178,13 @@ class Solver:
 
     # --- driver -----------------------------------------------------------
     def _newton(self) -> int:
-        self._history, self._sets, self._closed = [], [], []
+        self._history, self._message, self._sets, self._closed = [], "", [], []
+        own = [c for c in self.problem.contacts if getattr(c, "solves_step", False)]
+        if own:  # a surface that solves the whole step itself (condensed exact contact) replaces SNES
+            start = time.perf_counter()
+            reason, self._history, self._message = own[0].solve_step(self.problem)
+            self.timings["snes_s"] += time.perf_counter() - start
+            return reason
         petsc_vec(self.problem.u).copy(self._x)
         start = time.perf_counter()
         self.snes.solve(None, self._x)
@@ -221,9 +228,10 @@ class Solver:
             rec.reason = self._newton()
             rec.residuals.append(self._history)
             rec.closed_points.append(self._closed)
+            rec.message = self._message
             if rec.reason <= 0:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
-                               **self._diagnose(rec.reason)}
+                               **self._diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
                 break
             for c in self.problem.contacts:
                 c.after_solve(self.problem)
@@ -285,7 +293,8 @@ class Solver:
                     self.records.append(rec)
                     raise ConvergenceError(
                         f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
-                        f"{self.max_cutbacks} cutbacks: {_describe(rec.failure)}, SNES reason {_reason(rec.reason)}; "
+                        f"{self.max_cutbacks} cutbacks: {_describe(rec.failure)}, "
+                        f"{rec.message or 'SNES reason ' + _reason(rec.reason)}; "
                         f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
         return self.records
 
@@ -293,7 +302,8 @@ class Solver:
         if self.quiet:
             return
         last = rec.residuals[-1][-1] if rec.residuals and rec.residuals[-1] else float("nan")
-        tag = f"FAILED: {_describe(rec.failure)} ({_reason(rec.reason)}), cutting the step" if failed else (
+        why = f"{_describe(rec.failure)} ({rec.message or _reason(rec.reason)})"
+        tag = f"FAILED: {why}, cutting the step" if failed else (
             f"aug {rec.augmentations:2d} R {rec.constraint_change[-1]:.2e}" if rec.constraint_change else "")
         PETSc.Sys.Print(f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
                         f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}", comm=self.problem.comm)
