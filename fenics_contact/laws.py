@@ -181,7 +181,10 @@ class CrossConstraints(ContactLaw):
     def _exponent(self, g, c, ops):
         # A * min(g, 0) <= 0 always; A <= 1e200 / (1 + a) keeps A finite for F_hat = 0.
         A = c["K_hat"] / ((1.0 + self.a) * ops.max(c["F_hat"], 1e-200 * c["K_hat"]))
-        return A * ops.min(g, 0.0)
+        # min(0, g), not min(g, 0): UFL differentiates min_value(f, h) as dh where f < h is false, so this
+        # order gives the open branch's derivative at g = 0 exactly (stiffness K_hat for a point that touches
+        # exactly, e.g. in the initial configuration), the other order none.
+        return A * ops.min(0.0, g)
 
     def force(self, g, c, ops=NUMPY):
         a, x = self.a, self._exponent(g, c, ops)

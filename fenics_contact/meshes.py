@@ -464,3 +464,70 @@ def _build_seal_s(d: dict, h: float) -> None:
     gmsh.model.addPhysicalGroup(1, [a1, e1, b1, a2, e2, b2], SEAL_BOUNDARY)
     gmsh.model.addPhysicalGroup(2, [s1, s2], SEAL_DOMAIN)
     gmsh.model.mesh.generate(2)
+
+
+def seal_wave_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
+    """Key points of the wave-shaped seal section (see ``seal_wave_section``): centre ``C1`` of the middle
+    (crown) sector, centre ``C2`` of the right hump, the junction direction ``beta`` (radians, from C1 toward
+    C2) and the end corners of the right hump (``corner_out`` on R_out, ``corner_in`` on R_in). Lower plate
+    y = 0, upper plate y = ``gap``."""
+    s = seal_s_geometry(R_out, R_in, gap)
+    shift = -s["C1"][0]  # the crown on x = 0
+    C1, C2 = (0.0, s["C1"][1]), (s["C2"][0] + shift, s["C2"][1])
+    end = 2 * math.pi - s["beta"]
+    corner = lambda r: (C2[0] + r * math.cos(end), C2[1] + r * math.sin(end))  # noqa: E731
+    return {"C1": C1, "C2": C2, "beta": s["beta"], "end": end, "corner_out": corner(R_out),
+            "corner_in": corner(R_in), "R_out": R_out, "R_in": R_in, "gap": gap}
+
+
+def seal_wave_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
+                      gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Right half (x >= 0) of the wave-shaped seal section (module docstring): the right half of the crown
+    sector (centre C1 = (0, gap - R_out), from its top at x = 0 to the junction direction ``beta``) and the
+    whole right hump (centre C2, |C1 C2| = R_out + R_in, spanning pi - 2 beta symmetric about its vertical,
+    bottom of the outer arc on y = 0, end cut radially). Structured quadrilaterals of size about ``h``. Facet
+    tags SEAL_BOUNDARY (arcs and end), SEAL_SYMMETRY (x = 0); cell tag SEAL_DOMAIN.
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``.
+    """
+    if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
+        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
+    data = seal_wave_geometry(R_out, R_in, gap)
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: _build_seal_wave(data, h), "the seal")
+    mesh.name = "seal_wave_section"
+    return mesh, cell_tags, facet_tags
+
+
+def _build_seal_wave(d: dict, h: float) -> None:
+    gmsh.model.add("seal_wave")
+    geo = gmsh.model.geo
+    (c1x, c1y), (c2x, c2y), beta, end = d["C1"], d["C2"], d["beta"], d["end"]
+    Ro, Ri = d["R_out"], d["R_in"]
+
+    def polar(cx, cy, r, a):
+        return geo.addPoint(cx + r * math.cos(a), cy + r * math.sin(a), 0.0)
+
+    C1, C2 = geo.addPoint(c1x, c1y, 0.0), geo.addPoint(c2x, c2y, 0.0)
+    top_out, top_in = polar(c1x, c1y, Ro, math.pi / 2), polar(c1x, c1y, Ri, math.pi / 2)
+    j_up, j_low = polar(c1x, c1y, Ro, beta), polar(c1x, c1y, Ri, beta)
+    r_out, r_in = polar(c2x, c2y, Ro, end), polar(c2x, c2y, Ri, end)
+    n_t = max(2, round((Ro - Ri) / h))
+    n_1 = max(2, round(0.5 * (Ro + Ri) * (math.pi / 2 - beta) / h))
+    n_2 = max(4, 2 * round(0.25 * (Ro + Ri) * (math.pi - 2 * beta) / h))  # even: a vertex at the hump's bottom
+    sym, a1, b1 = geo.addLine(top_in, top_out), geo.addCircleArc(top_out, C1, j_up), geo.addCircleArc(j_low, C1, top_in)
+    m = geo.addLine(j_up, j_low)
+    a2, e2, b2 = geo.addCircleArc(j_low, C2, r_out), geo.addLine(r_out, r_in), geo.addCircleArc(r_in, C2, j_up)
+    s1 = geo.addPlaneSurface([geo.addCurveLoop([sym, a1, m, b1])])
+    s2 = geo.addPlaneSurface([geo.addCurveLoop([a2, e2, b2, m])])
+    for c, n in ((a1, n_1), (b1, n_1), (a2, n_2), (b2, n_2), (sym, n_t), (m, n_t), (e2, n_t)):
+        geo.mesh.setTransfiniteCurve(c, n + 1)
+    geo.mesh.setTransfiniteSurface(s1, cornerTags=[top_in, top_out, j_up, j_low])
+    geo.mesh.setTransfiniteSurface(s2, cornerTags=[j_low, r_out, r_in, j_up])
+    for surface in (s1, s2):
+        geo.mesh.setRecombine(2, surface)
+    geo.synchronize()
+    gmsh.model.addPhysicalGroup(1, [a1, b1, a2, e2, b2], SEAL_BOUNDARY)
+    gmsh.model.addPhysicalGroup(1, [sym], SEAL_SYMMETRY)
+    gmsh.model.addPhysicalGroup(2, [s1, s2], SEAL_DOMAIN)
+    gmsh.model.mesh.generate(2)

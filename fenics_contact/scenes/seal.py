@@ -46,7 +46,7 @@ from ..compat import function_space
 from ..contact import ContactSurface
 from ..laws import ContactLaw
 from ..materials import NeoHookean
-from ..meshes import SEAL_BOUNDARY, SEAL_SYMMETRY, seal_s_geometry, seal_s_section, seal_section
+from ..meshes import SEAL_BOUNDARY, SEAL_SYMMETRY, seal_s_geometry, seal_s_section, seal_section, seal_wave_section
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
@@ -54,17 +54,18 @@ from . import Setup
 E, NU, R_OUT, R_IN, GAP = 1000.0, 0.3, 10.0, 9.0, 7.0
 K_HAT = 1e5
 F_HAT = 0.1  # far below the contact pressures: a slight penetration, no adhesion; > 0 keeps g = 0 stiff
+SHAPES = {"wave": seal_wave_section, "S": seal_s_section, "U": seal_section}
 LOADS = [0.5 * k for k in range(1, 12)] + [5.5 + 0.1 * k for k in range(1, 6)]
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: list[float] | None = None,
-          comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "S") -> Setup:
+          comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "wave") -> Setup:
     """``h``: cell size of the structured quadrilaterals (0.5: 2 cells through the thickness); ``shape``:
     ``"S"`` or ``"U"`` (module docstring)."""
-    if shape not in ("U", "S"):
-        raise ValueError(f"seal shape must be 'U' or 'S', got {shape!r}")
-    half = shape == "U"
-    mesh, _, facet_tags = (seal_section if half else seal_s_section)(comm, h, R_OUT, R_IN, GAP)
+    if shape not in SHAPES:
+        raise ValueError(f"seal shape must be one of {', '.join(map(repr, SHAPES))}, got {shape!r}")
+    half = shape != "S"
+    mesh, _, facet_tags = SHAPES[shape](comm, h, R_OUT, R_IN, GAP)
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
@@ -97,7 +98,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
 
     params = {"E": E, "nu": NU, "R_out": R_OUT, "R_in": R_IN, "plate_distance": GAP, "h": h, "shape": shape,
               "quadrature": quadrature, "material": "neohookean",
-              "model": "half of the U-shaped section (symmetry x = 0)" if half else
+              "model": f"half of the {shape}-shaped section (symmetry x = 0)" if half else
               "whole S-shaped section, u(P0) = (0, -t/2) at its centre of symmetry"}
     fields = [u, lower.gap_out, lower.pressure_out]
     return Setup("seal", problem, [lower, upper], list(loads or LOADS), params, figures, fields)
