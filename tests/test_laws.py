@@ -53,6 +53,14 @@ def test_cross_constraints_continuous_at_zero(law):
     assert np.isclose(law.stiffness(0.0, c), c["K_hat"], rtol=1e-14)
 
 
+@pytest.mark.parametrize("law", [law for law in LAWS if law.name == "cross"], ids=lambda law: str(law.values()))
+def test_cross_constraints_ufl_tangent_at_exact_contact(law):
+    """The Jacobian is UFL's derivative of the force: at g = 0 exactly (a point that touches in the initial
+    configuration) it must be the law's stiffness K_hat, not the derivative of a constant branch (0)."""
+    P, F, K, dP, dF = _ufl_evaluator(law)(0.0)
+    assert np.isclose(dF, law.values()["K_hat"], rtol=1e-12) and np.isclose(K, dF, rtol=1e-12)
+
+
 def test_cross_constraints_with_zero_target_is_penalty():
     g = np.linspace(-1e3, 1e3, 20001)
     pen, cc = Penalty(1e5), CrossConstraints(1e5, 0.0)

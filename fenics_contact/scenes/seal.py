@@ -6,21 +6,28 @@ rotations), plane strain; plates y = 0 (fixed) and y = 7 (moving down by
 = the band's thickness at the end). The paper's Figure 17 is not available:
 the cross-section is our design from its data, a band of thickness 1
 bounded by circular arcs of radii R_out = 10 and R_in = 9 (documented in the
-module docstring of :mod:`fenics_contact.meshes`), in one of two shapes:
+module docstring of :mod:`fenics_contact.meshes`), in one of three shapes:
 
-``shape="S"`` (default, :func:`~fenics_contact.meshes.seal_s_section`)
-    two annular sectors of opposite curvature (an S lying on its side), the
-    left hump touching the upper plate, the right one the lower plate. It
-    reproduces the paper's sequence: the S first *rolls* (the contact points
-    move toward the middle, with almost no force: a rigid rotation between
-    frictionless plates), then its ends touch the opposite plates (a new
-    contact at the upper right corner, t = 2.5), then the lower zone under
-    the right hump splits in two that move apart (t = 5.5). The whole
-    section is modelled; it is point-symmetric about the middle of the
-    junction P0 = (0, 3.5), and so is the loading in the frame moving down
-    with ``t/2``: the symmetric solution has ``u(P0) = (0, -t/2)``, imposed
-    at that one vertex (this removes the horizontal rigid mode that
-    frictionless plates leave free; the reaction at P0 is reported).
+``shape="wave"`` (default, :func:`~fenics_contact.meshes.seal_wave_section`)
+    three annular sectors of alternating curvature, a crown convex upward in
+    the middle (touching the upper plate at x = 0) between two humps convex
+    downward (touching the lower plate); symmetric about x = 0, half model
+    (``u_x = 0`` on x = 0, which also holds the crown's section against
+    rotation: the band is a real structure between the plates, not a
+    mechanism). It gives the paper's sequence: pressed at the crown, each
+    half pivots on its hump, whose contact point travels toward the middle
+    (x = 13.86 to 11.83 by t = 2), while the outer end rises until its upper
+    right corner touches the upper plate (t = 2); the crown zone leaves the
+    middle and splits in two (t = 5), then the zone under each hump splits
+    in two that move apart (t = 5.5).
+``shape="S"`` (:func:`~fenics_contact.meshes.seal_s_section`)
+    two annular sectors of opposite curvature. Between frictionless plates
+    the S *rolls* until its ends touch (t <= 2.5): a rigid rotation that
+    changes the plate distance at no force, i.e. a mechanism whose
+    equilibrium only the contact law's open branch fixes (Newton needs 11-22
+    iterations per step there). Point-symmetric about P0 = (0, 3.5), the
+    middle of the junction: ``u(P0) = (0, -t/2)`` is imposed (the reaction
+    is reported, ~0).
 ``shape="U"`` (:func:`~fenics_contact.meshes.seal_section`)
     one annular sector curved as a valley, its inner corners touching the
     upper plate and its bottom the lower plate; half model (``u_x = 0`` on
@@ -30,10 +37,15 @@ module docstring of :mod:`fenics_contact.meshes`), in one of two shapes:
 Both plates are analytic half-planes, each with its own contact surface on
 the whole free boundary (any part may touch either plate; nodal
 quadrature). Contact zones (:meth:`ContactSurface.contact_zones`) are
-counted for the whole section (a zone of the U's half touching x = 0 is one
-zone, any other has its mirror image). With cross-constraints use
-``F^ > 0``: where the body touches a plate with g = 0 and nothing else holds
-it, a penalty law (or ``F^ = 0``) has no stiffness.
+counted for the whole section (a zone of a half model touching x = 0 is one
+zone, any other has its mirror image). Cross-constraints ``K^ = 1e5`` with
+``F^ = 1e-3`` (``F_HAT``): the paper's seal uses ``F^ = 0``, but then a point
+that touches with g = 0 exactly (the crown and the humps in the initial
+configuration) has no stiffness and the first Newton step moves the band
+rigidly; 1e-3 is 0.1 % of the contact pressures here (~1) and changes them by
+as much. Newton without line search (``SOLVER_OPTIONS``): the suite's default
+``l2`` line search damps the steps where contacts switch (up to 23
+iterations instead of 17).
 """
 from __future__ import annotations
 
@@ -53,7 +65,8 @@ from . import Setup
 
 E, NU, R_OUT, R_IN, GAP = 1000.0, 0.3, 10.0, 9.0, 7.0
 K_HAT = 1e5
-F_HAT = 0.1  # far below the contact pressures: a slight penetration, no adhesion; > 0 keeps g = 0 stiff
+F_HAT = 1e-3  # 0.1 % of the contact pressures: stiffness K_hat for the points that touch at g = 0 (docstring)
+SOLVER_OPTIONS = {"snes_linesearch_type": "basic"}  # full Newton steps (module docstring)
 SHAPES = {"wave": seal_wave_section, "S": seal_s_section, "U": seal_section}
 LOADS = [0.5 * k for k in range(1, 12)] + [5.5 + 0.1 * k for k in range(1, 6)]
 
@@ -61,7 +74,7 @@ LOADS = [0.5 * k for k in range(1, 12)] + [5.5 + 0.1 * k for k in range(1, 6)]
 def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: list[float] | None = None,
           comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "wave") -> Setup:
     """``h``: cell size of the structured quadrilaterals (0.5: 2 cells through the thickness); ``shape``:
-    ``"S"`` or ``"U"`` (module docstring)."""
+    ``"wave"``, ``"S"`` or ``"U"`` (module docstring). Solve with ``SOLVER_OPTIONS`` and the predictor."""
     if shape not in SHAPES:
         raise ValueError(f"seal shape must be one of {', '.join(map(repr, SHAPES))}, got {shape!r}")
     half = shape != "S"
