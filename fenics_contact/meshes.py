@@ -1,13 +1,37 @@
 """Meshes for the contact benchmarks, with named physical tags.
 
-``hertz_quarter_disk``, ``pin_plate``, ``seal_s_section`` and ``seal_section``
-are built with gmsh on rank 0 and distributed with
+``hertz_quarter_disk``, ``pin_plate`` and the seal sections (``seal_wave_section``,
+``seal_s_section``, ``seal_section``) are built with gmsh on rank 0 and distributed with
 ``dolfinx.io.gmshio.model_to_mesh``; ``rectangle`` uses
 ``dolfinx.mesh.create_rectangle``, ``ring_quarter`` maps it to polar
 coordinates. All functions are collective on ``comm``.
 
 Seal geometry (the paper's Figure 17 is not available, so this is our
-design from its data; the seal scene uses the S by default).
+design from its data: "two circular arcs with outer radius 10 and inner
+radius 9", plates 7 apart, closed at 6.0, i.e. at plates 1 apart = a band
+of thickness R_out - R_in = 1; the seal scene uses the wave by default).
+
+Wave (``seal_wave_section``): the band bent into three annular sectors
+(arcs R_out = 10 and R_in = 9) of alternating curvature: a crown convex
+upward in the middle, centre C1 = (0, -3), whose outer arc touches the
+upper plate y = 7 at (0, 7), between two humps convex downward, centres
+C2 = (+-13.86, 10), whose outer arcs touch the lower plate y = 0 at
+(+-13.86, 0). Neighbouring sectors join tangentially across the segment of
+the line C1-C2 between radii 9 and 10 (|C1 C2| = 19 = R_out + R_in, so the
+outer arc of one continues the inner arc of the other), at 43.2 degrees
+above the horizontal from C1; each hump spans 93.7 degrees symmetric about
+its vertical and ends cut radially, its upper right corner (on the inner
+arc) at (20.42, 3.84). Symmetric about x = 0: ``seal_wave_section`` meshes
+the right half (the crown's half and one hump), with a vertex at the
+crown's top and at the hump's bottom (the initial contact points). It is
+the S below (``seal_s_section``) mirrored about the top of its left sector:
+the same arcs, but the symmetry holds the crown's section against
+rotation, so the band is a structure between the plates, not a mechanism.
+Squeezed, each half pivots on its hump (contact point moving toward the
+middle), the end rises until its upper right corner touches the upper
+plate, the crown's contact zone leaves the middle, then the zone under each
+hump splits in two. The band cannot fold onto itself in this loading, so
+no self-contact is needed.
 
 S (``seal_s_section``): a band of thickness 1 bent into an S lying on its
 side: two annular sectors bounded by arcs of radii R_out = 10 and R_in = 9
@@ -21,7 +45,9 @@ sector spans 93.7 degrees, symmetric about its vertical, ends cut radially;
 the section is point-symmetric about the middle of the junction, (0, 3.5).
 Squeezed, the S rolls (contacts travel toward the middle), then its ends
 touch the opposite plates at their corners, then the zone under each hump
-splits in two. The band cannot fold onto itself in this loading, so no
+splits in two. The rolling is a mechanism: two vertical contact forces at
+different x make a couple, so until the ends touch the S turns at (almost)
+no force and only the contact law's open branch fixes its position. The band cannot fold onto itself in this loading, so no
 self-contact is needed (the suite has no self-contact).
 
 U (``seal_section``): a band of thickness 1, the annular
