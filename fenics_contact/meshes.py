@@ -47,8 +47,9 @@ Squeezed, the S rolls (contacts travel toward the middle), then its ends
 touch the opposite plates at their corners, then the zone under each hump
 splits in two. The rolling is a mechanism: two vertical contact forces at
 different x make a couple, so until the ends touch the S turns at (almost)
-no force and only the contact law's open branch fixes its position. The band cannot fold onto itself in this loading, so no
-self-contact is needed (the suite has no self-contact).
+no force and only the contact law's open branch fixes its position. The
+band cannot fold onto itself in this loading, so no self-contact is needed
+(the suite has no self-contact).
 
 U (``seal_section``): a band of thickness 1, the annular
 sector between the concentric circular arcs R_out = 10 and R_in = 9 (the

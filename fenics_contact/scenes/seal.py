@@ -24,7 +24,7 @@ module docstring of :mod:`fenics_contact.meshes`), in one of three shapes:
     two annular sectors of opposite curvature. Between frictionless plates
     the S *rolls* until its ends touch (t <= 2.5): a rigid rotation that
     changes the plate distance at no force, i.e. a mechanism whose
-    equilibrium only the contact law's open branch fixes (Newton needs 11-22
+    equilibrium only the contact law's open branch fixes (Newton needs 11-19
     iterations per step there). Point-symmetric about P0 = (0, 3.5), the
     middle of the junction: ``u(P0) = (0, -t/2)`` is imposed (the reaction
     is reported, ~0).
