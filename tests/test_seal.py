@@ -95,3 +95,19 @@ def test_u_shape_bottom_zone_splits_and_the_parts_move_apart():
 def test_bad_shape_names_the_parameter():
     with pytest.raises(ValueError, match="seal shape"):
         build("seal", law=CrossConstraints(seal.K_HAT, seal.F_HAT), shape="O")
+
+
+def test_s_shape_rolls_then_a_corner_touches_and_a_zone_splits():
+    solver, figures = solve("S")  # rolling is a mechanism: step 1 is cut once (README), the rest converges
+    assert [r.load for r in solver.records][-len(seal.LOADS) + 1:] == pytest.approx(seal.LOADS[1:])
+    for _, f in figures:  # the point-symmetric solution needs no support at P0
+        scale = max(f["plate_force_lower"], 1.0)
+        assert abs(f["reaction_P0_x"]) < 1e-6 * scale and abs(f["reaction_P0_y"]) < 1e-6 * scale
+    t = np.array([s for s, _ in figures])
+    lower = np.array([f["zones_lower"] for _, f in figures])
+    rolling = [f["zones_upper_x"][0] for _, f in figures if f["zones_upper"] == 1]
+    assert len(rolling) >= 2 and rolling[-1][1] > rolling[0][1] + 0.5  # the upper contact moves toward x = 0
+    corner = next(i for i, (_, f) in enumerate(figures) if f["zones_upper"] == 2)
+    assert figures[corner][1]["zones_upper_x"][-1][0] > 13.0  # the right end's corner (x ~ 13.49)
+    split = int(np.argmax(lower == 3))
+    assert lower[split] == 3 and t[split] > t[corner] and set(lower[split:]) == {3}
