@@ -79,6 +79,9 @@ class BoundContact(ContactSurface):
 
 
 def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact") -> ContactSurface:
-    """A :class:`ContactSurface` for a law, or a :class:`BoundContact` for method ``vi``."""
-    cls = BoundContact if isinstance(law, Exact) else ContactSurface
+    """A :class:`ContactSurface` for a law, a :class:`~fenics_contact.friction.FrictionalContact` for a
+    law with friction, or a :class:`BoundContact` for method ``vi``."""
+    from .friction import Friction, FrictionalContact
+
+    cls = BoundContact if isinstance(law, Exact) else FrictionalContact if isinstance(law, Friction) else ContactSurface
     return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name)

@@ -114,6 +114,9 @@ class ContactSurface:
     def after_solve(self, problem) -> None:
         """Called after every converged Newton solve."""
 
+    def commit(self) -> None:
+        """Called once a load step is accepted: advance history variables (friction); no-op here."""
+
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Surface term ``F(g) dg[v] ds`` of the residual (``dg[v] = -n . v`` for a rigid obstacle)."""

@@ -196,6 +196,33 @@ class CrossConstraints(ContactLaw):
         return {"K_hat": self.tau * float(c["K_hat"])}
 
 
+class NormalCompliance(ContactLaw):
+    """Normal compliance (Oden & Martins; formulation 1.5): ``F = c_n <g>^m_n``, ``P = c_n/(m_n+1) <g>^(m_n+1)``.
+
+    ``c_n > 0`` in pressure per length^m_n, exponent ``m_n >= 1`` (``m_n = 1`` is the penalty law
+    with ``K = c_n``). The exponent is fixed for a run (part of the compiled form), ``c_n`` a scalar.
+    """
+
+    name = "compliance"
+
+    def __init__(self, c_n: float, m_n: float = 1.0):
+        self.scalars = {"c_n": _check_positive("normal compliance c_n", c_n)}
+        self.m = _check_exponent("normal compliance exponent m_n", m_n)
+        self.fields = {}
+
+    def force(self, g, c, ops=NUMPY):
+        gp = ops.max(g, 0.0)
+        return c["c_n"] * (gp if self.m == 1.0 else gp**self.m)
+
+    def potential(self, g, c, ops=NUMPY):
+        return c["c_n"] / (self.m + 1.0) * ops.max(g, 0.0) ** (self.m + 1.0)
+
+    def stiffness(self, g, c, ops=NUMPY):
+        if self.m == 1.0:
+            return c["c_n"] * _heaviside(g, ops)
+        return self.m * c["c_n"] * ops.max(g, 0.0) ** (self.m - 1.0)
+
+
 class Exact(ContactLaw):
     """No law: exact nodal non-penetration (``g <= 0``) as bounds on the unknowns, solved by PETSc
     SNES VI (:mod:`fenics_contact.bounds`); the pressure is the nodal reaction. Flat, axis-aligned
@@ -210,16 +237,24 @@ class Exact(ContactLaw):
         raise TypeError("method 'vi' has no contact law: its pressure is the reaction at the bounds")
 
 
+def _check_exponent(name: str, value: float) -> float:
+    value = float(value)
+    if not (math.isfinite(value) and value >= 1.0):
+        raise ValueError(f"{name} must be a finite number >= 1, got {value!r}")
+    return value
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
-METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact}
+METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian,
+           "compliance": NormalCompliance, "vi": Exact}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``)."""
+    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``compliance``, ``vi``)."""
     if method not in METHODS:
         raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
     return METHODS[method](**params)
