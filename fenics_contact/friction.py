@@ -156,7 +156,8 @@ class FrictionalContact(ContactSurface):
     History (traction ``q_old`` and relative position ``r_old`` at the last converged step, one
     scalar Function per global component) lives in the law's state space ``S`` (exact values at the
     contact quadrature points). ``dissipated`` is the friction work dissipated up to the last
-    committed step (energy per unit thickness in 2D).
+    committed step (energy per unit thickness in 2D); ``log`` has the forces, capacity, dissipation
+    and state areas of every committed step.
     """
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle, law: Friction,
@@ -174,16 +175,18 @@ class FrictionalContact(ContactSurface):
         self._slip_state = law.slip_state(*args)
         self._dissipation_form = fem.form(law.dissipation(*args) * self.ds)
         self._tangential_forms = [fem.form(self.traction[i] * self.ds) for i in range(gdim)]
+        self._capacity_form = fem.form(law.bound(self.gap, self.params, ufl_ops()) * self.ds)
         # The state of the last accepted step, kept at commit: after a commit the next trial starts at
         # the bound, so the current expression would call a sliding point sticking.
         self.slip_state = fem.Function(self.S, name="slip_state_committed")
-        self._state_area_forms = {k: fem.form(ufl.conditional(ufl.eq(self.slip_state, float(v)), 1.0, 0.0) * self.ds)
+        self._state_area_forms = {k: fem.form(ufl.conditional(ufl.lt(abs(self.slip_state - v), 0.5), 1.0, 0.0) * self.ds)
                                   for k, v in (("open", OPEN), ("slip", SLIP), ("stick", STICK))}
         self._history = [self.slip_state, *self.q_old, *self.r_old]
         self._history_rhs = [self.projector.compile(e) for e in [self._slip_state, *self.traction, *r]]
-        self.dissipated = 0.0
+        self._load = load
+        self.dissipated, self.log = 0.0, []
         self.commit()  # r_old = the initial position; q_old = 0
-        self.dissipated = 0.0
+        self.dissipated, self.log = 0.0, []
 
         P1 = self.gap_out.function_space
         self.state_out = fem.Function(P1, name="slip_state")
@@ -203,7 +206,9 @@ class FrictionalContact(ContactSurface):
         new = [self.projector.project(rhs, fem.Function(self.S)) for rhs in self._history_rhs]
         for f, n in zip(self._history, new):
             f.x.array[:] = n.x.array
-        self.slip_state.x.array[:] = np.rint(self.slip_state.x.array)
+        self.log.append({"load": float(self._load.value), "normal_force": self.total_force().tolist(),
+                         "tangential_force": self.tangential_force().tolist(), "capacity": self.capacity(),
+                         "dissipated": self.dissipated, **self.state_areas()})
 
     def state(self) -> dict:
         return {**super().state(), "history": [f.x.array.copy() for f in self._history],
@@ -229,7 +234,8 @@ class FrictionalContact(ContactSurface):
 
         ``x`` (n, gdim), ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction``
         (tangential traction of the obstacle on the body: 2D scalar along the tangent ``(n_y, -n_x)``,
-        which is +x for the plane y = 0; 3D vector (n, 3)) and ``state`` (0 open, 1 slip, 2 stick).
+        which is +x for the plane y = 0; 3D vector (n, 3)) and ``state`` (0 open, 1 slip, 2 stick) of the
+        last committed step (``gauss`` quadrature: the state field's vertex value, rounded).
         """
         self.update_output()
         V = self.gap_out.function_space
@@ -243,7 +249,7 @@ class FrictionalContact(ContactSurface):
             n = self._normal_at(x)
             q = q[:, 0] * n[:, 1] - q[:, 1] * n[:, 0]
         return {"x": x[order], "gap": g[order], "pressure": p[order], "traction": q[order],
-                "state": np.rint(s[order]).astype(int)}
+                "state": np.clip(np.rint(s[order]), OPEN, STICK).astype(int)}
 
     def _normal_at(self, x: np.ndarray) -> np.ndarray:
         """Obstacle normal at the vertices (half-planes: constant; else the reference direction)."""
@@ -252,6 +258,10 @@ class FrictionalContact(ContactSurface):
             return np.tile(n, (len(x), 1))
         d = x - self.obstacle.point
         return self.obstacle.sign * d / np.linalg.norm(d, axis=1, keepdims=True)
+
+    def capacity(self) -> float:
+        """``int b(g) ds``: the largest tangential force the surface can carry at the current gap."""
+        return self.comm.allreduce(fem.assemble_scalar(self._capacity_form), op=MPI.SUM)
 
     def state_areas(self) -> dict[str, float]:
         """Area (length in 2D) of the contact surface in each state, by the contact quadrature rule."""
