@@ -179,7 +179,8 @@ class FrictionalContact(ContactSurface):
         # The state of the last accepted step, kept at commit: after a commit the next trial starts at
         # the bound, so the current expression would call a sliding point sticking.
         self.slip_state = fem.Function(self.S, name="slip_state_committed")
-        self._state_area_forms = {k: fem.form(ufl.conditional(ufl.lt(abs(self.slip_state - v), 0.5), 1.0, 0.0) * self.ds)
+        near = lambda v: ufl.conditional(ufl.lt(abs(self.slip_state - v), 0.5), 1.0, 0.0)  # noqa: E731
+        self._state_area_forms = {k: fem.form(near(v) * self.ds)
                                   for k, v in (("open", OPEN), ("slip", SLIP), ("stick", STICK))}
         self._history = [self.slip_state, *self.q_old, *self.r_old]
         self._history_rhs = [self.projector.compile(e) for e in [self._slip_state, *self.traction, *r]]
