@@ -17,7 +17,7 @@ from petsc4py import PETSc
 
 from .compat import bc_dofs, petsc_vec
 from .contact import ContactSurface
-from .laws import ContactLaw, Exact
+from .laws import ContactLaw, Coulomb, Exact
 from .obstacles import HalfPlane, Obstacle
 
 _BIG = 1e300  # "no bound" (PETSc's VI treats |bound| >= 1e20 as infinite)
@@ -80,7 +80,12 @@ class BoundContact(ContactSurface):
 
 def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact") -> ContactSurface:
     """A :class:`ContactSurface` for a law, a :class:`~fenics_contact.friction.FrictionalContact` for a
-    law with friction, or a :class:`BoundContact` for method ``vi``."""
+    law with friction, a :class:`BoundContact` for method ``vi``, or a
+    :class:`fenics_contact.condensed.CondensedContact` for method ``coulomb``."""
+    if isinstance(law, Coulomb):
+        from .condensed import CondensedContact  # imports this module
+
+        return CondensedContact(u, facet_tags, tag, obstacle, law, load, quadrature, name)
     from .friction import Friction, FrictionalContact
 
     cls = BoundContact if isinstance(law, Exact) else FrictionalContact if isinstance(law, Friction) else ContactSurface

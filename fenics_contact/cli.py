@@ -31,7 +31,8 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
     p.add_argument("--augment-tol", type=float, default=1e-12, help="stop when ||g_new - g_old|| <= this")
     p.add_argument("--c-n", type=float, default=None, help="compliance: c_n in F = c_n <g>^m_n (default: --K)")
     p.add_argument("--m-n", type=float, default=1.0, help="compliance: exponent m_n >= 1")
-    p.add_argument("--mu", type=float, default=0.0, help="Coulomb friction coefficient (>= 0; 0: frictionless)")
+    p.add_argument("--mu", type=float, default=0.0,
+                   help="Coulomb friction coefficient (>= 0; 0: frictionless; exact with method coulomb)")
     p.add_argument("--c-t", type=float, default=None,
                    help="friction bound c_t <g>^m_t instead of mu F(g) (normal compliance friction)")
     p.add_argument("--m-t", type=float, default=None, help="exponent m_t >= 1 of the bound (default: m_n)")
@@ -55,7 +56,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if rest:
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
-        args.augment = 0 if args.method in ("penalty", "vi", "compliance") else 10
+        args.augment = 0 if args.method in ("penalty", "vi", "compliance", "coulomb") else 10
     if args.c_n is None:
         args.c_n = args.K
     if args.omega_t is None:
@@ -84,6 +85,8 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
         law = make_law("vi")
     elif args.method == "compliance":
         law = make_law("compliance", c_n=args.c_n, m_n=args.m_n)
+    elif args.method == "coulomb":
+        return make_law("coulomb", mu=args.mu)  # exact Coulomb: mu is the law's own parameter
     else:
         law = make_law(args.method, K=args.K)
     if not has_friction(args):
@@ -101,8 +104,8 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
 
 def method_parameters(args: argparse.Namespace) -> dict:
     keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
-            "compliance": ["c_n", "m_n"]}[args.method]
-    if has_friction(args):
+            "compliance": ["c_n", "m_n"], "coulomb": ["mu"]}[args.method]
+    if has_friction(args) and args.method != "coulomb":
         keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["mu"]) + ["omega_t"]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
             "quadrature": args.quadrature}

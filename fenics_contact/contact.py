@@ -117,6 +117,12 @@ class ContactSurface:
     def commit(self) -> None:
         """Called once a load step is accepted: advance history variables (friction); no-op here."""
 
+    solves_step = False  # True: the surface solves a whole load step itself (:meth:`solve_step`), no SNES
+
+    def solve_step(self, problem) -> tuple[int, list[float], str]:
+        """Solve the load step at ``problem.load``: ``(reason as SNES's, residual history, failure message)``."""
+        raise NotImplementedError
+
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Surface term ``F(g) dg[v] ds`` of the residual (``dg[v] = -n . v`` for a rigid obstacle)."""

@@ -29,7 +29,7 @@ from mpi4py import MPI
 
 from .compat import function_space, interpolate_expression
 from .contact import ContactSurface
-from .laws import NUMPY, ContactLaw, Exact, NormalCompliance, _check_exponent, ufl_ops
+from .laws import NUMPY, ContactLaw, Coulomb, Exact, NormalCompliance, _check_exponent, ufl_ops
 
 OPEN, SLIP, STICK = 0, 1, 2
 _TINY = 1e-300  # |q| = sqrt(q.q + tiny): finite derivative at q = 0 (the stick branch never uses it)
@@ -65,7 +65,7 @@ class Friction(ContactLaw):
 
     def __init__(self, normal: ContactLaw, mu: float | None = None, omega_t: float = 1.0,
                  c_t: float | None = None, m_t: float | None = None):
-        if isinstance(normal, (Exact, Friction)) or not isinstance(normal, ContactLaw):
+        if isinstance(normal, (Exact, Coulomb, Friction)) or not isinstance(normal, ContactLaw):
             raise ValueError(f"friction needs a normal law (penalty, cross, auglag, compliance), got {normal!r}")
         if (mu is None) == (c_t is None):
             raise ValueError("friction: give exactly one of mu (Coulomb) and c_t (normal compliance bound)")

@@ -200,7 +200,8 @@ class NormalCompliance(ContactLaw):
     """Normal compliance (Oden & Martins; formulation 1.5): ``F = c_n <g>^m_n``, ``P = c_n/(m_n+1) <g>^(m_n+1)``.
 
     ``c_n > 0`` in pressure per length^m_n, exponent ``m_n >= 1`` (``m_n = 1`` is the penalty law
-    with ``K = c_n``). The exponent is fixed for a run (part of the compiled form), ``c_n`` a scalar.
+    with ``K = c_n``, but with the tangent ``c_n`` at ``g = 0``: a body that only rests on the surface
+    can start Newton from the touching state). The exponent is fixed for a run (part of the compiled form).
     """
 
     name = "compliance"
@@ -211,15 +212,18 @@ class NormalCompliance(ContactLaw):
         self.fields = {}
 
     def force(self, g, c, ops=NUMPY):
-        gp = ops.max(g, 0.0)
-        return c["c_n"] * (gp if self.m == 1.0 else gp**self.m)
+        if self.m == 1.0:
+            # c_n g H(g) with H(0) = 1: the same values as c_n <g>, but the tangent at a touching point
+            # (g = 0) is c_n, not 0, so a body resting on the surface has a regular first Jacobian.
+            return c["c_n"] * g * _heaviside_closed(g, ops)
+        return c["c_n"] * ops.max(g, 0.0) ** self.m
 
     def potential(self, g, c, ops=NUMPY):
         return c["c_n"] / (self.m + 1.0) * ops.max(g, 0.0) ** (self.m + 1.0)
 
     def stiffness(self, g, c, ops=NUMPY):
         if self.m == 1.0:
-            return c["c_n"] * _heaviside(g, ops)
+            return c["c_n"] * _heaviside_closed(g, ops)
         return self.m * c["c_n"] * ops.max(g, 0.0) ** (self.m - 1.0)
 
 
@@ -244,17 +248,37 @@ def _check_exponent(name: str, value: float) -> float:
     return value
 
 
+class Coulomb(ContactLaw):
+    """No law: exact Signorini contact with Coulomb friction (coefficient ``mu >= 0``), solved on the
+    stiffness condensed onto the contact dofs (:mod:`fenics_contact.condensed`, method ``coulomb``).
+    Linear elasticity, flat rigid obstacle, nodal contact. No penalty parameter."""
+
+    name = "coulomb"
+
+    def __init__(self, mu: float = 0.0):
+        self.mu = _check_nonnegative("friction coefficient mu", mu)
+        self.scalars, self.fields = {}, {}
+
+    def force(self, g, c, ops=NUMPY):
+        raise TypeError("method 'coulomb' has no contact law: its pressure is the nodal contact reaction")
+
+
+def _heaviside_closed(x, ops):
+    """1 for x >= 0, 0 otherwise (to round-off below 1e-300), without division."""
+    return ops.min(ops.max(x * 1e300 + 1.0, 0.0), 1.0)
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
 METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian,
-           "compliance": NormalCompliance, "vi": Exact}
+           "compliance": NormalCompliance, "vi": Exact, "coulomb": Coulomb}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``compliance``, ``vi``)."""
+    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``compliance``, ``vi``, ``coulomb``)."""
     if method not in METHODS:
         raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
     return METHODS[method](**params)

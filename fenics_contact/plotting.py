@@ -159,3 +159,22 @@ def plot_contact_face(x: np.ndarray, y: np.ndarray, state: np.ndarray, path: str
     fig.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(str(path), dpi=150)
+
+
+def plot_curves(curves: dict[str, tuple[np.ndarray, np.ndarray]], path: str | Path, xlabel: str = "x",
+                ylabel: str = "", title: str = "") -> None:
+    """Save a plot of several labelled curves ``{label: (x, y)}``. Not collective: call it on one rank."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.4, 4.4))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    for label, (x, y) in curves.items():
+        ax.plot(x, y, "o-", ms=3, lw=0.9, label=label)
+    ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(str(path), dpi=150)

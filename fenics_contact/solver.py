@@ -48,6 +48,7 @@ class StepRecord:
     converged: bool = False
     reason: int = 0
     wall_time_s: float = 0.0
+    message: str = ""  # why a step failed, from a surface that solves the step itself
 
     @property
     def newton_iterations(self) -> int:
@@ -57,7 +58,8 @@ class StepRecord:
         return {"step": self.step, "load": self.load, "newton_iterations": self.newton_iterations,
                 "residuals": self.residuals, "constraint_change": self.constraint_change,
                 "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
-                "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s}
+                "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s,
+                "message": self.message}
 
 
 class Solver:
@@ -135,7 +137,13 @@ class Solver:
 
     # --- driver -----------------------------------------------------------
     def _newton(self) -> int:
-        self._history = []
+        self._history, self._message = [], ""
+        own = [c for c in self.problem.contacts if getattr(c, "solves_step", False)]
+        if own:  # a surface that solves the whole step itself (condensed exact contact) replaces SNES
+            start = time.perf_counter()
+            reason, self._history, self._message = own[0].solve_step(self.problem)
+            self.timings["snes_s"] += time.perf_counter() - start
+            return reason
         petsc_vec(self.problem.u).copy(self._x)
         start = time.perf_counter()
         self.snes.solve(None, self._x)
@@ -175,6 +183,7 @@ class Solver:
         while True:
             rec.reason = self._newton()
             rec.residuals.append(self._history)
+            rec.message = self._message
             if rec.reason <= 0:
                 break
             for c in self.problem.contacts:
@@ -224,7 +233,8 @@ class Solver:
                     self.records.append(rec)
                     raise ConvergenceError(
                         f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
-                        f"{self.max_cutbacks} cutbacks: SNES reason {_reason(rec.reason)}; the last converged "
+                        f"{self.max_cutbacks} cutbacks: {rec.message or 'SNES reason ' + _reason(rec.reason)}; "
+                        f"the last converged "
                         f"state (t = {self.t:.6g}) has been written")
         return self.records
 
@@ -232,7 +242,7 @@ class Solver:
         if self.quiet:
             return
         last = rec.residuals[-1][-1] if rec.residuals and rec.residuals[-1] else float("nan")
-        tag = f"FAILED ({_reason(rec.reason)}), cutting the step" if failed else (
+        tag = f"FAILED ({rec.message or _reason(rec.reason)}), cutting the step" if failed else (
             f"aug {rec.augmentations:2d} R {rec.constraint_change[-1]:.2e}" if rec.constraint_change else "")
         PETSc.Sys.Print(f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
                         f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}", comm=self.problem.comm)

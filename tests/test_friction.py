@@ -258,3 +258,49 @@ def test_compliance3d_parallel_equals_serial():
     for k, v in serial.items():
         if isinstance(v, float) and not k.startswith("equilibrium"):
             assert abs(parallel[k] - v) <= 1e-8 * max(abs(v), 1e-3 * serial["normal_force"]), (k, parallel[k], v)
+
+
+# --- slab (Renaud & Feng): penalty-type Coulomb friction against the exact condensed method -----------------
+SLAB_OPTIONS = {"snes_linesearch_type": "bt", "snes_max_it": 200}  # l2 cycles once omega_t >> E/h
+
+
+def _slab(law, comm=MPI.COMM_WORLD):
+    from fenics_contact.scenes import slab
+
+    setup = build("slab", law=law, comm=comm)
+    solver = Solver(setup.problem, quiet=True, options=SLAB_OPTIONS)
+    solver.run(setup.loads)
+    return setup.figures(), slab, solver
+
+
+@pytest.mark.parametrize("mu", [0.4, 0.8, 1.0, 1.3])
+def test_slab_penalty_coulomb_agrees_with_exact(mu):
+    """c_n = omega_t = 1e5 (10 E/h): u_x(A) within 1 % of the exact condensed method, the same zones
+    (separated, sliding, sticking from the free corner) with boundaries within one element, equilibrium."""
+    from fenics_contact.laws import Coulomb
+
+    exact = _slab(Coulomb(mu))[0]
+    f, slab, _ = _slab(Friction(NormalCompliance(1e5, 1.0), mu=mu, omega_t=1e5))
+    assert abs(f["ux_A"] - exact["ux_A"]) < 0.01 * abs(exact["ux_A"])
+    assert f["zone_pattern"] == exact["zone_pattern"] == ["separated", "sliding", "sticking"]
+    h = slab.WIDTH / slab.NX
+    assert all(abs(a - b) <= h * (1 + 1e-9) for a, b in zip(f["zone_boundaries"], exact["zone_boundaries"]))
+    assert f["normal_equilibrium_error"] < 1e-8 and f["tangential_equilibrium_error"] < 1e-8
+
+
+def test_slab_penalty_coulomb_tends_to_exact():
+    """mu = 1: the difference to the exact u_x(A) falls like 1 / (c_n = omega_t)."""
+    from fenics_contact.laws import Coulomb
+
+    exact = _slab(Coulomb(1.0))[0]["ux_A"]
+    d = [abs(_slab(Friction(NormalCompliance(k, 1.0), mu=1.0, omega_t=k))[0]["ux_A"] - exact) / abs(exact)
+         for k in (1e4, 1e5, 1e6)]
+    assert d[0] > 5 * d[1] > 25 * d[2] and d[2] < 1e-3, d
+
+
+def test_slab_parallel_equals_serial():
+    law = lambda: Friction(NormalCompliance(1e5, 1.0), mu=1.0, omega_t=1e5)  # noqa: E731
+    figs = [_slab(law(), comm)[0] for comm in (MPI.COMM_WORLD, MPI.COMM_SELF)]
+    for k in ("ux_A", "uy_A", "normal_force", "tangential_force", "symmetry_reaction"):
+        assert figs[0][k] == pytest.approx(figs[1][k], rel=1e-8, abs=1e-12), k
+    assert figs[0]["zones"] == pytest.approx(figs[1]["zones"], abs=1e-12)

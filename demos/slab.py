@@ -1,0 +1,86 @@
+"""Elastic slab pressed and pushed on a rigid plate with Coulomb friction (Renaud & Feng 2003).
+
+    python demos/slab.py --method coulomb --mu 0.4
+    mpirun -n 2 python demos/slab.py --method coulomb --mu 1.0 --refinement 1
+    python demos/slab.py --method coulomb --sweep
+
+Half slab 40 x 40 (E = 13000, nu = 0.2), pressure 5 on the top, 10 on the
+free side, symmetry u_x = 0 on x = 0, rigid frictional base; Q1 mesh 32 x 16
+times 2**refinement. Writes slab.xdmf, summary.json, slab_base.csv (pressure and
+tangential traction along the base), slab_base.png and slab_deformed.png to
+--out; --sweep does it for mu in 0, 0.4, 0.8, 1.0, 1.3 (one folder each) and
+draws the zone lengths against mu (slab_zones.png, slab_sweep.csv).
+"""
+from pathlib import Path
+
+import numpy as np
+from dolfinx import fem
+
+from fenics_contact import cli
+from fenics_contact.compat import function_space, interpolate_expression
+from fenics_contact.run import run
+from fenics_contact.scenes import build, slab
+
+SWEEP = (0.0, 0.4, 0.8, 1.0, 1.3)
+
+# 1. Options: the formulation (default: the exact condensed Signorini-Coulomb), mu, mesh, load steps.
+p = cli.parser(__doc__.splitlines()[0], default_K=1e7)
+p.add_argument("--refinement", type=int, default=0, help="halve the cells this many times (32 x 16 at 0)")
+p.add_argument("--steps", type=int, default=1, help="proportional load steps (friction is path dependent)")
+p.add_argument("--sweep", action="store_true", help=f"run mu in {SWEEP} and plot the zones against mu")
+p.set_defaults(method="coulomb")
+args = cli.parse(p)
+out = Path(args.out or "results/slab")
+rows = []
+
+for mu in SWEEP if args.sweep else (args.mu,):
+    args.mu = mu
+    folder = out / f"mu_{mu:g}" if args.sweep else out
+
+    # 2. The scene: half slab, tractions on top and free side, symmetry, rigid frictional base.
+    setup = build("slab", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
+                  steps=args.steps)
+    comm = setup.problem.comm
+
+    # 3. Solve (one proportional step by default), write XDMF and summary.json.
+    summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps},
+                  args.augment, args.augment_tol, args.quiet)
+    z = summary["zones"]
+    rows.append((mu, summary["ux_A"], summary["uy_A"], z["separated"], z["sliding"], z["sticking"],
+                 summary["newton_iterations"]))
+
+    # 4. The base: CSV of gap, pressure, tangential traction and state along x; its plot.
+    base = summary["base"]
+    x = np.asarray(base["x"])[:, 0]
+    if comm.rank == 0:
+        columns = [x, slab.WIDTH - x, base["gap"], base["pressure"], base["traction"], base["state"]]
+        np.savetxt(folder / "slab_base.csv", np.column_stack(columns), delimiter=",", comments="",
+                   header="x,distance_from_A,gap,pressure,tangential_traction,state (0 open 1 slip 2 stick)")
+    if args.no_pictures:
+        continue
+    from fenics_contact.plotting import plot_curves, plot_deformed
+
+    if comm.rank == 0:
+        pr, tr = np.asarray(base["pressure"]), np.asarray(base["traction"])
+        plot_curves({"contact pressure p": (x, pr), "tangential traction t (along +x)": (x, tr),
+                     "mu p": (x, mu * pr)}, folder / "slab_base.png", xlabel="x (free corner A at x = 40)",
+                    ylabel="traction", title=f"slab, {args.method}, mu = {mu:g}: separated {z['separated']:.3g}, "
+                    f"sliding {z['sliding']:.3g}, sticking {z['sticking']:.3g}")
+    u = setup.problem.u
+    sxy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
+                                              name="sigma_xy"), setup.problem.material.stress(u)[0, 1])
+    plot_deformed(u, sxy, folder / "slab_deformed.png", title=f"slab, {args.method}, mu = {mu:g} (displacement x500)",
+                  scale=500)
+
+# 5. Sweep: zone lengths (from the free corner inward) against mu.
+if args.sweep and comm.rank == 0:
+    table = np.array(rows)
+    np.savetxt(out / "slab_sweep.csv", table, delimiter=",", comments="",
+               header="mu,ux_A,uy_A,separated,sliding,sticking,newton_iterations")
+    if not args.no_pictures:
+        plot_curves({name: (table[:, 0], table[:, 3 + i]) for i, name in enumerate(slab.STATES)},
+                    out / "slab_zones.png", xlabel="friction coefficient mu", ylabel="length along the base",
+                    title=f"slab zones against mu ({args.method})")
+    for r in rows:
+        print(f"mu {r[0]:4.2f}  ux_A {r[1]: .6e}  uy_A {r[2]: .6e}  separated {r[3]:6.3f}  sliding {r[4]:6.3f}  "
+              f"sticking {r[5]:6.3f}  newton {r[6]}")

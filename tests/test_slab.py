@@ -1,0 +1,129 @@
+"""slab scene and the exact Signorini-Coulomb method on the condensed system (method ``coulomb``)."""
+import numpy as np
+import pytest
+from dolfinx import fem
+from mpi4py import MPI
+
+from fenics_contact.bounds import contact_surface
+from fenics_contact.compat import function_space
+from fenics_contact.laws import Coulomb, Exact, make_law
+from fenics_contact.meshes import BOTTOM, rectangle
+from fenics_contact.obstacles import Cylinder, HalfPlane
+from fenics_contact.scenes import block, build, slab
+from fenics_contact.solver import ConvergenceError, Solver
+
+
+def solve(law, comm=MPI.COMM_WORLD, **kw):
+    setup = build("slab", law=law, comm=comm, **kw)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    return setup, solver
+
+
+@pytest.mark.parametrize("law", [lambda: Coulomb(0.0), lambda: Exact()], ids=["coulomb", "vi"])
+def test_frictionless_closed_form(law):
+    setup, _ = solve(law())
+    f = setup.figures()
+    assert f["ux_A"] == pytest.approx(slab.UX_A_FRICTIONLESS, rel=5e-3)
+    assert abs(f["uy_A"]) < 1e-10 * abs(slab.UX_A_FRICTIONLESS)
+    assert f["zones"] == pytest.approx({"separated": 0.0, "sliding": slab.WIDTH, "sticking": 0.0})
+    assert f["max_pressure"] == pytest.approx(slab.TOP_PRESSURE, rel=1e-8)
+
+
+@pytest.mark.parametrize("mu", [0.4, 1.0])
+def test_equilibrium_and_coulomb_law(mu):
+    """Total contact forces balance the loads; every base vertex satisfies Signorini and Coulomb."""
+    setup, solver = solve(Coulomb(mu))
+    f = setup.figures()
+    assert f["normal_equilibrium_error"] < 1e-8 and f["tangential_equilibrium_error"] < 1e-8
+    assert f["normal_force"] == pytest.approx(slab.TOP_LOAD, rel=1e-8)
+    prof = setup.contacts[0].friction_profile()
+    p, t, g, state = prof["pressure"], prof["traction"], prof["gap"], prof["state"]
+    scale = slab.TOP_PRESSURE
+    assert np.all(p >= -1e-10 * scale) and np.all(g <= 1e-12)
+    assert np.all(np.abs(p * g) <= 1e-12 * scale)
+    assert np.all(np.abs(t) <= mu * p + 1e-10 * scale)
+    # Slip at the vertices (tangential displacement, one load step from rest), gathered like the profile.
+    u = setup.problem.u
+    V = u.function_space
+    X = V.tabulate_dof_coordinates()
+    n = V.dofmap.index_map.size_local
+    base = np.flatnonzero(np.isclose(X[:n, 1], 0.0))
+    xs = np.concatenate(setup.problem.comm.allgather(X[base, 0]))
+    ux = np.concatenate(setup.problem.comm.allgather(u.x.array[2 * base]))
+    ux = ux[np.argsort(xs)]
+    assert np.all(np.abs(ux[state == 2]) <= 1e-10 * np.max(np.abs(ux)))  # stick: no slip
+    slip = state == 1
+    assert np.all(t[slip] * ux[slip] <= 0)  # friction opposes the slip
+    assert np.all(np.abs(np.abs(t[slip]) - mu * p[slip]) <= 1e-10 * scale)
+    assert 0 < solver.records[0].newton_iterations <= 20
+
+
+def test_zones_move_with_mu():
+    """More friction: more sticking, less sliding, a wider lift-off at the free corner, a smaller u_x."""
+    results = [solve(Coulomb(mu))[0].figures() for mu in (0.4, 0.8, 1.3)]
+    for a, b in zip(results, results[1:]):
+        assert b["zones"]["sticking"] > a["zones"]["sticking"]
+        assert b["zones"]["sliding"] < a["zones"]["sliding"]
+        assert b["zones"]["separated"] >= a["zones"]["separated"]
+        assert slab.UX_A_FRICTIONLESS < a["ux_A"] < b["ux_A"] < 0
+    for r in results:
+        assert r["zone_pattern"] == ["separated", "sliding", "sticking"]
+
+
+def test_refinement_convergence():
+    """mu = 1: u_x(A) converges (differences shrink by > 2 per halving) and the zone boundaries move by less
+    than half a coarse cell between the last two meshes."""
+    f = [solve(Coulomb(1.0), refinement=r)[0].figures() for r in (0, 1, 2)]
+    d1, d2 = abs(f[1]["ux_A"] - f[0]["ux_A"]), abs(f[2]["ux_A"] - f[1]["ux_A"])
+    assert d2 < d1 / 2
+    h0 = slab.WIDTH / slab.NX
+    assert len(f[1]["zone_boundaries"]) == len(f[2]["zone_boundaries"]) == 2
+    assert np.allclose(f[1]["zone_boundaries"], f[2]["zone_boundaries"], atol=h0 / 2)
+
+
+def test_proportional_loading_is_step_independent():
+    """Coulomb friction with a homogeneous law: proportional loading from a touching rest state gives the same
+    solution in one step or in three (each step's slip is measured from the previous converged step)."""
+    one = solve(Coulomb(1.0))[0]
+    three = solve(Coulomb(1.0), steps=3)[0]
+    assert np.allclose(three.problem.u.x.array, one.problem.u.x.array, rtol=0, atol=1e-10 * abs(slab.UX_A_FRICTIONLESS))
+
+
+def test_parallel_equals_serial():
+    figs = [solve(Coulomb(1.0), comm)[0].figures() for comm in (MPI.COMM_WORLD, MPI.COMM_SELF)]
+    for k in ("ux_A", "uy_A", "normal_force", "tangential_force", "symmetry_reaction"):
+        assert figs[0][k] == pytest.approx(figs[1][k], rel=1e-8, abs=1e-12), k
+    assert figs[0]["zones"] == pytest.approx(figs[1]["zones"], abs=1e-12)
+
+
+def test_block_with_prescribed_displacement():
+    """The block (top moved down, Dirichlet data scaled by the load) with mu = 0 gives the exact pressure."""
+    setup = build("block", law=Coulomb(0.0))
+    Solver(setup.problem, quiet=True).run(setup.loads)
+    assert setup.contacts[0].friction_profile()["pressure"] == pytest.approx(block.EXACT_PRESSURE, rel=1e-10)
+
+
+def test_failure_names_the_step():
+    setup = build("slab", law=Coulomb(1.0))
+    setup.contacts[0].max_it = 2
+    with pytest.raises(ConvergenceError, match=r"load step \d+ .*coulomb.*no convergence in 2 iterations"):
+        Solver(setup.problem, quiet=True, max_cutbacks=1).run(setup.loads)
+    assert np.all(setup.problem.u.x.array == 0.0)  # rolled back to the last converged state (rest)
+
+
+def test_bad_input():
+    for mu in (-0.1, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="friction coefficient mu"):
+            make_law("coulomb", mu=mu)
+    mesh, _, tags = rectangle(MPI.COMM_WORLD, 1.0, 1.0, 2, 2)
+    u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
+    load = fem.Constant(mesh, 0.0)
+    with pytest.raises(ValueError, match="flat rigid obstacle"):
+        contact_surface(u, tags, BOTTOM, Cylinder([0.5, -1.0], 1.0), Coulomb(0.3), load)
+    with pytest.raises(ValueError, match="nodal"):
+        contact_surface(u, tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), Coulomb(0.3), load, quadrature="gauss")
+    setup = build("block", law=Coulomb(0.3), model="neohookean")
+    with pytest.raises(ValueError, match="linear elasticity"):
+        Solver(setup.problem, quiet=True).run(setup.loads)
+
