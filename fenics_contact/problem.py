@@ -68,7 +68,8 @@ class ContactProblem:
         self.comm = V.mesh.comm
 
     def set_load(self, t: float) -> None:
-        """Load parameter ``t``: obstacles move by ``t * motion``, tractions and Dirichlet values scale by ``t``."""
+        """Load parameter ``t``: obstacles move by ``t * motion``, tractions scale by ``t``, Dirichlet values follow
+        their paths (:meth:`Dirichlet.at`)."""
         self.load.value = t
         for d in self.dirichlet:
             d.value.value = d.at(t)

@@ -153,6 +153,17 @@ def test_tangent_matches_finite_differences(d):
         A.destroy()
 
 
+def test_history_advances_only_on_commit_and_rolls_back():
+    """The solver's snapshot (state) and rollback (restore) carry the friction history; commit advances it."""
+    problem, c = _tiny_problem(2, Friction(NormalCompliance(5e5, 1.5), mu=0.3, omega_t=1e5))
+    before = c.state()
+    assert all(np.all(q.x.array == 0.0) for q in c.q_old)
+    c.commit()
+    assert any(np.any(q.x.array != 0.0) for q in c.q_old) and c.dissipated > 0
+    c.restore(before)
+    assert all(np.array_equal(f.x.array, a) for f, a in zip(c._history, before["history"])) and c.dissipated == 0.0
+
+
 def test_dissipation_over_a_closed_cycle():
     """Press, drag right, drag back, lift off (2D, Coulomb mu = 0.5 on normal compliance). The body ends
     stress-free and open, so the net work of the loading platen over the cycle is the dissipated energy:
