@@ -7,8 +7,12 @@ Perturbed Lagrangian with tangential penalty ``omega_t``, per contact quadrature
     trial (stick)      q_tr = P_T q_old - omega_t ds
     friction bound     b(g) = mu <F(g)>          (Coulomb on any normal law), or
                        b(g) = c_t <g>^m_t        (normal compliance friction; m_t = m_n, c_t = mu c_n is Coulomb)
-    return mapping     q    = q_tr               if |q_tr| <= b   (stick)
+    return mapping     q    = q_tr               if |q_tr| < b    (stick)
                        q    = b q_tr / |q_tr|    otherwise         (slip, opposite to the slip increment)
+
+At ``|q_tr| = b`` both branches give the same traction; taking the slip branch there gives a point without
+friction capacity (``b = 0``: open, or touching at rest) no tangential stiffness, instead of a stick spring
+``omega_t`` it cannot carry (that spring made Newton cycle between stick and slip at lifting points).
 
 ``q`` is the **tangential traction the obstacle exerts on the body** (force per area, in the tangent
 plane, global components); ``P_T = I - n n``. The residual gets ``+ F(g) dg[v] - q . v`` (the normal part
@@ -37,15 +41,15 @@ _TINY = 1e-300  # |q| = sqrt(q.q + tiny): finite derivative at q = 0 (the stick 
 
 def _numpy_ops():
     return dict(sqrt=np.sqrt, dot=lambda a, b: np.sum(np.asarray(a) * np.asarray(b), axis=0),
-                select=lambda a, b, x, y: np.where(np.asarray(a) <= np.asarray(b), x, y))
+                select=lambda a, b, x, y: np.where(np.asarray(a) < np.asarray(b), x, y))
 
 
 def _ufl_extra():
-    return dict(sqrt=ufl.sqrt, dot=ufl.dot, select=lambda a, b, x, y: ufl.conditional(ufl.le(a, b), x, y))
+    return dict(sqrt=ufl.sqrt, dot=ufl.dot, select=lambda a, b, x, y: ufl.conditional(ufl.lt(a, b), x, y))
 
 
 def friction_ops(ops: Any) -> Any:
-    """``ops`` of :mod:`laws` extended by ``sqrt``, ``dot`` and ``select(a, b, x, y)`` (= x if a <= b else y)."""
+    """``ops`` of :mod:`laws` extended by ``sqrt``, ``dot`` and ``select(a, b, x, y)`` (= x if a < b else y)."""
     if hasattr(ops, "select"):
         return ops
     extra = _numpy_ops() if ops.exp is np.exp else _ufl_extra()
@@ -147,7 +151,7 @@ class Friction(ContactLaw):
         f = friction_ops(ops)
         q_tr = self.trial(q_old, ds, n, c, ops)
         stick_or_slip = f.select(self._norm(q_tr, ops), self.bound(g, c, ops), float(STICK), float(SLIP))
-        return f.select(g, 0.0, float(OPEN), stick_or_slip)
+        return f.select(0.0, g, stick_or_slip, float(OPEN))
 
 
 class FrictionalContact(ContactSurface):

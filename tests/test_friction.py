@@ -179,7 +179,7 @@ def test_dissipation_over_a_closed_cycle():
     bcs = [Dirichlet(V.sub(0), dofs[0], 1.0, (ts, [0, 0, 0.02, 0.0, 0.0])),
            Dirichlet(V.sub(1), dofs[1], 1.0, (ts, [0, -0.01, -0.01, -0.01, 0.001]))]
     c = contact_surface(u, tags, BOTTOM, HalfPlane([0, 0], [0, 1]),
-                        Friction(NormalCompliance(1e5, 1.0), mu=0.5, omega_t=1e5), load)
+                        Friction(NormalCompliance(1e5, 1.0), mu=0.5, omega_t=1e4), load)
     problem = ContactProblem(u, LinearElastic(1000, 0.3), load, bcs, [c])
     solver = Solver(problem, quiet=True)
     work, R_prev, u_prev, slid = 0.0, np.zeros(2), np.zeros(2), False
