@@ -21,7 +21,7 @@ from fenics_contact.laws import Coulomb, NormalCompliance
 from fenics_contact.scenes import build, slab
 from fenics_contact.solver import ConvergenceError, Solver
 
-OPTIONS = {"snes_linesearch_type": "bt", "snes_max_it": 200}
+OPTIONS = {"snes_linesearch_type": "bt", "snes_max_it": 200, "snes_rtol": 1e-10}
 
 
 def solve(law, comm=MPI.COMM_WORLD):
