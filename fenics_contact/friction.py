@@ -11,8 +11,8 @@ Perturbed Lagrangian with tangential penalty ``omega_t``, per contact quadrature
                        q    = b q_tr / |q_tr|    otherwise         (slip, opposite to the slip increment)
 
 At ``|q_tr| = b`` both branches give the same traction; taking the slip branch there gives a point without
-friction capacity (``b = 0``: open, or touching at rest) no tangential stiffness, instead of a stick spring
-``omega_t`` it cannot carry (that spring made Newton cycle between stick and slip at lifting points).
+friction capacity (``b = 0``: open, or touching at rest) no tangential stiffness in the Jacobian, instead of
+a stick spring ``omega_t`` it cannot carry.
 
 ``q`` is the **tangential traction the obstacle exerts on the body** (force per area, in the tangent
 plane, global components); ``P_T = I - n n``. The residual gets ``+ F(g) dg[v] - q . v`` (the normal part
