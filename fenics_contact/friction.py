@@ -111,6 +111,11 @@ class Friction(ContactLaw):
     def augment_scalars(self, c):
         return self.normal.augment_scalars({k: v for k, v in c.items() if k in self.normal.scalars})
 
+    @property
+    def augmentable(self) -> bool:
+        """Always: the tangential multiplier (the traction the trial starts from) can be augmented."""
+        return True
+
     # --- tangential part -------------------------------------------------------
     def bound(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
         """Friction bound ``b(g) >= 0``: ``mu <F(g)>`` or ``c_t <g>^m_t`` (0 when open)."""
@@ -191,6 +196,7 @@ class FrictionalContact(ContactSurface):
         self._history = [self.slip_state, *self.q_old, *self.r_old]
         self._history_rhs = [self.projector.compile(e) for e in [self._slip_state, *self.traction, *r]]
         self._load = load
+        self._r_prev = None
         self.dissipated, self.log = 0.0, []
         self.commit()  # r_old = the initial position; q_old = 0
         self.dissipated, self.log = 0.0, []
@@ -205,6 +211,34 @@ class FrictionalContact(ContactSurface):
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """``F(g) dg[v] ds - q . v ds``."""
         return super().residual(v) - ufl.dot(self.traction, v) * self.ds
+
+    # --- augmentation (Uzawa on the tangential multiplier, with the normal law's own) ----------
+    def augment(self) -> None:
+        """``q_old <- q`` (the trial restarts from the current traction) with ``r_old`` kept at the last
+        accepted step: at the fixed point a sticking point has not moved (``r = r_old``, no elastic slip
+        ``q / omega_t``) and a sliding one slides against its traction: exact Coulomb for any ``omega_t``.
+        Then the normal law's augmentation."""
+        gdim = self.gdim
+        new = [self.projector.project(rhs, fem.Function(self.S)) for rhs in self._history_rhs[1:1 + gdim]]
+        super().augment()
+        for f, n in zip(self.q_old, new):
+            f.x.array[:] = n.x.array
+
+    def constraint_change(self) -> float:
+        """The larger of the normal law's gap change and ``sqrt(sum |r_new - r_old|^2)`` (the contact points'
+        motion) since the last call, over the state dofs (inf first)."""
+        R = super().constraint_change()
+        now = [self.projector.project(rhs, fem.Function(self.S)).x.array.copy()
+               for rhs in self._history_rhs[1 + self.gdim:]]
+        if self._r_prev is not None:
+            R = max(R, float(np.sqrt(self.comm.allreduce(sum(
+                np.sum((self._owned(a) - self._owned(b)) ** 2) for a, b in zip(now, self._r_prev))))))
+        self._r_prev = now
+        return R
+
+    def forget_gap(self) -> None:
+        super().forget_gap()
+        self._r_prev = None
 
     def commit(self) -> None:
         """Accept the current (converged) state: add its dissipation, keep its slip state, advance ``q_old``

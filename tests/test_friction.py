@@ -328,3 +328,22 @@ def test_slab_parallel_equals_serial():
     for k in ("ux_A", "uy_A", "normal_force", "tangential_force", "symmetry_reaction"):
         assert figs[0][k] == pytest.approx(figs[1][k], rel=1e-8, abs=1e-12), k
     assert figs[0]["zones"] == pytest.approx(figs[1]["zones"], abs=1e-12)
+
+
+@pytest.mark.parametrize("mu", [0.4, 1.3, 1.5])
+def test_slab_augmented_friction_equals_exact(mu):
+    """Uzawa on both multipliers (normal: augmented Lagrangian K = 1e5, lam0 = 1 so that the resting slab has a
+    regular first Jacobian; tangential: the trial restarts from the current traction, omega_t = E/h = 1e4)
+    removes both penalty errors: the exact condensed method's u_x(A) to 1e-7 and its zones exactly, with the
+    default line search, also at mu = 1.5 (where Renaud & Feng's FEM diverged)."""
+    from fenics_contact.laws import AugmentedLagrangian
+
+    exact = _slab_exact(mu)
+    setup = build("slab", law=Friction(AugmentedLagrangian(1e5, lam0=1.0), mu=mu, omega_t=1e4))
+    solver = Solver(setup.problem, quiet=True, augment_max=60, augment_tol=1e-9)
+    solver.run(setup.loads)
+    f = setup.figures()
+    assert solver.records[-1].augmentation_converged
+    assert abs(f["ux_A"] - exact["ux_A"]) < 1e-7 * abs(exact["ux_A"])
+    assert f["zones"] == pytest.approx(exact["zones"], abs=1e-12)
+    assert f["normal_equilibrium_error"] < 1e-8 and f["tangential_equilibrium_error"] < 1e-8
