@@ -5,8 +5,10 @@ tangential penalty omega_t) against the exact condensed Signorini-Coulomb method
     mpirun -n 2 python scripts/slab_friction.py --penalties 1e6
 
 Prints one row per (mu, c_n = omega_t): u_x(A) and its relative difference to the exact method, the zone
-lengths and the largest zone-boundary shift (in elements), equilibrium errors, Newton iterations; writes
-slab_friction.csv / .json into --out. Line search bt (the default l2 cycles when omega_t >> E/h).
+lengths and the largest zone-boundary shift (in elements), equilibrium errors, Newton iterations; then the
+augmented variant (Uzawa on both multipliers: augmented Lagrangian K = 1e5, lam0 = 1, omega_t = E/h = 1e4,
+up to 60 augmentations to 1e-9). Writes slab_friction.csv / .json into --out. Line search bt for the
+penalty rows (the default l2 cycles when omega_t >> E/h), the default for the augmented ones.
 """
 import argparse
 import json
@@ -17,16 +19,17 @@ import numpy as np
 from mpi4py import MPI
 
 from fenics_contact.friction import Friction
-from fenics_contact.laws import Coulomb, NormalCompliance
+from fenics_contact.laws import AugmentedLagrangian, Coulomb, NormalCompliance
 from fenics_contact.scenes import build, slab
 from fenics_contact.solver import ConvergenceError, Solver
 
 OPTIONS = {"snes_linesearch_type": "bt", "snes_max_it": 200, "snes_rtol": 1e-10}
 
 
-def solve(law, comm=MPI.COMM_WORLD):
+def solve(law, comm=MPI.COMM_WORLD, augment=0):
     setup = build("slab", law=law, comm=comm)
-    solver = Solver(setup.problem, quiet=True, options=OPTIONS)
+    solver = Solver(setup.problem, quiet=True, options=None if augment else OPTIONS, augment_max=augment,
+                    augment_tol=1e-9)
     try:
         solver.run(setup.loads)
     except ConvergenceError as exc:
@@ -56,10 +59,14 @@ def main() -> None:
         if comm.rank == 0:
             print(f"mu {mu:4.2f} exact: " + (f"ux_A {exact['ux_A']:.7e} zones {exact['zones']} pattern "
                                               f"{exact['zone_pattern']}" if exact else f"FAILED ({err})"), flush=True)
-        for k in args.penalties:
-            f, err, s = solve(Friction(NormalCompliance(k, 1.0), mu=mu, omega_t=k))
-            row = {"mu": mu, "c_n": k, "omega_t": k, "converged": f is not None, "error": err,
-                   "newton_iterations": sum(r.newton_iterations for r in s.records if r.converged)}
+        for k in [*args.penalties, "augmented"]:
+            if k == "augmented":
+                f, err, s = solve(Friction(AugmentedLagrangian(1e5, lam0=1.0), mu=mu, omega_t=1e4), augment=60)
+            else:
+                f, err, s = solve(Friction(NormalCompliance(k, 1.0), mu=mu, omega_t=k))
+            row = {"mu": mu, "c_n": k, "omega_t": 1e4 if k == "augmented" else k, "converged": f is not None,
+                   "error": err, "newton_iterations": sum(r.newton_iterations for r in s.records if r.converged),
+                   "augmentations": sum(r.augmentations for r in s.records if r.converged)}
             if f is not None:
                 row.update(ux_A=f["ux_A"], uy_A=f["uy_A"], **f["zones"], pattern=f["zone_pattern"],
                            boundaries=f["zone_boundaries"], normal_equilibrium=f["normal_equilibrium_error"],
@@ -70,10 +77,11 @@ def main() -> None:
                                boundary_shift_elements=boundary_shift(f, exact))
             rows.append(row)
             if comm.rank == 0:
-                print("   c_n = omega_t = {c_n:.0e}: ".format(**row) + (
+                label = "augmented (K 1e5, omega_t 1e4)" if k == "augmented" else f"c_n = omega_t = {k:.0e}"
+                print(f"   {label}: " + (
                     "ux_A {ux_A:.7e} rel.diff {d:.2e}  zones sep {separated:.3f} slide {sliding:.3f} stick "
                     "{sticking:.3f}  boundary shift {b:.2f} el.  equilibrium {normal_equilibrium:.1e} "
-                    "{tangential_equilibrium:.1e}  newton {newton_iterations}".format(
+                    "{tangential_equilibrium:.1e}  newton {newton_iterations} aug {augmentations}".format(
                         d=row.get("ux_A_rel_diff", np.nan), b=row.get("boundary_shift_elements", np.nan), **row)
                     if row["converged"] else f"FAILED ({err}), newton {row['newton_iterations']}"), flush=True)
     if comm.rank == 0:
@@ -82,7 +90,7 @@ def main() -> None:
         (out / "slab_friction.json").write_text(json.dumps({"ranks": comm.size, "rows": rows}, indent=1, default=str))
         keys = ["mu", "c_n", "omega_t", "converged", "ux_A", "ux_A_exact", "ux_A_rel_diff", "separated", "sliding",
                 "sticking", "boundary_shift_elements", "normal_equilibrium", "tangential_equilibrium",
-                "newton_iterations"]
+                "newton_iterations", "augmentations"]
         lines = [",".join(keys)] + [",".join(str(r.get(k, "")) for k in keys) for r in rows]
         (out / "slab_friction.csv").write_text("\n".join(lines) + "\n")
 
