@@ -7,7 +7,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 MPIRUN := mpirun -n $(NP)
-DEMOS  := block hertz compliance3d
+DEMOS  := block hertz slab pin ring seal compliance3d
 
 
 .PHONY: setup demo bench test lint test-serial test-mpi test-debian13 clean
@@ -21,6 +21,7 @@ demo: setup
 	  $(MPIRUN) $(PY) demos/$$d.py --out results/$$d --quiet || exit 1; \
 	done
 	@$(PY) demos/table.py results
+	@cat results/methods.md 2>/dev/null || true
 
 # speed against accuracy, every method on the same scene (quick sweep of block and hertz)
 bench: setup

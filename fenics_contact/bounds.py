@@ -29,7 +29,7 @@ class BoundContact(ContactSurface):
     bounded = True
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
-                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
         if not isinstance(obstacle, HalfPlane) or np.count_nonzero(obstacle.n) != 1:
             raise ValueError("method 'vi' needs a half-plane obstacle with an axis-aligned normal")
         if quadrature != "nodal":
@@ -39,7 +39,7 @@ class BoundContact(ContactSurface):
         V = u.function_space
         self._Vk, parent = V.sub(self.k).collapse()
         self._parent = np.asarray(parent, dtype=np.int32)
-        super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name)
+        super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name)  # a flat gap is linear already
         fdim = V.mesh.topology.dim - 1
         self._dofs = fem.locate_dofs_topological(self._Vk, fdim, self.facets)  # collapsed, local
         w = fem.Function(self._Vk)
@@ -78,10 +78,12 @@ class BoundContact(ContactSurface):
         self._p.x.scatter_forward()
 
 
-def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact") -> ContactSurface:
+def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact",
+                    linearized=False) -> ContactSurface:
     """A :class:`ContactSurface` for a law, a :class:`~fenics_contact.friction.FrictionalContact` for a
     law with friction, a :class:`BoundContact` for method ``vi``, or a
-    :class:`fenics_contact.condensed.CondensedContact` for method ``coulomb``."""
+    :class:`fenics_contact.condensed.CondensedContact` for method ``coulomb`` (whose gap is linearized
+    by construction). ``linearized``: the small-displacement gap (see :class:`ContactSurface`)."""
     if isinstance(law, Coulomb):
         from .condensed import CondensedContact  # imports this module
 
@@ -89,4 +91,4 @@ def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal",
     from .friction import Friction, FrictionalContact
 
     cls = BoundContact if isinstance(law, Exact) else FrictionalContact if isinstance(law, Friction) else ContactSurface
-    return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name)
+    return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized)

@@ -69,3 +69,14 @@ def cell_sizes(mesh, dim: int, entities):
     from dolfinx import cpp
 
     return cpp.mesh.h(mesh._mesh, dim, entities)  # dolfinx 0.5: the C++ mesh is Mesh._mesh
+
+
+def entities_to_geometry(mesh, dim: int, entities):
+    """Geometry node indices (rows of ``mesh.geometry.x``) of each of the given local entities."""
+    from dolfinx import mesh as dmesh
+
+    if hasattr(dmesh, "entities_to_geometry"):  # dolfinx >= 0.6
+        return dmesh.entities_to_geometry(mesh, dim, entities, False)
+    from dolfinx import cpp
+
+    return cpp.mesh.entities_to_geometry(mesh._mesh, dim, entities, False)  # dolfinx 0.5: the C++ mesh

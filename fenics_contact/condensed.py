@@ -30,12 +30,13 @@ fixed one), in 2D:
    Jacobian or ``max_it`` iterations end the step with a message.
 3. Recovery: one solve of ``K_D u = ...`` with ``u_c`` prescribed.
 
-Parallel: ``K`` and its factorization are distributed (MUMPS). Each solve is
-collective; every rank keeps its owned rows of ``(K phi_j)_c``, and one
+Parallel: ``K`` and its factorization are distributed (MUMPS). The modes are
+solved by blocks of 64 right-hand sides (a dense matrix, ``MatMatSolve``),
+collectively; every rank keeps its owned rows of ``(K phi_j)_c``, and one
 ``allgather`` gives the dense ``S`` (``n_c x n_c``, a few hundred) to every
 rank, which then runs the same small Newton on the same data (identical on
 every rank, no further communication). Cost: one factorization, ``n_c + 2``
-triangular solves and mat-vecs, ``O(n_c^2)`` memory per rank; per Newton
+triangular solves (``n_c`` of them blocked) and mat-vecs, ``O(n_c^2)`` memory per rank; per Newton
 iteration a dense ``n_c x n_c`` solve.
 """
 from __future__ import annotations
@@ -58,6 +59,7 @@ OPEN, SLIP, STICK = 0, 1, 2
 # State of a vertex from its values: open if p <= P_TOL * max p; at the Coulomb bound (slip) if
 # |t| >= (1 - T_TOL) mu p; stick otherwise. mu = 0: every loaded vertex slips.
 P_TOL, T_TOL = 1e-10, 1e-8
+CHUNK = 64  # contact dofs per multi-right-hand-side solve of the condensation (memory: CHUNK dense vectors)
 
 
 def classify(pressure: np.ndarray, traction: np.ndarray, mu: float) -> np.ndarray:
@@ -103,7 +105,7 @@ class CondensedContact(BoundContact):
         # sticking vertices s = 0 exactly after one step, so c hardly enters the active-set decisions.
         self.c_scale, self.retries = 1.0, 2
         self.kt = 1 - self.k  # the tangential component
-        Vt, parent_t = u.function_space.sub(self.kt).collapse()
+        _, parent_t = u.function_space.sub(self.kt).collapse()
         self._parent_t = np.asarray(parent_t, dtype=np.int32)
         self.traction_out = fem.Function(self._Vk, name="tangential_traction")
         self._ready = False
@@ -188,16 +190,14 @@ class CondensedContact(BoundContact):
         self._KD = KD
         self._x, self._b, self._y = self._f.duplicate(), self._f.duplicate(), self._f.duplicate()
 
-        # Columns of S, and r_0, from n_c + 1 solves; each rank keeps its owned contact rows.
+        # Columns of S from multi-right-hand-side solves (blocks of CHUNK dofs), r_0 from one more solve;
+        # each rank keeps its owned contact rows.
+        self._ksp.setUp()
         mine = np.flatnonzero((self._cidx >= lo) & (self._cidx < hi))
         cols = np.zeros((len(mine), nc))
-        uc = np.zeros(nc)
-        for j in range(nc):
-            uc[:] = 0.0
-            uc[j] = 1.0
-            self._displacement(uc, 0.0, self._x)
-            self._A.mult(self._x, self._y)
-            cols[:, j] = self._y.array[self._cidx[mine] - lo]
+        for first in range(0, nc, CHUNK):
+            block = np.arange(first, min(first + CHUNK, nc))
+            cols[:, block] = self._modes(block, mine)
         self._displacement(np.zeros(nc), 1.0, self._x)
         self._A.mult(self._x, self._y)
         self._y.axpy(-1.0, self._f)
@@ -209,9 +209,33 @@ class CondensedContact(BoundContact):
         self._diag = float(np.mean(np.abs(np.diag(self.S)))) if nc else 1.0
         self._uc = np.zeros(nc)  # last solution
         self._ref = np.zeros(len(self._it))  # tangential displacement at the last converged step
-        self._R = np.zeros(nc)
         self._ready = True
         self.timings["condense_s"] += comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+
+    def _modes(self, block: np.ndarray, mine: np.ndarray) -> np.ndarray:
+        """``(K phi_j)_c`` on this rank's contact rows ``mine`` for the contact dofs ``block``: ``phi_j`` has
+        ``u_c = e_j``, zero Dirichlet data and no load (one MUMPS solve with a dense block of right-hand sides)."""
+        A, comm = self._A, self.comm
+        lo, hi = A.getOwnershipRange()
+        E = PETSc.Mat().createDense(((hi - lo, A.getSize()[0]), (PETSc.DECIDE, len(block))), comm=comm)
+        E.setUp()
+        e = E.getDenseArray()
+        e[:] = 0.0
+        here = np.flatnonzero((self._cidx[block] >= lo) & (self._cidx[block] < hi))
+        e[self._cidx[block[here]] - lo, here] = 1.0
+        E.assemble()
+        B = A.matMult(E)  # right-hand sides: -K e_j on the free rows, e_j on the held ones
+        b = B.getDenseArray()
+        b *= -1.0
+        b[self._fixed - lo, :] = 0.0
+        b[self._cidx[block[here]] - lo, here] = 1.0
+        X = B.duplicate()
+        self._ksp.getPC().getFactorMatrix().matSolve(B, X)
+        Y = A.matMult(X)
+        out = Y.getDenseArray()[self._cidx[mine] - lo, :].copy()
+        for m in (E, B, X, Y):
+            m.destroy()
+        return out
 
     def _displacement(self, uc: np.ndarray, t: float, x: PETSc.Vec) -> None:
         """``x``: the displacement with contact dofs ``uc``, Dirichlet data and load at ``t``, in equilibrium

@@ -8,12 +8,14 @@ the UFL surface term ``F(g) dg[v]`` and the augmentation update.
 """
 from __future__ import annotations
 
+import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import ufl
 from dolfinx import fem
 from mpi4py import MPI
+from petsc4py import PETSc
 
-from .compat import function_space, petsc_vec
+from .compat import entities_to_geometry, function_space, petsc_vec
 from .laws import ContactLaw, ufl_ops
 from .meshes import check_tags
 from .obstacles import Obstacle
@@ -55,20 +57,27 @@ class ContactSurface:
     """Contact of the tagged boundary ``tag`` of the body with displacement ``u`` against ``obstacle``.
 
     The current position is ``x = X + u`` (also for linear elasticity, so a
-    curved obstacle is followed exactly). ``load`` is the scalar ``Constant``
-    that moves the obstacle.
+    curved obstacle is followed exactly). ``linearized=True``: the
+    small-displacement gap ``g(X) - n(X) . u`` with the normal at the
+    reference point instead (the classical Signorini problem; homogeneous in
+    ``u`` for an initially touching contact). ``load`` is the scalar
+    ``Constant`` that moves the obstacle.
     """
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
-                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
         mesh = u.function_space.mesh
         self.name, self.u, self.law, self.obstacle, self.quadrature = name, u, law, obstacle, quadrature
         self.facets = check_facet_tag(mesh, facet_tags, tag, name)
         self.ds = contact_measure(mesh, facet_tags, tag, quadrature)
         obstacle.bind(load)
-        x = ufl.SpatialCoordinate(mesh) + u
-        self.gap = obstacle.gap(x)
-        self.normal = obstacle.normal(x)
+        X = ufl.SpatialCoordinate(mesh)
+        if linearized:  # first order in u: dg/du = -n (n points from the obstacle into the body)
+            self.normal = obstacle.normal(X)
+            self.gap = obstacle.gap(X) - ufl.dot(self.normal, u)
+        else:
+            self.gap = obstacle.gap(X + u)
+            self.normal = obstacle.normal(X + u)
 
         # Law parameters: scalars as Constants, fields at the quadrature points.
         self.S = function_space(mesh, "Lagrange" if quadrature == "nodal" else "DG", 1)
@@ -171,6 +180,31 @@ class ContactSurface:
         n = self.S.dofmap.index_map.size_local * self.S.dofmap.index_map_bs
         return a[:n]
 
+    # --- per-iteration status (failure detection, see solver.py) -------------
+    def closed_points(self) -> np.ndarray:
+        """Flags ``g > 0`` (closed) at this rank's contact points (owned state dofs on the surface), at the
+        current ``u``. Nodal quadrature: one flag per contact vertex; Gauss: per DG1 dof (Gauss point map)."""
+        if not hasattr(self, "_gap_status"):
+            self._gap_status = fem.Function(self.S)
+        self.projector.project(self._gap_rhs, self._gap_status)
+        return self._gap_status.x.array[self.projector.surface_dofs] > 0.0
+
+    def point_forces(self) -> tuple[np.ndarray, np.ndarray]:
+        """Coordinates and nodal contact forces ``F(g_i) int phi_i ds`` (per unit thickness in 2D) of this
+        rank's contact vertices at the current ``u`` (nodal quadrature only, where they are exact)."""
+        if self.quadrature != "nodal":
+            raise ValueError("point_forces needs quadrature 'nodal' (one contact point per vertex)")
+        if not hasattr(self, "_weights"):
+            b = fem_petsc.assemble_vector(self.projector.compile(fem.Constant(self.S.mesh, 1.0)))
+            b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+            self._weights = b.array[self.projector.surface_dofs].copy()  # int phi_i ds
+            b.destroy()
+            self._p_now = fem.Function(self.S)
+            self._p_rhs = self.projector.compile(self.pressure)
+        self.projector.project(self._p_rhs, self._p_now)
+        dofs = self.projector.surface_dofs
+        return self.S.tabulate_dof_coordinates()[dofs], self._p_now.x.array[dofs] * self._weights
+
     # --- figures ---------------------------------------------------------
     def total_force(self) -> np.ndarray:
         """Force of the obstacle on the body, ``int F n ds`` (per unit thickness in 2D)."""
@@ -191,6 +225,44 @@ class ContactSurface:
             (x, self.gap_out.x.array[dofs], self.pressure_out.x.array[dofs])))]
         order = np.lexsort(data[0].T[::-1])
         return data[0][order], data[1][order], data[2][order]
+
+    def contact_zones(self, relative: float = 1e-3) -> list[dict]:
+        """Connected sets of loaded contact vertices along the surface (vertices of a common facet are
+        connected), the same on every rank. Loaded: pressure above ``relative`` times the largest on the
+        surface (not ``g > 0``: a law with an open-side branch carries load at a small opening). For each
+        zone the number of points, the mean and range of their reference coordinates and the largest
+        pressure, sorted by the mean x."""
+        mesh = self.u.function_space.mesh
+        fdim = mesh.topology.dim - 1
+        mesh.topology.create_connectivity(fdim, 0)
+        nodes = mesh.geometry.x[entities_to_geometry(mesh, fdim, self.facets)] if len(self.facets) else np.zeros(
+            (0, fdim + 1, 3))
+        facets = np.concatenate(self.comm.allgather(nodes))
+        x, g, p = self.surface_values()
+        scale = 1e-9 * max(float(np.ptp(x)) if x.size else 1.0, 1.0)
+        key = lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))  # noqa: E731
+        index = {key(c): i for i, c in enumerate(x)}
+        parent = list(range(len(x)))
+
+        def root(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        closed = p > relative * p.max() if p.size and p.max() > 0 else np.zeros(len(p), bool)
+        for f in facets:
+            ids = [index.get(key(c)) for c in f]
+            ids = [i for i in ids if i is not None and closed[i]]
+            for a, b in zip(ids[:-1], ids[1:]):
+                parent[root(a)] = root(b)
+        groups: dict[int, list[int]] = {}
+        for i in np.flatnonzero(closed):
+            groups.setdefault(root(i), []).append(i)
+        zones = [{"points": len(ids), "X_mean": x[ids].mean(axis=0).tolist(), "X_min": x[ids].min(axis=0).tolist(),
+                  "X_max": x[ids].max(axis=0).tolist(), "pressure_max": float(p[ids].max())}
+                 for ids in groups.values()]
+        return sorted(zones, key=lambda z: z["X_mean"][0])
 
     def max_penetration(self) -> float:
         """Largest gap over the contact vertices (positive = penetration, negative = open)."""

@@ -172,10 +172,10 @@ class FrictionalContact(ContactSurface):
     """
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle, law: Friction,
-                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
         if not isinstance(law, Friction):
             raise ValueError("FrictionalContact needs a Friction law")
-        super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name)
+        super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized)
         mesh = u.function_space.mesh
         self.gdim = gdim = mesh.geometry.dim
         self.q_old = [fem.Function(self.S, name=f"q_old_{i}") for i in range(gdim)]

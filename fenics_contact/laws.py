@@ -87,25 +87,37 @@ class ContactLaw:
 
 
 class Penalty(ContactLaw):
-    """Penalty: ``P = K/2 <g>^2``, ``F = K <g>``, ``K`` for ``g > 0``. ``K`` in pressure per length."""
+    """Penalty: ``P = K/2 <g>^2``, ``F = K <g>``, ``K`` for ``g > 0``. ``K`` in pressure per length.
+
+    ``augmented=True``: the penalty method *with augmentation* of Zavarise et al. (1998, ring test),
+    where the gap status decides: ``F = lam + K g`` on a closed point (``g > 0``), ``F = 0`` on an
+    open one, and ``lam <- F(g)`` per point after a converged solve. Once ``lam > 0`` the force
+    jumps from ``lam`` to 0 when the point opens (unlike ``auglag``'s continuous ``<lam + K g>``):
+    the discontinuity that makes the Newton iteration cycle on the ring.
+    """
 
     name = "penalty"
 
-    def __init__(self, K: float):
+    def __init__(self, K: float, augmented: bool = False):
         self.scalars = {"K": _check_positive("penalty K", K)}
-        self.fields = {}
+        self.fields = {"lam": 0.0} if augmented else {}
 
     def force(self, g, c, ops=NUMPY):
+        if "lam" in c:
+            return _heaviside(g, ops) * (c["lam"] + c["K"] * ops.max(g, 0.0))
         return c["K"] * ops.max(g, 0.0)
 
     def potential(self, g, c, ops=NUMPY):
         gp = ops.max(g, 0.0)
-        return 0.5 * c["K"] * gp * gp
+        return (c["lam"] * gp if "lam" in c else 0.0) + 0.5 * c["K"] * gp * gp
 
     def stiffness(self, g, c, ops=NUMPY):
         # Heaviside written through max/min so that it is exact 0 or 1 in
-        # both back-ends: <g>/g is avoided (0/0 at g = 0).
+        # both back-ends: <g>/g is avoided (0/0 at g = 0). The jump of lam at g = 0 has no derivative.
         return c["K"] * _heaviside(g, ops)
+
+    def augment_fields(self, g, c, ops=NUMPY):
+        return {"lam": self.force(g, c, ops)} if "lam" in c else {}
 
 
 class AugmentedLagrangian(ContactLaw):

@@ -1,8 +1,42 @@
 """Meshes for the contact benchmarks, with named physical tags.
 
-``hertz_quarter_disk`` is built with gmsh on rank 0 and distributed with
+``hertz_quarter_disk``, ``pin_plate``, ``seal_s_section`` and ``seal_section``
+are built with gmsh on rank 0 and distributed with
 ``dolfinx.io.gmshio.model_to_mesh``; ``rectangle`` uses
-``dolfinx.mesh.create_rectangle``. All functions are collective on ``comm``.
+``dolfinx.mesh.create_rectangle``, ``ring_quarter`` maps it to polar
+coordinates. All functions are collective on ``comm``.
+
+Seal geometry (the paper's Figure 17 is not available, so this is our
+design from its data; the seal scene uses the S by default).
+
+S (``seal_s_section``): a band of thickness 1 bent into an S lying on its
+side: two annular sectors bounded by arcs of radii R_out = 10 and R_in = 9
+and of opposite curvature, the left one (centre C1) convex upward, the
+right one (centre C2) convex downward, joined tangentially across the
+segment of the line C1-C2 between radii 9 and 10 (|C1 C2| = 19 =
+R_out + R_in, so the outer arc of one continues the inner arc of the
+other). The top of the left outer arc touches the upper plate y = 7, the
+bottom of the right outer arc the lower plate y = 0 (plates 7 apart). Each
+sector spans 93.7 degrees, symmetric about its vertical, ends cut radially;
+the section is point-symmetric about the middle of the junction, (0, 3.5).
+Squeezed, the S rolls (contacts travel toward the middle), then its ends
+touch the opposite plates at their corners, then the zone under each hump
+splits in two. The band cannot fold onto itself in this loading, so no
+self-contact is needed (the suite has no self-contact).
+
+U (``seal_section``): a band of thickness 1, the annular
+sector between the concentric circular arcs R_out = 10 and R_in = 9 (the
+"two circular arcs"), curved as a valley (U) between the plates y = 0 and
+y = 7: centre (0, R_out), so the outer arc touches the lower plate at its
+bottom (0, 0); the ends are cut radially where the inner arc reaches the
+upper plate, at the angle phi from the bottom with ``R_out - R_in cos phi =
+7`` (phi = 70.5 degrees), so the two inner (upper) corners touch the upper
+plate. The section is symmetric about x = 0; ``seal_section`` meshes the
+right half. Flattening to plates 1 apart (= the thickness) straightens the
+band: the upper plate holds the two inner corners throughout, and the
+bottom contact zone splits into two that move apart as the middle lifts
+(t = 4.5). The band cannot fold onto itself in this loading, so no
+self-contact is needed (the suite has no self-contact).
 """
 from __future__ import annotations
 
@@ -25,6 +59,7 @@ DOMAIN = 1
 CONTACT = 1
 SYMMETRY = 2
 TOP = 3
+FREE = 4  # traction-free sides of ``pin_plate``
 # Facet tags of ``rectangle`` (its top is RECT_TOP: TOP is taken above).
 BOTTOM = 11
 RIGHT = 12
@@ -32,7 +67,18 @@ RECT_TOP = 13
 LEFT = 14
 # Name -> tag maps, e.g. for ``check_tags``.
 HERTZ_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP}
+PIN_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP, "free": FREE}
 RECTANGLE_FACETS = {"bottom": BOTTOM, "right": RIGHT, "top": RECT_TOP, "left": LEFT}
+# Facet tags of ``ring_quarter``.
+RING_OUTER = 21
+RING_INNER = 22
+RING_AXIS = 23  # x = 0
+RING_MID = 24  # the horizontal diameter y = R_out
+RING_FACETS = {"outer": RING_OUTER, "inner": RING_INNER, "axis": RING_AXIS, "mid": RING_MID}
+# Tags of ``seal_section``: the free boundary, the symmetry line x = 0, the cell tag.
+SEAL_BOUNDARY = 31
+SEAL_SYMMETRY = 32
+SEAL_DOMAIN = 33
 
 # Slope of the mesh size with distance in the graded zone (size / length).
 _GRADING = 0.25
@@ -66,23 +112,32 @@ def hertz_quarter_disk(
     if h_far < h_contact:
         raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
 
+    mesh, cell_tags, facet_tags = _from_gmsh(
+        comm, lambda: _build_quarter_disk(R, h_contact, h_far, contact_width), "the quarter disk")
+    mesh.name = "hertz_quarter_disk"
+    return mesh, cell_tags, facet_tags
+
+
+def _from_gmsh(comm: MPI.Comm, build, what: str) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Run ``build()`` (adds and meshes a 2D gmsh model) on rank 0 and distribute the mesh with its tags.
+
+    Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
+    """
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         error = ""
         if comm.rank == 0:
             try:
-                _build_quarter_disk(R, h_contact, h_far, contact_width)
+                build()
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
-                error = f"gmsh failed to mesh the quarter disk: {exc}"
+                error = f"gmsh failed to mesh {what}: {exc}"
         error = comm.bcast(error, root=0)
         if error:
             raise RuntimeError(error)
-        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
     finally:
         gmsh.finalize()
-    mesh.name = "hertz_quarter_disk"
-    return mesh, cell_tags, facet_tags
 
 
 def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width: float) -> None:
@@ -102,19 +157,96 @@ def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width:
     gmsh.model.addPhysicalGroup(1, [top], TOP)
     gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
 
+    distance = gmsh.model.mesh.field.add("Distance")
+    gmsh.model.mesh.field.setNumbers(distance, "PointsList", [origin])
+    _grade_toward(distance, h_contact, h_far, contact_width)
+    gmsh.model.mesh.generate(2)
+
+
+def pin_plate(
+    comm: MPI.Comm,
+    R: float = 1.0,
+    half_width: float = 5.0,
+    below: float = 5.0,
+    above: float = 5.0,
+    h_contact: float | None = None,
+    h_far: float | None = None,
+    band: float | None = None,
+) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Right half (x >= 0) of a rectangular plate with a circular hole of radius R centred at the origin.
+
+    The plate spans ``0 <= x <= half_width``, ``-below <= y <= above``. P1
+    triangles of size ``h_contact`` (default R/50) within ``band`` (default
+    R/10) of the hole, then growing by 0.25 per unit distance up to ``h_far``
+    (default R/2). Facet tags: CONTACT (the half hole, from (0, -R) through
+    (R, 0) to (0, R)), SYMMETRY (the two pieces of x = 0), TOP (y = above),
+    FREE (y = -below and x = half_width); cell tag DOMAIN.
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``.
+    """
+    h_contact = R / 50 if h_contact is None else h_contact
+    h_far = R / 2 if h_far is None else h_far
+    band = R / 10 if band is None else band
+    for name, value in (("R", R), ("half_width", half_width), ("below", below), ("above", above),
+                        ("h_contact", h_contact), ("h_far", h_far), ("band", band)):
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    if not (half_width > R and below > R and above > R):
+        raise ValueError(f"the plate (half_width={half_width}, below={below}, above={above}) must extend "
+                         f"beyond the hole radius R={R} on every side")
+    if h_far < h_contact:
+        raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
+    mesh, cell_tags, facet_tags = _from_gmsh(
+        comm, lambda: _build_pin_plate(R, half_width, below, above, h_contact, h_far, band), "the pin plate")
+    mesh.name = "pin_plate"
+    return mesh, cell_tags, facet_tags
+
+
+def _build_pin_plate(R: float, half_width: float, below: float, above: float, h_contact: float,
+                     h_far: float, band: float) -> None:
+    """Build and mesh the half plate with a hole in the current gmsh session."""
+    gmsh.model.add("pin_plate")
+    geo = gmsh.model.geo
+    centre = geo.addPoint(0.0, 0.0, 0.0)
+    corners = [geo.addPoint(x, y, 0.0) for x, y in
+               ((0.0, -below), (half_width, -below), (half_width, above), (0.0, above))]
+    hole_top, hole_side, hole_bottom = (geo.addPoint(x, y, 0.0) for x, y in ((0.0, R), (R, 0.0), (0.0, -R)))
+    bottom = geo.addLine(corners[0], corners[1])
+    right = geo.addLine(corners[1], corners[2])
+    top = geo.addLine(corners[2], corners[3])
+    sym_upper = geo.addLine(corners[3], hole_top)
+    arcs = [geo.addCircleArc(hole_top, centre, hole_side), geo.addCircleArc(hole_side, centre, hole_bottom)]
+    sym_lower = geo.addLine(hole_bottom, corners[0])
+    loop = geo.addCurveLoop([bottom, right, top, sym_upper, *arcs, sym_lower])
+    surface = geo.addPlaneSurface([loop])
+    geo.synchronize()
+    gmsh.model.addPhysicalGroup(1, arcs, CONTACT)
+    gmsh.model.addPhysicalGroup(1, [sym_upper, sym_lower], SYMMETRY)
+    gmsh.model.addPhysicalGroup(1, [top], TOP)
+    gmsh.model.addPhysicalGroup(1, [bottom, right], FREE)
+    gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
+
+    # Exact distance to the hole (a gmsh Distance field samples the curve).
+    distance = gmsh.model.mesh.field.add("MathEval")
+    gmsh.model.mesh.field.setString(distance, "F", f"Sqrt(x*x + y*y) - {R!r}")
+    _grade_toward(distance, h_contact, h_far, band)
+    gmsh.model.mesh.generate(2)
+
+
+def _grade_toward(distance: int, h_near: float, h_far: float, width: float) -> None:
+    """Background size: ``h_near`` where the gmsh field ``distance`` is below ``width``, then growing
+    by ``_GRADING`` per unit distance up to ``h_far``."""
     field = gmsh.model.mesh.field
-    distance = field.add("Distance")
-    field.setNumbers(distance, "PointsList", [origin])
     threshold = field.add("Threshold")
     field.setNumber(threshold, "InField", distance)
-    field.setNumber(threshold, "SizeMin", h_contact)
+    field.setNumber(threshold, "SizeMin", h_near)
     field.setNumber(threshold, "SizeMax", h_far)
-    field.setNumber(threshold, "DistMin", contact_width)
-    field.setNumber(threshold, "DistMax", contact_width + (h_far - h_contact) / _GRADING)
+    field.setNumber(threshold, "DistMin", width)
+    field.setNumber(threshold, "DistMax", width + (h_far - h_near) / _GRADING)
     field.setAsBackgroundMesh(threshold)
     for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
         gmsh.option.setNumber(f"Mesh.{option}", 0)
-    gmsh.model.mesh.generate(2)
 
 
 def rectangle(
@@ -160,3 +292,175 @@ def check_tags(facet_tags: MeshTags, tags: Mapping[str, int],
         if comm.allreduce(int(np.count_nonzero(local == value)), op=MPI.SUM) == 0:
             raise ValueError(f"facet tag {name!r}={value} is absent from the mesh; "
                              f"tags present: {present}")
+
+
+def ring_quarter(comm: MPI.Comm, R_out: float, R_in: float, n_theta: int, n_r: int,
+                 quadrilateral: bool = True) -> tuple[Mesh, None, MeshTags]:
+    """Lower-right quarter (x >= 0, y <= R_out) of the ring R_in <= r <= R_out centred at (0, R_out).
+
+    Structured polar mesh: ``n_theta`` cells along the quarter circle (equal angles), ``n_r``
+    through the thickness; quadrilaterals (default) or triangles. The ring touches y = 0 at (0, 0).
+    Facet tags: RING_OUTER, RING_INNER (arcs), RING_AXIS (x = 0), RING_MID (y = R_out).
+
+    Returns:
+        ``(mesh, None, facet_tags)``.
+    """
+    for name, value in (("n_theta", n_theta), ("n_r", n_r)):
+        if int(value) != value or value < 1:
+            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+    if not (0 < R_in < R_out):
+        raise ValueError(f"ring radii need 0 < R_in < R_out, got R_in={R_in!r}, R_out={R_out!r}")
+    msh, _, _ = rectangle(comm, 1.0, 1.0, n_theta, n_r, quadrilateral)
+    x = msh.geometry.x
+    theta, r = -0.5 * np.pi * (1.0 - x[:, 0]), R_in + (R_out - R_in) * x[:, 1]
+    x[:, 0], x[:, 1] = r * np.cos(theta), R_out + r * np.sin(theta)
+    x[np.abs(x[:, 0]) < 1e-12 * R_out, 0] = 0.0  # exact zeros on the axis
+    tol = 1e-8 * R_out
+    fdim = msh.topology.dim - 1
+    radius = lambda p: np.hypot(p[0], p[1] - R_out)  # noqa: E731
+    sides = ((RING_OUTER, lambda p: np.abs(radius(p) - R_out) < tol),
+             (RING_INNER, lambda p: np.abs(radius(p) - R_in) < tol),
+             (RING_AXIS, lambda p: np.abs(p[0]) < tol),
+             (RING_MID, lambda p: np.abs(p[1] - R_out) < tol))
+    indices, values = [], []
+    for tag, where in sides:
+        facets = dmesh.locate_entities_boundary(msh, fdim, where)
+        indices.append(facets)
+        values.append(np.full(len(facets), tag, dtype=np.int32))
+    index = np.concatenate(indices).astype(np.int32)
+    order = np.argsort(index)
+    facet_tags = dmesh.meshtags(msh, fdim, index[order], np.concatenate(values)[order])
+    facet_tags.name = "facet_tags"
+    msh.name = "ring_quarter"
+    return msh, None, facet_tags
+
+
+def seal_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
+    """The U-shaped seal section (see the module docstring): arc centre ``C``, half-angle ``phi`` (radians,
+    from the bottom), the corners of the right end. Lower plate y = 0, upper plate y = ``gap``."""
+    if not (0 < R_in < R_out):
+        raise ValueError(f"seal radii need 0 < R_in < R_out, got R_in={R_in!r}, R_out={R_out!r}")
+    if not (R_out - R_in < gap < R_out):
+        raise ValueError(f"plate distance gap must be in (R_out - R_in, R_out), got {gap!r}")
+    phi = math.acos((R_out - gap) / R_in)
+    C = (0.0, R_out)
+    corner = lambda r: (C[0] + r * math.sin(phi), C[1] - r * math.cos(phi))  # noqa: E731
+    return {"C": C, "phi": phi, "corner_out": corner(R_out), "corner_in": corner(R_in), "R_out": R_out,
+            "R_in": R_in, "gap": gap}
+
+
+def seal_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
+                 gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Right half (x >= 0) of the U-shaped seal section (module docstring), structured quadrilaterals of size
+    about ``h`` (at least 2 through the thickness). Facet tags SEAL_BOUNDARY (outer arc, end, inner arc),
+    SEAL_SYMMETRY (x = 0); cell tag SEAL_DOMAIN.
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``.
+    """
+    if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
+        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
+    geo_data = seal_geometry(R_out, R_in, gap)
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: _build_seal(geo_data, h), "the seal")
+    mesh.name = "seal_section"
+    return mesh, cell_tags, facet_tags
+
+
+def _build_seal(d: dict, h: float) -> None:
+    gmsh.model.add("seal")
+    geo = gmsh.model.geo
+    Ro, Ri, phi = d["R_out"], d["R_in"], d["phi"]
+    C = geo.addPoint(*d["C"], 0.0)
+    bottom_out, bottom_in = geo.addPoint(0.0, d["C"][1] - Ro, 0.0), geo.addPoint(0.0, d["C"][1] - Ri, 0.0)
+    end_out, end_in = geo.addPoint(*d["corner_out"], 0.0), geo.addPoint(*d["corner_in"], 0.0)
+    outer = geo.addCircleArc(bottom_out, C, end_out)
+    end = geo.addLine(end_out, end_in)
+    inner = geo.addCircleArc(end_in, C, bottom_in)
+    symmetry = geo.addLine(bottom_in, bottom_out)
+    surface = geo.addPlaneSurface([geo.addCurveLoop([outer, end, inner, symmetry])])
+    n_t = max(2, round((Ro - Ri) / h))
+    n_l = max(4, round(0.5 * (Ro + Ri) * phi / h))
+    for c in (outer, inner):
+        geo.mesh.setTransfiniteCurve(c, n_l + 1)
+    for c in (end, symmetry):
+        geo.mesh.setTransfiniteCurve(c, n_t + 1)
+    geo.mesh.setTransfiniteSurface(surface)
+    geo.mesh.setRecombine(2, surface)
+    geo.synchronize()
+    gmsh.model.addPhysicalGroup(1, [outer, end, inner], SEAL_BOUNDARY)
+    gmsh.model.addPhysicalGroup(1, [symmetry], SEAL_SYMMETRY)
+    gmsh.model.addPhysicalGroup(2, [surface], SEAL_DOMAIN)
+    gmsh.model.mesh.generate(2)
+
+
+def seal_s_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
+    """Key points of the S-shaped seal section (see ``seal_s_section``): arc centres ``C1``, ``C2``, the
+    junction direction ``beta`` (radians, from C1 toward C2), the end angle ``end`` of the left sector (from C1)
+    and the centre of symmetry ``P0``. Lower plate y = 0, upper plate y = ``gap``."""
+    if not (0 < R_in < R_out):
+        raise ValueError(f"seal radii need 0 < R_in < R_out, got R_in={R_in!r}, R_out={R_out!r}")
+    dy, d = R_out - gap / 2, (R_out + R_in) / 2
+    if not (0 < dy < d):
+        raise ValueError(f"plate distance gap must be in ({2 * (R_out - d)!r}, {2 * R_out!r}), got {gap!r}")
+    dx = math.sqrt(d**2 - dy**2)
+    beta = math.atan2(dy, dx)
+    return {"C1": (-dx, gap / 2 - dy), "C2": (dx, gap / 2 + dy), "beta": beta, "end": math.pi - beta,
+            "P0": (0.0, gap / 2), "R_out": R_out, "R_in": R_in, "gap": gap}
+
+
+def seal_s_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
+                   gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+    """The S-shaped seal section: a band of thickness R_out - R_in made of two annular sectors (arcs R_out and
+    R_in) of opposite curvature joined tangentially across the segment of the line C1-C2 between radii R_in and
+    R_out (|C1 C2| = R_out + R_in, so the outer arc of one continues the inner arc of the other). The top of
+    the left sector's outer arc touches y = ``gap``, the bottom of the right one's touches y = 0; each sector
+    spans pi - 2 beta, symmetric about its vertical, ends cut radially; point-symmetric about ``P0``, the middle
+    of the junction, where a mesh vertex sits. Structured quadrilaterals of size about ``h``. Facet tag
+    SEAL_BOUNDARY (the whole boundary), cell tag SEAL_DOMAIN.
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``.
+    """
+    if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
+        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
+    data = seal_s_geometry(R_out, R_in, gap)
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: _build_seal_s(data, h), "the seal")
+    mesh.name = "seal_s_section"
+    return mesh, cell_tags, facet_tags
+
+
+def _build_seal_s(d: dict, h: float) -> None:
+    gmsh.model.add("seal_s")
+    geo = gmsh.model.geo
+    (c1x, c1y), (c2x, c2y), beta, end = d["C1"], d["C2"], d["beta"], d["end"]
+    Ro, Ri = d["R_out"], d["R_in"]
+
+    def polar(cx, cy, r, a):
+        return geo.addPoint(cx + r * math.cos(a), cy + r * math.sin(a), 0.0)
+
+    C1, C2 = geo.addPoint(c1x, c1y, 0.0), geo.addPoint(c2x, c2y, 0.0)
+    j_up, j_low = polar(c1x, c1y, Ro, beta), polar(c1x, c1y, Ri, beta)
+    p0 = geo.addPoint(*d["P0"], 0.0)
+    l_out, l_in = polar(c1x, c1y, Ro, end), polar(c1x, c1y, Ri, end)
+    r_out, r_in = polar(c2x, c2y, Ro, end + math.pi), polar(c2x, c2y, Ri, end + math.pi)
+    n_t = max(2, 2 * round((Ro - Ri) / h / 2))
+    n_l = max(4, round(0.5 * (Ro + Ri) * (end - beta) / h))
+    a1, e1, b1 = geo.addCircleArc(j_up, C1, l_out), geo.addLine(l_out, l_in), geo.addCircleArc(l_in, C1, j_low)
+    m1, m2 = geo.addLine(j_low, p0), geo.addLine(p0, j_up)
+    a2, e2, b2 = geo.addCircleArc(j_low, C2, r_out), geo.addLine(r_out, r_in), geo.addCircleArc(r_in, C2, j_up)
+    s1 = geo.addPlaneSurface([geo.addCurveLoop([a1, e1, b1, m1, m2])])
+    s2 = geo.addPlaneSurface([geo.addCurveLoop([a2, e2, b2, -m2, -m1])])
+    for c in (a1, b1, a2, b2):
+        geo.mesh.setTransfiniteCurve(c, n_l + 1)
+    for c in (e1, e2):
+        geo.mesh.setTransfiniteCurve(c, n_t + 1)
+    for c in (m1, m2):
+        geo.mesh.setTransfiniteCurve(c, n_t // 2 + 1)
+    geo.mesh.setTransfiniteSurface(s1, cornerTags=[j_up, l_out, l_in, j_low])
+    geo.mesh.setTransfiniteSurface(s2, cornerTags=[j_low, r_out, r_in, j_up])
+    for surface in (s1, s2):
+        geo.mesh.setRecombine(2, surface)
+    geo.synchronize()
+    gmsh.model.addPhysicalGroup(1, [a1, e1, b1, a2, e2, b2], SEAL_BOUNDARY)
+    gmsh.model.addPhysicalGroup(2, [s1, s2], SEAL_DOMAIN)
+    gmsh.model.mesh.generate(2)

@@ -4,6 +4,7 @@ from __future__ import annotations
 import resource
 import time
 from pathlib import Path
+from typing import Callable
 
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -14,29 +15,37 @@ from .solver import ConvergenceError, Solver
 
 
 def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
-        augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None) -> dict:
+        augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None, max_cutbacks: int = 4,
+        on_iterate: Callable[[int], None] | None = None, predictor: bool = False,
+        on_step: Callable[[float], None] | None = None) -> dict:
     """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once.
 
     Returns the summary (also in ``out/summary.json``). A step that fails
-    after cutbacks writes the summary with ``converged: false`` and re-raises.
+    after ``max_cutbacks`` cutbacks writes the summary with ``converged: false``
+    and ``failure`` (kind, step, iterations: :mod:`fenics_contact.failure`)
+    and re-raises. ``on_iterate(it)`` is called after every Newton iterate, ``on_step(t)`` after every
+    converged step (after its output); ``predictor``: see :class:`Solver`.
     """
     out = Path(out)
     comm = setup.problem.comm
     start = time.perf_counter()
     with XDMFWriter(out / f"{setup.name}.xdmf", setup.problem.u.function_space.mesh, setup.fields) as xdmf:
 
-        def on_step(t: float) -> None:
+        def write(t: float) -> None:
             for c in setup.contacts:
                 c.update_output()
             xdmf.write(t)
+            if on_step is not None:
+                on_step(t)
 
         solver = Solver(setup.problem, augment_max=augment_max, augment_tol=augment_tol, quiet=quiet,
-                        options=options, on_step=on_step)
-        error = None
+                        options=options, on_step=write, max_cutbacks=max_cutbacks, on_iterate=on_iterate,
+                        predictor=predictor)
+        error = failure = None
         try:
             solver.run(setup.loads)
         except ConvergenceError as exc:
-            error = str(exc)
+            error, failure = str(exc), exc.failure
     wall = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
     record = solver.summary()
     floor = solver.linear_solve_time()
@@ -47,11 +56,12 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
                "linear_solve_floor_s": floor, "ratio_to_linear_solve": wall / floor, "memory_peak_mb": memory,
                "newton_iterations": record["newton_iterations"], "augmentations": record["augmentations"],
                "load_steps": record["load_steps"], "converged": record["converged"] and error is None,
-               "error": error, **(setup.figures() if solver.records and solver.t > 0 else {}),
+               "error": error, "failure": record["failure"], "failures": record["failures"],
+               **(setup.figures() if solver.records and solver.t > 0 else {}),
                "steps": record["steps"]}
     write_summary(out / "summary.json", summary, comm)
     if error is not None:
-        raise ConvergenceError(error)
+        raise ConvergenceError(error, failure)
     if not quiet:
         figures = {k: v for k, v in summary.items() if isinstance(v, float) and k != "wall_time_s"}
         PETSc.Sys.Print(f"{setup.name} / {method}: dofs {setup.dofs}, ranks {comm.size}, newton "

@@ -1,5 +1,11 @@
 """The solver driver: PETSc SNES, load stepping with cutback, augmentation loop, record.
 
+Every Newton iterate logs its residual and the active set of the contact
+points (closed, ``g > 0``); a failed solve is classified by
+:func:`fenics_contact.failure.classify` (cycling, stagnation, divergence,
+linear-solve failure / ill-conditioning) and recorded in the step's
+``failure`` (and in ``summary.json``) instead of a bare "did not converge".
+
 PETSc options: the defaults below are set under the options prefix only when
 absent, so anything given on the command line (``-fc_snes_rtol 1e-12``) or
 in ``options`` wins. The same options must be given on every rank.
@@ -15,6 +21,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from . import failure as _failure
 from .compat import lift_and_set_bc, petsc_vec
 from .problem import ContactProblem
 
@@ -32,7 +39,11 @@ DEFAULT_OPTIONS = {
 
 
 class ConvergenceError(RuntimeError):
-    """A load step failed even after the allowed cutbacks."""
+    """A load step failed even after the allowed cutbacks; ``failure`` says why (see :mod:`failure`)."""
+
+    def __init__(self, message: str, failure: dict | None = None):
+        super().__init__(message)
+        self.failure = failure
 
 
 @dataclass
@@ -48,6 +59,8 @@ class StepRecord:
     converged: bool = False
     reason: int = 0
     wall_time_s: float = 0.0
+    closed_points: list[list[int]] = field(default_factory=list)  # closed contact points per iterate, per solve
+    failure: dict | None = None  # why the last solve failed (failure.classify), with step, load, augmentation
     message: str = ""  # why a step failed, from a surface that solves the step itself
 
     @property
@@ -59,7 +72,7 @@ class StepRecord:
                 "residuals": self.residuals, "constraint_change": self.constraint_change,
                 "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
                 "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s,
-                "message": self.message}
+                "closed_points": self.closed_points, "failure": self.failure, "message": self.message}
 
 
 class Solver:
@@ -68,18 +81,26 @@ class Solver:
     ``augment_max`` augmentations at most per load step (0: none), stopping
     when ``R = ||g_new - g_old|| <= augment_tol``. A step whose SNES
     diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
-    called after every converged step (output). ``quiet`` silences the
-    progress lines.
+    called after every converged step (output); ``on_iterate(it)`` after
+    every Newton iterate, with ``problem.u`` at that iterate. ``quiet``
+    silences the progress lines. ``predictor=True`` starts each load step
+    from the linear extrapolation in ``t`` of the last two converged states
+    (secant predictor) instead of the last converged state.
     """
 
     def __init__(self, problem: ContactProblem, prefix: str = "fc_", options: dict | None = None,
                  augment_max: int = 0, augment_tol: float = 1e-12, max_cutbacks: int = 4,
-                 quiet: bool = False, on_step: Callable[[float], None] | None = None):
+                 quiet: bool = False, on_step: Callable[[float], None] | None = None,
+                 on_iterate: Callable[[int], None] | None = None, predictor: bool = False):
         if augment_max < 0:
             raise ValueError(f"augment_max must be >= 0, got {augment_max}")
         if not augment_tol > 0:
             raise ValueError(f"augment_tol must be > 0, got {augment_tol}")
-        self.problem, self.quiet, self.on_step = problem, quiet, on_step
+        if max_cutbacks < 0:
+            raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
+        self.problem, self.quiet, self.on_step, self.on_iterate = problem, quiet, on_step, on_iterate
+        self.predictor = predictor
+        self._converged: list[tuple[float, np.ndarray]] = []  # last two converged (t, u), for the predictor
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
         # Options already in the database (command line) win; ours are removed
         # after setFromOptions so that they do not leak into the next solver.
@@ -104,11 +125,14 @@ class Solver:
         for k in ours:
             opts.delValue(prefix + k)
         self.records: list[StepRecord] = []
+        self.failures: list[dict] = []  # every failed solve, also those rescued by a cutback
         self._history: list[float] = []
+        self._sets: list = []  # active-set fingerprint per iterate of the current solve
+        self._closed: list[int] = []
         self.t = 0.0
         # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
         # (their difference is the linear solves and SNES's vector work), augmentation updates.
-        self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0}
+        self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0}
 
     # --- SNES callbacks ---------------------------------------------------
     def _set_u(self, x: PETSc.Vec) -> None:
@@ -134,10 +158,27 @@ class Solver:
 
     def _monitor(self, snes, it, norm):
         self._history.append(float(norm))
+        self._log_iterate(snes, it)
+
+    def _log_iterate(self, snes, it: int) -> None:
+        """Active set (closed contact points) at the current iterate, for the failure diagnosis."""
+        laws = [c for c in self.problem.contacts if not c.bounded]
+        if not laws and self.on_iterate is None:
+            return
+        start = time.perf_counter()
+        self._set_u(snes.getSolution())
+        if laws:
+            flags = np.concatenate([c.closed_points() for c in laws])
+            digest, closed = _failure.fingerprint(flags, self.problem.comm)
+            self._sets.append(digest)
+            self._closed.append(closed)
+        self.timings["active_set_s"] += time.perf_counter() - start
+        if self.on_iterate is not None:
+            self.on_iterate(it)
 
     # --- driver -----------------------------------------------------------
     def _newton(self) -> int:
-        self._history, self._message = [], ""
+        self._history, self._message, self._sets, self._closed = [], "", [], []
         own = [c for c in self.problem.contacts if getattr(c, "solves_step", False)]
         if own:  # a surface that solves the whole step itself (condensed exact contact) replaces SNES
             start = time.perf_counter()
@@ -180,11 +221,17 @@ class Solver:
         augmentable = [c for c in self.problem.contacts if c.law.augmentable]
         for c in augmentable:
             c.forget_gap()
+        if self.predictor and len(self._converged) == 2:
+            (t0, u0), (t1, u1) = self._converged
+            self.problem.u.x.array[:] = u1 + (t - t1) / (t1 - t0) * (u1 - u0)
         while True:
             rec.reason = self._newton()
             rec.residuals.append(self._history)
+            rec.closed_points.append(self._closed)
             rec.message = self._message
             if rec.reason <= 0:
+                rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
+                               **self._diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
                 break
             for c in self.problem.contacts:
                 c.after_solve(self.problem)
@@ -208,8 +255,20 @@ class Solver:
         rec.wall_time_s = self.problem.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
         return rec
 
+    def _diagnose(self, reason: int) -> dict:
+        """Classify the failed solve just done (see :mod:`fenics_contact.failure`)."""
+        ksp = self.snes.getKSP()
+        ksp_reason = _failure.reason_name(PETSc.KSP.ConvergedReason, ksp.getConvergedReason())
+        condition = None
+        if ksp_reason not in ("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED"):  # a failed factorization: no estimate
+            condition = _failure.condition_estimate(self._A, ksp)
+        return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
+                                 self._history, self._sets, self._closed, condition)
+
     def run(self, loads: Sequence[float]) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
+        if self.predictor and not self._converged:
+            self._converged = [(self.t, self.problem.u.x.array.copy())]
         for target in loads:
             cuts = 0
             while self.t != target:
@@ -221,28 +280,32 @@ class Solver:
                         c.commit()  # history (friction) advances only on accepted steps
                     self.records.append(rec)
                     self.t = t
+                    if self.predictor:
+                        self._converged = [*self._converged[-1:], (t, self.problem.u.x.array.copy())]
                     self._progress(rec)
                     if self.on_step is not None:
                         self.on_step(t)
                     cuts = 0
                     continue
                 self._rollback(snap)
+                self.failures.append(rec.failure)
                 self._progress(rec, failed=True)
                 cuts += 1
                 if cuts > self.max_cutbacks:
                     self.records.append(rec)
                     raise ConvergenceError(
                         f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
-                        f"{self.max_cutbacks} cutbacks: {rec.message or 'SNES reason ' + _reason(rec.reason)}; "
-                        f"the last converged "
-                        f"state (t = {self.t:.6g}) has been written")
+                        f"{self.max_cutbacks} cutbacks: {_describe(rec.failure)}, "
+                        f"{rec.message or 'SNES reason ' + _reason(rec.reason)}; "
+                        f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
         return self.records
 
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
         if self.quiet:
             return
         last = rec.residuals[-1][-1] if rec.residuals and rec.residuals[-1] else float("nan")
-        tag = f"FAILED ({rec.message or _reason(rec.reason)}), cutting the step" if failed else (
+        why = f"{_describe(rec.failure)} ({rec.message or _reason(rec.reason)})"
+        tag = f"FAILED: {why}, cutting the step" if failed else (
             f"aug {rec.augmentations:2d} R {rec.constraint_change[-1]:.2e}" if rec.constraint_change else "")
         PETSc.Sys.Print(f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
                         f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}", comm=self.problem.comm)
@@ -270,15 +333,29 @@ class Solver:
         """Totals over the converged steps; the time split is the maximum over ranks."""
         done = [r for r in self.records if r.converged]
         t = {k: self.problem.comm.allreduce(v, op=MPI.MAX) for k, v in self.timings.items()}
-        split = {"assembly_s": t["assembly_s"], "linear_solve_s": max(t["snes_s"] - t["assembly_s"], 0.0),
-                 "augmentation_s": t["augmentation_s"]}
+        # active_set_s: the per-iterate active-set log (failure diagnosis), inside the SNES solves too
+        split = {"assembly_s": t["assembly_s"],
+                 "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
+                 "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"]}
         return {"time_split": split,"newton_iterations": sum(r.newton_iterations for r in done),
                 "augmentations": sum(r.augmentations for r in done),
                 "load_steps": len(done),
                 "converged": bool(self.records) and all(r.converged for r in self.records),
+                "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,
+                "failures": self.failures,
                 "steps": [r.as_dict() for r in self.records]}
 
 
 def _reason(code: int) -> str:
     names = {v: k for k, v in vars(PETSc.SNES.ConvergedReason).items() if isinstance(v, int)}
     return f"{names.get(code, '?')} ({code})"
+
+
+def _describe(failure: dict | None) -> str:
+    """One line for a failure record."""
+    if not failure:
+        return "no diagnosis"
+    text = f"{failure['kind']} after {failure['iterations']} iterations (augmentation {failure['augmentation']})"
+    if failure["kind"] == "cycling" and failure.get("period"):
+        text += f", active set repeating with period {failure['period']} from iterate {failure['start']}"
+    return text

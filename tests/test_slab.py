@@ -127,3 +127,15 @@ def test_bad_input():
     with pytest.raises(ValueError, match="linear elasticity"):
         Solver(setup.problem, quiet=True).run(setup.loads)
 
+
+
+def test_frictionless_hertz_equals_vi():
+    """An independent exact method: on the Hertz scene (curved body, triangles, prescribed approach) mu = 0
+    gives the figures of the SNES VI reference."""
+    figs = []
+    for law in (Coulomb(0.0), Exact()):
+        setup = build("hertz", law=law)
+        Solver(setup.problem, quiet=True).run(setup.loads)
+        figs.append(setup.figures())
+    for k in ("p0", "a", "total_force", "reaction_top"):
+        assert figs[0][k] == pytest.approx(figs[1][k], rel=1e-9), k

@@ -1,0 +1,143 @@
+"""Why a Newton solve failed: cycling of the active set, stagnation, divergence, linear-solve failure.
+
+The solver driver (:mod:`fenics_contact.solver`) logs, for every Newton
+iterate of a solve, the residual norm and the *active set*: which contact
+points are closed (``g > 0``), as one global fingerprint (a digest per
+rank). When SNES gives up, :func:`classify` names the cause from that log,
+in this order of precedence:
+
+``linear_solve`` / ``ill_conditioning``
+    the linear solve failed (SNES ``DIVERGED_LINEAR_SOLVE``); a failed
+    factorization or a NaN/Inf in the Krylov solve (KSP ``DIVERGED_PC_FAILED``,
+    ``DIVERGED_NANORINF``, ``DIVERGED_BREAKDOWN``) is ``ill_conditioning``
+    (singular or near-singular Jacobian), any other KSP failure ``linear_solve``.
+    Also ``ill_conditioning``: a condition estimate of the last Jacobian
+    (:func:`condition_estimate`, direct solvers only) above ``ILL_CONDITIONED``.
+``divergence``
+    a non-finite residual, SNES ``DIVERGED_DTOL``/``DIVERGED_FNORM_NAN``, or a
+    final residual above ``1e4`` times the first.
+``cycling``
+    the active set repeats: the tail of the fingerprints is periodic with a
+    period ``p >= 2`` over at least two full periods and not constant (the same
+    points switch open/closed again and again); or, inexactly, in the last
+    ``8`` iterates the set changed at least 4 times and every set had been seen
+    earlier in the solve.
+``stagnation``
+    the residual no longer decreases: the smallest residual of the second half
+    of the iterations is above ``0.1`` times the smallest of the first half
+    (at least 6 iterations).
+``max_iterations``
+    none of the above: still converging, too slowly for the iteration limit.
+"""
+from __future__ import annotations
+
+import hashlib
+from typing import Hashable, Sequence
+
+import numpy as np
+from mpi4py import MPI
+
+ILL_CONDITIONED = 1e12  # condition estimate above which a failed solve is blamed on the Jacobian
+KINDS = ("linear_solve", "ill_conditioning", "divergence", "cycling", "stagnation", "max_iterations")
+
+# KSP reasons that mean a singular or numerically unusable operator (PETSc KSPConvergedReason).
+_ILL_CONDITIONED_KSP = {"DIVERGED_PC_FAILED", "DIVERGED_PCSETUP_FAILED", "DIVERGED_NANORINF", "DIVERGED_BREAKDOWN",
+                        "DIVERGED_INDEFINITE_MAT", "DIVERGED_INDEFINITE_PC"}
+
+
+def fingerprint(closed: np.ndarray, comm: MPI.Comm) -> tuple[Hashable, int]:
+    """Global fingerprint of an active set given by this rank's closed flags, and the number of closed points."""
+    flags = np.asarray(closed, dtype=bool)
+    local = hashlib.blake2b(np.packbits(flags).tobytes() + flags.size.to_bytes(8, "little"), digest_size=8).hexdigest()
+    return tuple(comm.allgather(local)), comm.allreduce(int(np.count_nonzero(flags)), op=MPI.SUM)
+
+
+def find_cycle(sets: Sequence[Hashable]) -> dict | None:
+    """The shortest period ``p >= 2`` with which the tail of ``sets`` repeats over two full periods or more,
+    the set not being constant over a period: ``{"period", "start", "repeats"}`` (``start``: index of the
+    first iterate of the periodic tail), or None."""
+    n = len(sets)
+    for p in range(2, n // 2 + 1):
+        i = n - 1
+        while i - p >= 0 and sets[i] == sets[i - p]:
+            i -= 1
+        start = i - p + 1  # sets[j] == sets[j + p] for every j >= start
+        length = n - max(start, 0)
+        if length >= 2 * p and len(set(sets[n - p:])) >= 2:
+            return {"period": p, "start": max(start, 0), "repeats": length / p}
+    return None
+
+
+def _revisiting(sets: Sequence[Hashable], window: int = 8) -> bool:
+    if len(sets) < window + 1:
+        return False
+    tail = sets[-window:]
+    changes = sum(a != b for a, b in zip(tail[:-1], tail[1:]))
+    seen_before = all(s in sets[: len(sets) - window + k] for k, s in enumerate(tail))
+    return changes >= window // 2 and seen_before
+
+
+def condition_estimate(A, ksp, iterations: int = 15) -> float | None:
+    """Estimate of the 2-norm condition number of ``A`` (a PETSc Mat): power iteration for ``||A||``
+    times inverse iteration (with ``ksp``'s factorization of ``A``) for ``||A^-1||``. None unless ``ksp``
+    is a direct solve (LU or Cholesky) already set up with ``A``. Collective; a lower bound in general."""
+    if ksp.getPC().getType() not in ("lu", "cholesky") or not A.assembled:  # no Jacobian yet: no estimate
+        return None
+    x, y = A.createVecs()
+    norms = []
+    for apply in (lambda a, b: A.mult(a, b), lambda a, b: ksp.solve(a, b)):
+        x.setRandom()
+        x.normalize()
+        growth = 0.0
+        for _ in range(iterations):
+            apply(x, y)
+            growth = y.norm()
+            if not np.isfinite(growth) or growth == 0.0:
+                break
+            y.copy(x)
+            x.scale(1.0 / growth)
+        norms.append(growth)
+    x.destroy()
+    y.destroy()
+    cond = norms[0] * norms[1]
+    return float(cond) if np.isfinite(cond) else float("inf")
+
+
+def classify(snes_reason: str, ksp_reason: str, residuals: Sequence[float], sets: Sequence[Hashable],
+             closed: Sequence[int], condition: float | None = None) -> dict:
+    """Name the failure of one Newton solve (see the module docstring).
+
+    ``snes_reason``/``ksp_reason``: PETSc reason names; ``residuals``: residual norm per iterate (iterate 0
+    first); ``sets``: active-set fingerprints per iterate (may be empty: no law-based contact);
+    ``closed``: closed points per iterate; ``condition``: condition estimate of the last Jacobian (or None).
+    Returns ``{"kind", "iterations", ...}`` with the reasons, the first and last residual and the estimate.
+    """
+    r = np.asarray(residuals, dtype=float)
+    its = max(len(r) - 1, 0)
+    out = {"iterations": its, "snes_reason": snes_reason, "ksp_reason": ksp_reason,
+           "residual_first": float(r[0]) if len(r) else None, "residual_last": float(r[-1]) if len(r) else None,
+           "condition_estimate": condition}
+    if snes_reason == "DIVERGED_LINEAR_SOLVE" and ksp_reason not in _ILL_CONDITIONED_KSP and not (
+            condition is not None and condition > ILL_CONDITIONED):
+        return {"kind": "linear_solve", **out}
+    if ksp_reason in _ILL_CONDITIONED_KSP or (condition is not None and condition > ILL_CONDITIONED):
+        return {"kind": "ill_conditioning", **out}
+    if (len(r) and not np.all(np.isfinite(r))) or snes_reason in ("DIVERGED_DTOL", "DIVERGED_FNORM_NAN") or (
+            len(r) > 1 and r[-1] > 1e4 * r[0]):
+        return {"kind": "divergence", **out}
+    cycle = find_cycle(list(sets))
+    if cycle is not None or _revisiting(list(sets)):
+        detail = cycle or {"period": None, "start": None, "repeats": None}
+        tail = list(closed[detail["start"]:]) if detail["start"] is not None else list(closed[-8:])
+        return {"kind": "cycling", **out, **detail, "closed_points_in_cycle": tail[: detail["period"] or len(tail)]}
+    if its >= 6:
+        half = len(r) // 2
+        if np.min(r[half:]) > 0.1 * np.min(r[:half]):
+            return {"kind": "stagnation", **out}
+    return {"kind": "max_iterations", **out}
+
+
+def reason_name(enum: type, code: int) -> str:
+    """Name of a PETSc reason code (``PETSc.SNES.ConvergedReason``, ``PETSc.KSP.ConvergedReason``)."""
+    names = {v: k for k, v in vars(enum).items() if isinstance(v, int) and not k.startswith("_")}
+    return names.get(code, str(code))

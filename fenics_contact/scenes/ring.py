@@ -1,0 +1,76 @@
+"""``ring``: elastic ring pressed between two rigid plates (Zavarise, Wriggers & Schrefler 1998, ring test).
+
+R_out = 8, R_in = 6, E = 1000, nu = 0.3, linear elasticity, plane strain;
+the upper plate moves down by 1 in one load step, the lower one is fixed.
+The problem is symmetric about the vertical diameter and (linear elasticity:
+the solution is a rigid translation by half the approach plus a part
+symmetric about the horizontal diameter) about the horizontal diameter, so
+we model the lower-right quarter: ``u_x = 0`` on ``x = 0``, ``u_y = -t/2``
+on the diameter ``y = R_out`` (``u_x`` free), contact of the outer arc with
+the rigid half-plane ``y <= 0``. The quarter also removes the full model's
+vertical rigid mode, which a penalty law leaves singular at the first
+iterate (no closed point yet).
+
+Contact quadrature is nodal (the paper's node-to-node elements) on a coarse
+structured Q1 mesh (``n_theta`` cells on the quarter, ``n_r`` through the
+thickness): with the default 8 x 2 the first step closes two vertices of the
+quarter, i.e. three contact points per plate as in the paper: the centre
+(on the axis, half its weight in the quarter) and one neighbour each side.
+The paper's Figure 14 (its mesh) is not available; the penetrations it
+quotes are compared with ours in the figures.
+
+``K`` here is a pressure per length (force per area per penetration); a
+node-to-node element's spring is ``K w_i`` with ``w_i`` the vertex's
+tributary length.
+"""
+from __future__ import annotations
+
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+
+from ..compat import function_space
+from ..contact import ContactSurface
+from ..laws import ContactLaw
+from ..materials import LinearElastic
+from ..meshes import RING_AXIS, RING_MID, RING_OUTER, ring_quarter
+from ..obstacles import HalfPlane
+from ..problem import ContactProblem, Dirichlet
+from . import Setup
+
+R_OUT, R_IN, E, NU, APPROACH = 8.0, 6.0, 1000.0, 0.3, 1.0
+K = 1e5
+# Published first-step penetrations (centre, neighbours) and residual after 6 iterations.
+PAPER_PENETRATION = (0.19e-3, 0.13e-3)
+PAPER_RESIDUAL_6 = 0.9e-10
+
+
+def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: int = 4, quadrilateral: bool = True,
+          comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+    """The quarter ring; one load step (upper plate down by ``APPROACH``)."""
+    mesh, _, facet_tags = ring_quarter(comm, R_OUT, R_IN, n_theta, n_r, quadrilateral)
+    V = function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V, name="displacement")
+    load = fem.Constant(mesh, 0.0)
+    fdim = mesh.topology.dim - 1
+    mid_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == RING_MID])
+    axis_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == RING_AXIS])
+    dirichlet = [Dirichlet(V.sub(1), mid_y, -APPROACH / 2), Dirichlet(V.sub(0), axis_x)]
+    contact = ContactSurface(u, facet_tags, RING_OUTER, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+                             name="lower plate")
+    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact])
+
+    def figures() -> dict:
+        x, g, p = contact.surface_values()
+        order = np.argsort(np.arctan2(x[:, 1] - R_OUT, x[:, 0]))  # from the bottom (centre) outward
+        g = g[order]
+        force = 2 * contact.total_force()[1]
+        return {"penetration_centre": float(g[0]), "penetration_neighbour": float(g[1]),
+                "closed_points_quarter": int(np.count_nonzero(g > 0)),
+                "closed_points_per_plate": int(2 * np.count_nonzero(g > 0) - (g[0] > 0)),
+                "plate_force": force, "reaction_mid": -2 * problem.reaction(mid_y)}
+
+    params = {"E": E, "nu": NU, "R_out": R_OUT, "R_in": R_IN, "approach": APPROACH, "n_theta": n_theta, "n_r": n_r,
+              "quadrilateral": quadrilateral, "quadrature": quadrature,
+              "model": "quarter ring (symmetry x = 0 and y = R_out)"}
+    return Setup("ring", problem, [contact], [1.0], params, figures, [u, contact.gap_out, contact.pressure_out])

@@ -1,0 +1,110 @@
+"""``seal``: flattening of a double-curved seal between two rigid plates (Zavarise et al. 1998, sealing test).
+
+E = 1000, nu = 0.3, compressible neo-Hookean (finite strain, large
+rotations), plane strain; plates y = 0 (fixed) and y = 7 (moving down by
+``t``); loads ``t`` = 0.5, 1.0, ..., 5.5, then 5.6, ..., 6.0 (plates 1 apart
+= the band's thickness at the end). The paper's Figure 17 is not available:
+the cross-section is our design from its data, a band of thickness 1
+bounded by circular arcs of radii R_out = 10 and R_in = 9 (documented in the
+module docstring of :mod:`fenics_contact.meshes`), in one of two shapes:
+
+``shape="S"`` (default, :func:`~fenics_contact.meshes.seal_s_section`)
+    two annular sectors of opposite curvature (an S lying on its side), the
+    left hump touching the upper plate, the right one the lower plate. It
+    reproduces the paper's sequence: the S first *rolls* (the contact points
+    move toward the middle, with almost no force: a rigid rotation between
+    frictionless plates), then its ends touch the opposite plates (a new
+    contact at the upper right corner, t = 2.5), then the lower zone under
+    the right hump splits in two that move apart (t = 5.5). The whole
+    section is modelled; it is point-symmetric about the middle of the
+    junction P0 = (0, 3.5), and so is the loading in the frame moving down
+    with ``t/2``: the symmetric solution has ``u(P0) = (0, -t/2)``, imposed
+    at that one vertex (this removes the horizontal rigid mode that
+    frictionless plates leave free; the reaction at P0 is reported).
+``shape="U"`` (:func:`~fenics_contact.meshes.seal_section`)
+    one annular sector curved as a valley, its inner corners touching the
+    upper plate and its bottom the lower plate; half model (``u_x = 0`` on
+    x = 0). The bottom zone splits in two at t = 4.5; the contacts do not
+    move toward the middle.
+
+Both plates are analytic half-planes, each with its own contact surface on
+the whole free boundary (any part may touch either plate; nodal
+quadrature). Contact zones (:meth:`ContactSurface.contact_zones`) are
+counted for the whole section (a zone of the U's half touching x = 0 is one
+zone, any other has its mirror image). With cross-constraints use
+``F^ > 0``: where the body touches a plate with g = 0 and nothing else holds
+it, a penalty law (or ``F^ = 0``) has no stiffness.
+"""
+from __future__ import annotations
+
+import numpy as np
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+from ..compat import function_space
+from ..contact import ContactSurface
+from ..laws import ContactLaw
+from ..materials import NeoHookean
+from ..meshes import SEAL_BOUNDARY, SEAL_SYMMETRY, seal_s_geometry, seal_s_section, seal_section
+from ..obstacles import HalfPlane
+from ..problem import ContactProblem, Dirichlet
+from . import Setup
+
+E, NU, R_OUT, R_IN, GAP = 1000.0, 0.3, 10.0, 9.0, 7.0
+K_HAT = 1e5
+F_HAT = 0.1  # far below the contact pressures: a slight penetration, no adhesion; > 0 keeps g = 0 stiff
+LOADS = [0.5 * k for k in range(1, 12)] + [5.5 + 0.1 * k for k in range(1, 6)]
+
+
+def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: list[float] | None = None,
+          comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "S") -> Setup:
+    """``h``: cell size of the structured quadrilaterals (0.5: 2 cells through the thickness); ``shape``:
+    ``"S"`` or ``"U"`` (module docstring)."""
+    if shape not in ("U", "S"):
+        raise ValueError(f"seal shape must be 'U' or 'S', got {shape!r}")
+    half = shape == "U"
+    mesh, _, facet_tags = (seal_section if half else seal_s_section)(comm, h, R_OUT, R_IN, GAP)
+    V = function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V, name="displacement")
+    load = fem.Constant(mesh, 0.0)
+    if half:
+        sym = fem.locate_dofs_topological(V.sub(0), 1, facet_tags.indices[facet_tags.values == SEAL_SYMMETRY])
+        dirichlet = [Dirichlet(V.sub(0), sym)]
+    else:  # the S: u(P0) = (0, -t/2) at the centre of symmetry
+        p0 = np.array(seal_s_geometry(R_OUT, R_IN, GAP)["P0"])
+        centre = dmesh.locate_entities(mesh, 0, lambda x: np.hypot(x[0] - p0[0], x[1] - p0[1]) < 1e-8)
+        mesh.topology.create_connectivity(0, mesh.topology.dim)  # vertex dofs (dolfinx >= 0.6 needs it)
+        cx, cy = (fem.locate_dofs_topological(V.sub(i), 0, centre) for i in (0, 1))
+        dirichlet = [Dirichlet(V.sub(0), cx), Dirichlet(V.sub(1), cy, -0.5)]
+    lower = ContactSurface(u, facet_tags, SEAL_BOUNDARY, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+                           name="lower plate")
+    upper = ContactSurface(u, facet_tags, SEAL_BOUNDARY, HalfPlane([0.0, GAP], [0.0, -1.0], motion=[0.0, -1.0]),
+                           _copy(law), load, quadrature, name="upper plate")
+    problem = ContactProblem(u, NeoHookean(E, NU), load, dirichlet, [lower, upper])
+
+    def figures() -> dict:
+        zl, zu = lower.contact_zones(), upper.contact_zones()
+        fl, fu = lower.total_force(), upper.total_force()
+        m = 2 if half else 1
+        whole = lambda zones: sum(1 if half and z["X_min"][0] <= 1e-9 else m for z in zones)  # noqa: E731
+        return {"plate_force_lower": m * float(fl[1]), "plate_force_upper": -m * float(fu[1]),
+                **({} if half else {"reaction_P0_x": problem.reaction(cx), "reaction_P0_y": problem.reaction(cy)}),
+                "zones_lower": whole(zl), "zones_upper": whole(zu),
+                "zones_lower_x": [[z["X_min"][0], z["X_max"][0]] for z in zl],
+                "zones_upper_x": [[z["X_min"][0], z["X_max"][0]] for z in zu],
+                "max_penetration": max(lower.max_penetration(), upper.max_penetration())}
+
+    params = {"E": E, "nu": NU, "R_out": R_OUT, "R_in": R_IN, "plate_distance": GAP, "h": h, "shape": shape,
+              "quadrature": quadrature, "material": "neohookean",
+              "model": "half of the U-shaped section (symmetry x = 0)" if half else
+              "whole S-shaped section, u(P0) = (0, -t/2) at its centre of symmetry"}
+    fields = [u, lower.gap_out, lower.pressure_out]
+    return Setup("seal", problem, [lower, upper], list(loads or LOADS), params, figures, fields)
+
+
+def _copy(law: ContactLaw) -> ContactLaw:
+    """A second law object with the same parameters (each surface owns its state)."""
+    import copy
+
+    return copy.deepcopy(law)

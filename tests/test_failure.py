@@ -1,0 +1,87 @@
+"""Failure diagnosis: synthetic histories, then real failed solves (KSP failure, singular Jacobian, cycling in
+summary.json)."""
+import json
+
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from fenics_contact.compat import function_space
+from fenics_contact.contact import ContactSurface
+from fenics_contact.failure import classify, find_cycle, fingerprint
+from fenics_contact.laws import Penalty
+from fenics_contact.materials import LinearElastic
+from fenics_contact.meshes import BOTTOM, RECT_TOP, rectangle
+from fenics_contact.obstacles import HalfPlane
+from fenics_contact.problem import ContactProblem
+from fenics_contact.run import run
+from fenics_contact.scenes import block, build, ring
+from fenics_contact.solver import ConvergenceError, Solver
+
+
+def test_find_cycle():
+    assert find_cycle(list("aabababab")) == {"period": 2, "start": 1, "repeats": 4.0}
+    assert find_cycle(list("xabcabcabc"))["period"] == 3
+    assert find_cycle(list("abcdddddd")) is None  # settled: constant tail
+    assert find_cycle(list("abcdefgh")) is None  # always new sets
+    assert find_cycle(list("abab"))["period"] == 2 and find_cycle(list("aba")) is None  # two full periods needed
+
+
+def test_classify_synthetic_histories():
+    conv = [1.0, 1e-2, 1e-5, 1e-7, 1e-8, 1e-9, 1e-10]  # slow but converging, constant active set
+    assert classify("DIVERGED_MAX_IT", "CONVERGED_ITS", conv, ["a"] * 7, [1] * 7)["kind"] == "max_iterations"
+    flat = [1.0, 0.5, 0.4, 0.41, 0.40, 0.39, 0.40, 0.41]
+    assert classify("DIVERGED_MAX_IT", "CONVERGED_ITS", flat, list("abcdefgh"), [1] * 8)["kind"] == "stagnation"
+    assert classify("DIVERGED_MAX_IT", "CONVERGED_ITS", [1.0, 10.0, 1e5], [], [])["kind"] == "divergence"
+    assert classify("DIVERGED_FNORM_NAN", "CONVERGED_ITS", [1.0, np.nan], [], [])["kind"] == "divergence"
+    c = classify("DIVERGED_MAX_IT", "CONVERGED_ITS", flat, list("aabababa"), [2, 2, 1, 2, 1, 2, 1, 2])
+    assert c["kind"] == "cycling" and c["period"] == 2 and c["closed_points_in_cycle"] == [2, 1]
+    assert classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_ITS", [1.0], [], [])["kind"] == "linear_solve"
+    assert classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_PCSETUP_FAILED", [1.0], [], [])["kind"] == "ill_conditioning"
+
+
+def test_fingerprint_is_global(comm):
+    flags = np.array([comm.rank % 2 == 0, True])
+    a, n = fingerprint(flags, comm)
+    b, _ = fingerprint(flags, comm)
+    c, _ = fingerprint(~flags if comm.rank == 0 else flags, comm)
+    assert a == b and a != c and n == sum(int(np.count_nonzero(np.array([r % 2 == 0, True]))) for r in range(comm.size))
+
+
+def test_krylov_failure_is_a_linear_solve_failure(comm):
+    setup = block.build(Penalty(1e5), comm=comm)
+    solver = Solver(setup.problem, quiet=True, max_cutbacks=1,
+                    options={"ksp_type": "cg", "pc_type": "none", "ksp_max_it": 1})
+    with pytest.raises(ConvergenceError, match="linear_solve") as info:
+        solver.run(setup.loads)
+    assert info.value.failure["kind"] == "linear_solve" and info.value.failure["ksp_reason"] == "DIVERGED_MAX_IT"
+    assert len(solver.failures) == 2  # the step and its one cutback, both diagnosed
+
+
+def test_singular_jacobian_is_ill_conditioning():
+    """A free block that does not reach its obstacle: no support, rigid modes, the LU factorization fails."""
+    mesh, _, tags = rectangle(MPI.COMM_SELF, 1.0, 1.0, 2, 2)
+    u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
+    load = fem.Constant(mesh, 0.0)
+    contact = ContactSurface(u, tags, BOTTOM, HalfPlane([0.0, -1.0], [0.0, 1.0]), Penalty(1e5), load)
+    traction = (ufl.as_vector([0.0, -1.0]), ufl.Measure("ds", domain=mesh, subdomain_data=tags, subdomain_id=RECT_TOP))
+    problem = ContactProblem(u, LinearElastic(1000.0, 0.3), load, [], [contact], [traction])
+    solver = Solver(problem, quiet=True, max_cutbacks=0, prefix="fc_singular_",
+                    options={"pc_factor_mat_solver_type": "petsc"})
+    with pytest.raises(ConvergenceError) as info:
+        solver.run([1.0])
+    assert info.value.failure["kind"] == "ill_conditioning" and info.value.failure["condition_estimate"] > 1e12
+
+
+def test_cycling_is_in_summary_json(tmp_path_factory, comm):
+    out = comm.bcast(str(tmp_path_factory.mktemp("ring")) if comm.rank == 0 else None)
+    setup = build("ring", law=Penalty(ring.K, augmented=True), comm=comm)
+    with pytest.raises(ConvergenceError):
+        run(setup, out, "penalty", {}, augment_max=1, quiet=True, options={"snes_linesearch_type": "basic"},
+            max_cutbacks=0)
+    s = json.load(open(f"{out}/summary.json"))
+    assert s["converged"] is False and s["failure"]["kind"] == "cycling"
+    assert s["failure"]["step"] == 1 and s["failure"]["iterations"] == 30 and s["failure"]["augmentation"] == 1
+    assert s["steps"][-1]["failure"] == s["failure"]
