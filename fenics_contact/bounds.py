@@ -80,12 +80,15 @@ class BoundContact(ContactSurface):
 
 def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact",
                     linearized=False) -> ContactSurface:
-    """A :class:`ContactSurface` for a law, a :class:`BoundContact` for method ``vi``, or a
+    """A :class:`ContactSurface` for a law, a :class:`~fenics_contact.friction.FrictionalContact` for a
+    law with friction, a :class:`BoundContact` for method ``vi``, or a
     :class:`fenics_contact.condensed.CondensedContact` for method ``coulomb`` (whose gap is linearized
     by construction). ``linearized``: the small-displacement gap (see :class:`ContactSurface`)."""
     if isinstance(law, Coulomb):
         from .condensed import CondensedContact  # imports this module
 
         return CondensedContact(u, facet_tags, tag, obstacle, law, load, quadrature, name)
-    cls = BoundContact if isinstance(law, Exact) else ContactSurface
+    from .friction import Friction, FrictionalContact
+
+    cls = BoundContact if isinstance(law, Exact) else FrictionalContact if isinstance(law, Friction) else ContactSurface
     return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized)

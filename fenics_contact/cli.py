@@ -29,7 +29,14 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
     p.add_argument("--augment", type=int, default=None,
                    help="max augmentations per load step (default: 0 for penalty, 10 otherwise)")
     p.add_argument("--augment-tol", type=float, default=1e-12, help="stop when ||g_new - g_old|| <= this")
-    p.add_argument("--mu", type=float, default=0.0, help="Coulomb friction coefficient (method coulomb)")
+    p.add_argument("--c-n", type=float, default=None, help="compliance: c_n in F = c_n <g>^m_n (default: --K)")
+    p.add_argument("--m-n", type=float, default=1.0, help="compliance: exponent m_n >= 1")
+    p.add_argument("--mu", type=float, default=0.0,
+                   help="Coulomb friction coefficient (>= 0; 0: frictionless; exact with method coulomb)")
+    p.add_argument("--c-t", type=float, default=None,
+                   help="friction bound c_t <g>^m_t instead of mu F(g) (normal compliance friction)")
+    p.add_argument("--m-t", type=float, default=None, help="exponent m_t >= 1 of the bound (default: m_n)")
+    p.add_argument("--omega-t", type=float, default=None, help="tangential penalty of stick (default: --K)")
     p.add_argument("--quadrature", choices=QUADRATURES, default="nodal", help="contact quadrature")
     p.add_argument("--out", default=None, help="output directory (default: results/<scene>)")
     p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
@@ -49,8 +56,17 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if rest:
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
-        args.augment = 0 if args.method in ("penalty", "vi", "coulomb") else 10
+        args.augment = 0 if args.method in ("penalty", "vi", "compliance", "coulomb") else 10
+    if args.c_n is None:
+        args.c_n = args.K
+    if args.omega_t is None:
+        args.omega_t = args.K
     return args
+
+
+def has_friction(args: argparse.Namespace) -> bool:
+    """Friction is on when ``--mu`` is not 0 or ``--c-t`` is given (a negative mu is an error, not off)."""
+    return args.mu != 0.0 or args.c_t is not None
 
 
 def _is_value(s: str) -> bool:
@@ -62,18 +78,34 @@ def _is_value(s: str) -> bool:
 
 
 def law_from_args(args: argparse.Namespace) -> ContactLaw:
-    """The contact law named by ``--method`` with its parameters."""
+    """The contact law named by ``--method`` with its parameters, with friction if asked for."""
     if args.method == "cross":
-        return make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
+        law = make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
+    elif args.method == "vi":
+        law = make_law("vi")
+    elif args.method == "compliance":
+        law = make_law("compliance", c_n=args.c_n, m_n=args.m_n)
+    elif args.method == "coulomb":
+        return make_law("coulomb", mu=args.mu)  # exact Coulomb: mu is the law's own parameter
+    else:
+        law = make_law(args.method, K=args.K)
+    if not has_friction(args):
+        return law
     if args.method == "vi":
-        return make_law("vi")
-    if args.method == "coulomb":
-        return make_law("coulomb", mu=args.mu)
-    return make_law(args.method, K=args.K)
+        raise ValueError("method 'vi' has no friction: use --mu 0 (or another method)")
+    if args.c_t is not None and args.mu != 0.0:
+        raise ValueError(f"give either --mu ({args.mu}) or --c-t ({args.c_t}), not both")
+    from .friction import Friction
+
+    if args.c_t is not None:
+        return Friction(law, c_t=args.c_t, m_t=args.m_t, omega_t=args.omega_t)
+    return Friction(law, mu=args.mu, omega_t=args.omega_t)
 
 
 def method_parameters(args: argparse.Namespace) -> dict:
     keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
-            "coulomb": ["mu"]}[args.method]
+            "compliance": ["c_n", "m_n"], "coulomb": ["mu"]}[args.method]
+    if has_friction(args) and args.method != "coulomb":
+        keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["mu"]) + ["omega_t"]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
             "quadrature": args.quadrature}

@@ -123,6 +123,9 @@ class ContactSurface:
     def after_solve(self, problem) -> None:
         """Called after every converged Newton solve."""
 
+    def commit(self) -> None:
+        """Called once a load step is accepted: advance history variables (friction); no-op here."""
+
     solves_step = False  # True: the surface solves a whole load step itself (:meth:`solve_step`), no SNES
 
     def solve_step(self, problem) -> tuple[int, list[float], str]:

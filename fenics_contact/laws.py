@@ -211,6 +211,37 @@ class CrossConstraints(ContactLaw):
         return {"K_hat": self.tau * float(c["K_hat"])}
 
 
+class NormalCompliance(ContactLaw):
+    """Normal compliance (Oden & Martins; formulation 1.5): ``F = c_n <g>^m_n``, ``P = c_n/(m_n+1) <g>^(m_n+1)``.
+
+    ``c_n > 0`` in pressure per length^m_n, exponent ``m_n >= 1`` (``m_n = 1`` is the penalty law
+    with ``K = c_n``, but with the tangent ``c_n`` at ``g = 0``: a body that only rests on the surface
+    can start Newton from the touching state). The exponent is fixed for a run (part of the compiled form).
+    """
+
+    name = "compliance"
+
+    def __init__(self, c_n: float, m_n: float = 1.0):
+        self.scalars = {"c_n": _check_positive("normal compliance c_n", c_n)}
+        self.m = _check_exponent("normal compliance exponent m_n", m_n)
+        self.fields = {}
+
+    def force(self, g, c, ops=NUMPY):
+        if self.m == 1.0:
+            # c_n g H(g) with H(0) = 1: the same values as c_n <g>, but the tangent at a touching point
+            # (g = 0) is c_n, not 0, so a body resting on the surface has a regular first Jacobian.
+            return c["c_n"] * g * _heaviside_closed(g, ops)
+        return c["c_n"] * ops.max(g, 0.0) ** self.m
+
+    def potential(self, g, c, ops=NUMPY):
+        return c["c_n"] / (self.m + 1.0) * ops.max(g, 0.0) ** (self.m + 1.0)
+
+    def stiffness(self, g, c, ops=NUMPY):
+        if self.m == 1.0:
+            return c["c_n"] * _heaviside_closed(g, ops)
+        return self.m * c["c_n"] * ops.max(g, 0.0) ** (self.m - 1.0)
+
+
 class Exact(ContactLaw):
     """No law: exact nodal non-penetration (``g <= 0``) as bounds on the unknowns, solved by PETSc
     SNES VI (:mod:`fenics_contact.bounds`); the pressure is the nodal reaction. Flat, axis-aligned
@@ -223,6 +254,13 @@ class Exact(ContactLaw):
 
     def force(self, g, c, ops=NUMPY):
         raise TypeError("method 'vi' has no contact law: its pressure is the reaction at the bounds")
+
+
+def _check_exponent(name: str, value: float) -> float:
+    value = float(value)
+    if not (math.isfinite(value) and value >= 1.0):
+        raise ValueError(f"{name} must be a finite number >= 1, got {value!r}")
+    return value
 
 
 class Coulomb(ContactLaw):
@@ -240,17 +278,22 @@ class Coulomb(ContactLaw):
         raise TypeError("method 'coulomb' has no contact law: its pressure is the nodal contact reaction")
 
 
+def _heaviside_closed(x, ops):
+    """1 for x >= 0, 0 otherwise (to round-off below 1e-300), without division."""
+    return ops.min(ops.max(x * 1e300 + 1.0, 0.0), 1.0)
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
-METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact,
-           "coulomb": Coulomb}
+METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian,
+           "compliance": NormalCompliance, "vi": Exact, "coulomb": Coulomb}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``, ``coulomb``)."""
+    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``compliance``, ``vi``, ``coulomb``)."""
     if method not in METHODS:
         raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
     return METHODS[method](**params)

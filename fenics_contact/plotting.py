@@ -128,6 +128,39 @@ def plot_profile(x: np.ndarray, p: np.ndarray, path: str | Path, x_ref: np.ndarr
     fig.savefig(str(path), dpi=150)
 
 
+STATE_COLOURS = ("0.75", "tab:red", "tab:blue")  # open, slip, stick
+STATE_NAMES = ("open", "slip", "stick")
+
+
+def plot_contact_face(x: np.ndarray, y: np.ndarray, state: np.ndarray, path: str | Path,
+                      traction: np.ndarray | None = None, title: str = "", xlabel: str = "x",
+                      ylabel: str = "y") -> None:
+    """Save a map of a flat contact face coloured by slip state (0 open, 1 slip, 2 stick; regions bounded
+    half-way between vertices), with the tangential traction ``traction`` (n, 2) as arrows.
+
+    Not collective: call it on one rank (rank 0) with gathered vertex arrays.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
+    from matplotlib.tri import Triangulation
+
+    fig = Figure(figsize=(6.4, 5.6))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    tri = Triangulation(x, y)
+    ax.tricontourf(tri, np.asarray(state, float), levels=[-0.5, 0.5, 1.5, 2.5], colors=STATE_COLOURS)
+    ax.plot(x, y, ".", color="black", ms=2)
+    if traction is not None:
+        ax.quiver(x, y, traction[:, 0], traction[:, 1], color="black", width=0.003, label="tangential traction")
+    handles = [Patch(color=c, label=n) for c, n in zip(STATE_COLOURS, STATE_NAMES)]
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=3)
+    ax.set(xlabel=xlabel, ylabel=ylabel, title=title, aspect="equal")
+    fig.tight_layout()
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(str(path), dpi=150)
+
+
 def plot_curves(curves: dict[str, tuple[np.ndarray, np.ndarray]], path: str | Path, xlabel: str = "x",
                 ylabel: str = "", title: str = "") -> None:
     """Save a plot of several labelled curves ``{label: (x, y)}``. Not collective: call it on one rank."""

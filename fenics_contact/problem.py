@@ -22,17 +22,25 @@ from .materials import Material
 
 @dataclass
 class Dirichlet:
-    """``u_i = t * amplitude`` on ``dofs`` of the (sub)space ``V`` (``amplitude`` at ``t = 1``)."""
+    """``u_i = amplitude * f(t)`` on ``dofs`` of the (sub)space ``V``: ``f(t) = t`` by default, or the
+    piecewise-linear ``path = (t_k, f_k)`` (``t_k`` increasing; constant beyond its ends)."""
 
     V: fem.FunctionSpace
     dofs: np.ndarray
     amplitude: float = 0.0
+    path: tuple[Sequence[float], Sequence[float]] | None = None
     value: fem.Constant = field(init=False)
     bc: object = field(init=False)
 
     def __post_init__(self):
+        if self.path is not None and (len(self.path[0]) != len(self.path[1]) or np.any(np.diff(self.path[0]) <= 0)):
+            raise ValueError(f"Dirichlet path needs increasing t_k and as many values, got {self.path!r}")
         self.value = fem.Constant(self.V.mesh, 0.0)
         self.bc = fem.dirichletbc(self.value, self.dofs, self.V)
+
+    def at(self, t: float) -> float:
+        """The prescribed value at load ``t``."""
+        return self.amplitude * (t if self.path is None else float(np.interp(t, *self.path)))
 
 
 class ContactProblem:
@@ -60,10 +68,11 @@ class ContactProblem:
         self.comm = V.mesh.comm
 
     def set_load(self, t: float) -> None:
-        """Load parameter ``t``: obstacles move by ``t * motion``, tractions and Dirichlet values scale by ``t``."""
+        """Load parameter ``t``: obstacles move by ``t * motion``, tractions scale by ``t``, Dirichlet values follow
+        their paths (:meth:`Dirichlet.at`)."""
         self.load.value = t
         for d in self.dirichlet:
-            d.value.value = t * d.amplitude
+            d.value.value = d.at(t)
 
     def internal_force(self) -> np.ndarray:
         """Internal forces ``dW[phi_i]`` at the current state, local array (owned and ghost dofs)."""

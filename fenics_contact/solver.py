@@ -276,6 +276,8 @@ class Solver:
                 snap = self._snapshot()
                 rec = self._step(t, len(self.records) + 1)
                 if rec.converged:
+                    for c in self.problem.contacts:
+                        c.commit()  # history (friction) advances only on accepted steps
                     self.records.append(rec)
                     self.t = t
                     if self.predictor:
