@@ -160,3 +160,70 @@ def check_tags(facet_tags: MeshTags, tags: Mapping[str, int],
         if comm.allreduce(int(np.count_nonzero(local == value)), op=MPI.SUM) == 0:
             raise ValueError(f"facet tag {name!r}={value} is absent from the mesh; "
                              f"tags present: {present}")
+
+
+# Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
+LOWER, UPPER = 1, 2
+LOWER_BOTTOM, LOWER_TOP, UPPER_BOTTOM, UPPER_TOP, BLOCK_LEFT = 21, 22, 23, 24, 25
+STACKED_FACETS = {"lower_bottom": LOWER_BOTTOM, "lower_top": LOWER_TOP, "upper_bottom": UPPER_BOTTOM,
+                  "upper_top": UPPER_TOP, "left": BLOCK_LEFT}
+
+
+def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float, n_lower: tuple[int, int],
+                   n_upper: tuple[int, int], overlap: float = 0.0, by_body: bool = False
+                   ) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Two blocks in one mesh, not sharing nodes: ``[0, width] x [0, h_lower]`` with ``n_lower = (nx, ny)``
+    triangles pairs, and ``[0, width] x [h_lower - overlap, h_lower - overlap + h_upper]`` with ``n_upper``.
+    Different ``nx`` give non-matching interfaces. ``by_body``: the lower block on rank 0, the upper on
+    rank 1 (with 2 or more ranks; the test of a slave/master pair on different ranks).
+
+    Returns ``(mesh, cell_tags LOWER/UPPER, facet_tags STACKED_FACETS)``."""
+    from .compat import create_mesh
+
+    for name, v in (("width", width), ("h_lower", h_lower), ("h_upper", h_upper)):
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+    for name, n in (("n_lower", n_lower), ("n_upper", n_upper)):
+        if len(n) != 2 or min(n) < 1:
+            raise ValueError(f"{name} must be two cell counts >= 1, got {n!r}")
+    xs, cs, body = [], [], []
+    offset = 0
+    for b, (y0, h, (nx, ny)) in enumerate(((0.0, h_lower, n_lower), (h_lower - overlap, h_upper, n_upper))):
+        gx, gy = np.meshgrid(np.linspace(0, width, nx + 1), np.linspace(y0, y0 + h, ny + 1), indexing="xy")
+        xs.append(np.stack([gx.ravel(), gy.ravel()], axis=1))
+        idx = np.arange((nx + 1) * (ny + 1)).reshape(ny + 1, nx + 1) + offset
+        a, bb, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
+        cs.append(np.concatenate([np.stack([a, bb, c], 1), np.stack([a, c, d], 1)]))
+        body.append(np.full(2 * nx * ny, b))
+        offset += (nx + 1) * (ny + 1)
+    x, cells, owner = np.concatenate(xs), np.concatenate(cs), np.concatenate(body)
+    if comm.rank != 0:
+        x, cells, owner = np.zeros((0, 2)), np.zeros((0, 3), np.int64), np.zeros(0, np.int32)
+    msh = create_mesh(comm, cells, x, "triangle", owner if by_body else None)
+    tdim = msh.topology.dim
+    # Cell tags by centroid height (the lower block is below h_lower - overlap/2).
+    msh.topology.create_connectivity(tdim, 0)
+    ncell = msh.topology.index_map(tdim).size_local + msh.topology.index_map(tdim).num_ghosts
+    mid = dmesh.compute_midpoints(msh, tdim, np.arange(ncell, dtype=np.int32))
+    split = h_lower - overlap / 2
+    upper = mid[:, 1] > split
+    cell_tags = dmesh.meshtags(msh, tdim, np.arange(ncell, dtype=np.int32),
+                               np.where(upper, UPPER, LOWER).astype(np.int32))
+    # Facet tags: boundary facets by position and by the block of their cell.
+    fdim = tdim - 1
+    msh.topology.create_connectivity(fdim, tdim)
+    facets = dmesh.exterior_facet_indices(msh.topology)
+    f2c = msh.topology.connectivity(fdim, tdim)
+    fmid = dmesh.compute_midpoints(msh, fdim, facets)
+    ub = np.array([upper[f2c.links(f)[0]] for f in facets], dtype=bool)
+    tol = 1e-9 * max(width, h_lower, h_upper)
+    values = np.zeros(len(facets), np.int32)
+    values[(np.abs(fmid[:, 1]) < tol) & ~ub] = LOWER_BOTTOM
+    values[(np.abs(fmid[:, 1] - h_lower) < tol) & ~ub] = LOWER_TOP
+    values[(np.abs(fmid[:, 1] - (h_lower - overlap)) < tol) & ub] = UPPER_BOTTOM
+    values[(np.abs(fmid[:, 1] - (h_lower - overlap + h_upper)) < tol) & ub] = UPPER_TOP
+    values[np.abs(fmid[:, 0]) < tol] = BLOCK_LEFT
+    keep = values > 0
+    facet_tags = dmesh.meshtags(msh, fdim, facets[keep].astype(np.int32), values[keep])
+    facet_tags.name = "facet_tags"
+    return msh, cell_tags, facet_tags
