@@ -227,3 +227,80 @@ def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float,
     facet_tags = dmesh.meshtags(msh, fdim, facets[keep].astype(np.int32), values[keep])
     facet_tags.name = "facet_tags"
     return msh, cell_tags, facet_tags
+
+
+# Tags of ``two_half_disks`` (cells: LOWER / UPPER as for ``stacked_blocks``).
+DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP = 31, 32, 33, 34, 35
+DISKS_FACETS = {"symmetry": DISK_SYMMETRY, "lower_bottom": LOWER_ARC_BOTTOM, "lower_top": LOWER_ARC_TOP,
+                "upper_bottom": UPPER_ARC_BOTTOM, "upper_top": UPPER_ARC_TOP}
+
+
+def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: float, h_far: float,
+                   contact_width: float, overlap: float = 0.0) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Right halves (x >= 0) of two disks stacked on the y axis, in one mesh without shared nodes: the lower
+    disk centred at ``(0, R_lower)``, the upper at ``(0, 2 R_lower + R_upper - overlap)``. P1 triangles of
+    size ``h_contact`` within ``contact_width`` of the four points on the y axis where the disks touch each
+    other and the plates, growing by 0.25 per unit distance up to ``h_far``. Facet tags: DISKS_FACETS
+    (each arc split at its widest point into a bottom and a top quarter). Collective."""
+    for name, v in (("R_lower", R_lower), ("R_upper", R_upper), ("h_contact", h_contact), ("h_far", h_far),
+                    ("contact_width", contact_width)):
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        error = ""
+        if comm.rank == 0:
+            try:
+                _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap)
+            except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
+                error = f"gmsh failed to mesh the two half disks: {exc}"
+        error = comm.bcast(error, root=0)
+        if error:
+            raise RuntimeError(error)
+        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+    finally:
+        gmsh.finalize()
+    mesh.name = "two_half_disks"
+    return mesh, cell_tags, facet_tags
+
+
+def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap):
+    gmsh.model.add("two_half_disks")
+    geo = gmsh.model.geo
+    touch = []
+    tags = {k: [] for k in DISKS_FACETS.values()}
+    surfaces = []
+    for cy, R in ((R1, R1), (2 * R1 + R2 - overlap, R2)):
+        bottom = geo.addPoint(0.0, cy - R, 0.0)
+        centre = geo.addPoint(0.0, cy, 0.0)
+        side = geo.addPoint(R, cy, 0.0)
+        top = geo.addPoint(0.0, cy + R, 0.0)
+        a1 = geo.addCircleArc(bottom, centre, side)
+        a2 = geo.addCircleArc(side, centre, top)
+        s1 = geo.addLine(top, centre)
+        s2 = geo.addLine(centre, bottom)
+        surfaces.append(geo.addPlaneSurface([geo.addCurveLoop([a1, a2, s1, s2])]))
+        lower = len(surfaces) == 1
+        tags[LOWER_ARC_BOTTOM if lower else UPPER_ARC_BOTTOM].append(a1)
+        tags[LOWER_ARC_TOP if lower else UPPER_ARC_TOP].append(a2)
+        tags[DISK_SYMMETRY] += [s1, s2]
+        touch += [bottom, top]
+    geo.synchronize()
+    for tag, curves in tags.items():
+        gmsh.model.addPhysicalGroup(1, curves, tag)
+    gmsh.model.addPhysicalGroup(2, [surfaces[0]], LOWER)
+    gmsh.model.addPhysicalGroup(2, [surfaces[1]], UPPER)
+    field = gmsh.model.mesh.field
+    distance = field.add("Distance")
+    field.setNumbers(distance, "PointsList", touch)
+    threshold = field.add("Threshold")
+    field.setNumber(threshold, "InField", distance)
+    field.setNumber(threshold, "SizeMin", h_contact)
+    field.setNumber(threshold, "SizeMax", h_far)
+    field.setNumber(threshold, "DistMin", width)
+    field.setNumber(threshold, "DistMax", width + (h_far - h_contact) / _GRADING)
+    field.setAsBackgroundMesh(threshold)
+    for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+        gmsh.option.setNumber(f"Mesh.{option}", 0)
+    gmsh.model.mesh.generate(2)

@@ -237,6 +237,12 @@ def project(points: np.ndarray, master: np.ndarray, radius: float) -> tuple[np.n
             continue
         d, b = closest_point_on_facets(p, master[cand])
         j = int(np.argmin(d))
+        # Ties (a point outside a convex vertex is equally close to both facets at the vertex): take the
+        # facet whose plane is farthest, which makes the gap continuous as the point moves across.
+        tied = np.flatnonzero(d <= d[j] * (1 + 1e-9) + 1e-14 * radius)
+        if len(tied) > 1:
+            line = np.abs(np.einsum("ij,ij->i", p - master[cand[tied], 0], facet_normals(master[cand[tied]])))
+            j = int(tied[np.argmax(line)])
         if d[j] <= radius:
             facet[i], bary[i], dist[i] = cand[j], b[j], d[j]
     return facet, bary, dist

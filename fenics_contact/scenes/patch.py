@@ -83,7 +83,7 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
             dev = max(dev, float(np.max(np.abs(p - PRESSURE))) / PRESSURE)
             forces.append(float(c.total_force()[1]))
         return {"pressure_deviation": dev, "contact_force": float(np.mean(np.abs(forces))),
-                "applied_force": PRESSURE * 1.0, "reaction_bottom": -problem.reaction(bottom)}
+                "applied_force": PRESSURE * 1.0, "reaction_bottom": problem.reaction(bottom)}
 
     params = {"E_lower": E_LOWER, "E_upper": E_UPPER, "nu": NU, "pressure": PRESSURE, "n_lower": list(n_lower),
               "n_upper": list(n_upper), "quadrature": quadrature, "passes": passes, "slave": slave,
