@@ -256,17 +256,21 @@ class MirrorObstacle(Obstacle):
     Functions ``Xm`` (reference, fixed during a Newton iteration) and ``w`` (master displacement, the
     variable the coupling differentiates). ``active`` is 1 where a slave point has a pair, else 0."""
 
-    def __init__(self, Xm: fem.Function, w: fem.Function, active: fem.Function, nv: int, gdim: int):
+    def __init__(self, Xm: fem.Function, w: fem.Function, active: fem.Function, nv: int, gdim: int,
+                 open_gap: float):
         super().__init__(np.zeros(gdim))
         self.Xm, self.w, self.active, self.nv, self.gdim = Xm, w, active, nv, gdim
+        self.open_gap = float(open_gap)
 
     def vertices(self) -> list:
         d = self.gdim
         return [ufl.as_vector([self.Xm[k * d + i] + self.w[k * d + i] for i in range(d)]) for k in range(self.nv)]
 
     def gap(self, x):
+        """``-(x - x_1) . n`` where paired; ``-open_gap`` (open, the search radius) where not, so that laws
+        and augmentations see an open contact there."""
         xs = self.vertices()
-        return -ufl.dot(x - xs[0], ufl_normal(xs))
+        return self.active * -ufl.dot(x - xs[0], ufl_normal(xs)) - (1.0 - self.active) * self.open_gap
 
     def normal(self, x):
         return ufl_normal(self.vertices())
@@ -342,7 +346,7 @@ class TwoBodySurface(ContactSurface):
         self._merged_version = -1
         self.weight = fem.Constant(mesh, float(weight))
 
-        obstacle = MirrorObstacle(self.Xm, self.w, self.active, nv, gdim)
+        obstacle = MirrorObstacle(self.Xm, self.w, self.active, nv, gdim, self.radius)
         self._set_dummy_mirror()
         super().__init__(u, facet_tags, slave_tag, obstacle, law, load, quadrature, name)
 
