@@ -4,6 +4,7 @@ from __future__ import annotations
 import resource
 import time
 from pathlib import Path
+from typing import Callable
 
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -14,9 +15,11 @@ from .solver import ConvergenceError, Solver
 
 
 def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
-        augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None) -> dict:
+        augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None,
+        after_step: Callable[[float], None] | None = None) -> dict:
     """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once.
 
+    ``after_step(t)`` is called after each converged step has been written (e.g. figures per step).
     Returns the summary (also in ``out/summary.json``). A step that fails
     after cutbacks writes the summary with ``converged: false`` and re-raises.
     """
@@ -29,6 +32,8 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
             for c in setup.contacts:
                 c.update_output()
             xdmf.write(t)
+            if after_step is not None:
+                after_step(t)
 
         solver = Solver(setup.problem, augment_max=augment_max, augment_tol=augment_tol, quiet=quiet,
                         options=options, on_step=on_step)

@@ -85,6 +85,8 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
         return {"pressure_deviation": dev, "contact_force": float(np.mean(np.abs(forces))),
                 "applied_force": PRESSURE * 1.0, "reaction_bottom": problem.reaction(bottom)}
 
+    for c in contacts:  # one name per field in the XDMF file
+        c.gap_out.name, c.pressure_out.name = f"gap_{c.name}", f"contact_pressure_{c.name}"
     params = {"E_lower": E_LOWER, "E_upper": E_UPPER, "nu": NU, "pressure": PRESSURE, "n_lower": list(n_lower),
               "n_upper": list(n_upper), "quadrature": quadrature, "passes": passes, "slave": slave,
               "overlap": OVERLAP, "model": "two blocks, rollers, plane strain, linear elasticity"}
