@@ -132,8 +132,10 @@ class Solver:
         A.zeroEntries()
         fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
         A.assemble()
-        for c in self.problem.contacts:  # coupling blocks (may widen A's pattern when pairs change)
-            c.add_jacobian(A, self.problem.bcs)
+        # Coupling blocks; a contact whose pairing changed widens A's pattern: factor from scratch then
+        # (PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change).
+        if any([c.add_jacobian(A, self.problem.bcs) for c in self.problem.contacts]):
+            self.snes.getKSP().getPC().reset()
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _monitor(self, snes, it, norm):

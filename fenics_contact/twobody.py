@@ -221,9 +221,13 @@ class BucketGrid:
         return self.cells.get(tuple(np.floor(p / self.h).astype(np.int64)), [])
 
 
-def project(points: np.ndarray, master: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.ndarray | None = None,
+            hysteresis: float = 1e-2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closest master facet to each point within ``radius``: ``(facet or -1, barycentric coordinates,
-    distance)``. Ties go to the lowest facet index (callers order facets independently of the partition)."""
+    distance)``. Ties go to the lowest facet index (callers order facets independently of the partition).
+    ``previous`` (facet per point, -1 for none): a point keeps its previous facet while that facet is no
+    more than ``hysteresis`` x its own size farther than the closest one, so that a point sitting where
+    two facets are (almost) equally close does not switch back and forth between Newton iterations."""
     n = len(points)
     nv = master.shape[1] if master.ndim == 3 else 2
     facet = np.full(n, -1, np.int64)
@@ -242,6 +246,12 @@ def project(points: np.ndarray, master: np.ndarray, radius: float) -> tuple[np.n
         if len(tied) > 1:
             line = np.abs(np.einsum("ij,ij->i", p - master[cand[tied], 0], facet_normals(master[cand[tied]])))
             j = int(tied[np.argmax(line)])
+        if previous is not None and previous[i] >= 0 and cand[j] != previous[i]:
+            k = np.flatnonzero(cand == previous[i])
+            if len(k):
+                size = np.linalg.norm(master[previous[i], 1] - master[previous[i], 0])
+                if d[k[0]] <= d[j] + hysteresis * size:
+                    j = int(k[0])
         if d[j] <= radius:
             facet[i], bary[i], dist[i] = cand[j], b[j], d[j]
     return facet, bary, dist
@@ -389,7 +399,8 @@ class TwoBodySurface(ContactSurface):
         xm = self._mX + U
         pts = self.slave_points()
         nf, nq, d = pts.shape if pts.size else (0, self.B.shape[0], self.gdim)
-        facet, bary, dist = project(pts.reshape(-1, d), xm, self.radius)
+        previous = None if self._pairs is None else self._pairs.ravel()
+        facet, bary, dist = project(pts.reshape(-1, d), xm, self.radius, previous)
         facet = facet.reshape(nf, nq)
         # Gap and master normal at the points, in NumPy (the same formulas as the UFL).
         ok = facet >= 0
