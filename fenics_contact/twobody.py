@@ -559,11 +559,6 @@ class TwoBodySurface(ContactSurface):
         order = first[np.lexsort(Xr[first].T[::-1])]
         return data[1][order], data[2][order], data[3][order]
 
-    def paired_points(self) -> int:
-        """Number of slave points with a master facet within the search radius (all ranks; ghost points
-        counted by their owners only for P1)."""
-        return int(self.comm.allreduce(int(np.count_nonzero(self._pairs[self.slave_data.owned] >= 0))))
-
 
 def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,
                       quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
