@@ -28,6 +28,10 @@ cylinders per unit length), ``plate_force`` (force of the upper plate), ``p0`` (
 ``a`` (contact half-width, edge extrapolated as in the hertz scene), ``p0_hertz``, ``a_hertz`` (two
 cylinders: ``1/R = 1/R1 + 1/R2``, ``1/E* = 2 (1 - nu^2)/E``, for the computed force),
 ``pressure_mismatch`` (largest difference of the two surfaces' pressures at the same ``x``, over ``p0``).
+
+Measured (``demos/cylinders.py``, h = 0.05, grading 0.04, 21886 dofs, 2 ranks): at ``t = 0.2``
+``p0`` 2.0 % and ``a`` 1.9 % from Hertz, mismatch 0.03 % of ``p0``; ``t = 15`` in 31 steps of 7-10
+Newton iterations (``P = 2512``, ``p0 = 208`` against Hertz's 199: the deviation grows with ``t``).
 """
 from __future__ import annotations
 
