@@ -548,7 +548,7 @@ class TwoBodySurface(ContactSurface):
         c = {k: float(v.value) for k, v in self.constants.items()}
         for k, f in self.fields.items():
             c[k] = np.einsum("qk,fk->fq", self.B, f.x.array[self._sdofs])
-        gg = np.where(np.isfinite(g), g, -1e300)
+        gg = np.where(np.isfinite(g), g, -self.radius)  # the UFL gap of an unpaired point
         p = np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
         own = sd.owned
         d = self.gdim
