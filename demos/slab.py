@@ -62,8 +62,8 @@ for mu in SWEEP if args.sweep else (args.mu,):
 
     if comm.rank == 0:
         pr, tr = np.asarray(base["pressure"]), np.asarray(base["traction"])
-        plot_curves({"contact pressure p": (x, pr), "tangential traction t (along +x)": (x, tr),
-                     "mu p": (x, mu * pr)}, folder / "slab_base.png", xlabel="x (free corner A at x = 40)",
+        plot_curves([(x, pr, "contact pressure p", "o-"), (x, tr, "tangential traction t (along +x)", "o-"),
+                     (x, mu * pr, "mu p", "o-")], folder / "slab_base.png", xlabel="x (free corner A at x = 40)",
                     ylabel="traction", title=f"slab, {args.method}, mu = {mu:g}: separated {z['separated']:.3g}, "
                     f"sliding {z['sliding']:.3g}, sticking {z['sticking']:.3g}")
     u = setup.problem.u
@@ -78,7 +78,7 @@ if args.sweep and comm.rank == 0:
     np.savetxt(out / "slab_sweep.csv", table, delimiter=",", comments="",
                header="mu,ux_A,uy_A,separated,sliding,sticking,newton_iterations")
     if not args.no_pictures:
-        plot_curves({name: (table[:, 0], table[:, 3 + i]) for i, name in enumerate(slab.STATES)},
+        plot_curves([(table[:, 0], table[:, 3 + i], name, "o-") for i, name in enumerate(slab.STATES)],
                     out / "slab_zones.png", xlabel="friction coefficient mu", ylabel="length along the base",
                     title=f"slab zones against mu ({args.method})")
     for r in rows:

@@ -131,6 +131,16 @@ class ContactSurface:
     def solve_step(self, problem) -> tuple[int, list[float], str]:
         """Solve the load step at ``problem.load``: ``(reason as SNES's, residual history, failure message)``."""
         raise NotImplementedError
+    def prepare(self, problem) -> None:
+        """Called before every residual evaluation, with ``u`` set (two-body contact re-pairs here)."""
+
+    def add_residual(self, b) -> None:
+        """Add terms that are not in the problem's forms to the assembled residual (owned entries)."""
+
+    def add_jacobian(self, A, bcs) -> bool:
+        """Add blocks that are not in the problem's forms to the assembled Jacobian ``A`` (Dirichlet rows and
+        columns left zero); True if ``A``'s nonzero pattern changed."""
+        return False
 
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:

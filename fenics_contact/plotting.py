@@ -161,20 +161,20 @@ def plot_contact_face(x: np.ndarray, y: np.ndarray, state: np.ndarray, path: str
     fig.savefig(str(path), dpi=150)
 
 
-def plot_curves(curves: dict[str, tuple[np.ndarray, np.ndarray]], path: str | Path, xlabel: str = "x",
-                ylabel: str = "", title: str = "") -> None:
-    """Save a plot of several labelled curves ``{label: (x, y)}``. Not collective: call it on one rank."""
+def plot_curves(curves: Sequence[tuple[np.ndarray, np.ndarray, str, str]], path: str | Path, xlabel: str = "x",
+                ylabel: str = "contact pressure", title: str = "") -> None:
+    """Save a plot of several curves ``(x, y, label, matplotlib style)``. Not collective (call on rank 0)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(6.4, 4.4))
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
-    for label, (x, y) in curves.items():
-        ax.plot(x, y, "o-", ms=3, lw=0.9, label=label)
+    for x, y, label, style in curves:
+        ax.plot(x, y, style, ms=3, lw=1.0, label=label)
     ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(fontsize=8)
     fig.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(str(path), dpi=150)

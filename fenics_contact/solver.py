@@ -143,9 +143,13 @@ class Solver:
     def _residual(self, snes, x, b):
         start = time.perf_counter()
         self._set_u(x)
+        for c in self.problem.contacts:  # e.g. two-body contact re-pairs at the current state
+            c.prepare(self.problem)
         with b.localForm() as bl:
             bl.set(0.0)
         fem_petsc.assemble_vector(b, self.problem.F)
+        for c in self.problem.contacts:  # coupling terms outside the forms (owned entries)
+            c.add_residual(b)
         lift_and_set_bc(b, self.problem.J, self.problem.bcs, x, -1.0)
         self.timings["assembly_s"] += time.perf_counter() - start
 
@@ -154,6 +158,10 @@ class Solver:
         A.zeroEntries()
         fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
         A.assemble()
+        # Coupling blocks; a contact whose pairing changed widens A's pattern: factor from scratch then
+        # (PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change).
+        if any([c.add_jacobian(A, self.problem.bcs) for c in self.problem.contacts]):
+            self.snes.getKSP().getPC().reset()
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _monitor(self, snes, it, norm):
