@@ -17,7 +17,7 @@ from petsc4py import PETSc
 
 from .compat import bc_dofs, petsc_vec
 from .contact import ContactSurface
-from .laws import ContactLaw, Exact
+from .laws import ContactLaw, Exact, LagrangeMultiplier
 from .obstacles import HalfPlane, Obstacle
 
 _BIG = 1e300  # "no bound" (PETSc's VI treats |bound| >= 1e20 as infinite)
@@ -79,6 +79,10 @@ class BoundContact(ContactSurface):
 
 
 def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact") -> ContactSurface:
-    """A :class:`ContactSurface` for a law, or a :class:`BoundContact` for method ``vi``."""
-    cls = BoundContact if isinstance(law, Exact) else ContactSurface
+    """A :class:`ContactSurface` for a law, a :class:`BoundContact` for method ``vi``, or a
+    :class:`~fenics_contact.multipliers.MultiplierContact` for method ``lagrange`` (``u`` then the
+    mixed unknown of :func:`~fenics_contact.multipliers.unknown`)."""
+    from .multipliers import MultiplierContact  # multipliers imports contact, as this module does
+
+    cls = {Exact: BoundContact, LagrangeMultiplier: MultiplierContact}.get(type(law), ContactSurface)
     return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name)

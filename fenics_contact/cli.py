@@ -22,7 +22,7 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
                                 formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("--method", choices=list(METHODS), default="cross", help="contact formulation")
     p.add_argument("--K", type=float, default=default_K,
-                   help="penalty K (penalty, auglag) or stiffness K_hat at g = 0 (cross)")
+                   help="penalty K (penalty, auglag), stiffness K_hat at g = 0 (cross) or complementarity c (lagrange)")
     p.add_argument("--F-hat", type=float, default=0.0, help="cross: target pressure at g = 0")
     p.add_argument("--a", type=float, default=0.0, help="cross: shape parameter in [0, 1)")
     p.add_argument("--tau", type=float, default=1.0, help="cross: K_hat <- tau K_hat per augmentation")
@@ -48,7 +48,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if rest:
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
-        args.augment = 0 if args.method in ("penalty", "vi") else 10
+        args.augment = 0 if args.method in ("penalty", "vi", "lagrange") else 10
     return args
 
 
@@ -66,10 +66,13 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
         return make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
     if args.method == "vi":
         return make_law("vi")
+    if args.method == "lagrange":
+        return make_law("lagrange", c=args.K)
     return make_law(args.method, K=args.K)
 
 
 def method_parameters(args: argparse.Namespace) -> dict:
-    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": []}[args.method]
+    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
+            "lagrange": ["K"]}[args.method]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
             "quadrature": args.quadrature}

@@ -43,6 +43,18 @@ def contact_measure(mesh, facet_tags, tag: int, quadrature: str) -> ufl.Measure:
     return ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=tag, metadata=md)
 
 
+def is_mixed(V) -> bool:
+    """True for a mixed (displacement, pressure) space (:mod:`multipliers`), False for a displacement space."""
+    return V.num_sub_spaces > 0 and V.sub(0).num_sub_spaces > 0
+
+
+def displacement(w):
+    """The displacement part of an unknown or test/trial function: ``w`` itself, or its first
+    component when ``w`` lives on a mixed (displacement, pressure) space."""
+    V = w.function_space if hasattr(w, "function_space") else w.ufl_function_space()
+    return ufl.split(w)[0] if is_mixed(V) else w
+
+
 def check_facet_tag(mesh, facet_tags, tag: int, name: str) -> np.ndarray:
     """Local facets with ``tag``; raise ``ValueError`` naming ``name`` if no rank has any."""
     if facet_tags is None or facet_tags.dim != mesh.topology.dim - 1:
@@ -56,8 +68,11 @@ class ContactSurface:
 
     The current position is ``x = X + u`` (also for linear elasticity, so a
     curved obstacle is followed exactly). ``load`` is the scalar ``Constant``
-    that moves the obstacle.
+    that moves the obstacle. ``u`` is the problem's unknown: the displacement,
+    or a mixed (displacement, pressure) Function (:mod:`multipliers`).
     """
+
+    bcs: tuple = ()  # Dirichlet conditions the surface adds to the problem (multipliers: p = 0 off the surface)
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
@@ -66,7 +81,8 @@ class ContactSurface:
         self.facets = check_facet_tag(mesh, facet_tags, tag, name)
         self.ds = contact_measure(mesh, facet_tags, tag, quadrature)
         obstacle.bind(load)
-        x = ufl.SpatialCoordinate(mesh) + u
+        self.displacement_out = u  # the displacement Function for output (a collapsed copy if u is mixed)
+        x = ufl.SpatialCoordinate(mesh) + displacement(u)
         self.gap = obstacle.gap(x)
         self.normal = obstacle.normal(x)
 

@@ -210,16 +210,41 @@ class Exact(ContactLaw):
         raise TypeError("method 'vi' has no contact law: its pressure is the reaction at the bounds")
 
 
+class LagrangeMultiplier(ContactLaw):
+    """No law: the contact pressure ``p`` is an unknown (method ``lagrange``, :mod:`fenics_contact.multipliers`).
+
+    Exact nodal Signorini conditions ``g <= 0, p >= 0, p g = 0`` through the
+    complementarity function ``C(p, g) = p - max(0, p + c g)`` (zero iff they
+    hold, for any ``c > 0``). ``c`` (pressure per length, like a penalty)
+    only steers the semismooth Newton iterates, not the converged solution.
+    """
+
+    name = "lagrange"
+
+    def __init__(self, c: float = 1.0):
+        self.scalars = {"c": _check_positive("complementarity parameter c", c)}
+        self.fields = {}
+
+    def complementarity(self, p, g, c, ops=NUMPY):
+        """``C(p, g) = p - max(0, p + c g)``; ``max(0, .)`` first so that UFL's generalized derivative
+        counts the tie ``p + c g = 0`` as active."""
+        return p - ops.max(0.0, p + c["c"] * g)
+
+    def force(self, g, c, ops=NUMPY):
+        raise TypeError("method 'lagrange' has no contact law: its pressure is an unknown")
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
-METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact}
+METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact,
+           "lagrange": LagrangeMultiplier}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``)."""
+    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``, ``lagrange``)."""
     if method not in METHODS:
         raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
     return METHODS[method](**params)

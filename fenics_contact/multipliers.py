@@ -1,0 +1,92 @@
+"""Exact contact by Lagrange multipliers (method ``lagrange``): the contact pressure is an unknown.
+
+Space: the unknown lives on ``W = V x Q``, ``V`` the displacement space
+(vector Lagrange, P1 or P2) and ``Q`` scalar P1 for the pressure ``p``
+(positive in compression). dolfinx 0.5.2 cannot assemble a mixed form whose
+second field lives on a submesh of the boundary, so ``Q`` is P1 on the whole
+mesh and the pressure dofs off the contact surface are removed from the
+problem by Dirichlet conditions ``p = 0``: they stay in the linear system as
+identity rows and columns (decoupled, eliminated by the direct solver at no
+cost; the honest fallback, not a reduced index set). Which dofs are "on the
+surface" is decided by ``locate_dofs_topological`` on the contact facets,
+which communicates shared dofs, so every rank agrees.
+
+Constraint, per contact vertex (vertex quadrature ``contact_measure(...,
+"nodal")``, so the integrals are weighted nodal values): the spec's
+complementarity function ``C(p, g) = p - max(0, p + c g)`` (gap ``g > 0``
+penetration) is zero iff ``g <= 0, p >= 0, p g = 0``. The residual is
+
+    u rows:  dW[v] + int p dg[v] ds
+    p rows:  int -C(p, g)/c q ds = int (max(0, p/c + g) - p/c) q ds
+
+(``C`` divided by ``-c`` so that the Jacobian is symmetric: active rows are
+``dg[du] q``, the transpose of the ``u`` rows' ``dp dg[v]``; inactive rows
+are ``-dp q / c``). The Jacobian is ``ufl.derivative`` of the residual: the
+derivative of ``max_value`` is UFL's generalized (semismooth) derivative, so
+SNES ``newtonls`` is a semismooth Newton / primal-dual active-set method.
+``c`` changes the iterates, not the converged solution.
+
+Linear solver: the Jacobian is a saddle point with zero diagonal on the
+active pressure rows; the solver's default direct LU by MUMPS (unsymmetric
+LDU, threshold partial pivoting ``CNTL(1) = 0.01``, ordering chosen by
+MUMPS, ``ICNTL(7) = 7``) factors it; no option is changed.
+"""
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from .compat import function_space, mixed_space
+from .contact import ContactSurface, is_mixed
+from .laws import ContactLaw, LagrangeMultiplier, ufl_ops
+from .obstacles import Obstacle
+
+
+def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement") -> tuple[fem.Function, object]:
+    """The problem's unknown and the displacement (sub)space for Dirichlet data.
+
+    ``(u, V)`` with ``u`` on the vector Lagrange space ``V`` of ``degree``, or,
+    for method ``lagrange``, ``(w, W.sub(0))`` with ``w`` on the mixed space
+    (displacement of ``degree``, pressure P1). ``V.sub(i)`` are the components either way.
+    """
+    if isinstance(law, LagrangeMultiplier):
+        W = mixed_space(mesh, degree)
+        return fem.Function(W, name="displacement_pressure"), W.sub(0)
+    V = function_space(mesh, "Lagrange", degree, (mesh.geometry.dim,))
+    return fem.Function(V, name=name), V
+
+
+class MultiplierContact(ContactSurface):
+    """A contact surface whose pressure is the second field of the mixed unknown ``w``."""
+
+    def __init__(self, w: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: LagrangeMultiplier,
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
+        if not is_mixed(w.function_space):
+            raise ValueError("method 'lagrange' needs the mixed unknown of multipliers.unknown(...)")
+        if quadrature != "nodal":
+            raise ValueError("method 'lagrange' enforces the contact at the vertices: use quadrature 'nodal'")
+        self.w = w
+        super().__init__(w, facet_tags, tag, obstacle, law, load, quadrature, name)
+        W = w.function_space
+        fdim = W.mesh.topology.dim - 1
+        Q, q_to_w = W.sub(1).collapse()
+        on_surface = fem.locate_dofs_topological(W.sub(1), fdim, self.facets)
+        off = np.setdiff1d(np.asarray(q_to_w, dtype=np.int32), on_surface).astype(np.int32)
+        self.bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
+        V, self._v_to_w = W.sub(0).collapse()
+        self.displacement_out = fem.Function(V, name="displacement")
+
+    def _pressure(self):
+        return ufl.split(self.w)[1]
+
+    def residual(self, v: ufl.Argument) -> ufl.Form:
+        """``int p dg[v] ds + int (max(0, p/c + g) - p/c) q ds`` (``v`` the mixed test function)."""
+        q = ufl.split(v)[1]
+        c = self.constants["c"]
+        C = self.law.complementarity(self.pressure, self.gap, self.params, ufl_ops())
+        return super().residual(v) - C / c * q * self.ds
+
+    def update_output(self) -> None:
+        self.displacement_out.x.array[:] = self.w.x.array[self._v_to_w]
+        super().update_output()
