@@ -84,5 +84,6 @@ def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal",
     mixed unknown of :func:`~fenics_contact.multipliers.unknown`)."""
     from .multipliers import MultiplierContact  # multipliers imports contact, as this module does
 
-    cls = {Exact: BoundContact, LagrangeMultiplier: MultiplierContact}.get(type(law), ContactSurface)
+    cls = (BoundContact if isinstance(law, Exact) else
+           MultiplierContact if isinstance(law, LagrangeMultiplier) else ContactSurface)
     return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name)

@@ -48,7 +48,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if rest:
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
-        args.augment = 0 if args.method in ("penalty", "vi", "lagrange") else 10
+        args.augment = 0 if args.method in ("penalty", "vi", "lagrange", "penalty_multiplier") else 10
     return args
 
 
@@ -73,6 +73,6 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
 
 def method_parameters(args: argparse.Namespace) -> dict:
     keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
-            "lagrange": ["K"]}[args.method]
+            "lagrange": ["K"], "penalty_multiplier": ["K"]}[args.method]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
             "quadrature": args.quadrature}

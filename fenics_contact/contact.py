@@ -19,7 +19,7 @@ from .meshes import check_tags
 from .obstacles import Obstacle
 from .projection import SurfaceProjector
 
-QUADRATURES = ("nodal", "gauss")
+QUADRATURES = ("nodal", "gauss", "simpson")
 
 # Reference-facet vertex rules (trapezoid and its 2D analogues) by facet cell name.
 _VERTEX_RULES = {
@@ -29,9 +29,20 @@ _VERTEX_RULES = {
 }
 
 
+# Simpson's rule on a segment: the two vertices and the midpoint (the nodes of a P2 facet).
+_SIMPSON = (((0.0,), (0.5,), (1.0,)), (1 / 6, 4 / 6, 1 / 6))
+
+
 def contact_measure(mesh, facet_tags, tag: int, quadrature: str) -> ufl.Measure:
-    """``ds`` on the tagged facets with the vertex rule (``nodal``) or the degree-2 Gauss rule."""
-    if quadrature == "nodal":
+    """``ds`` on the tagged facets with the vertex rule (``nodal``), the degree-2 Gauss rule, or
+    Simpson's rule (``simpson``, 2D: the three nodes of a quadratic facet)."""
+    if quadrature == "simpson":
+        if mesh.topology.dim != 2:
+            raise ValueError("contact quadrature 'simpson' is for 2D meshes (segment facets)")
+        pts, wts = _SIMPSON
+        md = {"quadrature_rule": "custom", "quadrature_degree": 3,
+              "quadrature_points": pts, "quadrature_weights": wts}
+    elif quadrature == "nodal":
         facet_cell = mesh.ufl_cell().facet_types()[0].cellname()
         pts, wts = _VERTEX_RULES[facet_cell]
         md = {"quadrature_rule": "custom", "quadrature_degree": 1,
@@ -87,7 +98,9 @@ class ContactSurface:
         self.normal = obstacle.normal(x)
 
         # Law parameters: scalars as Constants, fields at the quadrature points.
-        self.S = function_space(mesh, "Lagrange" if quadrature == "nodal" else "DG", 1)
+        # One state dof per quadrature point on each facet (see projection.py).
+        self.S = function_space(mesh, *{"nodal": ("Lagrange", 1), "gauss": ("DG", 1),
+                                        "simpson": ("Lagrange", 2)}[quadrature])
         self.constants = {k: fem.Constant(mesh, float(v)) for k, v in law.scalars.items()}
         self.fields = {}
         for k, v in law.fields.items():

@@ -234,13 +234,29 @@ class LagrangeMultiplier(ContactLaw):
         raise TypeError("method 'lagrange' has no contact law: its pressure is an unknown")
 
 
+class PenaltyMultiplier(LagrangeMultiplier):
+    """Penalty regularization of the multipliers (Papadopoulos & Solberg's ``p = eps <g>``): the
+    pressure stays an unknown, now with ``p = eps <g>`` at the contact vertices instead of the exact
+    complementarity, i.e. ``C(p, g) = p - eps max(0, g)``. ``eps`` (``K`` on the command line) in
+    pressure per length; ``eps -> infinity`` gives the multipliers' solution."""
+
+    name = "penalty_multiplier"
+
+    def __init__(self, K: float):
+        self.scalars = {"c": _check_positive("penalty eps (K)", K)}
+        self.fields = {}
+
+    def complementarity(self, p, g, c, ops=NUMPY):
+        return p - c["c"] * ops.max(0.0, g)
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
 METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact,
-           "lagrange": LagrangeMultiplier}
+           "lagrange": LagrangeMultiplier, "penalty_multiplier": PenaltyMultiplier}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:

@@ -26,6 +26,14 @@ derivative of ``max_value`` is UFL's generalized (semismooth) derivative, so
 SNES ``newtonls`` is a semismooth Newton / primal-dual active-set method.
 ``c`` changes the iterates, not the converged solution.
 
+Quadratic displacements (Papadopoulos & Solberg's "two-point" element for a
+rigid obstacle): the gap is enforced at the two end nodes of each contact
+facet only, the pressure is linear on the facet, and its work ``int p dg[v]``
+is integrated with Simpson's rule (``quadrature="simpson"``) so the middle
+node carries its share. The penalty regularization ``p = eps <g>`` at the
+end nodes is the law :class:`~fenics_contact.laws.PenaltyMultiplier` on the
+same space (``C = p - eps max(0, g)``).
+
 Linear solver: the Jacobian is a saddle point with zero diagonal on the
 active pressure rows; the solver's default direct LU by MUMPS (unsymmetric
 LDU, threshold partial pivoting ``CNTL(1) = 0.01``, ordering chosen by
@@ -38,7 +46,7 @@ import ufl
 from dolfinx import fem
 
 from .compat import function_space, mixed_space
-from .contact import ContactSurface, is_mixed
+from .contact import ContactSurface, contact_measure, is_mixed
 from .laws import ContactLaw, LagrangeMultiplier, ufl_ops
 from .obstacles import Obstacle
 
@@ -64,10 +72,18 @@ class MultiplierContact(ContactSurface):
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
         if not is_mixed(w.function_space):
             raise ValueError("method 'lagrange' needs the mixed unknown of multipliers.unknown(...)")
-        if quadrature != "nodal":
-            raise ValueError("method 'lagrange' enforces the contact at the vertices: use quadrature 'nodal'")
+        if quadrature not in ("nodal", "simpson"):
+            raise ValueError(f"method {law.name!r} enforces the contact at the vertices; the pressure's work "
+                             f"is integrated with quadrature 'nodal' or 'simpson', got {quadrature!r}")
         self.w = w
-        super().__init__(w, facet_tags, tag, obstacle, law, load, quadrature, name)
+        super().__init__(w, facet_tags, tag, obstacle, law, load, "nodal", name)
+        self.work_quadrature = quadrature
+        self.ds_work = contact_measure(w.function_space.mesh, facet_tags, tag, quadrature)
+        # Figures with the quadrature of the work term, so that the contact force balances the loads.
+        mesh = w.function_space.mesh
+        self._force_forms = [fem.form(self.pressure * self.normal[i] * self.ds_work) for i in range(mesh.geometry.dim)]
+        self._area_form = fem.form(fem.Constant(mesh, 1.0) * self.ds_work)
+        self._mean_p_form = fem.form(self.pressure * self.ds_work)
         W = w.function_space
         fdim = W.mesh.topology.dim - 1
         Q, q_to_w = W.sub(1).collapse()
@@ -81,11 +97,13 @@ class MultiplierContact(ContactSurface):
         return ufl.split(self.w)[1]
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
-        """``int p dg[v] ds + int (max(0, p/c + g) - p/c) q ds`` (``v`` the mixed test function)."""
+        """``int p dg[v] ds_work - int C(p, g)/c q ds`` (``v`` the mixed test function; ``ds`` the vertex
+        rule, ``ds_work`` the vertex rule or Simpson's)."""
         q = ufl.split(v)[1]
         c = self.constants["c"]
         C = self.law.complementarity(self.pressure, self.gap, self.params, ufl_ops())
-        return super().residual(v) - C / c * q * self.ds
+        work = self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
+        return work - C / c * q * self.ds
 
     def update_output(self) -> None:
         self.displacement_out.x.array[:] = self.w.x.array[self._v_to_w]
