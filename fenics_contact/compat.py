@@ -87,3 +87,38 @@ def cell_sizes(mesh, dim: int, entities):
     from dolfinx import cpp
 
     return cpp.mesh.h(mesh._mesh, dim, entities)  # dolfinx 0.5: the C++ mesh is Mesh._mesh
+
+
+def create_mesh(comm, cells, x, cell: str, owners=None):
+    """Mesh of simplices or quads from arrays given on rank 0 (``cells`` global node indices, ``x`` (n, gdim)).
+
+    ``owners`` (rank 0 only, one rank per cell, or None): the rank each cell goes to, instead of the
+    graph partitioner (used to put each body on its own rank). No ghost cells are made then."""
+    import numpy as np
+    import ufl
+    from dolfinx import cpp
+    from dolfinx import mesh as dmesh
+
+    gdim = x.shape[1]
+    cells = np.asarray(cells, dtype=np.int64)
+    try:  # dolfinx >= 0.8
+        import basix.ufl
+
+        domain = ufl.Mesh(basix.ufl.element("Lagrange", cell, 1, shape=(gdim,)))
+        new = True
+    except ImportError:
+        domain = ufl.Mesh(ufl.VectorElement("Lagrange", cell, 1))
+        new = False
+    if owners is None or comm.size == 1:
+        return dmesh.create_mesh(comm, cells, x, domain)
+    dest = np.asarray(owners, dtype=np.int32) if comm.rank == 0 else np.zeros(0, np.int32)
+    if not new:
+        def partitioner(comm_, nparts, tdim, local_cells, ghost_mode):
+            return cpp.graph.AdjacencyList_int32(dest[: local_cells.num_nodes].copy())
+
+        return dmesh.create_mesh(comm, cells, x, domain, dmesh.GhostMode.none, partitioner)
+
+    def partitioner(comm_, nparts, cell_types, local_cells):  # dolfinx 0.8 / 0.9
+        return cpp.graph.AdjacencyList_int32(dest.copy())
+
+    return dmesh.create_mesh(comm, cells, x, domain, partitioner=partitioner)

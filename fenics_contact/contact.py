@@ -143,6 +143,17 @@ class ContactSurface:
     def after_solve(self, problem) -> None:
         """Called after every converged Newton solve."""
 
+    def prepare(self, problem) -> None:
+        """Called before every residual evaluation, with ``u`` set (two-body contact re-pairs here)."""
+
+    def add_residual(self, b) -> None:
+        """Add terms that are not in the problem's forms to the assembled residual (owned entries)."""
+
+    def add_jacobian(self, A, bcs) -> bool:
+        """Add blocks that are not in the problem's forms to the assembled Jacobian ``A`` (Dirichlet rows and
+        columns left zero); True if ``A``'s nonzero pattern changed."""
+        return False
+
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Surface term ``F(g) dg[v] ds`` of the residual (``dg[v] = -n . v`` for a rigid obstacle)."""

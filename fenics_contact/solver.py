@@ -117,9 +117,13 @@ class Solver:
     def _residual(self, snes, x, b):
         start = time.perf_counter()
         self._set_u(x)
+        for c in self.problem.contacts:  # e.g. two-body contact re-pairs at the current state
+            c.prepare(self.problem)
         with b.localForm() as bl:
             bl.set(0.0)
         fem_petsc.assemble_vector(b, self.problem.F)
+        for c in self.problem.contacts:  # coupling terms outside the forms (owned entries)
+            c.add_residual(b)
         lift_and_set_bc(b, self.problem.J, self.problem.bcs, x, -1.0)
         self.timings["assembly_s"] += time.perf_counter() - start
 
@@ -128,6 +132,8 @@ class Solver:
         A.zeroEntries()
         fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
         A.assemble()
+        for c in self.problem.contacts:  # coupling blocks (may widen A's pattern when pairs change)
+            c.add_jacobian(A, self.problem.bcs)
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _monitor(self, snes, it, norm):

@@ -1,0 +1,130 @@
+"""``cylinders``: two neo-Hookean cylinders pressed together between two rigid plates (Papadopoulos &
+Solberg 1998, section 4.1).
+
+Radii ``R = 18`` (lower, on the fixed plate ``y = 0``) and ``R = 8`` (upper, under the plate that moves
+down by ``t``), ``lambda = 288``, ``mu = 192`` (E = 499.2, nu = 0.3), plane strain, compressible
+neo-Hookean (finite strain: ``t = 15`` squeezes the stack of height 52 by 29 %). The paper does not say
+which cylinder is on top; we put the smaller one there.
+
+Model: the scene is symmetric about the vertical axis through the centres (both cylinders, both plates
+and the load), so we model the right halves ``x >= 0`` with ``u_x = 0`` on the axis; no other symmetry
+exists (the radii differ). One mesh holds both half disks, graded toward the four points where they
+touch each other and the plates (gmsh). The plates are analytic rigid half-planes (contact surfaces of
+:mod:`contact`); the cylinders touch each other through :mod:`twobody` (two-pass by default: each
+surface is slave once, as the paper's two simultaneous Signorini problems, so each surface has its own
+pressure). The cylinders are only held by contact: they start with an overlap ``OVERLAP`` at each of
+the three contacts so that penalty-type laws have stiffness at the first iteration; the rigid motion
+that removes it is part of the first load step (``t`` is the plate motion from that state).
+
+Method. P1 chords of two circles of different radii sag by different amounts (``h^2 / 8R``), so with
+exact enforcement at the points of both surfaces (two-pass, converged multipliers) the problem is
+over-constrained and the two pressures oscillate (the paper's surface locking: we measured 25-40 %
+mismatch with augmented Lagrangian). The defaults are therefore a penalty regularization,
+``K = DEFAULT_K``, two-pass with Gauss points: the penalty penetration ``p/K`` is large against the sagitta
+(so both passes see the same overlap) and small against the elastic compliance ``a/E*``.
+
+Figures (whole cylinders: forces of the half model doubled): ``total_force`` (contact force between the
+cylinders per unit length), ``plate_force`` (force of the upper plate), ``p0`` (peak pressure),
+``a`` (contact half-width, edge extrapolated as in the hertz scene), ``p0_hertz``, ``a_hertz`` (two
+cylinders: ``1/R = 1/R1 + 1/R2``, ``1/E* = 2 (1 - nu^2)/E``, for the computed force),
+``pressure_mismatch`` (largest difference of the two surfaces' pressures at the same ``x``, over ``p0``).
+"""
+from __future__ import annotations
+
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+
+from ..compat import function_space
+from ..contact import ContactSurface
+from ..laws import ContactLaw
+from ..materials import Material, NeoHookean
+from ..meshes import (DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP,
+                      two_half_disks)
+from ..obstacles import HalfPlane
+from ..problem import ContactProblem, Dirichlet
+from ..twobody import two_body_surfaces
+from . import Setup
+from .hertz import contact_half_width
+
+R_LOWER, R_UPPER, LAMBDA, MU, T_END = 18.0, 8.0, 288.0, 192.0, 15.0
+OVERLAP = 1e-4
+DEFAULT_K = 1e4  # penalty: large against E*/a (~500 at t = 0.2), small against p0 / (sagitta of a P1 chord)
+T_HERTZ = 0.2  # a/R = 0.1 at t = 0.2: small enough for Hertz (half-space error O((a/R)^2))
+
+
+def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER) -> tuple[float, float]:
+    """Hertz half-width ``a`` and peak pressure ``p0`` of two cylinders of the same material, load ``P``
+    per unit length (plane strain)."""
+    mat = Material.from_lame(LAMBDA, MU)
+    R = 1.0 / (1.0 / R1 + 1.0 / R2)
+    Es = 1.0 / (2.0 * (1.0 - mat.nu**2) / mat.E)
+    a = np.sqrt(4.0 * P * R / (np.pi * Es))
+    return float(a), float(2.0 * P / (np.pi * a))
+
+
+def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "gauss", passes: str = "two",
+          h_contact: float = 0.05, h_far: float = 2.0, contact_width: float = 1.0,
+          loads: list[float] | None = None, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+    """``law_factory()`` gives a fresh contact law for each of the contact surfaces (plates and cylinders).
+    ``loads``: the plate motions ``t`` (default: ``T_HERTZ``, then steps of 0.5 to 15)."""
+    if law_factory is None:
+        if law is None:
+            raise ValueError("give law_factory (or law)")
+        law_factory = lambda: law  # noqa: E731
+    mesh, _, facet_tags = two_half_disks(comm, R_LOWER, R_UPPER, h_contact, h_far, contact_width, OVERLAP)
+    V = function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V, name="displacement")
+    load = fem.Constant(mesh, 0.0)
+    fdim = mesh.topology.dim - 1
+    sym = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == DISK_SYMMETRY])
+    dirichlet = [Dirichlet(V.sub(0), sym)]
+    top = 2 * R_LOWER + 2 * R_UPPER - OVERLAP
+    lower_plate = ContactSurface(u, facet_tags, LOWER_ARC_BOTTOM, HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
+                                 law_factory(), load, quadrature, name="lower_plate")
+    upper_plate = ContactSurface(u, facet_tags, UPPER_ARC_TOP,
+                                 HalfPlane([0.0, top - OVERLAP], [0.0, -1.0], motion=[0.0, -1.0]),
+                                 law_factory(), load, quadrature, name="upper_plate")
+    pair = two_body_surfaces(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory, load, quadrature,
+                             passes, radius=max(2.0, 4 * h_far), name="cylinders")
+    contacts = [lower_plate, upper_plate, *pair]
+    problem = ContactProblem(u, NeoHookean.from_lame(LAMBDA, MU), load, dirichlet, contacts)
+
+    def profiles() -> list[tuple[np.ndarray, np.ndarray]]:
+        """(current x, pressure) along the contact for each slave surface, x ascending from the axis."""
+        out = []
+        for c in pair:
+            x, _, p = c.point_values()
+            order = np.argsort(x[:, 0], kind="stable")
+            out.append((x[order, 0], p[order]))
+        return out
+
+    def figures() -> dict:
+        prof = profiles()
+        forces = [2 * abs(float(c.total_force()[1])) for c in pair]
+        P = float(np.mean(forces))
+        a_h, p0_h = hertz_two_cylinders(P)
+        x, p = prof[0]
+        p0 = float(max(q.max() for _, q in prof))
+        a = float(np.mean([contact_half_width(xx, q) for xx, q in prof]))
+        mismatch = 0.0
+        if len(prof) == 2:  # pressure of one surface against the other's, interpolated at the same x
+            (x1, p1), (x2, p2) = prof
+            inside = x1 <= 0.9 * min(contact_half_width(x1, p1), contact_half_width(x2, p2))
+            mismatch = float(np.max(np.abs(p1[inside] - np.interp(x1[inside], x2, p2)))) / p0
+        return {"total_force": P, "total_force_surfaces": forces,
+                "plate_force": 2 * abs(float(upper_plate.total_force()[1])),
+                "lower_plate_force": 2 * abs(float(lower_plate.total_force()[1])),
+                "p0": p0, "a": a, "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
+                "a_error": abs(a - a_h) / a_h, "pressure_mismatch": mismatch,
+                "pairing_changes": int(sum(c.pairing_changes for c in pair))}
+
+    params = {"R_lower": R_LOWER, "R_upper": R_UPPER, "lambda": LAMBDA, "mu": MU, "h_contact": h_contact,
+              "h_far": h_far, "contact_width": contact_width, "quadrature": quadrature, "passes": passes,
+              "overlap": OVERLAP, "model": "right halves (symmetry x = 0), plane strain, neo-Hookean"}
+    if loads is None:
+        loads = [T_HERTZ] + np.arange(0.5, T_END + 1e-9, 0.5).tolist()
+    setup = Setup("cylinders", problem, contacts, loads, params, figures,
+                  [u] + [f for c in contacts for f in (c.gap_out, c.pressure_out)])
+    setup.profiles = profiles
+    return setup

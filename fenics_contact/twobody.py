@@ -1,0 +1,568 @@
+"""Two deformable bodies in one mesh: closest-point projection, mirror fields, coupling.
+
+Setting (formulation 1.4, frictionless): a *slave* and a *master* surface,
+both facet tags of the same dolfinx mesh. For every slave contact quadrature
+point ``x_s = X + u`` (vertices with ``nodal`` quadrature, Gauss points with
+``gauss``) the projection finds the closest point on the master's **current**
+surface: the master facet, the local coordinate ``xi`` on it, the normal gap
+and the master normal. The gap is written in UFL against *mirror* fields on
+the slave side (a ``Function`` whose values at the slave quadrature points
+are the reference positions ``X_k`` and displacements ``w_k`` of the vertices
+``k`` of the paired master facet)::
+
+    x_k = X_k + w_k,   n = outward unit normal of the flat facet (x_1, .., x_nv),
+    g   = -(x_s - x_1) . n          (positive = penetration, see :mod:`laws`)
+
+For a flat (P1) master facet the distance to its plane does not depend on
+``xi``, so this ``g`` is the exact closest-point gap as a function of the
+slave and master vertex positions while the projection stays on the facet:
+its derivatives with respect to ``u`` and to ``w`` (taken by UFL) are the
+complete consistent linearisation, including the rotation of the master
+normal; the change of the projection point drops out. A pairing change
+(large sliding) is a discrete event between Newton iterations.
+
+Coupling. ``I`` is the sparse operator (rows: mirror dofs, columns: global
+displacement dofs) with ``w = I u``: a selection of master vertex values
+(nodal quadrature) or its combination with the inverse of the facet's
+Gauss-point interpolation (``gauss``: the mirror lives in DG1 whose trace has
+one value per Gauss point). With the slave-side forms ``r_u = dP/du``,
+``r_w = dP/dw`` and their derivatives compiled once by FFCx, the contact
+residual and tangent on the global dofs are::
+
+    R = r_u + I^T r_w,
+    K = A_uu + A_uw I + I^T A_wu + I^T A_ww I        (MatMatMult, TransposeMatMult, PtAP)
+
+``A_uu`` goes in the problem's own Jacobian form; the rest is added by the
+solver's hooks (:meth:`TwoBodySurface.add_residual`, :meth:`add_jacobian`).
+Dirichlet dofs are dropped from the columns of ``I`` and the coupling forms
+are assembled with the boundary conditions, so the constrained rows and
+columns stay the identity. The global matrix gets the coupling's extra
+sparsity by ``MatAXPY(DIFFERENT_NONZERO_PATTERN)`` only when the pairing
+changed since the last Jacobian (the pattern then only grows; the solver
+resets its factorization); otherwise the pattern is reused.
+
+Parallel. Every rank takes part in every collective call, with or without
+slave or master facets. At each update the owned master facets (global dof
+numbers, reference coordinates, current displacements; ``nv * (1 + 2 gdim)``
+numbers per facet) are all-gathered, so each rank holds the whole current
+master surface and projects its own slave points (owned and ghost) with a
+uniform bucket grid (cell size = search radius, 3^d cells per query; no
+all-pairs loop). Cost per update: one ``MPI_Allgather`` of the master
+surface (``O(N_master)`` numbers to every rank) and ``O(N_slave_local)``
+local searches; a master facet owned by another rank is then just a column
+of ``I`` with a global index, PETSc moves the values. This is the right
+trade for contact surfaces (a small fraction of the mesh); for very large
+surfaces a bounding-box exchange limited to overlapping ranks would be the
+next step.
+
+Two-pass: two surfaces, each side slave once, each with ``weight = 1/2``
+(forces averaged). Only flat facets: segments (2D), triangles (3D).
+"""
+from __future__ import annotations
+
+from typing import Sequence
+
+import dolfinx.fem.petsc as fem_petsc
+import numpy as np
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from .compat import bc_dofs, function_space, petsc_vec
+from .contact import ContactSurface, check_facet_tag
+from .laws import ContactLaw
+from .obstacles import Obstacle
+
+PASSES = ("one", "two")
+
+# Barycentric coordinates of the slave points on a facet (rows: points, columns: facet vertices).
+_S = 0.5 / np.sqrt(3.0)
+_POINTS = {
+    ("nodal", 2): np.eye(2),
+    ("gauss", 2): np.array([[0.5 + _S, 0.5 - _S], [0.5 - _S, 0.5 + _S]]),
+    ("nodal", 3): np.eye(3),
+    ("gauss", 3): np.array([[2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]]),
+}
+
+
+# --------------------------------------------------------------------------------------------
+# Surface data
+# --------------------------------------------------------------------------------------------
+class FacetData:
+    """Vertices of the local facets with ``tag``: displacement block dofs ``dofs`` (nf, nv), ordered so
+    that the facet normal of :func:`facet_normals` points out of the body; reference coordinates ``X``
+    (nf, nv, gdim); the cell of each facet and the cell-local index of each facet vertex; ``owned``."""
+
+    def __init__(self, V: fem.FunctionSpace, facets: np.ndarray):
+        mesh = V.mesh
+        tdim, gdim = mesh.topology.dim, mesh.geometry.dim
+        mesh.topology.create_connectivity(tdim - 1, tdim)
+        mesh.topology.create_connectivity(tdim - 1, 0)
+        mesh.topology.create_connectivity(tdim, 0)
+        f2c, f2v, c2v = (mesh.topology.connectivity(tdim - 1, tdim), mesh.topology.connectivity(tdim - 1, 0),
+                         mesh.topology.connectivity(tdim, 0))
+        nv = tdim  # vertices of a simplex facet
+        nf = len(facets)
+        self.cells = np.zeros(nf, np.int32)
+        self.local = np.zeros((nf, nv), np.int32)
+        coords = V.tabulate_dof_coordinates()
+        dofs = np.zeros((nf, nv), np.int32)
+        for i, f in enumerate(facets):
+            cells = f2c.links(f)
+            if len(cells) != 1:
+                raise ValueError(f"facet {f} of a contact surface is not on the boundary (it has {len(cells)} cells)")
+            c = cells[0]
+            cv = list(c2v.links(c))
+            if len(cv) != tdim + 1:
+                raise ValueError("two-body contact needs simplex cells (flat facets): triangles or tetrahedra")
+            loc = [cv.index(v) for v in f2v.links(f)]
+            cdofs = V.dofmap.cell_dofs(c)
+            fd = cdofs[loc]
+            # Orientation: the normal of the ordered vertices must point away from the opposite vertex.
+            other = cdofs[[j for j in range(tdim + 1) if j not in loc][0]]
+            n = facet_normals(coords[fd][None, :, :gdim])[0]
+            if np.dot(n, coords[fd[0], :gdim] - coords[other, :gdim]) < 0:
+                loc = loc[::-1]
+                fd = fd[::-1]
+            self.cells[i], self.local[i], dofs[i] = c, loc, fd
+        self.dofs = dofs
+        self.X = coords[dofs][..., :gdim] if nf else np.zeros((0, nv, gdim))
+        imap = mesh.topology.index_map(tdim - 1)
+        self.owned = np.asarray(facets) < imap.size_local
+        Vmap = V.dofmap.index_map
+        self.global_dofs = Vmap.local_to_global(dofs.ravel()).reshape(dofs.shape) if nf else dofs.astype(np.int64)
+
+
+def facet_normals(x: np.ndarray) -> np.ndarray:
+    """Unit normals of flat facets ``x`` (nf, nv, gdim): ``(t_y, -t_x)`` of ``t = x_1 - x_0`` in 2D,
+    ``(x_1 - x_0) x (x_2 - x_0)`` in 3D (the same formulas as the UFL gap)."""
+    if x.shape[2] == 2:
+        t = x[:, 1] - x[:, 0]
+        n = np.stack([t[:, 1], -t[:, 0]], axis=1)
+    else:
+        n = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
+def ufl_normal(xs: Sequence[ufl.core.expr.Expr]) -> ufl.core.expr.Expr:
+    """UFL unit normal of the flat facet with current vertices ``xs`` (same formula as :func:`facet_normals`)."""
+    if len(xs) == 2:
+        t = xs[1] - xs[0]
+        n = ufl.as_vector((t[1], -t[0]))
+    else:
+        n = ufl.cross(xs[1] - xs[0], xs[2] - xs[0])
+    return n / ufl.sqrt(ufl.dot(n, n))
+
+
+# --------------------------------------------------------------------------------------------
+# Closest-point search
+# --------------------------------------------------------------------------------------------
+def closest_point_on_facets(p: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from point ``p`` to each flat facet ``x`` (n, nv, gdim) and the barycentric coordinates of
+    the closest point (clipped to the facet)."""
+    if x.shape[1] == 2:
+        t = x[:, 1] - x[:, 0]
+        s = np.clip(np.einsum("ij,ij->i", p - x[:, 0], t) / np.einsum("ij,ij->i", t, t), 0.0, 1.0)
+        bary = np.stack([1 - s, s], axis=1)
+    else:
+        bary = np.array([_closest_on_triangle(p, tri) for tri in x]).reshape(-1, 3)
+    q = np.einsum("ik,ikj->ij", bary, x)
+    return np.linalg.norm(q - p, axis=1), bary
+
+
+def _closest_on_triangle(p, tri):
+    """Barycentric coordinates of the closest point of triangle ``tri`` to ``p`` (Ericson's regions)."""
+    a, b, c = tri
+    ab, ac, ap = b - a, c - a, p - a
+    d1, d2 = ab @ ap, ac @ ap
+    if d1 <= 0 and d2 <= 0:
+        return (1.0, 0.0, 0.0)
+    bp = p - b
+    d3, d4 = ab @ bp, ac @ bp
+    if d3 >= 0 and d4 <= d3:
+        return (0.0, 1.0, 0.0)
+    vc = d1 * d4 - d3 * d2
+    if vc <= 0 and d1 >= 0 and d3 <= 0:
+        v = d1 / (d1 - d3)
+        return (1 - v, v, 0.0)
+    cp = p - c
+    d5, d6 = ab @ cp, ac @ cp
+    if d6 >= 0 and d5 <= d6:
+        return (0.0, 0.0, 1.0)
+    vb = d5 * d2 - d1 * d6
+    if vb <= 0 and d2 >= 0 and d6 <= 0:
+        w = d2 / (d2 - d6)
+        return (1 - w, 0.0, w)
+    va = d3 * d6 - d5 * d4
+    if va <= 0 and (d4 - d3) >= 0 and (d5 - d6) >= 0:
+        w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        return (0.0, 1 - w, w)
+    denom = 1.0 / (va + vb + vc)
+    v, w = vb * denom, vc * denom
+    return (1 - v - w, v, w)
+
+
+class BucketGrid:
+    """Uniform grid of cell size ``h`` over facets ``x`` (n, nv, gdim); each facet is listed in every cell
+    its bounding box, widened by ``h``, overlaps, so a query of one cell returns every facet within ``h``."""
+
+    def __init__(self, x: np.ndarray, h: float):
+        self.h = h
+        self.cells: dict[tuple, list[int]] = {}
+        if len(x) == 0:
+            return
+        lo = np.floor((x.min(axis=1) - h) / h).astype(np.int64)
+        hi = np.floor((x.max(axis=1) + h) / h).astype(np.int64)
+        for i, (a, b) in enumerate(zip(lo, hi)):
+            for key in np.ndindex(*(b - a + 1)):
+                self.cells.setdefault(tuple(a + np.array(key)), []).append(i)
+
+    def candidates(self, p: np.ndarray) -> list[int]:
+        return self.cells.get(tuple(np.floor(p / self.h).astype(np.int64)), [])
+
+
+def project(points: np.ndarray, master: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Closest master facet to each point within ``radius``: ``(facet or -1, barycentric coordinates,
+    distance)``. Ties go to the lowest facet index (callers order facets independently of the partition)."""
+    n = len(points)
+    nv = master.shape[1] if master.ndim == 3 else 2
+    facet = np.full(n, -1, np.int64)
+    bary = np.zeros((n, nv))
+    dist = np.full(n, np.inf)
+    grid = BucketGrid(master, radius)
+    for i, p in enumerate(points):
+        cand = np.array(sorted(grid.candidates(p)), dtype=np.int64)
+        if len(cand) == 0:
+            continue
+        d, b = closest_point_on_facets(p, master[cand])
+        j = int(np.argmin(d))
+        # Ties (a point outside a convex vertex is equally close to both facets at the vertex): take the
+        # facet whose plane is farthest, which makes the gap continuous as the point moves across.
+        tied = np.flatnonzero(d <= d[j] * (1 + 1e-9) + 1e-14 * radius)
+        if len(tied) > 1:
+            line = np.abs(np.einsum("ij,ij->i", p - master[cand[tied], 0], facet_normals(master[cand[tied]])))
+            j = int(tied[np.argmax(line)])
+        if d[j] <= radius:
+            facet[i], bary[i], dist[i] = cand[j], b[j], d[j]
+    return facet, bary, dist
+
+
+# --------------------------------------------------------------------------------------------
+# The mirror "obstacle": the paired master facet as UFL of the mirror fields
+# --------------------------------------------------------------------------------------------
+class MirrorObstacle(Obstacle):
+    """The paired master facet seen from the slave points: vertices ``X_k + w_k`` from the mirror
+    Functions ``Xm`` (reference, fixed during a Newton iteration) and ``w`` (master displacement, the
+    variable the coupling differentiates). ``active`` is 1 where a slave point has a pair, else 0."""
+
+    def __init__(self, Xm: fem.Function, w: fem.Function, active: fem.Function, nv: int, gdim: int,
+                 open_gap: float):
+        super().__init__(np.zeros(gdim))
+        self.Xm, self.w, self.active, self.nv, self.gdim = Xm, w, active, nv, gdim
+        self.open_gap = float(open_gap)
+
+    def vertices(self) -> list:
+        d = self.gdim
+        return [ufl.as_vector([self.Xm[k * d + i] + self.w[k * d + i] for i in range(d)]) for k in range(self.nv)]
+
+    def gap(self, x):
+        """``-(x - x_1) . n`` where paired; ``-open_gap`` (open, the search radius) where not, so that laws
+        and augmentations see an open contact there."""
+        xs = self.vertices()
+        return self.active * -ufl.dot(x - xs[0], ufl_normal(xs)) - (1.0 - self.active) * self.open_gap
+
+    def normal(self, x):
+        return ufl_normal(self.vertices())
+
+
+class TwoBodySurface(ContactSurface):
+    """Contact of the slave facets ``slave_tag`` against the current master facets ``master_tag`` of the
+    same mesh, with the law ``law`` (pressure per reference slave area, positive in compression).
+
+    ``quadrature``: ``nodal`` or ``gauss`` on the slave side. ``weight``: factor on the residual (1/2 for
+    each surface of a two-pass pair). ``radius``: search radius of the projection (default: 2 x the
+    longest master facet); slave points farther from the master have no pair and no force.
+    """
+
+    def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
+                 load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
+                 radius: float | None = None, name: str = "twobody"):
+        mesh = u.function_space.mesh
+        if slave_tag == master_tag:
+            raise ValueError(f"slave_tag and master_tag must differ, both are {slave_tag}")
+        if quadrature not in ("nodal", "gauss"):
+            raise ValueError(f"contact quadrature must be one of ('nodal', 'gauss'), got {quadrature!r}")
+        if not (np.isfinite(weight) and weight > 0):
+            raise ValueError(f"weight must be a finite number > 0, got {weight!r}")
+        slave = check_facet_tag(mesh, facet_tags, slave_tag, f"{name} slave_tag")
+        master = check_facet_tag(mesh, facet_tags, master_tag, f"{name} master_tag")
+        self.comm = mesh.comm
+        V = u.function_space
+        tdim, gdim = mesh.topology.dim, mesh.geometry.dim
+        nv = tdim
+        self.V, self.gdim, self.nv = V, gdim, nv
+        self.slave_data = FacetData(V, slave)
+        self.master_data = FacetData(V, master)
+
+        # Mirror space: one value per slave quadrature point (P1 at vertices, DG1 at Gauss points).
+        family = "Lagrange" if quadrature == "nodal" else "DG"
+        self.W = function_space(mesh, family, 1, (nv * gdim,))
+        self.Ws = function_space(mesh, family, 1)
+        self.Xm = fem.Function(self.W, name="mirror_X")
+        self.w = fem.Function(self.W, name="mirror_u")
+        self.active = fem.Function(self.Ws, name="paired")
+        self.B = _POINTS[(quadrature, nv)]
+        self.Binv = np.linalg.inv(self.B)
+        sd = self.slave_data
+        self._wdofs = np.array([self.W.dofmap.cell_dofs(c)[loc] for c, loc in zip(sd.cells, sd.local)],
+                               dtype=np.int32).reshape(-1, nv)
+        self._sdofs = np.array([self.Ws.dofmap.cell_dofs(c)[loc] for c, loc in zip(sd.cells, sd.local)],
+                               dtype=np.int32).reshape(-1, nv)
+        if quadrature == "gauss" and len(np.unique(self._wdofs)) != self._wdofs.size:
+            raise ValueError(f"{name}: a cell has two slave facets; Gauss quadrature needs one per cell "
+                             "(refine the mesh at the corner or use quadrature 'nodal')")
+        Wmap = self.W.dofmap.index_map
+        self._wglobal = Wmap.local_to_global(self._wdofs.ravel()).reshape(self._wdofs.shape) if len(slave) else \
+            np.zeros((0, nv), np.int64)
+
+        # Master surface: gathered once (reference data), its displacements at every update.
+        md = self.master_data
+        own = md.owned
+        X = np.concatenate(self.comm.allgather(md.X[own]))
+        G = np.concatenate(self.comm.allgather(md.global_dofs[own]))
+        key = np.lexsort(np.round(X.mean(axis=1), 12).T[::-1])  # partition-independent order
+        self._mX, self._mG, self._mkey = X[key], G[key], key
+        if radius is None:
+            radius = 2.0 * float(np.max(np.linalg.norm(np.diff(self._mX, axis=1), axis=2))) if len(X) else 1.0
+        if not (np.isfinite(radius) and radius > 0):
+            raise ValueError(f"search radius must be a finite number > 0, got {radius!r}")
+        self.radius = float(radius)
+        self._bc_global = None  # set by bind_problem
+        self.I = None
+        self._pairs = None
+        self.pairing_changes = 0
+        self._pattern_version = 0
+        self._merged_version = -1
+        self.weight = fem.Constant(mesh, float(weight))
+
+        obstacle = MirrorObstacle(self.Xm, self.w, self.active, nv, gdim, self.radius)
+        self._set_dummy_mirror()
+        super().__init__(u, facet_tags, slave_tag, obstacle, law, load, quadrature, name)
+
+        # Coupling forms (compiled once).
+        v, vw = ufl.TestFunction(V), ufl.TestFunction(self.W)
+        du, dw = ufl.TrialFunction(V), ufl.TrialFunction(self.W)
+        r_u = self.weight * self.pressure * ufl.derivative(self.gap, u, v) * self.ds
+        r_w = self.weight * self.pressure * ufl.derivative(self.gap, self.w, vw) * self.ds
+        self._r_w = fem.form(r_w)
+        self._a_uw = fem.form(ufl.derivative(r_u, self.w, dw))
+        self._a_wu = fem.form(ufl.derivative(r_w, u, du))
+        self._a_ww = fem.form(ufl.derivative(r_w, self.w, dw))
+        self._tmp = None
+        self.update()
+
+    def _pressure(self):
+        return self.obstacle.active * super()._pressure()
+
+    def residual(self, v: ufl.Argument) -> ufl.Form:
+        """Slave part ``weight F(g) dg/du[v] ds``; the master part is :meth:`add_residual`."""
+        return self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds
+
+    # --- projection --------------------------------------------------------
+    def slave_points(self) -> np.ndarray:
+        """Current positions of the local slave points (nf, nq, gdim)."""
+        sd, d = self.slave_data, self.gdim
+        ua = self.u.x.array
+        x = sd.X + ua[(sd.dofs[..., None] * d + np.arange(d))]
+        return np.einsum("qk,fkj->fqj", self.B, x)
+
+    def _gather_master(self) -> np.ndarray:
+        md, d = self.master_data, self.gdim
+        uloc = self.u.x.array[(md.dofs[md.owned][..., None] * d + np.arange(d))]
+        U = np.concatenate(self.comm.allgather(uloc))[self._mkey]
+        return U
+
+    def update(self) -> bool:
+        """Project the slave points on the current master surface; set the mirror fields and ``I``.
+        Collective. Returns True if the pairing changed."""
+        U = self._gather_master()
+        xm = self._mX + U
+        pts = self.slave_points()
+        nf, nq, d = pts.shape if pts.size else (0, self.B.shape[0], self.gdim)
+        facet, bary, dist = project(pts.reshape(-1, d), xm, self.radius)
+        facet = facet.reshape(nf, nq)
+        # Gap and master normal at the points, in NumPy (the same formulas as the UFL).
+        ok = facet >= 0
+        gap = np.full((nf, nq), -np.inf)
+        normal = np.zeros((nf, nq, d))
+        if np.any(ok):
+            xv = xm[facet[ok]]
+            n = facet_normals(xv)
+            normal[ok] = n
+            gap[ok] = -np.einsum("ij,ij->i", pts[ok] - xv[:, 0], n)
+        self.projection = {"facet": facet, "bary": bary.reshape(nf, nq, self.nv), "distance": dist.reshape(nf, nq),
+                           "gap": gap, "normal": normal}
+        nv, bs = self.nv, self.nv * d
+        # Values at the slave points, then vertex values of the mirror space (B^-1).
+        Xq = np.zeros((nf, nq, bs))
+        Uq = np.zeros((nf, nq, bs))
+        Aq = (facet >= 0).astype(float)
+        ok = facet >= 0
+        Xq[ok] = self._mX[facet[ok]].reshape(-1, bs)
+        Uq[ok] = U[facet[ok]].reshape(-1, bs)
+        dummy = self._dummy_vertices().ravel()
+        Xq[~ok] = dummy
+        wX = np.einsum("aq,fqb->fab", self.Binv, Xq)
+        wU = np.einsum("aq,fqb->fab", self.Binv, Uq)
+        wA = np.einsum("aq,fq->fa", self.Binv, Aq)
+        idx = self._wdofs[..., None] * bs + np.arange(bs)
+        self.Xm.x.array[idx] = wX
+        self.w.x.array[idx] = wU
+        self.active.x.array[self._sdofs] = wA
+        pairs = self.comm.allreduce(0 if self._pairs is not None and np.array_equal(self._pairs, facet) else 1)
+        changed = pairs > 0
+        if changed or self.I is None:
+            self._pairs = facet.copy()
+            self._build_I(facet)
+            self.pairing_changes += 1
+            self._pattern_version += 1
+        return changed
+
+    def _dummy_vertices(self) -> np.ndarray:
+        """A unit facet far from nothing in particular: keeps the UFL normal finite where ``active = 0``."""
+        return np.vstack([np.zeros(self.gdim), np.eye(self.gdim)])[: self.nv]
+
+    def _set_dummy_mirror(self) -> None:
+        bs = self.nv * self.gdim
+        self.Xm.x.array[:] = np.tile(self._dummy_vertices().ravel(), len(self.Xm.x.array) // bs)
+
+    def _build_I(self, facet: np.ndarray) -> None:
+        """``I``: rows = mirror dofs of the local slave points (owned or not: PETSc moves off-process rows),
+        columns = global displacement dofs of the paired master vertices (Dirichlet dofs left out)."""
+        d, nv, bs = self.gdim, self.nv, self.nv * self.gdim
+        Wmap, Vmap = self.W.dofmap.index_map, self.V.dofmap.index_map
+        Vbs = self.V.dofmap.index_map_bs
+        I = PETSc.Mat().createAIJ(((Wmap.size_local * bs, Wmap.size_global * bs),
+                                   (Vmap.size_local * Vbs, Vmap.size_global * Vbs)), comm=self.comm)
+        nq = self.B.shape[0]
+        I.setPreallocationNNZ((nq, nq))
+        I.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        bc = self._bc_global if self._bc_global is not None else set()
+        for f in range(len(facet)):
+            for a in range(nv):
+                row0 = int(self._wglobal[f, a]) * bs
+                for k in range(nv):
+                    for i in range(d):
+                        entries: dict[int, float] = {}  # two points may share a master vertex: sum
+                        for q in range(nq):
+                            m = facet[f, q]
+                            if m < 0 or self.Binv[a, q] == 0.0:
+                                continue
+                            col = int(self._mG[m, k]) * Vbs + i
+                            if col not in bc:
+                                entries[col] = entries.get(col, 0.0) + self.Binv[a, q]
+                        if entries:
+                            I.setValues([row0 + k * d + i], list(entries), list(entries.values()),
+                                        addv=PETSc.InsertMode.INSERT_VALUES)
+        I.assemble()
+        if self.I is not None:
+            self.I.destroy()
+        self.I = I
+
+    # --- solver hooks --------------------------------------------------------
+    def bind_problem(self, problem) -> None:
+        """Learn the Dirichlet dofs (global numbers) of ``problem``; they are left out of ``I``."""
+        Vmap, bs = self.V.dofmap.index_map, self.V.dofmap.index_map_bs
+        local = np.unique(np.concatenate([bc_dofs(b) for b in problem.bcs])) if problem.bcs else np.zeros(0, int)
+        local = local[local < Vmap.size_local * bs]
+        glob = Vmap.local_to_global(local // bs) * bs + local % bs if len(local) else np.zeros(0, np.int64)
+        self._bc_global = set(np.concatenate(self.comm.allgather(glob)).tolist())
+        self._problem = problem
+        self._build_I(self._pairs)
+        self._pattern_version += 1
+
+    def prepare(self, problem) -> None:
+        """Before each residual evaluation (``u`` current): re-pair and refresh the mirror fields."""
+        if getattr(self, "_problem", None) is not problem:
+            self.bind_problem(problem)
+        self.update()
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        """``b += I^T r_w`` (owned entries; before boundary conditions are set)."""
+        rw = fem_petsc.assemble_vector(self._r_w)
+        rw.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        if self._tmp is None:
+            self._tmp = b.duplicate()
+        self.I.multTranspose(rw, self._tmp)
+        b.axpy(1.0, self._tmp)
+        rw.destroy()
+
+    def coupling_matrix(self, bcs) -> PETSc.Mat:
+        """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero)."""
+        A_uw = fem_petsc.assemble_matrix(self._a_uw, bcs=bcs)
+        A_uw.assemble()
+        A_wu = fem_petsc.assemble_matrix(self._a_wu, bcs=bcs)
+        A_wu.assemble()
+        A_ww = fem_petsc.assemble_matrix(self._a_ww)
+        A_ww.assemble()
+        C = A_uw.matMult(self.I)
+        C2 = self.I.transposeMatMult(A_wu)
+        C3 = A_ww.PtAP(self.I)
+        C.axpy(1.0, C2, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        C.axpy(1.0, C3, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        for m in (A_uw, A_wu, A_ww, C2, C3):
+            m.destroy()
+        return C
+
+    def add_jacobian(self, A: PETSc.Mat, bcs) -> bool:
+        """``A += coupling``; returns True when ``A``'s nonzero pattern was rebuilt (pairing changed)."""
+        C = self.coupling_matrix(bcs)
+        rebuild = self._merged_version != self._pattern_version
+        structure = PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN if rebuild else \
+            PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN
+        A.axpy(1.0, C, structure=structure)
+        self._merged_version = self._pattern_version
+        C.destroy()
+        return rebuild
+
+    # --- figures ---------------------------------------------------------------
+    def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Current position, gap and pressure at the slave quadrature points of the owned slave facets,
+        gathered on every rank and sorted by reference position (a vertex shared by two facets once).
+        Unpaired points have gap ``-inf`` and pressure 0."""
+        sd = self.slave_data
+        X = np.einsum("qk,fkj->fqj", self.B, sd.X)
+        x = self.slave_points()
+        g = self.projection["gap"]
+        c = {k: float(v.value) for k, v in self.constants.items()}
+        for k, f in self.fields.items():
+            c[k] = np.einsum("qk,fk->fq", self.B, f.x.array[self._sdofs])
+        gg = np.where(np.isfinite(g), g, -1e300)
+        p = np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
+        own = sd.owned
+        d = self.gdim
+        data = [np.concatenate(a) for a in zip(*self.comm.allgather(
+            (X[own].reshape(-1, d), x[own].reshape(-1, d), g[own].ravel(), p[own].ravel())))]
+        Xr = np.round(data[0], 12)
+        _, first = np.unique(Xr, axis=0, return_index=True)
+        order = first[np.lexsort(Xr[first].T[::-1])]
+        return data[1][order], data[2][order], data[3][order]
+
+    def paired_points(self) -> int:
+        """Number of slave points with a master facet within the search radius (all ranks; ghost points
+        counted by their owners only for P1)."""
+        return int(self.comm.allreduce(int(np.count_nonzero(self._pairs[self.slave_data.owned] >= 0))))
+
+
+def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,
+                      quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
+                      name: str = "twobody") -> list[TwoBodySurface]:
+    """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
+    ``law_factory()`` returns a fresh law for each surface."""
+    if passes not in PASSES:
+        raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
+    if passes == "one":
+        return [TwoBodySurface(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name)]
+    return [TwoBodySurface(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a"),
+            TwoBodySurface(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b")]

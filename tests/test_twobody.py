@@ -1,0 +1,169 @@
+"""Two deformable bodies: projection, consistent tangent (with master dofs), patch test, bad input, ranks."""
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import dolfinx.fem.petsc as fem_petsc
+from fenics_contact.compat import bc_dofs, petsc_vec
+from fenics_contact.laws import make_law
+from fenics_contact.meshes import LOWER_TOP, UPPER_BOTTOM, stacked_blocks
+from fenics_contact.scenes import build
+from fenics_contact.solver import Solver
+from fenics_contact.twobody import TwoBodySurface, closest_point_on_facets, project
+
+
+def test_projection_matches_brute_force():
+    """The bucket-grid search returns the closest facet of an all-pairs search, within the radius."""
+    rng = np.random.default_rng(1)
+    t = np.sort(rng.uniform(0, 2 * np.pi, 60))
+    ring = np.stack([np.cos(t), np.sin(t)], 1) * (1 + 0.05 * rng.standard_normal((60, 1)))
+    facets = np.stack([ring, np.roll(ring, -1, axis=0)], 1)
+    pts = rng.uniform(-1.3, 1.3, (300, 2))
+    radius = 0.3
+    facet, bary, dist = project(pts, facets, radius)
+    for p, f, b, d in zip(pts, facet, bary, dist):
+        dd, bb = closest_point_on_facets(p, facets)
+        if dd.min() <= radius:
+            assert f >= 0 and np.isclose(d, dd.min(), rtol=1e-14, atol=1e-15)
+            assert np.allclose(b @ facets[f], bb[np.argmin(dd)] @ facets[np.argmin(dd)])
+        else:
+            assert f == -1
+
+
+def test_closest_point_on_triangle_brute_force():
+    rng = np.random.default_rng(2)
+    tri = rng.standard_normal((1, 3, 3))
+    for p in rng.standard_normal((50, 3)) * 2:
+        d, b = closest_point_on_facets(p, tri)
+        s = rng.uniform(0, 1, (20000, 2))
+        s = np.where(s.sum(1, keepdims=True) > 1, 1 - s, s)
+        q = tri[0, 0] + s[:, :1] * (tri[0, 1] - tri[0, 0]) + s[:, 1:] * (tri[0, 2] - tri[0, 0])
+        assert d[0] <= np.linalg.norm(q - p, axis=1).min() + 1e-12
+        assert np.all(b >= -1e-14) and np.isclose(b.sum(), 1.0)
+
+
+@pytest.mark.parametrize("quadrature,passes", [("nodal", "one"), ("gauss", "one"), ("gauss", "two")])
+def test_consistent_tangent_with_master_dofs(quadrature, passes):
+    """Central differences of the contact residual (slave and master rows) against the assembled coupling
+    tangent, at a sliding configuration (upper block shifted along the interface, every node perturbed so
+    that the master facets rotate), to 1e-6 relative."""
+    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature=quadrature, passes=passes)
+    problem = setup.problem
+    solver = Solver(problem, quiet=True)
+    problem.set_load(1.0)
+    u = problem.u
+    V = u.function_space
+    rng = np.random.default_rng(0)
+    x = petsc_vec(u).copy()
+    X = V.tabulate_dof_coordinates()[: len(x.array) // 2]
+    upper = (X[:, 1] > 1.0 + 1e-9) | np.isclose(X[:, 1], 1.0 - 1e-6, rtol=0, atol=1e-9)
+    x.array[:] = 1e-3 * rng.standard_normal(x.array.shape)
+    x.array[0::2][upper] += 0.037  # slide
+    x.array[1::2][upper] -= 0.002  # press: every slave point active
+    d = x.duplicate()
+    d.array[:] = rng.standard_normal(d.array.shape)
+    for bc in problem.bcs:
+        x.array[bc_dofs(bc)] = 0.0
+        d.array[bc_dofs(bc)] = 0.0
+    # Bulk tangent (linear: its difference quotient is exact), subtracted from both sides.
+    du = ufl.TrialFunction(V)
+    v = ufl.TestFunction(V)
+    Ab = fem_petsc.assemble_matrix(fem.form(ufl.derivative(
+        ufl.derivative(problem.material.energy(u) * ufl.dx, u, v), u, du)), bcs=problem.bcs)
+    Ab.assemble()
+    b = x.duplicate()
+    solver._residual(None, x, b)
+    pairs = [c._pairs.copy() for c in setup.contacts]
+    solver._jacobian(None, x, solver._A, solver._A)
+    Jd, Bd = x.duplicate(), x.duplicate()
+    solver._A.mult(d, Jd)
+    Ab.mult(d, Bd)
+    Jd.axpy(-1.0, Bd)
+    eps = 1e-6
+    r = []
+    for s in (1.0, -1.0):
+        xs = x.copy()
+        xs.axpy(s * eps, d)
+        bs = x.duplicate()
+        solver._residual(None, xs, bs)
+        r.append(bs)
+        assert all(np.array_equal(p, c._pairs) for p, c in zip(pairs, setup.contacts))
+    fd = r[0].copy()
+    fd.axpy(-1.0, r[1])
+    fd.scale(0.5 / eps)
+    fd.axpy(-1.0, Bd)
+    # Master rows are nonzero: the coupling acts on both bodies.
+    lower_rows = np.repeat(~upper, 2)
+    master_norm = np.sqrt(MPI.COMM_WORLD.allreduce(float(np.sum(Jd.array[lower_rows] ** 2))))
+    assert master_norm > 0.1 * Jd.norm()
+    err = fd.copy()
+    err.axpy(-1.0, Jd)
+    assert err.norm() <= 1e-6 * Jd.norm(), err.norm() / Jd.norm()
+
+
+def _patch(quadrature, passes, comm=MPI.COMM_WORLD, by_body=False):
+    setup = build("patch", law_factory=lambda: make_law("auglag", K=1e6), quadrature=quadrature, passes=passes,
+                  comm=comm, by_body=by_body)
+    solver = Solver(setup.problem, augment_max=30, augment_tol=1e-8, quiet=True)
+    solver.run(setup.loads)
+    return setup, solver
+
+
+def test_patch_equilibrium_and_quadratic_newton():
+    setup, solver = _patch("gauss", "one")
+    f = setup.figures()
+    assert np.isclose(f["contact_force"], f["applied_force"], rtol=1e-9)
+    assert np.isclose(f["reaction_bottom"], f["applied_force"], rtol=1e-9)
+    res = solver.records[0].residuals[0]
+    # Quadratic convergence at the end of the first solve: r_{k+1} <= C r_k^2.
+    assert res[-2] < 1e-6 * res[0] and res[-2] <= 10 * res[-3] ** 2 / res[0]
+    # Converged multipliers: the slave points sit on the master (gap ~ 0).
+    for c in setup.contacts:
+        _, g, _ = c.point_values()
+        assert np.max(np.abs(g)) < 1e-7
+
+
+def test_bad_input():
+    mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (3, 2))
+    from fenics_contact.compat import function_space
+
+    u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
+    load = fem.Constant(mesh, 0.0)
+    law = make_law("penalty", K=1.0)
+    with pytest.raises(ValueError, match="slave_tag and master_tag must differ"):
+        TwoBodySurface(u, ft, LOWER_TOP, LOWER_TOP, law, load)
+    with pytest.raises(ValueError, match="absent from the mesh"):
+        TwoBodySurface(u, ft, 99, LOWER_TOP, law, load)
+    with pytest.raises(ValueError, match="absent from the mesh"):
+        TwoBodySurface(u, ft, UPPER_BOTTOM, 98, law, load)
+    from dolfinx import mesh as dmesh
+
+    empty = dmesh.meshtags(mesh, 1, np.zeros(0, np.int32), np.zeros(0, np.int32))
+    with pytest.raises(ValueError, match="absent from the mesh"):
+        TwoBodySurface(u, empty, UPPER_BOTTOM, LOWER_TOP, law, load)
+    with pytest.raises(ValueError, match="quadrature"):
+        TwoBodySurface(u, ft, UPPER_BOTTOM, LOWER_TOP, law, load, quadrature="simpson")
+    with pytest.raises(ValueError, match="passes"):
+        build("patch", law_factory=lambda: law, passes="three")
+
+
+def test_slave_and_master_on_different_ranks_equal_serial():
+    """With 2+ ranks the lower block (master) is on rank 0 and the upper (slave) on rank 1; the figures and
+    the pressure at every slave point equal the serial ones (1e-8 relative)."""
+    comm = MPI.COMM_WORLD
+    par, _ = _patch("gauss", "one", comm, by_body=True)
+    c = par.contacts[0]
+    if comm.size >= 2:
+        n_slave = comm.allgather(int(np.count_nonzero(c.slave_data.owned)))
+        n_master = comm.allgather(int(np.count_nonzero(c.master_data.owned)))
+        assert n_slave[0] == 0 and n_slave[1] > 0 and n_master[0] > 0 and n_master[1] == 0
+    ser, _ = _patch("gauss", "one", MPI.COMM_SELF)
+    fp, fs = par.figures(), ser.figures()
+    for k in fs:
+        assert abs(fp[k] - fs[k]) <= 1e-8 * max(abs(fs[k]), 1e-3), (k, fp[k], fs[k])
+    xp, gp, pp = c.point_values()
+    xs, gs, ps = ser.contacts[0].point_values()
+    assert np.allclose(xp, xs, rtol=0, atol=1e-12) and np.allclose(pp, ps, rtol=1e-8, atol=1e-8 * ps.max())
