@@ -65,18 +65,57 @@ def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement") -> t
     return fem.Function(V, name=name), V
 
 
-class MultiplierContact(ContactSurface):
-    """A contact surface whose pressure is the second field of the mixed unknown ``w``."""
+class PressureUnknown:
+    """What every surface with its pressure in the mixed unknown ``w`` shares: the pressure dofs off all
+    such surfaces fixed to 0 (one Dirichlet condition, carried by the first surface built on ``w``), and
+    the displacement for output. ``self.u`` is the mixed unknown (``self.w`` is two-body's mirror field).
+    A vertex on two such surfaces has one pressure (their rows add)."""
+
+    def _pressure_setup(self, w: fem.Function, facets: np.ndarray) -> None:
+        if not is_mixed(w.function_space):
+            raise ValueError(f"method {self.law.name!r} needs the mixed unknown of multipliers.unknown(...)")
+        W = w.function_space
+        self._on_surface = fem.locate_dofs_topological(W.sub(1), W.mesh.topology.dim - 1, facets)
+        surfaces = w.__dict__.setdefault("_fc_pressure_surfaces", [])  # all multiplier surfaces on w
+        surfaces.append(self)
+        self._bcs = None
+        V, self._v_to_w = W.sub(0).collapse()
+        self.displacement_out = fem.Function(V, name="displacement")
+
+    @property
+    def bcs(self) -> tuple:
+        """``p = 0`` on the pressure dofs off every multiplier surface of ``w`` (first surface only)."""
+        surfaces = self.u._fc_pressure_surfaces
+        if surfaces[0] is not self:
+            return ()
+        if self._bcs is None:
+            W = self.u.function_space
+            _, q_to_w = W.sub(1).collapse()
+            on = np.unique(np.concatenate([c._on_surface for c in surfaces]))
+            off = np.setdiff1d(np.asarray(q_to_w, dtype=np.int32), on).astype(np.int32)
+            self._bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
+        return self._bcs
+
+    def _constraint(self, v: ufl.Argument) -> ufl.Form:
+        """``-int C(p, g)/c q ds`` (vertex rule): the pressure rows."""
+        C = self.law.complementarity(self.pressure, self.gap, self.params, ufl_ops())
+        return -C / self.constants["c"] * ufl.split(v)[1] * self.ds
+
+    def update_output(self) -> None:
+        self.displacement_out.x.array[:] = self.u.x.array[self._v_to_w]
+        super().update_output()
+
+
+class MultiplierContact(PressureUnknown, ContactSurface):
+    """A contact surface (rigid obstacle) whose pressure is the second field of the mixed unknown ``w``."""
 
     def __init__(self, w: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: LagrangeMultiplier,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
-        if not is_mixed(w.function_space):
-            raise ValueError("method 'lagrange' needs the mixed unknown of multipliers.unknown(...)")
         if quadrature not in ("nodal", "simpson"):
             raise ValueError(f"method {law.name!r} enforces the contact at the vertices; the pressure's work "
                              f"is integrated with quadrature 'nodal' or 'simpson', got {quadrature!r}")
-        self.w = w
         super().__init__(w, facet_tags, tag, obstacle, law, load, "nodal", name)
+        self._pressure_setup(w, self.facets)
         self.work_quadrature = quadrature
         self.ds_work = contact_measure(w.function_space.mesh, facet_tags, tag, quadrature)
         # Figures with the quadrature of the work term, so that the contact force balances the loads.
@@ -84,27 +123,37 @@ class MultiplierContact(ContactSurface):
         self._force_forms = [fem.form(self.pressure * self.normal[i] * self.ds_work) for i in range(mesh.geometry.dim)]
         self._area_form = fem.form(fem.Constant(mesh, 1.0) * self.ds_work)
         self._mean_p_form = fem.form(self.pressure * self.ds_work)
-        W = w.function_space
-        fdim = W.mesh.topology.dim - 1
-        Q, q_to_w = W.sub(1).collapse()
-        on_surface = fem.locate_dofs_topological(W.sub(1), fdim, self.facets)
-        off = np.setdiff1d(np.asarray(q_to_w, dtype=np.int32), on_surface).astype(np.int32)
-        self.bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
-        V, self._v_to_w = W.sub(0).collapse()
-        self.displacement_out = fem.Function(V, name="displacement")
 
     def _pressure(self):
-        return ufl.split(self.w)[1]
+        return ufl.split(self.u)[1]
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """``int p dg[v] ds_work - int C(p, g)/c q ds`` (``v`` the mixed test function; ``ds`` the vertex
         rule, ``ds_work`` the vertex rule or Simpson's)."""
-        q = ufl.split(v)[1]
-        c = self.constants["c"]
-        C = self.law.complementarity(self.pressure, self.gap, self.params, ufl_ops())
-        work = self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
-        return work - C / c * q * self.ds
+        return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work + self._constraint(v)
 
-    def update_output(self) -> None:
-        self.displacement_out.x.array[:] = self.w.x.array[self._v_to_w]
-        super().update_output()
+
+def two_body_multipliers(w: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: LagrangeMultiplier,
+                         load: fem.Constant, radius: float | None = None, name: str = "twobody") -> list:
+    """One-pass two-body contact with the slave pressure as an unknown (nodal Signorini conditions of the
+    slave vertices against the current master facets, :mod:`twobody`'s projection and coupling)."""
+    from .twobody import TwoBodySurface  # twobody imports contact, as this module does
+
+    class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
+        def _pressure(self):
+            return ufl.split(self.u)[1]  # p = 0 where unpaired: the gap is then -open_gap (open)
+
+        def residual(self, v):
+            """``weight int p dg/du[v] ds - int C(p, g)/c q ds``; the master part is ``add_residual``."""
+            return self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds + self._constraint(v)
+
+        def _point_pressure(self, g):
+            """The pressure unknown at the slave vertices (nodal quadrature: the points are the vertices)."""
+            sd, Wp = self.slave_data, self.u.function_space.sub(1)
+            dofs = np.array([Wp.dofmap.cell_dofs(c)[loc] for c, loc in zip(sd.cells, sd.local)],
+                            dtype=np.int32).reshape(-1, self.nv)
+            return np.einsum("qk,fk->fq", self.B, self.u.x.array[dofs]) if len(dofs) else np.zeros_like(g)
+
+    s = TwoBodyMultiplier(w, facet_tags, slave_tag, master_tag, law, load, "nodal", 1.0, radius, name)
+    s._pressure_setup(w, s.facets)
+    return [s]

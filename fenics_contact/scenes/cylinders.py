@@ -35,14 +35,14 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..compat import function_space
-from ..contact import ContactSurface
-from ..laws import ContactLaw
+from ..bounds import contact_surface
+from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import Material, NeoHookean
 from ..meshes import (DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP,
                       two_half_disks)
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
+from ..multipliers import two_body_multipliers, unknown
 from ..twobody import two_body_surfaces
 from . import Setup
 from .hertz import contact_half_width
@@ -73,20 +73,23 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
             raise ValueError("give law_factory (or law)")
         law_factory = lambda: law  # noqa: E731
     mesh, _, facet_tags = two_half_disks(comm, R_LOWER, R_UPPER, h_contact, h_far, contact_width, OVERLAP)
-    V = function_space(mesh, "Lagrange", 1, (2,))
-    u = fem.Function(V, name="displacement")
+    u, V = unknown(mesh, 1, law_factory())  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     sym = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == DISK_SYMMETRY])
     dirichlet = [Dirichlet(V.sub(0), sym)]
     top = 2 * R_LOWER + 2 * R_UPPER - OVERLAP
-    lower_plate = ContactSurface(u, facet_tags, LOWER_ARC_BOTTOM, HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
+    lower_plate = contact_surface(u, facet_tags, LOWER_ARC_BOTTOM, HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
                                  law_factory(), load, quadrature, name="lower_plate")
-    upper_plate = ContactSurface(u, facet_tags, UPPER_ARC_TOP,
+    upper_plate = contact_surface(u, facet_tags, UPPER_ARC_TOP,
                                  HalfPlane([0.0, top - OVERLAP], [0.0, -1.0], motion=[0.0, -1.0]),
                                  law_factory(), load, quadrature, name="upper_plate")
-    pair = two_body_surfaces(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory, load, quadrature,
-                             passes, radius=max(2.0, 4 * h_far), name="cylinders")
+    if isinstance(law_factory(), LagrangeMultiplier):  # one pass: the upper surface's vertices are constrained
+        pair = two_body_multipliers(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory(), load,
+                                    radius=max(2.0, 4 * h_far), name="cylinders")
+    else:
+        pair = two_body_surfaces(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory, load, quadrature,
+                                 passes, radius=max(2.0, 4 * h_far), name="cylinders")
     contacts = [lower_plate, upper_plate, *pair]
     problem = ContactProblem(u, NeoHookean.from_lame(LAMBDA, MU), load, dirichlet, contacts)
 
@@ -125,6 +128,6 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     if loads is None:
         loads = [T_HERTZ] + np.arange(0.5, T_END + 1e-9, 0.5).tolist()
     setup = Setup("cylinders", problem, contacts, loads, params, figures,
-                  [u] + [f for c in contacts for f in (c.gap_out, c.pressure_out)])
+                  [lower_plate.displacement_out] + [f for c in contacts for f in (c.gap_out, c.pressure_out)])
     setup.profiles = profiles
     return setup
