@@ -76,9 +76,11 @@ for t in TIMES:
 figures = {name: {k: s[k] for k in ("end_force", "contact_force_y", "p_max", "belt_T_over_R", "max_penetration",
                                     "newton_iterations", "load_steps", "wall_time_s")}
            for name, s in summaries.items()}
-write_summary(out / "summary.json", {"scene": "sheet", "comparison": comparison, "runs": figures,
-                                     "parameters": summaries["multipliers"]["parameters"], "c": args.c,
-                                     "eps": args.eps, "ranks": MPI.COMM_WORLD.size}, MPI.COMM_WORLD)
+totals = {k: sum(s[k] for s in summaries.values()) for k in ("newton_iterations", "augmentations", "wall_time_s")}
+write_summary(out / "summary.json", {"scene": "sheet", "method": "compare", "ranks": MPI.COMM_WORLD.size,
+                                     "dofs": summaries["multipliers"]["dofs"], **totals, "comparison": comparison,
+                                     "runs": figures, "parameters": summaries["multipliers"]["parameters"],
+                                     "c": args.c, "eps": args.eps}, MPI.COMM_WORLD)
 
 # 4. CSV of every profile and the paper-like picture (pressure against the arc length from the top).
 if MPI.COMM_WORLD.rank == 0:
