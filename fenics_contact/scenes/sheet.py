@@ -26,6 +26,19 @@ element (gap at the two end nodes, pressure linear on the facet);
 ``penalty`` with Simpson's rule is the "three-point" penalty
 (``p = eps <g>`` at all three nodes).
 
+What the rigid limit shows (n_arc = 24, t = 1): the two-point penalty
+approaches the multipliers (max difference 6.7 % of the peak at eps = 1e4,
+0.11 % at 1e6); the three-point penalty oscillates between vertices and
+midpoints more as eps grows and stays 5.7 % off near the peak and the
+contact edge at 1e6 (0.09 % elsewhere). The paper's surface locking
+(three-point pressure not converging at all) needs two deformable surfaces,
+each enforcing the gap against the other: for a rigid obstacle (Signorini)
+a quadratic pressure is admissible, as the paper remarks. Missing for the
+deformable cylinder: two-body projection of quadratic (curved, 3-node)
+facets and quadrilaterals (``twobody`` handles flat P1 simplex facets), and
+the two-pass multiplier element (pressure on both surfaces, the middle
+pressure collocated from the opposite surface).
+
 Equilibrium: the end's vertical reaction ``T`` (the sheet's tension at the
 end, per unit thickness) equals the vertical contact force; on the arc the
 belt formula gives ``p ~ T/R`` (frictionless, thin sheet).
