@@ -132,8 +132,11 @@ class Solver:
         A.zeroEntries()
         fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
         A.assemble()
+        widened = False
         for c in self.problem.contacts:  # coupling blocks (may widen A's pattern when pairs change)
-            c.add_jacobian(A, self.problem.bcs)
+            widened |= bool(c.add_jacobian(A, self.problem.bcs))
+        if widened:  # a fresh symbolic factorization for the new pattern (PETSc 3.22's MUMPS kept the old one)
+            snes.getKSP().getPC().reset()
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _monitor(self, snes, it, norm):
