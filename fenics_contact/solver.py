@@ -136,7 +136,7 @@ class Solver:
         for c in self.problem.contacts:  # coupling blocks (may widen A's pattern when pairs change)
             widened |= bool(c.add_jacobian(A, self.problem.bcs))
         if widened:  # a fresh symbolic factorization for the new pattern (PETSc 3.22's MUMPS kept the old one)
-            snes.getKSP().getPC().reset()
+            self.snes.getKSP().getPC().reset()
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _monitor(self, snes, it, norm):
