@@ -8,7 +8,7 @@ Sheet (thickness 1, lambda = 1e3, mu = 5e2, neo-Hookean, plane strain,
 the stiffness ratio; see fenics_contact/scenes/sheet.py), ends pulled down
 by t up to 1. Five runs: Lagrange multipliers (two-point), the two-point
 penalty p = eps <g> at the end nodes and the three-point penalty at all three
-nodes, eps in {1e4, 1e6}. Writes <variant>/sheet.xdmf + summary.json per run,
+nodes, eps in {1e4, 1e6}. Writes <variant>/sheet.xdmf (displacement) + summary.json per run,
 sheet_pressure.csv (pressure at the contact nodes at t = 0.5 and 1),
 sheet_pressure.png and summary.json (the comparison) to --out.
 """
@@ -52,13 +52,13 @@ for name, eps, law in variants:
                   steps=args.steps)
     kept = {}
 
-    def on_step(t, setup=setup, kept=kept):
+    def after_step(t, setup=setup, kept=kept):
         if any(np.isclose(t, T) for T in TIMES):
-            kept[round(t, 6)] = setup.profile()  # also refreshes the nodal pressure written to XDMF
+            kept[round(t, 6)] = setup.profile()
 
     params = {"c": args.c} if eps is None else {"eps": eps}
     summaries[name] = run(setup, out / name.replace(" ", "_").replace("=", ""), law.name, params, quiet=args.quiet,
-                          on_step=on_step)
+                          after_step=after_step)
     profiles[name] = kept
 
 # 3. Compare with the multipliers: largest difference over the contact nodes (relative to the peak) and
@@ -103,7 +103,7 @@ if MPI.COMM_WORLD.rank == 0:
         for i, e in enumerate(args.eps):
             styles[f"two-point penalty eps={e:g}"] = f"-C{i}"
             styles[f"three-point penalty eps={e:g}"] = f"-.C{i + len(args.eps)}"
-        panels = [(f"t = {t:g}", [(n, profiles[n][t]["s"], profiles[n][t]["p"], styles[n]) for n, _, _ in variants])
-                  for t in TIMES]
-        plot_curves(panels, out / "sheet_pressure.png", xlabel="arc length from the top (reference)",
-                    title="sheet over a rigid cylinder: contact pressure")
+        curves = [(profiles[n][t]["s"], profiles[n][t]["p"], f"{n}, t = {t:g}", styles[n])
+                  for t in TIMES for n, _, _ in variants]
+        plot_curves(curves, out / "sheet_pressure.png", xlabel="arc length from the top (reference)",
+                    title="sheet over a rigid cylinder: contact pressure at t = 0.5 and 1")

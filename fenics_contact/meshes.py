@@ -293,11 +293,12 @@ DISKS_FACETS = {"symmetry": DISK_SYMMETRY, "lower_bottom": LOWER_ARC_BOTTOM, "lo
 
 
 def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: float, h_far: float,
-                   contact_width: float, overlap: float = 0.0) -> tuple[Mesh, MeshTags, MeshTags]:
+                   contact_width: float, overlap: float = 0.0, grading: float = _GRADING
+                   ) -> tuple[Mesh, MeshTags, MeshTags]:
     """Right halves (x >= 0) of two disks stacked on the y axis, in one mesh without shared nodes: the lower
     disk centred at ``(0, R_lower)``, the upper at ``(0, 2 R_lower + R_upper - overlap)``. P1 triangles of
     size ``h_contact`` within ``contact_width`` of the four points on the y axis where the disks touch each
-    other and the plates, growing by 0.25 per unit distance up to ``h_far``. Facet tags: DISKS_FACETS
+    other and the plates, growing by ``grading`` per unit distance up to ``h_far``. Facet tags: DISKS_FACETS
     (each arc split at its widest point into a bottom and a top quarter). Collective."""
     for name, v in (("R_lower", R_lower), ("R_upper", R_upper), ("h_contact", h_contact), ("h_far", h_far),
                     ("contact_width", contact_width)):
@@ -309,7 +310,7 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
         error = ""
         if comm.rank == 0:
             try:
-                _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap)
+                _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading)
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
                 error = f"gmsh failed to mesh the two half disks: {exc}"
         error = comm.bcast(error, root=0)
@@ -322,7 +323,7 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
     return mesh, cell_tags, facet_tags
 
 
-def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap):
+def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading):
     gmsh.model.add("two_half_disks")
     geo = gmsh.model.geo
     touch = []
@@ -356,7 +357,7 @@ def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap):
     field.setNumber(threshold, "SizeMin", h_contact)
     field.setNumber(threshold, "SizeMax", h_far)
     field.setNumber(threshold, "DistMin", width)
-    field.setNumber(threshold, "DistMax", width + (h_far - h_contact) / _GRADING)
+    field.setNumber(threshold, "DistMax", width + (h_far - h_contact) / grading)
     field.setAsBackgroundMesh(threshold)
     for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
         gmsh.option.setNumber(f"Mesh.{option}", 0)

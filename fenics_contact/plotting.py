@@ -128,26 +128,20 @@ def plot_profile(x: np.ndarray, p: np.ndarray, path: str | Path, x_ref: np.ndarr
     fig.savefig(str(path), dpi=150)
 
 
-def plot_curves(panels: Sequence[tuple[str, Sequence[tuple[str, np.ndarray, np.ndarray, str]]]], path: str | Path,
-                xlabel: str = "x", ylabel: str = "contact pressure", title: str = "") -> None:
-    """Side-by-side panels, each ``(panel title, [(label, x, y, matplotlib style), ...])``.
-
-    Not collective: call it on one rank (rank 0) with gathered arrays.
-    """
+def plot_curves(curves: Sequence[tuple[np.ndarray, np.ndarray, str, str]], path: str | Path, xlabel: str = "x",
+                ylabel: str = "contact pressure", title: str = "") -> None:
+    """Save a plot of several curves ``(x, y, label, matplotlib style)``. Not collective (call on rank 0)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(5.2 * len(panels), 4.4))
+    fig = Figure(figsize=(6.4, 4.4))
     FigureCanvasAgg(fig)
-    axes = fig.subplots(1, len(panels), squeeze=False)[0]
-    for ax, (name, curves) in zip(axes, panels):
-        for label, x, y, style in curves:
-            ax.plot(x, y, style, ms=2.5, lw=1.0, label=label)
-        ax.set(xlabel=xlabel, ylabel=ylabel, title=name)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    if title:
-        fig.suptitle(title)
+    ax = fig.add_subplot()
+    for x, y, label, style in curves:
+        ax.plot(x, y, style, ms=3, lw=1.0, label=label)
+    ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
     fig.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(str(path), dpi=150)

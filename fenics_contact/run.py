@@ -16,27 +16,27 @@ from .solver import ConvergenceError, Solver
 
 def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
         augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None,
-        on_step: Callable[[float], None] | None = None) -> dict:
+        after_step: Callable[[float], None] | None = None) -> dict:
     """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once.
 
+    ``after_step(t)`` is called after each converged step has been written (e.g. figures per step).
     Returns the summary (also in ``out/summary.json``). A step that fails
     after cutbacks writes the summary with ``converged: false`` and re-raises.
-    ``on_step(t)`` is called after every converged step, before the XDMF write.
     """
     out = Path(out)
     comm = setup.problem.comm
     start = time.perf_counter()
     with XDMFWriter(out / f"{setup.name}.xdmf", setup.problem.u.function_space.mesh, setup.fields) as xdmf:
 
-        def write(t: float) -> None:
+        def on_step(t: float) -> None:
             for c in setup.contacts:
                 c.update_output()
-            if on_step is not None:
-                on_step(t)
             xdmf.write(t)
+            if after_step is not None:
+                after_step(t)
 
         solver = Solver(setup.problem, augment_max=augment_max, augment_tol=augment_tol, quiet=quiet,
-                        options=options, on_step=write)
+                        options=options, on_step=on_step)
         error = None
         try:
             solver.run(setup.loads)

@@ -66,10 +66,9 @@ import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import ufl
 from dolfinx import fem
-from mpi4py import MPI
 from petsc4py import PETSc
 
-from .compat import bc_dofs, function_space, petsc_vec
+from .compat import bc_dofs, function_space
 from .contact import ContactSurface, check_facet_tag, is_mixed
 from .laws import ContactLaw
 from .obstacles import Obstacle
@@ -420,7 +419,7 @@ class TwoBodySurface(ContactSurface):
             gap[ok] = -np.einsum("ij,ij->i", pts[ok] - xv[:, 0], n)
         self.projection = {"facet": facet, "bary": bary.reshape(nf, nq, self.nv), "distance": dist.reshape(nf, nq),
                            "gap": gap, "normal": normal}
-        nv, bs = self.nv, self.nv * d
+        bs = self.nv * d
         # Values at the slave points, then vertex values of the mirror space (B^-1).
         Xq = np.zeros((nf, nq, bs))
         Uq = np.zeros((nf, nq, bs))
@@ -460,8 +459,8 @@ class TwoBodySurface(ContactSurface):
         d, nv, bs = self.gdim, self.nv, self.nv * self.gdim
         Wmap, Vmap = self.W.dofmap.index_map, self.V.dofmap.index_map
         Vbs = self.V.dofmap.index_map_bs
-        I = PETSc.Mat().createAIJ(((Wmap.size_local * bs, Wmap.size_global * bs),
-                                   (Vmap.size_local * Vbs, Vmap.size_global * Vbs)), comm=self.comm)
+        sizes = ((Wmap.size_local * bs, Wmap.size_global * bs), (Vmap.size_local * Vbs, Vmap.size_global * Vbs))
+        I = PETSc.Mat().createAIJ(sizes, comm=self.comm)  # noqa: E741 (the operator's name in the docstring)
         nq = self.B.shape[0]
         I.setPreallocationNNZ((nq, nq))
         I.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)

@@ -1,12 +1,11 @@
 """Two deformable bodies: projection, consistent tangent (with master dofs), patch test, bad input, ranks."""
+import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem
 from mpi4py import MPI
-from petsc4py import PETSc
 
-import dolfinx.fem.petsc as fem_petsc
 from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.laws import make_law
 from fenics_contact.meshes import LOWER_TOP, UPPER_BOTTOM, stacked_blocks
