@@ -34,10 +34,16 @@ node carries its share. The penalty regularization ``p = eps <g>`` at the
 end nodes is the law :class:`~fenics_contact.laws.PenaltyMultiplier` on the
 same space (``C = p - eps max(0, g)``).
 
+Two bodies (:func:`two_body_multipliers`): one pass; each slave vertex's
+pressure is an unknown and its gap is measured against the current master
+facets by :mod:`twobody`'s projection and mirror fields; the master rows and
+the constraint rows' dependence on the master displacement go through
+twobody's coupling ``I`` (its coupling forms are built from ``residual(v)``).
+
 Linear solver: the Jacobian is a saddle point with zero diagonal on the
 active pressure rows; the solver's default direct LU by MUMPS (unsymmetric
-LDU, threshold partial pivoting ``CNTL(1) = 0.01``, ordering chosen by
-MUMPS, ``ICNTL(7) = 7``) factors it; no option is changed.
+LU, threshold partial pivoting ``CNTL(1) = 0.01``, MUMPS's automatic
+ordering ``ICNTL(7) = 7``) factors it; no option is changed.
 """
 from __future__ import annotations
 
