@@ -87,6 +87,10 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
                                  HalfPlane([0.0, top - OVERLAP], [0.0, -1.0], motion=[0.0, -1.0]),
                                  law_factory(), load, quadrature, name="upper_plate")
     if isinstance(law_factory(), LagrangeMultiplier):  # one pass: the upper surface's vertices are constrained
+        if passes != "one" or quadrature != "nodal":
+            raise ValueError(f"method 'lagrange' on the cylinders is one-pass at the vertices: use passes 'one' and "
+                             f"quadrature 'nodal' (got {passes!r}, {quadrature!r}); two passes over-constrain "
+                             "P1 surfaces (surface locking)")
         pair = two_body_multipliers(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory(), load,
                                     radius=max(2.0, 4 * h_far), name="cylinders")
     else:
