@@ -84,6 +84,7 @@ class ContactSurface:
     """
 
     bcs: tuple = ()  # Dirichlet conditions the surface adds to the problem (multipliers: p = 0 off the surface)
+    solver_options: dict = {}  # PETSc defaults the formulation needs (options given by the user still win)
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
