@@ -221,49 +221,65 @@ def check_tags(facet_tags: MeshTags, tags: Mapping[str, int],
 
 # Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
 LOWER, UPPER = 1, 2
-LOWER_BOTTOM, LOWER_TOP, UPPER_BOTTOM, UPPER_TOP, BLOCK_LEFT = 21, 22, 23, 24, 25
+LOWER_BOTTOM, LOWER_TOP, UPPER_BOTTOM, UPPER_TOP, BLOCK_LEFT, BLOCK_FRONT = 21, 22, 23, 24, 25, 26
 STACKED_FACETS = {"lower_bottom": LOWER_BOTTOM, "lower_top": LOWER_TOP, "upper_bottom": UPPER_BOTTOM,
-                  "upper_top": UPPER_TOP, "left": BLOCK_LEFT}
+                  "upper_top": UPPER_TOP, "left": BLOCK_LEFT, "front": BLOCK_FRONT}
 
 
-def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float, n_lower: tuple[int, int],
-                   n_upper: tuple[int, int], overlap: float = 0.0, by_body: bool = False
+def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float, n_lower: tuple[int, ...],
+                   n_upper: tuple[int, ...], overlap: float = 0.0, by_body: bool = False
                    ) -> tuple[Mesh, MeshTags, MeshTags]:
     """Two blocks in one mesh, not sharing nodes: ``[0, width] x [0, h_lower]`` with ``n_lower = (nx, ny)``
     triangles pairs, and ``[0, width] x [h_lower - overlap, h_lower - overlap + h_upper]`` with ``n_upper``.
-    Different ``nx`` give non-matching interfaces. ``by_body``: the lower block on rank 0, the upper on
-    rank 1 (with 2 or more ranks; the test of a slave/master pair on different ranks).
+    Three counts ``(nx, ny, nz)`` give boxes ``[0, width]^2 x [..]`` of tetrahedra (6 per hexahedron), the
+    height along z. Different ``nx`` give non-matching interfaces. ``by_body``: the lower block on rank 0,
+    the upper on rank 1 (with 2 or more ranks; the test of a slave/master pair on different ranks).
 
-    Returns ``(mesh, cell_tags LOWER/UPPER, facet_tags STACKED_FACETS)``."""
+    Returns ``(mesh, cell_tags LOWER/UPPER, facet_tags STACKED_FACETS)`` (``front``: y = 0, in 3D only)."""
     from .compat import create_mesh
 
     for name, v in (("width", width), ("h_lower", h_lower), ("h_upper", h_upper)):
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+    dim = len(n_lower)
     for name, n in (("n_lower", n_lower), ("n_upper", n_upper)):
-        if len(n) != 2 or min(n) < 1:
-            raise ValueError(f"{name} must be two cell counts >= 1, got {n!r}")
+        if len(n) not in (2, 3) or len(n) != dim or min(n) < 1:
+            raise ValueError(f"{name} must be 2 (2D) or 3 (3D) cell counts >= 1, the same number for both, got {n!r}")
     xs, cs, body = [], [], []
     offset = 0
-    for b, (y0, h, (nx, ny)) in enumerate(((0.0, h_lower, n_lower), (h_lower - overlap, h_upper, n_upper))):
-        gx, gy = np.meshgrid(np.linspace(0, width, nx + 1), np.linspace(y0, y0 + h, ny + 1), indexing="xy")
-        xs.append(np.stack([gx.ravel(), gy.ravel()], axis=1))
-        idx = np.arange((nx + 1) * (ny + 1)).reshape(ny + 1, nx + 1) + offset
-        a, bb, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
-        cs.append(np.concatenate([np.stack([a, bb, c], 1), np.stack([a, c, d], 1)]))
-        body.append(np.full(2 * nx * ny, b))
-        offset += (nx + 1) * (ny + 1)
+    for b, (y0, h, n) in enumerate(((0.0, h_lower, n_lower), (h_lower - overlap, h_upper, n_upper))):
+        axes = [np.linspace(0, width, m + 1) for m in n[:-1]] + [np.linspace(y0, y0 + h, n[-1] + 1)]
+        grid = np.meshgrid(*axes, indexing="ij")
+        xs.append(np.stack([g.ravel() for g in grid], axis=1))
+        idx = np.arange(grid[0].size).reshape(grid[0].shape) + offset
+        if dim == 2:
+            a, bb, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+            cs.append(np.concatenate([np.stack([a, bb, c], 1), np.stack([a, c, d], 1)]))
+        else:  # Kuhn: 6 tetrahedra along the main diagonal, conforming across faces
+            corner = {(i, j, k): idx[i:idx.shape[0] - 1 + i, j:idx.shape[1] - 1 + j, k:idx.shape[2] - 1 + k].ravel()
+                      for i in (0, 1) for j in (0, 1) for k in (0, 1)}
+            tets = []
+            for perm in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
+                p, path = [0, 0, 0], [corner[(0, 0, 0)]]
+                for ax in perm:
+                    p[ax] = 1
+                    path.append(corner[tuple(p)])
+                tets.append(np.stack(path, 1))
+            cs.append(np.concatenate(tets))
+        body.append(np.full(len(cs[-1]), b))
+        offset += grid[0].size
     x, cells, owner = np.concatenate(xs), np.concatenate(cs), np.concatenate(body)
     if comm.rank != 0:
-        x, cells, owner = np.zeros((0, 2)), np.zeros((0, 3), np.int64), np.zeros(0, np.int32)
-    msh = create_mesh(comm, cells, x, "triangle", owner if by_body else None)
+        x, cells, owner = np.zeros((0, dim)), np.zeros((0, dim + 1), np.int64), np.zeros(0, np.int32)
+    msh = create_mesh(comm, cells, x, "triangle" if dim == 2 else "tetrahedron", owner if by_body else None)
     tdim = msh.topology.dim
     # Cell tags by centroid height (the lower block is below h_lower - overlap/2).
     msh.topology.create_connectivity(tdim, 0)
     ncell = msh.topology.index_map(tdim).size_local + msh.topology.index_map(tdim).num_ghosts
     mid = dmesh.compute_midpoints(msh, tdim, np.arange(ncell, dtype=np.int32))
     split = h_lower - overlap / 2
-    upper = mid[:, 1] > split
+    up = dim - 1  # the stacking axis
+    upper = mid[:, up] > split
     cell_tags = dmesh.meshtags(msh, tdim, np.arange(ncell, dtype=np.int32),
                                np.where(upper, UPPER, LOWER).astype(np.int32))
     # Facet tags: boundary facets by position and by the block of their cell.
@@ -275,11 +291,13 @@ def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float,
     ub = np.array([upper[f2c.links(f)[0]] for f in facets], dtype=bool)
     tol = 1e-9 * max(width, h_lower, h_upper)
     values = np.zeros(len(facets), np.int32)
-    values[(np.abs(fmid[:, 1]) < tol) & ~ub] = LOWER_BOTTOM
-    values[(np.abs(fmid[:, 1] - h_lower) < tol) & ~ub] = LOWER_TOP
-    values[(np.abs(fmid[:, 1] - (h_lower - overlap)) < tol) & ub] = UPPER_BOTTOM
-    values[(np.abs(fmid[:, 1] - (h_lower - overlap + h_upper)) < tol) & ub] = UPPER_TOP
+    values[(np.abs(fmid[:, up]) < tol) & ~ub] = LOWER_BOTTOM
+    values[(np.abs(fmid[:, up] - h_lower) < tol) & ~ub] = LOWER_TOP
+    values[(np.abs(fmid[:, up] - (h_lower - overlap)) < tol) & ub] = UPPER_BOTTOM
+    values[(np.abs(fmid[:, up] - (h_lower - overlap + h_upper)) < tol) & ub] = UPPER_TOP
     values[np.abs(fmid[:, 0]) < tol] = BLOCK_LEFT
+    if dim == 3:
+        values[np.abs(fmid[:, 1]) < tol] = BLOCK_FRONT
     keep = values > 0
     facet_tags = dmesh.meshtags(msh, fdim, facets[keep].astype(np.int32), values[keep])
     facet_tags.name = "facet_tags"

@@ -84,8 +84,6 @@ class Solver:
         opts = PETSc.Options()
         self._bounded = any(c.bounded for c in problem.contacts)
         defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self._bounded else {})}
-        for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
-            defaults.update(c.solver_options)
         wanted = {**defaults, **(options or {})}
         ours = [k for k in wanted if not opts.hasName(prefix + k)]
         for k in ours:
@@ -134,10 +132,9 @@ class Solver:
         A.zeroEntries()
         fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
         A.assemble()
-        widened = False
-        for c in self.problem.contacts:  # coupling blocks (may widen A's pattern when pairs change)
-            widened |= bool(c.add_jacobian(A, self.problem.bcs))
-        if widened:  # a fresh symbolic factorization for the new pattern (PETSc 3.22's MUMPS kept the old one)
+        # Coupling blocks; a contact whose pairing changed widens A's pattern: factor from scratch then
+        # (PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change).
+        if any([c.add_jacobian(A, self.problem.bcs) for c in self.problem.contacts]):
             self.snes.getKSP().getPC().reset()
         self.timings["assembly_s"] += time.perf_counter() - start
 

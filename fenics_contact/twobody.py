@@ -233,9 +233,13 @@ class BucketGrid:
         return self.cells.get(tuple(np.floor(p / self.h).astype(np.int64)), [])
 
 
-def project(points: np.ndarray, master: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.ndarray | None = None,
+            hysteresis: float = 1e-2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closest master facet to each point within ``radius``: ``(facet or -1, barycentric coordinates,
-    distance)``. Ties go to the lowest facet index (callers order facets independently of the partition)."""
+    distance)``. Ties go to the lowest facet index (callers order facets independently of the partition).
+    ``previous`` (facet per point, -1 for none): a point keeps its previous facet while that facet is no
+    more than ``hysteresis`` x its own size farther than the closest one, so that a point sitting where
+    two facets are (almost) equally close does not switch back and forth between Newton iterations."""
     n = len(points)
     nv = master.shape[1] if master.ndim == 3 else 2
     facet = np.full(n, -1, np.int64)
@@ -254,6 +258,12 @@ def project(points: np.ndarray, master: np.ndarray, radius: float) -> tuple[np.n
         if len(tied) > 1:
             line = np.abs(np.einsum("ij,ij->i", p - master[cand[tied], 0], facet_normals(master[cand[tied]])))
             j = int(tied[np.argmax(line)])
+        if previous is not None and previous[i] >= 0 and cand[j] != previous[i]:
+            k = np.flatnonzero(cand == previous[i])
+            if len(k):
+                size = np.linalg.norm(master[previous[i], 1] - master[previous[i], 0])
+                if d[k[0]] <= d[j] + hysteresis * size:
+                    j = int(k[0])
         if d[j] <= radius:
             facet[i], bary[i], dist[i] = cand[j], b[j], d[j]
     return facet, bary, dist
@@ -406,7 +416,8 @@ class TwoBodySurface(ContactSurface):
         xm = self._mX + U
         pts = self.slave_points()
         nf, nq, d = pts.shape if pts.size else (0, self.B.shape[0], self.gdim)
-        facet, bary, dist = project(pts.reshape(-1, d), xm, self.radius)
+        previous = None if self._pairs is None else self._pairs.ravel()
+        facet, bary, dist = project(pts.reshape(-1, d), xm, self.radius, previous)
         facet = facet.reshape(nf, nq)
         # Gap and master normal at the points, in NumPy (the same formulas as the UFL).
         ok = facet >= 0
@@ -568,11 +579,6 @@ class TwoBodySurface(ContactSurface):
         _, first = np.unique(Xr, axis=0, return_index=True)
         order = first[np.lexsort(Xr[first].T[::-1])]
         return data[1][order], data[2][order], data[3][order]
-
-    def paired_points(self) -> int:
-        """Number of slave points with a master facet within the search radius (all ranks; ghost points
-        counted by their owners only for P1)."""
-        return int(self.comm.allreduce(int(np.count_nonzero(self._pairs[self.slave_data.owned] >= 0))))
 
 
 def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,

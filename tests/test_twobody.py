@@ -44,12 +44,15 @@ def test_closest_point_on_triangle_brute_force():
         assert np.all(b >= -1e-14) and np.isclose(b.sum(), 1.0)
 
 
-@pytest.mark.parametrize("quadrature,passes", [("nodal", "one"), ("gauss", "one"), ("gauss", "two")])
-def test_consistent_tangent_with_master_dofs(quadrature, passes):
+@pytest.mark.parametrize("quadrature,passes,dim", [("nodal", "one", 2), ("gauss", "one", 2), ("gauss", "two", 2),
+                                                    ("nodal", "two", 3), ("gauss", "one", 3)])
+def test_consistent_tangent_with_master_dofs(quadrature, passes, dim):
     """Central differences of the contact residual (slave and master rows) against the assembled coupling
     tangent, at a sliding configuration (upper block shifted along the interface, every node perturbed so
-    that the master facets rotate), to 1e-6 relative."""
-    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature=quadrature, passes=passes)
+    that the master facets rotate), to 1e-6 relative. 2D: segments; 3D: triangle facets."""
+    sizes = {} if dim == 2 else {"n_lower": (2, 2, 1), "n_upper": (3, 3, 1)}
+    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature=quadrature, passes=passes,
+                  **sizes)
     problem = setup.problem
     solver = Solver(problem, quiet=True)
     problem.set_load(1.0)
@@ -57,11 +60,12 @@ def test_consistent_tangent_with_master_dofs(quadrature, passes):
     V = u.function_space
     rng = np.random.default_rng(0)
     x = petsc_vec(u).copy()
-    X = V.tabulate_dof_coordinates()[: len(x.array) // 2]
-    upper = (X[:, 1] > 1.0 + 1e-9) | np.isclose(X[:, 1], 1.0 - 1e-6, rtol=0, atol=1e-9)
+    X = V.tabulate_dof_coordinates()[: len(x.array) // dim]
+    z = X[:, dim - 1]
+    upper = (z > 1.0 + 1e-9) | np.isclose(z, 1.0 - 1e-6, rtol=0, atol=1e-9)
     x.array[:] = 1e-3 * rng.standard_normal(x.array.shape)
-    x.array[0::2][upper] += 0.037  # slide
-    x.array[1::2][upper] -= 0.002  # press: every slave point active
+    x.array[0::dim][upper] += 0.037  # slide
+    x.array[dim - 1::dim][upper] -= 0.002  # press: every slave point active
     d = x.duplicate()
     d.array[:] = rng.standard_normal(d.array.shape)
     for bc in problem.bcs:
@@ -95,11 +99,12 @@ def test_consistent_tangent_with_master_dofs(quadrature, passes):
     fd.scale(0.5 / eps)
     fd.axpy(-1.0, Bd)
     # Master rows are nonzero: the coupling acts on both bodies.
-    lower_rows = np.repeat(~upper, 2)
+    lower_rows = np.repeat(~upper, dim)
     master_norm = np.sqrt(MPI.COMM_WORLD.allreduce(float(np.sum(Jd.array[lower_rows] ** 2))))
     assert master_norm > 0.1 * Jd.norm()
     err = fd.copy()
     err.axpy(-1.0, Jd)
+    print(f"FD check {quadrature} {passes}-pass {dim}D: relative error {err.norm() / Jd.norm():.2e}")
     assert err.norm() <= 1e-6 * Jd.norm(), err.norm() / Jd.norm()
 
 

@@ -27,7 +27,7 @@ from mpi4py import MPI
 from ..compat import function_space
 from ..laws import ContactLaw
 from ..materials import LinearElastic
-from ..meshes import BLOCK_LEFT, LOWER_BOTTOM, LOWER_TOP, UPPER, UPPER_BOTTOM, UPPER_TOP, stacked_blocks
+from ..meshes import BLOCK_FRONT, BLOCK_LEFT, LOWER_BOTTOM, LOWER_TOP, UPPER, UPPER_BOTTOM, UPPER_TOP, stacked_blocks
 from ..problem import ContactProblem, Dirichlet
 from ..twobody import two_body_surfaces
 from . import Setup
@@ -53,10 +53,11 @@ class _TwoMaterials(LinearElastic):
 
 
 def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "gauss", passes: str = "one",
-          slave: str = "upper", n_lower: tuple[int, int] = (5, 4), n_upper: tuple[int, int] = (7, 5),
+          slave: str = "upper", n_lower: tuple[int, ...] = (5, 4), n_upper: tuple[int, ...] = (7, 5),
           by_body: bool = False, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
     """``slave``: ``upper`` or ``lower`` block's interface is the slave surface (one-pass).
-    ``law_factory()`` (or ``law`` for one pass) gives the contact law."""
+    ``law_factory()`` (or ``law`` for one pass) gives the contact law. Three cell counts make the 3D
+    version (unit cubes of tetrahedra stacked along z, rollers also on y = 0)."""
     if slave not in ("upper", "lower"):
         raise ValueError(f"slave must be 'upper' or 'lower', got {slave!r}")
     if law_factory is None:
@@ -66,20 +67,25 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
             raise ValueError("two-pass needs law_factory (one law per surface)")
         law_factory = lambda: law  # noqa: E731
     mesh, cell_tags, facet_tags = stacked_blocks(comm, 1.0, 1.0, 1.0, n_lower, n_upper, OVERLAP, by_body)
-    V = function_space(mesh, "Lagrange", 1, (2,))
+    dim = len(n_lower)
+    V = function_space(mesh, "Lagrange", 1, (dim,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
     D = function_space(mesh, "DG", 0)
     Ef = fem.Function(D)
     Ef.x.array[:] = np.where(cell_tags.values == UPPER, E_UPPER, E_LOWER)
     fdim = mesh.topology.dim - 1
-    bottom = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == LOWER_BOTTOM])
+    bottom = fem.locate_dofs_topological(V.sub(dim - 1), fdim,
+                                         facet_tags.indices[facet_tags.values == LOWER_BOTTOM])
     left = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == BLOCK_LEFT])
-    dirichlet = [Dirichlet(V.sub(1), bottom), Dirichlet(V.sub(0), left)]
+    dirichlet = [Dirichlet(V.sub(dim - 1), bottom), Dirichlet(V.sub(0), left)]
+    if dim == 3:
+        front = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == BLOCK_FRONT])
+        dirichlet.append(Dirichlet(V.sub(1), front))
     tags = (UPPER_BOTTOM, LOWER_TOP) if slave == "upper" else (LOWER_TOP, UPPER_BOTTOM)
     contacts = two_body_surfaces(u, facet_tags, *tags, law_factory, load, quadrature, passes, name="interface")
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=UPPER_TOP)
-    traction = (ufl.as_vector((0.0, -PRESSURE)), ds)
+    traction = (ufl.as_vector((0.0,) * (dim - 1) + (-PRESSURE,)), ds)
     problem = ContactProblem(u, _TwoMaterials(Ef, NU), load, dirichlet, contacts, [traction])
 
     def figures() -> dict:
@@ -87,7 +93,7 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
         for c in contacts:
             x, _, p = c.point_values()
             dev = max(dev, float(np.max(np.abs(p - PRESSURE))) / PRESSURE)
-            forces.append(float(c.total_force()[1]))
+            forces.append(float(c.total_force()[dim - 1]))
         return {"pressure_deviation": dev, "contact_force": float(np.mean(np.abs(forces))),
                 "applied_force": PRESSURE * 1.0, "reaction_bottom": problem.reaction(bottom)}
 
