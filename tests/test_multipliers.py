@@ -94,13 +94,27 @@ def test_two_body_multipliers_hertz_and_equilibrium(cylinders_lagrange):
     assert np.isclose(f["lower_plate_force"], f["total_force"], rtol=1e-8)
 
 
-def test_two_body_multipliers_equal_augmented_cross_constraints(cylinders_lagrange):
-    """Same slave points, same projection: converged augmentation reaches the multipliers' solution."""
+def test_two_body_multipliers_equal_augmented_cross_constraints(cylinders_lagrange, monkeypatch):
+    """Same slave points, same closest-facet pairing: converged augmentation reaches the multipliers' solution.
+
+    twobody's pairing hysteresis (a point keeps its facet while within 1 % of the facet size of the closest)
+    makes the converged pairing depend on the iteration path: the augmented runs, which move the points
+    more, then end 0.70 % higher in p0 (measured 13.116 against 13.025). With the closest facet always
+    (hysteresis 0) both methods solve one discrete problem."""
+    import functools
+
+    from fenics_contact import twobody
+
     f, _ = cylinders_lagrange
     fc, recs = solve_cylinders("cross", augment_max=30, K_hat=1e4)
     assert recs[-1].augmentation_converged
-    assert abs(fc["p0"] - f["p0"]) <= 1e-5 * f["p0"] and abs(fc["total_force"] - f["total_force"]) <= 1e-5 * f[
-        "total_force"], (fc["p0"], f["p0"])
+    assert abs(fc["p0"] - f["p0"]) <= 0.01 * f["p0"], (fc["p0"], f["p0"])  # the issue's acceptance: 1 %
+    monkeypatch.setattr(twobody, "project", functools.partial(twobody.project, hysteresis=0.0))
+    fm, _ = solve_cylinders("lagrange", c=1e3)
+    fc, recs = solve_cylinders("cross", augment_max=30, K_hat=1e4)
+    assert recs[-1].augmentation_converged
+    for k in ("p0", "total_force"):
+        assert abs(fc[k] - fm[k]) <= 1e-6 * fm[k], (k, fc[k], fm[k])  # measured 1e-10
 
 
 def test_two_body_multipliers_parallel_equals_serial(cylinders_lagrange):
