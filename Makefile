@@ -7,7 +7,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 MPIRUN := mpirun -n $(NP)
-DEMOS  := block hertz slab pin ring seal compliance3d patch cylinders
+DEMOS  := block hertz slab pin ring seal compliance3d patch cylinders sheet
 
 
 .PHONY: setup demo bench test lint test-serial test-mpi test-debian13 clean

@@ -31,7 +31,7 @@ summary = run(setup, out, args.method, cli.method_parameters(args), args.augment
 if not args.no_pictures:
     from fenics_contact.plotting import plot_deformed, plot_profile
 
-    u = setup.problem.u
+    u = setup.displacement
     syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
                                               name="sigma_yy"), setup.problem.material.stress(u)[1, 1])
     # The state is uniform: a fixed colour range keeps round-off from looking like a pattern.

@@ -38,7 +38,7 @@ summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": 
 if not args.no_pictures:
     from fenics_contact.plotting import plot_deformed, plot_profile
 
-    u = setup.problem.u
+    u = setup.displacement
     s = setup.problem.material.stress(u)
     dev = s - ufl.tr(s) / 2 * ufl.Identity(2)
     mises = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),

@@ -22,7 +22,7 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
                                 formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("--method", choices=list(METHODS), default="cross", help="contact formulation")
     p.add_argument("--K", type=float, default=default_K,
-                   help="penalty K (penalty, auglag) or stiffness K_hat at g = 0 (cross)")
+                   help="penalty K (penalty, auglag), stiffness K_hat at g = 0 (cross) or complementarity c (lagrange)")
     p.add_argument("--F-hat", type=float, default=0.0, help="cross: target pressure at g = 0")
     p.add_argument("--a", type=float, default=0.0, help="cross: shape parameter in [0, 1)")
     p.add_argument("--tau", type=float, default=1.0, help="cross: K_hat <- tau K_hat per augmentation")
@@ -56,7 +56,8 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if rest:
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
-        args.augment = 0 if args.method in ("penalty", "vi", "compliance", "coulomb") else 10
+        args.augment = 0 if args.method in ("penalty", "vi", "compliance", "coulomb", "lagrange",
+                                                "penalty_multiplier") else 10
     if args.c_n is None:
         args.c_n = args.K
     if args.omega_t is None:
@@ -87,12 +88,14 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
         law = make_law("compliance", c_n=args.c_n, m_n=args.m_n)
     elif args.method == "coulomb":
         return make_law("coulomb", mu=args.mu)  # exact Coulomb: mu is the law's own parameter
+    elif args.method == "lagrange":
+        law = make_law("lagrange", c=args.K)
     else:
         law = make_law(args.method, K=args.K)
     if not has_friction(args):
         return law
-    if args.method == "vi":
-        raise ValueError("method 'vi' has no friction: use --mu 0 (or another method)")
+    if args.method in ("vi", "lagrange", "penalty_multiplier"):
+        raise ValueError(f"method {args.method!r} has no friction: use --mu 0 (or another method)")
     if args.c_t is not None and args.mu != 0.0:
         raise ValueError(f"give either --mu ({args.mu}) or --c-t ({args.c_t}), not both")
     from .friction import Friction
@@ -104,7 +107,7 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
 
 def method_parameters(args: argparse.Namespace) -> dict:
     keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
-            "compliance": ["c_n", "m_n"], "coulomb": ["mu"]}[args.method]
+            "compliance": ["c_n", "m_n"], "coulomb": ["mu"], "lagrange": ["K"], "penalty_multiplier": ["K"]}[args.method]
     if has_friction(args) and args.method != "coulomb":
         keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["mu"]) + ["omega_t"]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,

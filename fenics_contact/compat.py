@@ -24,6 +24,24 @@ def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None
     return fem.FunctionSpace(mesh, (family, degree))
 
 
+def mixed_space(mesh, degree: int, pressure_degree: int = 1):
+    """Lagrange (displacement, vector, ``degree``) x Lagrange (pressure, scalar) on the whole mesh."""
+    gdim = mesh.geometry.dim
+    if hasattr(fem, "functionspace"):  # dolfinx >= 0.8: basix.ufl elements
+        import basix.ufl
+
+        cell = mesh.topology.cell_name()
+        el = basix.ufl.mixed_element([basix.ufl.element("Lagrange", cell, degree, shape=(gdim,)),
+                                      basix.ufl.element("Lagrange", cell, pressure_degree)])
+        return fem.functionspace(mesh, el)
+    import ufl
+
+    cell = mesh.ufl_cell()
+    el = ufl.MixedElement([ufl.VectorElement("Lagrange", cell, degree, dim=gdim),
+                           ufl.FiniteElement("Lagrange", cell, pressure_degree)])
+    return fem.FunctionSpace(mesh, el)
+
+
 def petsc_vec(f: fem.Function) -> PETSc.Vec:
     """The PETSc vector wrapping a Function's values (shares memory)."""
     return f.x.petsc_vec if hasattr(f.x, "petsc_vec") else f.vector

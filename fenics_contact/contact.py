@@ -21,7 +21,7 @@ from .meshes import check_tags
 from .obstacles import Obstacle
 from .projection import SurfaceProjector
 
-QUADRATURES = ("nodal", "gauss")
+QUADRATURES = ("nodal", "gauss", "simpson")
 
 # Reference-facet vertex rules (trapezoid and its 2D analogues) by facet cell name.
 _VERTEX_RULES = {
@@ -31,9 +31,20 @@ _VERTEX_RULES = {
 }
 
 
+# Simpson's rule on a segment: the two vertices and the midpoint (the nodes of a P2 facet).
+_SIMPSON = (((0.0,), (0.5,), (1.0,)), (1 / 6, 4 / 6, 1 / 6))
+
+
 def contact_measure(mesh, facet_tags, tag: int, quadrature: str) -> ufl.Measure:
-    """``ds`` on the tagged facets with the vertex rule (``nodal``) or the degree-2 Gauss rule."""
-    if quadrature == "nodal":
+    """``ds`` on the tagged facets with the vertex rule (``nodal``), the degree-2 Gauss rule, or
+    Simpson's rule (``simpson``, 2D: the three nodes of a quadratic facet)."""
+    if quadrature == "simpson":
+        if mesh.topology.dim != 2:
+            raise ValueError("contact quadrature 'simpson' is for 2D meshes (segment facets)")
+        pts, wts = _SIMPSON
+        md = {"quadrature_rule": "custom", "quadrature_degree": 3,
+              "quadrature_points": pts, "quadrature_weights": wts}
+    elif quadrature == "nodal":
         facet_cell = mesh.ufl_cell().facet_types()[0].cellname()
         pts, wts = _VERTEX_RULES[facet_cell]
         md = {"quadrature_rule": "custom", "quadrature_degree": 1,
@@ -43,6 +54,18 @@ def contact_measure(mesh, facet_tags, tag: int, quadrature: str) -> ufl.Measure:
     else:
         raise ValueError(f"contact quadrature must be one of {QUADRATURES}, got {quadrature!r}")
     return ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=tag, metadata=md)
+
+
+def is_mixed(V) -> bool:
+    """True for a mixed (displacement, pressure) space (:mod:`multipliers`), False for a displacement space."""
+    return V.num_sub_spaces > 0 and V.sub(0).num_sub_spaces > 0
+
+
+def displacement(w):
+    """The displacement part of an unknown or test/trial function: ``w`` itself, or its first
+    component when ``w`` lives on a mixed (displacement, pressure) space."""
+    V = w.function_space if hasattr(w, "function_space") else w.ufl_function_space()
+    return ufl.split(w)[0] if is_mixed(V) else w
 
 
 def check_facet_tag(mesh, facet_tags, tag: int, name: str) -> np.ndarray:
@@ -61,8 +84,12 @@ class ContactSurface:
     small-displacement gap ``g(X) - n(X) . u`` with the normal at the
     reference point instead (the classical Signorini problem; homogeneous in
     ``u`` for an initially touching contact). ``load`` is the scalar
-    ``Constant`` that moves the obstacle.
+    ``Constant`` that moves the obstacle. ``u`` is the problem's unknown: the displacement,
+    or a mixed (displacement, pressure) Function (:mod:`multipliers`).
     """
+
+    bcs: tuple = ()  # Dirichlet conditions the surface adds to the problem (multipliers: p = 0 off the surface)
+    solver_options: dict = {}  # PETSc defaults the formulation needs (options given by the user still win)
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
@@ -71,16 +98,19 @@ class ContactSurface:
         self.facets = check_facet_tag(mesh, facet_tags, tag, name)
         self.ds = contact_measure(mesh, facet_tags, tag, quadrature)
         obstacle.bind(load)
+        self.displacement_out = u  # the displacement Function for output (a collapsed copy if u is mixed)
         X = ufl.SpatialCoordinate(mesh)
         if linearized:  # first order in u: dg/du = -n (n points from the obstacle into the body)
             self.normal = obstacle.normal(X)
-            self.gap = obstacle.gap(X) - ufl.dot(self.normal, u)
+            self.gap = obstacle.gap(X) - ufl.dot(self.normal, displacement(u))
         else:
-            self.gap = obstacle.gap(X + u)
-            self.normal = obstacle.normal(X + u)
+            self.gap = obstacle.gap(X + displacement(u))
+            self.normal = obstacle.normal(X + displacement(u))
 
         # Law parameters: scalars as Constants, fields at the quadrature points.
-        self.S = function_space(mesh, "Lagrange" if quadrature == "nodal" else "DG", 1)
+        # One state dof per quadrature point on each facet (see projection.py).
+        self.S = function_space(mesh, *{"nodal": ("Lagrange", 1), "gauss": ("DG", 1),
+                                        "simpson": ("Lagrange", 2)}[quadrature])
         self.constants = {k: fem.Constant(mesh, float(v)) for k, v in law.scalars.items()}
         self.fields = {}
         for k, v in law.fields.items():

@@ -283,17 +283,58 @@ def _heaviside_closed(x, ops):
     return ops.min(ops.max(x * 1e300 + 1.0, 0.0), 1.0)
 
 
+class LagrangeMultiplier(ContactLaw):
+    """No law: the contact pressure ``p`` is an unknown (method ``lagrange``, :mod:`fenics_contact.multipliers`).
+
+    Exact nodal Signorini conditions ``g <= 0, p >= 0, p g = 0`` through the
+    complementarity function ``C(p, g) = p - max(0, p + c g)`` (zero iff they
+    hold, for any ``c > 0``). ``c`` (pressure per length, like a penalty)
+    only steers the semismooth Newton iterates, not the converged solution.
+    """
+
+    name = "lagrange"
+
+    def __init__(self, c: float = 1.0):
+        self.scalars = {"c": _check_positive("complementarity parameter c", c)}
+        self.fields = {}
+
+    def complementarity(self, p, g, c, ops=NUMPY):
+        """``C(p, g) = p - max(0, p + c g)``; ``max(0, .)`` first so that UFL's generalized derivative
+        counts the tie ``p + c g = 0`` as active."""
+        return p - ops.max(0.0, p + c["c"] * g)
+
+    def force(self, g, c, ops=NUMPY):
+        raise TypeError("method 'lagrange' has no contact law: its pressure is an unknown")
+
+
+class PenaltyMultiplier(LagrangeMultiplier):
+    """Penalty regularization of the multipliers (Papadopoulos & Solberg's ``p = eps <g>``): the
+    pressure stays an unknown, now with ``p = eps <g>`` at the contact vertices instead of the exact
+    complementarity, i.e. ``C(p, g) = p - eps max(0, g)``. ``eps`` (``K`` on the command line) in
+    pressure per length; ``eps -> infinity`` gives the multipliers' solution."""
+
+    name = "penalty_multiplier"
+
+    def __init__(self, K: float):
+        self.scalars = {"c": _check_positive("penalty eps (K)", K)}
+        self.fields = {}
+
+    def complementarity(self, p, g, c, ops=NUMPY):
+        return p - c["c"] * ops.max(0.0, g)
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
 METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian,
-           "compliance": NormalCompliance, "vi": Exact, "coulomb": Coulomb}
+           "compliance": NormalCompliance, "vi": Exact, "coulomb": Coulomb, "lagrange": LagrangeMultiplier,
+           "penalty_multiplier": PenaltyMultiplier}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``compliance``, ``vi``, ``coulomb``)."""
+    """Build a law by method name (see ``METHODS``)."""
     if method not in METHODS:
         raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
     return METHODS[method](**params)

@@ -16,7 +16,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .compat import petsc_vec
-from .contact import ContactSurface
+from .contact import ContactSurface, displacement
 from .materials import Material
 
 
@@ -44,20 +44,24 @@ class Dirichlet:
 
 
 class ContactProblem:
-    """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian."""
+    """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
+
+    ``u`` is the unknown: the displacement, or a mixed (displacement, pressure)
+    Function when a contact surface has its pressure as an unknown (:mod:`multipliers`).
+    """
 
     def __init__(self, u: fem.Function, material: Material, load: fem.Constant,
                  dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[ContactSurface] = (),
                  tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = ()):
         self.u, self.material, self.load = u, material, load
         self.dirichlet, self.contacts = list(dirichlet), list(contacts)
-        self.bcs = [d.bc for d in self.dirichlet]
+        self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        bulk = ufl.derivative(material.energy(u) * ufl.dx, u, v)
+        bulk = ufl.derivative(material.energy(displacement(u)) * ufl.dx, u, v)
         residual = bulk
         for t, ds in tractions:
-            residual -= load * ufl.dot(t, v) * ds
+            residual -= load * ufl.dot(t, displacement(v)) * ds
         for c in self.contacts:
             term = c.residual(v)
             if term is not None:  # exact enforcement adds bounds, not a term

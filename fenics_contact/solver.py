@@ -107,6 +107,8 @@ class Solver:
         opts = PETSc.Options()
         self._bounded = any(c.bounded for c in problem.contacts)
         defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self._bounded else {})}
+        for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
+            defaults.update(c.solver_options)
         wanted = {**defaults, **(options or {})}
         ours = [k for k in wanted if not opts.hasName(prefix + k)]
         for k in ours:

@@ -69,7 +69,7 @@ from dolfinx import fem
 from petsc4py import PETSc
 
 from .compat import bc_dofs, function_space
-from .contact import ContactSurface, check_facet_tag
+from .contact import ContactSurface, check_facet_tag, is_mixed
 from .laws import ContactLaw
 from .obstacles import Obstacle
 
@@ -91,9 +91,12 @@ _POINTS = {
 class FacetData:
     """Vertices of the local facets with ``tag``: displacement block dofs ``dofs`` (nf, nv), ordered so
     that the facet normal of :func:`facet_normals` points out of the body; reference coordinates ``X``
-    (nf, nv, gdim); the cell of each facet and the cell-local index of each facet vertex; ``owned``."""
+    (nf, nv, gdim); the cell of each facet and the cell-local index of each facet vertex; ``owned``.
+    ``comp`` (nf, nv, gdim): local indices of the displacement components in the unknown's array,
+    ``global_comp``: their global numbers; for a mixed unknown (:mod:`multipliers`) ``V`` is the collapsed
+    displacement space and ``parent = (collapsed-to-parent map, parent space)``."""
 
-    def __init__(self, V: fem.FunctionSpace, facets: np.ndarray):
+    def __init__(self, V: fem.FunctionSpace, facets: np.ndarray, parent=None):
         mesh = V.mesh
         tdim, gdim = mesh.topology.dim, mesh.geometry.dim
         mesh.topology.create_connectivity(tdim - 1, tdim)
@@ -131,6 +134,15 @@ class FacetData:
         self.owned = np.asarray(facets) < imap.size_local
         Vmap = V.dofmap.index_map
         self.global_dofs = Vmap.local_to_global(dofs.ravel()).reshape(dofs.shape) if nf else dofs.astype(np.int64)
+        comp = dofs[..., None] * gdim + np.arange(gdim)
+        if parent is None:
+            self.comp, self.global_comp = comp, self.global_dofs[..., None] * gdim + np.arange(gdim)
+        else:
+            to_parent, W = np.asarray(parent[0]), parent[1]
+            self.comp = to_parent[comp].astype(np.int32)
+            Wmap = W.dofmap.index_map  # a mixed space has block size 1
+            self.global_comp = (Wmap.local_to_global(self.comp.ravel()).reshape(self.comp.shape) if nf
+                                else self.comp.astype(np.int64))
 
 
 def facet_normals(x: np.ndarray) -> np.ndarray:
@@ -311,8 +323,13 @@ class TwoBodySurface(ContactSurface):
         tdim, gdim = mesh.topology.dim, mesh.geometry.dim
         nv = tdim
         self.V, self.gdim, self.nv = V, gdim, nv
-        self.slave_data = FacetData(V, slave)
-        self.master_data = FacetData(V, master)
+        if is_mixed(V):  # the displacement is the first field of a mixed unknown (method lagrange)
+            Vd, to_parent = V.sub(0).collapse()
+            self.slave_data = FacetData(Vd, slave, (to_parent, V))
+            self.master_data = FacetData(Vd, master, (to_parent, V))
+        else:
+            self.slave_data = FacetData(V, slave)
+            self.master_data = FacetData(V, master)
 
         # Mirror space: one value per slave quadrature point (P1 at vertices, DG1 at Gauss points).
         family = "Lagrange" if quadrature == "nodal" else "DG"
@@ -339,7 +356,7 @@ class TwoBodySurface(ContactSurface):
         md = self.master_data
         own = md.owned
         X = np.concatenate(self.comm.allgather(md.X[own]))
-        G = np.concatenate(self.comm.allgather(md.global_dofs[own]))
+        G = np.concatenate(self.comm.allgather(md.global_comp[own]))
         key = np.lexsort(np.round(X.mean(axis=1), 12).T[::-1])  # partition-independent order
         self._mX, self._mG, self._mkey = X[key], G[key], key
         if radius is None:
@@ -362,7 +379,7 @@ class TwoBodySurface(ContactSurface):
         # Coupling forms (compiled once).
         v, vw = ufl.TestFunction(V), ufl.TestFunction(self.W)
         du, dw = ufl.TrialFunction(V), ufl.TrialFunction(self.W)
-        r_u = self.weight * self.pressure * ufl.derivative(self.gap, u, v) * self.ds
+        r_u = self.residual(v)  # slave rows (and, for multipliers, the constraint rows)
         r_w = self.weight * self.pressure * ufl.derivative(self.gap, self.w, vw) * self.ds
         self._r_w = fem.form(r_w)
         self._a_uw = fem.form(ufl.derivative(r_u, self.w, dw))
@@ -381,14 +398,14 @@ class TwoBodySurface(ContactSurface):
     # --- projection --------------------------------------------------------
     def slave_points(self) -> np.ndarray:
         """Current positions of the local slave points (nf, nq, gdim)."""
-        sd, d = self.slave_data, self.gdim
+        sd = self.slave_data
         ua = self.u.x.array
-        x = sd.X + ua[(sd.dofs[..., None] * d + np.arange(d))]
+        x = sd.X + ua[sd.comp]
         return np.einsum("qk,fkj->fqj", self.B, x)
 
     def _gather_master(self) -> np.ndarray:
-        md, d = self.master_data, self.gdim
-        uloc = self.u.x.array[(md.dofs[md.owned][..., None] * d + np.arange(d))]
+        md = self.master_data
+        uloc = self.u.x.array[md.comp[md.owned]]
         U = np.concatenate(self.comm.allgather(uloc))[self._mkey]
         return U
 
@@ -469,7 +486,7 @@ class TwoBodySurface(ContactSurface):
                             m = facet[f, q]
                             if m < 0 or self.Binv[a, q] == 0.0:
                                 continue
-                            col = int(self._mG[m, k]) * Vbs + i
+                            col = int(self._mG[m, k, i])
                             if col not in bc:
                                 entries[col] = entries.get(col, 0.0) + self.Binv[a, q]
                         if entries:
@@ -537,6 +554,14 @@ class TwoBodySurface(ContactSurface):
         return rebuild
 
     # --- figures ---------------------------------------------------------------
+    def _point_pressure(self, g: np.ndarray) -> np.ndarray:
+        """The law's pressure at the slave points (nf, nq) from their gaps (0 where unpaired)."""
+        c = {k: float(v.value) for k, v in self.constants.items()}
+        for k, f in self.fields.items():
+            c[k] = np.einsum("qk,fk->fq", self.B, f.x.array[self._sdofs])
+        gg = np.where(np.isfinite(g), g, -self.radius)  # the UFL gap of an unpaired point
+        return np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
+
     def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Current position, gap and pressure at the slave quadrature points of the owned slave facets,
         gathered on every rank and sorted by reference position (a vertex shared by two facets once).
@@ -545,11 +570,7 @@ class TwoBodySurface(ContactSurface):
         X = np.einsum("qk,fkj->fqj", self.B, sd.X)
         x = self.slave_points()
         g = self.projection["gap"]
-        c = {k: float(v.value) for k, v in self.constants.items()}
-        for k, f in self.fields.items():
-            c[k] = np.einsum("qk,fk->fq", self.B, f.x.array[self._sdofs])
-        gg = np.where(np.isfinite(g), g, -self.radius)  # the UFL gap of an unpaired point
-        p = np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
+        p = self._point_pressure(g)
         own = sd.owned
         d = self.gdim
         data = [np.concatenate(a) for a in zip(*self.comm.allgather(

@@ -32,6 +32,11 @@ class Setup:
     build_time_s: float = 0.0  # mesh, spaces and form compilation (max over ranks)
 
     @property
+    def displacement(self) -> fem.Function:
+        """The displacement Function (``fields[0]``; a collapsed copy when the unknown is mixed)."""
+        return self.fields[0]
+
+    @property
     def dofs(self) -> int:
         V = self.problem.u.function_space
         return V.dofmap.index_map.size_global * V.dofmap.index_map_bs

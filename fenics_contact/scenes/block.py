@@ -14,11 +14,11 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ..bounds import contact_surface
-from ..compat import function_space
 from ..laws import ContactLaw
 from ..materials import MODELS
 from ..meshes import BOTTOM, LEFT, rectangle
 from ..meshes import RECT_TOP as TOP
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
@@ -32,8 +32,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
           steps: int = 1) -> Setup:
     """``model``: ``linear`` (the paper's) or ``neohookean`` (finite strain, same E and nu)."""
     mesh, _, facet_tags = rectangle(comm, HALF_WIDTH, HEIGHT, nx, ny, quadrilateral)
-    V = function_space(mesh, "Lagrange", 1, (2,))
-    u = fem.Function(V, name="displacement")
+    u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     top = facet_tags.indices[facet_tags.values == TOP]
@@ -57,7 +56,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
     params = {"E": E, "nu": NU, "height": HEIGHT, "width": 2 * HALF_WIDTH, "displacement": DISPLACEMENT,
               "nx": nx, "ny": ny, "quadrature": quadrature, "material": model, "model": "half (symmetry x = 0)"}
     return Setup("block", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
-                 [u, contact.gap_out, contact.pressure_out])
+                 [contact.displacement_out, contact.gap_out, contact.pressure_out])
 
 
 def reference() -> dict:

@@ -40,11 +40,11 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..compat import function_space
-from ..contact import ContactSurface
-from ..laws import ContactLaw
+from ..bounds import contact_surface
+from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import Material, NeoHookean
 from ..meshes import DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP, two_half_disks
+from ..multipliers import two_body_multipliers, unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from ..twobody import two_body_surfaces
@@ -80,20 +80,27 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         law_factory = lambda: law  # noqa: E731
     mesh, _, facet_tags = two_half_disks(comm, R_LOWER, R_UPPER, h_contact, h_far, contact_width, OVERLAP,
                                          grading)
-    V = function_space(mesh, "Lagrange", 1, (2,))
-    u = fem.Function(V, name="displacement")
+    u, V = unknown(mesh, 1, law_factory())  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     sym = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == DISK_SYMMETRY])
     dirichlet = [Dirichlet(V.sub(0), sym)]
     top = 2 * R_LOWER + 2 * R_UPPER - OVERLAP
-    lower_plate = ContactSurface(u, facet_tags, LOWER_ARC_BOTTOM, HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
+    lower_plate = contact_surface(u, facet_tags, LOWER_ARC_BOTTOM, HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
                                  law_factory(), load, quadrature, name="lower_plate")
-    upper_plate = ContactSurface(u, facet_tags, UPPER_ARC_TOP,
+    upper_plate = contact_surface(u, facet_tags, UPPER_ARC_TOP,
                                  HalfPlane([0.0, top - OVERLAP], [0.0, -1.0], motion=[0.0, -1.0]),
                                  law_factory(), load, quadrature, name="upper_plate")
-    pair = two_body_surfaces(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory, load, quadrature,
-                             passes, radius=max(2.0, 4 * h_far), name="cylinders")
+    if isinstance(law_factory(), LagrangeMultiplier):  # one pass: the upper surface's vertices are constrained
+        if passes != "one" or quadrature != "nodal":
+            raise ValueError(f"method 'lagrange' on the cylinders is one-pass at the vertices: use passes 'one' and "
+                             f"quadrature 'nodal' (got {passes!r}, {quadrature!r}); two passes over-constrain "
+                             "P1 surfaces (surface locking)")
+        pair = two_body_multipliers(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory(), load,
+                                    radius=max(2.0, 4 * h_far), name="cylinders")
+    else:
+        pair = two_body_surfaces(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory, load, quadrature,
+                                 passes, radius=max(2.0, 4 * h_far), name="cylinders")
     contacts = [lower_plate, upper_plate, *pair]
     problem = ContactProblem(u, NeoHookean.from_lame(LAMBDA, MU), load, dirichlet, contacts)
 
@@ -135,6 +142,6 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     for c in contacts:  # one name per field in the XDMF file
         c.gap_out.name, c.pressure_out.name = f"gap_{c.name}", f"contact_pressure_{c.name}"
     setup = Setup("cylinders", problem, contacts, loads, params, figures,
-                  [u] + [f for c in contacts for f in (c.gap_out, c.pressure_out)])
+                  [lower_plate.displacement_out] + [f for c in contacts for f in (c.gap_out, c.pressure_out)])
     setup.profiles = profiles
     return setup

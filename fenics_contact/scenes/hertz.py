@@ -21,10 +21,10 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ..bounds import contact_surface
-from ..compat import function_space
 from ..laws import ContactLaw
 from ..materials import LinearElastic
 from ..meshes import CONTACT, SYMMETRY, TOP, hertz_quarter_disk
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
@@ -62,8 +62,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact)."""
     h = R / 400 / 2**refinement
     mesh, _, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R)
-    V = function_space(mesh, "Lagrange", 1, (2,))
-    u = fem.Function(V, name="displacement")
+    u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
@@ -85,4 +84,4 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     params = {"E": E, "nu": NU, "R": R, "approach": APPROACH, "h_contact": h, "refinement": refinement,
               "quadrature": quadrature, "model": "quarter disk (symmetry x = 0 and y = R)"}
     return Setup("hertz", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
-                 [u, contact.gap_out, contact.pressure_out])
+                 [contact.displacement_out, contact.gap_out, contact.pressure_out])

@@ -1,0 +1,110 @@
+"""Elastic sheet pulled over a much stiffer cylinder: two-point against three-point enforcement.
+
+    python demos/sheet.py
+    mpirun -n 2 python demos/sheet.py --out results/sheet --n-arc 48
+
+Sheet (thickness 1, lambda = 1e3, mu = 5e2, neo-Hookean, plane strain,
+9-node quadrilaterals; Papadopoulos & Solberg 1998) over the cylinder R_out = 3, here rigid (the limit of
+the stiffness ratio; see fenics_contact/scenes/sheet.py), ends pulled down
+by t up to 1. Five runs: Lagrange multipliers (two-point), the two-point
+penalty p = eps <g> at the end nodes and the three-point penalty at all three
+nodes, eps in {1e4, 1e6}. Writes <variant>/sheet.xdmf (displacement) + summary.json per run,
+sheet_pressure.csv (pressure at the contact nodes at t = 0.5 and 1),
+sheet_pressure.png and summary.json (the comparison) to --out.
+"""
+import argparse
+import csv
+from pathlib import Path
+
+import numpy as np
+from mpi4py import MPI
+
+from fenics_contact import cli
+from fenics_contact.laws import LagrangeMultiplier, Penalty, PenaltyMultiplier
+from fenics_contact.output import write_summary
+from fenics_contact.run import run
+from fenics_contact.scenes import build, sheet
+
+TIMES = (0.5, 1.0)
+
+# 1. Options: mesh, load steps, the complementarity parameter and the penalties.
+p = argparse.ArgumentParser(description=__doc__.splitlines()[0], epilog="Other -options go to PETSc (prefix fc_).")
+p.add_argument("--n-arc", type=int, default=24, help="elements along the quarter arc (the leg gets n_arc/3)")
+p.add_argument("--steps", type=int, default=4, help="load steps (even, so that t = 0.5 is one)")
+p.add_argument("--c", type=float, default=1e3, help="multipliers: complementarity parameter, ~E/h")
+p.add_argument("--eps", type=float, nargs="+", default=[1e4, 1e6], help="penalty parameters")
+p.add_argument("--out", default="results/sheet", help="output directory")
+p.add_argument("--no-pictures", action="store_true", help="skip the PNG")
+p.add_argument("--quiet", action="store_true", help="no progress lines")
+p.set_defaults(method="compare", augment=0)
+args = cli.parse(p)
+if args.steps % 2:
+    p.error(f"--steps must be even (t = 0.5 must be a load step), got {args.steps}")
+out = Path(args.out)
+variants = [("multipliers", None, LagrangeMultiplier(args.c))]
+variants += [(f"two-point penalty eps={e:g}", e, PenaltyMultiplier(e)) for e in args.eps]
+variants += [(f"three-point penalty eps={e:g}", e, Penalty(e)) for e in args.eps]
+
+# 2. Each variant: build the scene, solve to t = 1, keep the interface pressure at t = 0.5 and 1.
+profiles, summaries = {}, {}
+for name, eps, law in variants:
+    setup = build("sheet", law=law, quadrature="simpson", n_arc=args.n_arc, n_leg=max(args.n_arc // 3, 1),
+                  steps=args.steps)
+    kept = {}
+
+    def after_step(t, setup=setup, kept=kept):
+        if any(np.isclose(t, T) for T in TIMES):
+            kept[round(t, 6)] = setup.profile()
+
+    params = {"c": args.c} if eps is None else {"eps": eps}
+    summaries[name] = run(setup, out / name.replace(" ", "_").replace("=", ""), law.name, params, quiet=args.quiet,
+                          after_step=after_step)
+    profiles[name] = kept
+
+# 3. Compare with the multipliers: largest difference over the contact nodes (relative to the peak) and
+#    the node-to-node oscillation (total variation over all nodes minus that over the vertices).
+comparison = {}
+for t in TIMES:
+    ref = profiles["multipliers"][t]["p"]
+    peak = float(ref.max())
+    rows = {}
+    for name, _, _ in variants:
+        pr = profiles[name][t]["p"]
+        rows[name] = {"max_difference_over_peak": float(np.abs(pr - ref).max() / peak), "p_max": float(pr.max()),
+                      "total_variation": sheet.total_variation(pr), "oscillation": sheet.oscillation(pr)}
+    comparison[f"t={t:g}"] = {"peak_multipliers": peak, "variants": rows}
+figures = {name: {k: s[k] for k in ("end_force", "contact_force_y", "p_max", "belt_T_over_R", "max_penetration",
+                                    "newton_iterations", "load_steps", "wall_time_s")}
+           for name, s in summaries.items()}
+totals = {k: sum(s[k] for s in summaries.values()) for k in ("newton_iterations", "augmentations", "wall_time_s")}
+write_summary(out / "summary.json", {"scene": "sheet", "method": "compare", "ranks": MPI.COMM_WORLD.size,
+                                     "dofs": summaries["multipliers"]["dofs"], **totals, "comparison": comparison,
+                                     "runs": figures, "parameters": summaries["multipliers"]["parameters"],
+                                     "c": args.c, "eps": args.eps}, MPI.COMM_WORLD)
+
+# 4. CSV of every profile and the paper-like picture (pressure against the arc length from the top).
+if MPI.COMM_WORLD.rank == 0:
+    with open(out / "sheet_pressure.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["variant", "t", "arc_length", "x", "y", "pressure"])
+        for name, kept in profiles.items():
+            for t, pr in kept.items():
+                for row in zip(pr["s"], pr["x"], pr["y"], pr["p"]):
+                    w.writerow([name, t, *(f"{v:.10g}" for v in row)])
+    for t, c in comparison.items():
+        print(f"{t}: multipliers' peak {c['peak_multipliers']:.4g}")
+        for name, r in c["variants"].items():
+            print(f"  {name:30s} max |p - p_mult| / peak {r['max_difference_over_peak']:.4f}  "
+                  f"oscillation {r['oscillation']:.4g}")
+    if not args.no_pictures:
+        from fenics_contact.plotting import plot_curves
+
+        styles = {"multipliers": "k:"}
+        for i, e in enumerate(args.eps):
+            styles[f"two-point penalty eps={e:g}"] = f"-C{i}"
+            styles[f"three-point penalty eps={e:g}"] = f"-.C{i + len(args.eps)}"
+        near = {n: {t: profiles[n][t]["s"] <= 5.5 for t in TIMES} for n, _, _ in variants}  # the leg is free below
+        curves = [(profiles[n][t]["s"][near[n][t]], profiles[n][t]["p"][near[n][t]], n if t == 1.0 else f"_{n}",
+                   styles[n]) for t in TIMES for n, _, _ in variants]  # one legend entry per variant
+        plot_curves(curves, out / "sheet_pressure.png", xlabel="arc length from the top (reference)",
+                    title="sheet over a rigid cylinder: contact pressure at t = 0.5 and 1")

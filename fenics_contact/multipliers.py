@@ -1,0 +1,169 @@
+"""Exact contact by Lagrange multipliers (method ``lagrange``): the contact pressure is an unknown.
+
+Space: the unknown lives on ``W = V x Q``, ``V`` the displacement space
+(vector Lagrange, P1 or P2) and ``Q`` scalar P1 for the pressure ``p``
+(positive in compression). dolfinx 0.5.2 cannot assemble a mixed form whose
+second field lives on a submesh of the boundary, so ``Q`` is P1 on the whole
+mesh and the pressure dofs off the contact surface are removed from the
+problem by Dirichlet conditions ``p = 0``: they stay in the linear system as
+identity rows and columns (decoupled, eliminated by the direct solver at no
+cost; the honest fallback, not a reduced index set). Which dofs are "on the
+surface" is decided by ``locate_dofs_topological`` on the contact facets,
+which communicates shared dofs, so every rank agrees.
+
+Constraint, per contact vertex (vertex quadrature ``contact_measure(...,
+"nodal")``, so the integrals are weighted nodal values): the spec's
+complementarity function ``C(p, g) = p - max(0, p + c g)`` (gap ``g > 0``
+penetration) is zero iff ``g <= 0, p >= 0, p g = 0``. The residual is
+
+    u rows:  dW[v] + int p dg[v] ds
+    p rows:  int -C(p, g)/c q ds = int (max(0, p/c + g) - p/c) q ds
+
+(``C`` divided by ``-c`` so that the Jacobian is symmetric: active rows are
+``dg[du] q``, the transpose of the ``u`` rows' ``dp dg[v]``; inactive rows
+are ``-dp q / c``). The Jacobian is ``ufl.derivative`` of the residual: the
+derivative of ``max_value`` is UFL's generalized (semismooth) derivative, so
+SNES ``newtonls`` is a semismooth Newton / primal-dual active-set method.
+``c`` changes the iterates, not the converged solution.
+
+Quadratic displacements (Papadopoulos & Solberg's "two-point" element for a
+rigid obstacle): the gap is enforced at the two end nodes of each contact
+facet only, the pressure is linear on the facet, and its work ``int p dg[v]``
+is integrated with Simpson's rule (``quadrature="simpson"``) so the middle
+node carries its share. The penalty regularization ``p = eps <g>`` at the
+end nodes is the law :class:`~fenics_contact.laws.PenaltyMultiplier` on the
+same space (``C = p - eps max(0, g)``).
+
+Two bodies (:func:`two_body_multipliers`): one pass; each slave vertex's
+pressure is an unknown and its gap is measured against the current master
+facets by :mod:`twobody`'s projection and mirror fields; the master rows and
+the constraint rows' dependence on the master displacement go through
+twobody's coupling ``I`` (its coupling forms are built from ``residual(v)``).
+
+Linear solver: the Jacobian is a saddle point with zero diagonal on the
+active pressure rows; the solver's default direct LU by MUMPS (unsymmetric
+LU, threshold partial pivoting ``CNTL(1) = 0.01``, MUMPS's automatic
+ordering ``ICNTL(7) = 7``) factors it; no option is changed.
+"""
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from .compat import function_space, mixed_space
+from .contact import ContactSurface, contact_measure, is_mixed
+from .laws import ContactLaw, LagrangeMultiplier, ufl_ops
+from .obstacles import Obstacle
+
+
+def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement") -> tuple[fem.Function, object]:
+    """The problem's unknown and the displacement (sub)space for Dirichlet data.
+
+    ``(u, V)`` with ``u`` on the vector Lagrange space ``V`` of ``degree``, or,
+    for method ``lagrange``, ``(w, W.sub(0))`` with ``w`` on the mixed space
+    (displacement of ``degree``, pressure P1). ``V.sub(i)`` are the components either way.
+    """
+    if isinstance(law, LagrangeMultiplier):
+        W = mixed_space(mesh, degree)
+        return fem.Function(W, name="displacement_pressure"), W.sub(0)
+    V = function_space(mesh, "Lagrange", degree, (mesh.geometry.dim,))
+    return fem.Function(V, name=name), V
+
+
+class PressureUnknown:
+    """What every surface with its pressure in the mixed unknown ``w`` shares: the pressure dofs off all
+    such surfaces fixed to 0 (one Dirichlet condition, carried by the first surface built on ``w``), and
+    the displacement for output. ``self.u`` is the mixed unknown (``self.w`` is two-body's mirror field).
+    A vertex on two such surfaces has one pressure (their rows add)."""
+
+    # Full semismooth Newton steps: the l2 line search damps the active-set changes (cylinders: 9 iterations
+    # per step for c = 1e2 .. 1e4 with basic, 17-30 with l2; bt fails).
+    solver_options = {"snes_linesearch_type": "basic"}
+
+    def _pressure_setup(self, w: fem.Function, facets: np.ndarray) -> None:
+        if not is_mixed(w.function_space):
+            raise ValueError(f"method {self.law.name!r} needs the mixed unknown of multipliers.unknown(...)")
+        W = w.function_space
+        self._on_surface = fem.locate_dofs_topological(W.sub(1), W.mesh.topology.dim - 1, facets)
+        surfaces = w.__dict__.setdefault("_fc_pressure_surfaces", [])  # all multiplier surfaces on w
+        surfaces.append(self)
+        self._bcs = None
+        V, self._v_to_w = W.sub(0).collapse()
+        self.displacement_out = fem.Function(V, name="displacement")
+
+    @property
+    def bcs(self) -> tuple:
+        """``p = 0`` on the pressure dofs off every multiplier surface of ``w`` (first surface only)."""
+        surfaces = self.u._fc_pressure_surfaces
+        if surfaces[0] is not self:
+            return ()
+        if self._bcs is None:
+            W = self.u.function_space
+            _, q_to_w = W.sub(1).collapse()
+            on = np.unique(np.concatenate([c._on_surface for c in surfaces]))
+            off = np.setdiff1d(np.asarray(q_to_w, dtype=np.int32), on).astype(np.int32)
+            self._bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
+        return self._bcs
+
+    def _constraint(self, v: ufl.Argument) -> ufl.Form:
+        """``-int C(p, g)/c q ds`` (vertex rule): the pressure rows."""
+        C = self.law.complementarity(self.pressure, self.gap, self.params, ufl_ops())
+        return -C / self.constants["c"] * ufl.split(v)[1] * self.ds
+
+    def update_output(self) -> None:
+        self.displacement_out.x.array[:] = self.u.x.array[self._v_to_w]
+        super().update_output()
+
+
+class MultiplierContact(PressureUnknown, ContactSurface):
+    """A contact surface (rigid obstacle) whose pressure is the second field of the mixed unknown ``w``."""
+
+    def __init__(self, w: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: LagrangeMultiplier,
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
+        if quadrature not in ("nodal", "simpson"):
+            raise ValueError(f"method {law.name!r} enforces the contact at the vertices; the pressure's work "
+                             f"is integrated with quadrature 'nodal' or 'simpson', got {quadrature!r}")
+        super().__init__(w, facet_tags, tag, obstacle, law, load, "nodal", name)
+        self._pressure_setup(w, self.facets)
+        self.work_quadrature = quadrature
+        self.ds_work = contact_measure(w.function_space.mesh, facet_tags, tag, quadrature)
+        # Figures with the quadrature of the work term, so that the contact force balances the loads.
+        mesh = w.function_space.mesh
+        self._force_forms = [fem.form(self.pressure * self.normal[i] * self.ds_work) for i in range(mesh.geometry.dim)]
+        self._area_form = fem.form(fem.Constant(mesh, 1.0) * self.ds_work)
+        self._mean_p_form = fem.form(self.pressure * self.ds_work)
+
+    def _pressure(self):
+        return ufl.split(self.u)[1]
+
+    def residual(self, v: ufl.Argument) -> ufl.Form:
+        """``int p dg[v] ds_work - int C(p, g)/c q ds`` (``v`` the mixed test function; ``ds`` the vertex
+        rule, ``ds_work`` the vertex rule or Simpson's)."""
+        return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work + self._constraint(v)
+
+
+def two_body_multipliers(w: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: LagrangeMultiplier,
+                         load: fem.Constant, radius: float | None = None, name: str = "twobody") -> list:
+    """One-pass two-body contact with the slave pressure as an unknown (nodal Signorini conditions of the
+    slave vertices against the current master facets, :mod:`twobody`'s projection and coupling)."""
+    from .twobody import TwoBodySurface  # twobody imports contact, as this module does
+
+    class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
+        def _pressure(self):
+            return ufl.split(self.u)[1]  # p = 0 where unpaired: the gap is then -open_gap (open)
+
+        def residual(self, v):
+            """``weight int p dg/du[v] ds - int C(p, g)/c q ds``; the master part is ``add_residual``."""
+            return self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds + self._constraint(v)
+
+        def _point_pressure(self, g):
+            """The pressure unknown at the slave vertices (nodal quadrature: the points are the vertices)."""
+            sd, Wp = self.slave_data, self.u.function_space.sub(1)
+            dofs = np.array([Wp.dofmap.cell_dofs(c)[loc] for c, loc in zip(sd.cells, sd.local)],
+                            dtype=np.int32).reshape(-1, self.nv)
+            return np.einsum("qk,fk->fq", self.B, self.u.x.array[dofs]) if len(dofs) else np.zeros_like(g)
+
+    s = TwoBodyMultiplier(w, facet_tags, slave_tag, master_tag, law, load, "nodal", 1.0, radius, name)
+    s._pressure_setup(w, s.facets)
+    return [s]
