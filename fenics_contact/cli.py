@@ -107,7 +107,8 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
 
 def method_parameters(args: argparse.Namespace) -> dict:
     keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
-            "compliance": ["c_n", "m_n"], "coulomb": ["mu"], "lagrange": ["K"], "penalty_multiplier": ["K"]}[args.method]
+            "compliance": ["c_n", "m_n"], "coulomb": ["mu"], "lagrange": ["K"],
+            "penalty_multiplier": ["K"]}[args.method]
     if has_friction(args) and args.method != "coulomb":
         keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["mu"]) + ["omega_t"]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
