@@ -614,6 +614,9 @@ def _build_seal_wave(d: dict, h: float) -> None:
     gmsh.model.addPhysicalGroup(1, [a1, b1, a2, e2, b2], SEAL_BOUNDARY)
     gmsh.model.addPhysicalGroup(1, [sym], SEAL_SYMMETRY)
     gmsh.model.addPhysicalGroup(2, [s1, s2], SEAL_DOMAIN)
+    gmsh.model.mesh.generate(2)
+
+
 # Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
 LOWER, UPPER = 1, 2
 LOWER_BOTTOM, LOWER_TOP, UPPER_BOTTOM, UPPER_TOP, BLOCK_LEFT, BLOCK_FRONT = 21, 22, 23, 24, 25, 26
