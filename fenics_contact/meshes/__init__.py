@@ -1,0 +1,64 @@
+"""Meshes for the contact benchmarks, with named physical tags; one module per geometry.
+
+gmsh meshes (``hertz_quarter_disk``, ``pin_plate``, the seal sections, ``two_half_disks``,
+``sheet_over_cylinder``) are built on rank 0 and distributed with ``dolfinx.io.gmshio.model_to_mesh``;
+``rectangle`` and ``stacked_blocks`` use dolfinx's built-in meshes, ``ring_quarter`` maps a rectangle
+to polar coordinates. All functions are collective on ``comm``. The seal geometry is documented in
+:mod:`fenics_contact.meshes.seal`.
+"""
+from .hertz import hertz_quarter_disk  # noqa: F401
+from .pin import pin_plate  # noqa: F401
+from .rectangle import check_tags, rectangle  # noqa: F401
+from .ring import ring_quarter  # noqa: F401
+from .seal import (  # noqa: F401
+    seal_geometry,
+    seal_s_geometry,
+    seal_s_section,
+    seal_section,
+    seal_wave_geometry,
+    seal_wave_section,
+)
+from .sheet import sheet_over_cylinder  # noqa: F401
+from .tags import (  # noqa: F401
+    BOTTOM,
+    CONTACT,
+    DOMAIN,
+    END,
+    FREE,
+    HERTZ_FACETS,
+    LEFT,
+    PIN_FACETS,
+    RECT_TOP,
+    RECTANGLE_FACETS,
+    RIGHT,
+    RING_AXIS,
+    RING_FACETS,
+    RING_INNER,
+    RING_MID,
+    RING_OUTER,
+    SEAL_BOUNDARY,
+    SEAL_DOMAIN,
+    SEAL_SYMMETRY,
+    SHEET_FACETS,
+    SYMMETRY,
+    TOP,
+)
+from .twobody import (  # noqa: F401
+    BLOCK_FRONT,
+    BLOCK_LEFT,
+    DISK_SYMMETRY,
+    DISKS_FACETS,
+    LOWER,
+    LOWER_ARC_BOTTOM,
+    LOWER_ARC_TOP,
+    LOWER_BOTTOM,
+    LOWER_TOP,
+    STACKED_FACETS,
+    UPPER,
+    UPPER_ARC_BOTTOM,
+    UPPER_ARC_TOP,
+    UPPER_BOTTOM,
+    UPPER_TOP,
+    stacked_blocks,
+    two_half_disks,
+)

@@ -1,0 +1,55 @@
+"""gmsh plumbing shared by the mesh builders: build on rank 0, distribute, size grading."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import gmsh
+from dolfinx.io import gmshio
+from mpi4py import MPI
+
+if TYPE_CHECKING:
+    from dolfinx.mesh import Mesh
+    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+
+
+
+# Slope of the mesh size with distance in the graded zone (size / length).
+_GRADING = 0.25
+
+
+def _from_gmsh(comm: MPI.Comm, build, what: str) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Run ``build()`` (adds and meshes a 2D gmsh model) on rank 0 and distribute the mesh with its tags.
+
+    Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
+    """
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        error = ""
+        if comm.rank == 0:
+            try:
+                build()
+            except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
+                error = f"gmsh failed to mesh {what}: {exc}"
+        error = comm.bcast(error, root=0)
+        if error:
+            raise RuntimeError(error)
+        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+    finally:
+        gmsh.finalize()
+
+
+def _grade_toward(distance: int, h_near: float, h_far: float, width: float) -> None:
+    """Background size: ``h_near`` where the gmsh field ``distance`` is below ``width``, then growing
+    by ``_GRADING`` per unit distance up to ``h_far``."""
+    field = gmsh.model.mesh.field
+    threshold = field.add("Threshold")
+    field.setNumber(threshold, "InField", distance)
+    field.setNumber(threshold, "SizeMin", h_near)
+    field.setNumber(threshold, "SizeMax", h_far)
+    field.setNumber(threshold, "DistMin", width)
+    field.setNumber(threshold, "DistMax", width + (h_far - h_near) / _GRADING)
+    field.setAsBackgroundMesh(threshold)
+    for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+        gmsh.option.setNumber(f"Mesh.{option}", 0)

@@ -1,0 +1,56 @@
+"""Quarter ring (structured polar mesh) for the ring scene."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+if TYPE_CHECKING:
+    from dolfinx.mesh import Mesh
+    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+from .rectangle import rectangle
+from .tags import RING_AXIS, RING_INNER, RING_MID, RING_OUTER
+
+
+def ring_quarter(comm: MPI.Comm, R_out: float, R_in: float, n_theta: int, n_r: int,
+                 quadrilateral: bool = True) -> tuple[Mesh, None, MeshTags]:
+    """Lower-right quarter (x >= 0, y <= R_out) of the ring R_in <= r <= R_out centred at (0, R_out).
+
+    Structured polar mesh: ``n_theta`` cells along the quarter circle (equal angles), ``n_r``
+    through the thickness; quadrilaterals (default) or triangles. The ring touches y = 0 at (0, 0).
+    Facet tags: RING_OUTER, RING_INNER (arcs), RING_AXIS (x = 0), RING_MID (y = R_out).
+
+    Returns:
+        ``(mesh, None, facet_tags)``.
+    """
+    for name, value in (("n_theta", n_theta), ("n_r", n_r)):
+        if int(value) != value or value < 1:
+            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+    if not (0 < R_in < R_out):
+        raise ValueError(f"ring radii need 0 < R_in < R_out, got R_in={R_in!r}, R_out={R_out!r}")
+    msh, _, _ = rectangle(comm, 1.0, 1.0, n_theta, n_r, quadrilateral)
+    x = msh.geometry.x
+    theta, r = -0.5 * np.pi * (1.0 - x[:, 0]), R_in + (R_out - R_in) * x[:, 1]
+    x[:, 0], x[:, 1] = r * np.cos(theta), R_out + r * np.sin(theta)
+    x[np.abs(x[:, 0]) < 1e-12 * R_out, 0] = 0.0  # exact zeros on the axis
+    tol = 1e-8 * R_out
+    fdim = msh.topology.dim - 1
+    radius = lambda p: np.hypot(p[0], p[1] - R_out)  # noqa: E731
+    sides = ((RING_OUTER, lambda p: np.abs(radius(p) - R_out) < tol),
+             (RING_INNER, lambda p: np.abs(radius(p) - R_in) < tol),
+             (RING_AXIS, lambda p: np.abs(p[0]) < tol),
+             (RING_MID, lambda p: np.abs(p[1] - R_out) < tol))
+    indices, values = [], []
+    for tag, where in sides:
+        facets = dmesh.locate_entities_boundary(msh, fdim, where)
+        indices.append(facets)
+        values.append(np.full(len(facets), tag, dtype=np.int32))
+    index = np.concatenate(indices).astype(np.int32)
+    order = np.argsort(index)
+    facet_tags = dmesh.meshtags(msh, fdim, index[order], np.concatenate(values)[order])
+    facet_tags.name = "facet_tags"
+    msh.name = "ring_quarter"
+    return msh, None, facet_tags

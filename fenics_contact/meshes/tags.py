@@ -1,0 +1,29 @@
+"""Physical tags of the meshes (cells and facets), and name -> tag maps for ``check_tags``."""
+
+DOMAIN = 1
+CONTACT = 1
+SYMMETRY = 2
+TOP = 3
+FREE = 4  # traction-free sides of ``pin_plate``
+# Facet tags of ``rectangle`` (its top is RECT_TOP: TOP is taken above).
+BOTTOM = 11
+RIGHT = 12
+RECT_TOP = 13
+LEFT = 14
+# Facet tags of ``sheet_over_cylinder`` (CONTACT and SYMMETRY as above).
+END = 4
+# Name -> tag maps, e.g. for ``check_tags``.
+HERTZ_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP}
+PIN_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP, "free": FREE}
+SHEET_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "end": END}
+RECTANGLE_FACETS = {"bottom": BOTTOM, "right": RIGHT, "top": RECT_TOP, "left": LEFT}
+# Facet tags of ``ring_quarter``.
+RING_OUTER = 21
+RING_INNER = 22
+RING_AXIS = 23  # x = 0
+RING_MID = 24  # the horizontal diameter y = R_out
+RING_FACETS = {"outer": RING_OUTER, "inner": RING_INNER, "axis": RING_AXIS, "mid": RING_MID}
+# Tags of ``seal_section``: the free boundary, the symmetry line x = 0, the cell tag.
+SEAL_BOUNDARY = 31
+SEAL_SYMMETRY = 32
+SEAL_DOMAIN = 33
