@@ -25,7 +25,8 @@ out = Path(args.out or "results/block")
 setup = build("block", law=cli.law_from_args(args), quadrature=args.quadrature)
 
 # 3. Solve (one load step, augmentations as asked), write XDMF and summary.json.
-summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet)
+summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
+              options=cli.solver_options(args))
 
 # 4. Pictures: the compressed block coloured by sigma_yy, and the pressure along the base.
 if not args.no_pictures:

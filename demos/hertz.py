@@ -22,17 +22,18 @@ from fenics_contact.scenes import build, hertz
 p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
 p.add_argument("--refinement", type=int, default=0, help="halve the contact mesh size this many times")
 p.add_argument("--steps", type=int, default=2, help="load steps")
+p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
 out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
 setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-              steps=args.steps)
+              steps=args.steps, model=args.model)
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
-              args.augment, args.augment_tol, args.quiet)
+              args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args))
 
 # 4. Pictures: von Mises stress on the deformed quarter disk; pressure against Hertz.
 if not args.no_pictures:

@@ -17,7 +17,7 @@ from petsc4py import PETSc
 
 from .compat import bc_dofs, petsc_vec
 from .contact import ContactSurface
-from .laws import ContactLaw, Exact
+from .laws import ContactLaw, Exact, NitscheLaw
 from .obstacles import HalfPlane, Obstacle
 
 _BIG = 1e300  # "no bound" (PETSc's VI treats |bound| >= 1e20 as infinite)
@@ -78,7 +78,13 @@ class BoundContact(ContactSurface):
         self._p.x.scatter_forward()
 
 
-def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact") -> ContactSurface:
-    """A :class:`ContactSurface` for a law, or a :class:`BoundContact` for method ``vi``."""
+def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact",
+                    material=None) -> ContactSurface:
+    """A :class:`ContactSurface` for a law, a :class:`BoundContact` for method ``vi``, or a
+    :class:`~fenics_contact.nitsche.NitscheContact` for method ``nitsche`` (which needs ``material``)."""
+    if isinstance(law, NitscheLaw):
+        from .nitsche import NitscheContact
+
+        return NitscheContact(u, facet_tags, tag, obstacle, law, load, quadrature, name, material=material)
     cls = BoundContact if isinstance(law, Exact) else ContactSurface
     return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name)

@@ -15,6 +15,7 @@ from petsc4py import PETSc
 
 from .contact import QUADRATURES
 from .laws import METHODS, ContactLaw, make_law
+from .solver import LINEAR_SOLVERS
 
 
 def parser(description: str, default_K: float) -> argparse.ArgumentParser:
@@ -30,6 +31,9 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
                    help="max augmentations per load step (default: 0 for penalty, 10 otherwise)")
     p.add_argument("--augment-tol", type=float, default=1e-12, help="stop when ||g_new - g_old|| <= this")
     p.add_argument("--quadrature", choices=QUADRATURES, default="nodal", help="contact quadrature")
+    p.add_argument("--gamma0", type=float, default=10.0, help="nitsche: gamma = gamma0 E / h (dimensionless)")
+    p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
+                   help="linear solver: direct (LU, MUMPS) or iterative (CG + GAMG, rigid-body near-nullspace)")
     p.add_argument("--out", default=None, help="output directory (default: results/<scene>)")
     p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
@@ -48,7 +52,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if rest:
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
-        args.augment = 0 if args.method in ("penalty", "vi") else 10
+        args.augment = 0 if args.method in ("penalty", "vi", "nitsche") else 10
     return args
 
 
@@ -66,10 +70,18 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
         return make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
     if args.method == "vi":
         return make_law("vi")
+    if args.method == "nitsche":
+        return make_law("nitsche", gamma0=args.gamma0)
     return make_law(args.method, K=args.K)
 
 
 def method_parameters(args: argparse.Namespace) -> dict:
-    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": []}[args.method]
+    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
+            "nitsche": ["gamma0"]}[args.method]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
-            "quadrature": args.quadrature}
+            "quadrature": args.quadrature, "solver": getattr(args, "solver", "direct")}
+
+
+def solver_options(args: argparse.Namespace) -> dict:
+    """PETSc options (prefix ``fc_``) of ``--solver``; options on the command line still win."""
+    return dict(LINEAR_SOLVERS[getattr(args, "solver", "direct")])

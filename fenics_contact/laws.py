@@ -210,16 +210,32 @@ class Exact(ContactLaw):
         raise TypeError("method 'vi' has no contact law: its pressure is the reaction at the bounds")
 
 
+class NitscheLaw(ContactLaw):
+    """No law of the gap alone: symmetric Nitsche (:mod:`fenics_contact.nitsche`). The pressure is
+    ``<gamma g - sigma_n(u)>`` with ``gamma = gamma0 E / h``; ``gamma0`` (dimensionless, > 0) is its
+    only parameter. The surface needs the bulk material (for ``sigma_n``)."""
+
+    name = "nitsche"
+
+    def __init__(self, gamma0: float = 10.0):
+        self.scalars = {"gamma0": _check_positive("Nitsche gamma0", gamma0)}
+        self.fields = {}
+
+    def force(self, g, c, ops=NUMPY):
+        raise TypeError("method 'nitsche' has no law of the gap alone: its pressure involves the stress")
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
 
 
-METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact}
+METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian, "vi": Exact,
+           "nitsche": NitscheLaw}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``)."""
+    """Build a law by method name (``penalty``, ``cross``, ``auglag``, ``vi``, ``nitsche``)."""
     if method not in METHODS:
         raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
     return METHODS[method](**params)

@@ -41,8 +41,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, top)
     dirichlet = [Dirichlet(V.sub(1), top_y, -DISPLACEMENT),
                  Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, left))]
-    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
     material = MODELS[model](E, NU)
+    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+                              material=material)
     problem = ContactProblem(u, material, load, dirichlet, [contact])
 
     def figures() -> dict:

@@ -23,7 +23,7 @@ from mpi4py import MPI
 from ..bounds import contact_surface
 from ..compat import function_space
 from ..laws import ContactLaw
-from ..materials import LinearElastic
+from ..materials import MODELS
 from ..meshes import CONTACT, SYMMETRY, TOP, hertz_quarter_disk
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
@@ -58,8 +58,9 @@ def contact_half_width(x: np.ndarray, p: np.ndarray) -> float:
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
-          comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
-    """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact)."""
+          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH) -> Setup:
+    """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
+    ``model``: ``linear`` (default: strains ~1e-3) or ``neohookean`` (the model-reduction check)."""
     h = R / 400 / 2**refinement
     mesh, _, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R)
     V = function_space(mesh, "Lagrange", 1, (2,))
@@ -68,9 +69,11 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     fdim = mesh.topology.dim - 1
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
     sym_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
-    dirichlet = [Dirichlet(V.sub(1), top_y, -APPROACH), Dirichlet(V.sub(0), sym_x)]
-    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
-    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact])
+    dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), sym_x)]
+    material = MODELS[model](E, NU)
+    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+                              material=material)
+    problem = ContactProblem(u, material, load, dirichlet, [contact])
 
     def figures() -> dict:
         x, _, p = contact.surface_values()
@@ -82,7 +85,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                 "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())),
                 "h_contact": h}
 
-    params = {"E": E, "nu": NU, "R": R, "approach": APPROACH, "h_contact": h, "refinement": refinement,
-              "quadrature": quadrature, "model": "quarter disk (symmetry x = 0 and y = R)"}
+    params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h,
+              "refinement": refinement, "quadrature": quadrature, "model": "quarter disk (symmetry x = 0 and y = R)"}
     return Setup("hertz", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [u, contact.gap_out, contact.pressure_out])
