@@ -33,7 +33,7 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
     p.add_argument("--quadrature", choices=QUADRATURES, default="nodal", help="contact quadrature")
     p.add_argument("--gamma0", type=float, default=10.0, help="nitsche: gamma = gamma0 E / h (dimensionless)")
     p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
-                   help="linear solver: direct (LU, MUMPS) or iterative (CG + GAMG, rigid-body near-nullspace)")
+                   help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D)")
     p.add_argument("--out", default=None, help="output directory (default: results/<scene>)")
     p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
