@@ -33,7 +33,7 @@ setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, 
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
-              args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args))
+              args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf)
 
 # 4. Pictures: von Mises stress on the deformed quarter disk; pressure against Hertz.
 if not args.no_pictures:

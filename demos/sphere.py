@@ -27,7 +27,7 @@ setup = build("sphere", law=cli.law_from_args(args), quadrature=args.quadrature,
 
 # 3. Solve, write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
-              args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args))
+              args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf)
 
 # 4. Picture: contact pressure against the distance from the axis, with Hertz.
 if not args.no_pictures:

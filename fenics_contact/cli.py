@@ -36,6 +36,7 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
                    help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D)")
     p.add_argument("--out", default=None, help="output directory (default: results/<scene>)")
     p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
+    p.add_argument("--no-xdmf", action="store_true", help="no XDMF field output (benchmarks: solver time alone)")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     return p
 

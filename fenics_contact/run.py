@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import resource
 import time
+from contextlib import nullcontext
 from pathlib import Path
 
 from mpi4py import MPI
@@ -14,8 +15,9 @@ from .solver import ConvergenceError, Solver
 
 
 def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
-        augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None) -> dict:
-    """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once.
+        augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None, xdmf: bool = True) -> dict:
+    """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once
+    (``xdmf=False``: no field output, e.g. for benchmarks that time the solver alone).
 
     Returns the summary (also in ``out/summary.json``). A step that fails
     after cutbacks writes the summary with ``converged: false`` and re-raises.
@@ -23,12 +25,14 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
     out = Path(out)
     comm = setup.problem.comm
     start = time.perf_counter()
-    with XDMFWriter(out / f"{setup.name}.xdmf", setup.problem.u.function_space.mesh, setup.fields) as xdmf:
+    with XDMFWriter(out / f"{setup.name}.xdmf", setup.problem.u.function_space.mesh,
+                    setup.fields) if xdmf else nullcontext() as writer:
 
         def on_step(t: float) -> None:
-            for c in setup.contacts:
-                c.update_output()
-            xdmf.write(t)
+            if writer is not None:
+                for c in setup.contacts:
+                    c.update_output()
+                writer.write(t)
 
         solver = Solver(setup.problem, augment_max=augment_max, augment_tol=augment_tol, quiet=quiet,
                         options=options, on_step=on_step)
@@ -46,6 +50,7 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
                "setup_time_s": setup.build_time_s, "time_split": record["time_split"],
                "linear_solve_floor_s": floor, "ratio_to_linear_solve": wall / floor, "memory_peak_mb": memory,
                "newton_iterations": record["newton_iterations"], "augmentations": record["augmentations"],
+               "linear_iterations": record["linear_iterations"],
                "load_steps": record["load_steps"], "converged": record["converged"] and error is None,
                "error": error, **(setup.figures() if solver.records and solver.t > 0 else {}),
                "steps": record["steps"]}

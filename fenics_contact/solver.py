@@ -148,6 +148,7 @@ class Solver:
         # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
         # (their difference is the linear solves and SNES's vector work), augmentation updates.
         self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0}
+        self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
 
     # --- SNES callbacks ---------------------------------------------------
     def _set_u(self, x: PETSc.Vec) -> None:
@@ -181,6 +182,7 @@ class Solver:
         start = time.perf_counter()
         self.snes.solve(None, self._x)
         self.timings["snes_s"] += time.perf_counter() - start
+        self.linear_iterations += self.snes.getLinearSolveIterations()
         self._set_u(self._x)
         return self.snes.getConvergedReason()
 
@@ -306,7 +308,7 @@ class Solver:
         split = {"assembly_s": t["assembly_s"], "linear_solve_s": max(t["snes_s"] - t["assembly_s"], 0.0),
                  "augmentation_s": t["augmentation_s"]}
         return {"time_split": split,"newton_iterations": sum(r.newton_iterations for r in done),
-                "augmentations": sum(r.augmentations for r in done),
+                "augmentations": sum(r.augmentations for r in done), "linear_iterations": self.linear_iterations,
                 "load_steps": len(done),
                 "converged": bool(self.records) and all(r.converged for r in self.records),
                 "steps": [r.as_dict() for r in self.records]}

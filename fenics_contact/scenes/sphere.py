@@ -36,6 +36,14 @@ APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
 DEFAULT_K = 1e6  # ~ 10 E / h_contact at level 0
 # Mesh-size factor per level: h_contact = 0.02 f, h_far = 0.15 f (dofs 11931, 68208, 230964, 1178016).
 LEVELS = (0.5, 0.25, 0.16, 0.09)
+# The benchmark's view of this scene (fenics_contact.bench): level 0 only in the quick sweep.
+BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.05, "K": DEFAULT_K,
+         "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag", "nitsche", "vi"],
+         "demo_args": ["--solver", "iterative"], "quick_sweep": {"penalty": (0, 1), "other": (0,), "gamma0": (10.0,)},
+         # SNES VI's reduced system changes size between iterations, which GAMG cannot follow: LU
+         "method_args": {"vi": ["--solver", "direct"]},
+         # the iterative solver shows the conditioning: Krylov iterations per Newton iteration against K
+         "stability": True, "quick_stability": {"K": (0, 2, 4), "steps": (1,), "gamma0": (10.0, 1e3, 1e5)}}
 
 
 def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:
