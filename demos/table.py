@@ -4,7 +4,7 @@ import sys
 from pathlib import Path
 
 FIGURES = {"block": ("contact_pressure", "exact_pressure", "pressure_error"),
-           "hertz": ("p0", "p0_hertz", "p0_error")}
+           "hertz": ("p0", "p0_hertz", "p0_error"), "sphere": ("p0", "p0_hertz", "p0_error")}
 
 root = Path(sys.argv[1] if len(sys.argv) > 1 else "results")
 rows = [json.loads(p.read_text()) for p in sorted(root.glob("*/summary.json"))]
