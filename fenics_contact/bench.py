@@ -43,6 +43,7 @@ COLUMNS = ["scene", "method", "K", "F_hat", "augment", "quadrature", "refinement
            "memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve"]
 AUGMENT = 10  # max augmentations per load step for the augmented variants
 ERROR_FLOOR = 1e-16  # errors are drawn at least this large on the log axis (an exact answer is 0)
+NO_DIVTOL = "penalty, no SNES divergence test"
 REFERENCES = ("vi", "nitsche")  # what a user would pick instead of the suite's laws
 GAMMA0 = {"quick": (10.0, 100.0), "full": (3.0, 10.0, 30.0, 100.0, 1000.0)}  # nitsche: in the K column
 
@@ -116,6 +117,10 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
         runs += [_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n) for e in exps]
         runs += [_run(m, K0 * 10.0**e, AUGMENT, "nodal", level, steps=n) for m in ("cross", "auglag") for e in exps]
         runs += [_run("nitsche", g, 0, "nodal", level, steps=n) for g in gammas]
+        # the control: penalty without PETSc's divergence test (residual > 1e4 x the first one stops SNES),
+        # which is what stops every K-based method at the first solve when K is very large
+        runs += [dict(_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=NO_DIVTOL,
+                      args=["-fc_snes_divergence_tolerance", "-1"]) for e in exps]
     return [r for r in runs if r["method"] in s["methods"]]
 
 
@@ -131,7 +136,9 @@ def _say(line: str) -> None:
 def run_name(cfg: dict) -> str:
     ref = "" if cfg.get("refinement") is None else f"_r{cfg['refinement']}"
     steps = "" if cfg.get("steps") is None else f"_s{cfg['steps']}"
-    return f"{cfg['method']}_K{cfg['K']:.3g}_F{cfg['F_hat']:g}_aug{cfg['augment']}_{cfg['quadrature']}{ref}{steps}"
+    label = "" if not cfg.get("label") else "_" + "".join(c if c.isalnum() else "-" for c in cfg["label"])
+    return (f"{cfg['method']}_K{cfg['K']:.3g}_F{cfg['F_hat']:g}_aug{cfg['augment']}_{cfg['quadrature']}"
+            f"{ref}{steps}{label}")
 
 
 def _child_env() -> dict:
@@ -236,10 +243,46 @@ def stability(scene: str, out: str | Path, quick: bool = False, pictures: bool =
     out = Path(out)
     rows = run_all(scene, out, stability_sweep(scene, quick), quiet, timeout, tag=" stability")
     write_rows(rows, out / f"{scene}_stability.csv", out / f"{scene}_stability.json")
+    (out / f"{scene}_stability.md").write_text(stability_summary(rows))
     if pictures:
         plot_stability(rows, out / f"{scene}_stability.png",
                        title=f"{scene}: Newton iterations (all steps and augmentations); x = failed")
     return rows
+
+
+def stability_summary(rows: Sequence[dict]) -> str:
+    """Markdown: per method variant, the parameters at which it converged for every step count, those
+    at which it failed (with the SNES reason), and the Newton and Krylov iterations over the parameter."""
+    names = {v: k for k, v in _snes_reasons().items()}
+    lines = ["| method | parameter | converged for all load steps at | failed at (SNES reason) | Newton iterations "
+             "(fewest steps) | Krylov per Newton |", "|---|---|---|---|---|---|"]
+    for variant in dict.fromkeys(_variant(r) for r in rows):
+        rs = [r for r in rows if _variant(r) == variant]
+        params = sorted({r["K"] for r in rs})
+        good = [p for p in params if all(r["converged"] for r in rs if r["K"] == p)]
+        bad = {p: next(r["snes_reason"] for r in rs if r["K"] == p and not r["converged"])
+               for p in params if p not in good}
+        fewest = min(r["steps"] or 1 for r in rs)
+        its = [next((r for r in rs if r["K"] == p and (r["steps"] or 1) == fewest), None) for p in params]
+        lines.append(
+            f"| {variant} | {'gamma0' if variant.startswith('nitsche') else 'K'} | "
+            f"{', '.join(f'{p:.0e}' for p in good) or '-'} | "
+            f"{', '.join(f'{p:.0e} ({names.get(c, c)})' for p, c in bad.items()) or '-'} | "
+            f"{' / '.join(str(r['newton_iterations']) if r and r['converged'] else 'x' for r in its)} | "
+            f"{' / '.join(_krylov_per_newton(r) for r in its)} |")
+    return "\n".join(lines) + "\n"
+
+
+def _krylov_per_newton(r: dict | None) -> str:
+    if not r or not r["converged"] or not r["newton_iterations"]:
+        return "-"
+    return f"{r['linear_iterations'] / r['newton_iterations']:.0f}"
+
+
+def _snes_reasons() -> dict:
+    from petsc4py import PETSc
+
+    return {k: v for k, v in vars(PETSc.SNES.ConvergedReason).items() if isinstance(v, int)}
 
 
 # Model-reduction checks: the reduced model (used by the scene) against a richer one, same method.
@@ -304,7 +347,7 @@ def write_rows(rows: Sequence[dict], csv_path: Path, json_path: Path) -> None:
 def read_rows(csv_path: str | Path) -> list[dict]:
     """The rows of a ``<scene>.csv`` with their types back."""
     ints = {"augment", "dofs", "newton_iterations", "linear_iterations", "augmentations", "cutbacks", "snes_reason"}
-    texts = {"scene", "method", "quadrature"}
+    texts = {"scene", "method", "quadrature", "label"}
     rows = []
     with open(csv_path, newline="") as f:
         for r in csv.DictReader(f):
@@ -398,7 +441,7 @@ SIZES = {"penalty": 11.0, "cross": 8.0, "auglag": 5.0, "vi": 7.0, "nitsche": 9.0
 
 
 def _variant(r: dict) -> str:
-    return r["method"] + (" augmented" if r["augment"] > 0 else "")
+    return r.get("label") or r["method"] + (" augmented" if r["augment"] > 0 else "")
 
 
 def _colour(method: str) -> str:
@@ -565,7 +608,7 @@ def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> N
                       fontsize=7)
         ax.set_yticks(range(len(steps)), [str(n) for n in steps])
         ax.set_xlabel("gamma0 [-]" if variant.startswith("nitsche") else "K [pressure / length]")
-        ax.set_title(variant, fontsize=9)
+        ax.set_title(variant.replace(", ", ",\n"), fontsize=9)
     axes[0].set_ylabel("load steps")
     if image is not None:
         fig.colorbar(image, ax=list(axes), label="Newton iterations")

@@ -61,6 +61,7 @@ def test_scene_specs_and_commands(tmp_path):
     assert [vi[i + 1] for i, a in enumerate(vi) if a == "--solver"] == ["iterative", "direct"]
     grid = bench.stability_sweep("hertz", quick=True)
     assert {r["steps"] for r in grid} == {1, 4} and len({r["K"] for r in grid if r["method"] == "penalty"}) == 5
+    assert sum(r.get("label") == bench.NO_DIVTOL for r in grid) == 10
     with pytest.raises(ValueError, match="scene"):
         bench.spec("nosuchscene")
 
