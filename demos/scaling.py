@@ -41,8 +41,8 @@ rows = []
 for n in args.ranks:
     for level in args.levels:
         folder = out / f"n{n}_level{level}"
-        cmd = [sys.executable, str(DEMO), "--quiet", "--no-pictures", "--out", str(folder), "--method", args.method,
-               "--solver", "iterative", "--level", str(level)]
+        cmd = [sys.executable, str(DEMO), "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
+               "--method", args.method, "--solver", "iterative", "--level", str(level)]
         env = _child_env()  # a fresh job, not a member of ours; mpirun keeps the run-as-root settings
         if n > 1:
             cmd = [shutil.which("mpirun") or "mpirun", "-n", str(n), *cmd]
