@@ -19,6 +19,7 @@ from fenics_contact.scenes import build, sphere
 p = cli.parser(__doc__.splitlines()[0], default_K=sphere.DEFAULT_K)
 p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)), help="mesh level")
 p.add_argument("--steps", type=int, default=1, help="load steps")
+p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
 out = Path(args.out or "results/sphere")
 
