@@ -7,10 +7,10 @@ export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 MPIRUN := mpirun -n $(NP)
-DEMOS  := block hertz slab pin ring seal compliance3d patch cylinders sheet
+DEMOS  := block hertz slab pin ring seal compliance3d patch cylinders sheet sphere
 
 
-.PHONY: setup demo bench test lint test-serial test-mpi test-debian13 clean
+.PHONY: setup demo bench scaling test lint test-serial test-mpi test-debian13 clean
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
@@ -23,9 +23,13 @@ demo: setup
 	@$(PY) demos/table.py results
 	@cat results/methods.md 2>/dev/null || true
 
-# speed against accuracy, every method on the same scene (quick sweep of block and hertz)
+# speed against accuracy, every method on the same scene (quick sweep of every scene with a BENCH entry)
 bench: setup
 	$(PY) demos/bench.py --quick --out results/bench
+
+# 3D Hertz (sphere) from ~1e4 to ~1e6 dofs, serial and mpirun -n 2: time per Newton iteration, slope (heavy)
+scaling: setup
+	$(PY) demos/scaling.py --out results/scaling
 
 lint: setup
 	$(VENV)/bin/ruff check fenics_contact demos tests

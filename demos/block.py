@@ -18,14 +18,17 @@ from fenics_contact.run import run
 from fenics_contact.scenes import block, build
 
 # 1. Options: the formulation and its parameters (K = 1e5 as in the paper).
-args = cli.parse(cli.parser(__doc__.splitlines()[0], default_K=1e5))
+p = cli.parser(__doc__.splitlines()[0], default_K=1e5)
+p.add_argument("--steps", type=int, default=1, help="load steps")
+args = cli.parse(p)
 out = Path(args.out or "results/block")
 
 # 2. The scene: mesh, material, Dirichlet data, the rigid foundation and the contact law.
-setup = build("block", law=cli.law_from_args(args), quadrature=args.quadrature)
+setup = build("block", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps)
 
-# 3. Solve (one load step, augmentations as asked), write XDMF and summary.json.
-summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet)
+# 3. Solve (one load step by default, augmentations as asked), write XDMF and summary.json.
+summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
+              options=cli.solver_options(args), xdmf=not args.no_xdmf)
 
 # 4. Pictures: the compressed block coloured by sigma_yy, and the pressure along the base.
 if not args.no_pictures:

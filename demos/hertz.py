@@ -22,17 +22,19 @@ from fenics_contact.scenes import build, hertz
 p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
 p.add_argument("--refinement", type=int, default=0, help="halve the contact mesh size this many times")
 p.add_argument("--steps", type=int, default=2, help="load steps")
+p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
+p.add_argument("--symmetry", choices=["quarter", "half"], default="quarter", help="modelled part of the disk")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
 out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
 setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-              steps=args.steps)
+              steps=args.steps, model=args.model, symmetry=args.symmetry)
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
-              args.augment, args.augment_tol, args.quiet)
+              args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf)
 
 # 4. Pictures: von Mises stress on the deformed quarter disk; pressure against Hertz.
 if not args.no_pictures:
@@ -49,7 +51,7 @@ if not args.no_pictures:
     if setup.problem.comm.rank == 0:
         a, p0 = summary["a_hertz"], summary["p0_hertz"]
         xr = np.linspace(0, a, 200)
-        keep = x[:, 0] <= 2.5 * a
+        keep = np.abs(x[:, 0]) <= 2.5 * a
         plot_profile(x[keep, 0], pr[keep], out / "hertz_pressure.png", x_ref=xr, p_ref=p0 * np.sqrt(1 - (xr / a) ** 2),
                      xlabel="x (distance from the contact centre)", labels=(args.method, "Hertz"),
                      title=f"hertz: p0 {summary['p0']:.4g} (Hertz {p0:.4g}), a {summary['a']:.4g} (Hertz {a:.4g})")

@@ -4,7 +4,7 @@ import sys
 from pathlib import Path
 
 FIGURES = {"block": ("contact_pressure", "exact_pressure", "pressure_error"),
-           "hertz": ("p0", "p0_hertz", "p0_error"),
+           "hertz": ("p0", "p0_hertz", "p0_error"), "sphere": ("p0", "p0_hertz", "p0_error"),
            "slab": ("ux_A", "ux_A_frictionless", None),  # the reference is the mu = 0 closed form
            "pin": ("contact_angle_deg", None, None)}  # no published value: see README, pin
 # ring and seal have no reference value: their summaries give iterations and time (methods.md compares methods)

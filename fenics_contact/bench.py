@@ -1,20 +1,30 @@
 """Speed against accuracy: run every method over a parameter sweep, one fresh process per run.
 
     python -m fenics_contact.bench --scene hertz --quick --out results/bench
-    python demos/bench.py --scene block --scene hertz --quick
+    python demos/bench.py --quick                       # every scene with a BENCH entry
 
-Each run is ``demos/<scene>.py --quiet --no-pictures --out <out>/<scene>/<run>``
-in its own serial process; its ``summary.json`` becomes one row of
-``<out>/<scene>.csv`` and ``<out>/<scene>.json``. A run that exits non-zero
-(or times out) is recorded with ``converged = False``. Charts:
-``<out>/<scene>_pareto.png`` (error against solver wall time, with the
-Pareto front) and ``<out>/<scene>_iterations.png`` (Newton iterations
-against K).
+A scene takes part when its module defines ``BENCH`` (figure, reference
+target, K scale, mesh option and levels, methods, extra demo options; see
+``scenes/hertz.py``): adding a scene to the benchmark is adding that dict.
+Each run is ``demos/<scene>.py --quiet --no-pictures --no-xdmf --out
+<out>/<scene>/<run>`` in its own serial process; its ``summary.json``
+becomes one row of ``<out>/<scene>.csv`` and ``.json``. A run that exits
+non-zero (or times out) is recorded with ``converged = False``.
+
+Charts: ``<scene>_pareto.png`` (error against solver wall time, Pareto
+front, one linear solve as the cost floor), ``<scene>_dofs.png`` (error
+against dofs), ``<scene>_iterations.png`` (Newton iterations against K);
+``<scene>_findings.md`` (per method the fastest run within the scene's
+target, its ratios to one linear solve and to SNES VI, Pareto membership).
+With ``stability`` in BENCH: ``<scene>_stability.csv|png`` (converged /
+Newton iterations over parameter x load steps, per method); with
+``reduction``: ``<scene>_reduction.csv|md`` (model-reduction checks).
 """
 from __future__ import annotations
 
 import argparse
 import csv
+import importlib
 import json
 import math
 import os
@@ -27,37 +37,91 @@ from typing import Sequence
 import numpy as np
 
 DEMOS = Path(__file__).resolve().parents[1] / "demos"
-SCENES = ("block", "hertz")
-DEFAULT_K = {"block": 1e5, "hertz": 1e6}  # the demos' defaults
-ERROR = {"block": "pressure_error", "hertz": "p0_error"}
-COLUMNS = ["scene", "method", "K", "F_hat", "augment", "quadrature", "refinement", "dofs", "wall_time_s",
-           "newton_iterations", "augmentations", "converged", "error", "process_time_s", "setup_time_s",
-           "assembly_s", "linear_solve_s", "augmentation_s", "memory_peak_mb", "linear_solve_floor_s",
-           "ratio_to_linear_solve"]
+COLUMNS = ["scene", "method", "K", "F_hat", "augment", "quadrature", "refinement", "steps", "dofs", "wall_time_s",
+           "newton_iterations", "linear_iterations", "augmentations", "converged", "cutbacks", "snes_reason",
+           "error", "limit_gap", "process_time_s", "setup_time_s", "assembly_s", "linear_solve_s", "augmentation_s",
+           "memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve"]
 AUGMENT = 10  # max augmentations per load step for the augmented variants
 ERROR_FLOOR = 1e-16  # errors are drawn at least this large on the log axis (an exact answer is 0)
+NO_DIVTOL = "penalty, no SNES divergence test"
+REFERENCES = ("vi", "nitsche")  # what a user would pick instead of the suite's laws
+GAMMA0 = {"quick": (10.0, 100.0), "full": (3.0, 10.0, 30.0, 100.0, 1000.0)}  # nitsche: in the K column
+
+
+def spec(scene: str) -> dict:
+    """The scene's ``BENCH`` dict (``ValueError`` if the scene has none)."""
+    from .scenes import scene_names
+
+    if scene not in scene_names():
+        raise ValueError(f"unknown scene {scene!r}; accepted: {', '.join(scene_names())}")
+    module = importlib.import_module(f"fenics_contact.scenes.{scene}")
+    if not hasattr(module, "BENCH"):
+        raise ValueError(f"scene {scene!r} has no BENCH entry; benchmarked scenes: {', '.join(bench_scenes())}")
+    return module.BENCH
+
+
+def bench_scenes() -> list[str]:
+    """Every scene whose module defines ``BENCH``."""
+    from .scenes import scene_names
+
+    return [n for n in scene_names() if hasattr(importlib.import_module(f"fenics_contact.scenes.{n}"), "BENCH")]
+
+
+def _run(method, K, augment=0, quadrature="nodal", refinement=None, F_hat=0.0, steps=None) -> dict:
+    return dict(method=method, K=float(K), F_hat=F_hat, augment=augment, quadrature=quadrature, refinement=refinement,
+                steps=steps)
 
 
 def sweep(scene: str, quick: bool = False) -> list[dict]:
-    """The runs for ``scene``: penalty over a log range of K (no augmentation); cross and auglag,
-    each with and without augmentation, over a smaller K range; hertz on refinements 0 and 1 (full: 0-2)."""
-    K0 = DEFAULT_K[scene]
+    """The runs for ``scene``: penalty over a log range of K (no augmentation); cross and auglag, each with
+    and without augmentation, over a smaller K range; nitsche over ``gamma0`` (in the K column); SNES VI
+    once per mesh level. Quick: nodal quadrature, the quick mesh levels; full: nodal and Gauss."""
+    s = spec(scene)
+    K0, mode, methods = s["K"], "quick" if quick else "full", s["methods"]
     if quick:
-        penalty_K = [K0 * 10.0**e for e in ((-2, -1, 0, 1, 2) if scene == "block" else (-1, 0, 1))]
-        other_K, quadratures, refinements = [K0, 10 * K0], ["nodal"], [0, 1]
+        q = {"penalty": (-1, 0, 1, 2), "other": (0, 1), "gamma0": GAMMA0["quick"], **s.get("quick_sweep", {})}
+        quadratures = ["nodal"]
     else:
-        penalty_K = [K0 * 10.0**e for e in np.arange(-3, 3.01, 0.5)]
-        other_K, quadratures, refinements = [K0 * 10.0**e for e in range(-2, 3)], ["nodal", "gauss"], [0, 1, 2]
+        q = {"penalty": tuple(np.arange(-3, 3.01, 0.5)), "other": tuple(range(-2, 3)), "gamma0": GAMMA0["full"]}
+        quadratures = ["nodal", "gauss"]
+    levels = [None] if s.get("mesh") is None else s["mesh"][1][mode]
     runs = []
-    for refinement in refinements if scene == "hertz" else [None]:
-        for quadrature in quadratures:
-            runs += [dict(method="penalty", K=K, F_hat=0.0, augment=0, quadrature=quadrature,
-                          refinement=refinement) for K in penalty_K]
-            runs += [dict(method=m, K=K, F_hat=0.0, augment=aug, quadrature=quadrature, refinement=refinement)
-                     for m in ("cross", "auglag") for aug in (0, AUGMENT) for K in other_K]
-        # the reference: exact nodal enforcement by PETSc SNES VI (no parameter; K = 0 in the rows)
-        runs.append(dict(method="vi", K=0.0, F_hat=0.0, augment=0, quadrature="nodal", refinement=refinement))
+    for level in levels:
+        for quad in quadratures:
+            if "penalty" in methods:
+                runs += [_run("penalty", K0 * 10.0**e, 0, quad, level) for e in q["penalty"]]
+            runs += [_run(m, K0 * 10.0**e, aug, quad, level) for m in ("cross", "auglag") if m in methods
+                     for aug in (0, AUGMENT) for e in q["other"]]
+            if "nitsche" in methods:
+                runs += [_run("nitsche", g, 0, quad, level) for g in q["gamma0"]]
+        if "vi" in methods:  # the reference: exact nodal enforcement, no parameter (K = 0 in the rows)
+            runs.append(_run("vi", 0.0, 0, "nodal", level))
     return runs
+
+
+def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
+    """Parameter x load steps on the coarsest mesh: penalty (K), cross and auglag augmented (K), nitsche
+    (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full). ``BENCH``'s
+    ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``)."""
+    s = spec(scene)
+    K0 = s["K"]
+    level = None if s.get("mesh") is None else s["mesh"][1]["quick"][0]
+    q = s.get("quick_stability", {})
+    if quick:
+        exps, steps = q.get("K", (0, 2, 4, 6, 8)), q.get("steps", (1, 4))
+        gammas = q.get("gamma0", (1.0, 10.0, 1e2, 1e4))
+    else:
+        exps, steps, gammas = tuple(range(-2, 9)), (1, 2, 4, 8), (0.3, 1.0, 3.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6)
+    runs = []
+    for n in steps:
+        runs += [_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n) for e in exps]
+        runs += [_run(m, K0 * 10.0**e, AUGMENT, "nodal", level, steps=n) for m in ("cross", "auglag") for e in exps]
+        runs += [_run("nitsche", g, 0, "nodal", level, steps=n) for g in gammas]
+        # the control: penalty without PETSc's divergence test (residual > 1e4 x the first one stops SNES),
+        # which is what stops every K-based method at the first solve when K is very large
+        runs += [dict(_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=NO_DIVTOL,
+                      args=["-fc_snes_divergence_tolerance", "-1"]) for e in exps]
+    return [r for r in runs if r["method"] in s["methods"]]
 
 
 def _say(line: str) -> None:
@@ -71,7 +135,10 @@ def _say(line: str) -> None:
 
 def run_name(cfg: dict) -> str:
     ref = "" if cfg.get("refinement") is None else f"_r{cfg['refinement']}"
-    return f"{cfg['method']}_K{cfg['K']:.3g}_F{cfg['F_hat']:g}_aug{cfg['augment']}_{cfg['quadrature']}{ref}"
+    steps = "" if cfg.get("steps") is None else f"_s{cfg['steps']}"
+    label = "" if not cfg.get("label") else "_" + "".join(c if c.isalnum() else "-" for c in cfg["label"])
+    return (f"{cfg['method']}_K{cfg['K']:.3g}_F{cfg['F_hat']:g}_aug{cfg['augment']}_{cfg['quadrature']}"
+            f"{ref}{steps}{label}")
 
 
 def _child_env() -> dict:
@@ -80,56 +147,204 @@ def _child_env() -> dict:
     return {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "PMI_", "MPI_LOCALNRANKS"))}
 
 
+def command(scene: str, cfg: dict, folder: Path) -> list[str]:
+    """The demo command line of one run (scene options from ``BENCH``; the run's own options last, so they win)."""
+    s = spec(scene)
+    cmd = [sys.executable, str(DEMOS / f"{scene}.py"), "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
+           "--method", cfg["method"], "--augment", str(cfg["augment"]), "--quadrature", cfg["quadrature"],
+           *s.get("demo_args", []), *s.get("method_args", {}).get(cfg["method"], [])]
+    if cfg["method"] == "nitsche":
+        cmd += ["--gamma0", repr(cfg["K"])]
+    elif cfg["method"] != "vi":
+        cmd += ["--K", repr(cfg["K"]), "--F-hat", repr(cfg["F_hat"])]
+    if cfg.get("refinement") is not None:
+        cmd += [f"--{s['mesh'][0]}", str(cfg["refinement"])]
+    if cfg.get("steps") is not None:
+        cmd += ["--steps", str(cfg["steps"])]
+    return cmd + list(cfg.get("args", []))
+
+
 def run_one(scene: str, cfg: dict, folder: Path, timeout: float = 1800.0) -> dict:
     """Run one demo in a fresh process into ``folder``; return its row (never raises on a failed run)."""
     folder.mkdir(parents=True, exist_ok=True)
-    cmd = [sys.executable, str(DEMOS / f"{scene}.py"), "--quiet", "--no-pictures", "--out", str(folder),
-           "--method", cfg["method"], "--K", repr(cfg["K"]), "--F-hat", repr(cfg["F_hat"]),
-           "--augment", str(cfg["augment"]), "--quadrature", cfg["quadrature"]]
-    if cfg.get("refinement") is not None:
-        cmd += ["--refinement", str(cfg["refinement"])]
     (folder / "summary.json").unlink(missing_ok=True)
     start = time.perf_counter()
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=_child_env())
+        proc = subprocess.run(command(scene, cfg, folder), capture_output=True, text=True, timeout=timeout,
+                              env=_child_env())
         ok, log = proc.returncode == 0, proc.stdout + proc.stderr
     except subprocess.TimeoutExpired as exc:
         ok, log = False, f"timeout after {timeout} s\n{exc.stdout or ''}{exc.stderr or ''}"
     (folder / "log.txt").write_text(log if isinstance(log, str) else log.decode(errors="replace"))
     s = json.loads((folder / "summary.json").read_text()) if (folder / "summary.json").exists() else {}
-    nan = float("nan")
-    return {"scene": scene, **cfg, "dofs": s.get("dofs", 0), "wall_time_s": s.get("wall_time_s", nan),
-            "newton_iterations": s.get("newton_iterations", 0), "augmentations": s.get("augmentations", 0),
-            "converged": bool(ok and s.get("converged", False)), "error": s.get(ERROR[scene], nan),
+    nan, b = float("nan"), spec(scene)
+    steps = s.get("steps", [])
+    return {"scene": scene, **{k: v for k, v in cfg.items() if k != "args"}, "dofs": s.get("dofs", 0),
+            "wall_time_s": s.get("wall_time_s", nan), "newton_iterations": s.get("newton_iterations", 0),
+            "augmentations": s.get("augmentations", 0), "linear_iterations": s.get("linear_iterations", 0),
+            "converged": bool(ok and s.get("converged", False)),
+            "cutbacks": sum(not st["converged"] for st in steps),
+            "snes_reason": steps[-1]["snes_reason"] if steps else 0,
+            "error": s.get(b["error"], nan), "limit_gap": nan,
             "process_time_s": time.perf_counter() - start, "setup_time_s": s.get("setup_time_s", nan),
             **{k: s.get("time_split", {}).get(k, nan) for k in ("assembly_s", "linear_solve_s", "augmentation_s")},
-            **{k: s.get(k, nan) for k in ("memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve")}}
+            **{k: s.get(k, nan) for k in ("memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve")},
+            **{k: s.get(k, nan) for k in dict.fromkeys([b["value"], *b.get("figures", [])])}}
 
 
-def bench(scene: str, out: str | Path, runs: Sequence[dict], pictures: bool = True, quiet: bool = False,
-          timeout: float = 1800.0) -> list[dict]:
-    """Run ``runs`` for ``scene`` into ``out/<scene>/``; write ``out/<scene>.csv``, ``.json`` and the charts."""
-    out = Path(out)
+def run_all(scene: str, out: Path, runs: Sequence[dict], quiet: bool, timeout: float, tag: str = "") -> list[dict]:
     rows = []
     for i, cfg in enumerate(runs):
         row = run_one(scene, cfg, out / scene / run_name(cfg), timeout)
         rows.append(row)
         if not quiet:
-            _say(f"[{scene} {i + 1}/{len(runs)}] {run_name(cfg):40s} converged {row['converged']!s:5s} "
-                  f"newton {row['newton_iterations']:3d} error {row['error']:.3e} "
-                  f"time {row['wall_time_s']:.3f} s", flush=True)
-    write_rows(rows, out / f"{scene}.csv", out / f"{scene}.json")
-    if pictures:
-        plot_pareto(rows, out / f"{scene}_pareto.png", title=f"{scene}: error against wall time")
-        plot_iterations(rows, out / f"{scene}_iterations.png", title=f"{scene}: Newton iterations against K")
+            _say(f"[{scene}{tag} {i + 1}/{len(runs)}] {run_name(cfg):44s} converged {row['converged']!s:5s} "
+                 f"newton {row['newton_iterations']:3d} error {row['error']:.3e} time {row['wall_time_s']:.3f} s")
     return rows
 
 
-def write_rows(rows: Sequence[dict], csv_path: Path, json_path: Path) -> None:
-    with open(csv_path, "w", newline="") as f:
-        w = csv.DictWriter(f, COLUMNS)
+def add_limit_gap(rows: Sequence[dict], scene: str) -> None:
+    """``limit_gap``: relative distance of the scene's figure from SNES VI's on the same mesh (the limit
+    of converged augmentation), where both exist: it tells a truly converged method from a lucky one."""
+    value = spec(scene).get("value")
+    vi = {r["refinement"]: r[value] for r in rows if r["method"] == "vi" and r["converged"] and value in r}
+    for r in rows:
+        ref = vi.get(r["refinement"])
+        if ref and value in r and not math.isnan(r[value]):
+            r["limit_gap"] = abs(r[value] - ref) / abs(ref)
+
+
+def bench(scene: str, out: str | Path, runs: Sequence[dict], pictures: bool = True, quiet: bool = False,
+          timeout: float = 1800.0) -> list[dict]:
+    """Run ``runs`` for ``scene`` into ``out/<scene>/``; write ``out/<scene>.csv``, ``.json``, the charts
+    and ``<scene>_findings.md``."""
+    out = Path(out)
+    rows = run_all(scene, out, runs, quiet, timeout)
+    add_limit_gap(rows, scene)
+    write_rows(rows, out / f"{scene}.csv", out / f"{scene}.json")
+    report(scene, rows, out, pictures)
+    return rows
+
+
+def report(scene: str, rows: Sequence[dict], out: Path, pictures: bool = True) -> str:
+    """Charts and the findings table of a scene's rows; returns the findings (Markdown)."""
+    text = findings(scene, rows)
+    (out / f"{scene}_findings.md").write_text(text)
+    if pictures:
+        plot_pareto(rows, out / f"{scene}_pareto.png", title=f"{scene}: error against solver time")
+        plot_dofs(rows, out / f"{scene}_dofs.png", title=f"{scene}: error against dofs")
+        plot_iterations(rows, out / f"{scene}_iterations.png", title=f"{scene}: Newton iterations against K")
+    return text
+
+
+def stability(scene: str, out: str | Path, quick: bool = False, pictures: bool = True, quiet: bool = False,
+              timeout: float = 600.0) -> list[dict]:
+    """The stability map: :func:`stability_sweep` into ``<scene>_stability.csv|json|png``."""
+    out = Path(out)
+    rows = run_all(scene, out, stability_sweep(scene, quick), quiet, timeout, tag=" stability")
+    write_rows(rows, out / f"{scene}_stability.csv", out / f"{scene}_stability.json")
+    (out / f"{scene}_stability.md").write_text(stability_summary(rows))
+    if pictures:
+        plot_stability(rows, out / f"{scene}_stability.png",
+                       title=f"{scene}: Newton iterations (all steps and augmentations); x = failed")
+    return rows
+
+
+def stability_summary(rows: Sequence[dict]) -> str:
+    """Markdown: per method variant, the parameters at which it converged for every step count, those
+    at which it failed (with the SNES reason), and the Newton and Krylov iterations over the parameter."""
+    names = {v: k for k, v in _snes_reasons().items()}
+    lines = ["| method | parameter | converged for all load steps at | failed at (SNES reason) | Newton iterations "
+             "(fewest steps) | Krylov per Newton |", "|---|---|---|---|---|---|"]
+    for variant in dict.fromkeys(_variant(r) for r in rows):
+        rs = [r for r in rows if _variant(r) == variant]
+        params = sorted({r["K"] for r in rs})
+        good = [p for p in params if all(r["converged"] for r in rs if r["K"] == p)]
+        bad = {p: next(r["snes_reason"] for r in rs if r["K"] == p and not r["converged"])
+               for p in params if p not in good}
+        fewest = min(r["steps"] or 1 for r in rs)
+        its = [next((r for r in rs if r["K"] == p and (r["steps"] or 1) == fewest), None) for p in params]
+        lines.append(
+            f"| {variant} | {'gamma0' if variant.startswith('nitsche') else 'K'} | "
+            f"{', '.join(f'{p:.0e}' for p in good) or '-'} | "
+            f"{', '.join(f'{p:.0e} ({names.get(c, c)})' for p, c in bad.items()) or '-'} | "
+            f"{' / '.join(str(r['newton_iterations']) if r and r['converged'] else 'x' for r in its)} | "
+            f"{' / '.join(_krylov_per_newton(r) for r in its)} |")
+    return "\n".join(lines) + "\n"
+
+
+def _krylov_per_newton(r: dict | None) -> str:
+    if not r or not r["converged"] or not r["newton_iterations"]:
+        return "-"
+    return f"{r['linear_iterations'] / r['newton_iterations']:.0f}"
+
+
+def _snes_reasons() -> dict:
+    from petsc4py import PETSc
+
+    return {k: v for k, v in vars(PETSc.SNES.ConvergedReason).items() if isinstance(v, int)}
+
+
+# Model-reduction checks: the reduced model (used by the scene) against a richer one, same method.
+REDUCTIONS = {
+    "hertz": [("quarter disk, linear elasticity (used)", []),
+              ("half disk (no mirror about x = 0)", ["--symmetry", "half"]),
+              ("neo-Hookean (finite strain)", ["--model", "neohookean"])],
+}
+NOT_CHECKED = {
+    "hertz": ["full disk against the half: not run (the mirror about y = R is exact for two identical rigid "
+              "plates; the full disk needs a second contact and a rigid-mode fix)",
+              "rigid analytic plate against a meshed stiff plate: needs two-body contact (other branch; not done)"],
+}
+
+
+def reduction(scene: str, out: str | Path, quiet: bool = False, timeout: float = 600.0, repeats: int = 3) -> str:
+    """Model-reduction table of ``scene`` (auglag, augmented, default K, coarsest mesh): each variant's
+    figures, their differences from the first (the reduced model the scene uses) and the time saved
+    (solver times: the fastest of ``repeats`` runs each).
+    Writes ``<scene>_reduction.csv`` and ``.md``; returns the Markdown."""
+    out, s = Path(out), spec(scene)
+    level = None if s.get("mesh") is None else s["mesh"][1]["quick"][0]
+    runs = [dict(_run("auglag", s["K"], AUGMENT, "nodal", level), args=args) for _, args in REDUCTIONS[scene]]
+    rows = []
+    for (label, _), cfg in zip(REDUCTIONS[scene], runs):
+        folder = out / scene / ("reduction_" + "".join(c if c.isalnum() else "-" for c in label))
+        # the fastest of `repeats` runs: single timings on a shared machine are too noisy to subtract
+        row = min((run_one(scene, cfg, folder, timeout) for _ in range(repeats)), key=lambda r: r["wall_time_s"])
+        rows.append({"variant": label, **row})
+        if not quiet:
+            _say(f"[{scene} reduction] {label:30s} converged {row['converged']!s:5s} error {row['error']:.3e}")
+    keys = [s["value"], *[k for k in s.get("figures", []) if k != s["value"] and not k.endswith("_error")]]
+    base = rows[0]
+    lines = [f"| variant | dofs | {' | '.join(keys)} | {s['error']} | difference of {' / '.join(keys)} from the "
+             f"reduced model | solver time [s] | time saved by the reduced model |",
+             "|" + "---|" * (len(keys) + 6)]
+    table = []
+    for r in rows:
+        diff = [abs(r[k] - base[k]) / abs(base[k]) for k in keys]
+        saved = 1 - base["wall_time_s"] / r["wall_time_s"]
+        table.append({"variant": r["variant"], "dofs": r["dofs"], **{k: r[k] for k in keys}, "error": r["error"],
+                      **{f"diff_{k}": d for k, d in zip(keys, diff)}, "wall_time_s": r["wall_time_s"],
+                      "time_saved": saved, "converged": r["converged"]})
+        lines.append(f"| {r['variant']} | {r['dofs']} | " + " | ".join(f"{r[k]:.5g}" for k in keys)
+                     + f" | {r['error']:.3%} | " + " / ".join(f"{d:.2%}" for d in diff)
+                     + f" | {r['wall_time_s']:.3f} | {'-' if r is base else f'{saved:.0%}'} |")
+    lines += [f"| {n} | | " + " | " * (len(keys) + 3) + "|" for n in NOT_CHECKED.get(scene, [])]
+    text = "\n".join(lines) + "\n"
+    with open(out / f"{scene}_reduction.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, list(table[0]))
         w.writeheader()
-        w.writerows({k: ("" if r[k] is None else r[k]) for k in COLUMNS} for r in rows)
+        w.writerows(table)
+    (out / f"{scene}_reduction.md").write_text(text)
+    return text
+
+
+def write_rows(rows: Sequence[dict], csv_path: Path, json_path: Path) -> None:
+    columns = COLUMNS + [k for k in dict.fromkeys(k for r in rows for k in r) if k not in COLUMNS]
+    with open(csv_path, "w", newline="") as f:
+        w = csv.DictWriter(f, columns)
+        w.writeheader()
+        w.writerows({k: ("" if r.get(k) is None else r.get(k, "")) for k in columns} for r in rows)
     # JSON has no NaN: a missing figure is null.
     clean = [{k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in r.items()} for r in rows]
     json_path.write_text(json.dumps(clean, indent=1) + "\n")
@@ -137,21 +352,75 @@ def write_rows(rows: Sequence[dict], csv_path: Path, json_path: Path) -> None:
 
 def read_rows(csv_path: str | Path) -> list[dict]:
     """The rows of a ``<scene>.csv`` with their types back."""
-    ints, floats = {"augment", "dofs", "newton_iterations", "augmentations"}, {
-        "K", "F_hat", "wall_time_s", "error", "process_time_s", "setup_time_s", "assembly_s", "linear_solve_s",
-        "augmentation_s", "memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve"}
+    ints = {"augment", "dofs", "newton_iterations", "linear_iterations", "augmentations", "cutbacks", "snes_reason"}
+    texts = {"scene", "method", "quadrature", "label"}
     rows = []
     with open(csv_path, newline="") as f:
         for r in csv.DictReader(f):
             r = dict(r)
-            for k in ints:
-                r[k] = int(r[k])
-            for k in floats:
-                r[k] = float(r[k]) if r[k] != "" else float("nan")
-            r["refinement"] = int(r["refinement"]) if r["refinement"] != "" else None
-            r["converged"] = r["converged"] == "True"
+            for k, v in r.items():
+                if k in texts:
+                    continue
+                if k in ("refinement", "steps"):
+                    r[k] = int(v) if v != "" else None
+                elif k == "converged":
+                    r[k] = v == "True"
+                elif k in ints:
+                    r[k] = int(v)
+                else:
+                    r[k] = float(v) if v != "" else float("nan")
             rows.append(r)
     return rows
+
+
+def findings(scene: str, rows: Sequence[dict]) -> str:
+    """Markdown: per mesh level and method variant, the fastest converged run within the scene's target
+    error (else its most accurate run), with its ratios to one linear solve and to SNES VI, and whether
+    it is on the Pareto front; then the headline (the fastest method within the target against SNES VI)."""
+    s = spec(scene)
+    target = s.get("target", 0.01)
+    ok = [r for r in rows if r["converged"] and not math.isnan(r["error"])]
+    front = {id(ok[i]) for i in pareto_front([r["wall_time_s"] for r in ok], [r["error"] for r in ok])}
+    lines = [f"Target: {s['error']} <= {target:g}. Time: solver wall time (no output), set-up excluded; "
+             f"ratios to one linear solve (assembly + factorisation + solve) and to SNES VI on the same mesh.", "",
+             "| mesh | dofs | method | parameter | error | gap to VI | Newton | aug | time [s] | /linear | /VI | "
+             "Pareto |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    headline = []
+    for level in dict.fromkeys(r["refinement"] for r in rows):
+        here = [r for r in ok if r["refinement"] == level]
+        vi = next((r for r in here if r["method"] == "vi"), None)
+        for variant in dict.fromkeys(_variant(r) for r in here):
+            runs = [r for r in here if _variant(r) == variant]
+            within = [r for r in runs if r["error"] <= target]
+            best = min(within, key=lambda r: r["wall_time_s"]) if within else min(runs, key=lambda r: r["error"])
+            par = "-" if best["method"] == "vi" else ("gamma0 " if best["method"] == "nitsche" else "K ") + \
+                f"{best['K']:.3g}"
+            lines.append(
+                f"| {'-' if level is None else level} | {best['dofs']} | {variant} | {par} | {best['error']:.3g}"
+                f"{'' if within else ' (target not reached)'} | {best.get('limit_gap', float('nan')):.2g} | "
+                f"{best['newton_iterations']} | {best['augmentations']} | {best['wall_time_s']:.3f} | "
+                f"{best['ratio_to_linear_solve']:.1f} | "
+                f"{best['wall_time_s'] / vi['wall_time_s'] if vi else float('nan'):.2f} | "
+                f"{'yes' if id(best) in front else 'no'} |")
+        for who, keep in (("the suite's methods", lambda m: m not in REFERENCES),
+                          ("the references", REFERENCES.__contains__)):
+            cands = [r for r in here if keep(r["method"]) and r["error"] <= target]
+            if not cands:
+                headline.append(f"- mesh {'-' if level is None else level}: none of {who} reaches the target.")
+                continue
+            b = min(cands, key=lambda r: r["wall_time_s"])
+            vs = (f"; SNES VI {vi['wall_time_s']:.3f} s (error {vi['error']:.3g}): "
+                  f"{b['wall_time_s'] / vi['wall_time_s']:.2f} x its time") if vi and b is not vi else ""
+            headline.append(f"- mesh {'-' if level is None else level} ({b['dofs']} dofs): fastest of {who} within "
+                            f"the target: {_variant(b)} ({'gamma0' if b['method'] == 'nitsche' else 'K'} {b['K']:.3g}),"
+                            f" {b['wall_time_s']:.3f} s (+ set-up {b['setup_time_s']:.2f} s), error {b['error']:.3g} "
+                            f"(gap to VI {b['limit_gap']:.2g}), {b['ratio_to_linear_solve']:.1f} x one linear solve "
+                            f"({b['linear_solve_floor_s']:.3f} s){vs}.")
+    on_front = [r for r in ok if id(r) in front]
+    lines += ["", *headline, "- Pareto front (fastest first): " + ", ".join(
+        f"{_variant(r)} {r['K']:.3g} r{r['refinement']} ({r['wall_time_s']:.3f} s, {r['error']:.2g})"
+        for r in sorted(on_front, key=lambda r: r["wall_time_s"]))]
+    return "\n".join(lines) + "\n"
 
 
 def pareto_front(times: Sequence[float], errors: Sequence[float]) -> np.ndarray:
@@ -171,22 +440,29 @@ def pareto_front(times: Sequence[float], errors: Sequence[float]) -> np.ndarray:
 
 # ---------------------------------------------------------------------------------------------- charts
 
-COLOURS = {"penalty": "tab:blue", "cross": "tab:orange", "auglag": "tab:green", "vi": "tab:red"}
+COLOURS = {"penalty": "tab:blue", "cross": "tab:orange", "auglag": "tab:green", "vi": "tab:red",
+           "nitsche": "tab:purple"}
 MARKERS = {None: "o", 0: "o", 1: "^", 2: "s", 3: "D"}  # by refinement
-SIZES = {"penalty": 11.0, "cross": 8.0, "auglag": 5.0, "vi": 7.0}  # coinciding methods stay visible (concentric)
+SIZES = {"penalty": 11.0, "cross": 8.0, "auglag": 5.0, "vi": 7.0, "nitsche": 9.0}  # coinciding stay visible
 
 
 def _variant(r: dict) -> str:
-    return r["method"] + (" augmented" if r["augment"] > 0 else "")
+    return r.get("label") or r["method"] + (" augmented" if r["augment"] > 0 else "")
 
 
-def _figure():
+def _colour(method: str) -> str:
+    return COLOURS.get(method, "tab:gray")
+
+
+def _figure(ncols: int = 1, width: float = 7.5):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(7.5, 5.2), layout="constrained")
+    fig = Figure(figsize=(width, 5.2), layout="constrained")
     FigureCanvasAgg(fig)
-    return fig, fig.add_subplot()
+    if ncols == 1:
+        return fig, fig.add_subplot()
+    return fig, fig.subplots(1, ncols, sharey=True)
 
 
 def _legend_handles(rows: Sequence[dict]):
@@ -195,11 +471,11 @@ def _legend_handles(rows: Sequence[dict]):
     handles = []
     for v in dict.fromkeys(_variant(r) for r in rows):
         m = v.split()[0]
-        handles.append(Line2D([], [], ls="", marker="o", ms=7, color=COLOURS[m], mec=COLOURS[m],
-                              mfc=COLOURS[m] if "augmented" in v else "none", label=v))
+        handles.append(Line2D([], [], ls="", marker="o", ms=7, color=_colour(m), mec=_colour(m),
+                              mfc=_colour(m) if "augmented" in v else "none", label=v))
     refinements = sorted({r["refinement"] for r in rows if r["refinement"] is not None})
     if len(refinements) > 1:
-        handles += [Line2D([], [], ls="", marker=MARKERS[k], color="grey", mfc="none", label=f"refinement {k}")
+        handles += [Line2D([], [], ls="", marker=MARKERS.get(k, "o"), color="grey", mfc="none", label=f"mesh {k}")
                     for k in refinements]
     return handles
 
@@ -209,9 +485,16 @@ def _tick(x: float, _pos=None) -> str:
     return f"{x:g}" if mantissa in (1, 2, 5) else ""
 
 
+def _error_label(rows: Sequence[dict]) -> str:
+    name = spec(rows[0]["scene"])["error"] if rows else "figure"
+    return f"relative error of {name} [-]  (below {ERROR_FLOOR:g} drawn at {ERROR_FLOOR:g})"
+
+
 def plot_pareto(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
     """Error against solver wall time (log-log) of the converged runs, and their Pareto front.
-    Colour: method; filled marker: augmented; marker shape: refinement."""
+    Colour: method; filled marker: augmented; marker shape: mesh level; dotted verticals: one linear
+    solve on each mesh (the cost floor)."""
+    from matplotlib.lines import Line2D
     from matplotlib.ticker import FuncFormatter
 
     fig, ax = _figure()
@@ -219,40 +502,73 @@ def plot_pareto(rows: Sequence[dict], path: str | Path, title: str = "") -> None
     t = np.array([r["wall_time_s"] for r in ok])
     e = np.maximum([r["error"] for r in ok], ERROR_FLOOR)
     for r, ti, ei in zip(ok, t, e):
-        c = COLOURS[r["method"]]
+        c = _colour(r["method"])
         ax.plot(ti, ei, ls="", marker=MARKERS.get(r["refinement"], "o"), ms=7, mec=c,
                 mfc=c if r["augment"] > 0 else "none", alpha=0.85)
     front = pareto_front(t, e)
     if len(front):
         ft, fe = np.append(t[front], t.max() * 1.15), np.append(e[front], e[front[-1]])
         ax.step(ft, fe, where="post", color="black", lw=1.2, zorder=0, label="Pareto front")
+    for level in dict.fromkeys(r["refinement"] for r in ok):
+        floor = np.nanmedian([r["linear_solve_floor_s"] for r in ok if r["refinement"] == level])
+        if np.isfinite(floor):
+            ax.axvline(floor, color="grey", ls=":", lw=1.2)
+            ax.annotate(f"1 linear solve{'' if level is None else f' (mesh {level})'}", (floor, 0.02),
+                        xycoords=("data", "axes fraction"), rotation=90, fontsize=7, color="grey", ha="right")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.xaxis.set_major_formatter(FuncFormatter(_tick))
     ax.xaxis.set_minor_formatter(FuncFormatter(_tick))  # 2 and 5 only: the default minor labels overlap
     ax.set_xlabel("solver wall time [s]")
-    ax.set_ylabel(f"relative error of {ERROR[rows[0]['scene']] if rows else 'figure'} [-]"
-                  f"  (below {ERROR_FLOOR:g} drawn at {ERROR_FLOOR:g})")
+    ax.set_ylabel(_error_label(rows))
     failed = len(rows) - len(ok)
     ax.set_title(title + (f" ({failed} failed run{'s' * (failed != 1)} not shown)" if failed else ""))
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(handles=_legend_handles(rows) + ax.get_legend_handles_labels()[0], fontsize=8, loc="best")
-    fig.savefig(path, dpi=110)
+    extra = [Line2D([], [], color="grey", ls=":", label="one linear solve")]
+    ax.legend(handles=_legend_handles(rows) + ax.get_legend_handles_labels()[0] + extra, fontsize=8, loc="best")
+    fig.savefig(path, dpi=100)
+
+
+def plot_dofs(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
+    """Error against dofs: per method variant, its most accurate converged run on each mesh."""
+    fig, ax = _figure()
+    ok = [r for r in rows if r["converged"] and not math.isnan(r["error"])]
+    for variant in dict.fromkeys(_variant(r) for r in ok):
+        best = {}
+        for r in ok:
+            if _variant(r) == variant and (r["dofs"] not in best or r["error"] < best[r["dofs"]]["error"]):
+                best[r["dofs"]] = r
+        d = sorted(best)
+        m = variant.split()[0]
+        ax.plot(d, [max(best[k]["error"], ERROR_FLOOR) for k in d], color=_colour(m), marker="o", ms=SIZES.get(m, 7),
+                mfc=_colour(m) if "augmented" in variant else "none", ls="-" if "augmented" in variant else "--",
+                label=variant)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("dofs")
+    ax.set_ylabel(_error_label(rows))
+    ax.set_title(title + " (most accurate run of each method per mesh)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    fig.savefig(path, dpi=100)
 
 
 def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
     """Total Newton iterations (all load steps and augmentations) against K, one line per method,
-    augmentation and refinement; failed runs as crosses."""
+    augmentation and refinement; failed runs as crosses. (Nitsche's gamma0 is on the stability map.)"""
+    from matplotlib.lines import Line2D
+
     fig, ax = _figure()
+    rows = [r for r in rows if r["method"] not in ("vi", "nitsche")]  # no K
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
         groups.setdefault((r["method"], r["augment"] > 0, r["refinement"]), []).append(r)
     for (method, augmented, refinement), rs in groups.items():
-        rs = sorted((r for r in rs if r["K"] > 0), key=lambda r: r["K"])  # vi has no K
-        c = COLOURS[method]
+        rs = sorted(rs, key=lambda r: r["K"])
+        c = _colour(method)
         ok = [r for r in rs if r["converged"]]
         ax.plot([r["K"] for r in ok], [r["newton_iterations"] for r in ok], color=c, lw=1.5,
-                ls="-" if augmented else "--", marker=MARKERS.get(refinement, "o"), ms=SIZES[method],
+                ls="-" if augmented else "--", marker=MARKERS.get(refinement, "o"), ms=SIZES.get(method, 7),
                 mfc=c if augmented else "none", mec=c, alpha=0.85)
         bad = [r for r in rs if not r["converged"]]
         ax.plot([r["K"] for r in bad], [r["newton_iterations"] for r in bad], ls="", marker="x", color=c, ms=9)
@@ -261,37 +577,89 @@ def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> 
     ax.set_ylabel("Newton iterations, all steps and augmentations [-]")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
-    from matplotlib.lines import Line2D
-
     extra = [Line2D([], [], ls="", marker="x", color="grey", label="failed")] if any(
         not r["converged"] for r in rows) else []
     ax.legend(handles=_legend_handles(rows) + extra, fontsize=8, loc="best")
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
+
+
+def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
+    """Heat map per method variant: Newton iterations over (parameter, load steps); a cross marks a
+    failed run, ``c<n>`` the number of step cutbacks the run needed, ``(k)`` the Krylov iterations per
+    Newton iteration (iterative solver: grows with the conditioning)."""
+    from matplotlib.colors import LogNorm
+
+    variants = list(dict.fromkeys(_variant(r) for r in rows))
+    fig, axes = _figure(len(variants), width=3.2 * len(variants) + 1.0)
+    axes = np.atleast_1d(axes)
+    its = [r["newton_iterations"] for r in rows if r["newton_iterations"] > 0]
+    norm = LogNorm(vmin=max(min(its, default=1), 1), vmax=max(its, default=10))
+    image = None
+    for ax, variant in zip(axes, variants):
+        rs = [r for r in rows if _variant(r) == variant]
+        params = sorted({r["K"] for r in rs})
+        steps = sorted({r["steps"] for r in rs})
+        grid = np.full((len(steps), len(params)), np.nan)
+        for r in rs:
+            i, j = steps.index(r["steps"]), params.index(r["K"])
+            if r["converged"]:
+                grid[i, j] = r["newton_iterations"]
+            label = f"{r['newton_iterations']}" + (f"\nc{r['cutbacks']}" if r["cutbacks"] else "")
+            if r.get("linear_iterations", 0) > r["newton_iterations"] > 0:  # iterative: Krylov its per Newton
+                label += f"\n({r['linear_iterations'] / r['newton_iterations']:.0f})"
+            ax.text(j, i, label if r["converged"] else "x", ha="center", va="center", fontsize=8,
+                    color="black" if r["converged"] else "red")
+        image = ax.imshow(np.ma.masked_invalid(grid), cmap="viridis", norm=norm, origin="lower", aspect="auto")
+        ax.set_xticks(range(len(params)), [f"{p:.0e}" if p >= 1e3 else f"{p:g}" for p in params], rotation=45,
+                      fontsize=7)
+        ax.set_yticks(range(len(steps)), [str(n) for n in steps])
+        ax.set_xlabel("gamma0 [-]" if variant.startswith("nitsche") else "K [pressure / length]")
+        ax.set_title(variant.replace(", ", ",\n"), fontsize=9)
+    axes[0].set_ylabel("load steps")
+    if image is not None:
+        fig.colorbar(image, ax=list(axes), label="Newton iterations")
+    fig.suptitle(title, fontsize=10)
+    fig.savefig(path, dpi=100)
 
 
 def main(argv: Sequence[str] | None = None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                 formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    p.add_argument("--scene", action="append", choices=SCENES, help="scene (repeatable; default: all)")
+    p.add_argument("--scene", action="append", help="scene (repeatable; default: every scene with BENCH)")
     p.add_argument("--quick", action="store_true", help="small sweep")
     p.add_argument("--out", default="results/bench", help="output folder")
     p.add_argument("--timeout", type=float, default=1800.0, help="seconds per run before it counts as failed")
-    p.add_argument("--charts-only", action="store_true", help="redraw the charts from <out>/<scene>.csv")
+    p.add_argument("--charts-only", action="store_true", help="redraw charts and findings from <out>/<scene>.csv")
+    p.add_argument("--no-stability", action="store_true", help="skip the stability maps")
+    p.add_argument("--no-reduction", action="store_true", help="skip the model-reduction tables")
     p.add_argument("--quiet", action="store_true", help="no line per run")
     args = p.parse_args(argv)
+    scenes = args.scene or bench_scenes()
+    for scene in scenes:
+        spec(scene)  # a clear error before anything runs
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    for scene in args.scene or SCENES:
+    for scene in scenes:
         start = time.perf_counter()
+        s = spec(scene)
         if args.charts_only:
-            rows = read_rows(out / f"{scene}.csv")
-            plot_pareto(rows, out / f"{scene}_pareto.png", title=f"{scene}: error against wall time")
-            plot_iterations(rows, out / f"{scene}_iterations.png", title=f"{scene}: Newton iterations against K")
+            _say(report(scene, read_rows(out / f"{scene}.csv"), out))
+            if s.get("stability") and (out / f"{scene}_stability.csv").exists():
+                plot_stability(read_rows(out / f"{scene}_stability.csv"), out / f"{scene}_stability.png",
+                               title=f"{scene}: Newton iterations (all steps and augmentations); x = failed")
             continue
         rows = bench(scene, out, sweep(scene, args.quick), quiet=args.quiet, timeout=args.timeout)
         failed = sum(not r["converged"] for r in rows)
         _say(f"{scene}: {len(rows)} runs ({failed} failed) in {time.perf_counter() - start:.1f} s -> "
-              f"{out / scene}.csv, {out / scene}_pareto.png, {out / scene}_iterations.png", flush=True)
+             f"{out / scene}.csv, {scene}_pareto.png, {scene}_dofs.png, {scene}_iterations.png")
+        _say((out / f"{scene}_findings.md").read_text())
+        if s.get("stability") and not args.no_stability:
+            rows = stability(scene, out, args.quick, quiet=args.quiet)
+            _say(f"{scene} stability map: {len(rows)} runs, {sum(not r['converged'] for r in rows)} failed -> "
+                 f"{out / scene}_stability.csv, {scene}_stability.png")
+        if s.get("reduction") and not args.no_reduction and scene in REDUCTIONS:
+            _say(f"{scene} model reduction:\n" + reduction(scene, out, quiet=args.quiet))
+        _say(f"{scene}: done in {time.perf_counter() - start:.1f} s")
 
 
 if __name__ == "__main__":

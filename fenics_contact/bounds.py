@@ -17,7 +17,7 @@ from petsc4py import PETSc
 
 from .compat import bc_dofs, petsc_vec
 from .contact import ContactSurface
-from .laws import ContactLaw, Coulomb, Exact, LagrangeMultiplier
+from .laws import ContactLaw, Coulomb, Exact, LagrangeMultiplier, NitscheLaw
 from .obstacles import HalfPlane, Obstacle
 
 _BIG = 1e300  # "no bound" (PETSc's VI treats |bound| >= 1e20 as infinite)
@@ -79,13 +79,18 @@ class BoundContact(ContactSurface):
 
 
 def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact",
-                    linearized=False) -> ContactSurface:
+                    linearized=False, material=None) -> ContactSurface:
     """The contact surface a law needs: a :class:`ContactSurface` for a law, a
     :class:`~fenics_contact.friction.FrictionalContact` for a law with friction, a :class:`BoundContact`
     for method ``vi``, a :class:`~fenics_contact.multipliers.MultiplierContact` for method ``lagrange``
     (``u`` then the mixed unknown of :func:`~fenics_contact.multipliers.unknown`), or a
     :class:`~fenics_contact.condensed.CondensedContact` for method ``coulomb`` (whose gap is linearized
-    by construction). ``linearized``: the small-displacement gap (see :class:`ContactSurface`)."""
+    by construction), or a :class:`~fenics_contact.nitsche.NitscheContact` for method ``nitsche`` (which
+    needs the bulk ``material``). ``linearized``: the small-displacement gap (see :class:`ContactSurface`)."""
+    if isinstance(law, NitscheLaw):
+        from .nitsche import NitscheContact
+
+        return NitscheContact(u, facet_tags, tag, obstacle, law, load, quadrature, name, material=material)
     if isinstance(law, Coulomb):
         from .condensed import CondensedContact  # imports this module
 

@@ -15,6 +15,7 @@ from petsc4py import PETSc
 
 from .contact import QUADRATURES
 from .laws import METHODS, ContactLaw, make_law
+from .solver import LINEAR_SOLVERS
 
 
 def parser(description: str, default_K: float) -> argparse.ArgumentParser:
@@ -38,8 +39,12 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
     p.add_argument("--m-t", type=float, default=None, help="exponent m_t >= 1 of the bound (default: m_n)")
     p.add_argument("--omega-t", type=float, default=None, help="tangential penalty of stick (default: --K)")
     p.add_argument("--quadrature", choices=QUADRATURES, default="nodal", help="contact quadrature")
+    p.add_argument("--gamma0", type=float, default=10.0, help="nitsche: gamma = gamma0 E / h (dimensionless)")
+    p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
+                   help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D)")
     p.add_argument("--out", default=None, help="output directory (default: results/<scene>)")
     p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
+    p.add_argument("--no-xdmf", action="store_true", help="no XDMF field output (benchmarks: solver time alone)")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     return p
 
@@ -57,7 +62,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
         PETSc.Options().insertString(" ".join(rest))
     if args.augment is None:
         args.augment = 0 if args.method in ("penalty", "vi", "compliance", "coulomb", "lagrange",
-                                                "penalty_multiplier") else 10
+                                                "penalty_multiplier", "nitsche") else 10
     if args.c_n is None:
         args.c_n = args.K
     if args.omega_t is None:
@@ -90,11 +95,13 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
         return make_law("coulomb", mu=args.mu)  # exact Coulomb: mu is the law's own parameter
     elif args.method == "lagrange":
         law = make_law("lagrange", c=args.K)
+    elif args.method == "nitsche":
+        law = make_law("nitsche", gamma0=args.gamma0)
     else:
         law = make_law(args.method, K=args.K)
     if not has_friction(args):
         return law
-    if args.method in ("vi", "lagrange", "penalty_multiplier"):
+    if args.method in ("vi", "lagrange", "penalty_multiplier", "nitsche"):
         raise ValueError(f"method {args.method!r} has no friction: use --mu 0 (or another method)")
     if args.c_t is not None and args.mu != 0.0:
         raise ValueError(f"give either --mu ({args.mu}) or --c-t ({args.c_t}), not both")
@@ -108,8 +115,13 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
 def method_parameters(args: argparse.Namespace) -> dict:
     keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
             "compliance": ["c_n", "m_n"], "coulomb": ["mu"], "lagrange": ["K"],
-            "penalty_multiplier": ["K"]}[args.method]
+            "penalty_multiplier": ["K"], "nitsche": ["gamma0"]}[args.method]
     if has_friction(args) and args.method != "coulomb":
         keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["mu"]) + ["omega_t"]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
-            "quadrature": args.quadrature}
+            "quadrature": args.quadrature, "solver": getattr(args, "solver", "direct")}
+
+
+def solver_options(args: argparse.Namespace) -> dict:
+    """PETSc options (prefix ``fc_``) of ``--solver``; options on the command line still win."""
+    return dict(LINEAR_SOLVERS[getattr(args, "solver", "direct")])

@@ -323,6 +323,21 @@ class PenaltyMultiplier(LagrangeMultiplier):
         return p - c["c"] * ops.max(0.0, g)
 
 
+class NitscheLaw(ContactLaw):
+    """No law of the gap alone: symmetric Nitsche (:mod:`fenics_contact.nitsche`). The pressure is
+    ``<gamma g - sigma_n(u)>`` with ``gamma = gamma0 E / h``; ``gamma0`` (dimensionless, > 0) is its
+    only parameter. The surface needs the bulk material (for ``sigma_n``)."""
+
+    name = "nitsche"
+
+    def __init__(self, gamma0: float = 10.0):
+        self.scalars = {"gamma0": _check_positive("Nitsche gamma0", gamma0)}
+        self.fields = {}
+
+    def force(self, g, c, ops=NUMPY):
+        raise TypeError("method 'nitsche' has no law of the gap alone: its pressure involves the stress")
+
+
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
@@ -330,7 +345,7 @@ def _heaviside(x, ops):
 
 METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian,
            "compliance": NormalCompliance, "vi": Exact, "coulomb": Coulomb, "lagrange": LagrangeMultiplier,
-           "penalty_multiplier": PenaltyMultiplier}
+           "penalty_multiplier": PenaltyMultiplier, "nitsche": NitscheLaw}
 
 
 def make_law(method: str, **params: float) -> ContactLaw:

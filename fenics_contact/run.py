@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import resource
 import time
+from contextlib import nullcontext
 from pathlib import Path
 from typing import Callable
 
@@ -17,8 +18,9 @@ from .solver import ConvergenceError, Solver
 def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
         augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None, max_cutbacks: int = 4,
         on_iterate: Callable[[int], None] | None = None, predictor: bool = False,
-        on_step: Callable[[float], None] | None = None) -> dict:
-    """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once.
+        on_step: Callable[[float], None] | None = None, xdmf: bool = True) -> dict:
+    """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once
+    (``xdmf=False``: no field output, e.g. for benchmarks that time the solver alone).
 
     Returns the summary (also in ``out/summary.json``). A step that fails
     after ``max_cutbacks`` cutbacks writes the summary with ``converged: false``
@@ -29,12 +31,14 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
     out = Path(out)
     comm = setup.problem.comm
     start = time.perf_counter()
-    with XDMFWriter(out / f"{setup.name}.xdmf", setup.problem.u.function_space.mesh, setup.fields) as xdmf:
+    with XDMFWriter(out / f"{setup.name}.xdmf", setup.problem.u.function_space.mesh,
+                    setup.fields) if xdmf else nullcontext() as writer:
 
         def write(t: float) -> None:
-            for c in setup.contacts:
-                c.update_output()
-            xdmf.write(t)
+            if writer is not None:
+                for c in setup.contacts:
+                    c.update_output()
+                writer.write(t)
             if on_step is not None:
                 on_step(t)
 
@@ -55,6 +59,7 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
                "setup_time_s": setup.build_time_s, "time_split": record["time_split"],
                "linear_solve_floor_s": floor, "ratio_to_linear_solve": wall / floor, "memory_peak_mb": memory,
                "newton_iterations": record["newton_iterations"], "augmentations": record["augmentations"],
+               "linear_iterations": record["linear_iterations"],
                "load_steps": record["load_steps"], "converged": record["converged"] and error is None,
                "error": error, "failure": record["failure"], "failures": record["failures"],
                **(setup.figures() if solver.records and solver.t > 0 else {}),

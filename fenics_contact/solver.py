@@ -38,6 +38,44 @@ DEFAULT_OPTIONS = {
 }
 
 
+# Linear solvers of ``--solver``. direct: sparse LU (MUMPS), robust for every method, the default for
+# the 2D scenes (up to ~1e5 dofs). iterative: GMRES with smoothed-aggregation AMG (GAMG) and the
+# rigid-body modes as near-nullspace, for 3D meshes where LU's fill-in and time grow too fast.
+# (CG would do for these symmetric Jacobians, but GAMG's Chebyshev smoothers, with eigenvalue
+# estimates from the first contact iterations, reported an indefinite preconditioner on the sphere.)
+LINEAR_SOLVERS = {
+    "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
+    "iterative": {"ksp_type": "gmres", "pc_type": "gamg", "ksp_rtol": 1e-8, "ksp_max_it": 500},
+}
+
+
+def rigid_body_modes(V) -> PETSc.NullSpace:
+    """The rigid-body modes of the vector P1 space ``V`` (3 in 2D, 6 in 3D), orthonormalised, as a
+    PETSc near-nullspace for algebraic multigrid."""
+    from dolfinx import fem
+
+    x = V.tabulate_dof_coordinates()
+    gdim = V.mesh.geometry.dim
+    x = x[:, :gdim]
+    n_local = V.dofmap.index_map.size_local
+    funcs = [fem.Function(V) for _ in range(3 if gdim == 2 else 6)]
+    arrays = [f.x.array.reshape(-1, gdim) for f in funcs]
+    for i in range(gdim):  # translations
+        arrays[i][:, i] = 1.0
+    rotations = [(0, 1)] if gdim == 2 else [(0, 1), (1, 2), (2, 0)]
+    for k, (i, j) in enumerate(rotations):  # rotation in the (i, j) plane
+        arrays[gdim + k][:, i] = -x[:, j]
+        arrays[gdim + k][:, j] = x[:, i]
+    vecs = []
+    for f in funcs:  # Gram-Schmidt on the owned entries (PETSc vectors of the owned dofs)
+        v = PETSc.Vec().createWithArray(f.x.array[: n_local * gdim].copy(), comm=V.mesh.comm)
+        for w in vecs:
+            v.axpy(-v.dot(w), w)
+        v.normalize()
+        vecs.append(v)
+    return PETSc.NullSpace().create(vectors=vecs, comm=V.mesh.comm)
+
+
 class ConvergenceError(RuntimeError):
     """A load step failed even after the allowed cutbacks; ``failure`` says why (see :mod:`failure`)."""
 
@@ -110,6 +148,7 @@ class Solver:
         for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
             defaults.update(c.solver_options)
         wanted = {**defaults, **(options or {})}
+        self._wanted, self._prefix = wanted, prefix
         ours = [k for k in wanted if not opts.hasName(prefix + k)]
         for k in ours:
             opts[prefix + k] = wanted[k]
@@ -124,6 +163,8 @@ class Solver:
         self.snes.setMonitor(self._monitor)
         self.snes.setFromOptions()
         self.snes.getKSP().setFromOptions()
+        if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
+            self._A.setNearNullSpace(rigid_body_modes(u.function_space))
         for k in ours:
             opts.delValue(prefix + k)
         self.records: list[StepRecord] = []
@@ -135,6 +176,7 @@ class Solver:
         # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
         # (their difference is the linear solves and SNES's vector work), augmentation updates.
         self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0}
+        self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
 
     # --- SNES callbacks ---------------------------------------------------
     def _set_u(self, x: PETSc.Vec) -> None:
@@ -199,6 +241,7 @@ class Solver:
         start = time.perf_counter()
         self.snes.solve(None, self._x)
         self.timings["snes_s"] += time.perf_counter() - start
+        self.linear_iterations += self.snes.getLinearSolveIterations()
         self._set_u(self._x)
         return self.snes.getConvergedReason()
 
@@ -323,12 +366,16 @@ class Solver:
     def linear_solve_time(self) -> float:
         """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
         (factorization included): the cost floor of one linear elastic solve on this mesh (max over ranks)."""
-        old = self.snes.getKSP()
         ksp = PETSc.KSP().create(self.problem.comm)
-        ksp.setType(old.getType())
-        ksp.getPC().setType(old.getPC().getType())
-        if old.getPC().getType() in ("lu", "cholesky"):
-            ksp.getPC().setFactorSolverType(old.getPC().getFactorSolverType())
+        # the SNES's linear-solver options (ours and the command line's), under the same prefix
+        ksp.setOptionsPrefix(self.snes.getOptionsPrefix())
+        opts = PETSc.Options()
+        ours = [k for k in self._wanted if k.startswith(("ksp_", "pc_", "mg_")) and not opts.hasName(self._prefix + k)]
+        for k in ours:
+            opts[self._prefix + k] = self._wanted[k]
+        ksp.setFromOptions()
+        for k in ours:
+            opts.delValue(self._prefix + k)
         x = self._b.duplicate()
         start = time.perf_counter()
         self._jacobian(self.snes, self._x, self._A, self._A)
@@ -348,7 +395,7 @@ class Solver:
                  "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
                  "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"]}
         return {"time_split": split,"newton_iterations": sum(r.newton_iterations for r in done),
-                "augmentations": sum(r.augmentations for r in done),
+                "augmentations": sum(r.augmentations for r in done), "linear_iterations": self.linear_iterations,
                 "load_steps": len(done),
                 "converged": bool(self.records) and all(r.converged for r in self.records),
                 "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,

@@ -2,6 +2,7 @@
 import math
 
 import numpy as np
+import pytest
 from mpi4py import MPI
 
 from fenics_contact import bench
@@ -33,8 +34,9 @@ def test_sweep_block(tmp_path):
     assert cross["error"] < 1e-8
     assert cross["augmentations"] > 0 and penalty["augmentations"] == 0
     assert all(r["dofs"] > 0 and r["wall_time_s"] > 0 and r["newton_iterations"] > 0 for r in rows)
-    assert (out / "block.json").exists() and (out / "block_pareto.png").exists()
-    assert (out / "block_iterations.png").exists()
+    for name in ("block.json", "block_pareto.png", "block_iterations.png", "block_dofs.png", "block_findings.md"):
+        assert (out / name).exists()
+    assert "| cross augmented |" in (out / "block_findings.md").read_text()
 
 
 def test_failed_run_is_recorded_not_raised(tmp_path):
@@ -42,3 +44,47 @@ def test_failed_run_is_recorded_not_raised(tmp_path):
     row = bench.run_one("block", dict(method="penalty", K=1e5, F_hat=0.0, augment=0, quadrature="bogus",
                                       refinement=None), tmp_path / f"rank{MPI.COMM_WORLD.rank}")
     assert row["converged"] is False and math.isnan(row["error"])
+
+
+def test_scene_specs_and_commands(tmp_path):
+    assert {"block", "hertz", "sphere"} <= set(bench.bench_scenes())
+    for scene in bench.bench_scenes():
+        runs = bench.sweep(scene, quick=True)
+        assert {r["method"] for r in runs} == set(bench.spec(scene)["methods"])
+        assert sum(r["method"] == "vi" for r in runs) == len({r["refinement"] for r in runs})  # once per mesh
+    nitsche = bench.command("hertz", bench._run("nitsche", 30.0, refinement=1, steps=4), tmp_path)
+    assert nitsche[nitsche.index("--gamma0") + 1] == "30.0" and "--K" not in nitsche
+    assert nitsche[-4:] == ["--refinement", "1", "--steps", "4"]
+    vi = bench.command("sphere", bench._run("vi", 0.0, refinement=0), tmp_path)
+    assert vi[vi.index("--level") + 1] == "0"
+    # the scene's iterative solver, then the method's direct one: argparse keeps the last
+    assert [vi[i + 1] for i, a in enumerate(vi) if a == "--solver"] == ["iterative", "direct"]
+    grid = bench.stability_sweep("hertz", quick=True)
+    assert {r["steps"] for r in grid} == {1, 4} and len({r["K"] for r in grid if r["method"] == "penalty"}) == 5
+    assert sum(r.get("label") == bench.NO_DIVTOL for r in grid) == 10
+    with pytest.raises(ValueError, match="scene"):
+        bench.spec("nosuchscene")
+
+
+def _row(method, K, error, time_s, augment=0, refinement=0, **kw):
+    return {"scene": "hertz", "method": method, "K": K, "F_hat": 0.0, "augment": augment, "quadrature": "nodal",
+            "refinement": refinement, "steps": kw.get("steps"), "dofs": 100, "wall_time_s": time_s,
+            "newton_iterations": kw.get("newton", 3), "linear_iterations": 3, "augmentations": 0,
+            "converged": kw.get("converged", True), "cutbacks": 0, "snes_reason": 2, "error": error,
+            "limit_gap": 0.0, "setup_time_s": 1.0, "ratio_to_linear_solve": time_s / 0.1,
+            "linear_solve_floor_s": 0.1, "p0": 1.0}
+
+
+def test_findings_pick_the_fastest_run_within_the_target(tmp_path):
+    rows = [_row("penalty", 1e6, 0.02, 0.1), _row("penalty", 1e8, 0.005, 0.3), _row("penalty", 1e7, 0.008, 0.2),
+            _row("auglag", 1e6, 0.003, 0.5, augment=10), _row("vi", 0.0, 0.003, 0.4),
+            _row("nitsche", 10.0, 0.004, 0.15)]
+    text = bench.findings("hertz", rows)
+    assert "fastest of the suite's methods within the target: penalty (K 1e+07), 0.200 s" in text
+    assert "0.50 x its time" in text  # 0.2 s against SNES VI's 0.4 s
+    assert "fastest of the references within the target: nitsche (gamma0 10), 0.150 s" in text
+    # the stability heat map draws failed runs too
+    grid = [_row(m, K, 0.01, 0.1, steps=n, converged=not (m == "penalty" and K > 1e9))
+            for m in ("penalty", "nitsche") for K in (1e6, 1e8, 1e10) for n in (1, 4)]
+    bench.plot_stability(grid, tmp_path / "map.png")
+    assert (tmp_path / "map.png").stat().st_size > 1000

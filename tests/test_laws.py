@@ -98,7 +98,7 @@ def test_augmentation_update_is_current_force():
     ("auglag", {"K": -5.0}, "penalty K"), ("cross", {"K_hat": 0.0}, "K_hat"),
     ("cross", {"K_hat": 1e5, "a": 1.0}, "shape parameter a"), ("cross", {"K_hat": 1e5, "a": -0.1}, "shape parameter a"),
     ("cross", {"K_hat": 1e5, "F_hat": -1.0}, "F_hat"), ("cross", {"K_hat": 1e5, "tau": 0.5}, "tau"),
-    ("nitsche", {}, "unknown contact method"),
+    ("mortar", {}, "unknown contact method"),
 ])
 def test_bad_input_names_the_parameter(method, params, name):
     with pytest.raises(ValueError, match=name):

@@ -1,7 +1,8 @@
 """Meshes for the contact benchmarks, with named physical tags; one module per geometry.
 
 gmsh meshes (``hertz_quarter_disk``, ``pin_plate``, the seal sections, ``two_half_disks``,
-``sheet_over_cylinder``) are built on rank 0 and distributed with ``dolfinx.io.gmshio.model_to_mesh``;
+``sheet_over_cylinder``, ``sphere_octant``) are built on rank 0 and distributed with
+``dolfinx.io.gmshio.model_to_mesh``;
 ``rectangle`` and ``stacked_blocks`` use dolfinx's built-in meshes, ``ring_quarter`` maps a rectangle
 to polar coordinates. All functions are collective on ``comm``. The seal geometry is documented in
 :mod:`fenics_contact.meshes.seal`.
@@ -19,6 +20,7 @@ from .seal import (  # noqa: F401
     seal_wave_section,
 )
 from .sheet import sheet_over_cylinder  # noqa: F401
+from .sphere import sphere_octant  # noqa: F401
 from .tags import (  # noqa: F401
     BOTTOM,
     CONTACT,
@@ -41,6 +43,7 @@ from .tags import (  # noqa: F401
     SEAL_SYMMETRY,
     SHEET_FACETS,
     SYMMETRY,
+    SYMMETRY_Y,
     TOP,
 )
 from .twobody import (  # noqa: F401

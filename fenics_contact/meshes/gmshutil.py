@@ -11,15 +11,13 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-
-
-
 # Slope of the mesh size with distance in the graded zone (size / length).
 _GRADING = 0.25
 
 
-def _from_gmsh(comm: MPI.Comm, build, what: str) -> tuple[Mesh, MeshTags, MeshTags]:
-    """Run ``build()`` (adds and meshes a 2D gmsh model) on rank 0 and distribute the mesh with its tags.
+def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Run ``build()`` (adds and meshes a ``gdim``-dimensional gmsh model) on rank 0; distribute the mesh
+    and its tags.
 
     Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
     """
@@ -35,7 +33,7 @@ def _from_gmsh(comm: MPI.Comm, build, what: str) -> tuple[Mesh, MeshTags, MeshTa
         error = comm.bcast(error, root=0)
         if error:
             raise RuntimeError(error)
-        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
+        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=gdim)
     finally:
         gmsh.finalize()
 

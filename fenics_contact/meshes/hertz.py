@@ -21,6 +21,7 @@ def hertz_quarter_disk(
     h_contact: float | None = None,
     h_far: float | None = None,
     contact_width: float | None = None,
+    half: bool = False,
 ) -> tuple[Mesh, MeshTags, MeshTags]:
     """Lower-right quarter (x >= 0, y <= R) of the disk of radius R centred at (0, R).
 
@@ -29,6 +30,8 @@ def hertz_quarter_disk(
     grows linearly, by 0.25 per unit distance, up to ``h_far`` (default R/10). Facet tags:
     CONTACT (the arc from (0, 0) to (R, R)), SYMMETRY (x = 0), TOP (y = R);
     cell tag DOMAIN. Initialises and finalises gmsh (on every rank).
+    ``half=True``: the lower half disk ``y <= R`` instead (CONTACT: the arc from
+    (-R, R) to (R, R); no SYMMETRY facets), for the model-reduction check.
 
     Returns:
         ``(mesh, cell_tags, facet_tags)``.
@@ -44,26 +47,35 @@ def hertz_quarter_disk(
         raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
 
     mesh, cell_tags, facet_tags = _from_gmsh(
-        comm, lambda: _build_quarter_disk(R, h_contact, h_far, contact_width), "the quarter disk")
+        comm, lambda: _build_quarter_disk(R, h_contact, h_far, contact_width, half), "the quarter disk")
     mesh.name = "hertz_quarter_disk"
     return mesh, cell_tags, facet_tags
 
 
-def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width: float) -> None:
-    """Build and mesh the quarter-disk model in the current gmsh session."""
+def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width: float, half: bool = False) -> None:
+    """Build and mesh the quarter-disk (or half-disk) model in the current gmsh session."""
     gmsh.model.add("hertz_quarter_disk")
     geo = gmsh.model.geo
     origin = geo.addPoint(0.0, 0.0, 0.0)
     centre = geo.addPoint(0.0, R, 0.0)
     corner = geo.addPoint(R, R, 0.0)
     arc = geo.addCircleArc(origin, centre, corner)
-    top = geo.addLine(corner, centre)
-    symmetry = geo.addLine(centre, origin)
-    surface = geo.addPlaneSurface([geo.addCurveLoop([arc, top, symmetry])])
-    geo.synchronize()
-    gmsh.model.addPhysicalGroup(1, [arc], CONTACT)
-    gmsh.model.addPhysicalGroup(1, [symmetry], SYMMETRY)
-    gmsh.model.addPhysicalGroup(1, [top], TOP)
+    if half:
+        left = geo.addPoint(-R, R, 0.0)
+        arcs = [geo.addCircleArc(left, centre, origin), arc]
+        top = [geo.addLine(corner, centre), geo.addLine(centre, left)]
+        surface = geo.addPlaneSurface([geo.addCurveLoop([*arcs, *top])])
+        geo.synchronize()
+        gmsh.model.addPhysicalGroup(1, arcs, CONTACT)
+        gmsh.model.addPhysicalGroup(1, top, TOP)
+    else:
+        top = geo.addLine(corner, centre)
+        symmetry = geo.addLine(centre, origin)
+        surface = geo.addPlaneSurface([geo.addCurveLoop([arc, top, symmetry])])
+        geo.synchronize()
+        gmsh.model.addPhysicalGroup(1, [arc], CONTACT)
+        gmsh.model.addPhysicalGroup(1, [symmetry], SYMMETRY)
+        gmsh.model.addPhysicalGroup(1, [top], TOP)
     gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
 
     distance = gmsh.model.mesh.field.add("Distance")

@@ -10,6 +10,8 @@ BOTTOM = 11
 RIGHT = 12
 RECT_TOP = 13
 LEFT = 14
+# Facet tag of ``sphere_octant``'s second symmetry plane (y = 0; x = 0 is SYMMETRY).
+SYMMETRY_Y = 4
 # Facet tags of ``sheet_over_cylinder`` (CONTACT and SYMMETRY as above).
 END = 4
 # Name -> tag maps, e.g. for ``check_tags``.

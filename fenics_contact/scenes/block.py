@@ -25,6 +25,9 @@ from . import Setup
 
 HEIGHT, HALF_WIDTH, E, NU, DISPLACEMENT = 2.0, 1.0, 1000.0, 0.3, 0.32
 EXACT_PRESSURE = E / (1 - NU**2) * DISPLACEMENT / HEIGHT
+# The benchmark's view of this scene (fenics_contact.bench): figure, sweep, demo options.
+BENCH = {"error": "pressure_error", "value": "contact_pressure", "figures": ["max_penetration"], "target": 1e-3,
+         "K": 1e5, "mesh": None, "methods": ["penalty", "cross", "auglag", "nitsche", "vi"], "demo_args": []}
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
@@ -40,8 +43,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, top)
     dirichlet = [Dirichlet(V.sub(1), top_y, -DISPLACEMENT),
                  Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, left))]
-    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
     material = MODELS[model](E, NU)
+    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+                              material=material)
     problem = ContactProblem(u, material, load, dirichlet, [contact])
 
     def figures() -> dict:

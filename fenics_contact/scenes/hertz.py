@@ -18,11 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 from dolfinx import fem
+from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ..bounds import contact_surface
 from ..laws import ContactLaw
-from ..materials import LinearElastic
+from ..materials import MODELS
 from ..meshes import CONTACT, SYMMETRY, TOP, hertz_quarter_disk
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
@@ -32,6 +33,11 @@ from . import Setup
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
 DEFAULT_K = 1e6  # penalty scale ~ E / h_contact
+# The benchmark's view of this scene (fenics_contact.bench): figure, sweep, demo options.
+BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.01, "K": DEFAULT_K,
+         "mesh": ("refinement", {"quick": [0, 1], "full": [0, 1, 2]}),
+         "methods": ["penalty", "cross", "auglag", "nitsche", "vi"], "demo_args": ["--steps", "1"],
+         "stability": True, "reduction": True}
 
 
 def hertz(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:
@@ -58,30 +64,48 @@ def contact_half_width(x: np.ndarray, p: np.ndarray) -> float:
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
-          comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
-    """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact)."""
+          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
+          symmetry: str = "quarter") -> Setup:
+    """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
+    ``model``: ``linear`` (default: strains ~1e-3) or ``neohookean`` (the model-reduction check);
+    ``symmetry``: ``quarter`` (default) or ``half`` (the lower half disk, ``u_x = 0`` at the centre
+    only: the same problem without the mirror about ``x = 0``, for the model-reduction check)."""
+    if symmetry not in ("quarter", "half"):
+        raise ValueError(f"hertz symmetry must be 'quarter' or 'half', got {symmetry!r}")
     h = R / 400 / 2**refinement
-    mesh, _, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R)
+    mesh, _, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R,
+                                             half=symmetry == "half")
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
-    sym_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
-    dirichlet = [Dirichlet(V.sub(1), top_y, -APPROACH), Dirichlet(V.sub(0), sym_x)]
-    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
-    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact])
+    if symmetry == "quarter":
+        fix_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
+        copies = 2  # the figures are for the whole contact: the quarter carries half of it
+    else:  # the centre (0, R) keeps the half disk from sliding sideways
+        mesh.topology.create_connectivity(0, mesh.topology.dim)
+        centre = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], R))
+        fix_x = fem.locate_dofs_topological(V.sub(0), 0, centre)
+        copies = 1
+    dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), fix_x)]
+    material = MODELS[model](E, NU)
+    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+                              material=material)
+    problem = ContactProblem(u, material, load, dirichlet, [contact])
 
     def figures() -> dict:
         x, _, p = contact.surface_values()
-        P = 2 * contact.total_force()[1]
+        right = x[:, 0] >= -1e-12 * R  # the half model: the profile from the centre to the right
+        P = copies * contact.total_force()[1]
         a_h, p0_h = hertz(P)
-        p0, a = float(p.max()), contact_half_width(x[:, 0], p)
-        return {"total_force": P, "reaction_top": -2 * problem.reaction(top_y), "p0": p0, "a": a,
+        p0, a = float(p.max()), contact_half_width(x[right, 0], p[right])
+        return {"total_force": P, "reaction_top": -copies * problem.reaction(top_y), "p0": p0, "a": a,
                 "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
                 "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())),
                 "h_contact": h}
 
-    params = {"E": E, "nu": NU, "R": R, "approach": APPROACH, "h_contact": h, "refinement": refinement,
-              "quadrature": quadrature, "model": "quarter disk (symmetry x = 0 and y = R)"}
+    params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h,
+              "refinement": refinement, "quadrature": quadrature,
+              "model": f"{symmetry} disk (symmetry {'x = 0 and ' if symmetry == 'quarter' else ''}y = R)"}
     return Setup("hertz", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [contact.displacement_out, contact.gap_out, contact.pressure_out])

@@ -1,0 +1,95 @@
+"""``sphere``: elastic sphere on a rigid plane (3D Hertz), linear elasticity; the scaling scene.
+
+A ball of radius ``R`` pressed between two rigid plates is symmetric about
+its equatorial plane and about two vertical planes through its axis, so we
+model the octant ``x >= 0, y >= 0, z <= R``: ``u_x = 0`` on ``x = 0``,
+``u_y = 0`` on ``y = 0``, the equator ``z = R`` moves down uniformly by
+``t * approach`` (in-plane free), the plate is the rigid half-space
+``z <= 0``. Figures are for the whole sphere on one plate: the octant's
+force times 4. Linear elasticity: the approach gives ``a/R ~ 0.07`` and
+strains of a few per cent at most under the contact.
+
+Hertz (sphere on a rigid plane, load ``P``, ``E* = E/(1-nu^2)``):
+``a = (3 P R / (4 E*))^(1/3)``, ``p0 = 3 P / (2 pi a^2)``.
+
+``level`` scales every mesh size by ``LEVELS[level]``, chosen so that the dofs run from about
+1e4 (level 0) to about 1e6 (level 3). The iterative linear solver (``--solver iterative``) is
+meant for the finer levels.
+"""
+from __future__ import annotations
+
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+
+from ..bounds import contact_surface
+from ..compat import function_space
+from ..laws import ContactLaw
+from ..materials import MODELS
+from ..meshes import CONTACT, SYMMETRY, SYMMETRY_Y, TOP, sphere_octant
+from ..obstacles import HalfPlane
+from ..problem import ContactProblem, Dirichlet
+from . import Setup
+
+R, E, NU = 1.0, 1000.0, 0.3
+APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
+DEFAULT_K = 1e6  # ~ 10 E / h_contact at level 0
+# Mesh-size factor per level: h_contact = 0.02 f, h_far = 0.15 f (dofs 11931, 68208, 230964, 1178016).
+LEVELS = (0.5, 0.25, 0.16, 0.09)
+# The benchmark's view of this scene (fenics_contact.bench): level 0 only in the quick sweep.
+BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.05, "K": DEFAULT_K,
+         "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag", "nitsche", "vi"],
+         "demo_args": ["--solver", "iterative"], "quick_sweep": {"penalty": (0, 1), "other": (0,), "gamma0": (10.0,)},
+         # SNES VI's reduced system changes size between iterations, which GAMG cannot follow: LU
+         "method_args": {"vi": ["--solver", "direct"]},
+         # the iterative solver shows the conditioning: Krylov iterations per Newton iteration against K
+         "stability": True, "quick_stability": {"K": (0, 2, 4), "steps": (1,), "gamma0": (10.0, 1e3, 1e5)}}
+
+
+def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:
+    """Hertz contact radius ``a`` and peak pressure ``p0`` of a sphere on a rigid plane under load ``P``."""
+    Es = E / (1 - nu**2)
+    a = (3 * P * R / (4 * Es)) ** (1 / 3)
+    return float(a), float(3 * P / (2 * np.pi * a**2))
+
+
+def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int = 1,
+          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH) -> Setup:
+    """``level`` in ``0 .. len(LEVELS) - 1`` picks the mesh size (about 1e4 to 1e6 dofs)."""
+    if not (isinstance(level, int) and 0 <= level < len(LEVELS)):
+        raise ValueError(f"sphere level must be an integer in [0, {len(LEVELS) - 1}], got {level!r}")
+    f = LEVELS[level]
+    h = 0.02 * f * R
+    mesh, _, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=0.15 * R)
+    V = function_space(mesh, "Lagrange", 1, (3,))
+    u = fem.Function(V, name="displacement")
+    load = fem.Constant(mesh, 0.0)
+    fdim = mesh.topology.dim - 1
+
+    def facets(tag):
+        return facet_tags.indices[facet_tags.values == tag]
+
+    top_z = fem.locate_dofs_topological(V.sub(2), fdim, facets(TOP))
+    dirichlet = [Dirichlet(V.sub(2), top_z, -approach),
+                 Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, facets(SYMMETRY))),
+                 Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, facets(SYMMETRY_Y)))]
+    material = MODELS[model](E, NU)
+    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, load,
+                              quadrature, material=material)
+    problem = ContactProblem(u, material, load, dirichlet, [contact])
+
+    def figures() -> dict:
+        x, _, p = contact.surface_values()
+        P = 4 * contact.total_force()[2]
+        a_h, p0_h = hertz3d(P)
+        loaded = p > 1e-8 * max(p.max(), 1e-300)
+        p0 = float(p.max())
+        a = float(np.hypot(x[loaded, 0], x[loaded, 1]).max()) if loaded.any() else 0.0  # outermost loaded node
+        return {"total_force": P, "reaction_top": -4 * problem.reaction(top_z), "p0": p0, "a": a,
+                "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h, "a_error": abs(a - a_h) / a_h,
+                "contact_nodes": int(np.count_nonzero(loaded)), "h_contact": h}
+
+    params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h, "level": level,
+              "quadrature": quadrature, "model": "octant (symmetry x = 0, y = 0, z = R)"}
+    return Setup("sphere", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
+                 [u, contact.gap_out, contact.pressure_out])

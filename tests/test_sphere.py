@@ -1,0 +1,47 @@
+"""3D: sphere on a rigid plane against Hertz with the iterative solver; rigid-body near-nullspace."""
+import dolfinx.fem.petsc as fem_petsc
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem, mesh
+from mpi4py import MPI
+
+from fenics_contact.compat import function_space
+from fenics_contact.laws import make_law
+from fenics_contact.materials import LinearElastic
+from fenics_contact.scenes import sphere
+from fenics_contact.solver import LINEAR_SOLVERS, Solver, rigid_body_modes
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_rigid_body_modes_are_the_kernel_of_the_stiffness(dim):
+    comm = MPI.COMM_WORLD
+    m = mesh.create_unit_square(comm, 4, 3) if dim == 2 else mesh.create_unit_cube(comm, 3, 2, 2)
+    V = function_space(m, "Lagrange", 1, (dim,))
+    u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+    mat = LinearElastic(1000.0, 0.3)
+    A = fem_petsc.assemble_matrix(fem.form(ufl.inner(mat.stress(u), ufl.sym(ufl.grad(v))) * ufl.dx))
+    A.assemble()
+    ns = rigid_body_modes(V)
+    modes = ns.getVecs()
+    assert len(modes) == (3 if dim == 2 else 6)
+    assert ns.test(A)  # A m = 0 for every mode
+    gram = np.array([[a.dot(b) for b in modes] for a in modes])
+    assert np.allclose(gram, np.eye(len(modes)), atol=1e-12)
+
+
+def test_sphere_hertz_3d_iterative():
+    setup = sphere.build(make_law("penalty", K=sphere.DEFAULT_K), level=0)
+    solver = Solver(setup.problem, quiet=True, options=LINEAR_SOLVERS["iterative"])
+    solver.run(setup.loads)
+    assert solver.snes.getKSP().getPC().getType() == "gamg"
+    f = setup.figures()
+    assert setup.dofs > 1e4
+    assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-6)
+    # h_contact = a / 7 at level 0: p0 (a nodal maximum) and a (the outermost loaded node) within 5 %
+    assert f["p0_error"] < 0.05 and f["a_error"] < 0.05
+
+
+def test_sphere_level_is_checked():
+    with pytest.raises(ValueError, match="level"):
+        sphere.build(make_law("penalty", K=1.0), level=len(sphere.LEVELS))
