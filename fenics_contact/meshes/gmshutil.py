@@ -38,16 +38,16 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, M
         gmsh.finalize()
 
 
-def _grade_toward(distance: int, h_near: float, h_far: float, width: float) -> None:
+def _grade_toward(distance: int, h_near: float, h_far: float, width: float, grading: float = _GRADING) -> None:
     """Background size: ``h_near`` where the gmsh field ``distance`` is below ``width``, then growing
-    by ``_GRADING`` per unit distance up to ``h_far``."""
+    by ``grading`` per unit distance up to ``h_far``."""
     field = gmsh.model.mesh.field
     threshold = field.add("Threshold")
     field.setNumber(threshold, "InField", distance)
     field.setNumber(threshold, "SizeMin", h_near)
     field.setNumber(threshold, "SizeMax", h_far)
     field.setNumber(threshold, "DistMin", width)
-    field.setNumber(threshold, "DistMax", width + (h_far - h_near) / _GRADING)
+    field.setNumber(threshold, "DistMax", width + (h_far - h_near) / grading)
     field.setAsBackgroundMesh(threshold)
     for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
         gmsh.option.setNumber(f"Mesh.{option}", 0)

@@ -1,7 +1,7 @@
 """Rectangles with tagged sides (dolfinx built-in meshes) and the facet-tag check."""
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -34,19 +34,26 @@ def rectangle(
     msh = dmesh.create_rectangle(
         comm, [np.array([0.0, 0.0]), np.array([width, height])], [nx, ny], cell_type)
     tol = 1e-10 * max(width, height)
-    sides = ((BOTTOM, 1, 0.0), (RIGHT, 0, width), (RECT_TOP, 1, height), (LEFT, 0, 0.0))
+    sides = ((BOTTOM, lambda x: np.abs(x[1]) < tol), (RIGHT, lambda x: np.abs(x[0] - width) < tol),
+             (RECT_TOP, lambda x: np.abs(x[1] - height) < tol), (LEFT, lambda x: np.abs(x[0]) < tol))
+    facet_tags = tag_boundary(msh, sides)
+    return msh, None, facet_tags
+
+
+def tag_boundary(msh: Mesh, sides: Sequence[tuple[int, Callable[[np.ndarray], np.ndarray]]]) -> MeshTags:
+    """Facet tags of the boundary facets: ``(tag, where)`` pairs, ``where(x)`` true on the facet's vertices
+    (``x`` of shape (3, n)); a facet matched by several pairs is tagged once per pair."""
     fdim = msh.topology.dim - 1
     indices, values = [], []
-    for tag, axis, coord in sides:
-        facets = dmesh.locate_entities_boundary(
-            msh, fdim, lambda x, a=axis, c=coord: np.abs(x[a] - c) < tol)
+    for tag, where in sides:
+        facets = dmesh.locate_entities_boundary(msh, fdim, where)
         indices.append(facets)
         values.append(np.full(len(facets), tag, dtype=np.int32))
     index = np.concatenate(indices).astype(np.int32)
     order = np.argsort(index)
     facet_tags = dmesh.meshtags(msh, fdim, index[order], np.concatenate(values)[order])
     facet_tags.name = "facet_tags"
-    return msh, None, facet_tags
+    return facet_tags
 
 
 def check_tags(facet_tags: MeshTags, tags: Mapping[str, int],

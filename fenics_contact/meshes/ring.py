@@ -4,14 +4,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .rectangle import rectangle
+from .rectangle import rectangle, tag_boundary
 from .tags import RING_AXIS, RING_INNER, RING_MID, RING_OUTER
 
 
@@ -37,20 +36,10 @@ def ring_quarter(comm: MPI.Comm, R_out: float, R_in: float, n_theta: int, n_r: i
     x[:, 0], x[:, 1] = r * np.cos(theta), R_out + r * np.sin(theta)
     x[np.abs(x[:, 0]) < 1e-12 * R_out, 0] = 0.0  # exact zeros on the axis
     tol = 1e-8 * R_out
-    fdim = msh.topology.dim - 1
     radius = lambda p: np.hypot(p[0], p[1] - R_out)  # noqa: E731
-    sides = ((RING_OUTER, lambda p: np.abs(radius(p) - R_out) < tol),
-             (RING_INNER, lambda p: np.abs(radius(p) - R_in) < tol),
-             (RING_AXIS, lambda p: np.abs(p[0]) < tol),
-             (RING_MID, lambda p: np.abs(p[1] - R_out) < tol))
-    indices, values = [], []
-    for tag, where in sides:
-        facets = dmesh.locate_entities_boundary(msh, fdim, where)
-        indices.append(facets)
-        values.append(np.full(len(facets), tag, dtype=np.int32))
-    index = np.concatenate(indices).astype(np.int32)
-    order = np.argsort(index)
-    facet_tags = dmesh.meshtags(msh, fdim, index[order], np.concatenate(values)[order])
-    facet_tags.name = "facet_tags"
+    facet_tags = tag_boundary(msh, ((RING_OUTER, lambda p: np.abs(radius(p) - R_out) < tol),
+                                    (RING_INNER, lambda p: np.abs(radius(p) - R_in) < tol),
+                                    (RING_AXIS, lambda p: np.abs(p[0]) < tol),
+                                    (RING_MID, lambda p: np.abs(p[1] - R_out) < tol)))
     msh.name = "ring_quarter"
     return msh, None, facet_tags

@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _GRADING
+from .gmshutil import _GRADING, _grade_toward
 
 # Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
 LOWER, UPPER = 1, 2
@@ -170,16 +170,7 @@ def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading):
         gmsh.model.addPhysicalGroup(1, curves, tag)
     gmsh.model.addPhysicalGroup(2, [surfaces[0]], LOWER)
     gmsh.model.addPhysicalGroup(2, [surfaces[1]], UPPER)
-    field = gmsh.model.mesh.field
-    distance = field.add("Distance")
-    field.setNumbers(distance, "PointsList", touch)
-    threshold = field.add("Threshold")
-    field.setNumber(threshold, "InField", distance)
-    field.setNumber(threshold, "SizeMin", h_contact)
-    field.setNumber(threshold, "SizeMax", h_far)
-    field.setNumber(threshold, "DistMin", width)
-    field.setNumber(threshold, "DistMax", width + (h_far - h_contact) / grading)
-    field.setAsBackgroundMesh(threshold)
-    for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
-        gmsh.option.setNumber(f"Mesh.{option}", 0)
+    distance = gmsh.model.mesh.field.add("Distance")
+    gmsh.model.mesh.field.setNumbers(distance, "PointsList", touch)
+    _grade_toward(distance, h_contact, h_far, width, grading)
     gmsh.model.mesh.generate(2)
