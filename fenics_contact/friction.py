@@ -152,13 +152,13 @@ class Friction(ContactLaw):
         return f.dot(q, q_tr - q) / c["omega_t"]
 
     def slip_state(self, g, q_old, ds, n, c, ops=NUMPY):
-        """``OPEN`` (no friction capacity, ``b(g) = 0``: ``g <= 0`` for penalty and compliance, ``lam + K g <= 0``
-        for auglag; never for cross-constraints with ``F_hat > 0``), ``SLIP`` (trial at or beyond the bound)
-        or ``STICK``."""
+        """``OPEN`` (no normal contact force, ``F(g) <= 0``: ``g <= 0`` for penalty and compliance,
+        ``lam + K g <= 0`` for auglag; never for cross-constraints with ``F_hat > 0``), ``SLIP`` (trial at or
+        beyond the bound; with ``mu = 0`` every closed point slides) or ``STICK``."""
         f = friction_ops(ops)
         q_tr = self.trial(q_old, ds, n, c, ops)
         stick_or_slip = f.select(self._norm(q_tr, ops), self.bound(g, c, ops), float(STICK), float(SLIP))
-        return f.select(0.0, self.bound(g, c, ops), stick_or_slip, float(OPEN))
+        return f.select(0.0, self.normal.force(g, c, ops), stick_or_slip, float(OPEN))
 
 
 class FrictionalContact(ContactSurface):

@@ -314,6 +314,14 @@ def test_slab_penalty_coulomb_agrees_with_exact(mu):
     assert f["normal_equilibrium_error"] < 1e-8 and f["tangential_equilibrium_error"] < 1e-8
 
 
+def test_slab_frictionless_closed_form_and_fully_sliding():
+    """mu = 0 with the perturbed-Lagrangian path: u_x(A) is the closed form (the uniform state does not
+    depend on the penalty's penetration) and every base vertex slides."""
+    f, slab, _ = _slab(Friction(NormalCompliance(1e5, 1.0), mu=0.0, omega_t=1e5))
+    assert f["ux_A"] == pytest.approx(slab.UX_A_FRICTIONLESS, rel=5e-3)
+    assert f["zones"]["sliding"] == pytest.approx(slab.WIDTH) and f["zones"]["sticking"] == 0.0
+
+
 def test_slab_penalty_coulomb_tends_to_exact():
     """mu = 1: the difference to the exact u_x(A) falls like 1 / (c_n = omega_t)."""
     exact = _slab_exact(1.0)["ux_A"]
