@@ -398,8 +398,8 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
     front = {id(ok[i]) for i in pareto_front([r["wall_time_s"] for r in ok], [r["error"] for r in ok])}
     lines = [f"Target: {s['error']} <= {target:g}. Time: solver wall time (no output), set-up excluded; "
              f"ratios to one linear solve (assembly + factorisation + solve) and to SNES VI on the same mesh.", "",
-             "| mesh | dofs | method | parameter | error | gap to VI | Newton | aug | time [s] | /linear | /VI | "
-             "Pareto |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             f"| mesh | dofs | method | parameter | error | gap to {s.get('reference', 'VI')} | Newton | aug | "
+             "time [s] | /linear | /VI | Pareto |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     headline = []
     for level in dict.fromkeys(r["refinement"] for r in rows):
         here = [r for r in ok if r["refinement"] == level]
