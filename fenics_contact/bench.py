@@ -717,8 +717,9 @@ def main(argv: Sequence[str] | None = None) -> None:
             continue
         rows = bench(scene, out, sweep(scene, args.quick), quiet=args.quiet, timeout=args.timeout)
         failed = sum(not r["converged"] for r in rows)
+        charts = f"{scene}_pareto.png, {scene}_dofs.png, " if s["error"] is not None else ""
         _say(f"{scene}: {len(rows)} runs ({failed} failed) in {time.perf_counter() - start:.1f} s -> "
-             f"{out / scene}.csv, {scene}_pareto.png, {scene}_dofs.png, {scene}_iterations.png")
+             f"{out / scene}.csv, {charts}{scene}_iterations.png")
         _say((out / f"{scene}_findings.md").read_text())
         if s.get("stability") and not args.no_stability:
             rows = stability(scene, out, args.quick, quiet=args.quiet)
