@@ -9,7 +9,12 @@ target, K scale, mesh option and levels, methods, extra demo options; see
 Each run is ``demos/<scene>.py --quiet --no-pictures --no-xdmf --out
 <out>/<scene>/<run>`` in its own serial process; its ``summary.json``
 becomes one row of ``<out>/<scene>.csv`` and ``.json``. A run that exits
-non-zero (or times out) is recorded with ``converged = False``.
+non-zero (or times out) is recorded with ``converged = False``. A scene whose
+demo does not take ``--method`` gives ``build`` (builder keywords) and is run
+by :func:`run_scene` instead (``python -m fenics_contact.bench --run-scene``).
+``error``: a summary key (closed form), ``"limit_gap"`` (distance of ``value``
+from the ``reference`` method's on the same mesh) or ``None`` (no error
+figure: convergence, iterations and time only; no error charts).
 
 Charts: ``<scene>_pareto.png`` (error against solver wall time, Pareto
 front, one linear solve as the cost floor), ``<scene>_dofs.png`` (error
@@ -107,7 +112,8 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
 def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
     """Parameter x load steps on the coarsest mesh: penalty (K), cross and auglag augmented (K), nitsche
     (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full). ``BENCH``'s
-    ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``)."""
+    ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``, ``variants``: (method,
+    augmentations) pairs, ``no_divtol``: the control runs); ``stability_variants``: the full grid's variants."""
     s = spec(scene)
     K0 = s["K"]
     level = None if s.get("mesh") is None else s["mesh"][1]["quick"][0]
