@@ -9,7 +9,12 @@ target, K scale, mesh option and levels, methods, extra demo options; see
 Each run is ``demos/<scene>.py --quiet --no-pictures --no-xdmf --out
 <out>/<scene>/<run>`` in its own serial process; its ``summary.json``
 becomes one row of ``<out>/<scene>.csv`` and ``.json``. A run that exits
-non-zero (or times out) is recorded with ``converged = False``.
+non-zero (or times out) is recorded with ``converged = False``. A scene whose
+demo does not take ``--method`` gives ``build`` (builder keywords) and is run
+by :func:`run_scene` instead (``python -m fenics_contact.bench --run-scene``).
+``error``: a summary key (closed form), ``"limit_gap"`` (distance of ``value``
+from the ``reference`` method's on the same mesh) or ``None`` (no error
+figure: convergence, iterations and time only; no error charts).
 
 Charts: ``<scene>_pareto.png`` (error against solver wall time, Pareto
 front, one linear solve as the cost floor), ``<scene>_dofs.png`` (error
@@ -45,6 +50,8 @@ AUGMENT = 10  # max augmentations per load step for the augmented variants
 ERROR_FLOOR = 1e-16  # errors are drawn at least this large on the log axis (an exact answer is 0)
 NO_DIVTOL = "penalty, no SNES divergence test"
 REFERENCES = ("vi", "nitsche")  # what a user would pick instead of the suite's laws
+BUILT_IN = ("penalty", "cross", "auglag", "nitsche")  # the sweep's own parameter ranges
+PARAMETERLESS = ("vi", "coulomb")  # run once per mesh
 GAMMA0 = {"quick": (10.0, 100.0), "full": (3.0, 10.0, 30.0, 100.0, 1000.0)}  # nitsche: in the K column
 
 
@@ -77,32 +84,36 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
     and without augmentation, over a smaller K range; nitsche over ``gamma0`` (in the K column); SNES VI
     once per mesh level. Quick: nodal quadrature, the quick mesh levels; full: nodal and Gauss."""
     s = spec(scene)
-    K0, mode, methods = s["K"], "quick" if quick else "full", s["methods"]
+    K0, mode, methods, F = s["K"], "quick" if quick else "full", s["methods"], s.get("F_hat", 0.0)
     if quick:
         q = {"penalty": (-1, 0, 1, 2), "other": (0, 1), "gamma0": GAMMA0["quick"], **s.get("quick_sweep", {})}
-        quadratures = ["nodal"]
+        quadratures = s.get("quadratures", ["nodal"])
     else:
         q = {"penalty": tuple(np.arange(-3, 3.01, 0.5)), "other": tuple(range(-2, 3)), "gamma0": GAMMA0["full"]}
-        quadratures = ["nodal", "gauss"]
+        quadratures = s.get("quadratures", ["nodal", "gauss"])
     levels = [None] if s.get("mesh") is None else s["mesh"][1][mode]
     runs = []
     for level in levels:
         for quad in quadratures:
             if "penalty" in methods:
                 runs += [_run("penalty", K0 * 10.0**e, 0, quad, level) for e in q["penalty"]]
-            runs += [_run(m, K0 * 10.0**e, aug, quad, level) for m in ("cross", "auglag") if m in methods
-                     for aug in (0, AUGMENT) for e in q["other"]]
+            runs += [_run(m, K0 * 10.0**e, aug, quad, level, F if m == "cross" else 0.0)
+                     for m in ("cross", "auglag") if m in methods for aug in (0, AUGMENT) for e in q["other"]]
             if "nitsche" in methods:
                 runs += [_run("nitsche", g, 0, quad, level) for g in q["gamma0"]]
-        if "vi" in methods:  # the reference: exact nodal enforcement, no parameter (K = 0 in the rows)
-            runs.append(_run("vi", 0.0, 0, "nodal", level))
+            # further laws of the scene: with a parameter (K / c_n) over the small range, else once
+            runs += [_run(m, K0 * 10.0**e, 0, quad, level) for m in methods if m not in BUILT_IN + PARAMETERLESS
+                     for e in q["other"]]
+        # exact laws (no parameter, K = 0 in the rows): SNES VI, the exact condensed Coulomb law
+        runs += [_run(m, 0.0, 0, "nodal", level) for m in PARAMETERLESS if m in methods]
     return runs
 
 
 def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
     """Parameter x load steps on the coarsest mesh: penalty (K), cross and auglag augmented (K), nitsche
     (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full). ``BENCH``'s
-    ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``)."""
+    ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``, ``variants``: (method,
+    augmentations) pairs, ``no_divtol``: the control runs); ``stability_variants``: the full grid's variants."""
     s = spec(scene)
     K0 = s["K"]
     level = None if s.get("mesh") is None else s["mesh"][1]["quick"][0]
@@ -112,15 +123,16 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
         gammas = q.get("gamma0", (1.0, 10.0, 1e2, 1e4))
     else:
         exps, steps, gammas = tuple(range(-2, 9)), (1, 2, 4, 8), (0.3, 1.0, 3.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6)
+    variants = q.get("variants", (("penalty", 0), ("cross", AUGMENT), ("auglag", AUGMENT))) if quick else \
+        s.get("stability_variants", (("penalty", 0), ("cross", AUGMENT), ("auglag", AUGMENT)))
     runs = []
     for n in steps:
-        runs += [_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n) for e in exps]
-        runs += [_run(m, K0 * 10.0**e, AUGMENT, "nodal", level, steps=n) for m in ("cross", "auglag") for e in exps]
+        runs += [_run(m, K0 * 10.0**e, aug, "nodal", level, steps=n) for m, aug in variants for e in exps]
         runs += [_run("nitsche", g, 0, "nodal", level, steps=n) for g in gammas]
         # the control: penalty without PETSc's divergence test (residual > 1e4 x the first one stops SNES),
         # which is what stops every K-based method at the first solve when K is very large
         runs += [dict(_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=NO_DIVTOL,
-                      args=["-fc_snes_divergence_tolerance", "-1"]) for e in exps]
+                      args=["-fc_snes_divergence_tolerance", "-1"]) for e in exps if q.get("no_divtol", True)]
     return [r for r in runs if r["method"] in s["methods"]]
 
 
@@ -150,7 +162,8 @@ def _child_env() -> dict:
 def command(scene: str, cfg: dict, folder: Path) -> list[str]:
     """The demo command line of one run (scene options from ``BENCH``; the run's own options last, so they win)."""
     s = spec(scene)
-    cmd = [sys.executable, str(DEMOS / f"{scene}.py"), "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
+    script = ["-m", "fenics_contact.bench", "--run-scene", scene] if "build" in s else [str(DEMOS / f"{scene}.py")]
+    cmd = [sys.executable, *script, "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
            "--method", cfg["method"], "--augment", str(cfg["augment"]), "--quadrature", cfg["quadrature"],
            *s.get("demo_args", []), *s.get("method_args", {}).get(cfg["method"], [])]
     if cfg["method"] == "nitsche":
@@ -204,14 +217,19 @@ def run_all(scene: str, out: Path, runs: Sequence[dict], quiet: bool, timeout: f
 
 
 def add_limit_gap(rows: Sequence[dict], scene: str) -> None:
-    """``limit_gap``: relative distance of the scene's figure from SNES VI's on the same mesh (the limit
-    of converged augmentation), where both exist: it tells a truly converged method from a lucky one."""
-    value = spec(scene).get("value")
-    vi = {r["refinement"]: r[value] for r in rows if r["method"] == "vi" and r["converged"] and value in r}
+    """``limit_gap``: relative distance of the scene's figure from SNES VI's (or ``BENCH['reference']``'s) on the
+    same mesh (the limit of converged augmentation), where both exist: it tells a truly converged method from a
+    lucky one. With ``BENCH['error'] == 'limit_gap'`` it is also the run's error."""
+    s = spec(scene)
+    value, method = s.get("value"), s.get("reference", "vi")
+    vi = {r["refinement"]: r[value] for r in rows if method in (r["method"], _variant(r)) and r["converged"]
+          and value in r}  # a method name, or a variant such as "auglag augmented" (then its last converged run)
     for r in rows:
         ref = vi.get(r["refinement"])
         if ref and value in r and not math.isnan(r[value]):
             r["limit_gap"] = abs(r[value] - ref) / abs(ref)
+        if s.get("error") == "limit_gap":  # the scene's error is this distance (no closed form)
+            r["error"] = r["limit_gap"] if r["converged"] else float("nan")
 
 
 def bench(scene: str, out: str | Path, runs: Sequence[dict], pictures: bool = True, quiet: bool = False,
@@ -230,9 +248,10 @@ def report(scene: str, rows: Sequence[dict], out: Path, pictures: bool = True) -
     """Charts and the findings table of a scene's rows; returns the findings (Markdown)."""
     text = findings(scene, rows)
     (out / f"{scene}_findings.md").write_text(text)
-    if pictures:
+    if pictures and spec(scene)["error"] is not None:  # no error figure: no error charts
         plot_pareto(rows, out / f"{scene}_pareto.png", title=f"{scene}: error against solver time")
         plot_dofs(rows, out / f"{scene}_dofs.png", title=f"{scene}: error against dofs")
+    if pictures:
         plot_iterations(rows, out / f"{scene}_iterations.png", title=f"{scene}: Newton iterations against K")
     return text
 
@@ -378,13 +397,15 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
     error (else its most accurate run), with its ratios to one linear solve and to SNES VI, and whether
     it is on the Pareto front; then the headline (the fastest method within the target against SNES VI)."""
     s = spec(scene)
+    if s["error"] is None:
+        return convergence_findings(rows)
     target = s.get("target", 0.01)
     ok = [r for r in rows if r["converged"] and not math.isnan(r["error"])]
     front = {id(ok[i]) for i in pareto_front([r["wall_time_s"] for r in ok], [r["error"] for r in ok])}
     lines = [f"Target: {s['error']} <= {target:g}. Time: solver wall time (no output), set-up excluded; "
              f"ratios to one linear solve (assembly + factorisation + solve) and to SNES VI on the same mesh.", "",
-             "| mesh | dofs | method | parameter | error | gap to VI | Newton | aug | time [s] | /linear | /VI | "
-             "Pareto |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             f"| mesh | dofs | method | parameter | error | gap to {s.get('reference', 'VI')} | Newton | aug | "
+             "time [s] | /linear | /VI | Pareto |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     headline = []
     for level in dict.fromkeys(r["refinement"] for r in rows):
         here = [r for r in ok if r["refinement"] == level]
@@ -420,6 +441,25 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
     lines += ["", *headline, "- Pareto front (fastest first): " + ", ".join(
         f"{_variant(r)} {r['K']:.3g} r{r['refinement']} ({r['wall_time_s']:.3f} s, {r['error']:.2g})"
         for r in sorted(on_front, key=lambda r: r["wall_time_s"]))]
+    return "\n".join(lines) + "\n"
+
+
+def convergence_findings(rows: Sequence[dict]) -> str:
+    """Markdown for a scene without an error figure (``BENCH['error'] is None``): per method variant, the runs
+    that converged, the parameters that failed, and the fastest converged run (Newton iterations, time)."""
+    names = {v: k for k, v in _snes_reasons().items()}
+    lines = ["No error figure for this scene: convergence, Newton iterations and solver time only.", "",
+             "| method | converged | failed at parameter (SNES reason) | fastest: parameter | Newton | aug | "
+             "time [s] |", "|---|---|---|---|---|---|---|"]
+    for variant in dict.fromkeys(_variant(r) for r in rows):
+        rs = [r for r in rows if _variant(r) == variant]
+        ok = [r for r in rs if r["converged"]]
+        bad = ", ".join(f"{r['K']:.3g} ({names.get(r['snes_reason'], r['snes_reason'])})" for r in rs
+                        if not r["converged"]) or "-"
+        b = min(ok, key=lambda r: r["wall_time_s"]) if ok else None
+        lines.append(f"| {variant} | {len(ok)}/{len(rs)} | {bad} | " + (
+            f"{b['K']:.3g} | {b['newton_iterations']} | {b['augmentations']} | {b['wall_time_s']:.3f} |" if b
+            else "- | - | - | - |"))
     return "\n".join(lines) + "\n"
 
 
@@ -622,7 +662,40 @@ def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> N
     fig.savefig(path, dpi=100)
 
 
+def run_scene(scene: str, argv: Sequence[str]) -> None:
+    """One run of a scene whose demo does not take ``--method`` (its ``BENCH`` has ``build``: the builder's
+    keyword arguments; ``options``: PETSc options; ``predictor``, ``max_cutbacks``): the demos' command line,
+    ``scenes.build``, :func:`run.run` into ``--out``. ``--steps n``: n equal steps to the scene's last load.
+    Method ``penalty`` with ``--augment`` > 0 is the penalty method *with augmentation* (``Penalty(K,
+    augmented=True)``: the gap status decides, Zavarise et al. 1998)."""
+    from . import cli
+    from .laws import Penalty
+    from .run import run
+    from .scenes import build
+
+    s = spec(scene)
+    p = cli.parser(f"benchmark run of {scene}", default_K=s["K"])
+    p.add_argument("--steps", type=int, default=None, help="equal load steps to the scene's last load")
+    mesh = s["mesh"][0] if s.get("mesh") else None
+    if mesh:
+        p.add_argument(f"--{mesh}", type=int, default=None, help="mesh level (the scene's builder)")
+    args = cli.parse(p, list(argv))
+    law = Penalty(args.K, augmented=True) if args.method == "penalty" and args.augment else cli.law_from_args(args)
+    level = {} if mesh is None or getattr(args, mesh) is None else {mesh: getattr(args, mesh)}
+    setup = build(scene, law=law, quadrature=args.quadrature, **s["build"], **level)
+    if args.steps is not None:
+        if args.steps < 1:
+            raise ValueError(f"--steps must be >= 1, got {args.steps}")
+        setup.loads = [setup.loads[-1] * (k + 1) / args.steps for k in range(args.steps)]
+    run(setup, args.out, args.method, cli.method_parameters(args), args.augment or 0, args.augment_tol, args.quiet,
+        options=s.get("options"), max_cutbacks=s.get("max_cutbacks", 4), predictor=s.get("predictor", False),
+        xdmf=not args.no_xdmf)
+
+
 def main(argv: Sequence[str] | None = None) -> None:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["--run-scene"]:
+        return run_scene(argv[1], argv[2:])
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                 formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("--scene", action="append", help="scene (repeatable; default: every scene with BENCH)")
@@ -650,8 +723,9 @@ def main(argv: Sequence[str] | None = None) -> None:
             continue
         rows = bench(scene, out, sweep(scene, args.quick), quiet=args.quiet, timeout=args.timeout)
         failed = sum(not r["converged"] for r in rows)
+        charts = f"{scene}_pareto.png, {scene}_dofs.png, " if s["error"] is not None else ""
         _say(f"{scene}: {len(rows)} runs ({failed} failed) in {time.perf_counter() - start:.1f} s -> "
-             f"{out / scene}.csv, {scene}_pareto.png, {scene}_dofs.png, {scene}_iterations.png")
+             f"{out / scene}.csv, {charts}{scene}_iterations.png")
         _say((out / f"{scene}_findings.md").read_text())
         if s.get("stability") and not args.no_stability:
             rows = stability(scene, out, args.quick, quiet=args.quiet)

@@ -51,7 +51,8 @@ def test_scene_specs_and_commands(tmp_path):
     for scene in bench.bench_scenes():
         runs = bench.sweep(scene, quick=True)
         assert {r["method"] for r in runs} == set(bench.spec(scene)["methods"])
-        assert sum(r["method"] == "vi" for r in runs) == len({r["refinement"] for r in runs})  # once per mesh
+        exact = [m for m in bench.PARAMETERLESS if m in bench.spec(scene)["methods"]]  # once per mesh
+        assert sum(r["method"] in exact for r in runs) == len(exact) * len({r["refinement"] for r in runs})
     nitsche = bench.command("hertz", bench._run("nitsche", 30.0, refinement=1, steps=4), tmp_path)
     assert nitsche[nitsche.index("--gamma0") + 1] == "30.0" and "--K" not in nitsche
     assert nitsche[-4:] == ["--refinement", "1", "--steps", "4"]
@@ -88,3 +89,29 @@ def test_findings_pick_the_fastest_run_within_the_target(tmp_path):
             for m in ("penalty", "nitsche") for K in (1e6, 1e8, 1e10) for n in (1, 4)]
     bench.plot_stability(grid, tmp_path / "map.png")
     assert (tmp_path / "map.png").stat().st_size > 1000
+
+
+def test_ring_through_the_scene_runner(tmp_path):
+    """The ring (no demo with --method): the harness builds it. Zavarise et al. (1998): penalty with
+    augmentation cycles after the first augmentation, cross-constraints converges; no error figure."""
+    out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
+    runs = [bench._run("penalty", 1e5, 1), bench._run("cross", 1e5, 1)]
+    assert bench.command("ring", runs[0], out)[1:4] == ["-m", "fenics_contact.bench", "--run-scene"]
+    penalty, cross = bench.bench("ring", out, runs, quiet=True)
+    assert not penalty["converged"] and cross["converged"] and cross["augmentations"] == 1
+    assert math.isnan(cross["error"]) and cross["plate_force"] > 0
+    text = (out / "ring_findings.md").read_text()
+    assert "No error figure" in text and "| penalty augmented | 0/1 |" in text and "| cross augmented | 1/1 |" in text
+    assert not (out / "ring_pareto.png").exists() and (out / "ring_iterations.png").exists()
+
+
+def test_slab_error_from_the_exact_coulomb_reference(tmp_path):
+    """Slab, mu = 0.4: the error is u_x(A)'s distance from the exact condensed Coulomb method on the same mesh;
+    normal compliance with the Coulomb bound (omega_t = c_n) approaches it as 1 / c_n."""
+    out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
+    runs = [bench._run("coulomb", 0.0, refinement=0), bench._run("compliance", 1e5, refinement=0),
+            bench._run("compliance", 1e6, refinement=0)]
+    exact, coarse, fine = bench.bench("slab", out, runs, quiet=True, pictures=False)
+    assert all(r["converged"] for r in (exact, coarse, fine))
+    assert exact["error"] == 0.0
+    assert 1e-4 < coarse["error"] < 1e-2 and 5 < coarse["error"] / fine["error"] < 20

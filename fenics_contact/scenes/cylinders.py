@@ -145,3 +145,11 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
                   [lower_plate.displacement_out] + [f for c in contacts for f in (c.gap_out, c.pressure_out)])
     setup.profiles = profiles
     return setup
+
+
+# Benchmark (fenics_contact.bench): the Hertz step alone (t = T_HERTZ, a/R = 0.1), error of the peak pressure
+# against Hertz (two cylinders, plane strain), two-pass with Gauss points as the demo (nodal points on the
+# curved P1 chords are the scene docstring's wrong choice).
+BENCH = {"error": "p0_error", "value": "p0", "figures": ["a", "a_error"], "target": 0.05, "K": DEFAULT_K,
+         "mesh": None, "methods": ["penalty", "cross", "auglag"], "quadratures": ["gauss"],
+         "demo_args": ["--t-end", repr(T_HERTZ)], "quick_sweep": {"penalty": (-1, 0, 1), "other": (0,)}}

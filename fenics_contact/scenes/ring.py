@@ -74,3 +74,16 @@ def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: in
               "quadrilateral": quadrilateral, "quadrature": quadrature,
               "model": "quarter ring (symmetry x = 0 and y = R_out)"}
     return Setup("ring", problem, [contact], [1.0], params, figures, [u, contact.gap_out, contact.pressure_out])
+
+
+# Benchmark (fenics_contact.bench): the demo runs its three laws in one process, so the harness builds the scene
+# itself ("build"). No error figure: the paper's point is convergence, so the rows are iterations and time. The
+# stability map sweeps K and the load step size for penalty (plain and with augmentation: the paper's cycling),
+# cross-constraints and the augmented Lagrangian; plain Newton, no step cutbacks (the step size is the axis).
+VARIANTS = (("penalty", 0), ("penalty", 10), ("cross", 10), ("auglag", 10))  # (method, augmentations)
+BENCH = {"error": None, "value": "plate_force", "figures": ["penetration_centre", "closed_points_per_plate"],
+         "K": K, "mesh": None, "methods": ["penalty", "cross", "auglag"], "build": {"n_theta": 44, "n_r": 4},
+         "options": {"snes_linesearch_type": "basic"}, "max_cutbacks": 0,
+         "stability": True, "quick_stability": {"K": (-2, -1, 0, 1, 2, 3), "steps": (1, 2, 4), "gamma0": (),
+                                                "no_divtol": False, "variants": VARIANTS},
+         "stability_variants": VARIANTS}

@@ -122,3 +122,11 @@ def _copy(law: ContactLaw) -> ContactLaw:
     import copy
 
     return copy.deepcopy(law)
+
+
+# Benchmark (fenics_contact.bench): no closed form or exact reference for the flattened seal, so no error figure:
+# the rows are convergence, Newton iterations and time over the 16-step history (plate force as the value).
+# Built by the harness (the demo runs fixed laws): the scene's full Newton steps and predictor; cross with F^.
+BENCH = {"error": None, "value": "plate_force_lower", "figures": ["zones_lower", "max_penetration"], "K": K_HAT,
+         "F_hat": F_HAT, "mesh": None, "methods": ["penalty", "cross", "auglag"], "build": {"h": 0.5},
+         "options": SOLVER_OPTIONS, "predictor": True, "quick_sweep": {"penalty": (-1, 0, 1), "other": (0, 1)}}

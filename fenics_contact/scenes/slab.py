@@ -135,3 +135,17 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     extra = [contact.traction_out] if hasattr(contact, "traction_out") else []
     return Setup("slab", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
                  [u, contact.gap_out, contact.pressure_out, *extra])
+
+
+# Benchmark (fenics_contact.bench): mu = 0.4; no closed form with friction, so the error is u_x(A)'s relative
+# distance from the exact condensed Coulomb method on the same mesh ("limit_gap", reference "coulomb"). Built by
+# the harness (the demo has no PETSc options of its own): backtracking line search and a tight rtol, as
+# scripts/slab_friction.py, since a tangential penalty omega_t = K >> E/h makes the default line search cycle.
+# Penalty (K <g>) fails here by design of the scene: the slab rests on the plate at g = 0, where the penalty's
+# tangent is 0 and the first Jacobian is singular (ill_conditioning); it stays in the sweep to show it. Normal
+# compliance c_n <g> with the Coulomb bound (omega_t = c_n) is the regularized friction method that runs.
+BENCH = {"error": "limit_gap", "reference": "coulomb", "value": "ux_A", "figures": ["uy_A"], "target": 1e-3,
+         "K": 1e5, "mesh": ("refinement", {"quick": [0], "full": [0, 1]}),
+         "methods": ["penalty", "compliance", "coulomb"], "build": {}, "demo_args": ["--mu", "0.4"],
+         "options": {"snes_linesearch_type": "bt", "snes_max_it": 200, "snes_rtol": 1e-10},
+         "quick_sweep": {"penalty": (0,), "other": (-1, 0, 1, 2)}}
