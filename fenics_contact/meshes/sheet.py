@@ -5,13 +5,13 @@ import math
 from typing import TYPE_CHECKING
 
 import gmsh
-from dolfinx.io import gmshio
 from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
+from .gmshutil import _from_gmsh
 from .tags import CONTACT, DOMAIN, END, SYMMETRY
 
 
@@ -35,35 +35,31 @@ def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, 
             raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
     if order not in (1, 2):
         raise ValueError(f"order must be 1 or 2, got {order!r}")
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        if comm.rank == 0:
-            gmsh.model.add("sheet")
-            geo = gmsh.model.geo
-            Ro = R + thickness
-            c, a, b, a2, b2 = (geo.addPoint(*xy, 0.0) for xy in ((0, 0), (0, R), (R, 0), (0, Ro), (Ro, 0)))
-            e, e2 = geo.addPoint(R, -leg, 0.0), geo.addPoint(Ro, -leg, 0.0)
-            arc_in, arc_out = geo.addCircleArc(a, c, b), geo.addCircleArc(a2, c, b2)
-            sym, mid, end = geo.addLine(a, a2), geo.addLine(b, b2), geo.addLine(e, e2)
-            leg_in, leg_out = geo.addLine(b, e), geo.addLine(b2, e2)
-            s1 = geo.addPlaneSurface([geo.addCurveLoop([arc_in, mid, -arc_out, -sym])])
-            s2 = geo.addPlaneSurface([geo.addCurveLoop([leg_in, end, -leg_out, -mid])])
-            geo.synchronize()
-            for curves, n in (((arc_in, arc_out), n_arc), ((sym, mid, end), n_thick), ((leg_in, leg_out), n_leg)):
-                for curve in curves:
-                    gmsh.model.mesh.setTransfiniteCurve(curve, int(n) + 1)
-            for surface in (s1, s2):
-                gmsh.model.mesh.setTransfiniteSurface(surface)
-                gmsh.model.mesh.setRecombine(2, surface)
-            gmsh.model.addPhysicalGroup(1, [arc_in, leg_in], CONTACT)
-            gmsh.model.addPhysicalGroup(1, [sym], SYMMETRY)
-            gmsh.model.addPhysicalGroup(1, [end], END)
-            gmsh.model.addPhysicalGroup(2, [s1, s2], DOMAIN)
-            gmsh.model.mesh.generate(2)
-            gmsh.model.mesh.setOrder(order)
-        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
-    finally:
-        gmsh.finalize()
+    def build() -> None:
+        gmsh.model.add("sheet")
+        geo = gmsh.model.geo
+        Ro = R + thickness
+        c, a, b, a2, b2 = (geo.addPoint(*xy, 0.0) for xy in ((0, 0), (0, R), (R, 0), (0, Ro), (Ro, 0)))
+        e, e2 = geo.addPoint(R, -leg, 0.0), geo.addPoint(Ro, -leg, 0.0)
+        arc_in, arc_out = geo.addCircleArc(a, c, b), geo.addCircleArc(a2, c, b2)
+        sym, mid, end = geo.addLine(a, a2), geo.addLine(b, b2), geo.addLine(e, e2)
+        leg_in, leg_out = geo.addLine(b, e), geo.addLine(b2, e2)
+        s1 = geo.addPlaneSurface([geo.addCurveLoop([arc_in, mid, -arc_out, -sym])])
+        s2 = geo.addPlaneSurface([geo.addCurveLoop([leg_in, end, -leg_out, -mid])])
+        geo.synchronize()
+        for curves, n in (((arc_in, arc_out), n_arc), ((sym, mid, end), n_thick), ((leg_in, leg_out), n_leg)):
+            for curve in curves:
+                gmsh.model.mesh.setTransfiniteCurve(curve, int(n) + 1)
+        for surface in (s1, s2):
+            gmsh.model.mesh.setTransfiniteSurface(surface)
+            gmsh.model.mesh.setRecombine(2, surface)
+        gmsh.model.addPhysicalGroup(1, [arc_in, leg_in], CONTACT)
+        gmsh.model.addPhysicalGroup(1, [sym], SYMMETRY)
+        gmsh.model.addPhysicalGroup(1, [end], END)
+        gmsh.model.addPhysicalGroup(2, [s1, s2], DOMAIN)
+        gmsh.model.mesh.generate(2)
+        gmsh.model.mesh.setOrder(order)
+
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, build, "the sheet")
     mesh.name = "sheet"
     return mesh, cell_tags, facet_tags

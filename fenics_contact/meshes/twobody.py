@@ -7,14 +7,13 @@ from typing import TYPE_CHECKING
 import gmsh
 import numpy as np
 from dolfinx import mesh as dmesh
-from dolfinx.io import gmshio
 from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _GRADING, _grade_toward
+from .gmshutil import _GRADING, _from_gmsh, _grade_toward
 
 # Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
 LOWER, UPPER = 1, 2
@@ -125,21 +124,9 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
                     ("contact_width", contact_width)):
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        error = ""
-        if comm.rank == 0:
-            try:
-                _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading)
-            except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
-                error = f"gmsh failed to mesh the two half disks: {exc}"
-        error = comm.bcast(error, root=0)
-        if error:
-            raise RuntimeError(error)
-        mesh, cell_tags, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=2)
-    finally:
-        gmsh.finalize()
+    mesh, cell_tags, facet_tags = _from_gmsh(
+        comm, lambda: _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading),
+        "the two half disks")
     mesh.name = "two_half_disks"
     return mesh, cell_tags, facet_tags
 
