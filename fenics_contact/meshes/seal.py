@@ -98,12 +98,7 @@ def seal_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: flo
     Returns:
         ``(mesh, cell_tags, facet_tags)``.
     """
-    if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
-        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
-    geo_data = seal_geometry(R_out, R_in, gap)
-    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: _build_seal(geo_data, h), "the seal")
-    mesh.name = "seal_section"
-    return mesh, cell_tags, facet_tags
+    return _seal_mesh(comm, h, seal_geometry(R_out, R_in, gap), _build_seal, "seal_section")
 
 
 def _build_seal(d: dict, h: float) -> None:
@@ -161,12 +156,7 @@ def seal_s_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: f
     Returns:
         ``(mesh, cell_tags, facet_tags)``.
     """
-    if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
-        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
-    data = seal_s_geometry(R_out, R_in, gap)
-    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: _build_seal_s(data, h), "the seal")
-    mesh.name = "seal_s_section"
-    return mesh, cell_tags, facet_tags
+    return _seal_mesh(comm, h, seal_s_geometry(R_out, R_in, gap), _build_seal_s, "seal_s_section")
 
 
 def _build_seal_s(d: dict, h: float) -> None:
@@ -231,12 +221,7 @@ def seal_wave_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in
     Returns:
         ``(mesh, cell_tags, facet_tags)``.
     """
-    if not (math.isfinite(h) and 0 < h <= (R_out - R_in) / 2):
-        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
-    data = seal_wave_geometry(R_out, R_in, gap)
-    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: _build_seal_wave(data, h), "the seal")
-    mesh.name = "seal_wave_section"
-    return mesh, cell_tags, facet_tags
+    return _seal_mesh(comm, h, seal_wave_geometry(R_out, R_in, gap), _build_seal_wave, "seal_wave_section")
 
 
 def _build_seal_wave(d: dict, h: float) -> None:
@@ -271,3 +256,12 @@ def _build_seal_wave(d: dict, h: float) -> None:
     gmsh.model.addPhysicalGroup(1, [sym], SEAL_SYMMETRY)
     gmsh.model.addPhysicalGroup(2, [s1, s2], SEAL_DOMAIN)
     gmsh.model.mesh.generate(2)
+
+
+def _seal_mesh(comm: MPI.Comm, h: float, data: dict, build, name: str) -> tuple[Mesh, MeshTags, MeshTags]:
+    """Check ``h`` against the band's thickness, mesh ``build(data, h)`` with gmsh and name the mesh."""
+    if not (math.isfinite(h) and 0 < h <= (data["R_out"] - data["R_in"]) / 2):
+        raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: build(data, h), "the seal")
+    mesh.name = name
+    return mesh, cell_tags, facet_tags
