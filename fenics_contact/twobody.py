@@ -69,7 +69,7 @@ from dolfinx import fem
 from petsc4py import PETSc
 
 from .compat import bc_dofs, function_space
-from .contact import ContactSurface, check_facet_tag, is_mixed
+from .contact import ContactSurface, check_facet_tag, contact_measure, is_mixed
 from .laws import ContactLaw
 from .obstacles import Obstacle
 
@@ -102,13 +102,19 @@ class FacetData:
         mesh.topology.create_connectivity(tdim - 1, tdim)
         mesh.topology.create_connectivity(tdim - 1, 0)
         mesh.topology.create_connectivity(tdim, 0)
-        f2c, f2v, c2v = (mesh.topology.connectivity(tdim - 1, tdim), mesh.topology.connectivity(tdim - 1, 0),
-                         mesh.topology.connectivity(tdim, 0))
-        nv = tdim  # vertices of a simplex facet
+        mesh.topology.create_connectivity(tdim, tdim - 1)
+        f2c, f2v, c2v, c2f = (mesh.topology.connectivity(tdim - 1, tdim), mesh.topology.connectivity(tdim - 1, 0),
+                              mesh.topology.connectivity(tdim, 0), mesh.topology.connectivity(tdim, tdim - 1))
+        self.quadratic = V.ufl_element().degree() == 2
+        if self.quadratic and tdim != 2:
+            raise ValueError("two-body contact with quadratic facets is implemented in 2D only")
+        nv = 3 if self.quadratic else tdim  # nodes of a facet: (end, middle, end) or the simplex vertices
         nf = len(facets)
         self.cells = np.zeros(nf, np.int32)
         self.local = np.zeros((nf, nv), np.int32)
+        self.vertex_local = np.zeros((nf, tdim), np.int32)  # cell-local vertex numbers (= P1 dofs) of the ends
         coords = V.tabulate_dof_coordinates()
+        layout = V.dofmap.dof_layout
         dofs = np.zeros((nf, nv), np.int32)
         for i, f in enumerate(facets):
             cells = f2c.links(f)
@@ -116,18 +122,30 @@ class FacetData:
                 raise ValueError(f"facet {f} of a contact surface is not on the boundary (it has {len(cells)} cells)")
             c = cells[0]
             cv = list(c2v.links(c))
-            if len(cv) != tdim + 1:
-                raise ValueError("two-body contact needs simplex cells (flat facets): triangles or tetrahedra")
-            loc = [cv.index(v) for v in f2v.links(f)]
+            if not self.quadratic and len(cv) != tdim + 1:
+                raise ValueError("two-body contact with degree-1 facets needs simplex cells (flat facets): "
+                                 "triangles or tetrahedra")
+            vloc = [cv.index(v) for v in f2v.links(f)]
             cdofs = V.dofmap.cell_dofs(c)
-            fd = cdofs[loc]
-            # Orientation: the normal of the ordered vertices must point away from the opposite vertex.
-            other = cdofs[[j for j in range(tdim + 1) if j not in loc][0]]
-            n = facet_normals(coords[fd][None, :, :gdim])[0]
-            if np.dot(n, coords[fd[0], :gdim] - coords[other, :gdim]) < 0:
-                loc = loc[::-1]
-                fd = fd[::-1]
-            self.cells[i], self.local[i], dofs[i] = c, loc, fd
+            if self.quadratic:
+                mid = layout.entity_dofs(1, list(c2f.links(c)).index(f))[0]
+                ends = [layout.entity_dofs(0, v)[0] for v in vloc]
+                loc = [ends[0], mid, ends[1]]
+                fd = cdofs[loc]
+                # Outward: the normal of the ordered ends must point away from the cell's centre.
+                n = facet_normals(coords[fd[[0, 2]]][None, :, :gdim])[0]
+                inside = coords[cdofs, :gdim].mean(axis=0)
+                if np.dot(n, coords[fd[1], :gdim] - inside) < 0:
+                    loc, vloc, fd = loc[::-1], vloc[::-1], fd[::-1]
+            else:
+                loc = vloc
+                fd = cdofs[loc]
+                # Orientation: the normal of the ordered vertices must point away from the opposite vertex.
+                other = cdofs[[j for j in range(tdim + 1) if j not in loc][0]]
+                n = facet_normals(coords[fd][None, :, :gdim])[0]
+                if np.dot(n, coords[fd[0], :gdim] - coords[other, :gdim]) < 0:
+                    loc, vloc, fd = loc[::-1], vloc[::-1], fd[::-1]
+            self.cells[i], self.local[i], self.vertex_local[i], dofs[i] = c, loc, vloc, fd
         self.dofs = dofs
         self.X = coords[dofs][..., :gdim] if nf else np.zeros((0, nv, gdim))
         imap = mesh.topology.index_map(tdim - 1)
@@ -182,6 +200,44 @@ def closest_point_on_facets(p: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, n
     return np.linalg.norm(q - p, axis=1), bary
 
 
+def quadratic_shape(xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Quadratic Lagrange shape functions on ``xi`` in [0, 1] with nodes (end 0, middle, end 1) at 0, 1/2, 1,
+    and their first and second derivatives: three arrays (..., 3)."""
+    xi = np.asarray(xi, dtype=float)[..., None]
+    N = np.concatenate([2 * (xi - 0.5) * (xi - 1), -4 * xi * (xi - 1), 2 * xi * (xi - 0.5)], axis=-1)
+    dN = np.concatenate([4 * xi - 3, 4 - 8 * xi, 4 * xi - 1], axis=-1)
+    return N, dN, np.broadcast_to(np.array([4.0, -8.0, 4.0]), N.shape)
+
+
+def closest_point_on_quadratic(p: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from ``p`` to each quadratic segment ``x`` (n, 3, 2) (nodes end, middle, end) and the
+    local coordinate ``xi`` in [0, 1] of the closest point: Newton on ``(p - x(xi)) . x'(xi) = 0`` from the
+    chord's projection, clipped to the segment (a step that would go uphill is replaced by a bisection)."""
+    t = x[:, 2] - x[:, 0]
+    xi = np.clip(np.einsum("ij,ij->i", p - x[:, 0], t) / np.einsum("ij,ij->i", t, t), 0.0, 1.0)
+    for _ in range(50):
+        N, dN, ddN = quadratic_shape(xi)
+        r = p - np.einsum("ik,ikj->ij", N, x)
+        dX, ddX = np.einsum("ik,ikj->ij", dN, x), np.einsum("ik,ikj->ij", ddN, x)
+        f = np.einsum("ij,ij->i", r, dX)
+        curv = np.einsum("ij,ij->i", dX, dX) - np.einsum("ij,ij->i", r, ddX)  # d2/dxi2 of |p - x|^2 / 2
+        step = np.where(curv > 0, f / np.where(curv > 0, curv, 1.0), np.sign(f) * 0.25)
+        new = np.clip(xi + step, 0.0, 1.0)
+        if np.all(np.abs(new - xi) < 1e-15):
+            xi = new
+            break
+        xi = new
+    N = quadratic_shape(xi)[0]
+    return np.linalg.norm(p - np.einsum("ik,ikj->ij", N, x), axis=1), xi
+
+
+def quadratic_normals(x: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """Unit normals ``(x'_y, -x'_x)/|x'|`` of quadratic segments ``x`` (n, 3, 2) at ``xi`` (n,)."""
+    dX = np.einsum("ik,ikj->ij", quadratic_shape(xi)[1], x)
+    n = np.stack([dX[:, 1], -dX[:, 0]], axis=1)
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
 def _closest_on_triangle(p, tri):
     """Barycentric coordinates of the closest point of triangle ``tri`` to ``p`` (Ericson's regions)."""
     a, b, c = tri
@@ -234,9 +290,11 @@ class BucketGrid:
 
 
 def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.ndarray | None = None,
-            hysteresis: float = 1e-2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            hysteresis: float = 1e-2, quadratic: bool = False):
     """Closest master facet to each point within ``radius``: ``(facet or -1, barycentric coordinates,
-    distance)``. Ties go to the lowest facet index (callers order facets independently of the partition).
+    distance)``, and for ``quadratic`` facets (n, 3, 2) also the local coordinate ``xi`` (the
+    "barycentric coordinates" are then the shape function values). Ties go to the lowest facet index
+    (callers order facets independently of the partition).
     ``previous`` (facet per point, -1 for none): a point keeps its previous facet while that facet is no
     more than ``hysteresis`` x its own size farther than the closest one, so that a point sitting where
     two facets are (almost) equally close does not switch back and forth between Newton iterations."""
@@ -245,28 +303,40 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
     facet = np.full(n, -1, np.int64)
     bary = np.zeros((n, nv))
     dist = np.full(n, np.inf)
+    xis = np.zeros(n)
     grid = BucketGrid(master, radius)
     for i, p in enumerate(points):
         cand = np.array(sorted(grid.candidates(p)), dtype=np.int64)
         if len(cand) == 0:
             continue
-        d, b = closest_point_on_facets(p, master[cand])
+        if quadratic:
+            d, xi = closest_point_on_quadratic(p, master[cand])
+            b = quadratic_shape(xi)[0]
+        else:
+            d, b = closest_point_on_facets(p, master[cand])
         j = int(np.argmin(d))
         # Ties (a point outside a convex vertex is equally close to both facets at the vertex): take the
         # facet whose plane is farthest, which makes the gap continuous as the point moves across.
         tied = np.flatnonzero(d <= d[j] * (1 + 1e-9) + 1e-14 * radius)
         if len(tied) > 1:
-            line = np.abs(np.einsum("ij,ij->i", p - master[cand[tied], 0], facet_normals(master[cand[tied]])))
+            mt = master[cand[tied]]
+            if quadratic:
+                q = np.einsum("ik,ikj->ij", b[tied], mt)
+                line = np.abs(np.einsum("ij,ij->i", p - q, quadratic_normals(mt, xi[tied])))
+            else:
+                line = np.abs(np.einsum("ij,ij->i", p - mt[:, 0], facet_normals(mt)))
             j = int(tied[np.argmax(line)])
         if previous is not None and previous[i] >= 0 and cand[j] != previous[i]:
             k = np.flatnonzero(cand == previous[i])
             if len(k):
-                size = np.linalg.norm(master[previous[i], 1] - master[previous[i], 0])
+                size = np.linalg.norm(master[previous[i], -1 if quadratic else 1] - master[previous[i], 0])
                 if d[k[0]] <= d[j] + hysteresis * size:
                     j = int(k[0])
         if d[j] <= radius:
             facet[i], bary[i], dist[i] = cand[j], b[j], d[j]
-    return facet, bary, dist
+            if quadratic:
+                xis[i] = xi[j]
+    return (facet, bary, dist, xis) if quadratic else (facet, bary, dist)
 
 
 # --------------------------------------------------------------------------------------------
@@ -275,45 +345,82 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
 class MirrorObstacle(Obstacle):
     """The paired master facet seen from the slave points: vertices ``X_k + w_k`` from the mirror
     Functions ``Xm`` (reference, fixed during a Newton iteration) and ``w`` (master displacement, the
-    variable the coupling differentiates). ``active`` is 1 where a slave point has a pair, else 0."""
+    variable the coupling differentiates). ``active`` is 1 where a slave point has a pair, else 0.
+
+    Quadratic master facets (``proj`` given: the local coordinate ``xi0`` of the closest point and
+    ``free`` = 1 where it is inside the facet): the curve ``x(xi) = sum N_k(xi) x_k`` and, in UFL, one
+    Newton correction ``xi = xi0 - free f/f'`` of the projection equation ``f = (x - x(xi)) . x'(xi) = 0``.
+    Its value is ``xi0`` (the projection has converged) and its derivative the implicit-function one,
+    ``dxi = -df/f'``, so UFL's second derivative of the gap is the complete consistent tangent (the
+    curvature terms of the moving projection point included)."""
 
     def __init__(self, Xm: fem.Function, w: fem.Function, active: fem.Function, nv: int, gdim: int,
-                 open_gap: float):
+                 open_gap: float, proj: fem.Function | None = None):
         super().__init__(np.zeros(gdim))
         self.Xm, self.w, self.active, self.nv, self.gdim = Xm, w, active, nv, gdim
         self.open_gap = float(open_gap)
+        self.proj = proj
 
     def vertices(self) -> list:
         d = self.gdim
         return [ufl.as_vector([self.Xm[k * d + i] + self.w[k * d + i] for i in range(d)]) for k in range(self.nv)]
 
+    def _curve(self, x):
+        """Closest point ``x(xi)`` and tangent ``x'(xi)`` of the quadratic facet (UFL)."""
+        xs = self.vertices()
+
+        def at(xi):
+            N = (2 * (xi - 0.5) * (xi - 1), -4 * xi * (xi - 1), 2 * xi * (xi - 0.5))
+            dN = (4 * xi - 3, 4 - 8 * xi, 4 * xi - 1)
+            return sum(a * b for a, b in zip(N, xs)), sum(a * b for a, b in zip(dN, xs))
+
+        xi0, free = self.proj[0], self.proj[1]
+        X0, dX0 = at(xi0)
+        ddX = 4 * xs[0] - 8 * xs[1] + 4 * xs[2]
+        f = ufl.dot(x - X0, dX0)
+        fp = ufl.dot(x - X0, ddX) - ufl.dot(dX0, dX0)
+        return at(xi0 - free * f / fp)
+
     def gap(self, x):
         """``-(x - x_1) . n`` where paired; ``-open_gap`` (open, the search radius) where not, so that laws
         and augmentations see an open contact there."""
-        xs = self.vertices()
-        return self.active * -ufl.dot(x - xs[0], ufl_normal(xs)) - (1.0 - self.active) * self.open_gap
+        if self.proj is None:
+            xs = self.vertices()
+            g = -ufl.dot(x - xs[0], ufl_normal(xs))
+        else:
+            X, dX = self._curve(x)
+            g = -ufl.dot(x - X, ufl_normal([X, X + dX]))
+        return self.active * g - (1.0 - self.active) * self.open_gap
 
     def normal(self, x):
-        return ufl_normal(self.vertices())
+        if self.proj is None:
+            return ufl_normal(self.vertices())
+        X, dX = self._curve(x)
+        return ufl_normal([X, X + dX])
 
 
 class TwoBodySurface(ContactSurface):
     """Contact of the slave facets ``slave_tag`` against the current master facets ``master_tag`` of the
     same mesh, with the law ``law`` (pressure per reference slave area, positive in compression).
 
-    ``quadrature``: ``nodal`` or ``gauss`` on the slave side. ``weight``: factor on the residual (1/2 for
-    each surface of a two-pass pair). ``radius``: search radius of the projection (default: 2 x the
-    longest master facet); slave points farther from the master have no pair and no force.
+    ``quadrature``: ``nodal`` or ``gauss`` on the slave side (degree 1); for a quadratic displacement
+    (2D, any cell: curved 3-node facets) the slave points are the three nodes of each facet, ``nodal``
+    then integrates with the end nodes only (the two-point element's constraint) and ``simpson`` with
+    all three. ``work_quadrature``: the rule of the pressure's work term, if not ``quadrature``
+    (multipliers: ``simpson`` with a constraint at the end nodes). ``weight``: factor on the residual (1/2
+    for each surface of a two-pass pair). ``radius``: search radius of the projection (default: 2 x the
+    longest master facet); slave points farther from the master have no pair and no force. ``exclude``
+    (k, gdim): reference positions of slave points left without a pair (a node that coincides with a
+    node of the other pass: node-on-node, one constraint per pair of nodes).
     """
 
     def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
-                 radius: float | None = None, name: str = "twobody"):
+                 radius: float | None = None, name: str = "twobody", work_quadrature: str | None = None,
+                 exclude: np.ndarray | None = None):
         mesh = u.function_space.mesh
         if slave_tag == master_tag:
             raise ValueError(f"slave_tag and master_tag must differ, both are {slave_tag}")
-        if quadrature not in ("nodal", "gauss"):
-            raise ValueError(f"contact quadrature must be one of ('nodal', 'gauss'), got {quadrature!r}")
         if not (np.isfinite(weight) and weight > 0):
             raise ValueError(f"weight must be a finite number > 0, got {weight!r}")
         slave = check_facet_tag(mesh, facet_tags, slave_tag, f"{name} slave_tag")
@@ -321,8 +428,6 @@ class TwoBodySurface(ContactSurface):
         self.comm = mesh.comm
         V = u.function_space
         tdim, gdim = mesh.topology.dim, mesh.geometry.dim
-        nv = tdim
-        self.V, self.gdim, self.nv = V, gdim, nv
         if is_mixed(V):  # the displacement is the first field of a mixed unknown (method lagrange)
             Vd, to_parent = V.sub(0).collapse()
             self.slave_data = FacetData(Vd, slave, (to_parent, V))
@@ -330,27 +435,43 @@ class TwoBodySurface(ContactSurface):
         else:
             self.slave_data = FacetData(V, slave)
             self.master_data = FacetData(V, master)
+        self.quadratic = self.slave_data.quadratic
+        allowed = ("nodal", "simpson") if self.quadratic else ("nodal", "gauss")
+        if quadrature not in allowed or (work_quadrature or quadrature) not in allowed:
+            raise ValueError(f"contact quadrature must be one of {allowed} for degree-"
+                             f"{2 if self.quadratic else 1} facets, got {quadrature!r} (work: {work_quadrature!r})")
+        nv = 3 if self.quadratic else tdim  # nodes of a master facet
+        self.V, self.gdim, self.nv = V, gdim, nv
 
-        # Mirror space: one value per slave quadrature point (P1 at vertices, DG1 at Gauss points).
-        family = "Lagrange" if quadrature == "nodal" else "DG"
-        self.W = function_space(mesh, family, 1, (nv * gdim,))
-        self.Ws = function_space(mesh, family, 1)
+        # Mirror space: one value per slave point (P1 at vertices, DG1 at Gauss points; quadratic: P2 at the
+        # three nodes of each facet).
+        family, degree = ("Lagrange", 2) if self.quadratic else ("Lagrange" if quadrature == "nodal" else "DG", 1)
+        self.W = function_space(mesh, family, degree, (nv * gdim,))
+        self.Ws = function_space(mesh, family, degree)
         self.Xm = fem.Function(self.W, name="mirror_X")
         self.w = fem.Function(self.W, name="mirror_u")
         self.active = fem.Function(self.Ws, name="paired")
-        self.B = _POINTS[(quadrature, nv)]
+        self.proj = fem.Function(function_space(mesh, family, degree, (2,)), name="mirror_xi") if self.quadratic \
+            else None
+        self.B = np.eye(3) if self.quadratic else _POINTS[(quadrature, nv)]
         self.Binv = np.linalg.inv(self.B)
+        nn = self.B.shape[1]  # mirror nodes per slave facet
         sd = self.slave_data
         self._wdofs = np.array([self.W.dofmap.cell_dofs(c)[loc] for c, loc in zip(sd.cells, sd.local)],
-                               dtype=np.int32).reshape(-1, nv)
+                               dtype=np.int32).reshape(-1, nn)
         self._sdofs = np.array([self.Ws.dofmap.cell_dofs(c)[loc] for c, loc in zip(sd.cells, sd.local)],
-                               dtype=np.int32).reshape(-1, nv)
+                               dtype=np.int32).reshape(-1, nn)
+        Xs = np.einsum("qk,fkj->fqj", self.B, sd.X)
+        self._excluded = np.zeros(Xs.shape[:2], bool)
+        if exclude is not None and len(exclude) and len(Xs):
+            dmin = np.min(np.linalg.norm(Xs[:, :, None, :] - np.asarray(exclude)[None, None], axis=3), axis=2)
+            self._excluded = dmin <= 1e-9 * max(1.0, float(np.abs(Xs).max()))
         if quadrature == "gauss" and len(np.unique(self._wdofs)) != self._wdofs.size:
             raise ValueError(f"{name}: a cell has two slave facets; Gauss quadrature needs one per cell "
                              "(refine the mesh at the corner or use quadrature 'nodal')")
         Wmap = self.W.dofmap.index_map
         self._wglobal = Wmap.local_to_global(self._wdofs.ravel()).reshape(self._wdofs.shape) if len(slave) else \
-            np.zeros((0, nv), np.int64)
+            np.zeros((0, nn), np.int64)
 
         # Master surface: gathered once (reference data), its displacements at every update.
         md = self.master_data
@@ -360,7 +481,8 @@ class TwoBodySurface(ContactSurface):
         key = np.lexsort(np.round(X.mean(axis=1), 12).T[::-1])  # partition-independent order
         self._mX, self._mG, self._mkey = X[key], G[key], key
         if radius is None:
-            radius = 2.0 * float(np.max(np.linalg.norm(np.diff(self._mX, axis=1), axis=2))) if len(X) else 1.0
+            sides = (self._mX[:, -1:] - self._mX[:, :1]) if self.quadratic else np.diff(self._mX, axis=1)
+            radius = 2.0 * float(np.max(np.linalg.norm(sides, axis=2))) if len(X) else 1.0
         if not (np.isfinite(radius) and radius > 0):
             raise ValueError(f"search radius must be a finite number > 0, got {radius!r}")
         self.radius = float(radius)
@@ -372,15 +494,16 @@ class TwoBodySurface(ContactSurface):
         self._merged_version = -1
         self.weight = fem.Constant(mesh, float(weight))
 
-        obstacle = MirrorObstacle(self.Xm, self.w, self.active, nv, gdim, self.radius)
+        obstacle = MirrorObstacle(self.Xm, self.w, self.active, nv, gdim, self.radius, self.proj)
         self._set_dummy_mirror()
+        self.ds_work = contact_measure(mesh, facet_tags, slave_tag, work_quadrature or quadrature)
         super().__init__(u, facet_tags, slave_tag, obstacle, law, load, quadrature, name)
 
         # Coupling forms (compiled once).
         v, vw = ufl.TestFunction(V), ufl.TestFunction(self.W)
         du, dw = ufl.TrialFunction(V), ufl.TrialFunction(self.W)
         r_u = self.residual(v)  # slave rows (and, for multipliers, the constraint rows)
-        r_w = self.weight * self.pressure * ufl.derivative(self.gap, self.w, vw) * self.ds
+        r_w = self.weight * self.pressure * ufl.derivative(self.gap, self.w, vw) * self.ds_work
         self._r_w = fem.form(r_w)
         self._a_uw = fem.form(ufl.derivative(r_u, self.w, dw))
         self._a_wu = fem.form(ufl.derivative(r_w, u, du))
@@ -393,7 +516,7 @@ class TwoBodySurface(ContactSurface):
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Slave part ``weight F(g) dg/du[v] ds``; the master part is :meth:`add_residual`."""
-        return self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds
+        return self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
 
     # --- projection --------------------------------------------------------
     def slave_points(self) -> np.ndarray:
@@ -417,17 +540,25 @@ class TwoBodySurface(ContactSurface):
         pts = self.slave_points()
         nf, nq, d = pts.shape if pts.size else (0, self.B.shape[0], self.gdim)
         previous = None if self._pairs is None else self._pairs.ravel()
-        facet, bary, dist = project(pts.reshape(-1, d), xm, self.radius, previous)
+        found = project(pts.reshape(-1, d), xm, self.radius, previous, quadratic=self.quadratic)
+        facet, bary, dist = found[:3]
         facet = facet.reshape(nf, nq)
+        facet[self._excluded] = -1
+        xi = found[3].reshape(nf, nq) if self.quadratic else None
         # Gap and master normal at the points, in NumPy (the same formulas as the UFL).
         ok = facet >= 0
         gap = np.full((nf, nq), -np.inf)
         normal = np.zeros((nf, nq, d))
         if np.any(ok):
             xv = xm[facet[ok]]
-            n = facet_normals(xv)
+            if self.quadratic:
+                n = quadratic_normals(xv, xi[ok])
+                q = np.einsum("ik,ikj->ij", quadratic_shape(xi[ok])[0], xv)
+            else:
+                n = facet_normals(xv)
+                q = xv[:, 0]
             normal[ok] = n
-            gap[ok] = -np.einsum("ij,ij->i", pts[ok] - xv[:, 0], n)
+            gap[ok] = -np.einsum("ij,ij->i", pts[ok] - q, n)
         self.projection = {"facet": facet, "bary": bary.reshape(nf, nq, self.nv), "distance": dist.reshape(nf, nq),
                            "gap": gap, "normal": normal}
         bs = self.nv * d
@@ -447,6 +578,10 @@ class TwoBodySurface(ContactSurface):
         self.Xm.x.array[idx] = wX
         self.w.x.array[idx] = wU
         self.active.x.array[self._sdofs] = wA
+        if self.quadratic:  # B = identity: the mirror nodes are the slave points
+            free = ok & (xi > 1e-12) & (xi < 1 - 1e-12)
+            pidx = self._sdofs[..., None] * 2 + np.arange(2)
+            self.proj.x.array[pidx] = np.stack([np.where(ok, xi, 0.5), free.astype(float)], axis=-1)
         pairs = self.comm.allreduce(0 if self._pairs is not None and np.array_equal(self._pairs, facet) else 1)
         changed = pairs > 0
         if changed or self.I is None:
@@ -458,6 +593,8 @@ class TwoBodySurface(ContactSurface):
 
     def _dummy_vertices(self) -> np.ndarray:
         """A unit facet far from nothing in particular: keeps the UFL normal finite where ``active = 0``."""
+        if self.quadratic:
+            return np.array([[0.0, 0.0], [0.5, 0.0], [1.0, 0.0]])
         return np.vstack([np.zeros(self.gdim), np.eye(self.gdim)])[: self.nv]
 
     def _set_dummy_mirror(self) -> None:
@@ -477,7 +614,7 @@ class TwoBodySurface(ContactSurface):
         I.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         bc = self._bc_global if self._bc_global is not None else set()
         for f in range(len(facet)):
-            for a in range(nv):
+            for a in range(self.B.shape[1]):
                 row0 = int(self._wglobal[f, a]) * bs
                 for k in range(nv):
                     for i in range(d):
@@ -562,9 +699,9 @@ class TwoBodySurface(ContactSurface):
         gg = np.where(np.isfinite(g), g, -self.radius)  # the UFL gap of an unpaired point
         return np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
 
-    def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Current position, gap and pressure at the slave quadrature points of the owned slave facets,
-        gathered on every rank and sorted by reference position (a vertex shared by two facets once).
+    def point_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Reference position, current position, gap and pressure at the slave points of the owned slave
+        facets, gathered on every rank and sorted by reference position (a node shared by two facets once).
         Unpaired points have gap ``-inf`` and pressure 0."""
         sd = self.slave_data
         X = np.einsum("qk,fkj->fqj", self.B, sd.X)
@@ -578,17 +715,33 @@ class TwoBodySurface(ContactSurface):
         Xr = np.round(data[0], 12)
         _, first = np.unique(Xr, axis=0, return_index=True)
         order = first[np.lexsort(Xr[first].T[::-1])]
-        return data[1][order], data[2][order], data[3][order]
+        return tuple(a[order] for a in data)
+
+    def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Current position, gap and pressure at the slave points (:meth:`point_table` without the
+        reference position)."""
+        return self.point_table()[1:]
+
+    def reference_points(self) -> np.ndarray:
+        """Reference positions of all slave points (every rank's, on every rank)."""
+        X = np.einsum("qk,fkj->fqj", self.B, self.slave_data.X).reshape(-1, self.gdim)
+        return np.concatenate(self.comm.allgather(X))
 
 
 def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,
                       quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
-                      name: str = "twobody") -> list[TwoBodySurface]:
+                      name: str = "twobody", work_quadrature: str | None = None, cls=None) -> list[TwoBodySurface]:
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
-    ``law_factory()`` returns a fresh law for each surface."""
+    ``law_factory()`` returns a fresh law for each surface. Two-pass: a slave point of the second pass
+    that coincides with one of the first in the reference configuration is left out (node-on-node: one
+    constraint per pair). ``cls``: the surface class (default :class:`TwoBodySurface`)."""
     if passes not in PASSES:
         raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
+    cls = cls or TwoBodySurface
+    kw = {"work_quadrature": work_quadrature}
     if passes == "one":
-        return [TwoBodySurface(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name)]
-    return [TwoBodySurface(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a"),
-            TwoBodySurface(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b")]
+        return [cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name, **kw)]
+    a = cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a", **kw)
+    b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b",
+            exclude=a.reference_points(), **kw)
+    return [a, b]
