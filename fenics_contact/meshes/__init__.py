@@ -24,6 +24,9 @@ from .sphere import sphere_octant  # noqa: F401
 from .tags import (  # noqa: F401
     BOTTOM,
     CONTACT,
+    CYLINDER_DOMAIN,
+    CYLINDER_FIXED,
+    CYLINDER_SURFACE,
     DOMAIN,
     END,
     FREE,

@@ -14,6 +14,10 @@ LEFT = 14
 SYMMETRY_Y = 4
 # Facet tags of ``sheet_over_cylinder`` (CONTACT and SYMMETRY as above).
 END = 4
+# ... and with its deformable cylinder: outer surface, fixed inner surface (facets), the cylinder's cells.
+CYLINDER_SURFACE = 5
+CYLINDER_FIXED = 6
+CYLINDER_DOMAIN = 2
 # Name -> tag maps, e.g. for ``check_tags``.
 HERTZ_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP}
 PIN_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP, "free": FREE}

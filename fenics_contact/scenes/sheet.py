@@ -45,24 +45,31 @@ belt formula gives ``p ~ T/R`` (frictionless, thin sheet).
 """
 from __future__ import annotations
 
+import dolfinx.fem.petsc  # noqa: F401 (fem.petsc)
 import numpy as np
+import ufl
 from dolfinx import fem
 from mpi4py import MPI
+from petsc4py import PETSc
 
 from ..bounds import contact_surface
-from ..compat import function_space
+from ..compat import function_space, petsc_vec
 from ..contact import contact_measure
-from ..laws import ContactLaw
-from ..materials import MODELS
-from ..meshes import CONTACT, END, SYMMETRY, sheet_over_cylinder
-from ..multipliers import unknown
+from ..laws import ContactLaw, LagrangeMultiplier
+from ..materials import NeoHookean
+from ..meshes import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, END, SYMMETRY, sheet_over_cylinder
+from ..multipliers import two_body_multipliers, unknown
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
 from ..projection import SurfaceProjector
+from ..twobody import two_body_surfaces
 from . import Setup
 
 R, THICKNESS, LMBDA, MU, LEG = 3.0, 1.0, 1e3, 5e2, 2.0
 R_IN = 1.0  # the fixed inner radius of the cylinder (no role with a rigid cylinder)
+RATIO = 100.0  # cylinder's Lame constants / sheet's (the spec: "much stiffer", at least 100)
+RADIUS = 0.5  # two-body search radius (a few element sizes; the interface slides little)
+CYLINDERS = ("deformable", "rigid")
 
 
 def arc_length(x: np.ndarray) -> np.ndarray:
@@ -84,50 +91,162 @@ def oscillation(p: np.ndarray) -> float:
 
 
 def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick: int = 2, n_leg: int = 8,
-          steps: int = 4, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
-    """Loads ``t = 1/steps, ..., 1`` (include 0.5 for the paper's first profile: even ``steps``)."""
-    mesh, _, facet_tags = sheet_over_cylinder(comm, R, THICKNESS, LEG, n_arc, n_thick, n_leg, order=2)
+          steps: int = 4, cylinder: str = "deformable", ratio: float = RATIO, n_cyl: int | None = None,
+          n_rad: int = 3, passes: str | None = None, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+    """Loads ``t = 1/steps, ..., 1`` (include 0.5 for the paper's first profile: even ``steps``).
+    ``cylinder``: ``deformable`` (the paper's: neo-Hookean, Lame constants ``ratio`` x the sheet's, two-body
+    contact through :mod:`twobody`, ``n_cyl`` elements along each quarter of its outer arc, default
+    ``3 n_arc / 4``: non-matching with the sheet, ``n_rad`` through its wall) or ``rigid`` (an analytic disk:
+    the limit ``ratio -> infinity``, Signorini; the model-reduction comparison)."""
+    if cylinder not in CYLINDERS:
+        raise ValueError(f"cylinder must be one of {CYLINDERS}, got {cylinder!r}")
+    if not (np.isfinite(ratio) and ratio >= 1):
+        raise ValueError(f"stiffness ratio must be a finite number >= 1, got {ratio!r}")
+    deformable = cylinder == "deformable"
+    two_point = isinstance(law, LagrangeMultiplier)
+    if passes is None:
+        passes = "one" if two_point else "two"
+    if n_cyl is None:
+        n_cyl = max(3 * int(n_arc) // 4, 1)
+    mesh, cell_tags, facet_tags = sheet_over_cylinder(comm, R, THICKNESS, LEG, n_arc, n_thick, n_leg, order=2,
+                                                      cylinder=(R_IN, n_cyl, n_rad) if deformable else None)
     u, V = unknown(mesh, 2, law)
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     end_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == END])
     sym_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
     dirichlet = [Dirichlet(V.sub(1), end_y, -1.0), Dirichlet(V.sub(0), sym_x)]
-    contact = contact_surface(u, facet_tags, CONTACT, Cylinder([0.0, 0.0], R), law, load, quadrature)
-    material = MODELS["neohookean"].from_lame(LMBDA, MU)
-    problem = ContactProblem(u, material, load, dirichlet, [contact])
+    material = Scaled.from_lame(LMBDA, MU)
+    fixed_y = np.zeros(0, np.int32)
+    if deformable:
+        fixed = facet_tags.indices[facet_tags.values == CYLINDER_FIXED]
+        fixed_x, fixed_y = (fem.locate_dofs_topological(V.sub(i), fdim, fixed) for i in (0, 1))
+        dirichlet += [Dirichlet(V.sub(0), fixed_x), Dirichlet(V.sub(1), fixed_y)]
+        material.factor = fem.Function(function_space(mesh, "DG", 0), name="stiffness_factor")
+        cyl = cell_tags.indices[cell_tags.values == CYLINDER_DOMAIN]
+        material.factor.x.array[:] = 1.0
+        material.factor.x.array[_cell_dofs(material.factor.function_space, cyl)] = ratio
+        if isinstance(law, LagrangeMultiplier):  # two-point: constraint at the end nodes, p linear on the facet
+            if quadrature != "simpson":
+                raise ValueError(f"method {law.name!r} on the sheet is the two-point element (Simpson's rule for "
+                                 f"the work): quadrature must be 'simpson', got {quadrature!r}")
+            contacts = two_body_multipliers(u, facet_tags, CONTACT, CYLINDER_SURFACE, law, load, RADIUS, "interface",
+                                            passes=passes, work_quadrature="simpson")
+        else:  # three-point: the law at all three nodes (simpson)
+            contacts = two_body_surfaces(u, facet_tags, CONTACT, CYLINDER_SURFACE, lambda: law, load, quadrature,
+                                         passes, RADIUS, "interface")
+        for c in contacts:  # one name per field in the XDMF file
+            c.gap_out.name, c.pressure_out.name = f"gap_{c.name}", f"contact_pressure_{c.name}"
+    else:
+        contacts = [contact_surface(u, facet_tags, CONTACT, Cylinder([0.0, 0.0], R), law, load, quadrature)]
+    contact = contacts[0]
+    problem = ContactProblem(u, material, load, dirichlet, contacts)
 
-    # Pressure at every node of the quadratic contact facets (Simpson points): exact projection on P2.
-    P2 = function_space(mesh, "Lagrange", 2)
-    nodes = SurfaceProjector(P2, contact_measure(mesh, facet_tags, CONTACT, "simpson"))
-    nodes_rhs = nodes.compile(contact.pressure)
-    p_nodes = fem.Function(P2, name="contact_pressure")
-    X2 = P2.tabulate_dof_coordinates()
+    if not deformable:
+        # Pressure at every node of the quadratic contact facets (Simpson points): exact projection on P2.
+        P2 = function_space(mesh, "Lagrange", 2)
+        nodes = SurfaceProjector(P2, contact_measure(mesh, facet_tags, CONTACT, "simpson"))
+        nodes_rhs = nodes.compile(contact.pressure)
+        p_nodes = fem.Function(P2, name="contact_pressure")
+        X2 = P2.tabulate_dof_coordinates()
 
-    def profile() -> dict:
-        """Pressure at the contact nodes (vertices and midpoints), ordered along the interface, on every rank."""
-        nodes.project(nodes_rhs, p_nodes)
-        dofs = nodes.surface_dofs
-        X = np.concatenate(comm.allgather(X2[dofs, :2]))
-        p = np.concatenate(comm.allgather(p_nodes.x.array[dofs]))
-        s = arc_length(X)
+    def profile(surface: int = 0) -> dict:
+        """Pressure at the contact nodes (vertices and midpoints) of the sheet (``surface`` 0) or of the
+        cylinder (1, deformable only), ordered along the interface by reference arc length from the top,
+        on every rank."""
+        if deformable:
+            X, x, _, p = contacts[surface].point_table()
+            s = arc_length(X) if surface == 0 else R * np.arctan2(X[:, 0], X[:, 1])
+        else:
+            nodes.project(nodes_rhs, p_nodes)
+            dofs = nodes.surface_dofs
+            X = np.concatenate(comm.allgather(X2[dofs, :2]))
+            p = np.concatenate(comm.allgather(p_nodes.x.array[dofs]))
+            s = arc_length(X)
         order = np.argsort(s)
         return {"s": s[order], "x": X[order, 0], "y": X[order, 1], "p": p[order]}
 
+    if deformable:
+        # Simpson weight of every node of the sheet's contact surface (int phi_i ds, reference configuration).
+        sd = contacts[0].slave_data
+        P2 = function_space(mesh, "Lagrange", 2)
+        weights = fem.Function(P2)
+        fem.petsc.assemble_vector(petsc_vec(weights), fem.form(ufl.TestFunction(P2)
+                                                               * contact_measure(mesh, facet_tags, CONTACT, "simpson")))
+        petsc_vec(weights).ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        weights.x.scatter_forward()
+        w_nodes = np.array([P2.dofmap.cell_dofs(c)[lo] for c, lo in zip(sd.cells, sd.local)],
+                           dtype=np.int32).reshape(-1, 3)
+
+    def traction() -> dict:
+        """The contact traction on the sheet at its contact nodes (vertices and midpoints), ordered by
+        reference arc length: for the rigid cylinder the pressure field; for the deformable one the contact
+        force on each node (= minus the internal force: nothing else loads the interface), signed along the
+        outward radius, divided by the node's Simpson weight ``int phi_i ds`` (a smooth pressure's
+        consistent nodal forces are its values times these weights). Formulation-independent: the pressures
+        of the two passes (weight 1/2 each) can split one traction between nearby nodes of the two
+        surfaces, the nodal forces cannot."""
+        if not deformable:
+            return profile(0)
+        f = problem.internal_force()[sd.comp]  # (nf, 3, 2)
+        X = sd.X
+        radial = np.where((X[..., 1] >= 0)[..., None], X / np.linalg.norm(X, axis=-1, keepdims=True),
+                          np.array([1.0, 0.0]))
+        fn = np.einsum("fkj,fkj->fk", f, radial)
+        w = weights.x.array[w_nodes]
+        own = sd.owned
+        data = [np.concatenate(a) for a in zip(*comm.allgather((X[own].reshape(-1, 2), (fn / w)[own].ravel())))]
+        Xr = np.round(data[0], 12)
+        _, first = np.unique(Xr, axis=0, return_index=True)
+        Xn, pn = data[0][first], data[1][first]
+        s = arc_length(Xn)
+        order = np.argsort(s)
+        return {"s": s[order], "x": Xn[order, 0], "y": Xn[order, 1], "p": pn[order]}
+
     def figures() -> dict:
-        prof = profile()
+        prof = traction()
         on_arc = prof["y"] > 0
         T = -problem.reaction(end_y)  # vertical force pulling the end down (per unit thickness)
-        return {"end_force": T, "contact_force_y": contact.total_force()[1], "p_max": float(prof["p"].max()),
+        if deformable:  # the force the fixed inner surface takes
+            support = problem.reaction(fixed_y)
+            # the constrained points: the end nodes (two-point) or all three nodes (three-point) of each facet
+            gaps = [c.projection["gap"][:, [0, 2]] if two_point else c.projection["gap"] for c in contacts]
+            pen = comm.allreduce(float(max(np.max(g[np.isfinite(g)], initial=-np.inf) for g in gaps)), op=MPI.MAX)
+            extra = {"cylinder_support_y": support, "max_penetration": pen,
+                     "pairing_changes": int(sum(c.pairing_changes for c in contacts))}
+        else:
+            extra = {"contact_force_y": contact.total_force()[1], "max_penetration": contact.max_penetration()}
+        return {"end_force": T, "p_max": float(prof["p"].max()),
                 "p_mean_arc": float(np.mean(prof["p"][on_arc])), "belt_T_over_R": T / R,
-                "total_variation": total_variation(prof["p"]), "oscillation": oscillation(prof["p"]),
-                "max_penetration": contact.max_penetration()}
+                "total_variation": total_variation(prof["p"]), "oscillation": oscillation(prof["p"]), **extra}
 
     params = {"lambda": LMBDA, "mu": MU, "thickness": THICKNESS, "R_out": R, "R_in": R_IN, "leg": LEG,
               "n_arc": n_arc, "n_thick": n_thick, "n_leg": n_leg, "quadrature": quadrature, "material": "neohookean",
-              "elements": "9-node quadrilaterals, quadratic geometry", "cylinder": "rigid (stiffness ratio infinite)",
+              "elements": "9-node quadrilaterals, quadratic geometry", "cylinder": cylinder,
               "model": "right half (symmetry x = 0)"}
-    setup = Setup("sheet", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
+    if deformable:
+        params.update({"stiffness_ratio": ratio, "lambda_cylinder": ratio * LMBDA, "mu_cylinder": ratio * MU,
+                       "n_cyl": n_cyl, "n_rad": n_rad, "passes": passes})
+    setup = Setup("sheet", problem, contacts, [(i + 1) / steps for i in range(steps)], params, figures,
                   [contact.displacement_out])  # XDMF needs the mesh's degree (2): the pressure goes to CSV
     setup.profile = profile  # the demo records it at t = 0.5 and 1
+    setup.traction = traction
     return setup
+
+
+def _cell_dofs(V, cells: np.ndarray) -> np.ndarray:
+    """Dofs of a DG0 space on ``cells``."""
+    return np.array([V.dofmap.cell_dofs(c)[0] for c in cells], dtype=np.int32)
+
+
+class Scaled(NeoHookean):
+    """Neo-Hookean with both Lame constants scaled by the cell field ``factor`` (1 in the sheet, the
+    stiffness ratio in the cylinder): ``W = factor W_sheet``."""
+
+    factor = 1.0
+
+    def energy(self, u):
+        return self.factor * super().energy(u)
+
+    def stress(self, u):
+        return self.factor * super().stress(u)
