@@ -93,7 +93,7 @@ def test_quadratic_two_body_tangent_is_consistent():
     setup = build("sheet", law=Penalty(1e4), **MESH)
     problem = setup.problem
     solver = Solver(problem, quiet=True)
-    problem.set_load(0.5)
+    problem.set_load(0.0)  # Dirichlet values 0 = those of x: no lifting term in the residual
     u = problem.u
     V = u.function_space
     X = V.tabulate_dof_coordinates()
@@ -101,8 +101,8 @@ def test_quadratic_two_body_tangent_is_consistent():
     rng = np.random.default_rng(1)
     n = len(x.array) // 2
     r = np.linalg.norm(X[:n, :2], axis=1)
-    sheet_nodes = r > 3.0 - 1e-9
-    sheet_nodes &= ~np.isclose(r, 3.0, atol=1e-9) | (X[:n, 1] > -1)  # every node of the sheet
+    sheet_nodes = r > 3.0 + 1e-9  # the sheet's nodes off the interface (its interface nodes: below)
+    sheet_nodes |= np.isclose(r, 3.0, atol=1e-9) & (np.arange(n) % 3 == 0)  # a third of the interface nodes
     x.array[0::2][sheet_nodes] += 0.013  # slide along x
     x.array[1::2][sheet_nodes] -= 0.004  # press into the cylinder
     x.array[:] += 1e-4 * rng.standard_normal(x.array.shape)
@@ -131,7 +131,8 @@ def test_quadratic_two_body_tangent_is_consistent():
     fd.scale(0.5 / eps)
     err = fd.copy()
     err.axpy(-1.0, Jd)
-    assert all(np.all(np.isfinite(c.projection["gap"][c._pairs >= 0])) for c in setup.contacts)
+    for c in setup.contacts:  # both passes have penetrating (loaded) points
+        assert MPI.COMM_WORLD.allreduce(int(np.sum(c.projection["gap"] > 0)), op=MPI.SUM) >= 5, c.name
     assert err.norm() <= 1e-6 * Jd.norm(), err.norm() / Jd.norm()
 
 
