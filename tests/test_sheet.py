@@ -25,7 +25,7 @@ def solve(law, comm=MPI.COMM_WORLD, **kw):
 @pytest.fixture(scope="module")
 def runs():
     laws = {"mult": LagrangeMultiplier(1e3), "two4": PenaltyMultiplier(1e4), "two6": PenaltyMultiplier(1e6),
-            "three4": Penalty(1e4), "three6": Penalty(1e6)}
+            "three4": Penalty(1e4), "three5": Penalty(1e5)}  # the demo: 1e4, 1e6 (1e6 costs 20 s here)
     return {k: solve(law) for k, law in laws.items()}
 
 
@@ -60,10 +60,10 @@ def test_three_point_penalty_locks(runs):
         osc = {k: sheet.oscillation(runs[k][1][t][0]["p"]) for k in ("mult", "two6")}
         assert abs(osc["mult"]) < 1e-9 * peak and abs(osc["two6"]) < 1e-9 * peak  # linear on each facet
         # total variation along the interface: the multipliers' profile is smooth (its own TV ~ 1.3 peak)
-        tv = {k: sheet.total_variation(runs[k][1][t][0]["p"]) for k in ("mult", "three4", "three6")}
-        assert tv["three6"] > 1.5 * tv["three4"] and tv["three4"] > 3 * tv["mult"], (t, tv)
-        d = {k: difference(runs, k, t, 0) for k in ("three4", "three6")}
-        assert d["three6"] > d["three4"] > 0.2, (t, d)
+        tv = {k: sheet.total_variation(runs[k][1][t][0]["p"]) for k in ("mult", "three4", "three5")}
+        assert tv["three5"] > 1.3 * tv["three4"] and tv["three4"] > 3 * tv["mult"], (t, tv)
+        d = {k: difference(runs, k, t, 0) for k in ("three4", "three5")}
+        assert d["three5"] > d["three4"] > 0.2, (t, d)
 
 
 def test_multipliers_independent_of_c_and_of_ranks():
