@@ -4,12 +4,14 @@
     mpirun -n 2 python demos/sheet.py --out results/sheet --n-arc 48
 
 Sheet (thickness 1, lambda = 1e3, mu = 5e2, neo-Hookean, plane strain,
-9-node quadrilaterals; Papadopoulos & Solberg 1998) over the cylinder R_out = 3, here rigid (the limit of
-the stiffness ratio; see fenics_contact/scenes/sheet.py), ends pulled down
-by t up to 1. Five runs: Lagrange multipliers (two-point), the two-point
-penalty p = eps <g> at the end nodes and the three-point penalty at all three
-nodes, eps in {1e4, 1e6}. Writes <variant>/sheet.xdmf (displacement) + summary.json per run,
-sheet_pressure.csv (pressure at the contact nodes at t = 0.5 and 1),
+9-node quadrilaterals; Papadopoulos & Solberg 1998) over a hollow cylinder R_in = 1 (fixed), R_out = 3,
+deformable and 100 x stiffer (--ratio; --cylinder rigid: its limit), both bodies in one mesh with
+non-matching interface nodes; ends pulled down by t up to 1 (see fenics_contact/scenes/sheet.py).
+Five runs: Lagrange multipliers and the penalty p = eps <g> of the two-point element (gap at the end nodes
+of the sheet's facets, pressure linear on the facet, Simpson's rule), and the three-point penalty (gap at
+all three nodes of the facets of both surfaces, two passes), eps in {1e4, 1e6}. Writes
+<variant>/sheet.xdmf (displacement) + summary.json per run, sheet_pressure.csv (at t = 0.5 and 1, at the
+sheet's contact nodes: the pressure field and the nodal traction = contact nodal force / Simpson weight),
 sheet_pressure.png and summary.json (the comparison) to --out.
 """
 import argparse
@@ -31,6 +33,8 @@ TIMES = (0.5, 1.0)
 p = argparse.ArgumentParser(description=__doc__.splitlines()[0], epilog="Other -options go to PETSc (prefix fc_).")
 p.add_argument("--n-arc", type=int, default=24, help="elements along the quarter arc (the leg gets n_arc/3)")
 p.add_argument("--steps", type=int, default=4, help="load steps (even, so that t = 0.5 is one)")
+p.add_argument("--cylinder", choices=sheet.CYLINDERS, default="deformable", help="the cylinder's model")
+p.add_argument("--ratio", type=float, default=sheet.RATIO, help="cylinder's Lame constants / sheet's")
 p.add_argument("--c", type=float, default=1e3, help="multipliers: complementarity parameter, ~E/h")
 p.add_argument("--eps", type=float, nargs="+", default=[1e4, 1e6], help="penalty parameters")
 p.add_argument("--out", default="results/sheet", help="output directory")
@@ -49,33 +53,36 @@ variants += [(f"three-point penalty eps={e:g}", e, Penalty(e)) for e in args.eps
 profiles, summaries = {}, {}
 for name, eps, law in variants:
     setup = build("sheet", law=law, quadrature="simpson", n_arc=args.n_arc, n_leg=max(args.n_arc // 3, 1),
-                  steps=args.steps)
+                  steps=args.steps, cylinder=args.cylinder, ratio=args.ratio)
     kept = {}
 
     def after_step(t, setup=setup, kept=kept):
         if any(np.isclose(t, T) for T in TIMES):
-            kept[round(t, 6)] = setup.profile()
+            kept[round(t, 6)] = {"pressure": setup.profile(), "traction": setup.traction()}
 
     params = {"c": args.c} if eps is None else {"eps": eps}
     summaries[name] = run(setup, out / name.replace(" ", "_").replace("=", ""), law.name, params, quiet=args.quiet,
                           after_step=after_step)
     profiles[name] = kept
 
-# 3. Compare with the multipliers: largest difference over the contact nodes (relative to the peak) and
-#    the node-to-node oscillation (total variation over all nodes minus that over the vertices).
+# 3. Compare with the multipliers, for the sheet's pressure field and its nodal traction: largest difference
+#    over the contact nodes (relative to the multipliers' peak), total variation along the interface and
+#    node-to-node oscillation (total variation over all nodes minus that over the vertices).
+MEASURES = ("pressure", "traction")
 comparison = {}
 for t in TIMES:
-    ref = profiles["multipliers"][t]["p"]
-    peak = float(ref.max())
-    rows = {}
-    for name, _, _ in variants:
-        pr = profiles[name][t]["p"]
-        rows[name] = {"max_difference_over_peak": float(np.abs(pr - ref).max() / peak), "p_max": float(pr.max()),
-                      "total_variation": sheet.total_variation(pr), "oscillation": sheet.oscillation(pr)}
-    comparison[f"t={t:g}"] = {"peak_multipliers": peak, "variants": rows}
-figures = {name: {k: s[k] for k in ("end_force", "contact_force_y", "p_max", "belt_T_over_R", "max_penetration",
-                                    "newton_iterations", "load_steps", "wall_time_s")}
-           for name, s in summaries.items()}
+    for m in MEASURES:
+        ref = profiles["multipliers"][t][m]["p"]
+        peak = float(ref.max())
+        rows = {}
+        for name, _, _ in variants:
+            pr = profiles[name][t][m]["p"]
+            rows[name] = {"max_difference_over_peak": float(np.abs(pr - ref).max() / peak), "p_max": float(pr.max()),
+                          "total_variation": sheet.total_variation(pr), "oscillation": sheet.oscillation(pr)}
+        comparison[f"t={t:g} {m}"] = {"peak_multipliers": peak, "variants": rows}
+keys = ("end_force", "p_max", "belt_T_over_R", "max_penetration", "newton_iterations", "load_steps", "wall_time_s",
+        "cylinder_support_y", "contact_force_y")
+figures = {name: {k: s[k] for k in keys if k in s} for name, s in summaries.items()}
 totals = {k: sum(s[k] for s in summaries.values()) for k in ("newton_iterations", "augmentations", "wall_time_s")}
 write_summary(out / "summary.json", {"scene": "sheet", "method": "compare", "ranks": MPI.COMM_WORLD.size,
                                      "dofs": summaries["multipliers"]["dofs"], **totals, "comparison": comparison,
@@ -86,16 +93,17 @@ write_summary(out / "summary.json", {"scene": "sheet", "method": "compare", "ran
 if MPI.COMM_WORLD.rank == 0:
     with open(out / "sheet_pressure.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["variant", "t", "arc_length", "x", "y", "pressure"])
+        w.writerow(["variant", "t", "measure", "arc_length", "x", "y", "value"])
         for name, kept in profiles.items():
-            for t, pr in kept.items():
-                for row in zip(pr["s"], pr["x"], pr["y"], pr["p"]):
-                    w.writerow([name, t, *(f"{v:.10g}" for v in row)])
+            for t, both in kept.items():
+                for m, pr in both.items():
+                    for row in zip(pr["s"], pr["x"], pr["y"], pr["p"]):
+                        w.writerow([name, t, m, *(f"{v:.10g}" for v in row)])
     for t, c in comparison.items():
         print(f"{t}: multipliers' peak {c['peak_multipliers']:.4g}")
         for name, r in c["variants"].items():
             print(f"  {name:30s} max |p - p_mult| / peak {r['max_difference_over_peak']:.4f}  "
-                  f"oscillation {r['oscillation']:.4g}")
+                  f"total variation {r['total_variation']:.4g}  oscillation {r['oscillation']:.4g}")
     if not args.no_pictures:
         from fenics_contact.plotting import plot_curves
 
@@ -103,8 +111,9 @@ if MPI.COMM_WORLD.rank == 0:
         for i, e in enumerate(args.eps):
             styles[f"two-point penalty eps={e:g}"] = f"-C{i}"
             styles[f"three-point penalty eps={e:g}"] = f"-.C{i + len(args.eps)}"
-        near = {n: {t: profiles[n][t]["s"] <= 5.5 for t in TIMES} for n, _, _ in variants}  # the leg is free below
-        curves = [(profiles[n][t]["s"][near[n][t]], profiles[n][t]["p"][near[n][t]], n if t == 1.0 else f"_{n}",
+        prs = {n: {t: profiles[n][t]["pressure"] for t in TIMES} for n, _, _ in variants}
+        near = {n: {t: prs[n][t]["s"] <= 5.5 for t in TIMES} for n, _, _ in variants}  # the leg is free below
+        curves = [(prs[n][t]["s"][near[n][t]], prs[n][t]["p"][near[n][t]], n if t == 1.0 else f"_{n}",
                    styles[n]) for t in TIMES for n, _, _ in variants]  # one legend entry per variant
         plot_curves(curves, out / "sheet_pressure.png", xlabel="arc length from the top (reference)",
-                    title="sheet over a rigid cylinder: contact pressure at t = 0.5 and 1")
+                    title=f"sheet over a {args.cylinder} cylinder: pressure on the sheet at t = 0.5 and 1")
