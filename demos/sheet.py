@@ -40,7 +40,7 @@ p.add_argument("--eps", type=float, nargs="+", default=[1e4, 1e6], help="penalty
 p.add_argument("--out", default="results/sheet", help="output directory")
 p.add_argument("--no-pictures", action="store_true", help="skip the PNG")
 p.add_argument("--quiet", action="store_true", help="no progress lines")
-p.set_defaults(method="compare", augment=0)
+p.set_defaults(method="compare", augment=0, K=None, c_n=None, omega_t=None)  # keys cli.parse fills in
 args = cli.parse(p)
 if args.steps % 2:
     p.error(f"--steps must be even (t = 0.5 must be a load step), got {args.steps}")
@@ -62,7 +62,7 @@ for name, eps, law in variants:
 
     params = {"c": args.c} if eps is None else {"eps": eps}
     summaries[name] = run(setup, out / name.replace(" ", "_").replace("=", ""), law.name, params, quiet=args.quiet,
-                          after_step=after_step)
+                          on_step=after_step)
     profiles[name] = kept
 
 # 3. Compare with the multipliers, for the sheet's pressure field and its nodal traction: largest difference
@@ -116,4 +116,4 @@ if MPI.COMM_WORLD.rank == 0:
         curves = [(prs[n][t]["s"][near[n][t]], prs[n][t]["p"][near[n][t]], n if t == 1.0 else f"_{n}",
                    styles[n]) for t in TIMES for n, _, _ in variants]  # one legend entry per variant
         plot_curves(curves, out / "sheet_pressure.png", xlabel="arc length from the top (reference)",
-                    title=f"sheet over a {args.cylinder} cylinder: pressure on the sheet at t = 0.5 and 1")
+                    title=f"sheet on a {args.cylinder} cylinder: pressure on the sheet, t = 0.5, 1")

@@ -9,7 +9,13 @@ problem by Dirichlet conditions ``p = 0``: they stay in the linear system as
 identity rows and columns (decoupled, eliminated by the direct solver at no
 cost; the honest fallback, not a reduced index set). Which dofs are "on the
 surface" is decided by ``locate_dofs_topological`` on the contact facets,
-which communicates shared dofs, so every rank agrees.
+which communicates shared dofs, so every rank agrees. Reported sizes
+(``Setup.dofs``) count only the real unknowns (displacement and surface
+pressures: ``pinned_dofs`` are subtracted). Taking the pinned rows out of the
+solve itself would need a reduced system on an index set of the free dofs
+(``MatCreateSubMatrix``/``VecGetSubVector`` in the SNES callbacks, or a
+PCFIELDSPLIT whose pinned block is the identity); not done: MUMPS eliminates
+the decoupled identity rows at the cost of their count.
 
 Constraint, per contact vertex (vertex quadrature ``contact_measure(...,
 "nodal")``, so the integrals are weighted nodal values): the spec's
@@ -34,11 +40,20 @@ node carries its share. The penalty regularization ``p = eps <g>`` at the
 end nodes is the law :class:`~fenics_contact.laws.PenaltyMultiplier` on the
 same space (``C = p - eps max(0, g)``).
 
-Two bodies (:func:`two_body_multipliers`): one pass; each slave vertex's
-pressure is an unknown and its gap is measured against the current master
-facets by :mod:`twobody`'s projection and mirror fields; the master rows and
-the constraint rows' dependence on the master displacement go through
-twobody's coupling ``I`` (its coupling forms are built from ``residual(v)``).
+Two bodies (:func:`two_body_multipliers`): each slave vertex's pressure is
+an unknown and its gap is measured against the current master facets by
+:mod:`twobody`'s projection and mirror fields; the master rows and the
+constraint rows' dependence on the master displacement go through twobody's
+coupling ``I`` (its coupling forms are built from ``residual(v)``). One pass
+by default; ``passes="two"`` makes each surface slave once (weight 1/2, a
+pressure on both surfaces), which is well posed only where no vertex of one
+surface nearly coincides with a vertex of the other (otherwise the two
+constraints are nearly the same and the pressure splits arbitrarily between
+the passes; the paper collocates ``p(1) = p(2)`` there, not done here: see
+the sheet scene). Quadratic displacements (the sheet): the two-point element
+as for a rigid obstacle, the constraint at the end nodes of each slave facet
+against the master's curved quadratic facets, the work with Simpson's rule
+(``work_quadrature="simpson"``).
 
 Linear solver: the Jacobian is a saddle point with zero diagonal on the
 active pressure rows; the solver's default direct LU by MUMPS (unsymmetric
@@ -77,6 +92,7 @@ class PressureUnknown:
     the displacement for output. ``self.u`` is the mixed unknown (``self.w`` is two-body's mirror field).
     A vertex on two such surfaces has one pressure (their rows add)."""
 
+    pinned_dofs = 0  # global number of pressure dofs fixed to 0 off the surfaces (set on the first surface)
     # Full semismooth Newton steps: the l2 line search damps the active-set changes (cylinders: 9 iterations
     # per step for c = 1e2 .. 1e4 with basic, 17-30 with l2; bt fails).
     solver_options = {"snes_linesearch_type": "basic"}
@@ -104,6 +120,8 @@ class PressureUnknown:
             on = np.unique(np.concatenate([c._on_surface for c in surfaces]))
             off = np.setdiff1d(np.asarray(q_to_w, dtype=np.int32), on).astype(np.int32)
             self._bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
+            n_owned = W.dofmap.index_map.size_local * W.dofmap.index_map_bs
+            self.pinned_dofs = W.mesh.comm.allreduce(int(np.sum(off < n_owned)))
         return self._bcs
 
     def _constraint(self, v: ufl.Argument) -> ufl.Form:

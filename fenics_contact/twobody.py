@@ -55,8 +55,31 @@ trade for contact surfaces (a small fraction of the mesh); for very large
 surfaces a bounding-box exchange limited to overlapping ranks would be the
 next step.
 
+Quadratic facets (2D, a degree-2 displacement on triangles or 9-node
+quadrilaterals with curved facets): the master facet is the curve
+``x(xi) = sum_k N_k(xi) x_k`` through its three nodes (end, middle, end;
+``xi`` in [0, 1]); the slave points are the three nodes of each slave facet
+(the mirror fields live in P2, the constraint is integrated with the end
+nodes only, ``nodal``, or with Simpson's rule over all three). We project
+on the curve, not on the two chords through the middle node: the chords of
+two non-matching discretizations of one circle sag by different amounts
+(``h^2/8R``, 4e-4 for the sheet's facets), so chords would make the two
+surfaces overlap by as much as an exact method enforces (the cylinders
+scene's P1 problem); the quadratic curves agree to ``O(h^4)``. The
+closest point is found by Newton on ``(x_s - x(xi)) . x'(xi) = 0`` per
+candidate facet (NumPy), and written in UFL as one further Newton
+correction ``xi = xi0 - f/f'`` of the stored ``xi0`` (:class:`MirrorObstacle`):
+its value is ``xi0`` and its derivative the implicit-function one, so
+UFL's second derivative of ``g = -(x_s - x(xi)) . n(xi)`` is the complete
+consistent tangent (curvature and the moving projection point included;
+``tests/test_sheet.py`` checks it against central differences to 1e-10).
+Points that project on a facet's end (``xi`` clipped) keep ``xi`` fixed.
+
 Two-pass: two surfaces, each side slave once, each with ``weight = 1/2``
-(forces averaged). Only flat facets: segments (2D), triangles (3D).
+(forces averaged); a slave point of the second pass that coincides with one
+of the first in the reference configuration is left out (node-on-node: one
+constraint per pair). Flat facets: segments (2D), triangles (3D);
+quadratic: curved segments (2D).
 """
 from __future__ import annotations
 

@@ -77,6 +77,14 @@ def test_multipliers_independent_of_c_and_of_ranks():
         assert np.isclose(f3[k], fs[k], rtol=1e-8), k
 
 
+def test_dofs_count_the_surface_pressures_only():
+    setup = build("sheet", law=LagrangeMultiplier(), **MESH)
+    V, _ = setup.problem.u.function_space.sub(0).collapse()
+    u_dofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+    vertices = MESH["n_arc"] + MESH["n_leg"] + 1  # the sheet's contact vertices (one-pass two-point)
+    assert setup.dofs == u_dofs + vertices
+
+
 def test_rigid_cylinder_is_the_stiff_limit(runs):
     """Model reduction: a rigid cylinder (ratio -> infinity) against the 100x stiffer one, multipliers."""
     f, prof = solve(LagrangeMultiplier(1e3), cylinder="rigid")

@@ -38,8 +38,11 @@ class Setup:
 
     @property
     def dofs(self) -> int:
+        """Global number of unknowns: with multipliers, the displacement and the pressures on the contact
+        surfaces (the pressure dofs pinned to 0 off the surfaces are not counted, see :mod:`multipliers`)."""
         V = self.problem.u.function_space
-        return V.dofmap.index_map.size_global * V.dofmap.index_map_bs
+        pinned = sum(getattr(c, "pinned_dofs", 0) for c in self.contacts)
+        return V.dofmap.index_map.size_global * V.dofmap.index_map_bs - pinned
 
 
 def scene_names() -> list[str]:

@@ -10,38 +10,62 @@ Choices (the paper's geometry figure is lost in the text):
 - the sheet starts stress-free and conforming on the upper half of the
   cylinder (inner radius 3, outer 4), continued by vertical legs of length
   ``leg = 2`` whose ends are pulled down by ``t`` (``u_y = -t``, ``u_x``
-  free); the right half is modelled (``u_x = 0`` on ``x = 0``);
-- **the cylinder is rigid** (an analytic disk of radius ``R_out = 3``):
-  the limit of the stiffness ratio -> infinity. ``R_in`` plays no role. The
-  two-body version (a deformable cylinder at a stiffness ratio >= 100) needs
-  the two-body projection (``twobody``), which is not in this branch yet;
+  free); the right half is modelled (``u_x = 0`` on ``x = 0``, both bodies);
+- the cylinder (default ``cylinder="deformable"``) is the right half of the
+  hollow cylinder, neo-Hookean with both Lame constants **100 x** the sheet's
+  (``RATIO``: the spec's minimum, ``E = 1.33e5``), ``u = 0`` on ``r = R_in``;
+  sheet and cylinder are two bodies of one mesh (two cell tags, facet tags
+  CONTACT on the sheet, CYLINDER_SURFACE on the cylinder) with non-matching
+  interface nodes (``n_cyl = 3 n_arc / 4`` elements per quarter arc of the
+  cylinder), in contact through :mod:`twobody` on quadratic (curved 3-node)
+  facets. ``cylinder="rigid"``: an analytic disk of radius 3 (the ratio's
+  limit; Signorini), kept as the model-reduction comparison;
 - 9-node quadrilaterals (``n_arc`` along the quarter arc, ``n_leg`` along
   the leg, ``n_thick`` through the thickness), quadratic geometry so that
-  all three nodes of a contact facet start exactly on the cylinder.
+  all three nodes of a contact facet start exactly on the circle.
 
 Methods (``quadrature="simpson"``: the pressure's work integrated with
 Simpson's rule over each quadratic facet):
-``lagrange`` and ``penalty_multiplier`` (``p = eps <g>``) are the "two-point"
-element (gap at the two end nodes, pressure linear on the facet);
-``penalty`` with Simpson's rule is the "three-point" penalty
-(``p = eps <g>`` at all three nodes).
 
-What the rigid limit shows (n_arc = 24, t = 1): the two-point penalty
-approaches the multipliers (max difference 6.7 % of the peak at eps = 1e4,
-0.11 % at 1e6); the three-point penalty oscillates between vertices and
-midpoints more as eps grows and stays 5.7 % off near the peak and the
-contact edge at 1e6 (0.09 % elsewhere). The paper's surface locking
-(three-point pressure not converging at all) needs two deformable surfaces,
-each enforcing the gap against the other: for a rigid obstacle (Signorini)
-a quadratic pressure is admissible, as the paper remarks. Missing for the
-deformable cylinder: two-body projection of quadratic (curved, 3-node)
-facets and quadrilaterals (``twobody`` handles flat P1 simplex facets), and
-the two-pass multiplier element (pressure on both surfaces, the middle
-pressure collocated from the opposite surface).
+- ``lagrange`` and ``penalty_multiplier`` (``p = eps <g>``): the "two-point"
+  element, the gap enforced at the two end nodes of each contact facet of
+  the sheet against the cylinder's current (curved) surface, the pressure an
+  unknown, linear on the facet (its middle value the mean of the ends: the
+  paper's choice when no node of the opposite surface projects into the
+  facet). One pass (the sheet is the slave, the cylinder takes the reaction
+  through the coupling ``I``; default ``passes`` for these laws).
+- ``penalty``: the "three-point" penalty, ``p = eps <g>`` at all three nodes
+  of the facets of **both** surfaces (two passes, each surface slave once,
+  weight 1/2; a node of one surface that coincides with one of the other,
+  here at the top and at ``(3, 0)``, is constrained once).
+
+Not the paper's element: its two-pass two-point element collocates the
+middle pressure of a facet from the opposite surface (``p(1) = p(2)`` at
+projected points) and loads each body with its own surface's pressure only.
+We tried the two-pass two-point multipliers without that collocation
+(``passes="two"``, both passes weight 1/2): where a vertex of the sheet and
+one of the cylinder nearly coincide their two constraints are nearly the
+same, and the multipliers split the traction arbitrarily between the two
+passes (n_arc = 12, t = 1: one surface's pressure 0 where the other's is
+twice the traction; the nodal traction ragged). The collocation is what
+makes the paper's two-pass element well posed; we did not build it, so the
+two-point reference here is the one-pass element.
+
+What it shows (``demos/sheet.py``; figures in its summary.json and the
+README): see ``MEASURED`` below.
+
+Figures: ``profile(0)`` is the pressure field on the sheet's contact nodes
+(vertices and midpoints, by reference arc length from the top; for the
+three-point penalty ``eps <g>`` of the sheet's pass), ``profile(1)`` the
+cylinder's (two passes only); ``traction()`` the nodal traction on the sheet:
+its contact nodal force (minus the internal force, radial component)
+divided by the node's Simpson weight ``int phi_i ds``, independent of how a
+formulation splits its pressure.
 
 Equilibrium: the end's vertical reaction ``T`` (the sheet's tension at the
-end, per unit thickness) equals the vertical contact force; on the arc the
-belt formula gives ``p ~ T/R`` (frictionless, thin sheet).
+end, per unit thickness) equals the vertical contact force and the reaction
+of the cylinder's fixed inner surface; on the arc the belt formula gives
+``p ~ T/R`` (frictionless, thin sheet).
 """
 from __future__ import annotations
 
