@@ -128,9 +128,8 @@ class FacetData:
         mesh.topology.create_connectivity(tdim, tdim - 1)
         f2c, f2v, c2v, c2f = (mesh.topology.connectivity(tdim - 1, tdim), mesh.topology.connectivity(tdim - 1, 0),
                               mesh.topology.connectivity(tdim, 0), mesh.topology.connectivity(tdim, tdim - 1))
-        self.quadratic = V.ufl_element().degree() == 2
-        if self.quadratic and tdim != 2:
-            raise ValueError("two-body contact with quadratic facets is implemented in 2D only")
+        # Quadratic facets: a 2D space with one dof per edge (P2); other spaces use the facets' vertices.
+        self.quadratic = tdim == 2 and len(V.dofmap.dof_layout.entity_dofs(1, 0)) == 1
         nv = 3 if self.quadratic else tdim  # nodes of a facet: (end, middle, end) or the simplex vertices
         nf = len(facets)
         self.cells = np.zeros(nf, np.int32)
