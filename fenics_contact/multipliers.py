@@ -15,7 +15,12 @@ pressures: ``pinned_dofs`` are subtracted). Taking the pinned rows out of the
 solve itself would need a reduced system on an index set of the free dofs
 (``MatCreateSubMatrix``/``VecGetSubVector`` in the SNES callbacks, or a
 PCFIELDSPLIT whose pinned block is the identity); not done: MUMPS eliminates
-the decoupled identity rows at the cost of their count.
+the decoupled identity rows at the cost of their count. PETSc's
+PCREDISTRIBUTE (drops the rows holding only their diagonal) was tried: it
+fails at the second Newton iteration in PETSc 3.18 ("Cannot change local size
+of Amat after use"), because the inactive pressure rows are diagonal-only
+too, so the reduced size changes with the active set, and its inner KSP
+keeps the first size even after ``PCReset``.
 
 Constraint, per contact vertex (vertex quadrature ``contact_measure(...,
 "nodal")``, so the integrals are weighted nodal values): the spec's
