@@ -77,6 +77,17 @@ def test_multipliers_independent_of_c_and_of_ranks():
         assert np.isclose(f3[k], fs[k], rtol=1e-8), k
 
 
+def test_three_point_penalty_independent_of_ranks(runs):
+    """Two passes (gathered master surfaces, node-on-node exclusion): the same on every partition."""
+    fs, ps = solve(Penalty(1e4), MPI.COMM_SELF)
+    f, p = runs["three4"]
+    for t in (0.5, 1.0):
+        for which in (0, 1):
+            assert np.allclose(p[t][which]["p"], ps[t][which]["p"], rtol=0, atol=1e-7 * f["p_max"])
+    for k in ("end_force", "p_max", "total_variation", "max_penetration"):
+        assert np.isclose(f[k], fs[k], rtol=1e-8), k
+
+
 def test_dofs_count_the_surface_pressures_only():
     setup = build("sheet", law=LagrangeMultiplier(), **MESH)
     V, _ = setup.problem.u.function_space.sub(0).collapse()
