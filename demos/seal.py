@@ -7,7 +7,7 @@ Wave-shaped band (arcs R_out = 10, R_in = 9; half model; --shape S or U
 for the other designs, see the scene), neo-Hookean (E = 1000, nu = 0.3),
 plates 7 apart, upper plate down by 0.5 per step to 5.5, then by 0.1 to
 6.0; cross-constraints K^ = 1e5 (F^ = 1e-3, see the scene), full Newton
-steps; each step starts from the secant predictor. The penalty method
+steps; each step starts from the tangent predictor. The penalty method
 (K = 1e5) is run on the same scene for the comparison table.
 
 Writes to --out: seal.xdmf (every step), summary.json, seal_residuals.csv|md
