@@ -59,7 +59,7 @@ def on_step(t: float) -> None:
 
 # 3. Solve every load step (cross-constraints), write XDMF, summary.json and the tables.
 summary = run(setup, out, args.method if args.method == "cross" else "cross", cli.method_parameters(args), 0,
-              quiet=args.quiet, options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR, on_step=on_step)
+              quiet=args.quiet, options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], on_step=on_step)
 if comm.rank == 0:
     print(tables.residual_table(summary["steps"], out / "seal_residuals"))
     print(tables.write_table(zones, out / "seal_zones"))
@@ -82,7 +82,7 @@ if not args.no_pictures:
 penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape)
 try:
     penalty_summary = run(penalty, out / "penalty", "penalty", {"K": args.K}, 0, quiet=args.quiet,
-                          options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR)
+                          options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape])
 except ConvergenceError:
     penalty_summary = json.load(open(out / "penalty" / "summary.json")) if comm.rank == 0 else None
 if comm.rank == 0:

@@ -13,7 +13,7 @@ from fenics_contact.solver import Solver
 def solve(shape):
     setup = build("seal", law=CrossConstraints(seal.K_HAT, seal.F_HAT), shape=shape)
     figures = []
-    solver = Solver(setup.problem, quiet=True, predictor=seal.PREDICTOR, options=seal.SOLVER_OPTIONS,
+    solver = Solver(setup.problem, quiet=True, predictor=seal.PREDICTOR[shape], options=seal.SOLVER_OPTIONS,
                     on_step=lambda t: figures.append((t, setup.figures())))
     solver.run(setup.loads)
     return solver, figures
@@ -50,7 +50,7 @@ def test_quadratic_convergence_at_the_end_of_at_least_half_of_the_steps(history)
 
 
 def test_no_step_needs_more_than_10_iterations(history):
-    # the paper's Table I: 5-8; here 3-8 (the tangent predictor, seal.PREDICTOR: the secant one needed 16 and 17
+    # the paper's Table I: 5-8; here 3-8 (the tangent predictor, seal.PREDICTOR; the secant one needed 16 and 17
     # where the outer corner lands, t = 2.0 and 2.5)
     solver, _ = history
     its = [r.newton_iterations for r in solver.records]
@@ -98,7 +98,7 @@ def test_bad_shape_names_the_parameter():
 
 
 def test_s_shape_rolls_then_a_corner_touches_and_a_zone_splits():
-    solver, figures = solve("S")  # rolling is a mechanism: step 1 may need a cut (README), the rest converges
+    solver, figures = solve("S")  # rolling is a mechanism: step 1 is cut once (README), the rest converges
     assert [r.load for r in solver.records][-len(seal.LOADS) + 1:] == pytest.approx(seal.LOADS[1:])
     for _, f in figures:  # the point-symmetric solution needs no support at P0
         scale = max(f["plate_force_lower"], 1.0)
