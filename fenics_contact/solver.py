@@ -355,6 +355,11 @@ class Solver:
         ksp.setOperators(self._A)
         ksp.solve(r1, du)
         p.set_load(t)
+        if ksp.getConvergedReason() < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
+            self._set_u(x)
+            self.timings["assembly_s"] = assembly
+            self.timings["predictor_s"] += time.perf_counter() - start
+            return 0.0
 
         def slope(s: float) -> float:
             x.copy(r0)
