@@ -7,7 +7,7 @@ Wave-shaped band (arcs R_out = 10, R_in = 9; half model; --shape S or U
 for the other designs, see the scene), neo-Hookean (E = 1000, nu = 0.3),
 plates 7 apart, upper plate down by 0.5 per step to 5.5, then by 0.1 to
 6.0; cross-constraints K^ = 1e5 (F^ = 1e-3, see the scene), full Newton
-steps; each step starts from the secant predictor. The penalty method
+steps; each step starts from the tangent predictor. The penalty method
 (K = 1e5) is run on the same scene for the comparison table.
 
 Writes to --out: seal.xdmf (every step), summary.json, seal_residuals.csv|md
@@ -59,7 +59,7 @@ def on_step(t: float) -> None:
 
 # 3. Solve every load step (cross-constraints), write XDMF, summary.json and the tables.
 summary = run(setup, out, args.method if args.method == "cross" else "cross", cli.method_parameters(args), 0,
-              quiet=args.quiet, options=seal.SOLVER_OPTIONS, predictor=True, on_step=on_step)
+              quiet=args.quiet, options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], on_step=on_step)
 if comm.rank == 0:
     print(tables.residual_table(summary["steps"], out / "seal_residuals"))
     print(tables.write_table(zones, out / "seal_zones"))
@@ -82,7 +82,7 @@ if not args.no_pictures:
 penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape)
 try:
     penalty_summary = run(penalty, out / "penalty", "penalty", {"K": args.K}, 0, quiet=args.quiet,
-                          options=seal.SOLVER_OPTIONS, predictor=True)
+                          options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape])
 except ConvergenceError:
     penalty_summary = json.load(open(out / "penalty" / "summary.json")) if comm.rank == 0 else None
 if comm.rank == 0:

@@ -180,7 +180,7 @@ class FrictionalContact(ContactSurface):
         self.gdim = gdim = mesh.geometry.dim
         self.q_old = [fem.Function(self.S, name=f"q_old_{i}") for i in range(gdim)]
         self.r_old = [fem.Function(self.S, name=f"r_old_{i}") for i in range(gdim)]
-        r = ufl.SpatialCoordinate(mesh) + u - obstacle._origin()
+        r = ufl.SpatialCoordinate(mesh) + u - obstacle.origin()
         args = (self.gap, ufl.as_vector(self.q_old), r - ufl.as_vector(self.r_old), self.normal, self.params, ufl_ops())
         self.traction = law.traction(*args)
         self._slip_state = law.slip_state(*args)

@@ -27,7 +27,8 @@ class Obstacle:
         """Attach the load parameter (a scalar ``Constant``) that moves the obstacle."""
         self._load = load
 
-    def _origin(self) -> ufl.core.expr.Expr:
+    def origin(self) -> ufl.core.expr.Expr:
+        """Current reference point of the obstacle, ``point + t * motion`` (UFL)."""
         if self._load is None:
             raise RuntimeError("obstacle is not bound to a load parameter: call bind(load) first")
         return ufl.as_vector(list(self.point)) + self._load * ufl.as_vector(list(self.motion))
@@ -53,7 +54,7 @@ class HalfPlane(Obstacle):
         self.n = n / np.linalg.norm(n)
 
     def gap(self, x):
-        return -ufl.dot(x - self._origin(), ufl.as_vector(list(self.n)))
+        return -ufl.dot(x - self.origin(), ufl.as_vector(list(self.n)))
 
     def normal(self, x):
         return ufl.as_vector(list(self.n))
@@ -78,7 +79,7 @@ class Ball(Obstacle):
         self.sign = 1.0 if body_outside else -1.0
 
     def _radial(self, x):
-        d = x - self._origin()
+        d = x - self.origin()
         if self.axis is not None:
             a = ufl.as_vector(list(self.axis))
             d = d - ufl.dot(d, a) * a

@@ -17,7 +17,7 @@ from .solver import ConvergenceError, Solver
 
 def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
         augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None, max_cutbacks: int = 4,
-        on_iterate: Callable[[int], None] | None = None, predictor: bool = False,
+        on_iterate: Callable[[int], None] | None = None, predictor: bool | str = False,
         on_step: Callable[[float], None] | None = None, xdmf: bool = True) -> dict:
     """Solve ``setup`` over its loads; every converged step goes to ``out/<scene>.xdmf`` at once
     (``xdmf=False``: no field output, e.g. for benchmarks that time the solver alone).

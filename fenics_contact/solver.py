@@ -37,6 +37,12 @@ DEFAULT_OPTIONS = {
     "pc_factor_mat_solver_type": "mumps",
 }
 
+PREDICTORS = (False, True, "secant", "tangent")  # Solver(predictor=...)
+PREDICTOR_FD = 1e-6  # forward-difference step of dR/dt in the tangent predictor, relative to the load step
+# Line-search tolerance of the tangent predictor: |slope| <= PREDICTOR_ETA |slope at 0|. Near-exact (0.01 to 0.1
+# give the same seal history); 0.5 accepts the full tangent where the seal's corner lands (16 iterations).
+PREDICTOR_ETA = 0.05
+
 
 # Linear solvers of ``--solver``. direct: sparse LU (MUMPS), robust for every method, the default for
 # the 2D scenes (up to ~1e5 dofs). iterative: GMRES with smoothed-aggregation AMG (GAMG) and the
@@ -100,6 +106,7 @@ class StepRecord:
     closed_points: list[list[int]] = field(default_factory=list)  # closed contact points per iterate, per solve
     failure: dict | None = None  # why the last solve failed (failure.classify), with step, load, augmentation
     message: str = ""  # why a step failed, from a surface that solves the step itself
+    predictor_scale: float | None = None  # the tangent predictor's scale s (Solver._tangent_predictor)
 
     @property
     def newton_iterations(self) -> int:
@@ -110,7 +117,8 @@ class StepRecord:
                 "residuals": self.residuals, "constraint_change": self.constraint_change,
                 "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
                 "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s,
-                "closed_points": self.closed_points, "failure": self.failure, "message": self.message}
+                "closed_points": self.closed_points, "failure": self.failure, "message": self.message,
+                "predictor_scale": self.predictor_scale}
 
 
 class Solver:
@@ -121,15 +129,22 @@ class Solver:
     diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
     called after every converged step (output); ``on_iterate(it)`` after
     every Newton iterate, with ``problem.u`` at that iterate. ``quiet``
-    silences the progress lines. ``predictor=True`` starts each load step
-    from the linear extrapolation in ``t`` of the last two converged states
-    (secant predictor) instead of the last converged state.
+    silences the progress lines. ``predictor`` chooses the state each load
+    step starts from: ``False`` the last converged state; ``"secant"`` (or
+    ``True``) the linear extrapolation in ``t`` of the last two converged
+    states; ``"tangent"`` the Euler predictor of :meth:`_tangent_predictor`
+    (the tangent of the load path at the last converged state, scaled back
+    to the energy's stationary point along it when the energy rises before
+    its end: a contact that the step closes is not driven far into the
+    obstacle). The tangent needs a force-based contact law (not ``bounded``).
     """
 
     def __init__(self, problem: ContactProblem, prefix: str = "fc_", options: dict | None = None,
                  augment_max: int = 0, augment_tol: float = 1e-12, max_cutbacks: int = 4,
                  quiet: bool = False, on_step: Callable[[float], None] | None = None,
-                 on_iterate: Callable[[int], None] | None = None, predictor: bool = False):
+                 on_iterate: Callable[[int], None] | None = None, predictor: bool | str = False):
+        if predictor not in PREDICTORS:
+            raise ValueError(f"predictor must be one of {PREDICTORS}, got {predictor!r}")
         if augment_max < 0:
             raise ValueError(f"augment_max must be >= 0, got {augment_max}")
         if not augment_tol > 0:
@@ -137,7 +152,7 @@ class Solver:
         if max_cutbacks < 0:
             raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
         self.problem, self.quiet, self.on_step, self.on_iterate = problem, quiet, on_step, on_iterate
-        self.predictor = predictor
+        self.predictor = "secant" if predictor is True else predictor  # False, "secant" or "tangent"
         self._converged: list[tuple[float, np.ndarray]] = []  # last two converged (t, u), for the predictor
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
         # Options already in the database (command line) win; ours are removed
@@ -175,7 +190,8 @@ class Solver:
         self.t = 0.0
         # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
         # (their difference is the linear solves and SNES's vector work), augmentation updates.
-        self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0}
+        self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0,
+                        "predictor_s": 0.0}
         self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
 
     # --- SNES callbacks ---------------------------------------------------
@@ -274,7 +290,9 @@ class Solver:
         augmentable = [c for c in self.problem.contacts if c.law.augmentable]
         for c in augmentable:
             c.forget_gap()
-        if self.predictor and len(self._converged) == 2:
+        if self.predictor == "tangent" and not self._bounded and t != self.t:
+            rec.predictor_scale = self._tangent_predictor(t)
+        elif self.predictor == "secant" and len(self._converged) == 2:
             (t0, u0), (t1, u1) = self._converged
             self.problem.u.x.array[:] = u1 + (t - t1) / (t1 - t0) * (u1 - u0)
         while True:
@@ -307,6 +325,68 @@ class Solver:
             self.timings["augmentation_s"] += time.perf_counter() - start_aug
         rec.wall_time_s = self.problem.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
         return rec
+
+    def _tangent_predictor(self, t: float) -> float:
+        """Start the step to load ``t`` from ``u_n + s du``: ``u_n`` converged at ``t_n = self.t``, ``du = -J^-1
+        dR/dt (t - t_n)`` the tangent of the load path there (``J`` at ``(u_n, t_n)``, so with the contact set of
+        ``u_n``; ``dR/dt`` by a forward difference of the residual in ``t``, which also moves Dirichlet values along
+        their paths). ``s = 1`` unless the energy rises before the end of ``du``, i.e. the slope ``R(u_n + s du, t) .
+        du`` (the derivative of the energy along ``du``) at ``s = 1`` is positive and above ``PREDICTOR_ETA`` times
+        its value at 0: then ``s`` in (0, 1) is its root (regula falsi, Illinois), to ``PREDICTOR_ETA`` too.
+
+        Why: the tangent holds until the next contact event. A contact that closes within the step (the seal's
+        outer corner) is driven far into the obstacle by the tangent of the open state (0.44 at h = 0.5, a force
+        of ~1e4 against plate forces ~1), and Newton rocks from there. Returns ``s``."""
+        start, assembly = time.perf_counter(), self.timings["assembly_s"]
+        p, t0 = self.problem, self.t
+        if not hasattr(self, "_work"):
+            self._work = [self._b.duplicate() for _ in range(4)]
+        x, r0, r1, du = self._work
+        petsc_vec(p.u).copy(x)
+        p.set_load(t0)
+        self._residual(self.snes, x, r0)
+        self._jacobian(self.snes, x, self._A, self._A)
+        eps = PREDICTOR_FD * abs(t - t0)
+        p.set_load(t0 + eps)
+        self._residual(self.snes, x, r1)
+        r1.axpy(-1.0, r0)
+        r1.scale(-(t - t0) / eps)
+        ksp = self.snes.getKSP()
+        ksp.setOperators(self._A)
+        ksp.solve(r1, du)
+        p.set_load(t)
+        if ksp.getConvergedReason() < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
+            self._set_u(x)
+            self.timings["assembly_s"] = assembly
+            self.timings["predictor_s"] += time.perf_counter() - start
+            return 0.0
+
+        def slope(s: float) -> float:
+            x.copy(r0)
+            r0.axpy(s, du)
+            self._residual(self.snes, r0, r1)
+            return r1.dot(du)
+
+        s, f0, f1 = 1.0, slope(0.0), slope(1.0)
+        tol = PREDICTOR_ETA * abs(f0)
+        if f0 < 0 < f1 and f1 > tol:  # the energy has a minimum inside: find it (bracket [a, b])
+            a, fa, b, fb, side = 0.0, f0, 1.0, f1, 0
+            for _ in range(30):
+                s = (a * fb - b * fa) / (fb - fa)
+                f = slope(s)
+                if abs(f) <= tol:
+                    break
+                if f < 0:
+                    a, fa = s, f
+                    fb, side = (fb / 2, -1) if side == -1 else (fb, -1)  # Illinois: halve the stale end
+                else:
+                    b, fb = s, f
+                    fa, side = (fa / 2, 1) if side == 1 else (fa, 1)
+        x.axpy(s, du)
+        self._set_u(x)
+        self.timings["assembly_s"] = assembly  # counted here, not as the Newton iterations' assembly
+        self.timings["predictor_s"] += time.perf_counter() - start
+        return s
 
     def _diagnose(self, reason: int) -> dict:
         """Classify the failed solve just done (see :mod:`fenics_contact.failure`)."""
@@ -393,7 +473,8 @@ class Solver:
         # active_set_s: the per-iterate active-set log (failure diagnosis), inside the SNES solves too
         split = {"assembly_s": t["assembly_s"],
                  "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
-                 "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"]}
+                 "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"],
+                 "predictor_s": t["predictor_s"]}
         return {"time_split": split,"newton_iterations": sum(r.newton_iterations for r in done),
                 "augmentations": sum(r.augmentations for r in done), "linear_iterations": self.linear_iterations,
                 "load_steps": len(done),

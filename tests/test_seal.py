@@ -13,7 +13,7 @@ from fenics_contact.solver import Solver
 def solve(shape):
     setup = build("seal", law=CrossConstraints(seal.K_HAT, seal.F_HAT), shape=shape)
     figures = []
-    solver = Solver(setup.problem, quiet=True, predictor=True, options=seal.SOLVER_OPTIONS,
+    solver = Solver(setup.problem, quiet=True, predictor=seal.PREDICTOR[shape], options=seal.SOLVER_OPTIONS,
                     on_step=lambda t: figures.append((t, setup.figures())))
     solver.run(setup.loads)
     return solver, figures
@@ -49,12 +49,12 @@ def test_quadratic_convergence_at_the_end_of_at_least_half_of_the_steps(history)
     assert sum(hits) >= len(hits) / 2, hits
 
 
-@pytest.mark.xfail(strict=True, reason="does not hold at h = 0.5: the two steps in which the outer corner lands on "
-                   "the upper plate (t = 2.0, 2.5) need 16 and 17 iterations: each half pivots on its hump, and Newton "
-                   "rocks between the crown and the corner in contact; the 14 other steps need 3-10")
 def test_no_step_needs_more_than_10_iterations(history):
+    # the paper's Table I: 5-8; here 3-8 (the tangent predictor, seal.PREDICTOR; the secant one needed 16 and 17
+    # where the outer corner lands, t = 2.0 and 2.5)
     solver, _ = history
-    assert max(r.newton_iterations for r in solver.records) <= 10
+    its = [r.newton_iterations for r in solver.records]
+    assert max(its) <= 10, its
 
 
 def test_contacts_move_to_the_middle_a_corner_touches_and_zones_split(history):
