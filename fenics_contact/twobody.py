@@ -74,6 +74,7 @@ from .laws import ContactLaw
 from .obstacles import Obstacle
 
 PASSES = ("one", "two")
+QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration, 2D (:mod:`mortar`)
 
 # Barycentric coordinates of the slave points on a facet (rows: points, columns: facet vertices).
 _S = 0.5 / np.sqrt(3.0)
@@ -306,6 +307,8 @@ class TwoBodySurface(ContactSurface):
     longest master facet); slave points farther from the master have no pair and no force.
     """
 
+    ufl_coupling = True  # coupling by the compiled mirror forms and I (False: a subclass assembles it)
+
     def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
                  radius: float | None = None, name: str = "twobody"):
@@ -313,7 +316,8 @@ class TwoBodySurface(ContactSurface):
         if slave_tag == master_tag:
             raise ValueError(f"slave_tag and master_tag must differ, both are {slave_tag}")
         if quadrature not in ("nodal", "gauss"):
-            raise ValueError(f"contact quadrature must be one of ('nodal', 'gauss'), got {quadrature!r}")
+            raise ValueError(f"contact quadrature must be one of ('nodal', 'gauss') here, got {quadrature!r} "
+                             "('segment': two_body_surfaces or mortar.SegmentSurface)")
         if not (np.isfinite(weight) and weight > 0):
             raise ValueError(f"weight must be a finite number > 0, got {weight!r}")
         slave = check_facet_tag(mesh, facet_tags, slave_tag, f"{name} slave_tag")
@@ -376,6 +380,10 @@ class TwoBodySurface(ContactSurface):
         self._set_dummy_mirror()
         super().__init__(u, facet_tags, slave_tag, obstacle, law, load, quadrature, name)
 
+        self._tmp = None
+        if not self.ufl_coupling:  # the subclass assembles residual and tangent itself (mortar.SegmentSurface)
+            self.update()
+            return
         # Coupling forms (compiled once).
         v, vw = ufl.TestFunction(V), ufl.TestFunction(self.W)
         du, dw = ufl.TrialFunction(V), ufl.TrialFunction(self.W)
@@ -385,7 +393,6 @@ class TwoBodySurface(ContactSurface):
         self._a_uw = fem.form(ufl.derivative(r_u, self.w, dw))
         self._a_wu = fem.form(ufl.derivative(r_w, u, du))
         self._a_ww = fem.form(ufl.derivative(r_w, self.w, dw))
-        self._tmp = None
         self.update()
 
     def _pressure(self):
@@ -585,10 +592,20 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
                       quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
                       name: str = "twobody") -> list[TwoBodySurface]:
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
-    ``law_factory()`` returns a fresh law for each surface."""
+    ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
+    at the slave points) or ``segment`` (segment-to-segment integration, 2D, :mod:`mortar`)."""
     if passes not in PASSES:
         raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
+    if quadrature not in QUADRATURES:
+        raise ValueError(f"contact quadrature must be one of {QUADRATURES}, got {quadrature!r}")
+
+    def surface(slave: int, master: int, weight: float, label: str) -> TwoBodySurface:
+        if quadrature == "segment":
+            from .mortar import SegmentSurface
+
+            return SegmentSurface(u, facet_tags, slave, master, law_factory(), load, weight, radius, label)
+        return TwoBodySurface(u, facet_tags, slave, master, law_factory(), load, quadrature, weight, radius, label)
+
     if passes == "one":
-        return [TwoBodySurface(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name)]
-    return [TwoBodySurface(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a"),
-            TwoBodySurface(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b")]
+        return [surface(tag_a, tag_b, 1.0, name)]
+    return [surface(tag_a, tag_b, 0.5, f"{name}_a"), surface(tag_b, tag_a, 0.5, f"{name}_b")]
