@@ -10,12 +10,14 @@ not match. The upper block is only held by the contact: it starts with an overla
 the penalty-type laws have stiffness at the first Newton iteration.
 
 Figure: ``pressure_deviation = max |p - P| / P`` over the slave quadrature points of every slave
-surface. Measured (5 x 4 against 7 x 5 cell pairs, ``demos/patch.py``): with converged multipliers
-(augmented Lagrangian) 0.08 (nodal, one-pass, fine slave), 0.15 (nodal, coarse slave), 0.40 (nodal,
-two-pass), 0.22 / 0.27 / 0.14 (Gauss one-pass fine / coarse slave, two-pass): pointwise enforcement
-integrates the master forces at the slave points across the kinks of the master shape functions, so
-the uniform state is not the discrete solution. Only a soft penalty hides it (K = 100: 3.3e-4 with
-Gauss one-pass, at a penetration of 0.1).
+surface (sub-segment Gauss points with ``quadrature="segment"``). Measured (5 x 4 against 7 x 5 cell
+pairs, ``demos/patch.py``), with converged multipliers (augmented Lagrangian): segment-to-segment
+integration 2e-11 to 4e-11 (one-pass either slave, two-pass; penalty alone: round-off for every K,
+the uniform state is the exact discrete solution). Pointwise: 0.08 (nodal, one-pass, fine slave),
+0.15 (nodal, coarse slave), 0.40 (nodal, two-pass), 0.22 / 0.27 / 0.14 (Gauss one-pass fine / coarse
+slave, two-pass): pointwise enforcement integrates the master forces at the slave points across the
+kinks of the master shape functions, so the uniform state is not the discrete solution. Only a soft
+penalty hides it (K = 100: 3.3e-4 with Gauss one-pass, at a penetration of 0.1).
 """
 from __future__ import annotations
 
