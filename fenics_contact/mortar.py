@@ -63,7 +63,7 @@ import types
 import numpy as np
 from petsc4py import PETSc
 
-from .twobody import BucketGrid, TwoBodySurface, closest_point_on_facets, facet_normals, project
+from .twobody import BucketGrid, TwoBodySurface, facet_normals, project
 
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
 SEGMENT_RULE = (np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)]), np.array([0.5, 0.5]))
@@ -279,7 +279,9 @@ def pair_segments(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nda
     mid = 0.5 * (lo + hi)
     p = xs[fs, 0] + mid[:, None] * (xs[fs, 1] - xs[fs, 0])
     best, _, dist = project(p, xm, radius)
-    own = np.array([closest_point_on_facets(q, xm[m][None])[0][0] for q, m in zip(p, ms)]) if len(p) else dist
+    t = xm[ms, 1] - xm[ms, 0]  # distance of each midpoint to its own facet (2D segments, vectorised)
+    s = np.clip(np.einsum("ij,ij->i", p - xm[ms, 0], t) / np.einsum("ij,ij->i", t, t), 0.0, 1.0)
+    own = np.linalg.norm(p - xm[ms, 0] - s[:, None] * t, axis=1)
     keep = (best == ms) | ((best >= 0) & (own <= dist * (1 + 1e-9) + 1e-14 * radius))
     return fs[keep], ms[keep]
 
