@@ -18,6 +18,10 @@ the uniform state is the exact discrete solution). Pointwise: 0.08 (nodal, one-p
 slave, two-pass): pointwise enforcement integrates the master forces at the slave points across the
 kinks of the master shape functions, so the uniform state is not the discrete solution. Only a soft
 penalty hides it (K = 100: 3.3e-4 with Gauss one-pass, at a penetration of 0.1).
+
+``material="neohookean"`` with a large ``pressure`` (a dead load) tests finite strain: the exact state
+is still uniform (uniaxial nominal stress, :func:`uniform_stretches`), and the figure
+``top_displacement_error`` (top face against it, converged contact: gap 0) checks the whole solution.
 """
 from __future__ import annotations
 
