@@ -11,7 +11,7 @@ from fenics_contact.laws import make_law
 from fenics_contact.meshes import LOWER_TOP, UPPER_BOTTOM, stacked_blocks
 from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
-from fenics_contact.twobody import TwoBodySurface, closest_point_on_facets, project
+from fenics_contact.twobody import TwoBodySurface, closest_point_on_facets, project, two_body_surfaces
 
 
 def test_projection_matches_brute_force():
@@ -185,6 +185,12 @@ def test_bad_input():
         TwoBodySurface(u, ft, UPPER_BOTTOM, LOWER_TOP, law, load, quadrature="simpson")
     with pytest.raises(ValueError, match="passes"):
         build("patch", law_factory=lambda: law, passes="three")
+    with pytest.raises(ValueError, match="quadrature must be one of"):
+        two_body_surfaces(u, ft, UPPER_BOTTOM, LOWER_TOP, lambda: law, load, quadrature="simpson")
+    mesh3, _, ft3 = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (1, 1, 1), (2, 2, 1))
+    u3 = fem.Function(function_space(mesh3, "Lagrange", 1, (3,)))
+    with pytest.raises(ValueError, match="'segment' is implemented for 2D"):
+        two_body_surfaces(u3, ft3, UPPER_BOTTOM, LOWER_TOP, lambda: law, fem.Constant(mesh3, 0.0), "segment")
 
 
 @pytest.mark.parametrize("quadrature,by_body", [("gauss", True), ("segment", True), ("segment", False)])
