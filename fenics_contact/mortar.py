@@ -63,7 +63,7 @@ import types
 import numpy as np
 from petsc4py import PETSc
 
-from .twobody import BucketGrid, TwoBodySurface, facet_normals, project
+from .twobody import BucketGrid, TwoBodySurface, closest_point_on_facets, facet_normals, project
 
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
 SEGMENT_RULE = (np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)]), np.array([0.5, 0.5]))
@@ -187,8 +187,8 @@ def segment_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: di
     """Residual (n, 8) and tangent (n, 8, 8) of ``n`` slave/master facet pairs with current vertices
     ``x`` (n, 4, 2) = ``(x_s0, x_s1, x_m0, x_m1)``; ``J`` (n,): slave reference lengths; ``scalars``: law
     scalars (floats); ``fields``: law fields at the two slave vertices, each (n, 2). Entries ordered
-    ``x_s0, y_s0, x_s1, y_s1, x_m0, y_m0, x_m1, y_m1``. ``points=True`` also returns, per Gauss point,
-    ``(xi, weight, gap, pressure, n_m)`` as arrays (n, nq[, 2]).
+    ``x_s0, y_s0, x_s1, y_s1, x_m0, y_m0, x_m1, y_m1``. ``points=True`` also returns the Gauss points
+    (:func:`_point_table`)
 
     The pair must overlap (``xi_a < xi_b``) with a slave tangent not orthogonal to the master's."""
     n, nd = len(x), 8
@@ -208,7 +208,7 @@ def segment_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: di
     length = hi - lo
     R = Dual(np.zeros(n), np.zeros((n, nd)))
     res = [R] * nd
-    out = {"xi": [], "weight": [], "gap": [], "pressure": [], "normal": np.stack([nm[0].v, nm[1].v], axis=1)}
+    out = {"pair": [], "N": [], "weight": [], "gap": [], "pressure": [], "normal": []}
     for r, wq in zip(*rule):
         xi = lo + length * r
         wt = length * (wq * weight) * J
@@ -227,14 +227,190 @@ def segment_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: di
         Fw = F * wt
         res = [res[k] + Fw * grad[k] for k in range(nd)]
         if points:
-            out["xi"].append(xi.v)
-            out["weight"].append(wt.v / weight)
-            out["gap"].append(g.v)
-            out["pressure"].append(F.v)
+            _point_table(out, np.arange(n), np.stack([1.0 - xi.v, xi.v], 1), wt.v / weight, g.v, F.v,
+                         np.stack([nm[0].v, nm[1].v], axis=1))
     r = np.stack([e.v for e in res], axis=1)
     K = np.stack([e.d for e in res], axis=1)
     if points:
-        return r, K, {k: (np.stack(v, axis=1) if isinstance(v, list) else v) for k, v in out.items()}
+        return r, K, {k: np.concatenate(v) for k, v in out.items()}
+    return r, K
+
+
+def _point_table(out: dict, pair, N, weight, gap, pressure, normal) -> None:
+    """Append Gauss-point data: pair index, slave shape values ``N`` (np, nv), weight (reference measure,
+    without the two-pass factor), gap, pressure, master normal."""
+    for k, v in (("pair", pair), ("N", N), ("weight", weight), ("gap", gap), ("pressure", pressure),
+                 ("normal", normal)):
+        out[k].append(np.asarray(v))
+
+
+# Triangles (3D): the slave reference triangle (xi_1, xi_2) is clipped by the three lines lambda_k(xi) = 0
+# of the master's barycentric coordinates (affine in xi). Lines 0-2: the slave edges xi_2 = 0 (s0 -> s1),
+# 1 - xi_1 - xi_2 = 0 (s1 -> s2), xi_1 = 0 (s2 -> s0); lines 3-5: lambda_0, lambda_1, lambda_2 = 0. Each
+# line is alpha + beta . xi >= 0 inside; each polygon vertex is the intersection of two lines.
+_TRI_RULE = (np.array([[2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]]), np.full(3, 1 / 3))
+_SLAVE_LINES = (np.array([0.0, 1.0, 0.0]), np.array([[0.0, 1.0], [-1.0, -1.0], [1.0, 0.0]]))
+
+
+def _master_lines(x):
+    """``(alpha, beta)`` of the master barycentric lines in slave coordinates: lambda_k(xi) = alpha_k + beta_k .
+    xi for pairs ``x`` (n, 6, 3) (slave vertices, master vertices), values or Duals (lists of components)."""
+    s, m = x[:3], x[3:]
+    e1 = [m[1][i] - m[0][i] for i in range(3)]
+    e2 = [m[2][i] - m[0][i] for i in range(3)]
+    g11, g12, g22 = _dot(e1, e1), _dot(e1, e2), _dot(e2, e2)
+    det = g11 * g22 - g12 * g12
+
+    def bary(y):
+        d = [y[i] - m[0][i] for i in range(3)]
+        r1, r2 = _dot(e1, d), _dot(e2, d)
+        l1 = (g22 * r1 - g12 * r2) / det
+        l2 = (g11 * r2 - g12 * r1) / det
+        return [1.0 - l1 - l2, l1, l2]
+
+    b = [bary(v) for v in s]
+    alpha = b[0]
+    beta = [[b[1][k] - b[0][k], b[2][k] - b[0][k]] for k in range(3)]
+    return alpha, beta
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def clip_polygons(alpha: np.ndarray, beta: np.ndarray, tol: float = 1e-12) -> list[list[tuple[int, int]]]:
+    """Sutherland-Hodgman clipping (values) of the slave reference triangle by the master lines, per pair:
+    the polygon as a list of vertices ``(line in, line out)`` (counter-clockwise in xi). ``alpha`` (n, 3),
+    ``beta`` (n, 3, 2) of the master lines. A vertex within ``tol`` of a line counts as inside, so a slave
+    edge on a master edge (matching meshes, block boundaries) is never intersected with its own line."""
+    out = []
+    for a, b in zip(alpha, beta):
+        A = np.concatenate([_SLAVE_LINES[0], a])
+        B = np.concatenate([_SLAVE_LINES[1], b])
+        poly = [(2, 0), (0, 1), (1, 2)]
+        for k in (3, 4, 5):
+            if not poly:
+                break
+            val = [A[k] + B[k] @ _intersect_values(A, B, *v) for v in poly]
+            new = []
+            for i, q in enumerate(poly):
+                p = poly[i - 1]
+                vp, vq = val[i - 1], val[i]
+                if vq >= -tol:
+                    if vp < -tol:
+                        new.append((k, p[1]))  # entering: the edge p -> q lies on p's out line
+                    new.append(q)
+                elif vp >= -tol:
+                    new.append((p[1], k))
+            poly = new
+        out.append(poly if len(poly) >= 3 else [])
+    return out
+
+
+def _intersect_values(A, B, a, b):
+    det = B[a, 0] * B[b, 1] - B[a, 1] * B[b, 0]
+    return np.array([(-A[a] * B[b, 1] + A[b] * B[a, 1]) / det, (-A[b] * B[a, 0] + A[a] * B[b, 0]) / det])
+
+
+def polygon_area(alpha, beta, poly) -> float:
+    """Area in xi of a clipped polygon (values)."""
+    if not poly:
+        return 0.0
+    A = np.concatenate([_SLAVE_LINES[0], alpha])
+    B = np.concatenate([_SLAVE_LINES[1], beta])
+    P = np.array([_intersect_values(A, B, *v) for v in poly])
+    return 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
+
+
+def triangle_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: dict, weight: float = 1.0,
+                     points: bool = False):
+    """3D analogue of :func:`segment_element` for triangle facets: residual (n, 18) and tangent (n, 18, 18)
+    of pairs ``x`` (n, 6, 3) = ``(x_s0, x_s1, x_s2, x_m0, x_m1, x_m2)``; ``J``: twice the slave reference
+    area; ``fields`` (n, 3) at the slave vertices. The overlap polygon (slave triangle clipped by the
+    projected master triangle) is fanned into triangles with a 3-point rule each (exact to degree 2);
+    its vertices are Duals, so the tangent includes their motion."""
+    n, nd = len(x), 18
+    X = [[Dual.seed(x[:, a, i], 3 * a + i, nd) for i in range(3)] for a in range(6)]
+    alpha, beta = _master_lines(X)
+    polys = clip_polygons(np.stack([a.v for a in alpha], 1),
+                          np.array([[beta[k][j].v for j in range(2)] for k in range(3)]).transpose(2, 0, 1))
+    # Sub-triangles (pair, three polygon vertices) of the fans.
+    tri_pair, corners = [], []
+    for p, poly in enumerate(polys):
+        for i in range(1, len(poly) - 1):
+            tri_pair.append(p)
+            corners.append((poly[0], poly[i], poly[i + 1]))
+    r = np.zeros((n, nd))
+    K = np.zeros((n, nd, nd))
+    out = {"pair": [], "N": [], "weight": [], "gap": [], "pressure": [], "normal": []}
+    if not tri_pair:
+        return (r, K, {k: np.zeros((0,) + ((3,) if k in ("N", "normal") else ())) for k in out}) if points else (r, K)
+    tp = np.array(tri_pair)
+    lines_a = np.array([[c[0] for c in cs] for cs in corners])  # (nt, 3)
+    lines_b = np.array([[c[1] for c in cs] for cs in corners])
+
+    def take(d, idx):
+        return Dual(d.v[idx], d.d[idx]) if isinstance(d, Dual) else np.asarray(d)[idx]
+
+    # Line coefficients of every pair as (n, 6) Duals, then gathered per corner.
+    A = [Dual(np.full(n, _SLAVE_LINES[0][k]), np.zeros((n, nd))) for k in range(3)] + list(alpha)
+    B = [[Dual(np.full(n, _SLAVE_LINES[1][k][j]), np.zeros((n, nd))) for j in range(2)] for k in range(3)] + \
+        [list(b) for b in beta]
+    Av = Dual(np.stack([a.v for a in A], 1), np.stack([a.d for a in A], 1))  # v (n, 6), d (n, 6, nd)
+    Bv = [Dual(np.stack([B[k][j].v for k in range(6)], 1), np.stack([B[k][j].d for k in range(6)], 1))
+          for j in range(2)]
+
+    def coef(D, la):  # D.v (n, 6) -> per corner (nt,)
+        return Dual(D.v[tp, la], D.d[tp, la])
+
+    xi_c = []
+    for c in range(3):
+        la, lb = lines_a[:, c], lines_b[:, c]
+        aa, ab = coef(Av, la), coef(Av, lb)
+        ba0, ba1, bb0, bb1 = coef(Bv[0], la), coef(Bv[1], la), coef(Bv[0], lb), coef(Bv[1], lb)
+        det = ba0 * bb1 - ba1 * bb0
+        xi_c.append(((-1.0 * aa * bb1 + ab * ba1) / det, (-1.0 * ab * ba0 + aa * bb0) / det))
+    (u0, w0), (u1, w1), (u2, w2) = xi_c
+    area2 = (u1 - u0) * (w2 - w0) - (u2 - u0) * (w1 - w0)  # twice the sub-triangle's area in xi (> 0)
+    s = [[take(X[a][i], tp) for i in range(3)] for a in range(3)]
+    m = [[take(X[3 + a][i], tp) for i in range(3)] for a in range(3)]
+    e1 = [m[1][i] - m[0][i] for i in range(3)]
+    e2 = [m[2][i] - m[0][i] for i in range(3)]
+    cvec = _cross(e1, e2)
+    clen = dual_sqrt(_dot(cvec, cvec))
+    nm = [ci / clen for ci in cvec]
+    Jt = J[tp]
+    res = [Dual(np.zeros(len(tp)), np.zeros((len(tp), nd)))] * nd
+    for bq, wq in zip(*_TRI_RULE):
+        xi1 = bq[0] * xi_c[0][0] + bq[1] * xi_c[1][0] + bq[2] * xi_c[2][0]
+        xi2 = bq[0] * xi_c[0][1] + bq[1] * xi_c[1][1] + bq[2] * xi_c[2][1]
+        N = [1.0 - xi1 - xi2, xi1, xi2]
+        wt = area2 * (0.5 * wq * weight) * Jt
+        xq = [N[0] * s[0][i] + N[1] * s[1][i] + N[2] * s[2][i] for i in range(3)]
+        d = [xq[i] - m[0][i] for i in range(3)]
+        dn = _dot(d, nm)
+        g = -1.0 * dn
+        c = {**scalars, **{k: sum(N[a] * f[tp, a] for a in range(3)) for k, f in fields.items()}}
+        F = law.force(g, c, DUAL_OPS)
+        if not isinstance(F, Dual):
+            F = Dual(np.broadcast_to(F, (len(tp),)), np.zeros((len(tp), nd)))
+        v = [-1.0 * (d[i] - nm[i] * dn) / clen for i in range(3)]  # dg/dc, c = e1 x e2
+        g1, g2 = _cross(e2, v), _cross(v, e1)  # dg/dx_m1, dg/dx_m2
+        grad = [-1.0 * N[a] * nm[i] for a in range(3) for i in range(3)] + \
+               [nm[i] - g1[i] - g2[i] for i in range(3)] + g1 + g2
+        Fw = F * wt
+        res = [res[k] + Fw * grad[k] for k in range(nd)]
+        if points:
+            _point_table(out, tp, np.stack([e.v for e in N], 1), wt.v / weight, g.v, F.v,
+                         np.stack([e.v for e in nm], 1))
+    np.add.at(r, tp, np.stack([e.v for e in res], axis=1))
+    np.add.at(K, tp, np.stack([e.d for e in res], axis=1))
+    if points:
+        return r, K, {k: np.concatenate(v) for k, v in out.items()}
     return r, K
 
 
@@ -258,17 +434,7 @@ def pair_segments(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nda
     """Slave/master facet pairs ``(slave index, master index)`` with a sub-segment: the master facet's
     projection overlaps the slave facet (more than 1e-10 of it), their normals face each other, and the
     closest-point search (:func:`twobody.project`) pairs the sub-segment's midpoint with that facet."""
-    grid = BucketGrid(xm, radius)
-    fs, ms = [], []
-    for f, seg in enumerate(xs):
-        a = np.floor(seg.min(axis=0) / radius).astype(np.int64)
-        b = np.floor(seg.max(axis=0) / radius).astype(np.int64)
-        cand: set[int] = set()
-        for key in np.ndindex(*(b - a + 1)):
-            cand.update(grid.cells.get(tuple(a + np.array(key)), ()))
-        fs.extend([f] * len(cand))
-        ms.extend(sorted(cand))
-    fs, ms = np.array(fs, np.int64), np.array(ms, np.int64)
+    fs, ms = _grid_candidates(xs, xm, radius)
     if len(fs) == 0:
         return fs, ms
     facing = np.einsum("ij,ij->i", facet_normals(xs[fs]), facet_normals(xm[ms])) < 0.0
@@ -286,6 +452,50 @@ def pair_segments(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nda
     return fs[keep], ms[keep]
 
 
+def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """3D analogue of :func:`pair_segments`: pairs whose overlap polygon covers more than 1e-10 of the slave
+    triangle, normals facing, and whose polygon centroid :func:`twobody.project` pairs with that facet."""
+    fs, ms = _grid_candidates(xs, xm, radius)
+    if len(fs) == 0:
+        return fs, ms
+    facing = np.einsum("ij,ij->i", facet_normals(xs[fs]), facet_normals(xm[ms])) < 0.0
+    fs, ms = fs[facing], ms[facing]
+    if len(fs) == 0:
+        return fs, ms
+    x = np.concatenate([xs[fs], xm[ms]], axis=1)
+    alpha, beta = _master_lines([[x[:, a, i] for i in range(3)] for a in range(6)])
+    alpha = np.stack(alpha, 1)
+    beta = np.array(beta).transpose(2, 0, 1)
+    polys = clip_polygons(alpha, beta)
+    keep = np.array([polygon_area(a, b, p) > 0.5e-10 for a, b, p in zip(alpha, beta, polys)], dtype=bool)
+    cen = np.zeros((len(fs), 2))
+    for i in np.flatnonzero(keep):
+        A = np.concatenate([_SLAVE_LINES[0], alpha[i]])
+        B = np.concatenate([_SLAVE_LINES[1], beta[i]])
+        cen[i] = np.mean([_intersect_values(A, B, *v) for v in polys[i]], axis=0)
+    fs, ms, cen, x = fs[keep], ms[keep], cen[keep], x[keep]
+    p = x[:, 0] + cen[:, :1] * (x[:, 1] - x[:, 0]) + cen[:, 1:] * (x[:, 2] - x[:, 0])
+    best, _, dist = project(p, xm, radius)
+    own = np.array([closest_point_on_facets(q, xm[m][None])[0][0] for q, m in zip(p, ms)]) if len(p) else dist
+    keep = (best == ms) | ((best >= 0) & (own <= dist * (1 + 1e-9) + 1e-14 * radius))
+    return fs[keep], ms[keep]
+
+
+def _grid_candidates(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """(slave, master) index pairs whose bounding boxes are within ``radius`` (bucket grid of the master)."""
+    grid = BucketGrid(xm, radius)
+    fs, ms = [], []
+    for f, seg in enumerate(xs):
+        a = np.floor(seg.min(axis=0) / radius).astype(np.int64)
+        b = np.floor(seg.max(axis=0) / radius).astype(np.int64)
+        cand: set[int] = set()
+        for key in np.ndindex(*(b - a + 1)):
+            cand.update(grid.cells.get(tuple(a + np.array(key)), ()))
+        fs.extend([f] * len(cand))
+        ms.extend(sorted(cand))
+    return np.array(fs, np.int64), np.array(ms, np.int64)
+
+
 # --------------------------------------------------------------------------------------------
 # The surface
 # --------------------------------------------------------------------------------------------
@@ -299,9 +509,6 @@ class SegmentSurface(TwoBodySurface):
 
     def __init__(self, u, facet_tags, slave_tag, master_tag, law, load, weight=1.0, radius=None,
                  name="twobody"):
-        if u.function_space.mesh.topology.dim != 2:
-            raise ValueError("contact quadrature 'segment' is implemented for 2D meshes (segment facets); "
-                             "use 'nodal' or 'gauss' in 3D")
         if u.function_space.num_sub_spaces > 0 and u.function_space.sub(0).num_sub_spaces > 0:
             raise ValueError("contact quadrature 'segment' needs a displacement unknown (not a mixed space)")
         self._segments = None
@@ -309,7 +516,12 @@ class SegmentSurface(TwoBodySurface):
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, "nodal", weight, radius, name)
         self.quadrature = "segment"
         sd = self.slave_data
-        self._J = np.linalg.norm(sd.X[:, 1] - sd.X[:, 0], axis=1) if len(sd.X) else np.zeros(0)
+        if len(sd.X) == 0:
+            self._J = np.zeros(0)
+        elif self.gdim == 2:  # reference length
+            self._J = np.linalg.norm(sd.X[:, 1] - sd.X[:, 0], axis=1)
+        else:  # twice the reference area
+            self._J = np.linalg.norm(np.cross(sd.X[:, 1] - sd.X[:, 0], sd.X[:, 2] - sd.X[:, 0]), axis=1)
 
     def residual(self, v):
         return None  # everything is in add_residual / add_jacobian
@@ -324,7 +536,8 @@ class SegmentSurface(TwoBodySurface):
         changed = super().update()
         xm = self._mX + self._gather_master()
         own = np.flatnonzero(self.slave_data.owned)
-        fs, ms = pair_segments(self._slave_current()[own], xm, self.radius)
+        pair = pair_segments if self.gdim == 2 else pair_triangles
+        fs, ms = pair(self._slave_current()[own], xm, self.radius)
         pairs = np.stack([own[fs], ms], axis=1)
         same = self._segment_pairs is not None and np.array_equal(self._segment_pairs, pairs)
         seg_changed = self.comm.allreduce(0 if same else 1) > 0
@@ -340,8 +553,10 @@ class SegmentSurface(TwoBodySurface):
         x = np.concatenate([self._slave_current()[f], self._xm[m]], axis=1)
         scalars = {k: float(c.value) for k, c in self.constants.items()}
         fields = {k: fn.x.array[self._sdofs[f]] for k, fn in self.fields.items()}
-        out = segment_element(x, self._J[f], self.law, scalars, fields, float(self.weight.value), points=points)
-        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, 4), self._mG[m].reshape(-1, 4)], axis=1)
+        element = segment_element if self.gdim == 2 else triangle_element
+        out = element(x, self._J[f], self.law, scalars, fields, float(self.weight.value), points=points)
+        k = self.nv * self.gdim
+        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self._mG[m].reshape(-1, k)], axis=1)
         return out, dofs
 
     # --- solver hooks ----------------------------------------------------------
@@ -371,20 +586,17 @@ class SegmentSurface(TwoBodySurface):
     def segment_points(self) -> dict:
         """Sub-segment Gauss points of the owned slave facets (local): reference and current position,
         weight (reference length, without the two-pass factor), gap, pressure, master normal."""
+        d = self.gdim
         if len(self._segment_pairs) == 0:
-            z = np.zeros((0, 2))
+            z = np.zeros((0, d))
             return {"X": z, "x": z, "weight": np.zeros(0), "gap": np.zeros(0), "pressure": np.zeros(0), "normal": z}
         (_, _, pts), _ = self._elements(points=True)
-        f = self._segment_pairs[:, 0]
-        sd = self.slave_data
-        xi = pts["xi"]
-        Xs, xs = sd.X[f], self._slave_current()[f]
-        X = Xs[:, None, 0] + xi[..., None] * (Xs[:, None, 1] - Xs[:, None, 0])
-        x = xs[:, None, 0] + xi[..., None] * (xs[:, None, 1] - xs[:, None, 0])
-        nq = xi.shape[1]
-        return {"X": X.reshape(-1, 2), "x": x.reshape(-1, 2), "weight": pts["weight"].ravel(),
-                "gap": pts["gap"].ravel(), "pressure": pts["pressure"].ravel(),
-                "normal": np.repeat(pts["normal"], nq, axis=0)}
+        f = self._segment_pairs[pts["pair"], 0]
+        N = pts["N"]
+        X = np.einsum("qa,qaj->qj", N, self.slave_data.X[f])
+        x = np.einsum("qa,qaj->qj", N, self._slave_current()[f])
+        return {"X": X, "x": x, "weight": pts["weight"], "gap": pts["gap"], "pressure": pts["pressure"],
+                "normal": pts["normal"]}
 
     def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Current position, gap and pressure at every sub-segment Gauss point, gathered on every rank and
@@ -397,5 +609,6 @@ class SegmentSurface(TwoBodySurface):
     def total_force(self) -> np.ndarray:
         """Force of the master on the slave body, ``sum_q w_q F_q n_m`` (per unit thickness)."""
         p = self.segment_points()
-        local = np.einsum("q,q,qj->j", p["weight"], p["pressure"], p["normal"]) if len(p["weight"]) else np.zeros(2)
+        local = np.einsum("q,q,qj->j", p["weight"], p["pressure"], p["normal"]) if len(p["weight"]) else \
+            np.zeros(self.gdim)
         return np.array(self.comm.allreduce(local))
