@@ -1,4 +1,4 @@
-"""Segment-to-segment (mortar-type) integration of two-body contact, 2D.
+"""Segment-to-segment (mortar-type) integration of two-body contact: segments (2D) and triangles (3D).
 
 Pointwise two-body contact (:mod:`twobody`, nodal or Gauss points) sends the
 forces of the slave points to the master vertices through master shape
@@ -34,6 +34,15 @@ points with them: forward-mode automatic differentiation with dual numbers
 (:class:`Dual`, vectorised over all sub-segments), through the law's own
 ``force`` formula (``ops`` = :data:`DUAL_OPS`): one law path, no finite
 differences.
+
+3D (:func:`triangle_element`): the master barycentric coordinates
+``lambda_k`` of the projection of a slave point ``x_s(xi_1, xi_2)`` on the
+master plane are affine in ``xi``; the overlap is the slave reference
+triangle clipped by the three lines ``lambda_k(xi) = 0`` (Sutherland-Hodgman
+on values; each polygon vertex is the intersection of two of the six lines,
+which is then evaluated in dual numbers), fanned into triangles with a
+3-point rule each (exact to degree 2). The gap is the distance to the master
+plane, ``dg/dx`` includes the rotation of ``n_m = (e_1 x e_2)/|e_1 x e_2|``.
 
 Pairing: candidate master facets from :class:`twobody.BucketGrid` over the
 slave facet's bounding box, normals facing each other, a non-empty overlap;
@@ -500,7 +509,7 @@ def _grid_candidates(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.
 # The surface
 # --------------------------------------------------------------------------------------------
 class SegmentSurface(TwoBodySurface):
-    """Two-body contact with segment-to-segment integration (2D, ``quadrature="segment"``): the same
+    """Two-body contact with segment-to-segment integration (``quadrature="segment"``, 2D and 3D): the same
     projection, gathered master surface, nodal state, augmentation and outputs as
     :class:`twobody.TwoBodySurface` with nodal points, but the contact residual and tangent on slave and
     master dofs come from :func:`segment_element`, assembled in NumPy and added by the solver hooks."""

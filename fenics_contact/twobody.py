@@ -74,7 +74,7 @@ from .laws import ContactLaw
 from .obstacles import Obstacle
 
 PASSES = ("one", "two")
-QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration, 2D (:mod:`mortar`)
+QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
 
 # Barycentric coordinates of the slave points on a facet (rows: points, columns: facet vertices).
 _S = 0.5 / np.sqrt(3.0)
@@ -593,7 +593,7 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
                       name: str = "twobody") -> list[TwoBodySurface]:
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
     ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
-    at the slave points) or ``segment`` (segment-to-segment integration, 2D, :mod:`mortar`)."""
+    at the slave points) or ``segment`` (segment-to-segment integration, 2D and 3D, :mod:`mortar`)."""
     if passes not in PASSES:
         raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
     if quadrature not in QUADRATURES:
