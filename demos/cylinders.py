@@ -18,9 +18,10 @@ import numpy as np
 from fenics_contact import cli
 from fenics_contact.run import run
 from fenics_contact.scenes import build, cylinders
+from fenics_contact.twobody import QUADRATURES
 
 # 1. Options: penalty two-pass with Gauss points by default (see the scene's docstring for why).
-p = cli.parser(__doc__.splitlines()[0], default_K=cylinders.DEFAULT_K)
+p = cli.parser(__doc__.splitlines()[0], default_K=cylinders.DEFAULT_K, quadratures=QUADRATURES)
 p.set_defaults(method="penalty", quadrature="gauss")
 p.add_argument("--passes", choices=["one", "two"], default="two", help="one-pass or two-pass two-body contact")
 p.add_argument("--h-contact", type=float, default=0.05, help="mesh size at the contacts")

@@ -18,7 +18,8 @@ from .laws import METHODS, ContactLaw, make_law
 from .solver import LINEAR_SOLVERS
 
 
-def parser(description: str, default_K: float) -> argparse.ArgumentParser:
+def parser(description: str, default_K: float, quadratures: Sequence[str] = QUADRATURES) -> argparse.ArgumentParser:
+    """The shared options; ``quadratures``: the accepted ``--quadrature`` values (two-body scenes add ``segment``)."""
     p = argparse.ArgumentParser(description=description, epilog="Other -options go to PETSc (prefix fc_).",
                                 formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("--method", choices=list(METHODS), default="cross", help="contact formulation")
@@ -38,7 +39,7 @@ def parser(description: str, default_K: float) -> argparse.ArgumentParser:
                    help="friction bound c_t <g>^m_t instead of mu F(g) (normal compliance friction)")
     p.add_argument("--m-t", type=float, default=None, help="exponent m_t >= 1 of the bound (default: m_n)")
     p.add_argument("--omega-t", type=float, default=None, help="tangential penalty of stick (default: --K)")
-    p.add_argument("--quadrature", choices=QUADRATURES, default="nodal", help="contact quadrature")
+    p.add_argument("--quadrature", choices=list(quadratures), default="nodal", help="contact quadrature")
     p.add_argument("--gamma0", type=float, default=10.0, help="nitsche: gamma = gamma0 E / h (dimensionless)")
     p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
                    help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D)")

@@ -97,6 +97,7 @@ from .laws import ContactLaw
 from .obstacles import Obstacle
 
 PASSES = ("one", "two")
+QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
 
 # Barycentric coordinates of the slave points on a facet (rows: points, columns: facet vertices).
 _S = 0.5 / np.sqrt(3.0)
@@ -436,6 +437,8 @@ class TwoBodySurface(ContactSurface):
     node of the other pass: node-on-node, one constraint per pair of nodes).
     """
 
+    ufl_coupling = True  # coupling by the compiled mirror forms and I (False: a subclass assembles it)
+
     def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
                  radius: float | None = None, name: str = "twobody", work_quadrature: str | None = None,
@@ -521,6 +524,10 @@ class TwoBodySurface(ContactSurface):
         self.ds_work = contact_measure(mesh, facet_tags, slave_tag, work_quadrature or quadrature)
         super().__init__(u, facet_tags, slave_tag, obstacle, law, load, quadrature, name)
 
+        self._tmp = None
+        if not self.ufl_coupling:  # the subclass assembles residual and tangent itself (mortar.SegmentSurface)
+            self.update()
+            return
         # Coupling forms (compiled once).
         v, vw = ufl.TestFunction(V), ufl.TestFunction(self.W)
         du, dw = ufl.TrialFunction(V), ufl.TrialFunction(self.W)
@@ -530,7 +537,6 @@ class TwoBodySurface(ContactSurface):
         self._a_uw = fem.form(ufl.derivative(r_u, self.w, dw))
         self._a_wu = fem.form(ufl.derivative(r_w, u, du))
         self._a_ww = fem.form(ufl.derivative(r_w, self.w, dw))
-        self._tmp = None
         self.update()
 
     def _pressure(self):
@@ -754,11 +760,24 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
                       quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
                       name: str = "twobody", work_quadrature: str | None = None, cls=None) -> list[TwoBodySurface]:
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
-    ``law_factory()`` returns a fresh law for each surface. Two-pass: a slave point of the second pass
-    that coincides with one of the first in the reference configuration is left out (node-on-node: one
-    constraint per pair). ``cls``: the surface class (default :class:`TwoBodySurface`)."""
+    ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
+    at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
+    2D and 3D, :mod:`mortar`). Two-pass, pointwise: a slave point of the second pass that coincides with one
+    of the first in the reference configuration is left out (node-on-node: one constraint per pair).
+    ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`)."""
     if passes not in PASSES:
         raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
+    if quadrature not in QUADRATURES + ("simpson",):
+        raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
+    if quadrature == "segment":
+        if cls is not None or work_quadrature is not None:
+            raise ValueError("quadrature 'segment' takes neither cls nor work_quadrature")
+        from .mortar import SegmentSurface
+
+        if passes == "one":
+            return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 1.0, radius, name)]
+        return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 0.5, radius, f"{name}_a"),
+                SegmentSurface(u, facet_tags, tag_b, tag_a, law_factory(), load, 0.5, radius, f"{name}_b")]
     cls = cls or TwoBodySurface
     kw = {"work_quadrature": work_quadrature}
     if passes == "one":

@@ -8,17 +8,18 @@ from fenics_contact.scenes import build, cylinders
 from fenics_contact.solver import Solver
 
 
-def solve(comm=MPI.COMM_WORLD):
+def solve(comm=MPI.COMM_WORLD, quadrature="gauss"):
     setup = build("cylinders", law_factory=lambda: make_law("penalty", K=cylinders.DEFAULT_K),
-                  loads=[cylinders.T_HERTZ], comm=comm)
+                  loads=[cylinders.T_HERTZ], comm=comm, quadrature=quadrature)
     solver = Solver(setup.problem, quiet=True)
     solver.run(setup.loads)
     return setup, solver
 
 
-@pytest.fixture(scope="module")
-def solved():
-    return solve()
+@pytest.fixture(scope="module", params=["gauss", "segment"])
+def solved(request):
+    """Two-pass, Gauss points (the demo's default) or segment-to-segment integration (:mod:`mortar`)."""
+    return solve(quadrature=request.param)
 
 
 def test_hertz_formulas():
@@ -48,6 +49,6 @@ def test_ranks_agree(solved):
         pytest.skip("needs mpirun")
     setup, _ = solved
     fp = setup.figures()
-    fs = solve(MPI.COMM_SELF)[0].figures()
+    fs = solve(MPI.COMM_SELF, setup.parameters["quadrature"])[0].figures()
     for k in ("total_force", "p0", "a", "plate_force", "pressure_mismatch"):
         assert abs(fp[k] - fs[k]) <= 1e-8 * max(abs(fs[k]), 1e-3), (k, fp[k], fs[k])

@@ -86,11 +86,12 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     sym = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == DISK_SYMMETRY])
     dirichlet = [Dirichlet(V.sub(0), sym)]
     top = 2 * R_LOWER + 2 * R_UPPER - OVERLAP
+    plate_quadrature = "gauss" if quadrature == "segment" else quadrature  # segment: two-body integration only
     lower_plate = contact_surface(u, facet_tags, LOWER_ARC_BOTTOM, HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
-                                 law_factory(), load, quadrature, name="lower_plate")
+                                 law_factory(), load, plate_quadrature, name="lower_plate")
     upper_plate = contact_surface(u, facet_tags, UPPER_ARC_TOP,
                                  HalfPlane([0.0, top - OVERLAP], [0.0, -1.0], motion=[0.0, -1.0]),
-                                 law_factory(), load, quadrature, name="upper_plate")
+                                 law_factory(), load, plate_quadrature, name="upper_plate")
     if isinstance(law_factory(), LagrangeMultiplier):  # one pass: the upper surface's vertices are constrained
         if passes != "one" or quadrature != "nodal":
             raise ValueError(f"method 'lagrange' on the cylinders is one-pass at the vertices: use passes 'one' and "

@@ -1,0 +1,623 @@
+"""Segment-to-segment (mortar-type) integration of two-body contact: segments (2D) and triangles (3D).
+
+Pointwise two-body contact (:mod:`twobody`, nodal or Gauss points) sends the
+forces of the slave points to the master vertices through master shape
+functions that have kinks inside a slave facet: the rule is not exact, the
+uniform-pressure state is not a discrete equilibrium and the patch test
+fails on non-matching meshes. Here every slave facet ``s`` is cut into
+*sub-segments*, one per master facet ``m`` whose projection overlaps it:
+the slave points ``x_s(xi) = (1 - xi) x_s0 + xi x_s1`` whose closest point on
+``m`` is inside ``m`` satisfy ``0 <= eta_m(x_s(xi)) <= 1`` with
+
+    eta_m(x) = (x - x_m0) . t / |t|^2,   t = x_m1 - x_m0,
+
+which is linear in ``xi``: the sub-segment ``[xi_a, xi_b]`` is bounded by the
+slave facet's ends and the points where the master vertices project on the
+slave facet (along the master normal). A 2-point Gauss rule on each
+sub-segment integrates ``F(g) dg`` exactly for linear laws (``g`` is linear
+in ``xi`` on a sub-segment, ``dg`` too: degree 2), so the constant-pressure
+state is reproduced to round-off. The gap at a point is the flat master
+facet's normal distance (positive = penetration, :mod:`laws`)::
+
+    g(xi) = -(x_s(xi) - x_m0) . n_m,     n_m = (t_y, -t_x) / |t|
+
+and the residual, with the slave reference length ``J`` and the surface's
+weight ``w`` (1/2 in two-pass)::
+
+    R = w J sum_q (xi_b - xi_a) w_q F(g(xi_q), c(xi_q)) dg/dx(xi_q)     (8 entries: x_s0, x_s1, x_m0, x_m1)
+
+``dg/dx`` is the variation at a fixed slave point (slave vertices and both
+master vertices, rotation of ``n_m`` included). The tangent is the exact
+derivative of this element routine with respect to the 8 vertex
+coordinates, including the motion of the sub-segment ends and of the Gauss
+points with them: forward-mode automatic differentiation with dual numbers
+(:class:`Dual`, vectorised over all sub-segments), through the law's own
+``force`` formula (``ops`` = :data:`DUAL_OPS`): one law path, no finite
+differences.
+
+3D (:func:`triangle_element`): the master barycentric coordinates
+``lambda_k`` of the projection of a slave point ``x_s(xi_1, xi_2)`` on the
+master plane are affine in ``xi``; the overlap is the slave reference
+triangle clipped by the three lines ``lambda_k(xi) = 0`` (Sutherland-Hodgman
+on values; each polygon vertex is the intersection of two of the six lines,
+which is then evaluated in dual numbers), fanned into triangles with a
+3-point rule each (exact to degree 2). The gap is the distance to the master
+plane, ``dg/dx`` includes the rotation of ``n_m = (e_1 x e_2)/|e_1 x e_2|``.
+
+Pairing: candidate master facets from :class:`twobody.BucketGrid` over the
+slave facet's bounding box, normals facing each other, a non-empty overlap;
+a sub-segment is kept when :func:`twobody.project` (the pointwise
+closest-point search) pairs its midpoint with the same master facet, so the
+two options share one projection. At a convex master kink the slave points
+whose closest point is the vertex itself belong to no sub-segment (no
+force); on a flat or smooth master this set is empty or vanishes with h.
+
+Law fields (augmentation multipliers) live at the slave vertices (P1, the
+nodal state of :class:`twobody.TwoBodySurface`) and are interpolated
+linearly at the sub-segment points; augmentation uses the nodal gaps
+(closest point of each slave vertex). For a uniform state this changes
+nothing: the patch test holds after every augmentation.
+
+Parallel: each rank integrates its *owned* slave facets (each facet once);
+the master surface is the gathered one of :class:`twobody.TwoBodySurface`
+(global dof numbers), so a master facet on another rank is just a column;
+residual and tangent entries go to PETSc with global indices
+(``VecSetValues``/``MatSetValues`` with ``ADD``; off-process entries are
+moved by the assembly).
+"""
+from __future__ import annotations
+
+import types
+
+import numpy as np
+from petsc4py import PETSc
+
+from .twobody import BucketGrid, TwoBodySurface, closest_point_on_facets, facet_normals, project
+
+# 2-point Gauss rule on [0, 1] (exact to degree 3).
+SEGMENT_RULE = (np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)]), np.array([0.5, 0.5]))
+
+
+# --------------------------------------------------------------------------------------------
+# Forward-mode dual numbers, vectorised: value v (n,), derivatives d (n, nd)
+# --------------------------------------------------------------------------------------------
+class Dual:
+    """``v + d . eps``: values ``v`` (n,) and derivatives ``d`` (n, nd) with respect to ``nd`` inputs."""
+
+    __array_ufunc__ = None  # numpy arrays on the left defer to Dual's reflected operators
+
+    def __init__(self, v, d):
+        self.v, self.d = np.asarray(v, float), np.asarray(d, float)
+
+    @staticmethod
+    def seed(v: np.ndarray, k: int, nd: int) -> Dual:
+        d = np.zeros((len(v), nd))
+        d[:, k] = 1.0
+        return Dual(v, d)
+
+    def _parts(self, o):
+        if isinstance(o, Dual):
+            return o.v, o.d
+        o = np.asarray(o, float)
+        return o, np.zeros((1, self.d.shape[1]))
+
+    def __add__(self, o):
+        v, d = self._parts(o)
+        return Dual(self.v + v, self.d + d)
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        v, d = self._parts(o)
+        return Dual(self.v - v, self.d - d)
+
+    def __rsub__(self, o):
+        v, d = self._parts(o)
+        return Dual(v - self.v, d - self.d)
+
+    def __neg__(self):
+        return Dual(-self.v, -self.d)
+
+    def __mul__(self, o):
+        v, d = self._parts(o)
+        return Dual(self.v * v, self.d * _col(v) + _col(self.v) * d)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        v, d = self._parts(o)
+        return Dual(self.v / v, (self.d * _col(v) - _col(self.v) * d) / _col(v * v))
+
+    def __rtruediv__(self, o):
+        v, d = self._parts(o)
+        return Dual(v / self.v, (d * _col(self.v) - _col(v) * self.d) / _col(self.v * self.v))
+
+    def __pow__(self, p: float):
+        return Dual(self.v ** p, _col(p * self.v ** (p - 1.0)) * self.d)
+
+
+def _col(a):
+    a = np.asarray(a, float)
+    return a[:, None] if a.ndim == 1 else a
+
+
+def _value(a):
+    return a.v if isinstance(a, Dual) else np.asarray(a, float)
+
+
+def _select(mask, a, b, n: int, nd: int) -> Dual:
+    """``a`` where ``mask`` else ``b`` (Dual or numbers)."""
+    av, ad = (a.v, a.d) if isinstance(a, Dual) else (np.broadcast_to(np.asarray(a, float), (n,)), np.zeros((n, nd)))
+    bv, bd = (b.v, b.d) if isinstance(b, Dual) else (np.broadcast_to(np.asarray(b, float), (n,)), np.zeros((n, nd)))
+    mask = np.broadcast_to(mask, (n,))
+    return Dual(np.where(mask, av, bv), np.where(mask[:, None], ad, bd))
+
+
+def _shape(*xs) -> tuple[int, int]:
+    for x in xs:
+        if isinstance(x, Dual):
+            return x.d.shape
+    raise TypeError("dual ops need at least one Dual argument")
+
+
+def dual_max(a, b):
+    if not isinstance(a, Dual) and not isinstance(b, Dual):
+        return np.maximum(a, b)
+    return _select(_value(a) > _value(b), a, b, *_shape(a, b))
+
+
+def dual_min(a, b):
+    if not isinstance(a, Dual) and not isinstance(b, Dual):
+        return np.minimum(a, b)
+    return _select(_value(a) < _value(b), a, b, *_shape(a, b))
+
+
+def dual_exp(a):
+    if not isinstance(a, Dual):
+        return np.exp(a)
+    e = np.exp(a.v)
+    return Dual(e, e[:, None] * a.d)
+
+
+def dual_sqrt(a: Dual) -> Dual:
+    s = np.sqrt(a.v)
+    return Dual(s, a.d / (2.0 * s[:, None]))
+
+
+#: The law operator namespace (:mod:`laws`) for dual numbers: a law's ``force`` gives force and tangent.
+DUAL_OPS = types.SimpleNamespace(exp=dual_exp, max=dual_max, min=dual_min)
+
+
+# --------------------------------------------------------------------------------------------
+# The element routine
+# --------------------------------------------------------------------------------------------
+def segment_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: dict, weight: float = 1.0,
+                    rule=SEGMENT_RULE, points: bool = False):
+    """Residual (n, 8) and tangent (n, 8, 8) of ``n`` slave/master facet pairs with current vertices
+    ``x`` (n, 4, 2) = ``(x_s0, x_s1, x_m0, x_m1)``; ``J`` (n,): slave reference lengths; ``scalars``: law
+    scalars (floats); ``fields``: law fields at the two slave vertices, each (n, 2). Entries ordered
+    ``x_s0, y_s0, x_s1, y_s1, x_m0, y_m0, x_m1, y_m1``. ``points=True`` also returns the Gauss points
+    (:func:`_point_table`)
+
+    The pair must overlap (``xi_a < xi_b``) with a slave tangent not orthogonal to the master's."""
+    n, nd = len(x), 8
+    X = [[Dual.seed(x[:, a, i], 2 * a + i, nd) for i in range(2)] for a in range(4)]
+    s0, s1, m0, m1 = X
+    t = [m1[i] - m0[i] for i in range(2)]
+    L = dual_sqrt(t[0] * t[0] + t[1] * t[1])
+    nm = [t[1] / L, -t[0] / L]
+    th = [t[0] / L, t[1] / L]
+    L2 = L * L
+    eta0 = ((s0[0] - m0[0]) * t[0] + (s0[1] - m0[1]) * t[1]) / L2
+    eta1 = ((s1[0] - m0[0]) * t[0] + (s1[1] - m0[1]) * t[1]) / L2
+    de = eta1 - eta0
+    xa, xb = -1.0 * eta0 / de, (1.0 - eta0) / de
+    lo = dual_max(0.0, dual_min(xa, xb))
+    hi = dual_min(1.0, dual_max(xa, xb))
+    length = hi - lo
+    R = Dual(np.zeros(n), np.zeros((n, nd)))
+    res = [R] * nd
+    out = {"pair": [], "N": [], "weight": [], "gap": [], "pressure": [], "normal": []}
+    for r, wq in zip(*rule):
+        xi = lo + length * r
+        wt = length * (wq * weight) * J
+        xq = [s0[i] + xi * (s1[i] - s0[i]) for i in range(2)]
+        d = [xq[i] - m0[i] for i in range(2)]
+        dn = d[0] * nm[0] + d[1] * nm[1]
+        g = -1.0 * dn
+        c = {**scalars, **{k: f[:, 0] + xi * (f[:, 1] - f[:, 0]) for k, f in fields.items()}}
+        F = law.force(g, c, DUAL_OPS)
+        if not isinstance(F, Dual):  # a law that is constant in g and c
+            F = Dual(np.broadcast_to(F, (n,)), np.zeros((n, nd)))
+        # dg/dt = -(R^T d - t_hat (n . d)) / L with R^T d = (-d_y, d_x)
+        gt = [-1.0 * ((-1.0 * d[1]) - th[0] * dn) / L, -1.0 * (d[0] - th[1] * dn) / L]
+        grad = [-1.0 * (1.0 - xi) * nm[0], -1.0 * (1.0 - xi) * nm[1], -1.0 * xi * nm[0], -1.0 * xi * nm[1],
+                nm[0] - gt[0], nm[1] - gt[1], gt[0], gt[1]]
+        Fw = F * wt
+        res = [res[k] + Fw * grad[k] for k in range(nd)]
+        if points:
+            _point_table(out, np.arange(n), np.stack([1.0 - xi.v, xi.v], 1), wt.v / weight, g.v, F.v,
+                         np.stack([nm[0].v, nm[1].v], axis=1))
+    r = np.stack([e.v for e in res], axis=1)
+    K = np.stack([e.d for e in res], axis=1)
+    if points:
+        return r, K, {k: np.concatenate(v) for k, v in out.items()}
+    return r, K
+
+
+def _point_table(out: dict, pair, N, weight, gap, pressure, normal) -> None:
+    """Append Gauss-point data: pair index, slave shape values ``N`` (np, nv), weight (reference measure,
+    without the two-pass factor), gap, pressure, master normal."""
+    for k, v in (("pair", pair), ("N", N), ("weight", weight), ("gap", gap), ("pressure", pressure),
+                 ("normal", normal)):
+        out[k].append(np.asarray(v))
+
+
+# Triangles (3D): the slave reference triangle (xi_1, xi_2) is clipped by the three lines lambda_k(xi) = 0
+# of the master's barycentric coordinates (affine in xi). Lines 0-2: the slave edges xi_2 = 0 (s0 -> s1),
+# 1 - xi_1 - xi_2 = 0 (s1 -> s2), xi_1 = 0 (s2 -> s0); lines 3-5: lambda_0, lambda_1, lambda_2 = 0. Each
+# line is alpha + beta . xi >= 0 inside; each polygon vertex is the intersection of two lines.
+_TRI_RULE = (np.array([[2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]]), np.full(3, 1 / 3))
+_SLAVE_LINES = (np.array([0.0, 1.0, 0.0]), np.array([[0.0, 1.0], [-1.0, -1.0], [1.0, 0.0]]))
+
+
+def _master_lines(x):
+    """``(alpha, beta)`` of the master barycentric lines in slave coordinates: lambda_k(xi) = alpha_k + beta_k .
+    xi for pairs ``x`` (n, 6, 3) (slave vertices, master vertices), values or Duals (lists of components)."""
+    s, m = x[:3], x[3:]
+    e1 = [m[1][i] - m[0][i] for i in range(3)]
+    e2 = [m[2][i] - m[0][i] for i in range(3)]
+    g11, g12, g22 = _dot(e1, e1), _dot(e1, e2), _dot(e2, e2)
+    det = g11 * g22 - g12 * g12
+
+    def bary(y):
+        d = [y[i] - m[0][i] for i in range(3)]
+        r1, r2 = _dot(e1, d), _dot(e2, d)
+        l1 = (g22 * r1 - g12 * r2) / det
+        l2 = (g11 * r2 - g12 * r1) / det
+        return [1.0 - l1 - l2, l1, l2]
+
+    b = [bary(v) for v in s]
+    alpha = b[0]
+    beta = [[b[1][k] - b[0][k], b[2][k] - b[0][k]] for k in range(3)]
+    return alpha, beta
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def clip_polygons(alpha: np.ndarray, beta: np.ndarray, tol: float = 1e-12) -> list[list[tuple[int, int]]]:
+    """Sutherland-Hodgman clipping (values) of the slave reference triangle by the master lines, per pair:
+    the polygon as a list of vertices ``(line in, line out)`` (counter-clockwise in xi). ``alpha`` (n, 3),
+    ``beta`` (n, 3, 2) of the master lines. A vertex within ``tol`` of a line counts as inside, so a slave
+    edge on a master edge (matching meshes, block boundaries) is never intersected with its own line."""
+    out = []
+    for a, b in zip(alpha, beta):
+        A = np.concatenate([_SLAVE_LINES[0], a])
+        B = np.concatenate([_SLAVE_LINES[1], b])
+        poly = [(2, 0), (0, 1), (1, 2)]
+        for k in (3, 4, 5):
+            if not poly:
+                break
+            val = [A[k] + B[k] @ _intersect_values(A, B, *v) for v in poly]
+            new = []
+            for i, q in enumerate(poly):
+                p = poly[i - 1]
+                vp, vq = val[i - 1], val[i]
+                if vq >= -tol:
+                    if vp < -tol:
+                        new.append((k, p[1]))  # entering: the edge p -> q lies on p's out line
+                    new.append(q)
+                elif vp >= -tol:
+                    new.append((p[1], k))
+            poly = new
+        out.append(poly if len(poly) >= 3 else [])
+    return out
+
+
+def _intersect_values(A, B, a, b):
+    det = B[a, 0] * B[b, 1] - B[a, 1] * B[b, 0]
+    return np.array([(-A[a] * B[b, 1] + A[b] * B[a, 1]) / det, (-A[b] * B[a, 0] + A[a] * B[b, 0]) / det])
+
+
+def polygon_area(alpha, beta, poly) -> float:
+    """Area in xi of a clipped polygon (values)."""
+    if not poly:
+        return 0.0
+    A = np.concatenate([_SLAVE_LINES[0], alpha])
+    B = np.concatenate([_SLAVE_LINES[1], beta])
+    P = np.array([_intersect_values(A, B, *v) for v in poly])
+    return 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
+
+
+def triangle_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: dict, weight: float = 1.0,
+                     points: bool = False):
+    """3D analogue of :func:`segment_element` for triangle facets: residual (n, 18) and tangent (n, 18, 18)
+    of pairs ``x`` (n, 6, 3) = ``(x_s0, x_s1, x_s2, x_m0, x_m1, x_m2)``; ``J``: twice the slave reference
+    area; ``fields`` (n, 3) at the slave vertices. The overlap polygon (slave triangle clipped by the
+    projected master triangle) is fanned into triangles with a 3-point rule each (exact to degree 2);
+    its vertices are Duals, so the tangent includes their motion."""
+    n, nd = len(x), 18
+    X = [[Dual.seed(x[:, a, i], 3 * a + i, nd) for i in range(3)] for a in range(6)]
+    alpha, beta = _master_lines(X)
+    polys = clip_polygons(np.stack([a.v for a in alpha], 1),
+                          np.array([[beta[k][j].v for j in range(2)] for k in range(3)]).transpose(2, 0, 1))
+    # Sub-triangles (pair, three polygon vertices) of the fans.
+    tri_pair, corners = [], []
+    for p, poly in enumerate(polys):
+        for i in range(1, len(poly) - 1):
+            tri_pair.append(p)
+            corners.append((poly[0], poly[i], poly[i + 1]))
+    r = np.zeros((n, nd))
+    K = np.zeros((n, nd, nd))
+    out = {"pair": [], "N": [], "weight": [], "gap": [], "pressure": [], "normal": []}
+    if not tri_pair:
+        return (r, K, {k: np.zeros((0,) + ((3,) if k in ("N", "normal") else ())) for k in out}) if points else (r, K)
+    tp = np.array(tri_pair)
+    lines_a = np.array([[c[0] for c in cs] for cs in corners])  # (nt, 3)
+    lines_b = np.array([[c[1] for c in cs] for cs in corners])
+
+    def take(d, idx):
+        return Dual(d.v[idx], d.d[idx]) if isinstance(d, Dual) else np.asarray(d)[idx]
+
+    # Line coefficients of every pair as (n, 6) Duals, then gathered per corner.
+    A = [Dual(np.full(n, _SLAVE_LINES[0][k]), np.zeros((n, nd))) for k in range(3)] + list(alpha)
+    B = [[Dual(np.full(n, _SLAVE_LINES[1][k][j]), np.zeros((n, nd))) for j in range(2)] for k in range(3)] + \
+        [list(b) for b in beta]
+    Av = Dual(np.stack([a.v for a in A], 1), np.stack([a.d for a in A], 1))  # v (n, 6), d (n, 6, nd)
+    Bv = [Dual(np.stack([B[k][j].v for k in range(6)], 1), np.stack([B[k][j].d for k in range(6)], 1))
+          for j in range(2)]
+
+    def coef(D, la):  # D.v (n, 6) -> per corner (nt,)
+        return Dual(D.v[tp, la], D.d[tp, la])
+
+    xi_c = []
+    for c in range(3):
+        la, lb = lines_a[:, c], lines_b[:, c]
+        aa, ab = coef(Av, la), coef(Av, lb)
+        ba0, ba1, bb0, bb1 = coef(Bv[0], la), coef(Bv[1], la), coef(Bv[0], lb), coef(Bv[1], lb)
+        det = ba0 * bb1 - ba1 * bb0
+        xi_c.append(((-1.0 * aa * bb1 + ab * ba1) / det, (-1.0 * ab * ba0 + aa * bb0) / det))
+    (u0, w0), (u1, w1), (u2, w2) = xi_c
+    area2 = (u1 - u0) * (w2 - w0) - (u2 - u0) * (w1 - w0)  # twice the sub-triangle's area in xi (> 0)
+    s = [[take(X[a][i], tp) for i in range(3)] for a in range(3)]
+    m = [[take(X[3 + a][i], tp) for i in range(3)] for a in range(3)]
+    e1 = [m[1][i] - m[0][i] for i in range(3)]
+    e2 = [m[2][i] - m[0][i] for i in range(3)]
+    cvec = _cross(e1, e2)
+    clen = dual_sqrt(_dot(cvec, cvec))
+    nm = [ci / clen for ci in cvec]
+    Jt = J[tp]
+    res = [Dual(np.zeros(len(tp)), np.zeros((len(tp), nd)))] * nd
+    for bq, wq in zip(*_TRI_RULE):
+        xi1 = bq[0] * xi_c[0][0] + bq[1] * xi_c[1][0] + bq[2] * xi_c[2][0]
+        xi2 = bq[0] * xi_c[0][1] + bq[1] * xi_c[1][1] + bq[2] * xi_c[2][1]
+        N = [1.0 - xi1 - xi2, xi1, xi2]
+        wt = area2 * (0.5 * wq * weight) * Jt
+        xq = [N[0] * s[0][i] + N[1] * s[1][i] + N[2] * s[2][i] for i in range(3)]
+        d = [xq[i] - m[0][i] for i in range(3)]
+        dn = _dot(d, nm)
+        g = -1.0 * dn
+        c = {**scalars, **{k: sum(N[a] * f[tp, a] for a in range(3)) for k, f in fields.items()}}
+        F = law.force(g, c, DUAL_OPS)
+        if not isinstance(F, Dual):
+            F = Dual(np.broadcast_to(F, (len(tp),)), np.zeros((len(tp), nd)))
+        v = [-1.0 * (d[i] - nm[i] * dn) / clen for i in range(3)]  # dg/dc, c = e1 x e2
+        g1, g2 = _cross(e2, v), _cross(v, e1)  # dg/dx_m1, dg/dx_m2
+        grad = [-1.0 * N[a] * nm[i] for a in range(3) for i in range(3)] + \
+               [nm[i] - g1[i] - g2[i] for i in range(3)] + g1 + g2
+        Fw = F * wt
+        res = [res[k] + Fw * grad[k] for k in range(nd)]
+        if points:
+            _point_table(out, tp, np.stack([e.v for e in N], 1), wt.v / weight, g.v, F.v,
+                         np.stack([e.v for e in nm], 1))
+    np.add.at(r, tp, np.stack([e.v for e in res], axis=1))
+    np.add.at(K, tp, np.stack([e.d for e in res], axis=1))
+    if points:
+        return r, K, {k: np.concatenate(v) for k, v in out.items()}
+    return r, K
+
+
+def overlap(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sub-segment ``[xi_a, xi_b]`` of each slave facet ``x[:, :2]`` whose points project inside master facet
+    ``x[:, 2:]`` (``xi_b <= xi_a``: no overlap)."""
+    t = x[:, 3] - x[:, 2]
+    L2 = np.einsum("ij,ij->i", t, t)
+    eta0 = np.einsum("ij,ij->i", x[:, 0] - x[:, 2], t) / L2
+    eta1 = np.einsum("ij,ij->i", x[:, 1] - x[:, 2], t) / L2
+    de = eta1 - eta0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xa, xb = -eta0 / de, (1.0 - eta0) / de
+    lo = np.maximum(0.0, np.minimum(xa, xb))
+    hi = np.minimum(1.0, np.maximum(xa, xb))
+    bad = ~np.isfinite(lo) | ~np.isfinite(hi)
+    return np.where(bad, 0.0, lo), np.where(bad, 0.0, hi)
+
+
+def pair_segments(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """Slave/master facet pairs ``(slave index, master index)`` with a sub-segment: the master facet's
+    projection overlaps the slave facet (more than 1e-10 of it), their normals face each other, and the
+    closest-point search (:func:`twobody.project`) pairs the sub-segment's midpoint with that facet."""
+    fs, ms = _grid_candidates(xs, xm, radius)
+    if len(fs) == 0:
+        return fs, ms
+    facing = np.einsum("ij,ij->i", facet_normals(xs[fs]), facet_normals(xm[ms])) < 0.0
+    fs, ms = fs[facing], ms[facing]
+    lo, hi = overlap(np.concatenate([xs[fs], xm[ms]], axis=1))
+    keep = hi - lo > 1e-10
+    fs, ms, lo, hi = fs[keep], ms[keep], lo[keep], hi[keep]
+    mid = 0.5 * (lo + hi)
+    p = xs[fs, 0] + mid[:, None] * (xs[fs, 1] - xs[fs, 0])
+    best, _, dist = project(p, xm, radius)
+    t = xm[ms, 1] - xm[ms, 0]  # distance of each midpoint to its own facet (2D segments, vectorised)
+    s = np.clip(np.einsum("ij,ij->i", p - xm[ms, 0], t) / np.einsum("ij,ij->i", t, t), 0.0, 1.0)
+    own = np.linalg.norm(p - xm[ms, 0] - s[:, None] * t, axis=1)
+    keep = (best == ms) | ((best >= 0) & (own <= dist * (1 + 1e-9) + 1e-14 * radius))
+    return fs[keep], ms[keep]
+
+
+def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """3D analogue of :func:`pair_segments`: pairs whose overlap polygon covers more than 1e-10 of the slave
+    triangle, normals facing, and whose polygon centroid :func:`twobody.project` pairs with that facet."""
+    fs, ms = _grid_candidates(xs, xm, radius)
+    if len(fs) == 0:
+        return fs, ms
+    facing = np.einsum("ij,ij->i", facet_normals(xs[fs]), facet_normals(xm[ms])) < 0.0
+    fs, ms = fs[facing], ms[facing]
+    if len(fs) == 0:
+        return fs, ms
+    x = np.concatenate([xs[fs], xm[ms]], axis=1)
+    alpha, beta = _master_lines([[x[:, a, i] for i in range(3)] for a in range(6)])
+    alpha = np.stack(alpha, 1)
+    beta = np.array(beta).transpose(2, 0, 1)
+    polys = clip_polygons(alpha, beta)
+    keep = np.array([polygon_area(a, b, p) > 0.5e-10 for a, b, p in zip(alpha, beta, polys)], dtype=bool)
+    cen = np.zeros((len(fs), 2))
+    for i in np.flatnonzero(keep):
+        A = np.concatenate([_SLAVE_LINES[0], alpha[i]])
+        B = np.concatenate([_SLAVE_LINES[1], beta[i]])
+        cen[i] = np.mean([_intersect_values(A, B, *v) for v in polys[i]], axis=0)
+    fs, ms, cen, x = fs[keep], ms[keep], cen[keep], x[keep]
+    p = x[:, 0] + cen[:, :1] * (x[:, 1] - x[:, 0]) + cen[:, 1:] * (x[:, 2] - x[:, 0])
+    best, _, dist = project(p, xm, radius)
+    own = np.array([closest_point_on_facets(q, xm[m][None])[0][0] for q, m in zip(p, ms)]) if len(p) else dist
+    keep = (best == ms) | ((best >= 0) & (own <= dist * (1 + 1e-9) + 1e-14 * radius))
+    return fs[keep], ms[keep]
+
+
+def _grid_candidates(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """(slave, master) index pairs whose bounding boxes are within ``radius`` (bucket grid of the master)."""
+    grid = BucketGrid(xm, radius)
+    fs, ms = [], []
+    for f, seg in enumerate(xs):
+        a = np.floor(seg.min(axis=0) / radius).astype(np.int64)
+        b = np.floor(seg.max(axis=0) / radius).astype(np.int64)
+        cand: set[int] = set()
+        for key in np.ndindex(*(b - a + 1)):
+            cand.update(grid.cells.get(tuple(a + np.array(key)), ()))
+        fs.extend([f] * len(cand))
+        ms.extend(sorted(cand))
+    return np.array(fs, np.int64), np.array(ms, np.int64)
+
+
+# --------------------------------------------------------------------------------------------
+# The surface
+# --------------------------------------------------------------------------------------------
+class SegmentSurface(TwoBodySurface):
+    """Two-body contact with segment-to-segment integration (``quadrature="segment"``, 2D and 3D): the same
+    projection, gathered master surface, nodal state, augmentation and outputs as
+    :class:`twobody.TwoBodySurface` with nodal points, but the contact residual and tangent on slave and
+    master dofs come from :func:`segment_element`, assembled in NumPy and added by the solver hooks."""
+
+    ufl_coupling = False
+
+    def __init__(self, u, facet_tags, slave_tag, master_tag, law, load, weight=1.0, radius=None,
+                 name="twobody"):
+        if u.function_space.num_sub_spaces > 0 and u.function_space.sub(0).num_sub_spaces > 0:
+            raise ValueError("contact quadrature 'segment' needs a displacement unknown (not a mixed space)")
+        self._segments = None
+        self._segment_pairs = None
+        super().__init__(u, facet_tags, slave_tag, master_tag, law, load, "nodal", weight, radius, name)
+        self.quadrature = "segment"
+        sd = self.slave_data
+        if len(sd.X) == 0:
+            self._J = np.zeros(0)
+        elif self.gdim == 2:  # reference length
+            self._J = np.linalg.norm(sd.X[:, 1] - sd.X[:, 0], axis=1)
+        else:  # twice the reference area
+            self._J = np.linalg.norm(np.cross(sd.X[:, 1] - sd.X[:, 0], sd.X[:, 2] - sd.X[:, 0]), axis=1)
+
+    def residual(self, v):
+        return None  # everything is in add_residual / add_jacobian
+
+    # --- pairing -------------------------------------------------------------
+    def _slave_current(self) -> np.ndarray:
+        sd = self.slave_data
+        return sd.X + self.u.x.array[sd.comp]
+
+    def update(self) -> bool:
+        """Nodal projection (state, outputs) and the sub-segments of the owned slave facets. Collective."""
+        changed = super().update()
+        xm = self._mX + self._gather_master()
+        own = np.flatnonzero(self.slave_data.owned)
+        pair = pair_segments if self.gdim == 2 else pair_triangles
+        fs, ms = pair(self._slave_current()[own], xm, self.radius)
+        pairs = np.stack([own[fs], ms], axis=1)
+        same = self._segment_pairs is not None and np.array_equal(self._segment_pairs, pairs)
+        seg_changed = self.comm.allreduce(0 if same else 1) > 0
+        if seg_changed:
+            self._segment_pairs = pairs
+            self._pattern_version += 1
+        self._xm = xm
+        return changed or seg_changed
+
+    def _elements(self, points: bool = False):
+        """Element residuals, tangents and global dof indices (n, 8) of the current sub-segments."""
+        f, m = self._segment_pairs[:, 0], self._segment_pairs[:, 1]
+        x = np.concatenate([self._slave_current()[f], self._xm[m]], axis=1)
+        scalars = {k: float(c.value) for k, c in self.constants.items()}
+        fields = {k: fn.x.array[self._sdofs[f]] for k, fn in self.fields.items()}
+        element = segment_element if self.gdim == 2 else triangle_element
+        out = element(x, self._J[f], self.law, scalars, fields, float(self.weight.value), points=points)
+        k = self.nv * self.gdim
+        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self._mG[m].reshape(-1, k)], axis=1)
+        return out, dofs
+
+    # --- solver hooks ----------------------------------------------------------
+    def add_residual(self, b: PETSc.Vec) -> None:
+        (r, _), dofs = self._elements()
+        if len(r):
+            b.setValues(dofs.ravel().astype(PETSc.IntType), r.ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+        b.assemblyBegin()
+        b.assemblyEnd()
+
+    def coupling_matrix(self, bcs) -> PETSc.Mat:
+        """The whole contact tangent (slave and master rows and columns; Dirichlet rows and columns zero)."""
+        (_, K), dofs = self._elements()
+        Vmap, bs = self.V.dofmap.index_map, self.V.dofmap.index_map_bs
+        sizes = ((Vmap.size_local * bs, Vmap.size_global * bs),) * 2
+        C = PETSc.Mat().createAIJ(sizes, comm=self.comm)
+        C.setPreallocationNNZ((24, 24))
+        C.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        bc = self._bc_global if self._bc_global is not None else set()
+        idx = np.array([[-1 if int(i) in bc else int(i) for i in row] for row in dofs], dtype=PETSc.IntType)
+        for k in range(len(K)):  # negative indices (Dirichlet dofs) are ignored by MatSetValues
+            C.setValues(idx[k], idx[k], K[k].ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+        C.assemble()
+        return C
+
+    # --- figures ---------------------------------------------------------------
+    def segment_points(self) -> dict:
+        """Sub-segment Gauss points of the owned slave facets (local): reference and current position,
+        weight (reference length, without the two-pass factor), gap, pressure, master normal."""
+        d = self.gdim
+        if len(self._segment_pairs) == 0:
+            z = np.zeros((0, d))
+            return {"X": z, "x": z, "weight": np.zeros(0), "gap": np.zeros(0), "pressure": np.zeros(0), "normal": z}
+        (_, _, pts), _ = self._elements(points=True)
+        f = self._segment_pairs[pts["pair"], 0]
+        N = pts["N"]
+        X = np.einsum("qa,qaj->qj", N, self.slave_data.X[f])
+        x = np.einsum("qa,qaj->qj", N, self._slave_current()[f])
+        return {"X": X, "x": x, "weight": pts["weight"], "gap": pts["gap"], "pressure": pts["pressure"],
+                "normal": pts["normal"]}
+
+    def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Current position, gap and pressure at every sub-segment Gauss point, gathered on every rank and
+        sorted by reference position."""
+        p = self.segment_points()
+        data = [np.concatenate(a) for a in zip(*self.comm.allgather((p["X"], p["x"], p["gap"], p["pressure"])))]
+        order = np.lexsort(np.round(data[0], 12).T[::-1])
+        return data[1][order], data[2][order], data[3][order]
+
+    def total_force(self) -> np.ndarray:
+        """Force of the master on the slave body, ``sum_q w_q F_q n_m`` (per unit thickness)."""
+        p = self.segment_points()
+        local = np.einsum("q,q,qj->j", p["weight"], p["pressure"], p["normal"]) if len(p["weight"]) else \
+            np.zeros(self.gdim)
+        return np.array(self.comm.allreduce(local))
