@@ -5,22 +5,23 @@ Space: the unknown lives on ``W = V x Q``, ``V`` the displacement space
 (positive in compression). dolfinx 0.5.2 cannot assemble a mixed form whose
 second field lives on a submesh of the boundary, so ``Q`` is P1 on the whole
 mesh and the pressure dofs off the contact surface are removed from the
-problem by Dirichlet conditions ``p = 0``: they stay in the linear system as
-identity rows and columns (decoupled, eliminated by the direct solver at no
-cost; the honest fallback, not a reduced index set). Which dofs are "on the
+problem by Dirichlet conditions ``p = 0`` (identity rows and columns of the
+assembled Jacobian, decoupled from the rest). They are kept out of the
+linear solve by PETSc's field split: ``pc_type fieldsplit`` (additive) with
+two index sets, ``free`` (displacement and surface pressures: MUMPS LU) and
+``pinned`` (Jacobi, exact on the identity block); the blocks do not couple,
+so the additive split is the exact inverse and MUMPS factors only the real
+unknowns (:meth:`PressureUnknown.field_split`, set by the solver; a
+``-fc_pc_type`` on the command line replaces it). Which dofs are "on the
 surface" is decided by ``locate_dofs_topological`` on the contact facets,
 which communicates shared dofs, so every rank agrees. Reported sizes
 (``Setup.dofs``) count only the real unknowns (displacement and surface
-pressures: ``pinned_dofs`` are subtracted). Taking the pinned rows out of the
-solve itself would need a reduced system on an index set of the free dofs
-(``MatCreateSubMatrix``/``VecGetSubVector`` in the SNES callbacks, or a
-PCFIELDSPLIT whose pinned block is the identity); not done: MUMPS eliminates
-the decoupled identity rows at the cost of their count. PETSc's
-PCREDISTRIBUTE (drops the rows holding only their diagonal) was tried: it
-fails at the second Newton iteration in PETSc 3.18 ("Cannot change local size
-of Amat after use"), because the inactive pressure rows are diagonal-only
-too, so the reduced size changes with the active set, and its inner KSP
-keeps the first size even after ``PCReset``.
+pressures: ``pinned_dofs`` are subtracted). PETSc's PCREDISTRIBUTE (drops
+the rows holding only their diagonal) was tried first: it fails at the
+second Newton iteration in PETSc 3.18 ("Cannot change local size of Amat
+after use"), because the inactive pressure rows are diagonal-only too, so
+its reduced size changes with the active set; the field split's index sets
+are fixed (the surfaces are).
 
 Constraint, per contact vertex (vertex quadrature ``contact_measure(...,
 "nodal")``, so the integrals are weighted nodal values): the spec's
@@ -63,13 +64,14 @@ against the master's curved quadratic facets, the work with Simpson's rule
 Linear solver: the Jacobian is a saddle point with zero diagonal on the
 active pressure rows; the solver's default direct LU by MUMPS (unsymmetric
 LU, threshold partial pivoting ``CNTL(1) = 0.01``, MUMPS's automatic
-ordering ``ICNTL(7) = 7``) factors it; no option is changed.
+ordering ``ICNTL(7) = 7``) factors the ``free`` block of the field split.
 """
 from __future__ import annotations
 
 import numpy as np
 import ufl
 from dolfinx import fem
+from petsc4py import PETSc
 
 from .compat import function_space, mixed_space
 from .contact import ContactSurface, contact_measure, is_mixed
@@ -101,6 +103,11 @@ class PressureUnknown:
     # Full semismooth Newton steps: the l2 line search damps the active-set changes (cylinders: 9 iterations
     # per step for c = 1e2 .. 1e4 with basic, 17-30 with l2; bt fails).
     solver_options = {"snes_linesearch_type": "basic"}
+    # A direct solve (pc_type lu) becomes the exact additive field split (see the module docstring).
+    direct_solver_options = {"pc_type": "fieldsplit", "pc_fieldsplit_type": "additive",
+                             "fieldsplit_free_ksp_type": "preonly", "fieldsplit_free_pc_type": "lu",
+                             "fieldsplit_free_pc_factor_mat_solver_type": "mumps",
+                             "fieldsplit_pinned_ksp_type": "preonly", "fieldsplit_pinned_pc_type": "jacobi"}
 
     def _pressure_setup(self, w: fem.Function, facets: np.ndarray) -> None:
         if not is_mixed(w.function_space):
@@ -126,8 +133,27 @@ class PressureUnknown:
             off = np.setdiff1d(np.asarray(q_to_w, dtype=np.int32), on).astype(np.int32)
             self._bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
             n_owned = W.dofmap.index_map.size_local * W.dofmap.index_map_bs
-            self.pinned_dofs = W.mesh.comm.allreduce(int(np.sum(off < n_owned)))
+            self._pinned_owned = off[off < n_owned]
+            self.pinned_dofs = W.mesh.comm.allreduce(len(self._pinned_owned))
         return self._bcs
+
+    def field_split(self) -> list[tuple[str, PETSc.IS]] | None:
+        """The linear solve's blocks as global index sets of ``w``'s owned dofs: ``("free", ...)`` (displacement
+        and surface pressures) and ``("pinned", ...)`` (pressure dofs fixed to 0 off the surfaces); ``None`` on
+        all but the first surface of ``w``, or when no dof is pinned anywhere."""
+        if not self.bcs:
+            return None
+        if self.pinned_dofs == 0:
+            return None
+        W = self.u.function_space
+        imap = W.dofmap.index_map
+        n_owned = imap.size_local * W.dofmap.index_map_bs
+        off = self._pinned_owned
+        free = np.setdiff1d(np.arange(n_owned, dtype=np.int32), off)
+        start = imap.local_range[0] * W.dofmap.index_map_bs
+        comm = W.mesh.comm
+        return [("free", PETSc.IS().createGeneral((free + start).astype(PETSc.IntType), comm=comm)),
+                ("pinned", PETSc.IS().createGeneral((off + start).astype(PETSc.IntType), comm=comm))]
 
     def _constraint(self, v: ufl.Argument) -> ufl.Form:
         """``-int C(p, g)/c q ds`` (vertex rule): the pressure rows."""

@@ -163,6 +163,9 @@ class Solver:
         for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
             defaults.update(c.solver_options)
         wanted = {**defaults, **(options or {})}
+        if wanted.get("pc_type") == "lu":  # a direct solve: a formulation may split off trivial blocks
+            for c in problem.contacts:
+                wanted.update(getattr(c, "direct_solver_options", {}))
         self._wanted, self._prefix = wanted, prefix
         ours = [k for k in wanted if not opts.hasName(prefix + k)]
         for k in ours:
@@ -178,6 +181,7 @@ class Solver:
         self.snes.setMonitor(self._monitor)
         self.snes.setFromOptions()
         self.snes.getKSP().setFromOptions()
+        self._split_fields()
         if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
             self._A.setNearNullSpace(rigid_body_modes(u.function_space))
         for k in ours:
@@ -222,7 +226,32 @@ class Solver:
         # (PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change).
         if any([c.add_jacobian(A, self.problem.bcs) for c in self.problem.contacts]):
             self.snes.getKSP().getPC().reset()
+            self._split_fields()  # a reset field split has forgotten its index sets
         self.timings["assembly_s"] += time.perf_counter() - start
+
+    def _split_fields(self, pc: PETSc.PC | None = None) -> None:
+        """Give a ``fieldsplit`` preconditioner (default: the SNES's) the index sets of the contact that
+        defines them (multipliers: free dofs and pinned pressure dofs); without any, MUMPS LU on the whole."""
+        pc = pc or self.snes.getKSP().getPC()
+        if pc.getType() != "fieldsplit":
+            return
+        for c in self.problem.contacts:
+            fields = c.field_split() if hasattr(c, "field_split") else None
+            if fields:
+                pc.setFieldSplitIS(*fields)
+                # The split's own KSPs exist now: read their options (``fieldsplit_<name>_...`` of the wanted
+                # options; the command line wins), which were removed from the database after setFromOptions.
+                opts = PETSc.Options()
+                sub = [k for k in self._wanted if k.startswith("fieldsplit_") and not opts.hasName(self._prefix + k)]
+                for k in sub:
+                    opts[self._prefix + k] = self._wanted[k]
+                for ksp in pc.getFieldSplitSubKSP():
+                    ksp.setFromOptions()
+                for k in sub:
+                    opts.delValue(self._prefix + k)
+                return
+        pc.setType("lu")
+        pc.setFactorSolverType("mumps")
 
     def _monitor(self, snes, it, norm):
         self._history.append(float(norm))
@@ -454,6 +483,7 @@ class Solver:
         for k in ours:
             opts[self._prefix + k] = self._wanted[k]
         ksp.setFromOptions()
+        self._split_fields(ksp.getPC())
         for k in ours:
             opts.delValue(self._prefix + k)
         x = self._b.duplicate()

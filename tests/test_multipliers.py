@@ -30,6 +30,22 @@ def test_block_is_exact_in_one_load_step_and_one_newton_iteration():
     assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-10)
 
 
+def test_pinned_pressure_dofs_are_out_of_the_factorization():
+    """The direct solve is an additive field split: MUMPS factors the real unknowns (displacement and surface
+    pressures, ``Setup.dofs``) only; the pinned off-surface pressures are a Jacobi block of their own."""
+    setup = build("block", law=LagrangeMultiplier(1e5))
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    pc = solver.snes.getKSP().getPC()
+    assert pc.getType() == "fieldsplit"
+    free, pinned = pc.getFieldSplitSubKSP()
+    assert free.getPC().getType() == "lu" and pinned.getPC().getType() == "jacobi"
+    n_free, n_pinned = free.getOperators()[0].getSize()[0], pinned.getOperators()[0].getSize()[0]
+    W = setup.problem.u.function_space
+    assert n_free == setup.dofs and n_free + n_pinned == W.dofmap.index_map.size_global
+    assert n_pinned == setup.contacts[0].pinned_dofs > 0
+
+
 def test_hertz_within_two_percent_with_signorini_conditions_at_the_nodes():
     setup, f, recs = solve("hertz", LagrangeMultiplier(1e6))
     assert all(r.converged for r in recs)
