@@ -32,6 +32,10 @@ DEFAULT_OPTIONS = {
     "snes_atol": 1e-10,
     "snes_stol": 1e-14,
     "snes_max_it": 30,
+    # PETSc's divergence test (stop when the residual exceeds 1e4 x the first) is off: a penalty-like law's
+    # first iterate penetrates by the whole approach, so its residual jumps by ~K/E and then falls
+    # quadratically (hertz K = 1e12: 5 -> 5e5 -> converged). Real failures are named by failure.classify.
+    "snes_divergence_tolerance": -1,
     "ksp_type": "preonly",
     "pc_type": "lu",
     "pc_factor_mat_solver_type": "mumps",
@@ -100,6 +104,9 @@ class StepRecord:
     closed_points: list[list[int]] = field(default_factory=list)  # closed contact points per iterate, per solve
     failure: dict | None = None  # why the last solve failed (failure.classify), with step, load, augmentation
     message: str = ""  # why a step failed, from a surface that solves the step itself
+    # solves that SNES accepted on the step length alone, their residual above rtol and atol: Newton stalled at
+    # the round-off floor of an ill-conditioned Jacobian (failure.stalled)
+    stalled: list[int] = field(default_factory=list)
 
     @property
     def newton_iterations(self) -> int:
@@ -110,7 +117,8 @@ class StepRecord:
                 "residuals": self.residuals, "constraint_change": self.constraint_change,
                 "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
                 "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s,
-                "closed_points": self.closed_points, "failure": self.failure, "message": self.message}
+                "closed_points": self.closed_points, "failure": self.failure, "message": self.message,
+                "stalled": self.stalled}
 
 
 class Solver:
@@ -282,6 +290,9 @@ class Solver:
             rec.residuals.append(self._history)
             rec.closed_points.append(self._closed)
             rec.message = self._message
+            if rec.reason > 0 and _failure.stalled(_failure.reason_name(PETSc.SNES.ConvergedReason, rec.reason),
+                                                   self._history, *self.snes.getTolerances()[:2]):
+                rec.stalled.append(rec.augmentations)
             if rec.reason <= 0:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                **self._diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
@@ -317,6 +328,11 @@ class Solver:
             condition = _failure.condition_estimate(self._A, ksp)
         return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
                                  self._history, self._sets, self._closed, condition)
+
+    def condition_estimate(self) -> float | None:
+        """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,
+        else None). Collective."""
+        return _failure.condition_estimate(self._A, self.snes.getKSP())
 
     def run(self, loads: Sequence[float]) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
@@ -394,9 +410,14 @@ class Solver:
         split = {"assembly_s": t["assembly_s"],
                  "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
                  "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"]}
-        return {"time_split": split,"newton_iterations": sum(r.newton_iterations for r in done),
+        # -fc_condition_estimate: also the condition estimate of the last Jacobian (benchmarks' stability map)
+        condition = self.condition_estimate() if PETSc.Options().getBool(self._prefix + "condition_estimate",
+                                                                         False) else None
+        return {"time_split": split, "newton_iterations": sum(r.newton_iterations for r in done),
                 "augmentations": sum(r.augmentations for r in done), "linear_iterations": self.linear_iterations,
-                "load_steps": len(done),
+                "load_steps": len(done), "stalled_solves": sum(len(r.stalled) for r in done),
+                "residual_final": done[-1].residuals[-1][-1] if done and done[-1].residuals[-1] else None,
+                "condition_estimate": condition,
                 "converged": bool(self.records) and all(r.converged for r in self.records),
                 "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,
                 "failures": self.failures,

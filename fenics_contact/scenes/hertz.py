@@ -37,7 +37,10 @@ DEFAULT_K = 1e6  # penalty scale ~ E / h_contact
 BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.01, "K": DEFAULT_K,
          "mesh": ("refinement", {"quick": [0, 1], "full": [0, 1, 2]}),
          "methods": ["penalty", "cross", "auglag", "nitsche", "vi"], "demo_args": ["--steps", "1"],
-         "stability": True, "reduction": True}
+         "stability": True, "reduction": True,
+         # K up to 1e14 (LU: no failure, but the round-off floor); cross also with F^ = 1 ~ p0 / 11 (the paper's
+         # advice: F^ below the true pressure); the control: penalty with PETSc's divergence test
+         "quick_stability": {"variants": (("penalty", 0), ("cross", 10), ("cross", 10, 1.0), ("auglag", 10))}}
 
 
 def hertz(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:

@@ -43,7 +43,8 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], 
          # SNES VI's reduced system changes size between iterations, which GAMG cannot follow: LU
          "method_args": {"vi": ["--solver", "direct"]},
          # the iterative solver shows the conditioning: Krylov iterations per Newton iteration against K
-         "stability": True, "quick_stability": {"K": (0, 2, 4), "steps": (1,), "gamma0": (10.0, 1e3, 1e5)}}
+         "stability": True, "quick_stability": {"K": (0, 2, 4, 6, 8), "steps": (1,), "gamma0": (10.0, 1e3, 1e5),
+                                                   "dtol": False}}
 
 
 def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:
