@@ -760,7 +760,8 @@ def run_scene(scene: str, argv: Sequence[str]) -> None:
             raise ValueError(f"--steps must be >= 1, got {args.steps}")
         setup.loads = [setup.loads[-1] * (k + 1) / args.steps for k in range(args.steps)]
     run(setup, args.out, args.method, cli.method_parameters(args), args.augment or 0, args.augment_tol, args.quiet,
-        options={**cli.solver_options(args), **(s.get("options") or {})}, max_cutbacks=s.get("max_cutbacks", 4), predictor=s.get("predictor", False),
+        options={**cli.solver_options(args), **(s.get("options") or {})}, max_cutbacks=s.get("max_cutbacks", 4),
+        predictor=s.get("predictor", False),
         xdmf=not args.no_xdmf)
 
 

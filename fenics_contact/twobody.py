@@ -562,10 +562,10 @@ class TwoBodySurface(ContactSurface):
         gg = np.where(np.isfinite(g), g, -self.radius)  # the UFL gap of an unpaired point
         return np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
 
-    def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Current position, gap and pressure at the slave quadrature points of the owned slave facets,
-        gathered on every rank and sorted by reference position (a vertex shared by two facets once).
-        Unpaired points have gap ``-inf`` and pressure 0."""
+    def point_values(self, reference: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Current position (``reference=True``: reference position), gap and pressure at the slave quadrature
+        points of the owned slave facets, gathered on every rank and sorted by reference position (a vertex
+        shared by two facets once). Unpaired points have gap ``-inf`` and pressure 0."""
         sd = self.slave_data
         X = np.einsum("qk,fkj->fqj", self.B, sd.X)
         x = self.slave_points()
@@ -578,7 +578,7 @@ class TwoBodySurface(ContactSurface):
         Xr = np.round(data[0], 12)
         _, first = np.unique(Xr, axis=0, return_index=True)
         order = first[np.lexsort(Xr[first].T[::-1])]
-        return data[1][order], data[2][order], data[3][order]
+        return data[0 if reference else 1][order], data[2][order], data[3][order]
 
 
 def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,
