@@ -45,7 +45,8 @@ R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
 DEFAULT_K = 1e6  # penalty scale ~ E / h_contact
 # The benchmark's view of this scene (fenics_contact.bench): figure, sweep, demo options.
-BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.01, "K": DEFAULT_K,
+BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "total_force"], "target": 0.01,
+         "K": DEFAULT_K,
          "mesh": ("refinement", {"quick": [0, 1], "full": [0, 1, 2]}),
          "methods": ["penalty", "cross", "auglag", "nitsche", "vi"], "demo_args": ["--steps", "1"],
          "stability": True, "reduction": True,
