@@ -295,6 +295,8 @@ def stability(scene: str, out: str | Path, quick: bool = False, pictures: bool =
     (out / f"{scene}_stability.md").write_text(stability_summary(rows))
     if pictures:
         plot_stability(rows, out / f"{scene}_stability.png", title=STABILITY_TITLE.format(scene=scene))
+        plot_stability_accuracy(rows, out / f"{scene}_stability_accuracy.png",
+                                title=f"{scene}: the K each method needs, and whether it converges there")
     return rows
 
 
@@ -742,6 +744,40 @@ def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> N
     fig.savefig(path, dpi=100)
 
 
+def plot_stability_accuracy(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
+    """The stability map's runs with the fewest load steps: distance from the augmentation limit against K,
+    one line per K-based method variant (Nitsche and the divergence-test control left out). Filled: converged;
+    orange ring: ill-conditioned (stalled at round-off or condition estimate > 1e12); red x at the top:
+    failed. It shows which K each method needs for an accuracy, and whether it still converges there."""
+    fig, ax = _figure()
+    rows = [r for r in rows if r["method"] != "nitsche" and r.get("label") != DTOL]
+    fewest = min((r["steps"] or 1 for r in rows), default=1)
+    rows = [r for r in rows if (r["steps"] or 1) == fewest]
+    gaps = [r["limit_gap"] for r in rows if r["converged"] and not math.isnan(r.get("limit_gap", float("nan")))]
+    top = max(gaps, default=1.0) * 10
+    for k, variant in enumerate(dict.fromkeys(_variant(r) for r in rows)):
+        rs = sorted((r for r in rows if _variant(r) == variant), key=lambda r: r["K"])
+        c, m = _colour(variant.split()[0]), "os^Dv"[k % 5]
+        ok = [r for r in rs if r["converged"] and not math.isnan(r.get("limit_gap", float("nan")))]
+        ax.plot([r["K"] for r in ok], [max(r["limit_gap"], ERROR_FLOOR) for r in ok], color=c, marker=m, ms=7,
+                ls="-" if "augmented" in variant else "--", label=variant, alpha=0.85)
+        ill = [r for r in ok if status(r) == "ill_conditioned"]
+        ax.plot([r["K"] for r in ill], [max(r["limit_gap"], ERROR_FLOOR) for r in ill], ls="", marker="o", ms=14,
+                mfc="none", mec="darkorange", mew=2)
+        bad = [r for r in rs if not r["converged"]]
+        ax.plot([r["K"] for r in bad], [top * 3.0**k] * len(bad), ls="", marker="x", color=c, ms=10, mew=2)
+    ax.plot([], [], ls="", marker="o", ms=14, mfc="none", mec="darkorange", mew=2, label="ill-conditioned")
+    ax.plot([], [], ls="", marker="x", color="grey", ms=10, mew=2, label="failed (drawn at the top)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("K (penalty, auglag; cross: K_hat) [pressure / length]")
+    ax.set_ylabel(f"distance from the augmentation limit [-] (below {ERROR_FLOOR:g} drawn at {ERROR_FLOOR:g})")
+    ax.set_title(title + f" ({fewest} load step{'s' * (fewest > 1)})", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    fig.savefig(path, dpi=100)
+
+
 def run_scene(scene: str, argv: Sequence[str]) -> None:
     """One run of a scene whose demo does not take ``--method`` (its ``BENCH`` has ``build``: the builder's
     keyword arguments; ``options``: PETSc options; ``predictor``, ``max_cutbacks``): the demos' command line,
@@ -800,8 +836,10 @@ def main(argv: Sequence[str] | None = None) -> None:
         if args.charts_only:
             _say(report(scene, read_rows(out / f"{scene}.csv"), out))
             if s.get("stability") and (out / f"{scene}_stability.csv").exists():
-                plot_stability(read_rows(out / f"{scene}_stability.csv"), out / f"{scene}_stability.png",
-                               title=STABILITY_TITLE.format(scene=scene))
+                st = read_rows(out / f"{scene}_stability.csv")
+                plot_stability(st, out / f"{scene}_stability.png", title=STABILITY_TITLE.format(scene=scene))
+                plot_stability_accuracy(st, out / f"{scene}_stability_accuracy.png",
+                                        title=f"{scene}: the K each method needs, and whether it converges there")
             continue
         rows = bench(scene, out, sweep(scene, args.quick), quiet=args.quiet, timeout=args.timeout)
         failed = sum(not r["converged"] for r in rows)

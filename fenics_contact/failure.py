@@ -31,8 +31,10 @@ in this order of precedence:
 
 PETSc's own divergence test (``DIVERGED_DTOL``) is off in the solver's defaults: a penalty-like law's
 first iterate overshoots by ~K/E and Newton then converges. A solve that SNES *accepts* on the step
-length alone with its residual above tolerance is flagged by :func:`stalled` (round-off floor of an
-ill-conditioned Jacobian).
+length alone with its residual above tolerance is :func:`stalled` (the round-off floor of the linear
+solves); the solver then estimates the condition of the Jacobian and fails the solve as
+``ill_conditioning`` above ``ILL_CONDITIONED`` (e.g. a free rigid mode), else accepts it and records
+it as stalled.
 """
 from __future__ import annotations
 

@@ -290,10 +290,17 @@ class Solver:
             rec.residuals.append(self._history)
             rec.closed_points.append(self._closed)
             rec.message = self._message
+            # Accepted on the step length with the residual above tolerance: the round-off floor of the linear
+            # solves. On a Jacobian whose condition estimate exceeds failure.ILL_CONDITIONED (direct solvers) the
+            # step is then garbage (singular: a free rigid mode) and the solve fails as ill_conditioning;
+            # otherwise it is accepted and recorded in ``stalled``.
+            ill = False
             if rec.reason > 0 and _failure.stalled(_failure.reason_name(PETSc.SNES.ConvergedReason, rec.reason),
                                                    self._history, *self.snes.getTolerances()[:2]):
                 rec.stalled.append(rec.augmentations)
-            if rec.reason <= 0:
+                condition = self.condition_estimate()
+                ill = condition is not None and condition > _failure.ILL_CONDITIONED
+            if rec.reason <= 0 or ill:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                **self._diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
                 break

@@ -121,8 +121,9 @@ def test_slab_error_from_the_exact_coulomb_reference(tmp_path):
 
 def test_stability_harness_classifies_the_ring(tmp_path):
     """A tiny stability sweep on the ring (450 dofs): the harness tells a converged run, an ill-conditioned one
-    (penalty K = 1e16: Newton stalls at the round-off floor and SNES accepts it on the step length), a failed
-    one with its kind (penalty with augmentation: cycling), and PETSc's divergence test stopping penalty's
+    (penalty K = 1e12: Newton stalls at the round-off floor and SNES accepts it on the step length), failed
+    ones with their kind (K = 1e16: ill-conditioning; penalty with augmentation: cycling), and PETSc's
+    divergence test stopping penalty's
     first overshoot at K = 1e8 (the same run converges without it); the distance from the augmentation limit
     falls like 1/K for penalty."""
     out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
@@ -130,6 +131,7 @@ def test_stability_harness_classifies_the_ring(tmp_path):
     runs = [dict(bench._run("auglag", 1e5, 10, steps=1), args=cond),
             dict(bench._run("penalty", 1e5, 0, steps=1), args=cond),
             dict(bench._run("penalty", 1e7, 0, steps=1), args=cond),
+            dict(bench._run("penalty", 1e12, 0, steps=1), args=cond),
             dict(bench._run("penalty", 1e16, 0, steps=1), args=cond),
             dict(bench._run("penalty", 1e5, 10, steps=1), args=cond),
             dict(bench._run("penalty", 1e8, 0, steps=1), label=bench.DTOL,
@@ -137,10 +139,13 @@ def test_stability_harness_classifies_the_ring(tmp_path):
             dict(bench._run("penalty", 1e8, 0, steps=1), args=cond)]
     rows = bench.run_all("ring", out, runs, quiet=True, timeout=300)
     bench.add_stability_limit(rows, "ring")
-    auglag, p5, p7, p16, augmented, dtol, p8 = rows
+    auglag, p5, p7, p12, p16, augmented, dtol, p8 = rows
     assert [r["status"] for r in rows] == ["converged", "converged", "converged", "ill_conditioned",
-                                            "failed: cycling", "failed: divergence", "converged"]
-    assert p16["stalled_solves"] >= 1 and p16["residual_final"] > 1e-10
+                                            "failed: ill_conditioning", "failed: cycling", "failed: divergence",
+                                            "converged"]
+    # K = 1e12: accepted on the step length above tolerance; K = 1e16: the same on a Jacobian with a condition
+    # estimate above 1e12, a failure
+    assert p12["stalled_solves"] >= 1 and p12["residual_final"] > 1e-10 and p12["condition_estimate"] < 1e12
     # the condition estimate grows like K (direct solver: power and inverse iteration)
     assert 50 < p7["condition_estimate"] / p5["condition_estimate"] < 200
     assert auglag["limit_gap"] == 0.0 and 50 < p5["limit_gap"] / p7["limit_gap"] < 200
