@@ -21,9 +21,11 @@ front, one linear solve as the cost floor), ``<scene>_dofs.png`` (error
 against dofs), ``<scene>_iterations.png`` (Newton iterations against K);
 ``<scene>_findings.md`` (per method the fastest run within the scene's
 target, its ratios to one linear solve and to SNES VI, Pareto membership).
-With ``stability`` in BENCH: ``<scene>_stability.csv|png`` (converged /
-Newton iterations over parameter x load steps, per method); with
-``reduction``: ``<scene>_reduction.csv|md`` (model-reduction checks).
+With ``stability`` in BENCH: ``<scene>_stability.csv|png|md`` (status -- converged, ill-conditioned,
+failed with its kind --, Newton and Krylov iterations, condition estimate and distance from the
+augmentation limit over parameter x load steps, per method) and ``<scene>_stability_accuracy.png`` (that
+distance against K: the K each method needs, and whether it converges there); with ``reduction``:
+``<scene>_reduction.csv|md`` and, for all such scenes, ``model_reduction.md`` (one table).
 """
 from __future__ import annotations
 
@@ -113,7 +115,8 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
     """Parameter x load steps on the coarsest mesh: penalty (K), cross and auglag augmented (K), nitsche
     (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full). ``BENCH``'s
     ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``, ``variants``: (method,
-    augmentations[, F_hat]) tuples, ``dtol``: the control runs with PETSc's divergence test);
+    augmentations[, F_hat]) tuples, ``dtol``: the control runs with PETSc's divergence test (fewest load steps
+    only), ``skip``: (method, K exponent) pairs left out, e.g. a slow failure);
     ``stability_variants``: the full grid's variants. Every run asks for the condition estimate of its last
     Jacobian (direct solvers)."""
     s = spec(scene)
@@ -132,12 +135,14 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
         for method, aug, *F in variants:
             F_hat = F[0] if F else 0.0
             label = {"label": f"{method} F^ = {F_hat:g}" + (" augmented" if aug else "")} if F_hat else {}
-            runs += [dict(_run(method, K0 * 10.0**e, aug, "nodal", level, F_hat, steps=n), **label) for e in exps]
+            runs += [dict(_run(method, K0 * 10.0**e, aug, "nodal", level, F_hat, steps=n), **label) for e in exps
+                     if not quick or (method, e) not in q.get("skip", ())]
         runs += [_run("nitsche", g, 0, "nodal", level, steps=n) for g in gammas]
         # the control: penalty with PETSc's divergence test (residual > 1e4 x the first one stops SNES; off in the
         # solver's defaults), which stops every K-based method at its first iterate when K is very large
         runs += [dict(_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=DTOL,
-                      args=["-fc_snes_divergence_tolerance", "1e4"]) for e in exps if q.get("dtol", True)]
+                      args=["-fc_snes_divergence_tolerance", "1e4"]) for e in exps
+                 if q.get("dtol", True) and n == steps[0]]
     return [dict(r, args=[*r.get("args", []), "-fc_condition_estimate"]) for r in runs if r["method"] in s["methods"]]
 
 

@@ -95,6 +95,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     if symmetry == "half":
         sym = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == DISK_SYMMETRY])
     else:  # the four poles, on the axis x = 0
+        mesh.topology.create_connectivity(fdim, mesh.topology.dim)  # for the boundary search
         sym = fem.locate_dofs_topological(V.sub(0), 0, dmesh.locate_entities_boundary(
             mesh, 0, lambda x: np.isclose(x[0], 0.0, atol=1e-9)))
     dirichlet = [Dirichlet(V.sub(0), sym)]
