@@ -8,6 +8,9 @@ uniform ``-t * approach`` (mirror symmetry of the two contacts), the
 horizontal one free. The plate is the rigid half-plane ``y <= 0``. Figures
 are for the whole cylinder: the quarter's force is doubled. The mesh is
 graded toward the contact (gmsh, :func:`fenics_contact.meshes.hertz_quarter_disk`).
+The richer models of the benchmark's model-reduction table are options of :func:`build`: the half disk,
+the full disk between two rigid plates, a meshed stiff plate (two-body contact), neo-Hookean; they give
+the quarter's figures within 0.5 % (``results/bench/model_reduction.md``, README).
 
 Hertz (plane strain, rigid plane, load ``P`` per unit length,
 ``E* = E/(1-nu^2)``): ``a = sqrt(4 P R / (pi E*))``, ``p0 = 2P/(pi a)``.
