@@ -130,7 +130,6 @@ def test_stability_harness_classifies_the_ring(tmp_path):
     cond = ["-fc_condition_estimate"]
     runs = [dict(bench._run("auglag", 1e5, 10, steps=1), args=cond),
             dict(bench._run("penalty", 1e5, 0, steps=1), args=cond),
-            dict(bench._run("penalty", 1e7, 0, steps=1), args=cond),
             dict(bench._run("penalty", 1e12, 0, steps=1), args=cond),
             dict(bench._run("penalty", 1e16, 0, steps=1), args=cond),
             dict(bench._run("penalty", 1e5, 10, steps=1), args=cond),
@@ -139,16 +138,16 @@ def test_stability_harness_classifies_the_ring(tmp_path):
             dict(bench._run("penalty", 1e8, 0, steps=1), args=cond)]
     rows = bench.run_all("ring", out, runs, quiet=True, timeout=300)
     bench.add_stability_limit(rows, "ring")
-    auglag, p5, p7, p12, p16, augmented, dtol, p8 = rows
-    assert [r["status"] for r in rows] == ["converged", "converged", "converged", "ill_conditioned",
+    auglag, p5, p12, p16, augmented, dtol, p8 = rows
+    assert [r["status"] for r in rows] == ["converged", "converged", "ill_conditioned",
                                             "failed: ill_conditioning", "failed: cycling", "failed: divergence",
                                             "converged"]
     # K = 1e12: accepted on the step length above tolerance; K = 1e16: the same on a Jacobian with a condition
     # estimate above 1e12, a failure
     assert p12["stalled_solves"] >= 1 and p12["residual_final"] > 1e-10 and p12["condition_estimate"] < 1e12
     # the condition estimate grows like K (direct solver: power and inverse iteration)
-    assert 50 < p7["condition_estimate"] / p5["condition_estimate"] < 200
-    assert auglag["limit_gap"] == 0.0 and 50 < p5["limit_gap"] / p7["limit_gap"] < 200
+    assert 300 < p8["condition_estimate"] / p5["condition_estimate"] < 3000
+    assert auglag["limit_gap"] == 0.0 and 300 < p5["limit_gap"] / p8["limit_gap"] < 3000
     text = bench.stability_summary(rows)
     assert "| penalty augmented | K | - | - | 1e+05 (cycling) |" in text
     bench.plot_stability(rows, out / "map.png", title="ring")
