@@ -710,10 +710,10 @@ def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> N
     its = [r["newton_iterations"] for r in rows if r["newton_iterations"] > 0]
     norm = LogNorm(vmin=max(min(its, default=1), 1), vmax=max(its, default=10))
     image = None
+    steps = sorted({r["steps"] for r in rows}, key=lambda n: n or 1)  # the same rows in every panel (shared y)
     for ax, variant in zip(axes, variants):
         rs = [r for r in rows if _variant(r) == variant]
         params = sorted({r["K"] for r in rs})
-        steps = sorted({r["steps"] for r in rs})
         grid = np.full((len(steps), len(params)), np.nan)
         for r in rs:
             i, j = steps.index(r["steps"]), params.index(r["K"])
