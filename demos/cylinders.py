@@ -28,6 +28,9 @@ p.add_argument("--h-contact", type=float, default=0.05, help="mesh size at the c
 p.add_argument("--grading", type=float, default=0.04, help="mesh size growth per unit distance from the contacts")
 p.add_argument("--t-end", type=float, default=cylinders.T_END, help="final plate motion")
 p.add_argument("--dt", type=float, default=0.5, help="load step after the Hertz step")
+p.add_argument("--model", choices=["neohookean", "linear"], default="neohookean",
+               help="bulk material (linear: small t only, the model-reduction check)")
+p.add_argument("--symmetry", choices=["half", "full"], default="half", help="right halves (x >= 0) or whole disks")
 args = cli.parse(p)
 out = Path(args.out or "results/cylinders")
 
@@ -35,7 +38,7 @@ out = Path(args.out or "results/cylinders")
 loads = [cylinders.T_HERTZ] + np.arange(args.dt, args.t_end + 1e-9, args.dt).tolist()
 setup = build("cylinders", law_factory=lambda: cli.law_from_args(args), quadrature=args.quadrature,
               passes=args.passes, h_contact=args.h_contact, grading=args.grading,
-              loads=[t for t in loads if t <= args.t_end + 1e-9])
+              loads=[t for t in loads if t <= args.t_end + 1e-9], model=args.model, symmetry=args.symmetry)
 comm = setup.problem.comm
 
 # 3. Solve with load stepping; after each step keep the figures and both surfaces' pressure profiles.

@@ -23,14 +23,16 @@ p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
 p.add_argument("--refinement", type=int, default=0, help="halve the contact mesh size this many times")
 p.add_argument("--steps", type=int, default=2, help="load steps")
 p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
-p.add_argument("--symmetry", choices=["quarter", "half"], default="quarter", help="modelled part of the disk")
+p.add_argument("--symmetry", choices=["quarter", "half", "full"], default="quarter", help="modelled part of the disk")
+p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
+               help="lower plate: analytic rigid, or meshed (E x 1000, two-body contact; quarter only)")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
 out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
 setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-              steps=args.steps, model=args.model, symmetry=args.symmetry)
+              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate)
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},

@@ -21,9 +21,11 @@ front, one linear solve as the cost floor), ``<scene>_dofs.png`` (error
 against dofs), ``<scene>_iterations.png`` (Newton iterations against K);
 ``<scene>_findings.md`` (per method the fastest run within the scene's
 target, its ratios to one linear solve and to SNES VI, Pareto membership).
-With ``stability`` in BENCH: ``<scene>_stability.csv|png`` (converged /
-Newton iterations over parameter x load steps, per method); with
-``reduction``: ``<scene>_reduction.csv|md`` (model-reduction checks).
+With ``stability`` in BENCH: ``<scene>_stability.csv|png|md`` (status -- converged, ill-conditioned,
+failed with its kind --, Newton and Krylov iterations, condition estimate and distance from the
+augmentation limit over parameter x load steps, per method) and ``<scene>_stability_accuracy.png`` (that
+distance against K: the K each method needs, and whether it converges there); with ``reduction``:
+``<scene>_reduction.csv|md`` and, for all such scenes, ``model_reduction.md`` (one table).
 """
 from __future__ import annotations
 
@@ -48,7 +50,7 @@ COLUMNS = ["scene", "method", "K", "F_hat", "augment", "quadrature", "refinement
            "memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve"]
 AUGMENT = 10  # max augmentations per load step for the augmented variants
 ERROR_FLOOR = 1e-16  # errors are drawn at least this large on the log axis (an exact answer is 0)
-NO_DIVTOL = "penalty, no SNES divergence test"
+DTOL = "penalty, PETSc divergence test on"  # the stability map's control runs (dtol 1e4, PETSc's default)
 REFERENCES = ("vi", "nitsche")  # what a user would pick instead of the suite's laws
 BUILT_IN = ("penalty", "cross", "auglag", "nitsche")  # the sweep's own parameter ranges
 PARAMETERLESS = ("vi", "coulomb")  # run once per mesh
@@ -113,7 +115,10 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
     """Parameter x load steps on the coarsest mesh: penalty (K), cross and auglag augmented (K), nitsche
     (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full). ``BENCH``'s
     ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``, ``variants``: (method,
-    augmentations) pairs, ``no_divtol``: the control runs); ``stability_variants``: the full grid's variants."""
+    augmentations[, F_hat]) tuples, ``dtol``: the control runs with PETSc's divergence test (fewest load steps
+    only), ``skip``: (method, K exponent) pairs left out, e.g. a slow failure);
+    ``stability_variants``: the full grid's variants. Every run asks for the condition estimate of its last
+    Jacobian (direct solvers)."""
     s = spec(scene)
     K0 = s["K"]
     level = None if s.get("mesh") is None else s["mesh"][1]["quick"][0]
@@ -127,13 +132,32 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
         s.get("stability_variants", (("penalty", 0), ("cross", AUGMENT), ("auglag", AUGMENT)))
     runs = []
     for n in steps:
-        runs += [_run(m, K0 * 10.0**e, aug, "nodal", level, steps=n) for m, aug in variants for e in exps]
+        for method, aug, *F in variants:
+            F_hat = F[0] if F else 0.0
+            label = {"label": f"{method} F^ = {F_hat:g}" + (" augmented" if aug else "")} if F_hat else {}
+            runs += [dict(_run(method, K0 * 10.0**e, aug, "nodal", level, F_hat, steps=n), **label) for e in exps
+                     if not quick or (method, e) not in q.get("skip", ())]
         runs += [_run("nitsche", g, 0, "nodal", level, steps=n) for g in gammas]
-        # the control: penalty without PETSc's divergence test (residual > 1e4 x the first one stops SNES),
-        # which is what stops every K-based method at the first solve when K is very large
-        runs += [dict(_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=NO_DIVTOL,
-                      args=["-fc_snes_divergence_tolerance", "-1"]) for e in exps if q.get("no_divtol", True)]
-    return [r for r in runs if r["method"] in s["methods"]]
+        # the control: penalty with PETSc's divergence test (residual > 1e4 x the first one stops SNES; off in the
+        # solver's defaults), which stops every K-based method at its first iterate when K is very large
+        runs += [dict(_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=DTOL,
+                      args=["-fc_snes_divergence_tolerance", "1e4"]) for e in exps
+                 if q.get("dtol", True) and n == steps[0]]
+    return [dict(r, args=[*r.get("args", []), "-fc_condition_estimate"]) for r in runs if r["method"] in s["methods"]]
+
+
+def status(row: dict) -> str:
+    """``converged``, ``ill_conditioned`` (converged, but a solve stalled at the round-off floor
+    (:func:`failure.stalled`) or the last Jacobian's condition estimate is above ``failure.ILL_CONDITIONED``)
+    or ``failed: <kind>`` (:func:`failure.classify`'s kind; ``exit`` if the run left no diagnosis)."""
+    from .failure import ILL_CONDITIONED
+
+    if not row["converged"]:
+        return f"failed: {row.get('failure_kind') or 'exit'}"
+    cond = row.get("condition_estimate")
+    if row.get("stalled_solves", 0) > 0 or (cond is not None and not math.isnan(cond) and cond > ILL_CONDITIONED):
+        return "ill_conditioned"
+    return "converged"
 
 
 def _say(line: str) -> None:
@@ -192,7 +216,7 @@ def run_one(scene: str, cfg: dict, folder: Path, timeout: float = 1800.0) -> dic
     s = json.loads((folder / "summary.json").read_text()) if (folder / "summary.json").exists() else {}
     nan, b = float("nan"), spec(scene)
     steps = s.get("steps", [])
-    return {"scene": scene, **{k: v for k, v in cfg.items() if k != "args"}, "dofs": s.get("dofs", 0),
+    row = {"scene": scene, **{k: v for k, v in cfg.items() if k != "args"}, "dofs": s.get("dofs", 0),
             "wall_time_s": s.get("wall_time_s", nan), "newton_iterations": s.get("newton_iterations", 0),
             "augmentations": s.get("augmentations", 0), "linear_iterations": s.get("linear_iterations", 0),
             "converged": bool(ok and s.get("converged", False)),
@@ -202,7 +226,11 @@ def run_one(scene: str, cfg: dict, folder: Path, timeout: float = 1800.0) -> dic
             "process_time_s": time.perf_counter() - start, "setup_time_s": s.get("setup_time_s", nan),
             **{k: s.get("time_split", {}).get(k, nan) for k in ("assembly_s", "linear_solve_s", "augmentation_s")},
             **{k: s.get(k, nan) for k in ("memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve")},
+            "condition_estimate": nan if s.get("condition_estimate") is None else s["condition_estimate"],
+            "stalled_solves": s.get("stalled_solves", 0), "residual_final": s.get("residual_final") or nan,
+            "failure_kind": (s.get("failure") or {}).get("kind", "" if s.get("converged") else "exit"),
             **{k: s.get(k, nan) for k in dict.fromkeys([b["value"], *b.get("figures", [])])}}
+    return {**row, "status": status(row)}
 
 
 def run_all(scene: str, out: Path, runs: Sequence[dict], quiet: bool, timeout: float, tag: str = "") -> list[dict]:
@@ -256,40 +284,70 @@ def report(scene: str, rows: Sequence[dict], out: Path, pictures: bool = True) -
     return text
 
 
+STABILITY_TITLE = ("{scene}: Newton iterations (colour); x = failed (kind), ill = ill-conditioned, c = cutbacks, "
+                   "(k) Krylov per Newton, e = distance from the augmentation limit")
+
+
 def stability(scene: str, out: str | Path, quick: bool = False, pictures: bool = True, quiet: bool = False,
               timeout: float = 600.0) -> list[dict]:
-    """The stability map: :func:`stability_sweep` into ``<scene>_stability.csv|json|png``."""
+    """The stability map: :func:`stability_sweep` into ``<scene>_stability.csv|json|png|md``; each row gets
+    its :func:`status` and its ``limit_gap`` (distance of the scene's figure from the augmentation limit:
+    the median of the converged ``auglag augmented`` runs)."""
     out = Path(out)
     rows = run_all(scene, out, stability_sweep(scene, quick), quiet, timeout, tag=" stability")
+    add_stability_limit(rows, scene)
     write_rows(rows, out / f"{scene}_stability.csv", out / f"{scene}_stability.json")
     (out / f"{scene}_stability.md").write_text(stability_summary(rows))
     if pictures:
-        plot_stability(rows, out / f"{scene}_stability.png",
-                       title=f"{scene}: Newton iterations (all steps and augmentations); x = failed")
+        plot_stability(rows, out / f"{scene}_stability.png", title=STABILITY_TITLE.format(scene=scene))
+        plot_stability_accuracy(rows, out / f"{scene}_stability_accuracy.png",
+                                title=f"{scene}: the K each method needs, and whether it converges there")
     return rows
 
 
+def add_stability_limit(rows: Sequence[dict], scene: str) -> None:
+    """``limit_gap`` of the stability rows: relative distance of the scene's figure from the limit of
+    converged augmentation (median over the converged ``auglag augmented`` runs, which agree to their
+    augmentation tolerance); NaN without such runs."""
+    value = spec(scene)["value"]
+    ref = [r[value] for r in rows if _variant(r) == "auglag augmented" and r["converged"]
+           and not math.isnan(r.get(value, float("nan")))]
+    limit = float(np.median(ref)) if ref else float("nan")
+    for r in rows:
+        v = r.get(value, float("nan"))
+        r["limit_gap"] = abs(v - limit) / abs(limit) if r["converged"] and limit and not math.isnan(v) else \
+            float("nan")
+
+
 def stability_summary(rows: Sequence[dict]) -> str:
-    """Markdown: per method variant, the parameters at which it converged for every step count, those
-    at which it failed (with the SNES reason), and the Newton and Krylov iterations over the parameter."""
-    names = {v: k for k, v in _snes_reasons().items()}
-    lines = ["| method | parameter | converged for all load steps at | failed at (SNES reason) | Newton iterations "
-             "(fewest steps) | Krylov per Newton |", "|---|---|---|---|---|---|"]
+    """Markdown: per method variant, the parameters at which it converged for every step count, those at
+    which it was ill-conditioned or failed (with the kind), the Newton and Krylov iterations, the condition
+    estimate and the distance from the augmentation limit over the parameter (fewest load steps)."""
+    lines = ["| method | parameter | converged for all load steps at | ill-conditioned at | failed at (kind) | "
+             "Newton iterations (fewest steps) | Krylov per Newton | condition estimate | distance from the "
+             "augmentation limit |", "|---|---|---|---|---|---|---|---|---|"]
     for variant in dict.fromkeys(_variant(r) for r in rows):
         rs = [r for r in rows if _variant(r) == variant]
         params = sorted({r["K"] for r in rs})
-        good = [p for p in params if all(r["converged"] for r in rs if r["K"] == p)]
-        bad = {p: next(r["snes_reason"] for r in rs if r["K"] == p and not r["converged"])
-               for p in params if p not in good}
+        st = {p: [status(r) for r in rs if r["K"] == p] for p in params}
+        good = [p for p in params if all(x == "converged" for x in st[p])]
+        ill = [p for p in params if p not in good and all(x != "failed" and not x.startswith("failed") for x in st[p])]
+        bad = {p: next(x for x in st[p] if x.startswith("failed"))[8:] for p in params if p not in good + ill}
         fewest = min(r["steps"] or 1 for r in rs)
         its = [next((r for r in rs if r["K"] == p and (r["steps"] or 1) == fewest), None) for p in params]
         lines.append(
             f"| {variant} | {'gamma0' if variant.startswith('nitsche') else 'K'} | "
-            f"{', '.join(f'{p:.0e}' for p in good) or '-'} | "
-            f"{', '.join(f'{p:.0e} ({names.get(c, c)})' for p, c in bad.items()) or '-'} | "
+            f"{', '.join(f'{p:.0e}' for p in good) or '-'} | {', '.join(f'{p:.0e}' for p in ill) or '-'} | "
+            f"{', '.join(f'{p:.0e} ({k})' for p, k in bad.items()) or '-'} | "
             f"{' / '.join(str(r['newton_iterations']) if r and r['converged'] else 'x' for r in its)} | "
-            f"{' / '.join(_krylov_per_newton(r) for r in its)} |")
+            f"{' / '.join(_krylov_per_newton(r) for r in its)} | "
+            f"{' / '.join(_short(r.get('condition_estimate') if r else None) for r in its)} | "
+            f"{' / '.join(_short(r.get('limit_gap') if r else None) for r in its)} |")
     return "\n".join(lines) + "\n"
+
+
+def _short(x: float | None) -> str:
+    return "-" if x is None or math.isnan(x) else ("0" if x == 0 else f"{x:.0e}")
 
 
 def _krylov_per_newton(r: dict | None) -> str:
@@ -304,57 +362,65 @@ def _snes_reasons() -> dict:
     return {k: v for k, v in vars(PETSc.SNES.ConvergedReason).items() if isinstance(v, int)}
 
 
-# Model-reduction checks: the reduced model (used by the scene) against a richer one, same method.
+# Model-reduction checks: the reduced model (used by the scene, first) against richer ones, same method. Per scene:
+# the run (method, augmentations, quadrature, extra demo options), the figures compared, timing repeats, variants.
 REDUCTIONS = {
-    "hertz": [("quarter disk, linear elasticity (used)", []),
-              ("half disk (no mirror about x = 0)", ["--symmetry", "half"]),
-              ("neo-Hookean (finite strain)", ["--model", "neohookean"])],
+    "hertz": {"method": "auglag", "augment": AUGMENT, "quadrature": "nodal", "args": [], "repeats": 2,
+              "figures": ["p0", "a", "total_force"], "variants": [
+                  ("hertz: quarter disk, rigid analytic plate, linear elasticity (used)", []),
+                  ("hertz: half disk (no mirror about x = 0)", ["--symmetry", "half"]),
+                  ("hertz: full disk between two rigid plates (no mirror; rigid modes fixed at 3 points)",
+                   ["--symmetry", "full"]),
+                  ("hertz: meshed plate, E x 1000, two-body contact (not rigid)", ["--plate", "meshed"]),
+                  ("hertz: neo-Hookean (finite strain)", ["--model", "neohookean"])]},
+    # the scene's own method (penalty K 1e4, two-pass, Gauss points) at the Hertz step t = 0.2
+    "cylinders": {"method": "penalty", "augment": 0, "quadrature": "gauss", "args": [], "repeats": 1,
+                  "figures": ["p0", "a", "total_force"], "variants": [
+                      ("cylinders: right halves, neo-Hookean (used)", []),
+                      ("cylinders: whole disks (no mirror about x = 0; u_x = 0 at the poles)", ["--symmetry", "full"]),
+                      ("cylinders: linear elasticity (small strain) at t = 0.2", ["--model", "linear"])]},
 }
-NOT_CHECKED = {
-    "hertz": ["full disk against the half: not run (the mirror about y = R is exact for two identical rigid "
-              "plates; the full disk needs a second contact and a rigid-mode fix)",
-              "rigid analytic plate against a meshed stiff plate: needs two-body contact (other branch; not done)"],
-}
+REDUCTION_HEADER = ["| variant | dofs | p0 | a | total force | p0 error vs Hertz | difference of p0 / a / force "
+                    "from the reduced model | solver time [s] | time saved by the reduced model |",
+                    "|---|---|---|---|---|---|---|---|---|"]
 
 
-def reduction(scene: str, out: str | Path, quiet: bool = False, timeout: float = 600.0, repeats: int = 3) -> str:
-    """Model-reduction table of ``scene`` (auglag, augmented, default K, coarsest mesh): each variant's
+def reduction(scene: str, out: str | Path, quiet: bool = False, timeout: float = 600.0) -> str:
+    """Model-reduction rows of ``scene`` (``REDUCTIONS[scene]``, the scene's K, coarsest mesh): each variant's
     figures, their differences from the first (the reduced model the scene uses) and the time saved
-    (solver times: the fastest of ``repeats`` runs each).
-    Writes ``<scene>_reduction.csv`` and ``.md``; returns the Markdown."""
-    out, s = Path(out), spec(scene)
+    (solver times: the fastest of the scene's ``repeats`` runs each). Writes ``<scene>_reduction.csv`` and
+    ``.md``; returns the Markdown rows (without the header, :data:`REDUCTION_HEADER`)."""
+    out, s, r0 = Path(out), spec(scene), REDUCTIONS[scene]
     level = None if s.get("mesh") is None else s["mesh"][1]["quick"][0]
-    runs = [dict(_run("auglag", s["K"], AUGMENT, "nodal", level), args=args) for _, args in REDUCTIONS[scene]]
+    keys = r0["figures"]
     rows = []
-    for (label, _), cfg in zip(REDUCTIONS[scene], runs):
-        folder = out / scene / ("reduction_" + "".join(c if c.isalnum() else "-" for c in label))
+    for label, args in r0["variants"]:
+        cfg = dict(_run(r0["method"], s["K"], r0["augment"], r0["quadrature"], level), args=[*r0["args"], *args])
+        folder = out / scene / ("reduction_" + "".join(c if c.isalnum() else "-" for c in label.split(": ")[1])[:60])
         # the fastest of `repeats` runs: single timings on a shared machine are too noisy to subtract
-        row = min((run_one(scene, cfg, folder, timeout) for _ in range(repeats)), key=lambda r: r["wall_time_s"])
+        row = min((run_one(scene, cfg, folder, timeout) for _ in range(r0["repeats"])), key=lambda r: r["wall_time_s"])
         rows.append({"variant": label, **row})
         if not quiet:
-            _say(f"[{scene} reduction] {label:30s} converged {row['converged']!s:5s} error {row['error']:.3e}")
-    keys = [s["value"], *[k for k in s.get("figures", []) if k != s["value"] and not k.endswith("_error")]]
+            _say(f"[{scene} reduction] {label[:60]:60s} converged {row['converged']!s:5s} error {row['error']:.3e}")
     base = rows[0]
-    lines = [f"| variant | dofs | {' | '.join(keys)} | {s['error']} | difference of {' / '.join(keys)} from the "
-             f"reduced model | solver time [s] | time saved by the reduced model |",
-             "|" + "---|" * (len(keys) + 6)]
-    table = []
+    lines, table = [], []
     for r in rows:
         diff = [abs(r[k] - base[k]) / abs(base[k]) for k in keys]
         saved = 1 - base["wall_time_s"] / r["wall_time_s"]
         table.append({"variant": r["variant"], "dofs": r["dofs"], **{k: r[k] for k in keys}, "error": r["error"],
                       **{f"diff_{k}": d for k, d in zip(keys, diff)}, "wall_time_s": r["wall_time_s"],
-                      "time_saved": saved, "converged": r["converged"]})
+                      "time_saved": saved, "converged": r["converged"],
+                      "newton_iterations": r["newton_iterations"]})
         lines.append(f"| {r['variant']} | {r['dofs']} | " + " | ".join(f"{r[k]:.5g}" for k in keys)
                      + f" | {r['error']:.3%} | " + " / ".join(f"{d:.2%}" for d in diff)
-                     + f" | {r['wall_time_s']:.3f} | {'-' if r is base else f'{saved:.0%}'} |")
-    lines += [f"| {n} | | " + " | " * (len(keys) + 3) + "|" for n in NOT_CHECKED.get(scene, [])]
+                     + f" | {r['wall_time_s']:.3f} | {'-' if r is base else f'{saved:.0%}'} |"
+                     + ("" if r["converged"] else " (did not converge)"))
     text = "\n".join(lines) + "\n"
     with open(out / f"{scene}_reduction.csv", "w", newline="") as f:
         w = csv.DictWriter(f, list(table[0]))
         w.writeheader()
         w.writerows(table)
-    (out / f"{scene}_reduction.md").write_text(text)
+    (out / f"{scene}_reduction.md").write_text("\n".join(REDUCTION_HEADER) + "\n" + text)
     return text
 
 
@@ -371,8 +437,9 @@ def write_rows(rows: Sequence[dict], csv_path: Path, json_path: Path) -> None:
 
 def read_rows(csv_path: str | Path) -> list[dict]:
     """The rows of a ``<scene>.csv`` with their types back."""
-    ints = {"augment", "dofs", "newton_iterations", "linear_iterations", "augmentations", "cutbacks", "snes_reason"}
-    texts = {"scene", "method", "quadrature", "label"}
+    ints = {"augment", "dofs", "newton_iterations", "linear_iterations", "augmentations", "cutbacks", "snes_reason",
+            "stalled_solves"}
+    texts = {"scene", "method", "quadrature", "label", "failure_kind", "status"}
     rows = []
     with open(csv_path, newline="") as f:
         for r in csv.DictReader(f):
@@ -623,33 +690,53 @@ def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> 
     fig.savefig(path, dpi=100)
 
 
+KIND_SHORT = {"linear_solve": "lin", "ill_conditioning": "ill", "divergence": "div", "cycling": "cyc",
+              "stagnation": "stag", "max_iterations": "maxit", "exit": "exit"}
+
+
 def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
-    """Heat map per method variant: Newton iterations over (parameter, load steps); a cross marks a
-    failed run, ``c<n>`` the number of step cutbacks the run needed, ``(k)`` the Krylov iterations per
-    Newton iteration (iterative solver: grows with the conditioning)."""
+    """Heat map per method variant: Newton iterations (colour) over (parameter, load steps). A failed run is a
+    red ``x`` with its kind (``cyc`` cycling, ``ill`` ill-conditioning, ``lin`` linear solve, ``stag``, ``div``,
+    ``maxit``); ``ill`` in orange on a converged cell: ill-conditioned (a solve stalled at round-off, or the
+    condition estimate above 1e12); ``c<n>``: step cutbacks; ``(k)``: Krylov iterations per Newton iteration
+    (iterative solver: grows with the conditioning); ``k<x>``: log10 of the condition estimate (direct
+    solver); ``e<x>``: log10 of the distance from the augmentation limit (``limit_gap``)."""
     from matplotlib.colors import LogNorm
 
     variants = list(dict.fromkeys(_variant(r) for r in rows))
-    fig, axes = _figure(len(variants), width=3.2 * len(variants) + 1.0)
+    fig, axes = _figure(len(variants), width=3.0 * len(variants) + 1.0)
+    fig.set_figheight(5.8)
     axes = np.atleast_1d(axes)
     its = [r["newton_iterations"] for r in rows if r["newton_iterations"] > 0]
     norm = LogNorm(vmin=max(min(its, default=1), 1), vmax=max(its, default=10))
     image = None
+    steps = sorted({r["steps"] for r in rows}, key=lambda n: n or 1)  # the same rows in every panel (shared y)
     for ax, variant in zip(axes, variants):
         rs = [r for r in rows if _variant(r) == variant]
         params = sorted({r["K"] for r in rs})
-        steps = sorted({r["steps"] for r in rs})
         grid = np.full((len(steps), len(params)), np.nan)
         for r in rs:
             i, j = steps.index(r["steps"]), params.index(r["K"])
+            st = status(r)
             if r["converged"]:
                 grid[i, j] = r["newton_iterations"]
-            label = f"{r['newton_iterations']}" + (f"\nc{r['cutbacks']}" if r["cutbacks"] else "")
-            if r.get("linear_iterations", 0) > r["newton_iterations"] > 0:  # iterative: Krylov its per Newton
-                label += f"\n({r['linear_iterations'] / r['newton_iterations']:.0f})"
-            ax.text(j, i, label if r["converged"] else "x", ha="center", va="center", fontsize=8,
-                    color="black" if r["converged"] else "red")
-        image = ax.imshow(np.ma.masked_invalid(grid), cmap="viridis", norm=norm, origin="lower", aspect="auto")
+                label = [f"{r['newton_iterations']}"] + (["ill"] if st == "ill_conditioned" else [])
+                label += [f"c{r['cutbacks']}"] if r["cutbacks"] else []
+                if r.get("linear_iterations", 0) > r["newton_iterations"] > 0:  # iterative: Krylov per Newton
+                    label.append(f"({r['linear_iterations'] / r['newton_iterations']:.0f})")
+                cond = r.get("condition_estimate", float("nan"))
+                if cond and not math.isnan(cond):
+                    label.append(f"k{math.log10(cond):.0f}")
+                gap = r.get("limit_gap", float("nan"))
+                if not math.isnan(gap):
+                    label.append("e0" if gap == 0 else f"e{math.floor(math.log10(gap))}")
+                colour = "darkorange" if st == "ill_conditioned" else "black"
+            else:
+                label, colour = ["x", KIND_SHORT.get(st[8:], st[8:])], "red"
+            ax.text(j, i, "\n".join(label), ha="center", va="center", fontsize=6.5, color=colour,
+                    fontweight="bold" if colour != "black" else "normal")
+        image = ax.imshow(np.ma.masked_invalid(grid), cmap="viridis", norm=norm, origin="lower", aspect="auto",
+                          alpha=0.75)
         ax.set_xticks(range(len(params)), [f"{p:.0e}" if p >= 1e3 else f"{p:g}" for p in params], rotation=45,
                       fontsize=7)
         ax.set_yticks(range(len(steps)), [str(n) for n in steps])
@@ -658,7 +745,41 @@ def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> N
     axes[0].set_ylabel("load steps")
     if image is not None:
         fig.colorbar(image, ax=list(axes), label="Newton iterations")
-    fig.suptitle(title, fontsize=10)
+    fig.suptitle(title, fontsize=9)
+    fig.savefig(path, dpi=100)
+
+
+def plot_stability_accuracy(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
+    """The stability map's runs with the fewest load steps: distance from the augmentation limit against K,
+    one line per K-based method variant (Nitsche and the divergence-test control left out). Filled: converged;
+    orange ring: ill-conditioned (stalled at round-off or condition estimate > 1e12); red x at the top:
+    failed. It shows which K each method needs for an accuracy, and whether it still converges there."""
+    fig, ax = _figure()
+    rows = [r for r in rows if r["method"] != "nitsche" and r.get("label") != DTOL]
+    fewest = min((r["steps"] or 1 for r in rows), default=1)
+    rows = [r for r in rows if (r["steps"] or 1) == fewest]
+    gaps = [r["limit_gap"] for r in rows if r["converged"] and not math.isnan(r.get("limit_gap", float("nan")))]
+    top = max(gaps, default=1.0) * 10
+    for k, variant in enumerate(dict.fromkeys(_variant(r) for r in rows)):
+        rs = sorted((r for r in rows if _variant(r) == variant), key=lambda r: r["K"])
+        c, m = _colour(variant.split()[0]), "os^Dv"[k % 5]
+        ok = [r for r in rs if r["converged"] and not math.isnan(r.get("limit_gap", float("nan")))]
+        ax.plot([r["K"] for r in ok], [max(r["limit_gap"], ERROR_FLOOR) for r in ok], color=c, marker=m, ms=7,
+                ls="-" if "augmented" in variant else "--", label=variant, alpha=0.85)
+        ill = [r for r in ok if status(r) == "ill_conditioned"]
+        ax.plot([r["K"] for r in ill], [max(r["limit_gap"], ERROR_FLOOR) for r in ill], ls="", marker="o", ms=14,
+                mfc="none", mec="darkorange", mew=2)
+        bad = [r for r in rs if not r["converged"]]
+        ax.plot([r["K"] for r in bad], [top * 3.0**k] * len(bad), ls="", marker="x", color=c, ms=10, mew=2)
+    ax.plot([], [], ls="", marker="o", ms=14, mfc="none", mec="darkorange", mew=2, label="ill-conditioned")
+    ax.plot([], [], ls="", marker="x", color="grey", ms=10, mew=2, label="failed (drawn at the top)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("K (penalty, auglag; cross: K_hat) [pressure / length]")
+    ax.set_ylabel(f"distance from the augmentation limit [-] (below {ERROR_FLOOR:g} drawn at {ERROR_FLOOR:g})")
+    ax.set_title(title + f" ({fewest} load step{'s' * (fewest > 1)})", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
     fig.savefig(path, dpi=100)
 
 
@@ -688,7 +809,8 @@ def run_scene(scene: str, argv: Sequence[str]) -> None:
             raise ValueError(f"--steps must be >= 1, got {args.steps}")
         setup.loads = [setup.loads[-1] * (k + 1) / args.steps for k in range(args.steps)]
     run(setup, args.out, args.method, cli.method_parameters(args), args.augment or 0, args.augment_tol, args.quiet,
-        options=s.get("options"), max_cutbacks=s.get("max_cutbacks", 4), predictor=s.get("predictor", False),
+        options={**cli.solver_options(args), **(s.get("options") or {})}, max_cutbacks=s.get("max_cutbacks", 4),
+        predictor=s.get("predictor", False),
         xdmf=not args.no_xdmf)
 
 
@@ -712,14 +834,17 @@ def main(argv: Sequence[str] | None = None) -> None:
         spec(scene)  # a clear error before anything runs
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    reduced: dict[str, str] = {}  # model-reduction rows per scene, one table at the end
     for scene in scenes:
         start = time.perf_counter()
         s = spec(scene)
         if args.charts_only:
             _say(report(scene, read_rows(out / f"{scene}.csv"), out))
             if s.get("stability") and (out / f"{scene}_stability.csv").exists():
-                plot_stability(read_rows(out / f"{scene}_stability.csv"), out / f"{scene}_stability.png",
-                               title=f"{scene}: Newton iterations (all steps and augmentations); x = failed")
+                st = read_rows(out / f"{scene}_stability.csv")
+                plot_stability(st, out / f"{scene}_stability.png", title=STABILITY_TITLE.format(scene=scene))
+                plot_stability_accuracy(st, out / f"{scene}_stability_accuracy.png",
+                                        title=f"{scene}: the K each method needs, and whether it converges there")
             continue
         rows = bench(scene, out, sweep(scene, args.quick), quiet=args.quiet, timeout=args.timeout)
         failed = sum(not r["converged"] for r in rows)
@@ -732,8 +857,12 @@ def main(argv: Sequence[str] | None = None) -> None:
             _say(f"{scene} stability map: {len(rows)} runs, {sum(not r['converged'] for r in rows)} failed -> "
                  f"{out / scene}_stability.csv, {scene}_stability.png")
         if s.get("reduction") and not args.no_reduction and scene in REDUCTIONS:
-            _say(f"{scene} model reduction:\n" + reduction(scene, out, quiet=args.quiet))
+            reduced[scene] = reduction(scene, out, quiet=args.quiet)
+            _say(f"{scene} model reduction:\n" + reduced[scene])
         _say(f"{scene}: done in {time.perf_counter() - start:.1f} s")
+    if reduced:
+        (out / "model_reduction.md").write_text("\n".join(REDUCTION_HEADER) + "\n" + "".join(reduced.values()))
+        _say(f"model reduction -> {out / 'model_reduction.md'}")
 
 
 if __name__ == "__main__":

@@ -28,6 +28,13 @@ in this order of precedence:
     (at least 6 iterations).
 ``max_iterations``
     none of the above: still converging, too slowly for the iteration limit.
+
+PETSc's own divergence test (``DIVERGED_DTOL``) is off in the solver's defaults: a penalty-like law's
+first iterate overshoots by ~K/E and Newton then converges. A solve that SNES *accepts* on the step
+length alone with its residual above tolerance is :func:`stalled` (the round-off floor of the linear
+solves); the solver then estimates the condition of the Jacobian and fails the solve as
+``ill_conditioning`` above ``ILL_CONDITIONED`` (e.g. a free rigid mode), else accepts it and records
+it as stalled.
 """
 from __future__ import annotations
 
@@ -135,6 +142,15 @@ def classify(snes_reason: str, ksp_reason: str, residuals: Sequence[float], sets
         if np.min(r[half:]) > 0.1 * np.min(r[:half]):
             return {"kind": "stagnation", **out}
     return {"kind": "max_iterations", **out}
+
+
+def stalled(snes_reason: str, residuals: Sequence[float], rtol: float, atol: float) -> bool:
+    """True if SNES accepted a solve on the step length alone (``CONVERGED_SNORM_RELATIVE``) while its last
+    residual is above both ``atol`` and ``rtol`` times the first: Newton stopped moving at the round-off
+    floor of the linear solves (``~ eps x cond x |r|``), i.e. an ill-conditioned Jacobian, not a solution
+    to the asked tolerance."""
+    r = np.asarray(residuals, dtype=float)
+    return snes_reason == "CONVERGED_SNORM_RELATIVE" and len(r) > 1 and bool(r[-1] > max(atol, rtol * r[0]))
 
 
 def reason_name(enum: type, code: int) -> str:

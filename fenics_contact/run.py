@@ -60,6 +60,7 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
                "linear_solve_floor_s": floor, "ratio_to_linear_solve": wall / floor, "memory_peak_mb": memory,
                "newton_iterations": record["newton_iterations"], "augmentations": record["augmentations"],
                "linear_iterations": record["linear_iterations"],
+               **{k: record[k] for k in ("stalled_solves", "residual_final", "condition_estimate")},
                "load_steps": record["load_steps"], "converged": record["converged"] and error is None,
                "error": error, "failure": record["failure"], "failures": record["failures"],
                **(setup.figures() if solver.records and solver.t > 0 else {}),

@@ -32,6 +32,11 @@ DEFAULT_OPTIONS = {
     "snes_atol": 1e-10,
     "snes_stol": 1e-14,
     "snes_max_it": 30,
+    # PETSc's divergence test (stop when the residual exceeds 1e4 x the first) is off: a penalty-like law's
+    # first iterate penetrates by the whole approach, so its residual jumps by ~K/E and then falls
+    # quadratically (hertz K = 1e14: 5.1 -> 5.0e7 -> 8.9e6 -> 3.7e-9). Real failures are named by failure.classify.
+    # "Off" as a huge factor: -1 means off in PETSc 3.17 (Debian 12) but "the default, 1e4" in 3.22 (Debian 13).
+    "snes_divergence_tolerance": 1e300,
     "ksp_type": "preonly",
     "pc_type": "lu",
     "pc_factor_mat_solver_type": "mumps",
@@ -107,6 +112,9 @@ class StepRecord:
     failure: dict | None = None  # why the last solve failed (failure.classify), with step, load, augmentation
     message: str = ""  # why a step failed, from a surface that solves the step itself
     predictor_scale: float | None = None  # the tangent predictor's scale s (Solver._tangent_predictor)
+    # solves that SNES accepted on the step length alone, their residual above rtol and atol: Newton stalled at
+    # the round-off floor of an ill-conditioned Jacobian (failure.stalled)
+    stalled: list[int] = field(default_factory=list)
 
     @property
     def newton_iterations(self) -> int:
@@ -118,7 +126,7 @@ class StepRecord:
                 "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
                 "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s,
                 "closed_points": self.closed_points, "failure": self.failure, "message": self.message,
-                "predictor_scale": self.predictor_scale}
+                "predictor_scale": self.predictor_scale, "stalled": self.stalled}
 
 
 class Solver:
@@ -329,7 +337,17 @@ class Solver:
             rec.residuals.append(self._history)
             rec.closed_points.append(self._closed)
             rec.message = self._message
-            if rec.reason <= 0:
+            # Accepted on the step length with the residual above tolerance: the round-off floor of the linear
+            # solves. On a Jacobian whose condition estimate exceeds failure.ILL_CONDITIONED (direct solvers) the
+            # step is then garbage (singular: a free rigid mode) and the solve fails as ill_conditioning;
+            # otherwise it is accepted and recorded in ``stalled``.
+            ill = False
+            if rec.reason > 0 and _failure.stalled(_failure.reason_name(PETSc.SNES.ConvergedReason, rec.reason),
+                                                   self._history, *self.snes.getTolerances()[:2]):
+                rec.stalled.append(rec.augmentations)
+                condition = self.condition_estimate()
+                ill = condition is not None and condition > _failure.ILL_CONDITIONED
+            if rec.reason <= 0 or ill:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                **self._diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
                 break
@@ -427,6 +445,11 @@ class Solver:
         return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
                                  self._history, self._sets, self._closed, condition)
 
+    def condition_estimate(self) -> float | None:
+        """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,
+        else None). Collective."""
+        return _failure.condition_estimate(self._A, self.snes.getKSP())
+
     def run(self, loads: Sequence[float]) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
         if self.predictor and not self._converged:
@@ -505,9 +528,14 @@ class Solver:
                  "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
                  "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"],
                  "predictor_s": t["predictor_s"]}
-        return {"time_split": split,"newton_iterations": sum(r.newton_iterations for r in done),
+        # -fc_condition_estimate: also the condition estimate of the last Jacobian (benchmarks' stability map)
+        condition = self.condition_estimate() if PETSc.Options().getBool(self._prefix + "condition_estimate",
+                                                                         False) else None
+        return {"time_split": split, "newton_iterations": sum(r.newton_iterations for r in done),
                 "augmentations": sum(r.augmentations for r in done), "linear_iterations": self.linear_iterations,
-                "load_steps": len(done),
+                "load_steps": len(done), "stalled_solves": sum(len(r.stalled) for r in done),
+                "residual_final": done[-1].residuals[-1][-1] if done and done[-1].residuals[-1] else None,
+                "condition_estimate": condition,
                 "converged": bool(self.records) and all(r.converged for r in self.records),
                 "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,
                 "failures": self.failures,

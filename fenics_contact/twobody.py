@@ -745,10 +745,11 @@ class TwoBodySurface(ContactSurface):
         order = first[np.lexsort(Xr[first].T[::-1])]
         return tuple(a[order] for a in data)
 
-    def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Current position, gap and pressure at the slave points (:meth:`point_table` without the
-        reference position)."""
-        return self.point_table()[1:]
+    def point_values(self, reference: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Current position (``reference=True``: reference position), gap and pressure at the slave points
+        (:meth:`point_table` without the other position)."""
+        X, x, g, p = self.point_table()
+        return (X if reference else x), g, p
 
     def reference_points(self) -> np.ndarray:
         """Reference positions of all slave points (every rank's, on every rank)."""

@@ -62,7 +62,9 @@ def test_scene_specs_and_commands(tmp_path):
     assert [vi[i + 1] for i, a in enumerate(vi) if a == "--solver"] == ["iterative", "direct"]
     grid = bench.stability_sweep("hertz", quick=True)
     assert {r["steps"] for r in grid} == {1, 4} and len({r["K"] for r in grid if r["method"] == "penalty"}) == 5
-    assert sum(r.get("label") == bench.NO_DIVTOL for r in grid) == 10
+    assert sum(r.get("label") == bench.DTOL for r in grid) == 5  # the fewest load steps only
+    assert all("-fc_condition_estimate" in r["args"] for r in grid)
+    assert {r.get("label") for r in grid if r["F_hat"] > 0} == {"cross F^ = 1 augmented"}
     with pytest.raises(ValueError, match="scene"):
         bench.spec("nosuchscene")
 
@@ -115,3 +117,38 @@ def test_slab_error_from_the_exact_coulomb_reference(tmp_path):
     assert all(r["converged"] for r in (exact, coarse, fine))
     assert exact["error"] == 0.0
     assert 1e-4 < coarse["error"] < 1e-2 and 5 < coarse["error"] / fine["error"] < 20
+
+
+def test_stability_harness_classifies_the_ring(tmp_path):
+    """A tiny stability sweep on the ring (450 dofs): the harness tells a converged run, an ill-conditioned one
+    (penalty K = 1e12: Newton stalls at the round-off floor and SNES accepts it on the step length), failed
+    ones with their kind (K = 1e16: ill-conditioning; penalty with augmentation: cycling), and PETSc's
+    divergence test stopping penalty's
+    first overshoot at K = 1e8 (the same run converges without it); the distance from the augmentation limit
+    falls like 1/K for penalty."""
+    out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
+    cond = ["-fc_condition_estimate"]
+    runs = [dict(bench._run("auglag", 1e5, 10, steps=1), args=cond),
+            dict(bench._run("penalty", 1e5, 0, steps=1), args=cond),
+            dict(bench._run("penalty", 1e12, 0, steps=1), args=cond),
+            dict(bench._run("penalty", 1e16, 0, steps=1), args=cond),
+            dict(bench._run("penalty", 1e5, 10, steps=1), args=cond),
+            dict(bench._run("penalty", 1e8, 0, steps=1), label=bench.DTOL,
+                 args=["-fc_snes_divergence_tolerance", "1e4"]),
+            dict(bench._run("penalty", 1e8, 0, steps=1), args=cond)]
+    rows = bench.run_all("ring", out, runs, quiet=True, timeout=300)
+    bench.add_stability_limit(rows, "ring")
+    auglag, p5, p12, p16, augmented, dtol, p8 = rows
+    assert [r["status"] for r in rows] == ["converged", "converged", "ill_conditioned",
+                                            "failed: ill_conditioning", "failed: cycling", "failed: divergence",
+                                            "converged"]
+    # K = 1e12: accepted on the step length above tolerance; K = 1e16: the same on a Jacobian with a condition
+    # estimate above 1e12, a failure
+    assert p12["stalled_solves"] >= 1 and p12["residual_final"] > 1e-10 and p12["condition_estimate"] < 1e12
+    # the condition estimate grows like K (direct solver: power and inverse iteration)
+    assert 300 < p8["condition_estimate"] / p5["condition_estimate"] < 3000
+    assert auglag["limit_gap"] == 0.0 and 300 < p5["limit_gap"] / p8["limit_gap"] < 3000
+    text = bench.stability_summary(rows)
+    assert "| penalty augmented | K | - | - | 1e+05 (cycling) |" in text
+    bench.plot_stability(rows, out / "map.png", title="ring")
+    assert (out / "map.png").stat().st_size > 1000

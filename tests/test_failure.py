@@ -10,7 +10,7 @@ from mpi4py import MPI
 
 from fenics_contact.compat import function_space
 from fenics_contact.contact import ContactSurface
-from fenics_contact.failure import classify, find_cycle, fingerprint
+from fenics_contact.failure import classify, find_cycle, fingerprint, stalled
 from fenics_contact.laws import Penalty
 from fenics_contact.materials import LinearElastic
 from fenics_contact.meshes import BOTTOM, RECT_TOP, rectangle
@@ -40,6 +40,14 @@ def test_classify_synthetic_histories():
     assert c["kind"] == "cycling" and c["period"] == 2 and c["closed_points_in_cycle"] == [2, 1]
     assert classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_ITS", [1.0], [], [])["kind"] == "linear_solve"
     assert classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_PCSETUP_FAILED", [1.0], [], [])["kind"] == "ill_conditioning"
+
+
+def test_stalled_at_the_round_off_floor():
+    # accepted on the step length with the residual still above rtol x first and atol: stalled
+    assert stalled("CONVERGED_SNORM_RELATIVE", [2.5e3, 3e7, 56.0, 2.0, 9.0e-8, 9.0e-8], 1e-11, 1e-10)
+    assert not stalled("CONVERGED_SNORM_RELATIVE", [2.5e3, 3e7, 56.0, 2.0, 1e-12, 1e-12], 1e-11, 1e-10)
+    assert not stalled("CONVERGED_FNORM_ABS", [2.5e3, 9.0e-8], 1e-11, 1e-10)  # met an asked tolerance
+    assert not stalled("CONVERGED_SNORM_RELATIVE", [1.0], 1e-11, 1e-10)
 
 
 def test_fingerprint_is_global(comm):

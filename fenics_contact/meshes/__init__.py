@@ -24,6 +24,7 @@ from .sphere import sphere_octant  # noqa: F401
 from .tags import (  # noqa: F401
     BOTTOM,
     CONTACT,
+    CONTACT_UPPER,
     CYLINDER_DOMAIN,
     CYLINDER_FIXED,
     CYLINDER_SURFACE,
@@ -33,6 +34,10 @@ from .tags import (  # noqa: F401
     HERTZ_FACETS,
     LEFT,
     PIN_FACETS,
+    PLATE,
+    PLATE_BOTTOM,
+    PLATE_SYMMETRY,
+    PLATE_TOP,
     RECT_TOP,
     RECTANGLE_FACETS,
     RIGHT,

@@ -12,7 +12,7 @@ if TYPE_CHECKING:
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
 from .gmshutil import _from_gmsh, _grade_toward
-from .tags import CONTACT, DOMAIN, SYMMETRY, TOP
+from .tags import CONTACT, CONTACT_UPPER, DOMAIN, PLATE, PLATE_BOTTOM, PLATE_SYMMETRY, PLATE_TOP, SYMMETRY, TOP
 
 
 def hertz_quarter_disk(
@@ -22,6 +22,8 @@ def hertz_quarter_disk(
     h_far: float | None = None,
     contact_width: float | None = None,
     half: bool = False,
+    full: bool = False,
+    plate: tuple[float, float] | None = None,
 ) -> tuple[Mesh, MeshTags, MeshTags]:
     """Lower-right quarter (x >= 0, y <= R) of the disk of radius R centred at (0, R).
 
@@ -32,6 +34,11 @@ def hertz_quarter_disk(
     cell tag DOMAIN. Initialises and finalises gmsh (on every rank).
     ``half=True``: the lower half disk ``y <= R`` instead (CONTACT: the arc from
     (-R, R) to (R, R); no SYMMETRY facets), for the model-reduction check.
+    ``full=True``: the whole disk (CONTACT: the lower half of the circle, CONTACT_UPPER: the upper half,
+    graded toward both poles; the centre (0, R) and the poles are vertices; no SYMMETRY or TOP facets).
+    ``plate=(width, depth)``: the quarter disk and, in the same mesh (no shared node), the plate
+    ``[0, width] x [-depth, 0]`` (cell tag PLATE, facets PLATE_TOP, PLATE_BOTTOM, PLATE_SYMMETRY at x = 0),
+    graded toward (0, 0) like the disk.
 
     Returns:
         ``(mesh, cell_tags, facet_tags)``.
@@ -47,20 +54,33 @@ def hertz_quarter_disk(
         raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
 
     mesh, cell_tags, facet_tags = _from_gmsh(
-        comm, lambda: _build_quarter_disk(R, h_contact, h_far, contact_width, half), "the quarter disk")
+        comm, lambda: _build_quarter_disk(R, h_contact, h_far, contact_width, half, full, plate), "the quarter disk")
     mesh.name = "hertz_quarter_disk"
     return mesh, cell_tags, facet_tags
 
 
-def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width: float, half: bool = False) -> None:
-    """Build and mesh the quarter-disk (or half-disk) model in the current gmsh session."""
+def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width: float, half: bool = False,
+                        full: bool = False, plate: tuple[float, float] | None = None) -> None:
+    """Build and mesh the quarter-disk (or half-disk, full disk, quarter disk on a plate) model in the
+    current gmsh session."""
     gmsh.model.add("hertz_quarter_disk")
     geo = gmsh.model.geo
     origin = geo.addPoint(0.0, 0.0, 0.0)
     centre = geo.addPoint(0.0, R, 0.0)
     corner = geo.addPoint(R, R, 0.0)
     arc = geo.addCircleArc(origin, centre, corner)
-    if half:
+    poles = [origin]
+    if full:
+        left, pole = geo.addPoint(-R, R, 0.0), geo.addPoint(0.0, 2 * R, 0.0)
+        lower = [geo.addCircleArc(left, centre, origin), arc]
+        upper = [geo.addCircleArc(corner, centre, pole), geo.addCircleArc(pole, centre, left)]
+        surface = geo.addPlaneSurface([geo.addCurveLoop([*lower, *upper])])
+        geo.synchronize()
+        gmsh.model.mesh.embed(0, [centre], 2, surface)
+        gmsh.model.addPhysicalGroup(1, lower, CONTACT)
+        gmsh.model.addPhysicalGroup(1, upper, CONTACT_UPPER)
+        poles.append(pole)
+    elif half:
         left = geo.addPoint(-R, R, 0.0)
         arcs = [geo.addCircleArc(left, centre, origin), arc]
         top = [geo.addLine(corner, centre), geo.addLine(centre, left)]
@@ -76,9 +96,21 @@ def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width:
         gmsh.model.addPhysicalGroup(1, [arc], CONTACT)
         gmsh.model.addPhysicalGroup(1, [symmetry], SYMMETRY)
         gmsh.model.addPhysicalGroup(1, [top], TOP)
+    if plate is not None:  # its own corner points: the plate shares no node with the disk
+        width, depth = plate
+        p = [geo.addPoint(0.0, 0.0, 0.0), geo.addPoint(width, 0.0, 0.0), geo.addPoint(width, -depth, 0.0),
+             geo.addPoint(0.0, -depth, 0.0)]
+        lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]  # top, right, bottom, symmetry
+        block = geo.addPlaneSurface([geo.addCurveLoop(lines)])
+        geo.synchronize()
+        gmsh.model.addPhysicalGroup(1, [lines[0]], PLATE_TOP)
+        gmsh.model.addPhysicalGroup(1, [lines[2]], PLATE_BOTTOM)
+        gmsh.model.addPhysicalGroup(1, [lines[3]], PLATE_SYMMETRY)
+        gmsh.model.addPhysicalGroup(2, [block], PLATE)
+        poles.append(p[0])
     gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
 
     distance = gmsh.model.mesh.field.add("Distance")
-    gmsh.model.mesh.field.setNumbers(distance, "PointsList", [origin])
+    gmsh.model.mesh.field.setNumbers(distance, "PointsList", poles)
     _grade_toward(distance, h_contact, h_far, contact_width)
     gmsh.model.mesh.generate(2)

@@ -18,6 +18,10 @@ END = 4
 CYLINDER_SURFACE = 5
 CYLINDER_FIXED = 6
 CYLINDER_DOMAIN = 2
+# Extra tags of the hertz model-reduction meshes: the full disk's upper contact arc; the meshed plate's
+# top (contact), bottom (fixed) and symmetry side, and the plate's cell tag.
+CONTACT_UPPER = 5
+PLATE_TOP, PLATE_BOTTOM, PLATE_SYMMETRY, PLATE = 6, 7, 8, 2
 # Name -> tag maps, e.g. for ``check_tags``.
 HERTZ_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP}
 PIN_FACETS = {"contact": CONTACT, "symmetry": SYMMETRY, "top": TOP, "free": FREE}

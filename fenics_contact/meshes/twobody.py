@@ -113,25 +113,28 @@ DISKS_FACETS = {"symmetry": DISK_SYMMETRY, "lower_bottom": LOWER_ARC_BOTTOM, "lo
 
 
 def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: float, h_far: float,
-                   contact_width: float, overlap: float = 0.0, grading: float = _GRADING
+                   contact_width: float, overlap: float = 0.0, grading: float = _GRADING, full: bool = False
                    ) -> tuple[Mesh, MeshTags, MeshTags]:
     """Right halves (x >= 0) of two disks stacked on the y axis, in one mesh without shared nodes: the lower
     disk centred at ``(0, R_lower)``, the upper at ``(0, 2 R_lower + R_upper - overlap)``. P1 triangles of
     size ``h_contact`` within ``contact_width`` of the four points on the y axis where the disks touch each
     other and the plates, growing by ``grading`` per unit distance up to ``h_far``. Facet tags: DISKS_FACETS
-    (each arc split at its widest point into a bottom and a top quarter). Collective."""
+    (each arc split at its widest point into a bottom and a top quarter). Collective.
+    ``full=True``: the whole disks (model-reduction check): ``*_ARC_BOTTOM`` / ``*_ARC_TOP`` are the lower /
+    upper half circles, no DISK_SYMMETRY facets; the poles are vertices."""
     for name, v in (("R_lower", R_lower), ("R_upper", R_upper), ("h_contact", h_contact), ("h_far", h_far),
                     ("contact_width", contact_width)):
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
     mesh, cell_tags, facet_tags = _from_gmsh(
-        comm, lambda: _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading),
+        comm, lambda: _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading,
+                                            full),
         "the two half disks")
     mesh.name = "two_half_disks"
     return mesh, cell_tags, facet_tags
 
 
-def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading):
+def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading, full=False):
     gmsh.model.add("two_half_disks")
     geo = gmsh.model.geo
     touch = []
@@ -144,17 +147,26 @@ def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading):
         top = geo.addPoint(0.0, cy + R, 0.0)
         a1 = geo.addCircleArc(bottom, centre, side)
         a2 = geo.addCircleArc(side, centre, top)
-        s1 = geo.addLine(top, centre)
-        s2 = geo.addLine(centre, bottom)
-        surfaces.append(geo.addPlaneSurface([geo.addCurveLoop([a1, a2, s1, s2])]))
+        if full:  # the left half circle too: bottom arcs [a0, a1], top arcs [a2, a3]
+            left = geo.addPoint(-R, cy, 0.0)
+            a3 = geo.addCircleArc(top, centre, left)
+            a0 = geo.addCircleArc(left, centre, bottom)
+            surfaces.append(geo.addPlaneSurface([geo.addCurveLoop([a0, a1, a2, a3])]))
+            bottoms, tops = [a0, a1], [a2, a3]
+        else:
+            s1 = geo.addLine(top, centre)
+            s2 = geo.addLine(centre, bottom)
+            surfaces.append(geo.addPlaneSurface([geo.addCurveLoop([a1, a2, s1, s2])]))
+            bottoms, tops = [a1], [a2]
+            tags[DISK_SYMMETRY] += [s1, s2]
         lower = len(surfaces) == 1
-        tags[LOWER_ARC_BOTTOM if lower else UPPER_ARC_BOTTOM].append(a1)
-        tags[LOWER_ARC_TOP if lower else UPPER_ARC_TOP].append(a2)
-        tags[DISK_SYMMETRY] += [s1, s2]
+        tags[LOWER_ARC_BOTTOM if lower else UPPER_ARC_BOTTOM] += bottoms
+        tags[LOWER_ARC_TOP if lower else UPPER_ARC_TOP] += tops
         touch += [bottom, top]
     geo.synchronize()
     for tag, curves in tags.items():
-        gmsh.model.addPhysicalGroup(1, curves, tag)
+        if curves:
+            gmsh.model.addPhysicalGroup(1, curves, tag)
     gmsh.model.addPhysicalGroup(2, [surfaces[0]], LOWER)
     gmsh.model.addPhysicalGroup(2, [surfaces[1]], UPPER)
     distance = gmsh.model.mesh.field.add("Distance")

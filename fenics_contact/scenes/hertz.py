@@ -8,6 +8,9 @@ uniform ``-t * approach`` (mirror symmetry of the two contacts), the
 horizontal one free. The plate is the rigid half-plane ``y <= 0``. Figures
 are for the whole cylinder: the quarter's force is doubled. The mesh is
 graded toward the contact (gmsh, :func:`fenics_contact.meshes.hertz_quarter_disk`).
+The richer models of the benchmark's model-reduction table are options of :func:`build`: the half disk,
+the full disk between two rigid plates, a meshed stiff plate (two-body contact), neo-Hookean; they give
+the quarter's figures within 0.5 % (``results/bench/model_reduction.md``, README).
 
 Hertz (plane strain, rigid plane, load ``P`` per unit length,
 ``E* = E/(1-nu^2)``): ``a = sqrt(4 P R / (pi E*))``, ``p0 = 2P/(pi a)``.
@@ -22,9 +25,20 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ..bounds import contact_surface
+from ..compat import function_space
 from ..laws import ContactLaw
 from ..materials import MODELS
-from ..meshes import CONTACT, SYMMETRY, TOP, hertz_quarter_disk
+from ..meshes import (
+    CONTACT,
+    CONTACT_UPPER,
+    PLATE,
+    PLATE_BOTTOM,
+    PLATE_SYMMETRY,
+    PLATE_TOP,
+    SYMMETRY,
+    TOP,
+    hertz_quarter_disk,
+)
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
@@ -34,10 +48,14 @@ R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
 DEFAULT_K = 1e6  # penalty scale ~ E / h_contact
 # The benchmark's view of this scene (fenics_contact.bench): figure, sweep, demo options.
-BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.01, "K": DEFAULT_K,
+BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "total_force"], "target": 0.01,
+         "K": DEFAULT_K,
          "mesh": ("refinement", {"quick": [0, 1], "full": [0, 1, 2]}),
          "methods": ["penalty", "cross", "auglag", "nitsche", "vi"], "demo_args": ["--steps", "1"],
-         "stability": True, "reduction": True}
+         "stability": True, "reduction": True,
+         # K up to 1e14 (LU: no failure, but the round-off floor); cross also with F^ = 1 ~ p0 / 11 (the paper's
+         # advice: F^ below the true pressure); the control: penalty with PETSc's divergence test
+         "quick_stability": {"variants": (("penalty", 0), ("cross", 10), ("cross", 10, 1.0), ("auglag", 10))}}
 
 
 def hertz(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:
@@ -63,22 +81,39 @@ def contact_half_width(x: np.ndarray, p: np.ndarray) -> float:
     return float(np.sqrt(np.clip(edge2, x[i] ** 2, x[i + 1] ** 2)))
 
 
+PLATE_STIFFNESS = 1000.0  # the meshed plate's E / the disk's E (model-reduction check)
+PLATE_SIZE = (0.5 * R, 0.25 * R)  # meshed plate: width, depth
+
+
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
-          symmetry: str = "quarter") -> Setup:
+          symmetry: str = "quarter", plate: str = "rigid") -> Setup:
     """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
     ``model``: ``linear`` (default: strains ~1e-3) or ``neohookean`` (the model-reduction check);
-    ``symmetry``: ``quarter`` (default) or ``half`` (the lower half disk, ``u_x = 0`` at the centre
-    only: the same problem without the mirror about ``x = 0``, for the model-reduction check)."""
-    if symmetry not in ("quarter", "half"):
-        raise ValueError(f"hertz symmetry must be 'quarter' or 'half', got {symmetry!r}")
+    ``symmetry``: ``quarter`` (default), ``half`` (the lower half disk, ``u_x = 0`` at the centre
+    only: the same problem without the mirror about ``x = 0``) or ``full`` (the whole disk between the
+    lower plate and an upper rigid plate that moves down by ``2 approach``: no mirror at all; the rigid
+    modes are removed by ``u_x = 0`` at the centre and the upper pole and ``u_y = -approach`` at the
+    centre, point values of the exact symmetric solution, whose reaction ``centre_reaction`` measures
+    how far the two contacts are from balance); ``plate``: ``rigid`` (the analytic half-plane, default)
+    or ``meshed`` (quarter only: a plate ``PLATE_SIZE`` of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
+    in the same mesh, in two-body contact, one pass, the disk's arc the slave). The last three are the
+    model-reduction checks."""
+    if symmetry not in ("quarter", "half", "full"):
+        raise ValueError(f"hertz symmetry must be 'quarter', 'half' or 'full', got {symmetry!r}")
+    if plate not in ("rigid", "meshed"):
+        raise ValueError(f"hertz plate must be 'rigid' or 'meshed', got {plate!r}")
+    if plate == "meshed" and symmetry != "quarter":
+        raise ValueError(f"hertz plate 'meshed' needs symmetry 'quarter', got {symmetry!r}")
     h = R / 400 / 2**refinement
-    mesh, _, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R,
-                                             half=symmetry == "half")
+    mesh, cell_tags, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R,
+                                                     half=symmetry == "half", full=symmetry == "full",
+                                                     plate=PLATE_SIZE if plate == "meshed" else None)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
+    copies = 1
     if symmetry == "quarter":
         fix_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
         copies = 2  # the figures are for the whole contact: the quarter carries half of it
@@ -86,26 +121,69 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         mesh.topology.create_connectivity(0, mesh.topology.dim)
         centre = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], R))
         fix_x = fem.locate_dofs_topological(V.sub(0), 0, centre)
-        copies = 1
     dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), fix_x)]
     material = MODELS[model](E, NU)
-    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
-                              material=material)
-    problem = ContactProblem(u, material, load, dirichlet, [contact])
+    contacts = []
+    if symmetry == "full":  # the rigid modes: u_y at the centre, u_x at the centre and the upper pole
+        pole = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 2 * R))
+        top_y = fem.locate_dofs_topological(V.sub(1), 0, centre)  # its reaction: the imbalance of the contacts
+        dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), fix_x),
+                     Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), 0, pole))]
+        contacts.append(contact_surface(u, facet_tags, CONTACT_UPPER,
+                                        HalfPlane([0.0, 2 * R], [0.0, -1.0], motion=[0.0, -2 * approach]), law_twin(
+                                            law), load, quadrature, material=material, name="upper_plate"))
+    if plate == "meshed":
+        from ..twobody import TwoBodySurface
+
+        # one material, stiffer on the plate's cells: its Lame constants times PLATE_STIFFNESS there
+        Q = function_space(mesh, "DG", 0)
+        factor = fem.Function(Q)
+        factor.x.array[:] = 1.0
+        factor.x.array[cell_tags.indices[cell_tags.values == PLATE]] = PLATE_STIFFNESS
+        material.lmbda, material.mu = material.lmbda * factor, material.mu * factor
+        bottom = facet_tags.indices[facet_tags.values == PLATE_BOTTOM]
+        side = facet_tags.indices[facet_tags.values == PLATE_SYMMETRY]
+        dirichlet += [Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, bottom)),
+                      Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, np.concatenate([bottom, side])))]
+        contact = TwoBodySurface(u, facet_tags, CONTACT, PLATE_TOP, law, load, quadrature, radius=0.1 * R,
+                                 name="plate")
+    else:
+        contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+                                  material=material)
+    contacts.insert(0, contact)
+    problem = ContactProblem(u, material, load, dirichlet, contacts)
 
     def figures() -> dict:
-        x, _, p = contact.surface_values()
+        if plate == "meshed":
+            x, _, p = contact.point_values(reference=True)
+        else:
+            x, _, p = contact.surface_values()
+        lower = x[:, 1] <= R  # the full disk: the lower contact
+        x, p = x[lower], p[lower]
         right = x[:, 0] >= -1e-12 * R  # the half model: the profile from the centre to the right
         P = copies * contact.total_force()[1]
         a_h, p0_h = hertz(P)
         p0, a = float(p.max()), contact_half_width(x[right, 0], p[right])
-        return {"total_force": P, "reaction_top": -copies * problem.reaction(top_y), "p0": p0, "a": a,
-                "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
-                "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())),
-                "h_contact": h}
+        out = {"total_force": P, "reaction_top": -copies * problem.reaction(top_y), "p0": p0, "a": a,
+               "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
+               "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())),
+               "h_contact": h}
+        if symmetry == "full":  # the centre's reaction is the difference of the two contact forces
+            out["reaction_top"] = -contacts[1].total_force()[1]
+            out["centre_reaction"] = out["reaction_top"] - P
+        return out
 
     params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h,
-              "refinement": refinement, "quadrature": quadrature,
-              "model": f"{symmetry} disk (symmetry {'x = 0 and ' if symmetry == 'quarter' else ''}y = R)"}
-    return Setup("hertz", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
+              "refinement": refinement, "quadrature": quadrature, "plate": plate,
+              "model": {"quarter": "quarter disk (symmetry x = 0 and y = R)", "half": "half disk (symmetry y = R)",
+                        "full": "full disk between two rigid plates"}[symmetry]
+              + (f", meshed plate E x {PLATE_STIFFNESS:g}" if plate == "meshed" else "")}
+    return Setup("hertz", problem, contacts, np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [contact.displacement_out, contact.gap_out, contact.pressure_out])
+
+
+def law_twin(law: ContactLaw) -> ContactLaw:
+    """A fresh law with ``law``'s parameters, for a second contact surface (its fields are per surface)."""
+    import copy
+
+    return copy.deepcopy(law)
