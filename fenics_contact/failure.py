@@ -29,8 +29,9 @@ in this order of precedence:
 ``max_iterations``
     none of the above: still converging, too slowly for the iteration limit.
 
-PETSc's own divergence test (``DIVERGED_DTOL``) is off in the solver's defaults: a penalty-like law's
-first iterate overshoots by ~K/E and Newton then converges. A solve that SNES *accepts* on the step
+PETSc's own divergence test (``DIVERGED_DTOL`` when the residual exceeds 1e4 x the first) is replaced
+in the solver by one that also asks for growth in the last two iterations: a penalty-like law's first
+iterate overshoots by ~K/E and Newton then converges. A solve that SNES *accepts* on the step
 length alone with its residual above tolerance is :func:`stalled` (the round-off floor of the linear
 solves); the solver then estimates the condition of the Jacobian and fails the solve as
 ``ill_conditioning`` above ``ILL_CONDITIONED`` (e.g. a free rigid mode), else accepts it and records

@@ -32,11 +32,14 @@ DEFAULT_OPTIONS = {
     "snes_atol": 1e-10,
     "snes_stol": 1e-14,
     "snes_max_it": 30,
-    # PETSc's divergence test (stop when the residual exceeds 1e4 x the first) is off: a penalty-like law's
-    # first iterate penetrates by the whole approach, so its residual jumps by ~K/E and then falls
-    # quadratically (hertz K = 1e14: 5.1 -> 5.0e7 -> 8.9e6 -> 3.7e-9). Real failures are named by failure.classify.
-    # "Off" as a huge factor: -1 means off in PETSc 3.17 (Debian 12) but "the default, 1e4" in 3.22 (Debian 13).
-    "snes_divergence_tolerance": 1e300,
+    # Divergence (Solver._convergence_test): the residual above this factor times the first
+    # one AND grown in each of the last two iterations. PETSc's own test (above the factor at any iterate)
+    # stops a penalty-like law's first iterate, which penetrates by the whole approach: its residual jumps
+    # by ~K/E and then falls quadratically (hertz K = 1e14: 5.1 -> 5.0e7 -> 8.9e6 -> 3.7e-9); a diverging
+    # Newton keeps growing (the sheet's three-point penalty at eps = 1e5: to 1e8 in 3 iterations, and each
+    # iterate of an exploded geometry widens the two-body pattern). PETSc's test: -fc_snes_convergence_test
+    # default. Real failures are named by failure.classify.
+    "snes_divergence_tolerance": 1e4,
     "ksp_type": "preonly",
     "pc_type": "lu",
     "pc_factor_mat_solver_type": "mumps",
@@ -189,6 +192,9 @@ class Solver:
         self.snes.setMonitor(self._monitor)
         self.snes.setFromOptions()
         self.snes.getKSP().setFromOptions()
+        self._divtol = opts.getReal(prefix + "snes_divergence_tolerance", 1e4)
+        if not opts.hasName(prefix + "snes_convergence_test"):
+            self.snes.setConvergenceTest(self._convergence_test)
         self._split_fields()
         if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
             self._A.setNearNullSpace(rigid_body_modes(u.function_space))
@@ -260,6 +266,32 @@ class Solver:
                 return
         pc.setType("lu")
         pc.setFactorSolverType("mumps")
+
+    def _convergence_test(self, snes: PETSc.SNES, it: int, norms: tuple[float, float, float]) -> int:
+        """PETSc's default test (``SNESConvergedDefault``: NaN, atol, rtol, stol) with one change: divergence is
+        the residual above ``snes_divergence_tolerance`` times the first one *and* grown in each of the last two
+        iterations (see ``DEFAULT_OPTIONS``)."""
+        xnorm, ynorm, fnorm = norms
+        R = PETSc.SNES.ConvergedReason
+        rtol, atol, stol, _ = snes.getTolerances()
+        if it == 0:
+            self._norms = [fnorm]
+        else:
+            self._norms.append(fnorm)
+        if not np.isfinite(fnorm):
+            return R.DIVERGED_FNORM_NAN
+        if fnorm < atol:
+            return R.CONVERGED_FNORM_ABS
+        if it == 0:
+            return R.CONVERGED_ITERATING
+        r = self._norms
+        if fnorm <= rtol * r[0]:
+            return R.CONVERGED_FNORM_RELATIVE
+        if ynorm < stol * xnorm:
+            return R.CONVERGED_SNORM_RELATIVE
+        if self._divtol > 0 and len(r) >= 3 and fnorm > self._divtol * r[0] and r[-1] > r[-2] > r[-3]:
+            return R.DIVERGED_DTOL
+        return R.CONVERGED_ITERATING
 
     def _monitor(self, snes, it, norm):
         self._history.append(float(norm))

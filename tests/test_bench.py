@@ -134,7 +134,7 @@ def test_stability_harness_classifies_the_ring(tmp_path):
             dict(bench._run("penalty", 1e16, 0, steps=1), args=cond),
             dict(bench._run("penalty", 1e5, 10, steps=1), args=cond),
             dict(bench._run("penalty", 1e8, 0, steps=1), label=bench.DTOL,
-                 args=["-fc_snes_divergence_tolerance", "1e4"]),
+                 args=bench.PETSC_DTOL),
             dict(bench._run("penalty", 1e8, 0, steps=1), args=cond)]
     rows = bench.run_all("ring", out, runs, quiet=True, timeout=300)
     bench.add_stability_limit(rows, "ring")
