@@ -119,13 +119,7 @@ def _build_seal(d: dict, h: float) -> None:
         geo.mesh.setTransfiniteCurve(c, n_l + 1)
     for c in (end, symmetry):
         geo.mesh.setTransfiniteCurve(c, n_t + 1)
-    geo.mesh.setTransfiniteSurface(surface)
-    geo.mesh.setRecombine(2, surface)
-    geo.synchronize()
-    gmsh.model.addPhysicalGroup(1, [outer, end, inner], SEAL_BOUNDARY)
-    gmsh.model.addPhysicalGroup(1, [symmetry], SEAL_SYMMETRY)
-    gmsh.model.addPhysicalGroup(2, [surface], SEAL_DOMAIN)
-    gmsh.model.mesh.generate(2)
+    _quadrilaterals(geo, [(surface, [])], [outer, end, inner], [symmetry])
 
 
 def seal_s_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
@@ -160,15 +154,9 @@ def seal_s_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: f
 
 
 def _build_seal_s(d: dict, h: float) -> None:
-    gmsh.model.add("seal_s")
-    geo = gmsh.model.geo
+    geo, polar, C1, C2 = _two_sectors("seal_s", d)
     (c1x, c1y), (c2x, c2y), beta, end = d["C1"], d["C2"], d["beta"], d["end"]
     Ro, Ri = d["R_out"], d["R_in"]
-
-    def polar(cx, cy, r, a):
-        return geo.addPoint(cx + r * math.cos(a), cy + r * math.sin(a), 0.0)
-
-    C1, C2 = geo.addPoint(c1x, c1y, 0.0), geo.addPoint(c2x, c2y, 0.0)
     j_up, j_low = polar(c1x, c1y, Ro, beta), polar(c1x, c1y, Ri, beta)
     p0 = geo.addPoint(*d["P0"], 0.0)
     l_out, l_in = polar(c1x, c1y, Ro, end), polar(c1x, c1y, Ri, end)
@@ -186,14 +174,8 @@ def _build_seal_s(d: dict, h: float) -> None:
         geo.mesh.setTransfiniteCurve(c, n_t + 1)
     for c in (m1, m2):
         geo.mesh.setTransfiniteCurve(c, n_t // 2 + 1)
-    geo.mesh.setTransfiniteSurface(s1, cornerTags=[j_up, l_out, l_in, j_low])
-    geo.mesh.setTransfiniteSurface(s2, cornerTags=[j_low, r_out, r_in, j_up])
-    for surface in (s1, s2):
-        geo.mesh.setRecombine(2, surface)
-    geo.synchronize()
-    gmsh.model.addPhysicalGroup(1, [a1, e1, b1, a2, e2, b2], SEAL_BOUNDARY)
-    gmsh.model.addPhysicalGroup(2, [s1, s2], SEAL_DOMAIN)
-    gmsh.model.mesh.generate(2)
+    _quadrilaterals(geo, [(s1, [j_up, l_out, l_in, j_low]), (s2, [j_low, r_out, r_in, j_up])],
+                    [a1, e1, b1, a2, e2, b2])
 
 
 def seal_wave_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
@@ -225,15 +207,9 @@ def seal_wave_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in
 
 
 def _build_seal_wave(d: dict, h: float) -> None:
-    gmsh.model.add("seal_wave")
-    geo = gmsh.model.geo
+    geo, polar, C1, C2 = _two_sectors("seal_wave", d)
     (c1x, c1y), (c2x, c2y), beta, end = d["C1"], d["C2"], d["beta"], d["end"]
     Ro, Ri = d["R_out"], d["R_in"]
-
-    def polar(cx, cy, r, a):
-        return geo.addPoint(cx + r * math.cos(a), cy + r * math.sin(a), 0.0)
-
-    C1, C2 = geo.addPoint(c1x, c1y, 0.0), geo.addPoint(c2x, c2y, 0.0)
     top_out, top_in = polar(c1x, c1y, Ro, math.pi / 2), polar(c1x, c1y, Ri, math.pi / 2)
     j_up, j_low = polar(c1x, c1y, Ro, beta), polar(c1x, c1y, Ri, beta)
     r_out, r_in = polar(c2x, c2y, Ro, end), polar(c2x, c2y, Ri, end)
@@ -247,14 +223,34 @@ def _build_seal_wave(d: dict, h: float) -> None:
     s2 = geo.addPlaneSurface([geo.addCurveLoop([a2, e2, b2, m])])
     for c, n in ((a1, n_1), (b1, n_1), (a2, n_2), (b2, n_2), (sym, n_t), (m, n_t), (e2, n_t)):
         geo.mesh.setTransfiniteCurve(c, n + 1)
-    geo.mesh.setTransfiniteSurface(s1, cornerTags=[top_in, top_out, j_up, j_low])
-    geo.mesh.setTransfiniteSurface(s2, cornerTags=[j_low, r_out, r_in, j_up])
-    for surface in (s1, s2):
+    _quadrilaterals(geo, [(s1, [top_in, top_out, j_up, j_low]), (s2, [j_low, r_out, r_in, j_up])],
+                    [a1, b1, a2, e2, b2], [sym])
+
+
+def _two_sectors(name: str, d: dict):
+    """Start the gmsh model ``name`` of a two-sector section: its ``geo`` kernel, ``polar(cx, cy, r, a)`` (a point
+    at radius ``r``, angle ``a`` about ``(cx, cy)``) and the centre points of ``d["C1"]``, ``d["C2"]``."""
+    gmsh.model.add(name)
+    geo = gmsh.model.geo
+
+    def polar(cx, cy, r, a):
+        return geo.addPoint(cx + r * math.cos(a), cy + r * math.sin(a), 0.0)
+
+    return geo, polar, geo.addPoint(*d["C1"], 0.0), geo.addPoint(*d["C2"], 0.0)
+
+
+def _quadrilaterals(geo, surfaces: list, boundary: list, symmetry: list = ()) -> None:
+    """Structured quadrilaterals on ``surfaces`` ((tag, corner points or []) pairs, transfinite curves already
+    set), the physical groups SEAL_BOUNDARY, SEAL_SYMMETRY (if any) and SEAL_DOMAIN, and the 2D mesh."""
+    for surface, corners in surfaces:
+        geo.mesh.setTransfiniteSurface(surface, cornerTags=corners)
+    for surface, _ in surfaces:
         geo.mesh.setRecombine(2, surface)
     geo.synchronize()
-    gmsh.model.addPhysicalGroup(1, [a1, b1, a2, e2, b2], SEAL_BOUNDARY)
-    gmsh.model.addPhysicalGroup(1, [sym], SEAL_SYMMETRY)
-    gmsh.model.addPhysicalGroup(2, [s1, s2], SEAL_DOMAIN)
+    gmsh.model.addPhysicalGroup(1, boundary, SEAL_BOUNDARY)
+    if symmetry:
+        gmsh.model.addPhysicalGroup(1, list(symmetry), SEAL_SYMMETRY)
+    gmsh.model.addPhysicalGroup(2, [surface for surface, _ in surfaces], SEAL_DOMAIN)
     gmsh.model.mesh.generate(2)
 
 
