@@ -2,6 +2,7 @@ import logging
 import os
 import tempfile
 
+import numpy as np
 import pytest
 from mpi4py import MPI
 
@@ -13,6 +14,34 @@ logging.getLogger("UFL").setLevel(logging.ERROR)
 @pytest.fixture
 def comm():
     return MPI.COMM_WORLD
+
+
+@pytest.fixture
+def tangent_check():
+    """``check(solver, x, d, eps, pairing) -> (J d, central difference of the residual along d)`` at the state
+    ``x`` (PETSc vectors), asserting that ``pairing(contact)`` of every contact is the same at ``x +- eps d``
+    as at ``x`` (a pairing change is a discrete event, not part of the derivative)."""
+    def check(solver, x, d, eps, pairing):
+        contacts = solver.problem.contacts
+        b = x.duplicate()
+        solver._residual(None, x, b)
+        before = [pairing(c) for c in contacts]
+        solver._jacobian(None, x, solver._A, solver._A)
+        Jd = x.duplicate()
+        solver._A.mult(d, Jd)
+        r = []
+        for s in (1.0, -1.0):
+            xs = x.copy()
+            xs.axpy(s * eps, d)
+            bs = x.duplicate()
+            solver._residual(None, xs, bs)
+            r.append(bs)
+            assert all(np.array_equal(p, pairing(c)) for p, c in zip(before, contacts))
+        fd = r[0].copy()
+        fd.axpy(-1.0, r[1])
+        fd.scale(0.5 / eps)
+        return Jd, fd
+    return check
 
 
 def pytest_configure(config):
