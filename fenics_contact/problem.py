@@ -38,6 +38,14 @@ class Dirichlet:
         self.value = fem.Constant(self.V.mesh, 0.0)
         self.bc = fem.dirichletbc(self.value, self.dofs, self.V)
 
+    @classmethod
+    def on_facets(cls, V: fem.FunctionSpace, facet_tags, tag: int, component: int,
+                  amplitude: float = 0.0) -> Dirichlet:
+        """``u_component = amplitude * t`` on the facets tagged ``tag`` (amplitude 0: a roller, a symmetry plane)."""
+        Vi = V.sub(component)
+        facets = facet_tags.indices[facet_tags.values == tag]
+        return cls(Vi, fem.locate_dofs_topological(Vi, V.mesh.topology.dim - 1, facets), amplitude)
+
     def at(self, t: float) -> float:
         """The prescribed value at load ``t``."""
         return self.amplitude * (t if self.path is None else float(np.interp(t, *self.path)))

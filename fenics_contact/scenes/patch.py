@@ -117,13 +117,10 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
     Ef = fem.Function(D)
     Ef.x.array[:] = np.where(cell_tags.values == UPPER, E_UPPER, E_LOWER)
     fdim = mesh.topology.dim - 1
-    bottom = fem.locate_dofs_topological(V.sub(dim - 1), fdim,
-                                         facet_tags.indices[facet_tags.values == LOWER_BOTTOM])
-    left = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == BLOCK_LEFT])
-    dirichlet = [Dirichlet(V.sub(dim - 1), bottom), Dirichlet(V.sub(0), left)]
+    support = Dirichlet.on_facets(V, facet_tags, LOWER_BOTTOM, dim - 1)
+    dirichlet = [support, Dirichlet.on_facets(V, facet_tags, BLOCK_LEFT, 0)]
     if dim == 3:
-        front = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == BLOCK_FRONT])
-        dirichlet.append(Dirichlet(V.sub(1), front))
+        dirichlet.append(Dirichlet.on_facets(V, facet_tags, BLOCK_FRONT, 1))
     tags = (UPPER_BOTTOM, LOWER_TOP) if slave == "upper" else (LOWER_TOP, UPPER_BOTTOM)
     contacts = two_body_surfaces(u, facet_tags, *tags, law_factory, load, quadrature, passes, name="interface")
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=UPPER_TOP)
@@ -149,7 +146,7 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
         exact = np.concatenate([(a_lat - 1.0) * X[:, : dim - 1], np.full((len(X), 1), u_top)], 1)
         err = comm.allreduce(float(np.max(np.abs(U - exact))) if len(top) else 0.0, op=MPI.MAX)
         return {"pressure_deviation": dev, "contact_force": float(np.mean(np.abs(forces))),
-                "applied_force": pressure * 1.0, "reaction_bottom": problem.reaction(bottom),
+                "applied_force": pressure * 1.0, "reaction_bottom": problem.reaction(support.dofs),
                 "top_displacement_exact": u_top, "top_displacement_error": err / abs(u_top)}
 
     for c in contacts:  # one name per field in the XDMF file

@@ -120,9 +120,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
-    fdim = mesh.topology.dim - 1
-    sym_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
-    dirichlet = [Dirichlet(V.sub(0), sym_x)]
+    dirichlet = [Dirichlet.on_facets(V, facet_tags, SYMMETRY, 0)]
     pin = Cylinder([0.0, 0.0], R, body_outside=True)
     contact = contact_surface(u, facet_tags, CONTACT, pin, law, load, quadrature,
                               linearized=gap == "linearized")

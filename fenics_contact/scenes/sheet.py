@@ -144,16 +144,13 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
                                                       cylinder=(R_IN, n_cyl, n_rad) if deformable else None)
     u, V = unknown(mesh, 2, law)
     load = fem.Constant(mesh, 0.0)
-    fdim = mesh.topology.dim - 1
-    end_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == END])
-    sym_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
-    dirichlet = [Dirichlet(V.sub(1), end_y, -1.0), Dirichlet(V.sub(0), sym_x)]
+    pull = Dirichlet.on_facets(V, facet_tags, END, 1, -1.0)  # the ends pulled down by t
+    dirichlet = [pull, Dirichlet.on_facets(V, facet_tags, SYMMETRY, 0)]
     material = Scaled.from_lame(LMBDA, MU)
     fixed_y = np.zeros(0, np.int32)
     if deformable:
-        fixed = facet_tags.indices[facet_tags.values == CYLINDER_FIXED]
-        fixed_x, fixed_y = (fem.locate_dofs_topological(V.sub(i), fdim, fixed) for i in (0, 1))
-        dirichlet += [Dirichlet(V.sub(0), fixed_x), Dirichlet(V.sub(1), fixed_y)]
+        dirichlet += [Dirichlet.on_facets(V, facet_tags, CYLINDER_FIXED, i) for i in (0, 1)]
+        fixed_y = dirichlet[-1].dofs
         material.factor = fem.Function(function_space(mesh, "DG", 0), name="stiffness_factor")
         cyl = cell_tags.indices[cell_tags.values == CYLINDER_DOMAIN]
         material.factor.x.array[:] = 1.0
@@ -238,7 +235,7 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
     def figures() -> dict:
         prof = traction()
         on_arc = prof["y"] > 0
-        T = -problem.reaction(end_y)  # vertical force pulling the end down (per unit thickness)
+        T = -problem.reaction(pull.dofs)  # vertical force pulling the end down (per unit thickness)
         if deformable:  # the force the fixed inner surface takes
             support = problem.reaction(fixed_y)
             # the constrained points: the end nodes (two-point) or all three nodes (three-point) of each facet

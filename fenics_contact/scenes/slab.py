@@ -96,9 +96,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
-    fdim = mesh.topology.dim - 1
-    sym_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == LEFT])
-    dirichlet = [Dirichlet(V.sub(0), sym_x)]
+    symmetry_x = Dirichlet.on_facets(V, facet_tags, LEFT, 0)
+    dirichlet = [symmetry_x]
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
     tractions = [(fem.Constant(mesh, np.array([0.0, -TOP_PRESSURE])), ds(TOP)),
                  (fem.Constant(mesh, np.array([-SIDE_PRESSURE, 0.0])), ds(RIGHT))]
@@ -118,7 +117,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
         ua = np.array([comm.allreduce(v, op=MPI.MAX) for v in ua]) if found else np.full(2, np.nan)
         w = tributary_lengths(prof["x"][:, 0])
         normal, tangential = float(np.sum(w * prof["pressure"])), float(np.sum(w * prof["traction"]))
-        symmetry = problem.reaction(sym_x)
+        symmetry = problem.reaction(symmetry_x.dofs)
         z = zones(prof["x"], prof["state"])
         return {"ux_A": float(ua[0]), "uy_A": float(ua[1]),
                 "ux_A_frictionless": t * UX_A_FRICTIONLESS,
