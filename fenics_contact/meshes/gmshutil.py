@@ -1,6 +1,7 @@
 """gmsh plumbing shared by the mesh builders: build on rank 0, distribute, size grading."""
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import gmsh
@@ -10,6 +11,19 @@ from mpi4py import MPI
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+def _positive(**values: float) -> None:
+    """Raise a ValueError naming the first of ``values`` that is not a finite number > 0."""
+    for name, v in values.items():
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+
+
+def _graded(h_contact: float, h_far: float) -> None:
+    """Raise a ValueError unless the far mesh size is at least the contact one."""
+    if h_far < h_contact:
+        raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
+
 
 # Slope of the mesh size with distance in the graded zone (size / length).
 _GRADING = 0.25

@@ -1,7 +1,6 @@
 """Quarter disk for the Hertz scene: gmsh, graded toward the contact point."""
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import gmsh
@@ -11,7 +10,7 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _grade_toward
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive
 from .tags import CONTACT, CONTACT_UPPER, DOMAIN, PLATE, PLATE_BOTTOM, PLATE_SYMMETRY, PLATE_TOP, SYMMETRY, TOP
 
 
@@ -46,12 +45,8 @@ def hertz_quarter_disk(
     h_contact = R / 400 if h_contact is None else h_contact
     h_far = R / 10 if h_far is None else h_far
     contact_width = R / 5 if contact_width is None else contact_width
-    for name, value in (("R", R), ("h_contact", h_contact), ("h_far", h_far),
-                        ("contact_width", contact_width)):
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    if h_far < h_contact:
-        raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
+    _positive(R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
+    _graded(h_contact, h_far)
 
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_quarter_disk(R, h_contact, h_far, contact_width, half, full, plate), "the quarter disk")

@@ -1,7 +1,6 @@
 """Half plate with a hole for the pin scene (gmsh, graded toward the hole)."""
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import gmsh
@@ -11,7 +10,7 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _grade_toward
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive
 from .tags import CONTACT, DOMAIN, FREE, SYMMETRY, TOP
 
 
@@ -40,15 +39,11 @@ def pin_plate(
     h_contact = R / 50 if h_contact is None else h_contact
     h_far = R / 2 if h_far is None else h_far
     band = R / 10 if band is None else band
-    for name, value in (("R", R), ("half_width", half_width), ("below", below), ("above", above),
-                        ("h_contact", h_contact), ("h_far", h_far), ("band", band)):
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    _positive(R=R, half_width=half_width, below=below, above=above, h_contact=h_contact, h_far=h_far, band=band)
     if not (half_width > R and below > R and above > R):
         raise ValueError(f"the plate (half_width={half_width}, below={below}, above={above}) must extend "
                          f"beyond the hole radius R={R} on every side")
-    if h_far < h_contact:
-        raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
+    _graded(h_contact, h_far)
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_pin_plate(R, half_width, below, above, h_contact, h_far, band), "the pin plate")
     mesh.name = "pin_plate"

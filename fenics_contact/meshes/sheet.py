@@ -1,7 +1,6 @@
 """Sheet wrapped over a cylinder (structured quadrilaterals, optionally 9-node) for the sheet scene."""
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import gmsh
@@ -11,7 +10,7 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh
+from .gmshutil import _from_gmsh, _positive
 from .tags import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, DOMAIN, END, SYMMETRY
 
 
@@ -34,9 +33,7 @@ def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, 
     touch along ``r = R`` but share no node (``n_cyl != n_arc``: non-matching interface meshes).
     Initialises and finalises gmsh (on every rank).
     """
-    for name, value in (("R", R), ("thickness", thickness), ("leg", leg)):
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    _positive(R=R, thickness=thickness, leg=leg)
     for name, value in (("n_arc", n_arc), ("n_thick", n_thick), ("n_leg", n_leg)):
         if int(value) < 1:
             raise ValueError(f"{name} must be an integer >= 1, got {value!r}")

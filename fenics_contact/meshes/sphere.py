@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import gmsh
 from mpi4py import MPI
 
-from .gmshutil import _from_gmsh, _grade_toward
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive
 from .tags import CONTACT, DOMAIN, SYMMETRY, SYMMETRY_Y, TOP
 
 if TYPE_CHECKING:
@@ -26,11 +26,8 @@ def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far
     Returns:
         ``(mesh, cell_tags, facet_tags)``.
     """
-    for name, value in (("R", R), ("h_contact", h_contact), ("h_far", h_far), ("contact_width", contact_width)):
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    if h_far < h_contact:
-        raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
+    _positive(R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
+    _graded(h_contact, h_far)
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_sphere_octant(R, h_contact, h_far, contact_width), "the sphere octant", gdim=3)
     mesh.name = "sphere_octant"

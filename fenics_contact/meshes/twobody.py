@@ -1,7 +1,6 @@
 """Meshes of two bodies in one dolfinx mesh: stacked blocks with non-matching interfaces, two half disks."""
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import gmsh
@@ -13,7 +12,7 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _GRADING, _from_gmsh, _grade_toward
+from .gmshutil import _GRADING, _from_gmsh, _grade_toward, _positive
 
 # Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
 LOWER, UPPER = 1, 2
@@ -38,9 +37,7 @@ def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float,
     Returns ``(mesh, cell_tags LOWER/UPPER, facet_tags STACKED_FACETS)`` (``front``: y = 0, in 3D only)."""
     from ..compat import create_mesh
 
-    for name, v in (("width", width), ("h_lower", h_lower), ("h_upper", h_upper)):
-        if not (math.isfinite(v) and v > 0):
-            raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+    _positive(width=width, h_lower=h_lower, h_upper=h_upper)
     dim = len(n_lower)
     for name, n in (("n_lower", n_lower), ("n_upper", n_upper)):
         if len(n) not in (2, 3) or len(n) != dim or min(n) < 1:
@@ -122,10 +119,7 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
     (each arc split at its widest point into a bottom and a top quarter). Collective.
     ``full=True``: the whole disks (model-reduction check): ``*_ARC_BOTTOM`` / ``*_ARC_TOP`` are the lower /
     upper half circles, no DISK_SYMMETRY facets; the poles are vertices."""
-    for name, v in (("R_lower", R_lower), ("R_upper", R_upper), ("h_contact", h_contact), ("h_far", h_far),
-                    ("contact_width", contact_width)):
-        if not (math.isfinite(v) and v > 0):
-            raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+    _positive(R_lower=R_lower, R_upper=R_upper, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading,
                                             full),
