@@ -13,6 +13,7 @@ in ``options`` wins. The same options must be given on every rank.
 from __future__ import annotations
 
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
@@ -178,9 +179,6 @@ class Solver:
             for c in problem.contacts:
                 wanted.update(getattr(c, "direct_solver_options", {}))
         self._wanted, self._prefix = wanted, prefix
-        ours = [k for k in wanted if not opts.hasName(prefix + k)]
-        for k in ours:
-            opts[prefix + k] = wanted[k]
         u = problem.u
         self._b = fem_petsc.create_vector(problem.F)
         self._A = fem_petsc.create_matrix(problem.J)
@@ -190,16 +188,15 @@ class Solver:
         self.snes.setFunction(self._residual, self._b)
         self.snes.setJacobian(self._jacobian, self._A)
         self.snes.setMonitor(self._monitor)
-        self.snes.setFromOptions()
-        self.snes.getKSP().setFromOptions()
-        self._divtol = opts.getReal(prefix + "snes_divergence_tolerance", 1e4)
-        if not opts.hasName(prefix + "snes_convergence_test"):
-            self.snes.setConvergenceTest(self._convergence_test)
-        self._split_fields()
-        if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
-            self._A.setNearNullSpace(rigid_body_modes(u.function_space))
-        for k in ours:
-            opts.delValue(prefix + k)
+        with self._wanted_options():
+            self.snes.setFromOptions()
+            self.snes.getKSP().setFromOptions()
+            self._divtol = opts.getReal(prefix + "snes_divergence_tolerance", 1e4)
+            if not opts.hasName(prefix + "snes_convergence_test"):
+                self.snes.setConvergenceTest(self._convergence_test)
+            self._split_fields()
+            if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
+                self._A.setNearNullSpace(rigid_body_modes(u.function_space))
         self.records: list[StepRecord] = []
         self.failures: list[dict] = []  # every failed solve, also those rescued by a cutback
         self._history: list[float] = []
@@ -243,6 +240,21 @@ class Solver:
             self._split_fields()  # a reset field split has forgotten its index sets
         self.timings["assembly_s"] += time.perf_counter() - start
 
+    @contextmanager
+    def _wanted_options(self, keep: Callable[[str], bool] = lambda k: True):
+        """Our options (those of ``self._wanted`` that ``keep`` accepts) in PETSc's database for the ``with``
+        block, under our prefix; options already there (the command line's) win and stay. Removed afterwards,
+        so that they do not leak into the next solver."""
+        opts = PETSc.Options()
+        ours = [k for k in self._wanted if keep(k) and not opts.hasName(self._prefix + k)]
+        for k in ours:
+            opts[self._prefix + k] = self._wanted[k]
+        try:
+            yield
+        finally:
+            for k in ours:
+                opts.delValue(self._prefix + k)
+
     def _split_fields(self, pc: PETSc.PC | None = None) -> None:
         """Give a ``fieldsplit`` preconditioner (default: the SNES's) the index sets of the contact that
         defines them (multipliers: free dofs and pinned pressure dofs); without any, MUMPS LU on the whole."""
@@ -253,16 +265,11 @@ class Solver:
             fields = c.field_split() if hasattr(c, "field_split") else None
             if fields:
                 pc.setFieldSplitIS(*fields)
-                # The split's own KSPs exist now: read their options (``fieldsplit_<name>_...`` of the wanted
-                # options; the command line wins), which were removed from the database after setFromOptions.
-                opts = PETSc.Options()
-                sub = [k for k in self._wanted if k.startswith("fieldsplit_") and not opts.hasName(self._prefix + k)]
-                for k in sub:
-                    opts[self._prefix + k] = self._wanted[k]
-                for ksp in pc.getFieldSplitSubKSP():
-                    ksp.setFromOptions()
-                for k in sub:
-                    opts.delValue(self._prefix + k)
+                # The split's own KSPs exist now: they read their options (``fieldsplit_<name>_...``), which
+                # are out of the database again after setFromOptions (also after a reset of the split).
+                with self._wanted_options(lambda k: k.startswith("fieldsplit_")):
+                    for ksp in pc.getFieldSplitSubKSP():
+                        ksp.setFromOptions()
                 return
         pc.setType("lu")
         pc.setFactorSolverType("mumps")
@@ -533,14 +540,9 @@ class Solver:
         ksp = PETSc.KSP().create(self.problem.comm)
         # the SNES's linear-solver options (ours and the command line's), under the same prefix
         ksp.setOptionsPrefix(self.snes.getOptionsPrefix())
-        opts = PETSc.Options()
-        ours = [k for k in self._wanted if k.startswith(("ksp_", "pc_", "mg_")) and not opts.hasName(self._prefix + k)]
-        for k in ours:
-            opts[self._prefix + k] = self._wanted[k]
-        ksp.setFromOptions()
-        self._split_fields(ksp.getPC())
-        for k in ours:
-            opts.delValue(self._prefix + k)
+        with self._wanted_options(lambda k: k.startswith(("ksp_", "pc_", "mg_"))):
+            ksp.setFromOptions()
+            self._split_fields(ksp.getPC())
         x = self._b.duplicate()
         start = time.perf_counter()
         self._jacobian(self.snes, self._x, self._A, self._A)
