@@ -12,6 +12,7 @@ in ``options`` wins. The same options must be given on every rank.
 """
 from __future__ import annotations
 
+import logging
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -25,6 +26,8 @@ from petsc4py import PETSc
 from . import failure as _failure
 from .compat import lift_and_set_bc, petsc_vec
 from .problem import ContactProblem
+
+logger = logging.getLogger(__name__)
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
@@ -94,9 +97,10 @@ def rigid_body_modes(V) -> PETSc.NullSpace:
 class ConvergenceError(RuntimeError):
     """A load step failed even after the allowed cutbacks; ``failure`` says why (see :mod:`failure`)."""
 
-    def __init__(self, message: str, failure: dict | None = None):
+    def __init__(self, message: str, failure: dict | None = None, newton_iterations: int | None = None):
         super().__init__(message)
         self.failure = failure
+        self.newton_iterations = newton_iterations  # every iteration the run spent, if known (run.run)
 
 
 @dataclass
@@ -208,6 +212,7 @@ class Solver:
         self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0,
                         "predictor_s": 0.0}
         self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
+        self.newton_spent = 0  # Newton iterations of every solve, also of failed attempts (cut back or final)
 
     # --- SNES callbacks ---------------------------------------------------
     def _set_u(self, x: PETSc.Vec) -> None:
@@ -499,6 +504,7 @@ class Solver:
                 t = target if cuts == 0 else self.t + (target - self.t) / 2**cuts
                 snap = self._snapshot()
                 rec = self._step(t, len(self.records) + 1)
+                self.newton_spent += rec.newton_iterations
                 if rec.converged:
                     for c in self.problem.contacts:
                         c.commit()  # history (friction) advances only on accepted steps
@@ -525,14 +531,17 @@ class Solver:
         return self.records
 
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
-        if self.quiet:
+        """One progress line per load step (and per failed attempt) on rank 0, through ``logging`` (INFO;
+        ``quiet``: DEBUG)."""
+        level = logging.DEBUG if self.quiet else logging.INFO
+        if self.problem.comm.rank != 0 or not logger.isEnabledFor(level):
             return
         last = rec.residuals[-1][-1] if rec.residuals and rec.residuals[-1] else float("nan")
         why = f"{_describe(rec.failure)} ({rec.message or _reason(rec.reason)})"
         tag = f"FAILED: {why}, cutting the step" if failed else (
             f"aug {rec.augmentations:2d} R {rec.constraint_change[-1]:.2e}" if rec.constraint_change else "")
-        PETSc.Sys.Print(f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
-                        f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}", comm=self.problem.comm)
+        logger.log(level, f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
+                          f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}")
 
     def linear_solve_time(self) -> float:
         """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
@@ -566,6 +575,7 @@ class Solver:
         condition = self.condition_estimate() if PETSc.Options().getBool(self._prefix + "condition_estimate",
                                                                          False) else None
         return {"time_split": split, "newton_iterations": sum(r.newton_iterations for r in done),
+                "newton_iterations_spent": self.newton_spent,
                 "augmentations": sum(r.augmentations for r in done), "linear_iterations": self.linear_iterations,
                 "load_steps": len(done), "stalled_solves": sum(len(r.stalled) for r in done),
                 "residual_final": done[-1].residuals[-1][-1] if done and done[-1].residuals[-1] else None,

@@ -56,11 +56,15 @@ def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int = 1,
-          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH) -> Setup:
-    """``level`` in ``0 .. len(LEVELS) - 1`` picks the mesh size (about 1e4 to 1e6 dofs)."""
+          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
+          size: float | None = None) -> Setup:
+    """``level`` in ``0 .. len(LEVELS) - 1`` picks the mesh size (about 1e4 to 1e6 dofs); ``size``, if given,
+    is the mesh-size factor instead (``LEVELS[0] = 0.5``; e.g. 1.5 for a tiny smoke-test mesh)."""
     if not (isinstance(level, int) and 0 <= level < len(LEVELS)):
         raise ValueError(f"sphere level must be an integer in [0, {len(LEVELS) - 1}], got {level!r}")
-    f = LEVELS[level]
+    if size is not None and not (np.isfinite(size) and size > 0):
+        raise ValueError(f"sphere mesh size factor must be > 0, got {size!r}")
+    f = LEVELS[level] if size is None else float(size)
     h = 0.02 * f * R
     mesh, _, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=0.15 * R)
     V = function_space(mesh, "Lagrange", 1, (3,))

@@ -1,0 +1,34 @@
+"""Self-checks of the demos: a figure against its scene's reference (closed form, published number, or a
+documented converged reference), recorded as ``check`` in ``summary.json`` and logged as one line."""
+from __future__ import annotations
+
+import logging
+import math
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["check", "log_check"]
+
+
+def check(figure: str, value: float | None, reference: float, tolerance: float, source: str = "") -> dict:
+    """``{figure, value, reference, rel_error, tolerance, passed, source}``: ``rel_error = |value - reference| /
+    |reference|``, passed when it is at most ``tolerance``; ``value`` None (no figure: the run failed) fails."""
+    if not (math.isfinite(reference) and reference != 0.0):
+        raise ValueError(f"check {figure!r}: the reference must be finite and non-zero, got {reference!r}")
+    if not tolerance > 0:
+        raise ValueError(f"check {figure!r}: the tolerance must be > 0, got {tolerance!r}")
+    ok = value is not None and math.isfinite(value)
+    rel = abs(value - reference) / abs(reference) if ok else None
+    return {"figure": figure, "value": float(value) if ok else None, "reference": float(reference),
+            "rel_error": rel, "tolerance": float(tolerance), "passed": bool(ok and rel <= tolerance),
+            "source": source}
+
+
+def log_check(c: dict, comm=None) -> None:
+    """Log the check's line (INFO) on rank 0."""
+    if comm is not None and comm.rank != 0:
+        return
+    value = "none (the run failed)" if c["value"] is None else f"{c['value']:.8g}"
+    error = "" if c["rel_error"] is None else f", rel. error {c['rel_error']:.2e}"
+    logger.info(f"check: {c['figure']} = {value}, reference {c['reference']:.8g} ({c['source']}){error}, "
+                f"tolerance {c['tolerance']:.0e}: {'passed' if c['passed'] else 'FAILED'}")
