@@ -10,16 +10,18 @@ logger = logging.getLogger(__name__)
 __all__ = ["check", "log_check"]
 
 
-def check(figure: str, value: float | None, reference: float, tolerance: float, source: str = "") -> dict:
+def check(figure: str, value: float | None, reference: float | None, tolerance: float, source: str = "") -> dict:
     """``{figure, value, reference, rel_error, tolerance, passed, source}``: ``rel_error = |value - reference| /
-    |reference|``, passed when it is at most ``tolerance``; ``value`` None (no figure: the run failed) fails."""
-    if not (math.isfinite(reference) and reference != 0.0):
+    |reference|``, passed when it is at most ``tolerance``. ``value`` or ``reference`` None (no figure: the run
+    failed before its first step; a reference computed from the run's load) fails."""
+    if reference is not None and not (math.isfinite(reference) and reference != 0.0):
         raise ValueError(f"check {figure!r}: the reference must be finite and non-zero, got {reference!r}")
     if not tolerance > 0:
         raise ValueError(f"check {figure!r}: the tolerance must be > 0, got {tolerance!r}")
-    ok = value is not None and math.isfinite(value)
+    ok = value is not None and math.isfinite(value) and reference is not None
     rel = abs(value - reference) / abs(reference) if ok else None
-    return {"figure": figure, "value": float(value) if ok else None, "reference": float(reference),
+    return {"figure": figure, "value": float(value) if ok else None,
+            "reference": None if reference is None else float(reference),
             "rel_error": rel, "tolerance": float(tolerance), "passed": bool(ok and rel <= tolerance),
             "source": source}
 
@@ -30,5 +32,6 @@ def log_check(c: dict, comm=None) -> None:
         return
     value = "none (the run failed)" if c["value"] is None else f"{c['value']:.8g}"
     error = "" if c["rel_error"] is None else f", rel. error {c['rel_error']:.2e}"
-    logger.info(f"check: {c['figure']} = {value}, reference {c['reference']:.8g} ({c['source']}){error}, "
+    reference = "none" if c["reference"] is None else f"{c['reference']:.8g}"
+    logger.info(f"check: {c['figure']} = {value}, reference {reference} ({c['source']}){error}, "
                 f"tolerance {c['tolerance']:.0e}: {'passed' if c['passed'] else 'FAILED'}")
