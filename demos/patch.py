@@ -17,64 +17,73 @@ from pathlib import Path
 from fenics_contact import cli
 from fenics_contact.laws import make_law
 from fenics_contact.output import write_summary
+from fenics_contact.checks import check
 from fenics_contact.run import run
 from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
 from fenics_contact.twobody import QUADRATURES
 
-# 1. Options of the main run.
-p = cli.parser(__doc__.splitlines()[0], default_K=1e6, quadratures=QUADRATURES)
-p.set_defaults(method="auglag", quadrature="segment", augment_tol=1e-9)
-p.add_argument("--passes", choices=["one", "two"], default="one")
-p.add_argument("--slave", choices=["upper", "lower"], default="upper")
-args = cli.parse(p)
-out = Path(args.out or "results/patch")
 
-# 2. The main run: XDMF and summary.json.
-setup = build("patch", law_factory=lambda: cli.law_from_args(args), quadrature=args.quadrature,
-              passes=args.passes, slave=args.slave)
-summary = run(setup, out, args.method, {**cli.method_parameters(args), "passes": args.passes, "slave": args.slave},
-              args.augment, args.augment_tol, args.quiet)
-comm = setup.problem.comm
 
-# 3. Every option: pressure deviation, contact force, iterations.
-rows, profiles = [], []
-for quadrature in QUADRATURES:
-    for passes, slave in (("one", "upper"), ("one", "lower"), ("two", "upper")):
-        for method, K, aug in (("penalty", 1e2, 0), ("penalty", 1e4, 0), ("penalty", 1e6, 0), ("auglag", 1e6, 30)):
-            s = build("patch", law_factory=lambda m=method, k=K: make_law(m, K=k), quadrature=quadrature,
-                      passes=passes, slave=slave)
-            solver = Solver(s.problem, augment_max=aug, augment_tol=1e-9, quiet=True)
-            solver.run(s.loads)
-            f = s.figures()
-            rows.append({"quadrature": quadrature, "passes": passes, "slave": slave, "method": method, "K": K,
-                         "pressure_deviation": f["pressure_deviation"], "contact_force": f["contact_force"],
-                         "max_abs_gap": max(float(abs(c.point_values()[1]).max()) for c in s.contacts),
-                         "newton_iterations": sum(r.newton_iterations for r in solver.records),
-                         "converged": all(r.converged for r in solver.records),
-                         "augmentation_converged": all(r.augmentation_converged for r in solver.records)})
-            x, _, pr = s.contacts[0].point_values()
-            profiles.append((x[:, 0], pr, f"{quadrature} {passes}-pass {slave} {method} K={K:g}"))
-            if comm.rank == 0 and not args.quiet:
-                r = rows[-1]
-                print(f"{quadrature:7s} {passes}-pass slave={slave:5s} {method:7s} K={K:7.0e}  "
-                      f"deviation {r['pressure_deviation']:.3e}  |g|max {r['max_abs_gap']:.1e}  "
-                      f"newton {r['newton_iterations']}", flush=True)
+def main(argv=None) -> dict:
+    # 1. Options of the main run.
+    p = cli.parser(__doc__.splitlines()[0], default_K=1e6, quadratures=QUADRATURES)
+    p.set_defaults(method="auglag", quadrature="segment", augment_tol=1e-9)
+    p.add_argument("--passes", choices=["one", "two"], default="one")
+    p.add_argument("--slave", choices=["upper", "lower"], default="upper")
+    args = cli.parse(p, argv)
+    out = Path(args.out or "results/patch")
 
-# 4. Every option's figures into summary.json too (the main run's summary, extended).
-summary["options"] = rows
-passing = [r for r in rows if r["method"] == "auglag" and r["converged"] and r["augmentation_converged"]]
-best = min(passing, key=lambda r: r["pressure_deviation"]) if passing else None
-summary["best_converged_option"] = best
-write_summary(out / "summary.json", summary, comm)
-if comm.rank == 0:
-    with open(out / "patch_options.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    if not args.no_pictures:
-        from fenics_contact.plotting import plot_curves
+    # 2. The main run: XDMF and summary.json.
+    setup = build("patch", law_factory=lambda: cli.law_from_args(args), quadrature=args.quadrature,
+                  passes=args.passes, slave=args.slave)
+    summary = run(setup, out, args.method, {**cli.method_parameters(args), "passes": args.passes, "slave": args.slave},
+                  args.augment, args.augment_tol, args.quiet)
+    comm = setup.problem.comm
 
-        keep = [c for c in profiles if "auglag" in c[2] or "K=100 " in c[2] + " "]
-        plot_curves([(x, pr, lab, "o-") for x, pr, lab in keep], out / "patch_pressure.png", xlabel="x",
-                    title="patch test: slave pressure (exact 10)")
+    # 3. Every option: pressure deviation, contact force, iterations.
+    rows, profiles = [], []
+    for quadrature in QUADRATURES:
+        for passes, slave in (("one", "upper"), ("one", "lower"), ("two", "upper")):
+            for method, K, aug in (("penalty", 1e2, 0), ("penalty", 1e4, 0), ("penalty", 1e6, 0), ("auglag", 1e6, 30)):
+                s = build("patch", law_factory=lambda m=method, k=K: make_law(m, K=k), quadrature=quadrature,
+                          passes=passes, slave=slave)
+                solver = Solver(s.problem, augment_max=aug, augment_tol=1e-9, quiet=True)
+                solver.run(s.loads)
+                f = s.figures()
+                rows.append({"quadrature": quadrature, "passes": passes, "slave": slave, "method": method, "K": K,
+                             "pressure_deviation": f["pressure_deviation"], "contact_force": f["contact_force"],
+                             "max_abs_gap": max(float(abs(c.point_values()[1]).max()) for c in s.contacts),
+                             "newton_iterations": sum(r.newton_iterations for r in solver.records),
+                             "converged": all(r.converged for r in solver.records),
+                             "augmentation_converged": all(r.augmentation_converged for r in solver.records)})
+                x, _, pr = s.contacts[0].point_values()
+                profiles.append((x[:, 0], pr, f"{quadrature} {passes}-pass {slave} {method} K={K:g}"))
+                if comm.rank == 0 and not args.quiet:
+                    r = rows[-1]
+                    print(f"{quadrature:7s} {passes}-pass slave={slave:5s} {method:7s} K={K:7.0e}  "
+                          f"deviation {r['pressure_deviation']:.3e}  |g|max {r['max_abs_gap']:.1e}  "
+                          f"newton {r['newton_iterations']}", flush=True)
+
+    # 4. Every option's figures into summary.json too (the main run's summary, extended).
+    summary["options"] = rows
+    passing = [r for r in rows if r["method"] == "auglag" and r["converged"] and r["augmentation_converged"]]
+    best = min(passing, key=lambda r: r["pressure_deviation"]) if passing else None
+    summary["best_converged_option"] = best
+    write_summary(out / "summary.json", summary, comm)
+    if comm.rank == 0:
+        with open(out / "patch_options.csv", "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+        if not args.no_pictures:
+            from fenics_contact.plotting import plot_curves
+
+            keep = [c for c in profiles if "auglag" in c[2] or "K=100 " in c[2] + " "]
+            plot_curves([(x, pr, lab, "o-") for x, pr, lab in keep], out / "patch_pressure.png", xlabel="x",
+                        title="patch test: slave pressure (exact 10)")
+    return summary
+
+
+if __name__ == "__main__":
+    cli.main(main)
