@@ -20,81 +20,103 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from fenics_contact import cli
+from fenics_contact.checks import check
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.run import run
 from fenics_contact.scenes import build, pin
 
-# 1. Options: formulation, parameters, mesh refinement, load steps, convergence study.
-p = cli.parser(__doc__.splitlines()[0], default_K=pin.DEFAULT_K)
-p.add_argument("--refinement", type=int, default=0, help="halve the mesh size at the hole this many times")
-p.add_argument("--steps", type=int, default=1, help="load steps")
-p.add_argument("--gap", choices=pin.GAPS, default="linearized",
-               help="linearized (small displacements) or current (exact gap of the deformed position)")
-p.add_argument("--convergence", action="store_true", help="run refinements 0, 1, 2 and plot the angle against h")
-p.set_defaults(augment_tol=1e-10)
-args = cli.parse(p)
-out = Path(args.out or "results/pin")
-comm = MPI.COMM_WORLD
+# Contact angle of the linearized gap at refinement 3 (R/400, 140 580 dofs; refinements 1-3 within 0.03 deg); the
+# mesh error at refinement 0 is 0.1 % (83.88 deg). The current gap gives 81.8 deg (the plate moves by 0.16 R).
+CONVERGED_ANGLE = 83.797
+TOLERANCE = 3e-3
 
 
-def solve(refinement: int, folder: Path) -> dict:
-    """2.-4. Build the scene at ``refinement``, solve, write XDMF, summary.json, the CSV and the pictures."""
-    # 2. The scene: graded half plate, symmetry u_x = 0 on x = 0, traction P0 on the top, the rigid pin.
-    setup = build("pin", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=refinement,
-                  steps=args.steps, gap=args.gap)
+def main(argv=None) -> dict:
+    # 1. Options: formulation, parameters, mesh refinement, load steps, convergence study.
+    p = cli.parser(__doc__.splitlines()[0], default_K=pin.DEFAULT_K)
+    p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the mesh size at the hole this many times")
+    p.add_argument("--steps", type=cli.COUNT, default=1, help="load steps")
+    p.add_argument("--gap", choices=pin.GAPS, default="linearized",
+                   help="linearized (small displacements) or current (exact gap of the deformed position)")
+    p.add_argument("--convergence", action="store_true", help="run refinements 0, 1, 2 and plot the angle against h")
+    p.set_defaults(augment_tol=1e-10)
+    args = cli.parse(p, argv)
+    out = Path(args.out or "results/pin")
+    comm = MPI.COMM_WORLD
 
-    # 3. Solve (load steps, augmentations), write XDMF and summary.json.
-    summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps, "gap": args.gap},
-                  args.augment, args.augment_tol, args.quiet)
 
-    # 4. The pressure along the pin (CSV on rank 0) and the pictures.
-    theta, X, g, pr = pin.pressure_along_pin(setup.contacts[0])
-    if comm.rank == 0:
-        with open(folder / "pin_pressure.csv", "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["theta_deg_from_pin_bottom", "X", "Y", "gap", "pressure"])
-            w.writerows(zip(theta, X[:, 0], X[:, 1], g, pr))
-    if not args.no_pictures:
-        from fenics_contact.plotting import plot_deformed, plot_profile
+    def pin_check(s: dict) -> dict:
+        if args.gap == "linearized":
+            return check("contact_angle_deg", s.get("contact_angle_deg"), CONVERGED_ANGLE, TOLERANCE,
+                         "converged reference, refinement 3 (R/400), linearized gap (README)")
+        force = s.get("total_force_y")
+        return check("pin_force", None if force is None else -force, pin.P0 * 5.0, 1e-8,
+                     "equilibrium: traction P0 x loaded edge 5")
 
-        u = setup.problem.u
-        syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
-                                                  name="sigma_yy"), setup.problem.material.stress(u)[1, 1])
-        plot_deformed(u, syy, folder / "pin_deformed.png", title=f"pin, {args.method} (displacement x10)",
-                      scale=10, clim=(-3 * pin.P0, 3 * pin.P0))
+    def solve(refinement: int, folder: Path) -> dict:
+        """2.-4. Build the scene at ``refinement``, solve, write XDMF, summary.json, the CSV and the pictures."""
+        # 2. The scene: graded half plate, symmetry u_x = 0 on x = 0, traction P0 on the top, the rigid pin.
+        setup = build("pin", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=refinement,
+                      steps=args.steps, gap=args.gap)
+
+        # 3. Solve (load steps, augmentations), write XDMF and summary.json.
+        summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps, "gap": args.gap},
+                      args.augment, args.augment_tol, args.quiet,
+                      check=pin_check)
+
+        # 4. The pressure along the pin (CSV on rank 0) and the pictures.
+        theta, X, g, pr = pin.pressure_along_pin(setup.contacts[0])
         if comm.rank == 0:
-            a = summary["contact_angle_deg"]
-            plot_profile(theta, pr, folder / "pin_pressure.png", x_ref=np.array([a, a]),
-                         p_ref=np.array([0.0, 1.1 * pr.max()]), xlabel="theta (degrees from the pin's bottom)",
-                         labels=(args.method, f"contact angle {a:.2f} deg"),
-                         title=f"pin: contact pressure along the pin, h = {summary['h_contact']:.3g}")
+            with open(folder / "pin_pressure.csv", "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(["theta_deg_from_pin_bottom", "X", "Y", "gap", "pressure"])
+                w.writerows(zip(theta, X[:, 0], X[:, 1], g, pr))
+        if not args.no_pictures:
+            from fenics_contact.plotting import plot_deformed, plot_profile
+
+            u = setup.problem.u
+            syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
+                                                      name="sigma_yy"), setup.problem.material.stress(u)[1, 1])
+            plot_deformed(u, syy, folder / "pin_deformed.png", title=f"pin, {args.method} (displacement x10)",
+                          scale=10, clim=(-3 * pin.P0, 3 * pin.P0))
+            if comm.rank == 0:
+                a = summary["contact_angle_deg"]
+                plot_profile(theta, pr, folder / "pin_pressure.png", x_ref=np.array([a, a]),
+                             p_ref=np.array([0.0, 1.1 * pr.max()]), xlabel="theta (degrees from the pin's bottom)",
+                             labels=(args.method, f"contact angle {a:.2f} deg"),
+                             title=f"pin: contact pressure along the pin, h = {summary['h_contact']:.3g}")
+        return summary
+
+
+    if not args.convergence:
+        summary = solve(args.refinement, out)
+    else:
+        # 5. Convergence of the contact angle: halve the mesh size at the hole twice.
+        rows = []
+        for r in range(3):
+            s = summary = solve(r, out / f"refinement_{r}")
+            rows.append((r, s["h_contact"], s["dofs"], s["contact_angle_deg"], s["newton_iterations"],
+                         s["augmentations"], s["wall_time_s"]))
+        if comm.rank == 0:
+            angles = [row[3] for row in rows]
+            changes = [float("nan")] + list(np.abs(np.diff(angles)))
+            with open(out / "pin_convergence.csv", "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(["refinement", "h_contact", "dofs", "contact_angle_deg", "change_deg", "newton_iterations",
+                            "augmentations", "wall_time_s"])
+                w.writerows([*row[:4], c, *row[4:]] for row, c in zip(rows, changes))
+            print(f"{'ref':>3s} {'h':>8s} {'dofs':>7s} {'angle deg':>10s} {'change':>8s} {'newton':>6s} {'aug':>4s} "
+                  f"{'time s':>7s}")
+            for (r, h, n, a, it, aug, t), c in zip(rows, changes):
+                print(f"{r:3d} {h:8.4g} {n:7d} {a:10.4f} {c:8.4f} {it:6d} {aug:4d} {t:7.2f}")
+            if not args.no_pictures:
+                from fenics_contact.plotting import plot_profile
+
+                plot_profile(np.array([row[1] for row in rows]), np.array(angles), out / "pin_convergence.png",
+                             xlabel="mesh size at the hole h", ylabel="contact angle (degrees)",
+                             labels=(args.method, ""), title="pin: contact angle against the mesh size")
     return summary
 
 
-if not args.convergence:
-    solve(args.refinement, out)
-else:
-    # 5. Convergence of the contact angle: halve the mesh size at the hole twice.
-    rows = []
-    for r in range(3):
-        s = solve(r, out / f"refinement_{r}")
-        rows.append((r, s["h_contact"], s["dofs"], s["contact_angle_deg"], s["newton_iterations"],
-                     s["augmentations"], s["wall_time_s"]))
-    if comm.rank == 0:
-        angles = [row[3] for row in rows]
-        changes = [float("nan")] + list(np.abs(np.diff(angles)))
-        with open(out / "pin_convergence.csv", "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["refinement", "h_contact", "dofs", "contact_angle_deg", "change_deg", "newton_iterations",
-                        "augmentations", "wall_time_s"])
-            w.writerows([*row[:4], c, *row[4:]] for row, c in zip(rows, changes))
-        print(f"{'ref':>3s} {'h':>8s} {'dofs':>7s} {'angle deg':>10s} {'change':>8s} {'newton':>6s} {'aug':>4s} "
-              f"{'time s':>7s}")
-        for (r, h, n, a, it, aug, t), c in zip(rows, changes):
-            print(f"{r:3d} {h:8.4g} {n:7d} {a:10.4f} {c:8.4f} {it:6d} {aug:4d} {t:7.2f}")
-        if not args.no_pictures:
-            from fenics_contact.plotting import plot_profile
-
-            plot_profile(np.array([row[1] for row in rows]), np.array(angles), out / "pin_convergence.png",
-                         xlabel="mesh size at the hole h", ylabel="contact angle (degrees)",
-                         labels=(args.method, ""), title="pin: contact angle against the mesh size")
+if __name__ == "__main__":
+    cli.main(main)
