@@ -177,8 +177,17 @@ def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
     # UFL warns about every custom quadrature rule (the nodal rule is one on purpose); FFCx logs its JIT
     logging.getLogger("UFL").setLevel(logging.DEBUG if verbose else logging.ERROR)
     logging.getLogger("ffcx").setLevel(logging.DEBUG if verbose else logging.WARNING)
-    # setuptools logs every compiler command of a form's first JIT (cffi) to the root logger at INFO
-    logging.getLogger().setLevel(logging.DEBUG if verbose else logging.WARNING)
+    # setuptools (distutils, run by cffi on a form's first JIT) logs every compiler command to the root logger at
+    # INFO and sets the root's level itself (verbose=True is hard-coded in FFCx): a filter on the root logger
+    # drops those records (a logger's filters see only the records logged to it, not its children's)
+    root_logger = logging.getLogger()
+    for f in [f for f in root_logger.filters if getattr(f, "_fenics_contact", False)]:
+        root_logger.removeFilter(f)
+    if not verbose:
+        quiet_root = logging.Filter()
+        quiet_root.filter = lambda record: record.levelno >= logging.WARNING
+        quiet_root._fenics_contact = True
+        root_logger.addFilter(quiet_root)
 
 
 def has_friction(args: argparse.Namespace) -> bool:
