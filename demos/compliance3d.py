@@ -19,16 +19,16 @@ from fenics_contact.run import run
 from fenics_contact.scenes import build, compliance3d
 
 
-
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction (mu = 0.3) on normal compliance c_n = 5e5, m_n = 1.5 unless told otherwise.
     p = cli.parser(__doc__.splitlines()[0], default_K=1e5)
-    p.add_argument("--drag", type=float, default=compliance3d.DRAG, help="sideways platen displacement")
-    p.add_argument("--mesh", type=int, nargs=3, default=[16, 8, 4], metavar=("NX", "NY", "NZ"),
+    p.add_argument("--drag", type=cli.NONNEGATIVE, default=compliance3d.DRAG, help="sideways platen displacement")
+    p.add_argument("--mesh", type=cli.COUNT, nargs=3, default=[16, 8, 4], metavar=("NX", "NY", "NZ"),
                    help="cells of the half box")
-    p.add_argument("--press-steps", type=int, default=2, help="load steps of the pressing phase")
-    p.add_argument("--drag-steps", type=int, default=8, help="load steps of the drag phase")
-    p.set_defaults(method="compliance", c_n=compliance3d.C_N, m_n=compliance3d.M_N, mu=None, omega_t=compliance3d.OMEGA_T)
+    p.add_argument("--press-steps", type=cli.COUNT, default=2, help="load steps of the pressing phase")
+    p.add_argument("--drag-steps", type=cli.COUNT, default=8, help="load steps of the drag phase")
+    p.set_defaults(method="compliance", c_n=compliance3d.C_N, m_n=compliance3d.M_N, mu=None,
+                   omega_t=compliance3d.OMEGA_T)
     args = cli.parse(p, argv)
     if args.mu is None:  # mu = 0.3 unless the compliance bound c_t <g>^m_t is asked for
         args.mu = 0.0 if args.c_t is not None else compliance3d.MU
@@ -41,7 +41,10 @@ def main(argv=None) -> dict:
 
     # 3. Solve step by step (friction history advances on every accepted step), write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "drag": args.drag}, args.augment,
-                  args.augment_tol, args.quiet)
+                  args.augment_tol, args.quiet,
+                  check=lambda s: check("normal_force", s.get("normal_force"),
+                                        None if s.get("reaction_top_z") is None else -s["reaction_top_z"], 1e-8,
+                                        "equilibrium: the platen's vertical reaction"))
 
     # 4. Pictures: the contact face (mirrored to the whole face) by slip state; forces against the drag.
     if not args.no_pictures:
@@ -59,7 +62,8 @@ def main(argv=None) -> dict:
             f = summary
             plot_contact_face(xs[:, 0], xs[:, 1], np.concatenate([s, s[mirror]]), out / "compliance3d_face.png",
                               traction=qs, title=f"compliance3d, {args.method}: drag {args.drag:g}, stick "
-                              f"{f['stick_fraction']:.0%}, slip {f['slip_fraction']:.0%}, open {f['open_fraction']:.0%}")
+                              f"{f['stick_fraction']:.0%}, slip {f['slip_fraction']:.0%}, "
+                              f"open {f['open_fraction']:.0%}")
             steps = [r for r in f["friction_steps"] if r["load"] >= 1.0]  # the drag phase
             d = [r["drag"] for r in steps]
             fig = Figure(figsize=(6.4, 4.4))

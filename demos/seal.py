@@ -32,11 +32,10 @@ from fenics_contact.scenes import build, seal
 from fenics_contact.solver import ConvergenceError
 
 
-
 def main(argv=None) -> dict:
     # 1. Options: mesh size, contact data (K^ = 1e5 as in the paper).
     p = cli.parser(__doc__.splitlines()[0], default_K=seal.K_HAT)
-    p.add_argument("--h", type=float, default=0.5, help="cell size (0.5: 2 cells through the thickness)")
+    p.add_argument("--h", type=cli.POSITIVE, default=0.5, help="cell size (0.5: 2 cells through the thickness)")
     p.add_argument("--shape", choices=list(seal.SHAPES), default="wave", help="seal cross-section (see the scene)")
     p.set_defaults(F_hat=seal.F_HAT)
     args = cli.parse(p, argv)
@@ -63,7 +62,9 @@ def main(argv=None) -> dict:
 
     # 3. Solve every load step (cross-constraints), write XDMF, summary.json and the tables.
     summary = run(setup, out, args.method if args.method == "cross" else "cross", cli.method_parameters(args), 0,
-                  quiet=args.quiet, options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], on_step=on_step)
+                  quiet=args.quiet, options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], on_step=on_step,
+                  check=lambda s: check("plate_force_upper", s.get("plate_force_upper"), s.get("plate_force_lower"),
+                                        1e-6, "equilibrium: the lower plate's force"))
     if comm.rank == 0:
         print(tables.residual_table(summary["steps"], out / "seal_residuals"))
         print(tables.write_table(zones, out / "seal_zones"))
