@@ -1,4 +1,5 @@
-# make demo: set up (apt packages, venv) and run every demo under mpirun -n 2 into results/
+# make demo: set up (apt packages, venv), run every scene's demo at a small size under mpirun -n 2 into results/
+#            and print one table of their checks (figure, reference, error, passed); make demo-all: default sizes
 # make test: set up and run ruff and the tests, serial and under mpirun -n 2, then the Debian 13 lane
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -7,21 +8,17 @@ export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 MPIRUN := mpirun -n $(NP)
-DEMOS  := block hertz slab pin ring seal compliance3d patch cylinders sheet sphere
 
-
-.PHONY: setup demo bench scaling test lint test-serial test-mpi test-debian13 clean
+.PHONY: setup demo demo-all bench scaling test lint test-serial test-mpi test-debian13 clean
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
 
 demo: setup
-	@for d in $(DEMOS); do \
-	  echo "== demos/$$d.py (mpirun -n $(NP))"; \
-	  $(MPIRUN) $(PY) demos/$$d.py --out results/$$d --quiet || exit 1; \
-	done
-	@$(PY) demos/table.py results
-	@cat results/methods.md 2>/dev/null || true
+	@PY=$(PY) NP=$(NP) bash scripts/demos.sh quick results
+
+demo-all: setup
+	@PY=$(PY) NP=$(NP) bash scripts/demos.sh all results/all
 
 # speed against accuracy, every method on the same scene (quick sweep of every scene with a BENCH entry)
 bench: setup

@@ -1,21 +1,41 @@
-"""Print one table of every ``summary.json`` under a results folder: scene, method, figures, error, time."""
+"""Print one table of every ``summary.json`` under a results folder: scene, method, the checked figure, its
+reference, its relative error, the tolerance and whether it passed (the demos' ``check``), iterations, time.
+
+    python demos/table.py results          # exit status 1 if a check failed or a summary has none
+"""
 import json
 import sys
 from pathlib import Path
 
-FIGURES = {"block": ("contact_pressure", "exact_pressure", "pressure_error"),
-           "hertz": ("p0", "p0_hertz", "p0_error"), "sphere": ("p0", "p0_hertz", "p0_error"),
-           "slab": ("ux_A", "ux_A_frictionless", None),  # the reference is the mu = 0 closed form
-           "pin": ("contact_angle_deg", None, None)}  # no published value: see README, pin
-# ring and seal have no reference value: their summaries give iterations and time (methods.md compares methods)
 
-root = Path(sys.argv[1] if len(sys.argv) > 1 else "results")
-rows = [json.loads(p.read_text()) for p in sorted(root.glob("*/summary.json"))]
-print(f"{'scene':8s} {'method':8s} {'ranks':>5s} {'dofs':>7s} {'figure':>16s} {'value':>12s} {'reference':>12s} "
-      f"{'rel. error':>10s} {'newton':>6s} {'aug':>4s} {'time s':>7s}")
-for s in rows:
-    name, ref, err = FIGURES.get(s["scene"], (None, None, None))
-    value, reference, error = (s.get(k, float("nan")) for k in (name, ref, err)) if name else (0, 0, 0)
-    print(f"{s['scene']:8s} {s['method']:8s} {s['ranks']:5d} {s['dofs']:7d} {name or '-':>16s} {value:12.6g} "
-          f"{reference:12.6g} {error:10.2e} {s['newton_iterations']:6d} {s['augmentations']:4d} "
-          f"{s['wall_time_s']:7.2f}")
+def rows(root: Path) -> list[dict]:
+    """Every ``<root>/*/summary.json`` (the demos' main runs), sorted by folder."""
+    return [json.loads(p.read_text()) for p in sorted(root.glob("*/summary.json"))]
+
+
+def _num(v, fmt: str) -> str:
+    return "-" if v is None else format(v, fmt)
+
+
+def table(summaries: list[dict]) -> tuple[str, bool]:
+    """The table's text and whether every run has a passed check."""
+    head = (f"{'scene':12s} {'method':9s} {'ranks':>5s} {'dofs':>7s} {'figure':34s} {'value':>13s} {'reference':>13s} "
+            f"{'rel. error':>10s} {'tol.':>7s} {'passed':>6s} {'newton':>6s} {'time s':>7s}")
+    lines, ok = [head, "-" * len(head)], True
+    for s in summaries:
+        c = s.get("check") or {}
+        passed = bool(c.get("passed"))
+        ok = ok and passed
+        lines.append(f"{s.get('scene', '?'):12s} {s.get('method', '?'):9s} {s.get('ranks', 0):5d} "
+                     f"{s.get('dofs', 0):7d} {c.get('figure', '(no check)'):34s} {_num(c.get('value'), '13.6g')} "
+                     f"{_num(c.get('reference'), '13.6g')} {_num(c.get('rel_error'), '10.2e')} "
+                     f"{_num(c.get('tolerance'), '7.0e')} {str(passed):>6s} {s.get('newton_iterations', 0):6d} "
+                     f"{s.get('wall_time_s', float('nan')):7.2f}")
+    return "\n".join(lines), ok
+
+
+if __name__ == "__main__":
+    root = Path(sys.argv[1] if len(sys.argv) > 1 else "results")
+    text, ok = table(rows(root))
+    print(text)
+    sys.exit(0 if ok else 1)
