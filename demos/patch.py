@@ -71,7 +71,7 @@ def main(argv=None) -> dict:
                 profiles.append((x[:, 0], pr, f"{quadrature} {passes}-pass {slave} {method} K={K:g}"))
                 if comm.rank == 0 and not args.quiet:
                     r = rows[-1]
-                    print(f"{quadrature:7s} {passes}-pass slave={slave:5s} {method:7s} K={K:7.0e}  "
+                    cli.say(f"{quadrature:7s} {passes}-pass slave={slave:5s} {method:7s} K={K:7.0e}  "
                           f"deviation {r['pressure_deviation']:.3e}  |g|max {r['max_abs_gap']:.1e}  "
                           f"newton {r['newton_iterations']}", flush=True)
 

@@ -105,10 +105,10 @@ def main(argv=None) -> dict:
                 w.writerow(["refinement", "h_contact", "dofs", "contact_angle_deg", "change_deg", "newton_iterations",
                             "augmentations", "wall_time_s"])
                 w.writerows([*row[:4], c, *row[4:]] for row, c in zip(rows, changes))
-            print(f"{'ref':>3s} {'h':>8s} {'dofs':>7s} {'angle deg':>10s} {'change':>8s} {'newton':>6s} {'aug':>4s} "
+            cli.say(f"{'ref':>3s} {'h':>8s} {'dofs':>7s} {'angle deg':>10s} {'change':>8s} {'newton':>6s} {'aug':>4s} "
                   f"{'time s':>7s}")
             for (r, h, n, a, it, aug, t), c in zip(rows, changes):
-                print(f"{r:3d} {h:8.4g} {n:7d} {a:10.4f} {c:8.4f} {it:6d} {aug:4d} {t:7.2f}")
+                cli.say(f"{r:3d} {h:8.4g} {n:7d} {a:10.4f} {c:8.4f} {it:6d} {aug:4d} {t:7.2f}")
             if not args.no_pictures:
                 from fenics_contact.plotting import plot_profile
 

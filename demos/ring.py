@@ -89,7 +89,7 @@ def main(argv=None) -> dict:
     first_step = {**first.figures(), "paper_penetration_centre": ring.PAPER_PENETRATION[0],
                   "paper_penetration_neighbour": ring.PAPER_PENETRATION[1]}
     if comm.rank == 0:
-        print("first step:", {k: round(v, 8) for k, v in first_step.items()})
+        cli.say("first step:", {k: round(v, 8) for k, v in first_step.items()})
         (out / "first_step.json").write_text(json.dumps(first_step, indent=1))
     # The check: the first step's centre penetration against the paper's (two digits; 6 % off on this mesh)
     summary = {**summaries["cross"], "check": check("penetration_centre (first step)",
@@ -107,16 +107,17 @@ def main(argv=None) -> dict:
             rows.append({"method": method, "iteration": it, **{f"point_{i + 1}": f"{f[i]:.6g}" for i in active}})
     if comm.rank == 0:
         keys = sorted({k for r in rows for k in r if k.startswith("point_")}, key=lambda k: int(k.split("_")[1]))
-        print(tables.write_table(rows, out / "ring_forces", ["method", "iteration", *keys]))
+        cli.say(tables.write_table(rows, out / "ring_forces", ["method", "iteration", *keys]))
 
     # 4. The comparison table (one row per method; merged with the other demos' under --out's parent).
     if comm.rank == 0:
-        print(tables.write_table([tables.method_row(summaries[m], METHODS[m][0]) for m in METHODS], out / "methods",
+        cli.say(tables.write_table([tables.method_row(summaries[m], METHODS[m][0]) for m in METHODS], out / "methods",
                                  tables.METHOD_COLUMNS))
         tables.merge_method_tables(out.parent)
         for m, s in summaries.items():
             first = s["steps"][0]["residuals"][0] if s["steps"] else []
-            print(f"{m:8s} first solve: {len(first) - 1} iterations, |r| {first[-1]:.2e}; failure: {s.get('failure')}")
+            cli.say(f"{m:8s} first solve: {len(first) - 1} iterations, |r| {first[-1]:.2e}; "
+                    f"failure: {s.get('failure')}")
 
     # 5. Pictures: forces against the iteration after the first augmentation; the deformed ring (cross).
     if not args.no_pictures:

@@ -66,8 +66,8 @@ def main(argv=None) -> dict:
                   check=lambda s: check("plate_force_upper", s.get("plate_force_upper"), s.get("plate_force_lower"),
                                         1e-6, "equilibrium: the lower plate's force"))
     if comm.rank == 0:
-        print(tables.residual_table(summary["steps"], out / "seal_residuals"))
-        print(tables.write_table(zones, out / "seal_zones"))
+        cli.say(tables.residual_table(summary["steps"], out / "seal_residuals"))
+        cli.say(tables.write_table(zones, out / "seal_zones"))
         with open(out / "summary.json") as fh:  # the zones history into summary.json too
             full = json.load(fh)
         full["zones_history"] = zones
@@ -93,12 +93,12 @@ def main(argv=None) -> dict:
     if comm.rank == 0:
         rows = [tables.method_row(summary, f"cross-constraints (K^ {args.K:g}, F^ {args.F_hat:g})"),
                 tables.method_row(penalty_summary, f"penalty (K {args.K:g})")]
-        print(tables.write_table(rows, out / "methods", tables.METHOD_COLUMNS))
+        cli.say(tables.write_table(rows, out / "methods", tables.METHOD_COLUMNS))
         tables.merge_method_tables(out.parent)
         its = [s["newton_iterations"] for s in summary["steps"]]
-        print(f"seal: {len(its)} steps, Newton iterations per step {its} (max {max(its)}), "
+        cli.say(f"seal: {len(its)} steps, Newton iterations per step {its} (max {max(its)}), "
               f"{summary['wall_time_s']:.2f} s, {summary['dofs']} dofs, {comm.size} ranks")
-        print("contact zones (lower, upper):", [(z["t"], z["zones_lower"], z["zones_upper"]) for z in zones])
+        cli.say("contact zones (lower, upper):", [(z["t"], z["zones_lower"], z["zones_upper"]) for z in zones])
     return summary
 
 

@@ -111,9 +111,9 @@ def main(argv=None) -> dict:
                         for row in zip(pr["s"], pr["x"], pr["y"], pr["p"]):
                             w.writerow([name, t, m, *(f"{v:.10g}" for v in row)])
         for t, c in comparison.items():
-            print(f"{t}: multipliers' peak {c['peak_multipliers']:.4g}")
+            cli.say(f"{t}: multipliers' peak {c['peak_multipliers']:.4g}")
             for name, r in c["variants"].items():
-                print(f"  {name:30s} max |p - p_mult| / peak {r['max_difference_over_peak']:.4f}  "
+                cli.say(f"  {name:30s} max |p - p_mult| / peak {r['max_difference_over_peak']:.4f}  "
                       f"total variation {r['total_variation']:.4g}  oscillation {r['oscillation']:.4g}")
         if not args.no_pictures:
             from fenics_contact.plotting import plot_curves

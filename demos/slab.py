@@ -104,7 +104,7 @@ def main(argv=None) -> dict:
                         out / "slab_zones.png", xlabel="friction coefficient mu", ylabel="length along the base",
                         title=f"slab zones against mu ({args.method})")
         for r in rows:
-            print(f"mu {r[0]:4.2f}  ux_A {r[1]: .6e}  uy_A {r[2]: .6e}  separated {r[3]:6.3f}  sliding {r[4]:6.3f}  "
+            cli.say(f"mu {r[0]:4.2f}  ux_A {r[1]: .6e}  uy_A {r[2]: .6e}  separated {r[3]:6.3f}  sliding {r[4]:6.3f}  "
                   f"sticking {r[5]:6.3f}  newton {r[6]}")
     return summary
 

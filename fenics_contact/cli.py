@@ -190,6 +190,12 @@ def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
         root_logger.addFilter(quiet_root)
 
 
+def say(*parts: object) -> None:
+    """A demo's report line (tables, comparisons) through the log (``fenics_contact.demo``, INFO): shown unless
+    ``--quiet``; call on rank 0."""
+    logging.getLogger("fenics_contact.demo").info(" ".join(str(p) for p in parts))
+
+
 def has_friction(args: argparse.Namespace) -> bool:
     """Friction is on when ``--mu`` is not 0 or ``--c-t`` is given (a negative mu is an error, not off)."""
     return args.mu != 0.0 or args.c_t is not None

@@ -1,0 +1,39 @@
+"""Smoke test: every demo's main(argv) on a tiny size passes its own check (serial and under mpirun -n 2).
+
+In process (not as a subprocess): under ``mpirun`` every rank runs the test, so every rank calls ``main``.
+"""
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+DEMOS = Path(__file__).resolve().parent.parent / "demos"
+TINY = {"block": [], "hertz": [], "slab": ["--mu", "0.4"], "pin": [], "ring": ["--n-theta", "22", "--n-r", "2"],
+        "patch": ["--main-only"], "sphere": ["--size", "1.0"],
+        "compliance3d": ["--mesh", "8", "4", "2", "--drag-steps", "2"], "seal": ["--h", "1.0"],
+        "cylinders": ["--t-end", "0.2"], "sheet": ["--n-arc", "8", "--eps", "1e4", "--steps", "2"]}
+SCRIPTS = sorted(p.stem for p in DEMOS.glob("*.py") if p.stem not in ("bench", "scaling", "table"))
+
+
+def load(name: str):
+    spec = importlib.util.spec_from_file_location(f"demo_{name}", DEMOS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_demo_is_in_the_smoke_test():
+    assert sorted(TINY) == SCRIPTS
+
+
+@pytest.mark.parametrize("name", sorted(TINY))
+def test_demo_passes_its_check(name, tmp_path_factory, comm):
+    out = comm.bcast(str(tmp_path_factory.mktemp(name)) if comm.rank == 0 else None)
+    summary = load(name).main([*TINY[name], "--out", out, "--no-pictures", "--no-xdmf", "--quiet"])
+    on_disk = json.loads((Path(out) / "summary.json").read_text())
+    check = on_disk["check"]
+    assert set(check) >= {"figure", "value", "reference", "rel_error", "tolerance", "passed"}
+    assert check["passed"], check
+    assert check["rel_error"] <= check["tolerance"]
+    assert summary["check"] == check and on_disk["ranks"] == comm.size
