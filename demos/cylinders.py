@@ -62,7 +62,7 @@ def main(argv=None) -> dict:
                   args.augment, args.augment_tol, args.quiet, on_step=after_step,
                   check=lambda s: check("p0 (Hertz step)", history[0]["p0"] if history else None,
                                         history[0]["p0_hertz"] if history else None, TOLERANCE,
-                                        f"Hertz for two cylinders at t = {cylinders.T_HERTZ:g}"))
+                                        f"Hertz for two cylinders at t = {cylinders.T_HERTZ:g}"), xdmf=not args.no_xdmf)
 
     # 4. Tables and pictures (rank 0; every figure is already reduced over ranks).
     if comm.rank == 0:

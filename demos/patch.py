@@ -45,7 +45,7 @@ def main(argv=None) -> dict:
     setup = build("patch", law_factory=lambda: cli.law_from_args(args), quadrature=args.quadrature,
                   passes=args.passes, slave=args.slave)
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "passes": args.passes, "slave": args.slave},
-                  args.augment, args.augment_tol, args.quiet, check=patch_check)
+                  args.augment, args.augment_tol, args.quiet, check=patch_check, xdmf=not args.no_xdmf)
     comm = setup.problem.comm
 
     if args.main_only:

@@ -11,7 +11,6 @@ and printed (1 = linear cost, the ideal for AMG). Writes scaling.csv,
 scaling.json and scaling.png to --out. Heavy: the 1e6-dof mesh takes about
 4 minutes of gmsh and ~5 GB per run; check ``free -g`` first.
 """
-import argparse
 import csv
 import json
 import shutil
@@ -22,17 +21,21 @@ from pathlib import Path
 
 import numpy as np
 
+from fenics_contact import cli
 from fenics_contact.bench import _child_env, _figure
 from fenics_contact.scenes import sphere
 
 DEMO = Path(__file__).resolve().parent / "sphere.py"
 
-p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-p.add_argument("--levels", type=int, nargs="+", default=list(range(len(sphere.LEVELS))), help="sphere mesh levels")
-p.add_argument("--ranks", type=int, nargs="+", default=[1, 2], help="MPI rank counts")
+p = cli.StrictParser(description=__doc__.splitlines()[0], epilog=None)
+p.add_argument("--levels", type=cli.number(int, 0, len(sphere.LEVELS) - 1), nargs="+", default=list(range(len(sphere.LEVELS))), help="sphere mesh levels")
+p.add_argument("--ranks", type=cli.COUNT, nargs="+", default=[1, 2], help="MPI rank counts")
 p.add_argument("--method", default="penalty", help="contact method")
 p.add_argument("--out", default="results/scaling", help="output folder")
-args = p.parse_args()
+try:
+    args = p.parse_args()
+except cli.UsageError as exc:
+    sys.exit(f"{Path(sys.argv[0]).name}: error: {exc}")
 out = Path(args.out)
 out.mkdir(parents=True, exist_ok=True)
 

@@ -64,7 +64,7 @@ def main(argv=None) -> dict:
     summary = run(setup, out, args.method if args.method == "cross" else "cross", cli.method_parameters(args), 0,
                   quiet=args.quiet, options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], on_step=on_step,
                   check=lambda s: check("plate_force_upper", s.get("plate_force_upper"), s.get("plate_force_lower"),
-                                        1e-6, "equilibrium: the lower plate's force"))
+                                        1e-6, "equilibrium: the lower plate's force"), xdmf=not args.no_xdmf)
     if comm.rank == 0:
         cli.say(tables.residual_table(summary["steps"], out / "seal_residuals"))
         cli.say(tables.write_table(zones, out / "seal_zones"))
@@ -87,7 +87,7 @@ def main(argv=None) -> dict:
     penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape)
     try:
         penalty_summary = run(penalty, out / "penalty", "penalty", {"K": args.K}, 0, quiet=args.quiet,
-                              options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape])
+                              options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], xdmf=not args.no_xdmf)
     except ConvergenceError:
         penalty_summary = json.load(open(out / "penalty" / "summary.json")) if comm.rank == 0 else None
     if comm.rank == 0:

@@ -66,7 +66,7 @@ def main(argv=None) -> dict:
         # 3. Solve (one proportional step by default), write XDMF and summary.json.
         summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps},
                       args.augment, args.augment_tol, args.quiet,
-                      check=lambda s, mu=mu: slab_check(s, mu, args.refinement, args.method))
+                      check=lambda s, mu=mu: slab_check(s, mu, args.refinement, args.method), xdmf=not args.no_xdmf)
         z = summary["zones"]
         rows.append((mu, summary["ux_A"], summary["uy_A"], z["separated"], z["sliding"], z["sticking"],
                      summary["newton_iterations"]))
