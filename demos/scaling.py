@@ -28,7 +28,8 @@ from fenics_contact.scenes import sphere
 DEMO = Path(__file__).resolve().parent / "sphere.py"
 
 p = cli.StrictParser(description=__doc__.splitlines()[0], epilog=None)
-p.add_argument("--levels", type=cli.number(int, 0, len(sphere.LEVELS) - 1), nargs="+", default=list(range(len(sphere.LEVELS))), help="sphere mesh levels")
+p.add_argument("--levels", type=cli.number(int, 0, len(sphere.LEVELS) - 1), nargs="+",
+               default=list(range(len(sphere.LEVELS))), help="sphere mesh levels")
 p.add_argument("--ranks", type=cli.COUNT, nargs="+", default=[1, 2], help="MPI rank counts")
 p.add_argument("--method", default="penalty", help="contact method")
 p.add_argument("--out", default="results/scaling", help="output folder")
