@@ -12,7 +12,8 @@ DEMOS = Path(__file__).resolve().parent.parent / "demos"
 TINY = {"block": [], "hertz": [], "slab": ["--mu", "0.4"], "pin": [], "ring": [],
         "patch": ["--main-only"], "sphere": ["--size", "1.0"],
         "compliance3d": ["--mesh", "8", "4", "2", "--drag-steps", "2"], "seal": [],
-        "cylinders": ["--t-end", "0.2", "--h-contact", "0.1"], "sheet": ["--n-arc", "8", "--eps", "1e4", "--steps", "2"]}
+        "cylinders": ["--t-end", "0.2", "--h-contact", "0.1"],
+        "sheet": ["--n-arc", "8", "--eps", "1e4", "--steps", "2"]}
 SCRIPTS = sorted(p.stem for p in DEMOS.glob("*.py") if p.stem not in ("bench", "scaling", "table"))
 
 
