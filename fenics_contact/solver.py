@@ -144,8 +144,10 @@ class Solver:
     when ``R = ||g_new - g_old|| <= augment_tol``. A step whose SNES
     diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
     called after every converged step (output); ``on_iterate(it)`` after
-    every Newton iterate, with ``problem.u`` at that iterate. ``quiet``
-    silences the progress lines. ``predictor`` chooses the state each load
+    every Newton iterate, with ``problem.u`` at that iterate. Progress: one
+    line per load step on rank 0 through ``logging`` (logger
+    ``fenics_contact.solver``, INFO; ``quiet``: DEBUG, i.e. silent unless
+    the log asks for it). ``predictor`` chooses the state each load
     step starts from: ``False`` the last converged state; ``"secant"`` (or
     ``True``) the linear extrapolation in ``t`` of the last two converged
     states; ``"tangent"`` the Euler predictor of :meth:`_tangent_predictor`
