@@ -27,11 +27,11 @@ def check(figure: str, value: float | None, reference: float | None, tolerance: 
 
 
 def log_check(c: dict, comm=None) -> None:
-    """Log the check's line (INFO) on rank 0."""
+    """Log the check's line on rank 0: INFO when it passed, WARNING when not (shown also with ``--quiet``)."""
     if comm is not None and comm.rank != 0:
         return
     value = "none (the run failed)" if c["value"] is None else f"{c['value']:.8g}"
     error = "" if c["rel_error"] is None else f", rel. error {c['rel_error']:.2e}"
     reference = "none" if c["reference"] is None else f"{c['reference']:.8g}"
-    logger.info(f"check: {c['figure']} = {value}, reference {reference} ({c['source']}){error}, "
+    logger.log(logging.INFO if c["passed"] else logging.WARNING, f"check: {c['figure']} = {value}, reference {reference} ({c['source']}){error}, "
                 f"tolerance {c['tolerance']:.0e}: {'passed' if c['passed'] else 'FAILED'}")
