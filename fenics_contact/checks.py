@@ -33,5 +33,6 @@ def log_check(c: dict, comm=None) -> None:
     value = "none (the run failed)" if c["value"] is None else f"{c['value']:.8g}"
     error = "" if c["rel_error"] is None else f", rel. error {c['rel_error']:.2e}"
     reference = "none" if c["reference"] is None else f"{c['reference']:.8g}"
-    logger.log(logging.INFO if c["passed"] else logging.WARNING, f"check: {c['figure']} = {value}, reference {reference} ({c['source']}){error}, "
-                f"tolerance {c['tolerance']:.0e}: {'passed' if c['passed'] else 'FAILED'}")
+    logger.log(logging.INFO if c["passed"] else logging.WARNING,
+               f"check: {c['figure']} = {value}, reference {reference} ({c['source']}){error}, "
+               f"tolerance {c['tolerance']:.0e}: {'passed' if c['passed'] else 'FAILED'}")
