@@ -18,9 +18,10 @@ def check(figure: str, value: float | None, reference: float | None, tolerance: 
         raise ValueError(f"check {figure!r}: the reference must be finite and non-zero, got {reference!r}")
     if not tolerance > 0:
         raise ValueError(f"check {figure!r}: the tolerance must be > 0, got {tolerance!r}")
-    ok = value is not None and math.isfinite(value) and reference is not None
+    has_value = value is not None and math.isfinite(value)
+    ok = has_value and reference is not None
     rel = abs(value - reference) / abs(reference) if ok else None
-    return {"figure": figure, "value": float(value) if ok else None,
+    return {"figure": figure, "value": float(value) if has_value else None,
             "reference": None if reference is None else float(reference),
             "rel_error": rel, "tolerance": float(tolerance), "passed": bool(ok and rel <= tolerance),
             "source": source}
