@@ -24,12 +24,12 @@ for run in "${RUNS[@]}"; do
   set -- $run
   demo=$1; shift
   rm -f "$OUT/$demo/summary.json"
-  t0=$(date +%s)
   echo "== demos/$demo.py $* (mpirun -n $NP)"
-  if ! $MPIRUN $PY demos/$demo.py --out "$OUT/$demo" --quiet "$@"; then
+  # wall and CPU seconds (all ranks): on a shared machine the CPU time / NP is the unloaded wall time
+  if ! /usr/bin/time -f "   %e s wall, %U s user + %S s system (all ranks)" \
+       $MPIRUN $PY demos/$demo.py --out "$OUT/$demo" --quiet "$@"; then
     failed+=("$demo")
   fi
-  echo "   $(( $(date +%s) - t0 )) s"
 done
 echo "== all demos: $(( $(date +%s) - start )) s"
 $PY demos/table.py "$OUT"
