@@ -579,10 +579,12 @@ class SegmentSurface(TwoBodySurface):
         C = PETSc.Mat().createAIJ(sizes, comm=self.comm)
         C.setPreallocationNNZ((24, 24))
         C.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        bc = self._bc_global if self._bc_global is not None else set()
-        idx = np.array([[-1 if int(i) in bc else int(i) for i in row] for row in dofs], dtype=PETSc.IntType)
-        for k in range(len(K)):  # negative indices (Dirichlet dofs) are ignored by MatSetValues
-            C.setValues(idx[k], idx[k], K[k].ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+        if len(K):  # one CSR row per element row; Dirichlet rows and columns as -1 (ignored by MatSetValues)
+            idx = np.where(np.isin(dofs, self._bc_array), -1, dofs).astype(PETSc.IntType)
+            n, m = idx.shape
+            cols = np.repeat(idx, m, axis=0).ravel()
+            indptr = np.arange(n * m + 1, dtype=PETSc.IntType) * m
+            C.setValuesIJV(indptr, cols, K.reshape(-1), addv=PETSc.InsertMode.ADD_VALUES, rowmap=idx.ravel())
         C.assemble()
         return C
 

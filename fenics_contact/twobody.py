@@ -353,7 +353,8 @@ class TwoBodySurface(ContactSurface):
         if not (np.isfinite(radius) and radius > 0):
             raise ValueError(f"search radius must be a finite number > 0, got {radius!r}")
         self.radius = float(radius)
-        self._bc_global = None  # set by bind_problem
+        self._bc_global = None  # set by bind_problem (and its sorted array _bc_array)
+        self._bc_array = np.zeros(0, np.int64)
         self.I = None
         self._pairs = None
         self.exploded = False  # the last update met a master facet stretched past search.STRETCH_LIMIT
@@ -487,23 +488,34 @@ class TwoBodySurface(ContactSurface):
         nq = self.B.shape[0]
         I.setPreallocationNNZ((nq, nq))
         I.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        bc = self._bc_global if self._bc_global is not None else set()
-        for f in range(len(facet)):
-            for a in range(self.B.shape[1]):
-                row0 = int(self._wglobal[f, a]) * bs
-                for k in range(nv):
-                    for i in range(d):
-                        entries: dict[int, float] = {}  # two points may share a master vertex: sum
-                        for q in range(nq):
-                            m = facet[f, q]
-                            if m < 0 or self.Binv[a, q] == 0.0:
-                                continue
-                            col = int(self._mG[m, k, i])
-                            if col not in bc:
-                                entries[col] = entries.get(col, 0.0) + self.Binv[a, q]
-                        if entries:
-                            I.setValues([row0 + k * d + i], list(entries), list(entries.values()),
-                                        addv=PETSc.InsertMode.INSERT_VALUES)
+        # Entries (row, column, B^-1 weight) of every paired point, summed where two points of one mirror node share
+        # a master vertex, Dirichlet columns dropped; rows of ghost slave facets are inserted by both ranks with
+        # the same values (INSERT), PETSc moves the off-process ones.
+        nf, nn = facet.shape[0], self.B.shape[1]
+        f, a, q = (x.ravel() for x in np.meshgrid(np.arange(nf), np.arange(nn), np.arange(nq), indexing="ij"))
+        m, w = facet[f, q], self.Binv[a, q]
+        keep = (m >= 0) & (w != 0.0)
+        f, a, m, w = f[keep], a[keep], m[keep], w[keep]
+        local = (np.arange(nv)[:, None] * d + np.arange(d)).ravel()
+        rows = (self._wglobal[f, a].astype(np.int64) * bs)[:, None] + local
+        cols = self._mG[m].reshape(len(m), nv * d).astype(np.int64)
+        vals = np.broadcast_to(w[:, None], rows.shape)
+        fac = np.broadcast_to(f[:, None], rows.shape)
+        rows, cols, vals, fac = rows.ravel(), cols.ravel(), vals.ravel(), fac.ravel()
+        if self._bc_global:
+            free = ~np.isin(cols, self._bc_array)
+            rows, cols, vals, fac = rows[free], cols[free], vals[free], fac[free]
+        if len(rows):
+            # Sum over the points of one facet; a mirror node shared by two slave facets gets the same row from
+            # each (one insert, as INSERT_VALUES would leave it).
+            key, inverse = np.unique(np.stack([rows, cols, fac]), axis=1, return_inverse=True)
+            vals = np.bincount(inverse.ravel(), weights=vals)
+            rc, first = np.unique(key[:2], axis=1, return_index=True)
+            rows, cols, vals = rc[0], rc[1], vals[first]
+            urows, start = np.unique(rows, return_index=True)
+            indptr = np.append(start, len(rows)).astype(PETSc.IntType)
+            I.setValuesIJV(indptr, cols.astype(PETSc.IntType), vals, addv=PETSc.InsertMode.INSERT_VALUES,
+                           rowmap=urows.astype(PETSc.IntType))
         I.assemble()
         if self.I is not None:
             self.I.destroy()
@@ -516,7 +528,8 @@ class TwoBodySurface(ContactSurface):
         local = np.unique(np.concatenate([bc_dofs(b) for b in problem.bcs])) if problem.bcs else np.zeros(0, int)
         local = local[local < Vmap.size_local * bs]
         glob = Vmap.local_to_global(local // bs) * bs + local % bs if len(local) else np.zeros(0, np.int64)
-        self._bc_global = set(np.concatenate(self.comm.allgather(glob)).tolist())
+        self._bc_array = np.unique(np.concatenate(self.comm.allgather(glob))).astype(np.int64)
+        self._bc_global = set(self._bc_array.tolist())
         self._problem = problem
         self._build_I(self._pairs)
         self._pattern_version += 1
