@@ -50,3 +50,22 @@ def pytest_configure(config):
     comm = MPI.COMM_WORLD
     if comm.size > 1 and config.option.basetemp is None:
         config.option.basetemp = os.path.join(tempfile.gettempdir(), f"pytest-fc-rank{comm.rank}-of-{comm.size}")
+
+
+@pytest.fixture(autouse=True)
+def _petsc_options_unchanged():
+    """No test may leave options in PETSc's database: a later solver with the same prefix would read them (a
+    divergence tolerance, a line search, a linear solver left by one test changed another's answer)."""
+    from petsc4py import PETSc
+
+    opts = PETSc.Options()
+    before = opts.getAll()
+    yield
+    after = opts.getAll()
+    leaked = {k: v for k, v in after.items() if before.get(k) != v}
+    for k in leaked:
+        opts.delValue(k)
+    for k, v in before.items():
+        if k not in after:
+            opts.setValue(k, v)
+    assert not leaked, f"options left in PETSc's database: {leaked}"
