@@ -4,13 +4,24 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import gmsh
-from dolfinx.io import gmshio
 from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+
+class _Lazy:
+    """gmsh, imported on first use (inside a mesh builder): importing the package does not load gmsh."""
+
+    def __getattr__(self, name: str):
+        import gmsh as module
+
+        return getattr(module, name)
+
+
+gmsh = _Lazy()
+
 
 def _positive(**values: float) -> None:
     """Raise a ValueError naming the first of ``values`` that is not a finite number > 0."""
@@ -35,6 +46,8 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, M
 
     Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
     """
+    from dolfinx.io import gmshio
+
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)

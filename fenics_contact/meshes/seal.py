@@ -64,14 +64,13 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import gmsh
 from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh
+from .gmshutil import _from_gmsh, gmsh
 from .tags import SEAL_BOUNDARY, SEAL_DOMAIN, SEAL_SYMMETRY
 
 

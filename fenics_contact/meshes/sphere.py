@@ -4,10 +4,9 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import gmsh
 from mpi4py import MPI
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
 from .tags import CONTACT, DOMAIN, SYMMETRY, SYMMETRY_Y, TOP
 
 if TYPE_CHECKING:
