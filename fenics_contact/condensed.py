@@ -125,12 +125,12 @@ class CondensedContact(BoundContact):
         # K (no boundary conditions) and the external load f at t = 1 (-F at u = 0).
         problem.u.x.array[:] = 0.0
         problem.load.value = 1.0
-        self._A = fem_petsc.assemble_matrix(problem.J)
+        self._A = fem_petsc.assemble_matrix(problem.a)
         self._A.assemble()
-        self._f = fem_petsc.create_vector(problem.F)
+        self._f = fem_petsc.create_vector(problem.L)
         with self._f.localForm() as fl:
             fl.set(0.0)
-        fem_petsc.assemble_vector(self._f, problem.F)
+        fem_petsc.assemble_vector(self._f, problem.L)
         self._f.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         self._f.scale(-1.0)
         problem.u.x.array[:] = u_save

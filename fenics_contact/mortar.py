@@ -556,6 +556,11 @@ class SegmentSurface(TwoBodySurface):
         self._xm = xm
         return changed or seg_changed
 
+    def pairing(self) -> np.ndarray:
+        """The point pairs (:meth:`TwoBodySurface.pairing`) followed by the (slave facet, master facet) pairs of
+        the sub-segments, flattened."""
+        return np.concatenate([super().pairing(), self._segment_pairs.ravel()])
+
     def _elements(self, points: bool = False):
         """Element residuals, tangents and global dof indices (n, 8) of the current sub-segments."""
         f, m = self._segment_pairs[:, 0], self._segment_pairs[:, 1]

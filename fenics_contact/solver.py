@@ -17,13 +17,12 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
-import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import failure as _failure
-from .compat import lift_and_set_bc, petsc_vec
+from .compat import petsc_vec
 from .problem import ContactProblem
 
 DEFAULT_OPTIONS = {
@@ -170,8 +169,8 @@ class Solver:
         # Options already in the database (command line) win; ours are removed
         # after setFromOptions so that they do not leak into the next solver.
         opts = PETSc.Options()
-        self._bounded = any(c.bounded for c in problem.contacts)
-        defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self._bounded else {})}
+        self.bounded = any(c.bounded for c in problem.contacts)
+        defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self.bounded else {})}
         for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
             defaults.update(c.solver_options)
         wanted = {**defaults, **(options or {})}
@@ -180,13 +179,13 @@ class Solver:
                 wanted.update(getattr(c, "direct_solver_options", {}))
         self._wanted, self._prefix = wanted, prefix
         u = problem.u
-        self._b = fem_petsc.create_vector(problem.F)
-        self._A = fem_petsc.create_matrix(problem.J)
+        self.b = problem.create_vector()  # the residual vector of the SNES (dolfinx_mpc style: public)
+        self.A = problem.create_matrix()  # the Jacobian matrix of the SNES
         self._x = petsc_vec(u).copy()
         self.snes = PETSc.SNES().create(problem.comm)
         self.snes.setOptionsPrefix(prefix)
-        self.snes.setFunction(self._residual, self._b)
-        self.snes.setJacobian(self._jacobian, self._A)
+        self.snes.setFunction(self._residual, self.b)
+        self.snes.setJacobian(self._jacobian, self.A)
         self.snes.setMonitor(self._monitor)
         with self._wanted_options():
             self.snes.setFromOptions()
@@ -196,7 +195,7 @@ class Solver:
                 self.snes.setConvergenceTest(self._convergence_test)
             self._split_fields()
             if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
-                self._A.setNearNullSpace(rigid_body_modes(u.function_space))
+                self.A.setNearNullSpace(rigid_body_modes(u.function_space))
         self.records: list[StepRecord] = []
         self.failures: list[dict] = []  # every failed solve, also those rescued by a cutback
         self._history: list[float] = []
@@ -217,25 +216,12 @@ class Solver:
 
     def _residual(self, snes, x, b):
         start = time.perf_counter()
-        self._set_u(x)
-        for c in self.problem.contacts:  # e.g. two-body contact re-pairs at the current state
-            c.prepare(self.problem)
-        with b.localForm() as bl:
-            bl.set(0.0)
-        fem_petsc.assemble_vector(b, self.problem.F)
-        for c in self.problem.contacts:  # coupling terms outside the forms (owned entries)
-            c.add_residual(b)
-        lift_and_set_bc(b, self.problem.J, self.problem.bcs, x, -1.0)
+        self.problem.F(x, b)
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _jacobian(self, snes, x, A, P):
         start = time.perf_counter()
-        A.zeroEntries()
-        fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
-        A.assemble()
-        # Coupling blocks; a contact whose pairing changed widens A's pattern: factor from scratch then
-        # (PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change).
-        if any([c.add_jacobian(A, self.problem.bcs) for c in self.problem.contacts]):
+        if self.problem.J(x, A):  # a contact's pairing changed A's pattern: factor from scratch
             self.snes.getKSP().getPC().reset()
             self._split_fields()  # a reset field split has forgotten its index sets
         self.timings["assembly_s"] += time.perf_counter() - start
@@ -360,13 +346,13 @@ class Solver:
         rec = StepRecord(step=number, load=t)
         start = time.perf_counter()
         self.problem.set_load(t)
-        if self._bounded:
-            lower, upper = self._bounds(t)
+        if self.bounded:
+            lower, upper = self.bounds(t)
             self.snes.setVariableBounds(lower, upper)
         augmentable = [c for c in self.problem.contacts if c.law.augmentable]
         for c in augmentable:
             c.forget_gap()
-        if self.predictor == "tangent" and not self._bounded and t != self.t:
+        if self.predictor == "tangent" and not self.bounded and t != self.t:
             rec.predictor_scale = self._tangent_predictor(t)
         elif self.predictor == "secant" and len(self._converged) == 2:
             (t0, u0), (t1, u1) = self._converged
@@ -426,19 +412,19 @@ class Solver:
         start, assembly = time.perf_counter(), self.timings["assembly_s"]
         p, t0 = self.problem, self.t
         if not hasattr(self, "_work"):
-            self._work = [self._b.duplicate() for _ in range(4)]
+            self._work = [self.b.duplicate() for _ in range(4)]
         x, r0, r1, du = self._work
         petsc_vec(p.u).copy(x)
         p.set_load(t0)
         self._residual(self.snes, x, r0)
-        self._jacobian(self.snes, x, self._A, self._A)
+        self._jacobian(self.snes, x, self.A, self.A)
         eps = PREDICTOR_FD * abs(t - t0)
         p.set_load(t0 + eps)
         self._residual(self.snes, x, r1)
         r1.axpy(-1.0, r0)
         r1.scale(-(t - t0) / eps)
         ksp = self.snes.getKSP()
-        ksp.setOperators(self._A)
+        ksp.setOperators(self.A)
         ksp.solve(r1, du)
         p.set_load(t)
         if ksp.getConvergedReason() < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
@@ -480,14 +466,14 @@ class Solver:
         ksp_reason = _failure.reason_name(PETSc.KSP.ConvergedReason, ksp.getConvergedReason())
         condition = None
         if ksp_reason not in ("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED"):  # a failed factorization: no estimate
-            condition = _failure.condition_estimate(self._A, ksp)
+            condition = _failure.condition_estimate(self.A, ksp)
         return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
                                  self._history, self._sets, self._closed, condition)
 
     def condition_estimate(self) -> float | None:
         """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,
         else None). Collective."""
-        return _failure.condition_estimate(self._A, self.snes.getKSP())
+        return _failure.condition_estimate(self.A, self.snes.getKSP())
 
     def run(self, loads: Sequence[float]) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
@@ -543,11 +529,11 @@ class Solver:
         with self._wanted_options(lambda k: k.startswith(("ksp_", "pc_", "mg_"))):
             ksp.setFromOptions()
             self._split_fields(ksp.getPC())
-        x = self._b.duplicate()
+        x = self.b.duplicate()
         start = time.perf_counter()
-        self._jacobian(self.snes, self._x, self._A, self._A)
-        ksp.setOperators(self._A)
-        ksp.solve(self._b, x)
+        self._jacobian(self.snes, self._x, self.A, self.A)
+        ksp.setOperators(self.A)
+        ksp.solve(self.b, x)
         elapsed = time.perf_counter() - start
         ksp.destroy()
         x.destroy()

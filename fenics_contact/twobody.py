@@ -756,6 +756,11 @@ class TwoBodySurface(ContactSurface):
         X = np.einsum("qk,fkj->fqj", self.B, self.slave_data.X).reshape(-1, self.gdim)
         return np.concatenate(self.comm.allgather(X))
 
+    def pairing(self) -> np.ndarray:
+        """The pairing the residual depends on (a copy, this rank's): the master facet of each local slave
+        point (-1: none), flattened."""
+        return self._pairs.ravel().copy()
+
 
 def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,
                       quadrature: str = "nodal", passes: str = "one", radius: float | None = None,

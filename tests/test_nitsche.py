@@ -33,7 +33,7 @@ def full_residual_reaction(problem, dofs):
     """Sum over ``dofs`` (owned) of the whole residual, bulk and contact, over all ranks."""
     r = fem.Function(problem.u.function_space)
     vec = petsc_vec(r)
-    fem_petsc.assemble_vector(vec, problem.F)
+    fem_petsc.assemble_vector(vec, problem.L)
     vec.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
     owned = problem.u.function_space.dofmap.index_map.size_local * problem.u.function_space.dofmap.index_map_bs
     return problem.comm.allreduce(float(np.sum(vec.array[dofs[dofs < owned]])), op=MPI.SUM)

@@ -103,7 +103,7 @@ def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, tangent_ch
 
 def _pairing(c):
     """The pairing a surface's residual depends on: point pairs, and sub-segment pairs (segment quadrature)."""
-    return np.concatenate([c._pairs.ravel(), getattr(c, "_segment_pairs", np.zeros((0, 2), int)).ravel()])
+    return c.pairing()
 
 
 def _patch(quadrature, passes, comm=MPI.COMM_WORLD, by_body=False):
