@@ -43,6 +43,16 @@ from typing import Sequence
 
 import numpy as np
 
+__all__ = [
+    "DEMOS", "COLUMNS", "AUGMENT", "ERROR_FLOOR", "PETSC_DTOL", "DTOL", "REFERENCES", "BUILT_IN", "PARAMETERLESS",
+    "GAMMA0", "spec", "bench_scenes", "run_config", "sweep", "stability_sweep", "status", "run_name", "child_env",
+    "command", "run_one", "run_all", "add_limit_gap", "bench", "report", "STABILITY_TITLE", "stability",
+    "add_stability_limit", "stability_summary", "REDUCTIONS", "REDUCTION_HEADER", "reduction", "write_rows",
+    "read_rows", "findings", "convergence_findings", "pareto_front", "COLOURS", "MARKERS", "SIZES", "figure",
+    "plot_pareto", "plot_dofs", "plot_iterations", "KIND_SHORT", "plot_stability", "plot_stability_accuracy",
+    "run_scene", "main"
+]
+
 DEMOS = Path(__file__).resolve().parents[1] / "demos"
 COLUMNS = ["scene", "method", "K", "F_hat", "augment", "quadrature", "refinement", "steps", "dofs", "wall_time_s",
            "newton_iterations", "linear_iterations", "augmentations", "converged", "cutbacks", "snes_reason",

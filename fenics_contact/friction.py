@@ -35,6 +35,8 @@ from .compat import function_space, interpolate_expression
 from .contact import ContactSurface
 from .laws import NUMPY, ContactLaw, Coulomb, Exact, NormalCompliance, _check_exponent, ufl_ops
 
+__all__ = ["OPEN", "SLIP", "STICK", "friction_ops", "Friction", "FrictionalContact"]
+
 OPEN, SLIP, STICK = 0, 1, 2
 _TINY = 1e-300  # |q| = sqrt(q.q + tiny): finite derivative at q = 0 (the stick branch never uses it)
 

@@ -16,8 +16,11 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .compat import lift_and_set_bc, petsc_vec
-from .contact import ContactSurface, displacement
+from .contact import displacement
 from .materials import Material
+from .surface import StepSolver, Surface
+
+__all__ = ["Dirichlet", "ContactProblem"]
 
 
 @dataclass
@@ -55,14 +58,23 @@ class ContactProblem:
     """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
 
     ``u`` is the unknown: the displacement, or a mixed (displacement, pressure)
-    Function when a contact surface has its pressure as an unknown (:mod:`multipliers`).
+    Function when a contact surface has its pressure as an unknown (:mod:`multipliers`). ``contacts``: the
+    :class:`~fenics_contact.surface.Surface` objects; ``step_solver``: a
+    :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES (required by a
+    surface with ``requires_step_solver``, method ``coulomb``).
     """
 
     def __init__(self, u: fem.Function, material: Material, load: fem.Constant,
-                 dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[ContactSurface] = (),
-                 tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = ()):
+                 dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[Surface] = (),
+                 tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = (),
+                 step_solver: StepSolver | None = None):
         self.u, self.material, self.load = u, material, load
         self.dirichlet, self.contacts = list(dirichlet), list(contacts)
+        need = [c.name for c in self.contacts if c.requires_step_solver]
+        if need and step_solver is None:
+            raise ValueError(f"contact {', '.join(need)} is solved by a step solver (method 'coulomb'): pass "
+                             "step_solver=CondensedCoulomb(contact) (or condensed.step_solver_for(contacts))")
+        self.step_solver = step_solver  # solves whole load steps instead of SNES (None: SNES)
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)

@@ -25,6 +25,11 @@ from . import failure as _failure
 from .compat import petsc_vec
 from .problem import ContactProblem
 
+__all__ = [
+    "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "LINEAR_SOLVERS", "rigid_body_modes",
+    "ConvergenceError", "StepRecord", "Solver"
+]
+
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
     "snes_linesearch_type": "l2",  # bt stalls on the exponential branch of cross-constraints
@@ -169,14 +174,14 @@ class Solver:
         # Options already in the database (command line) win; ours are removed
         # after setFromOptions so that they do not leak into the next solver.
         opts = PETSc.Options()
-        self.bounded = any(c.bounded for c in problem.contacts)
-        defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self.bounded else {})}
+        self._bounded = any(c.bounded for c in problem.contacts)
+        defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self._bounded else {})}
         for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
             defaults.update(c.solver_options)
         wanted = {**defaults, **(options or {})}
         if wanted.get("pc_type") == "lu":  # a direct solve: a formulation may split off trivial blocks
             for c in problem.contacts:
-                wanted.update(getattr(c, "direct_solver_options", {}))
+                wanted.update(c.direct_solver_options)
         self._wanted, self._prefix = wanted, prefix
         u = problem.u
         self.b = problem.create_vector()  # the residual vector of the SNES (dolfinx_mpc style: public)
@@ -248,7 +253,7 @@ class Solver:
         if pc.getType() != "fieldsplit":
             return
         for c in self.problem.contacts:
-            fields = c.field_split() if hasattr(c, "field_split") else None
+            fields = c.field_split()
             if fields:
                 pc.setFieldSplitIS(*fields)
                 # The split's own KSPs exist now: they read their options (``fieldsplit_<name>_...``), which
@@ -309,10 +314,9 @@ class Solver:
     # --- driver -----------------------------------------------------------
     def _newton(self) -> int:
         self._history, self._message, self._sets, self._closed = [], "", [], []
-        own = [c for c in self.problem.contacts if getattr(c, "solves_step", False)]
-        if own:  # a surface that solves the whole step itself (condensed exact contact) replaces SNES
+        if self.problem.step_solver is not None:  # a strategy that solves the whole step (condensed exact contact)
             start = time.perf_counter()
-            reason, self._history, self._message = own[0].solve_step(self.problem)
+            reason, self._history, self._message = self.problem.step_solver.solve_step(self.problem)
             self.timings["snes_s"] += time.perf_counter() - start
             return reason
         petsc_vec(self.problem.u).copy(self._x)
@@ -332,13 +336,17 @@ class Solver:
             upper.pointwiseMin(upper, up)
         return lower, upper
 
+    def _stateful(self) -> list:
+        """The contacts and the step solver: everything with ``state``/``restore``/``commit``."""
+        return [*self.problem.contacts, *([self.problem.step_solver] if self.problem.step_solver else [])]
+
     def _snapshot(self):
-        return petsc_vec(self.problem.u).copy(), [c.state() for c in self.problem.contacts]
+        return petsc_vec(self.problem.u).copy(), [c.state() for c in self._stateful()]
 
     def _rollback(self, snap) -> None:
         snap[0].copy(petsc_vec(self.problem.u))
         self.problem.u.x.scatter_forward()
-        for c, s in zip(self.problem.contacts, snap[1]):
+        for c, s in zip(self._stateful(), snap[1]):
             c.restore(s)
 
     def _step(self, t: float, number: int) -> StepRecord:
@@ -346,13 +354,13 @@ class Solver:
         rec = StepRecord(step=number, load=t)
         start = time.perf_counter()
         self.problem.set_load(t)
-        if self.bounded:
-            lower, upper = self.bounds(t)
+        if self._bounded:
+            lower, upper = self._bounds(t)
             self.snes.setVariableBounds(lower, upper)
-        augmentable = [c for c in self.problem.contacts if c.law.augmentable]
+        augmentable = [c for c in self.problem.contacts if c.augmentable]
         for c in augmentable:
             c.forget_gap()
-        if self.predictor == "tangent" and not self.bounded and t != self.t:
+        if self.predictor == "tangent" and not self._bounded and t != self.t:
             rec.predictor_scale = self._tangent_predictor(t)
         elif self.predictor == "secant" and len(self._converged) == 2:
             (t0, u0), (t1, u1) = self._converged
@@ -486,8 +494,8 @@ class Solver:
                 snap = self._snapshot()
                 rec = self._step(t, len(self.records) + 1)
                 if rec.converged:
-                    for c in self.problem.contacts:
-                        c.commit()  # history (friction) advances only on accepted steps
+                    for c in self._stateful():
+                        c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
                     self.t = t
                     if self.predictor:

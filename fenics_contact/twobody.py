@@ -96,6 +96,11 @@ from .contact import ContactSurface, check_facet_tag, contact_measure, is_mixed
 from .laws import ContactLaw
 from .obstacles import Obstacle
 
+__all__ = [
+    "PASSES", "QUADRATURES", "FacetData", "facet_normals", "ufl_normal", "closest_point_on_facets", "quadratic_shape",
+    "closest_point_on_quadratic", "quadratic_normals", "project", "MirrorObstacle", "TwoBodySurface"
+]
+
 PASSES = ("one", "two")
 QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
 
@@ -512,6 +517,7 @@ class TwoBodySurface(ContactSurface):
             raise ValueError(f"search radius must be a finite number > 0, got {radius!r}")
         self.radius = float(radius)
         self._bc_global = None  # set by bind_problem
+        self._problem = None  # the problem bound by bind_problem
         self.I = None
         self._pairs = None
         self.pairing_changes = 0
@@ -676,7 +682,7 @@ class TwoBodySurface(ContactSurface):
 
     def prepare(self, problem) -> None:
         """Before each residual evaluation (``u`` current): re-pair and refresh the mirror fields."""
-        if getattr(self, "_problem", None) is not problem:
+        if self._problem is not problem:
             self.bind_problem(problem)
         self.update()
 
@@ -760,35 +766,3 @@ class TwoBodySurface(ContactSurface):
         """The pairing the residual depends on (a copy, this rank's): the master facet of each local slave
         point (-1: none), flattened."""
         return self._pairs.ravel().copy()
-
-
-def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,
-                      quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
-                      name: str = "twobody", work_quadrature: str | None = None, cls=None) -> list[TwoBodySurface]:
-    """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
-    ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
-    at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
-    2D and 3D, :mod:`mortar`). Two-pass, pointwise: a slave point of the second pass that coincides with one
-    of the first in the reference configuration is left out (node-on-node: one constraint per pair).
-    ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`)."""
-    if passes not in PASSES:
-        raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
-    if quadrature not in QUADRATURES + ("simpson",):
-        raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
-    if quadrature == "segment":
-        if cls is not None or work_quadrature is not None:
-            raise ValueError("quadrature 'segment' takes neither cls nor work_quadrature")
-        from .mortar import SegmentSurface
-
-        if passes == "one":
-            return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 1.0, radius, name)]
-        return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 0.5, radius, f"{name}_a"),
-                SegmentSurface(u, facet_tags, tag_b, tag_a, law_factory(), load, 0.5, radius, f"{name}_b")]
-    cls = cls or TwoBodySurface
-    kw = {"work_quadrature": work_quadrature}
-    if passes == "one":
-        return [cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name, **kw)]
-    a = cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a", **kw)
-    b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b",
-            exclude=a.reference_points(), **kw)
-    return [a, b]

@@ -7,8 +7,8 @@ from dolfinx import fem, mesh
 from mpi4py import MPI
 
 from fenics_contact import cli
-from fenics_contact.bounds import contact_surface
 from fenics_contact.compat import function_space
+from fenics_contact.factory import contact_surface
 from fenics_contact.friction import OPEN, SLIP, STICK, Friction
 from fenics_contact.laws import CrossConstraints, Exact, NormalCompliance, Penalty, ufl_ops
 from fenics_contact.materials import LinearElastic

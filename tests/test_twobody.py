@@ -7,11 +7,12 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from fenics_contact.compat import bc_dofs, petsc_vec
+from fenics_contact.factory import two_body_surfaces
 from fenics_contact.laws import make_law
 from fenics_contact.meshes import LOWER_TOP, UPPER_BOTTOM, stacked_blocks
 from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
-from fenics_contact.twobody import TwoBodySurface, closest_point_on_facets, project, two_body_surfaces
+from fenics_contact.twobody import TwoBodySurface, closest_point_on_facets, project
 
 
 def test_projection_matches_brute_force():

@@ -10,6 +10,8 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
+__all__: list[str] = []  # plumbing of the mesh builders: nothing public
+
 
 class _Lazy:
     """gmsh, imported on first use (inside a mesh builder): importing the package does not load gmsh."""

@@ -12,6 +12,8 @@ if TYPE_CHECKING:
 from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
 from .tags import CONTACT, CONTACT_UPPER, DOMAIN, PLATE, PLATE_BOTTOM, PLATE_SYMMETRY, PLATE_TOP, SYMMETRY, TOP
 
+__all__ = ["hertz_quarter_disk"]
+
 
 def hertz_quarter_disk(
     comm: MPI.Comm,

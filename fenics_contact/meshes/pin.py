@@ -12,6 +12,8 @@ if TYPE_CHECKING:
 from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
 from .tags import CONTACT, DOMAIN, FREE, SYMMETRY, TOP
 
+__all__ = ["pin_plate"]
+
 
 def pin_plate(
     comm: MPI.Comm,

@@ -14,6 +14,8 @@ if TYPE_CHECKING:
 
 from .tags import BOTTOM, LEFT, RECT_TOP, RIGHT
 
+__all__ = ["rectangle", "tag_boundary", "check_tags"]
+
 
 def rectangle(
     comm: MPI.Comm,

@@ -73,6 +73,10 @@ if TYPE_CHECKING:
 from .gmshutil import _from_gmsh, gmsh
 from .tags import SEAL_BOUNDARY, SEAL_DOMAIN, SEAL_SYMMETRY
 
+__all__ = [
+    "seal_geometry", "seal_section", "seal_s_geometry", "seal_s_section", "seal_wave_geometry", "seal_wave_section"
+]
+
 
 def seal_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
     """The U-shaped seal section (see the module docstring): arc centre ``C``, half-angle ``phi`` (radians,

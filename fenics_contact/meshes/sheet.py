@@ -12,6 +12,8 @@ if TYPE_CHECKING:
 from .gmshutil import _from_gmsh, _positive, gmsh
 from .tags import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, DOMAIN, END, SYMMETRY
 
+__all__ = ["sheet_over_cylinder"]
+
 
 def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, leg: float = 2.0,
                         n_arc: int = 24, n_thick: int = 2, n_leg: int = 8, order: int = 2,

@@ -13,6 +13,8 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
+__all__ = ["sphere_octant"]
+
 
 def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far: float = 0.15,
                   contact_width: float = 0.15) -> tuple[Mesh, MeshTags, MeshTags]:

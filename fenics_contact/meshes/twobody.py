@@ -13,6 +13,12 @@ if TYPE_CHECKING:
 
 from .gmshutil import _GRADING, _from_gmsh, _grade_toward, _positive, gmsh
 
+__all__ = [
+    "LOWER", "UPPER", "LOWER_BOTTOM", "LOWER_TOP", "UPPER_BOTTOM", "UPPER_TOP", "BLOCK_LEFT", "BLOCK_FRONT",
+    "STACKED_FACETS", "stacked_blocks", "DISK_SYMMETRY", "LOWER_ARC_BOTTOM", "LOWER_ARC_TOP", "UPPER_ARC_BOTTOM",
+    "UPPER_ARC_TOP", "DISKS_FACETS", "two_half_disks"
+]
+
 # Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
 LOWER, UPPER = 1, 2
 
