@@ -2,7 +2,7 @@
 import, and a problem set up on one's own mesh with public names only."""
 import ast
 import importlib
-import pkgutil
+import importlib.util
 import subprocess
 import sys
 from pathlib import Path
@@ -180,3 +180,21 @@ def test_problem_residual_and_jacobian_are_public():
     fd = r[0] - r[1]
     fd.scale(0.5 / eps)
     assert (fd - Jd).norm() <= 1e-6 * Jd.norm()
+
+
+def test_demos_import_public_names_only():
+    """Every ``from fenics_contact[.module] import name`` in the demos (anywhere in the file) names a public
+    module's ``__all__`` entry or a public submodule."""
+    for path in sorted((PACKAGE.parent / "demos").glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("fenics_contact"):
+                assert not any(p.startswith("_") for p in node.module.split(".")), (path.name, node.module)
+                module = importlib.import_module(node.module)
+                for a in node.names:
+                    sub = f"{node.module}.{a.name}"
+                    public = a.name in module.__all__ or (
+                        not a.name.startswith("_") and importlib.util.find_spec(sub) is not None)
+                    assert public, f"{path.name}: {sub} is not public"
+            elif isinstance(node, ast.Import):
+                for a in node.names:
+                    assert not any(p.startswith("_") for p in a.name.split(".")), (path.name, a.name)
