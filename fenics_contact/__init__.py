@@ -17,11 +17,12 @@ benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :fu
 (:mod:`~fenics_contact.plotting`), meshes (:mod:`~fenics_contact.meshes`, gmsh imported only by the
 builders that use it) and tables are public too. Importing the package does not import gmsh.
 """
-from . import bench, cli, compat, failure, meshes, plotting, scenes, tables
+from . import bench, cli, compat, domain, failure, meshes, plotting, scenes, search, tables
 from .bounds import BoundContact
 from .compat import function_space, interpolate_expression
 from .condensed import CondensedContact, CondensedCoulomb, step_solver_for
 from .contact import ContactSurface, contact_measure
+from .domain import NamedTags, read_gmsh
 from .factory import contact_surface, two_body_multipliers, two_body_surfaces
 from .friction import Friction, FrictionalContact
 from .laws import (
@@ -64,6 +65,8 @@ __all__ = [
     "step_solver_for", "contact_measure", "ContactSurface", "FrictionalContact", "BoundContact", "NitscheContact",
     "MultiplierContact", "CondensedContact", "CondensedCoulomb", "TwoBodySurface", "SegmentSurface",
     "TwoBodyMultiplier",
+    # your own mesh: gmsh physical names
+    "read_gmsh", "NamedTags",
     # problem, boundary conditions, solver
     "ContactProblem", "Dirichlet", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
     # spaces (the same call on every supported dolfinx)
@@ -73,5 +76,5 @@ __all__ = [
     # benchmark scenes
     "Setup", "build", "scene_names",
     # public submodules
-    "bench", "cli", "compat", "failure", "meshes", "plotting", "scenes", "tables",
+    "bench", "cli", "compat", "domain", "failure", "meshes", "plotting", "scenes", "search", "tables",
 ]

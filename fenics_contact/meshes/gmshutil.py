@@ -6,6 +6,8 @@ from typing import TYPE_CHECKING
 
 from mpi4py import MPI
 
+from ..compat import model_to_mesh
+
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
@@ -48,8 +50,6 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, M
 
     Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
     """
-    from dolfinx.io import gmshio
-
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -62,7 +62,7 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, M
         error = comm.bcast(error, root=0)
         if error:
             raise RuntimeError(error)
-        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=gdim)
+        return model_to_mesh(gmsh.model, comm, 0, gdim)
     finally:
         gmsh.finalize()
 
