@@ -1,14 +1,19 @@
 """fenics_contact: contact mechanics in FEniCSx (dolfinx), as a library.
 
-Set up a contact problem on your own mesh with ``import fenics_contact as fc``::
+Set up a contact problem on your own mesh with ``import fenics_contact as fc`` (``mesh`` and ``facets`` from
+dolfinx or :func:`read_gmsh`, facets named ``"base"``, ``"top"`` and ``"left"``; ``tests/test_api.py`` has a
+complete, tested example)::
 
+    law = fc.make_law("auglag", K=1e5)                      # or fc.Penalty(1e5), fc.Exact(), fc.Coulomb(0.3), ...
     u, V = fc.unknown(mesh, 1, law)                          # the unknown (mixed for method lagrange)
-    law = fc.make_law("auglag", K=1e5)                      # or fc.Penalty(1e5), fc.Exact(), ...
-    contact = fc.contact_surface(u, facet_tags, tag, fc.HalfPlane([0, 0], [0, 1]), law, load)
-    problem = fc.ContactProblem(u, fc.LinearElastic(E, nu), load,
-                                [fc.Dirichlet.on_facets(V, facet_tags, top, 1, -0.1)], [contact],
+    load = dolfinx.fem.Constant(mesh, 0.0)                   # the load parameter t
+    contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0, 0], [0, 1]), law, load)
+    problem = fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.3), load,
+                                [fc.Dirichlet.on_facets(V, facets, "top", 1, -0.1),  # u_y = -0.1 t
+                                 fc.Dirichlet.on_facets(V, facets, "left", 0)], [contact],  # u_x = 0
                                 step_solver=fc.step_solver_for([contact]))
     fc.Solver(problem, augment_max=10).run([0.5, 1.0])
+    contact.mean_pressure()
 
 Every contact enforcement implements :class:`Surface` (the hooks the solver calls, declared once);
 a :class:`StepSolver` solves whole load steps instead of SNES (method ``coulomb``). Scenes of the
