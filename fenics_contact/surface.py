@@ -56,6 +56,11 @@ class Surface(abc.ABC):
         forms, its derivative into the Jacobian), or None when it has none (bounds, step solver, or a term
         assembled entirely by :meth:`add_residual` / :meth:`add_jacobian`)."""
 
+    def bind_material(self, material) -> None:
+        """Called once by the problem with its bulk material(s), before :meth:`residual` (a surface whose
+        figures need the bulk, e.g. the Cauchy pressure at finite strain)."""
+        return None  # a no-op unless a surface needs it
+
     @property
     def augmentable(self) -> bool:
         """True when :meth:`augment` improves the solution (augmented Lagrangian, Uzawa): the solver then runs
