@@ -14,11 +14,9 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem
 
-from fenics_contact import cli
+from fenics_contact import build, cli, function_space, interpolate_expression, run
 from fenics_contact.checks import check
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import block, build
+from fenics_contact.scenes import block
 
 EXACT_METHODS = ("vi", "lagrange", "nitsche", "coulomb", "penalty_multiplier")
 

@@ -13,10 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fenics_contact import cli
+from fenics_contact import build, cli, run
 from fenics_contact.checks import check
-from fenics_contact.run import run
-from fenics_contact.scenes import build, compliance3d
+from fenics_contact.scenes import compliance3d
 
 
 def main(argv=None) -> dict:

@@ -15,10 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fenics_contact import cli
+from fenics_contact import build, cli, run
 from fenics_contact.checks import check
-from fenics_contact.run import run
-from fenics_contact.scenes import build, cylinders
+from fenics_contact.scenes import cylinders
 from fenics_contact.twobody import QUADRATURES
 
 # p0 at the Hertz step: 2.0 % from Hertz at h_contact = 0.05 (README, two deformable bodies; Hertz assumes

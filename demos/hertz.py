@@ -13,11 +13,9 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from fenics_contact import cli
+from fenics_contact import build, cli, function_space, interpolate_expression, run
 from fenics_contact.checks import check
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import build, hertz
+from fenics_contact.scenes import hertz
 
 TOLERANCE = 2e-2  # p0 of the nodal maximum on the default mesh (README: within 0.32 % with cross)
 

@@ -19,11 +19,9 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from fenics_contact import cli
+from fenics_contact import build, cli, function_space, interpolate_expression, run
 from fenics_contact.checks import check
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import build, pin
+from fenics_contact.scenes import pin
 
 # Contact angle of the linearized gap at refinement 3 (R/400, 140 580 dofs; refinements 1-3 within 0.03 deg); the
 # mesh error at refinement 0 is 0.1 % (83.88 deg). The current gap gives 81.8 deg (the plate moves by 0.16 R).

@@ -11,10 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fenics_contact import cli
+from fenics_contact import build, cli, run
 from fenics_contact.checks import check
-from fenics_contact.run import run
-from fenics_contact.scenes import build, sphere
+from fenics_contact.scenes import sphere
 
 # p0 is the nodal maximum on a mesh of h = a/7 at level 0: within 5 % (tests/test_sphere.py); 2.6 % at level 0
 # with penalty, 1.6 % on --size 1.0

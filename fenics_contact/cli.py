@@ -36,6 +36,10 @@ _COMMON_PETSC = ("snes_monitor", "snes_converged_reason", "snes_view", "snes_lin
                  "snes_convergence_test", "ksp_monitor", "ksp_converged_reason", "ksp_view", "condition_estimate",
                  "pc_factor_mat_solver_type", "mat_mumps_icntl_14", "ksp_gmres_restart", "pc_gamg_threshold")
 
+__all__ = ["parser", "parse", "has_friction", "law_from_args", "method_parameters", "solver_options", "StrictParser",
+           "UsageError", "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
+           "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "error_line", "main"]
+
 
 class UsageError(ValueError):
     """A command line we refuse (unknown option, a value out of range); exit status 2 as argparse's."""

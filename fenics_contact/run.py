@@ -15,6 +15,8 @@ from .output import XDMFWriter, write_summary
 from .scenes import Setup
 from .solver import ConvergenceError, Solver
 
+__all__ = ["run"]
+
 logger = logging.getLogger(__name__)
 
 
