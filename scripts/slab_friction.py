@@ -65,7 +65,7 @@ def main() -> None:
             else:
                 f, err, s = solve(Friction(NormalCompliance(k, 1.0), mu=mu, omega_t=k))
             row = {"mu": mu, "c_n": k, "omega_t": 1e4 if k == "augmented" else k, "converged": f is not None,
-                   "error": err, "newton_iterations": sum(r.newton_iterations for r in s.records if r.converged),
+                   "error": err, "newton_iterations": s.newton_spent,  # failed attempts included
                    "augmentations": sum(r.augmentations for r in s.records if r.converged)}
             if f is not None:
                 row.update(ux_A=f["ux_A"], uy_A=f["uy_A"], **f["zones"], pattern=f["zone_pattern"],
