@@ -1,5 +1,6 @@
 """The strict command line: a misspelt option, a number out of range, an unused or rejected PETSc option end the
 demo with a non-zero exit and one line naming the offender, without a traceback (subprocesses, serial lane)."""
+import json
 import os
 import subprocess
 import sys
@@ -82,6 +83,9 @@ def test_failed_run_is_one_line_with_the_iterations_spent(tmp_path):
     proc = demo("hertz", "--steps", "1", "-fc_snes_max_it", "2", out=tmp_path)
     line = one_line_error(proc, "did not converge", "10 Newton iterations spent")
     assert proc.returncode == 1 and line
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert not summary["converged"] and summary["newton_iterations"] == summary["newton_iterations_spent"] == 10
+    assert summary["check"]["passed"] is False and summary["check"]["value"] is None
 
 
 def test_number_ranges():
