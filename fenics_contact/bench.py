@@ -29,7 +29,6 @@ distance against K: the K each method needs, and whether it converges there); wi
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import importlib
 import json
@@ -828,17 +827,23 @@ def run_scene(scene: str, argv: Sequence[str]) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
+    """The benchmark's command line (strict: :mod:`cli`; bad input ends in one line, exit status 2)."""
+    from . import cli
+
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["--run-scene"]:  # one run: bad input and failed solves end in one line (cli.main)
-        from . import cli
-
         return cli.main(lambda rest: run_scene(argv[1], rest), argv[2:])
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0],
-                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    return cli.main(_sweep, argv)
+
+
+def _sweep(argv: Sequence[str]) -> None:
+    from . import cli
+
+    p = cli.StrictParser(description=__doc__.splitlines()[0], epilog=None)
     p.add_argument("--scene", action="append", help="scene (repeatable; default: every scene with BENCH)")
     p.add_argument("--quick", action="store_true", help="small sweep")
     p.add_argument("--out", default="results/bench", help="output folder")
-    p.add_argument("--timeout", type=float, default=1800.0, help="seconds per run before it counts as failed")
+    p.add_argument("--timeout", type=cli.POSITIVE, default=1800.0, help="seconds per run before it counts as failed")
     p.add_argument("--charts-only", action="store_true", help="redraw charts and findings from <out>/<scene>.csv")
     p.add_argument("--no-stability", action="store_true", help="skip the stability maps")
     p.add_argument("--no-reduction", action="store_true", help="skip the model-reduction tables")

@@ -58,6 +58,17 @@ class StrictParser(argparse.ArgumentParser):
     def error(self, message: str):
         raise UsageError(message)
 
+    def parse_args(self, args=None, namespace=None):
+        """All arguments must be ours (no PETSc options: :func:`parse` takes those): an unknown one is named, with
+        the closest known option."""
+        ns, rest = self.parse_known_args(args, namespace)
+        if rest:
+            name = rest[0].split("=", 1)[0]
+            if name.startswith("-") and not _is_number(name):
+                raise UsageError(f"unknown option {name}{_did_you_mean(name, self.long_options())}")
+            raise UsageError(f"unexpected argument {rest[0]!r}")
+        return ns
+
     def long_options(self) -> list[str]:
         return [s for a in self._actions for s in a.option_strings if s.startswith("--")]
 
