@@ -17,7 +17,7 @@ from petsc4py import PETSc
 
 from .compat import petsc_vec
 from .contact import ContactSurface, displacement
-from .materials import Material
+from .materials import Material, Materials
 
 
 @dataclass
@@ -58,7 +58,7 @@ class ContactProblem:
     Function when a contact surface has its pressure as an unknown (:mod:`multipliers`).
     """
 
-    def __init__(self, u: fem.Function, material: Material, load: fem.Constant,
+    def __init__(self, u: fem.Function, material: Material | Materials, load: fem.Constant,
                  dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[ContactSurface] = (),
                  tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = ()):
         self.u, self.material, self.load = u, material, load
@@ -66,7 +66,7 @@ class ContactProblem:
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        bulk = ufl.derivative(material.energy(displacement(u)) * ufl.dx, u, v)
+        bulk = ufl.derivative(material.energy_form(displacement(u)), u, v)  # per body with Materials
         residual = bulk
         for t, ds in tractions:
             residual -= load * ufl.dot(t, displacement(v)) * ds
