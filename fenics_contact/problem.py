@@ -71,6 +71,7 @@ class ContactProblem:
         for t, ds in tractions:
             residual -= load * ufl.dot(t, displacement(v)) * ds
         for c in self.contacts:
+            c.bind_material(material)  # for the Cauchy pressure (da/dA)
             term = c.residual(v)
             if term is not None:  # exact enforcement adds bounds, not a term
                 residual += term
