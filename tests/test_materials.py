@@ -1,0 +1,94 @@
+"""Materials: per-body materials (one per cell tag), plane stress, bad input."""
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+from fenics_contact.compat import function_space
+from fenics_contact.laws import make_law
+from fenics_contact.materials import LinearElastic, Materials, NeoHookean
+from fenics_contact.meshes import LOWER, UPPER, stacked_blocks
+from fenics_contact.scenes import build
+from fenics_contact.scenes.patch import uniform_stretches
+from fenics_contact.solver import Solver
+
+# nu (1 + nu) / E equal (equal lateral stretch in linear plane strain): nu_upper for E 1000 / 200, nu_lower 0.45
+NU_MATCHED = (-1.0 + np.sqrt(1.0 + 4.0 * 0.45 * 1.45 / 5.0)) / 2.0
+
+
+@pytest.mark.parametrize("material,pressure,lower,upper,slave", [
+    ("linear", 10.0, (500.0, 0.0), (2000.0, 0.0), "upper"),
+    ("linear", 10.0, (1000.0, 0.45), (200.0, NU_MATCHED), "lower"),
+    ("neohookean", 60.0, (500.0, 0.0), (2000.0, 0.0), "upper"),
+])
+def test_stacked_blocks_of_different_materials(material, pressure, lower, upper, slave):
+    """Two stacked blocks of different E (and nu), one material per cell tag (Materials), dead pressure on top,
+    frictionless non-matching interface (segment integration, converged augmented Lagrangian). Materials with
+    equal lateral stretch (nu = 0, or nu (1 + nu) / E equal), so the piecewise-uniform uniaxial state is exact:
+    each block's mean axial strain and every node's displacement equal the closed form, the interface pressure
+    equals the load everywhere."""
+    setup = build("patch", law_factory=lambda: make_law("auglag", K=1e6), quadrature="segment", slave=slave,
+                  material=material, pressure=pressure, E_lower=lower[0], nu_lower=lower[1], E_upper=upper[0],
+                  nu_upper=upper[1])
+    solver = Solver(setup.problem, augment_max=30, augment_tol=1e-10, quiet=True)
+    solver.run(setup.loads)
+    rec = solver.records[-1]
+    assert rec.converged and rec.augmentation_converged
+    f = setup.figures()
+    assert f["lateral_mismatch"] < 1e-15
+    for body, (E, nu) in (("lower", lower), ("upper", upper)):
+        exact = uniform_stretches(pressure, material, 2, E, nu)[1] - 1.0
+        assert np.isclose(f[f"strain_{body}_exact"], exact, rtol=1e-14)
+        assert np.isclose(f[f"strain_{body}"], exact, rtol=1e-8), (body, f)
+    ratio = f["strain_lower"] / f["strain_upper"]
+    assert ratio > 3.0 or ratio < 1 / 3.0  # the soft block strains ~ 4-6 x more
+    assert f["displacement_error"] < 1e-8 and f["top_displacement_error"] < 1e-8
+    assert f["pressure_deviation"] < 1e-8
+    assert np.isclose(f["contact_force"], f["applied_force"], rtol=1e-9)
+    assert np.isclose(f["reaction_bottom"], f["applied_force"], rtol=1e-9)
+
+
+def test_one_material_per_tag_equals_one_material():
+    """The per-tag energy sum over dx(tag) with one material on both tags assembles the single-material form."""
+    mesh, cell_tags, _ = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (3, 2))
+    V = function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V)
+    u.interpolate(lambda x: np.stack([0.1 * x[0] * x[1], -0.05 * x[1] ** 2]))
+    m = NeoHookean(1000.0, 0.3)
+    both = Materials(mesh, cell_tags, {LOWER: m, UPPER: m})
+    values = [mesh.comm.allreduce(fem.assemble_scalar(fem.form(e)), op=MPI.SUM)
+              for e in (m.energy_form(u), both.energy_form(u), ufl.inner(both.piola(u), both.piola(u)) * ufl.dx,
+                        ufl.inner(m.piola(u), m.piola(u)) * ufl.dx)]
+    assert np.isclose(values[0], values[1], rtol=1e-13) and np.isclose(values[2], values[3], rtol=1e-13)
+
+
+def test_plane_stress_linear_is_uniaxial_stress():
+    """sigma_zz = 0: a uniaxial strain state eps = diag(e, -nu e) carries sigma = diag(E e, 0)."""
+    mesh = dmesh.create_unit_square(MPI.COMM_WORLD, 1, 1)
+    V = function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V)
+    e, nu = 1e-3, 0.3
+    u.interpolate(lambda x: np.stack([e * x[0], -nu * e * x[1]]))
+    s = LinearElastic(1000.0, nu, plane="stress").stress(u)
+    vals = [mesh.comm.allreduce(fem.assemble_scalar(fem.form(s[i, j] * ufl.dx)), op=MPI.SUM)
+            for i, j in ((0, 0), (1, 1), (0, 1))]
+    assert np.allclose(vals, [1000.0 * e, 0.0, 0.0], rtol=1e-12, atol=1e-12)
+
+
+def test_bad_input():
+    mesh, cell_tags, _ = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (3, 2))
+    with pytest.raises(ValueError, match="plane must be one of"):
+        LinearElastic(1000.0, 0.3, plane="strian")
+    with pytest.raises(ValueError, match="cells carry none of the tags"):
+        Materials(mesh, cell_tags, {LOWER: LinearElastic(1000.0, 0.3)})
+    with pytest.raises(ValueError, match="not a Material"):
+        Materials(mesh, cell_tags, {LOWER: LinearElastic(1000.0, 0.3), UPPER: 1000.0})
+    with pytest.raises(ValueError, match="at least one"):
+        Materials(mesh, cell_tags, {})
+    cube = dmesh.create_unit_cube(MPI.COMM_WORLD, 1, 1, 1)
+    u = fem.Function(function_space(cube, "Lagrange", 1, (3,)))
+    for model in (LinearElastic, NeoHookean):
+        with pytest.raises(ValueError, match="plane='stress' is a 2D assumption"):
+            model(1000.0, 0.3, plane="stress").energy(u)
