@@ -200,7 +200,12 @@ class Materials:
         return sum(self.indicator[t] * f(m) for t, m in self.by_tag.items())
 
     def energy_form(self, u) -> ufl.Form:
+        """``sum over tags of int W_tag dx(tag)`` (what :class:`~fenics_contact.problem.ContactProblem` uses)."""
         return sum(m.energy(u) * self.dx(t) for t, m in self.by_tag.items())
+
+    def energy(self, u):
+        """The energy density per body (through the indicators): ``energy(u) * dx`` equals :meth:`energy_form`."""
+        return self._sum(lambda m: m.energy(u))
 
     def stress(self, u):
         return self._sum(lambda m: m.stress(u))

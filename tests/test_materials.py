@@ -59,9 +59,10 @@ def test_one_material_per_tag_equals_one_material():
     m = NeoHookean(1000.0, 0.3)
     both = Materials(mesh, cell_tags, {LOWER: m, UPPER: m})
     values = [mesh.comm.allreduce(fem.assemble_scalar(fem.form(e)), op=MPI.SUM)
-              for e in (m.energy_form(u), both.energy_form(u), ufl.inner(both.piola(u), both.piola(u)) * ufl.dx,
+              for e in (m.energy_form(u), both.energy_form(u), both.energy(u) * ufl.dx, ufl.inner(both.piola(u), both.piola(u)) * ufl.dx,
                         ufl.inner(m.piola(u), m.piola(u)) * ufl.dx)]
-    assert np.isclose(values[0], values[1], rtol=1e-13) and np.isclose(values[2], values[3], rtol=1e-13)
+    assert np.isclose(values[0], values[1], rtol=1e-13) and np.isclose(values[0], values[2], rtol=1e-13)
+    assert np.isclose(values[3], values[4], rtol=1e-13)
 
 
 def test_plane_stress_linear_is_uniaxial_stress():
