@@ -59,7 +59,8 @@ def test_one_material_per_tag_equals_one_material():
     m = NeoHookean(1000.0, 0.3)
     both = Materials(mesh, cell_tags, {LOWER: m, UPPER: m})
     values = [mesh.comm.allreduce(fem.assemble_scalar(fem.form(e)), op=MPI.SUM)
-              for e in (m.energy_form(u), both.energy_form(u), both.energy(u) * ufl.dx, ufl.inner(both.piola(u), both.piola(u)) * ufl.dx,
+              for e in (m.energy_form(u), both.energy_form(u), both.energy(u) * ufl.dx,
+                        ufl.inner(both.piola(u), both.piola(u)) * ufl.dx,
                         ufl.inner(m.piola(u), m.piola(u)) * ufl.dx)]
     assert np.isclose(values[0], values[1], rtol=1e-13) and np.isclose(values[0], values[2], rtol=1e-13)
     assert np.isclose(values[3], values[4], rtol=1e-13)
@@ -93,3 +94,19 @@ def test_bad_input():
     for model in (LinearElastic, NeoHookean):
         with pytest.raises(ValueError, match="plane='stress' is a 2D assumption"):
             model(1000.0, 0.3, plane="stress").energy(u)
+
+
+def test_slab_plane_stress_frictionless_closed_form():
+    """The slab without friction (SNES VI) is in the uniform state sigma = diag(-10, -5): plane stress gives
+    u_x(A) = (sigma_xx - nu sigma_yy) / E * 40 (plane strain: (1 - nu^2)/E (sigma_xx - nu/(1-nu) sigma_yy) * 40)."""
+    from fenics_contact.scenes import slab
+
+    for plane, exact in (("strain", slab.UX_A_FRICTIONLESS), ("stress", slab.UX_A_FRICTIONLESS_PLANE_STRESS)):
+        setup = slab.build(make_law("vi"), plane=plane, nx=8, ny=4)
+        solver = Solver(setup.problem, quiet=True)
+        solver.run(setup.loads)
+        assert solver.records[-1].converged
+        f = setup.figures()
+        assert np.isclose(f["ux_A_frictionless"], exact, rtol=1e-15)
+        assert np.isclose(f["ux_A"], exact, rtol=1e-10) and abs(f["uy_A"]) < 1e-12
+    assert np.isclose(slab.UX_A_FRICTIONLESS_PLANE_STRESS, (-10.0 + 0.2 * 5.0) / 13000.0 * 40.0, rtol=1e-15)

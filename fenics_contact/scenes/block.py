@@ -21,7 +21,7 @@ from mpi4py import MPI
 
 from ..bounds import contact_surface
 from ..laws import ContactLaw
-from ..materials import MODELS, lame
+from ..materials import MODELS, PLANES, lame
 from ..meshes import BOTTOM, LEFT, rectangle
 from ..meshes import RECT_TOP as TOP
 from ..multipliers import unknown
@@ -54,8 +54,8 @@ def homogeneous_state(model: str = "linear", plane: str = "strain", E: float = E
     base (``N = -e_y``): ``p_cauchy = p_nominal / (a l3)``."""
     if model not in MODELS:
         raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
-    if plane not in ("strain", "stress"):
-        raise ValueError(f"plane must be 'strain' or 'stress', got {plane!r}")
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     lam, mu = lame(E, nu)
     c = 1.0 - strain
     if model == "linear":
@@ -78,8 +78,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
           steps: int = 1, plane: str = "strain") -> Setup:
     """``model``: ``linear`` (the paper's) or ``neohookean`` (finite strain, same E and nu); ``plane``:
     ``strain`` (the paper's) or ``stress``."""
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
+    homogeneous_state(model, plane)  # checks model and plane before any work
     mesh, _, facet_tags = rectangle(comm, HALF_WIDTH, HEIGHT, nx, ny, quadrilateral)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)

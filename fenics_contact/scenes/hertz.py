@@ -28,7 +28,7 @@ from mpi4py import MPI
 
 from ..bounds import contact_surface
 from ..laws import ContactLaw
-from ..materials import MODELS, Materials
+from ..materials import MODELS, PLANES, Materials
 from ..meshes import (
     CONTACT,
     CONTACT_UPPER,
@@ -63,8 +63,8 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "
 def hertz(P: float, R: float = R, E: float = E, nu: float = NU, plane: str = "strain") -> tuple[float, float]:
     """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length (``plane``: ``strain``,
     ``E* = E/(1-nu^2)``, or ``stress``, ``E* = E``)."""
-    if plane not in ("strain", "stress"):
-        raise ValueError(f"plane must be 'strain' or 'stress', got {plane!r}")
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     Es = E / (1 - nu**2) if plane == "strain" else E
     a = np.sqrt(4 * P * R / (np.pi * Es))
     return float(a), float(2 * P / (np.pi * a))
@@ -104,8 +104,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     or ``meshed`` (quarter only: a plate ``PLATE_SIZE`` of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
     in the same mesh, in two-body contact, one pass, the disk's arc the slave). The last three are the
     model-reduction checks. ``plane``: ``strain`` (default) or ``stress`` (disk and plate)."""
-    if plane not in ("strain", "stress"):
-        raise ValueError(f"plane must be 'strain' or 'stress', got {plane!r}")
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:
         raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
     if symmetry not in ("quarter", "half", "full"):
