@@ -110,3 +110,42 @@ def test_slab_plane_stress_frictionless_closed_form():
         assert np.isclose(f["ux_A_frictionless"], exact, rtol=1e-15)
         assert np.isclose(f["ux_A"], exact, rtol=1e-10) and abs(f["uy_A"]) < 1e-12
     assert np.isclose(slab.UX_A_FRICTIONLESS_PLANE_STRESS, (-10.0 + 0.2 * 5.0) / 13000.0 * 40.0, rtol=1e-15)
+
+
+def test_3d_neohookean_cube_nominal_and_cauchy_pressure():
+    """A neo-Hookean unit cube pressed 0.1 onto a rigid plane (SNES VI), free lateral faces: uniaxial stress,
+    whose 3D closed form is the plane-stress block's (lateral stretches a = l3); the Cauchy pressure is the
+    nominal one over da/dA = J |F^-T N| = a^2 (3D Nanson)."""
+    from fenics_contact.bounds import contact_surface
+    from fenics_contact.obstacles import HalfPlane
+    from fenics_contact.problem import ContactProblem, Dirichlet
+    from fenics_contact.scenes import block
+
+    msh = dmesh.create_unit_cube(MPI.COMM_WORLD, 2, 2, 2)
+    marks = {1: lambda x: np.isclose(x[2], 0), 2: lambda x: np.isclose(x[2], 1),
+             3: lambda x: np.isclose(x[0], 0), 4: lambda x: np.isclose(x[1], 0)}
+    facets = [(t, dmesh.locate_entities_boundary(msh, 2, f)) for t, f in marks.items()]
+    idx = np.concatenate([f for _, f in facets])
+    vals = np.concatenate([np.full(len(f), t, dtype=np.int32) for t, f in facets])
+    order = np.argsort(idx)
+    tags = dmesh.meshtags(msh, 2, idx[order], vals[order])
+    V = function_space(msh, "Lagrange", 1, (3,))
+    u = fem.Function(V)
+    load = fem.Constant(msh, 0.0)
+    d = 0.1
+    bcs = [Dirichlet(V.sub(i), fem.locate_dofs_topological(V.sub(i), 2, tags.indices[tags.values == t]), a)
+           for i, t, a in [(2, 2, -d), (0, 3, 0.0), (1, 4, 0.0)]]
+    c = contact_surface(u, tags, 1, HalfPlane([0, 0, 0], [0, 0, 1]), make_law("vi"), load)
+    with pytest.raises(ValueError, match="Cauchy pressure needs the bulk material"):
+        c.mean_pressure("cauchy")
+    with pytest.raises(ValueError, match="pressure kind"):
+        c.mean_pressure("true")
+    solver = Solver(ContactProblem(u, NeoHookean(block.E, block.NU), load, bcs, [c]), quiet=True)
+    solver.run([1.0])
+    assert solver.records[-1].converged
+    exact = block.homogeneous_state("neohookean", "stress", strain=d)
+    assert np.isclose(c.mean_pressure(), exact["p_nominal"], rtol=1e-8)
+    assert np.isclose(c.mean_pressure("cauchy"), exact["p_nominal"] / exact["a"] ** 2, rtol=1e-8)
+    assert np.isclose(c.area("cauchy"), exact["a"] ** 2, rtol=1e-10) and np.isclose(c.area(), 1.0, rtol=1e-12)
+    _, _, p_c = c.surface_values("cauchy")
+    assert np.allclose(p_c, exact["p_cauchy"], rtol=1e-8)
