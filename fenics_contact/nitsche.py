@@ -28,6 +28,13 @@ gets the consistent tangent. In small strain ``P`` is the Cauchy stress; on a
 flat reference surface facing the obstacle (``N = -n``) ``p_s = -n . sigma n``.
 The reported pressure is nominal (:meth:`ContactSurface.mean_pressure` gives
 the Cauchy one too).
+
+Measured on the neo-Hookean block (16 % compression, ``tests/test_nitsche.py``):
+the closed-form nominal pressure to 2e-14 (gamma0 = 10, 100, 1000; the former
+Cauchy-stress term penetrated by 4.6e-6 at gamma0 = 1000, 7e-4 at 10). At finite
+strain the functional is not convex for small gamma0: from rest in one load
+step gamma0 = 1 and 3 converged to a spurious state (gap -0.12 and +0.12);
+with 8 load steps gamma0 = 1 reaches the exact one.
 """
 from __future__ import annotations
 
