@@ -149,3 +149,28 @@ def test_3d_neohookean_cube_nominal_and_cauchy_pressure():
     assert np.isclose(c.area("cauchy"), exact["a"] ** 2, rtol=1e-10) and np.isclose(c.area(), 1.0, rtol=1e-12)
     _, _, p_c = c.surface_values("cauchy")
     assert np.allclose(p_c, exact["p_cauchy"], rtol=1e-8)
+
+
+@pytest.mark.parametrize("quadrature", ["nodal", "gauss"])
+def test_two_body_cauchy_pressure_is_nominal_over_the_slave_stretch(quadrature):
+    """Two equal neo-Hookean blocks (nu = 0.3) with matching interface meshes under a dead pressure of 60
+    (pointwise contact: the uniform state is exact, pressure 60 per reference area): the slave (upper) surface
+    stretches sideways by a (plane strain, da/dA = a), so at every slave point the Cauchy pressure is 60 / a.
+    Segment integration refuses the Cauchy kind with a clear error."""
+    a, _ = uniform_stretches(60.0, "neohookean", 2)
+    assert a > 1.02
+    setup = build("patch", law_factory=lambda: make_law("auglag", K=1e6), quadrature=quadrature,
+                  material="neohookean", pressure=60.0, n_lower=(4, 3), n_upper=(4, 3))
+    solver = Solver(setup.problem, augment_max=30, augment_tol=1e-10, quiet=True)
+    solver.run(setup.loads)
+    assert solver.records[-1].converged
+    assert setup.figures()["displacement_error"] < 1e-10
+    c = setup.contacts[0]
+    _, _, p = c.point_values()
+    _, _, pc = c.point_values(kind="cauchy")
+    assert np.allclose(p, 60.0, rtol=1e-9) and np.allclose(pc, 60.0 / a, rtol=1e-9)
+    with pytest.raises(ValueError, match="pressure kind"):
+        c.point_values(kind="true")
+    seg = build("patch", law_factory=lambda: make_law("auglag", K=1e6), quadrature="segment")
+    with pytest.raises(ValueError, match="nominal pressure only"):
+        seg.contacts[0].point_values(kind="cauchy")

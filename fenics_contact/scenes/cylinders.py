@@ -155,7 +155,14 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
                 "lower_plate_force": copies * abs(float(lower_plate.total_force()[1])),
                 "p0": p0, "a": a, "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
                 "a_error": abs(a - a_h) / a_h,
-                "pairing_changes": int(sum(c.pairing_changes for c in pair))}
+                "pairing_changes": int(sum(c.pairing_changes for c in pair)),
+                **cauchy_peak(p0)}
+
+    def cauchy_peak(p0: float) -> dict:
+        """Neo-Hookean, pointwise quadratures: the peak pressure per current area beside the nominal ``p0``."""
+        if model != "neohookean" or quadrature == "segment":
+            return {}
+        return {"p0_nominal": p0, "p0_cauchy": float(max(c.point_values(kind="cauchy")[2].max() for c in pair))}
 
     params = {"R_lower": R_LOWER, "R_upper": R_UPPER, "lambda": LAMBDA, "mu": MU, "h_contact": h_contact,
               "h_far": h_far, "contact_width": contact_width, "grading": grading,
