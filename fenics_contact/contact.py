@@ -16,6 +16,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .compat import entities_to_geometry, function_space, petsc_vec
+from .domain import tag_value
 from .laws import ContactLaw, ufl_ops
 from .meshes import check_tags
 from .obstacles import Obstacle
@@ -36,9 +37,11 @@ _VERTEX_RULES = {
 _SIMPSON = (((0.0,), (0.5,), (1.0,)), (1 / 6, 4 / 6, 1 / 6))
 
 
-def contact_measure(mesh, facet_tags, tag: int, quadrature: str) -> ufl.Measure:
-    """``ds`` on the tagged facets with the vertex rule (``nodal``), the degree-2 Gauss rule, or
-    Simpson's rule (``simpson``, 2D: the three nodes of a quadratic facet)."""
+def contact_measure(mesh, facet_tags, tag: int | str, quadrature: str) -> ufl.Measure:
+    """``ds`` on the tagged facets (``tag``: a value, or a name of :class:`domain.NamedTags`) with the vertex
+    rule (``nodal``), the degree-2 Gauss rule, or Simpson's rule (``simpson``, 2D: the three nodes of a quadratic
+    facet)."""
+    facet_tags, tag = tag_value(facet_tags, tag)
     if quadrature == "simpson":
         if mesh.topology.dim != 2:
             raise ValueError("contact quadrature 'simpson' is for 2D meshes (segment facets)")
@@ -69,8 +72,10 @@ def displacement(w):
     return ufl.split(w)[0] if is_mixed(V) else w
 
 
-def check_facet_tag(mesh, facet_tags, tag: int, name: str) -> np.ndarray:
-    """Local facets with ``tag``; raise ``ValueError`` naming ``name`` if no rank has any."""
+def check_facet_tag(mesh, facet_tags, tag: int | str, name: str) -> np.ndarray:
+    """Local facets with ``tag`` (a value, or a name of :class:`domain.NamedTags`); raise ``ValueError`` naming
+    ``name`` if no rank has any."""
+    facet_tags, tag = tag_value(facet_tags, tag)
     if facet_tags is None or facet_tags.dim != mesh.topology.dim - 1:
         raise ValueError(f"{name}: the mesh has no facet tags (need facets of dimension {mesh.topology.dim - 1})")
     check_tags(facet_tags, {name: tag}, mesh.comm)

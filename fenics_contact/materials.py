@@ -156,16 +156,18 @@ class NeoHookean(Material):
 
 
 class Materials:
-    """One material per body: ``by_tag`` maps each cell tag of ``cell_tags`` (on ``mesh``) to its :class:`Material`.
+    """One material per body: ``by_tag`` maps each cell tag of ``cell_tags`` (on ``mesh``) to its :class:`Material`
+    (a tag is an integer value, or a region name of :class:`~fenics_contact.domain.NamedTags`).
 
     The bulk energy is ``sum over tags of int W_tag dx(tag)``; every cell must carry one of the tags. The
     stress, Piola stress, area ratio and ``E`` (for Nitsche's parameter) are the tag's, through a DG0
     indicator per tag, so they evaluate on cells and on boundary facets alike. ``linear`` if every body is."""
 
-    def __init__(self, mesh, cell_tags, by_tag: Mapping[int, Material]):
+    def __init__(self, mesh, cell_tags, by_tag: Mapping[int | str, Material]):
         from dolfinx import fem
 
         from .compat import function_space
+        from .domain import tag_value
 
         if not by_tag:
             raise ValueError("Materials needs at least one (cell tag, material) pair, got none")
@@ -174,10 +176,12 @@ class Materials:
                 raise ValueError(f"Materials: tag {tag!r} maps to {type(m).__name__}, not a Material")
         if cell_tags is None:
             raise ValueError("Materials needs the mesh's cell tags, got None")
+        values = {tag: tag_value(cell_tags, tag)[1] for tag in by_tag}
+        cell_tags = tag_value(cell_tags, 0)[0]  # the dolfinx MeshTags
         tdim = mesh.topology.dim
         if cell_tags.dim != tdim:
             raise ValueError(f"Materials needs cell tags (dimension {tdim}), got tags of dimension {cell_tags.dim}")
-        self.by_tag = {int(k): v for k, v in by_tag.items()}
+        self.by_tag = {values[k]: v for k, v in by_tag.items()}
         self.cell_tags, self.mesh = cell_tags, mesh
         n_owned = mesh.topology.index_map(tdim).size_local
         covered = np.unique(cell_tags.indices[np.isin(cell_tags.values, list(self.by_tag))])

@@ -17,6 +17,7 @@ from petsc4py import PETSc
 
 from .compat import petsc_vec
 from .contact import ContactSurface, displacement
+from .domain import tag_value
 from .materials import Material, Materials
 
 
@@ -39,9 +40,11 @@ class Dirichlet:
         self.bc = fem.dirichletbc(self.value, self.dofs, self.V)
 
     @classmethod
-    def on_facets(cls, V: fem.FunctionSpace, facet_tags, tag: int, component: int,
+    def on_facets(cls, V: fem.FunctionSpace, facet_tags, tag: int | str, component: int,
                   amplitude: float = 0.0) -> Dirichlet:
-        """``u_component = amplitude * t`` on the facets tagged ``tag`` (amplitude 0: a roller, a symmetry plane)."""
+        """``u_component = amplitude * t`` on the facets tagged ``tag`` (a value, or a name of
+        :class:`domain.NamedTags`; amplitude 0: a roller, a symmetry plane)."""
+        facet_tags, tag = tag_value(facet_tags, tag)
         Vi = V.sub(component)
         facets = facet_tags.indices[facet_tags.values == tag]
         return cls(Vi, fem.locate_dofs_topological(Vi, V.mesh.topology.dim - 1, facets), amplitude)

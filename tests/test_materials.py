@@ -7,6 +7,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from fenics_contact.compat import function_space
+from fenics_contact.domain import NamedTags
 from fenics_contact.laws import make_law
 from fenics_contact.materials import LinearElastic, Materials, NeoHookean
 from fenics_contact.meshes import LOWER, UPPER, stacked_blocks
@@ -58,6 +59,10 @@ def test_one_material_per_tag_equals_one_material():
     u.interpolate(lambda x: np.stack([0.1 * x[0] * x[1], -0.05 * x[1] ** 2]))
     m = NeoHookean(1000.0, 0.3)
     both = Materials(mesh, cell_tags, {LOWER: m, UPPER: m})
+    named = Materials(mesh, NamedTags(cell_tags, {"lower": LOWER, "upper": UPPER}), {"lower": m, "upper": m})
+    assert named.by_tag.keys() == both.by_tag.keys()
+    with pytest.raises(ValueError, match="no region named 'top'"):
+        Materials(mesh, NamedTags(cell_tags, {"lower": LOWER, "upper": UPPER}), {"lower": m, "top": m})
     values = [mesh.comm.allreduce(fem.assemble_scalar(fem.form(e)), op=MPI.SUM)
               for e in (m.energy_form(u), both.energy_form(u), both.energy(u) * ufl.dx,
                         ufl.inner(both.piola(u), both.piola(u)) * ufl.dx,

@@ -5,8 +5,9 @@ import math
 from typing import TYPE_CHECKING
 
 import gmsh
-from dolfinx.io import gmshio
 from mpi4py import MPI
+
+from ..compat import model_to_mesh
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
@@ -47,7 +48,7 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, M
         error = comm.bcast(error, root=0)
         if error:
             raise RuntimeError(error)
-        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=gdim)
+        return model_to_mesh(gmsh.model, comm, 0, gdim)
     finally:
         gmsh.finalize()
 
