@@ -15,7 +15,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .compat import petsc_vec
+from .compat import function_space, interpolate_expression, petsc_vec
 from .contact import ContactSurface, displacement
 from .domain import tag_value
 from .materials import Material, Materials
@@ -89,6 +89,21 @@ class ContactProblem:
         self.load.value = t
         for d in self.dirichlet:
             d.value.value = d.at(t)
+
+    def min_jacobian(self) -> float | None:
+        """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the
+        vertices), over all ranks; None for a small-strain material (no such constraint). ``J <= 0``: an
+        inverted element, an inadmissible finite-strain state even if Newton converged to it."""
+        if self.material.linear:
+            return None
+        if not hasattr(self, "_detF"):
+            w = displacement(self.u)
+            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)),
+                          ufl.det(ufl.Identity(len(w)) + ufl.grad(w)))
+        f, expr = self._detF
+        interpolate_expression(f, expr)
+        local = f.x.array[: f.function_space.dofmap.index_map.size_local]
+        return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
 
     def internal_force(self) -> np.ndarray:
         """Internal forces ``dW[phi_i]`` at the current state, local array (owned and ghost dofs)."""
