@@ -18,9 +18,12 @@ from petsc4py import PETSc
 from .compat import entities_to_geometry, function_space, petsc_vec
 from .domain import tag_value
 from .laws import ContactLaw, ufl_ops
-from .meshes import check_tags
+from .meshes.rectangle import check_tags
 from .obstacles import Obstacle
 from .projection import SurfaceProjector
+from .surface import Surface
+
+__all__ = ["QUADRATURES", "contact_measure", "is_mixed", "displacement", "check_facet_tag", "ContactSurface"]
 
 QUADRATURES = ("nodal", "gauss", "simpson")
 PRESSURE_KINDS = ("nominal", "cauchy")  # per reference area, per current area
@@ -82,7 +85,7 @@ def check_facet_tag(mesh, facet_tags, tag: int | str, name: str) -> np.ndarray:
     return facet_tags.indices[facet_tags.values == tag]
 
 
-class ContactSurface:
+class ContactSurface(Surface):
     """Contact of the tagged boundary ``tag`` of the body with displacement ``u`` against ``obstacle``.
 
     The current position is ``x = X + u`` (also for linear elasticity, so a
@@ -94,9 +97,7 @@ class ContactSurface:
     or a mixed (displacement, pressure) Function (:mod:`multipliers`).
     """
 
-    bcs: tuple = ()  # Dirichlet conditions the surface adds to the problem (multipliers: p = 0 off the surface)
     material = None  # the bulk material next to the surface (bind_material): its da/dA gives the Cauchy pressure
-    solver_options: dict = {}  # PETSc defaults the formulation needs (options given by the user still win)
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
@@ -150,34 +151,11 @@ class ContactSurface:
     def _pressure(self) -> ufl.core.expr.Expr:
         return self.law.force(self.gap, self.params, ufl_ops())
 
-    # --- hooks of the solver (used by exact enforcement, see :mod:`bounds`) ----
-    bounded = False  # True: the surface is enforced by variable bounds (SNES VI), not by a law
-
-    def bounds(self, t: float, like):
-        """Variable bounds ``(lower, upper)`` on the unknowns at load ``t``, or None (a law, no bounds)."""
-        return None
-
-    def after_solve(self, problem) -> None:
-        """Called after every converged Newton solve."""
-
-    def commit(self) -> None:
-        """Called once a load step is accepted: advance history variables (friction); no-op here."""
-
-    solves_step = False  # True: the surface solves a whole load step itself (:meth:`solve_step`), no SNES
-
-    def solve_step(self, problem) -> tuple[int, list[float], str]:
-        """Solve the load step at ``problem.load``: ``(reason as SNES's, residual history, failure message)``."""
-        raise NotImplementedError
-    def prepare(self, problem) -> None:
-        """Called before every residual evaluation, with ``u`` set (two-body contact re-pairs here)."""
-
-    def add_residual(self, b) -> None:
-        """Add terms that are not in the problem's forms to the assembled residual (owned entries)."""
-
-    def add_jacobian(self, A, bcs) -> bool:
-        """Add blocks that are not in the problem's forms to the assembled Jacobian ``A`` (Dirichlet rows and
-        columns left zero); True if ``A``'s nonzero pattern changed."""
-        return False
+    # --- hooks of the solver (see :class:`~fenics_contact.surface.Surface`) ------------
+    @property
+    def augmentable(self) -> bool:
+        """The law's: True when it has augmentable fields (augmented Lagrangian, Uzawa)."""
+        return self.law.augmentable
 
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:

@@ -76,6 +76,11 @@ from petsc4py import PETSc
 from .search import STRETCH_LIMIT, closest_point_on_facets, facet_normals, facet_pairs, project, stretch
 from .twobody import TwoBodySurface
 
+__all__ = [
+    "SEGMENT_RULE", "Dual", "dual_max", "dual_min", "dual_exp", "dual_sqrt", "DUAL_OPS", "segment_element",
+    "clip_polygons", "polygon_area", "triangle_element", "overlap", "pair_segments", "pair_triangles", "SegmentSurface"
+]
+
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
 SEGMENT_RULE = (np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)]), np.array([0.5, 0.5]))
 
@@ -547,6 +552,11 @@ class SegmentSurface(TwoBodySurface):
             self._pattern_version += 1
         self._xm = xm
         return changed or seg_changed
+
+    def pairing(self) -> np.ndarray:
+        """The point pairs (:meth:`TwoBodySurface.pairing`) followed by the (slave facet, master facet) pairs of
+        the sub-segments, flattened."""
+        return np.concatenate([super().pairing(), self._segment_pairs.ravel()])
 
     def _elements(self, points: bool = False):
         """Element residuals, tangents and global dof indices (n, 8) of the current sub-segments."""

@@ -26,7 +26,8 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
+from ..condensed import step_solver_for
+from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import MODELS, PLANES, Materials
 from ..meshes import (
@@ -45,6 +46,11 @@ from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "R", "E", "NU", "APPROACH", "DEFAULT_K", "BENCH", "hertz", "contact_half_width", "PLATE_STIFFNESS", "PLATE_SIZE",
+    "build", "law_twin"
+]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
@@ -157,7 +163,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                                   material=material)
     contacts.insert(0, contact)
-    problem = ContactProblem(u, material, load, dirichlet, contacts)
+    problem = ContactProblem(u, material, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
 
     def figures() -> dict:
         if plate == "meshed":

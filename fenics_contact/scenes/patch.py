@@ -42,6 +42,7 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ..compat import function_space
+from ..factory import two_body_surfaces
 from ..laws import ContactLaw
 from ..materials import MODELS, LinearElastic, Materials
 from ..meshes import (
@@ -56,8 +57,9 @@ from ..meshes import (
     stacked_blocks,
 )
 from ..problem import ContactProblem, Dirichlet
-from ..twobody import two_body_surfaces
 from . import Setup
+
+__all__ = ["E_LOWER", "E_UPPER", "NU", "PRESSURE", "OVERLAP", "uniform_stretches", "build"]
 
 E_LOWER, E_UPPER, NU, PRESSURE, OVERLAP = 1000.0, 1000.0, 0.3, 10.0, 1e-6
 
