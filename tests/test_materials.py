@@ -6,14 +6,23 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from fenics_contact.compat import function_space
-from fenics_contact.domain import NamedTags
-from fenics_contact.laws import make_law
-from fenics_contact.materials import LinearElastic, Materials, NeoHookean
+from fenics_contact import (
+    ContactProblem,
+    Dirichlet,
+    HalfPlane,
+    LinearElastic,
+    Materials,
+    NamedTags,
+    NeoHookean,
+    Solver,
+    build,
+    contact_surface,
+    function_space,
+    make_law,
+)
 from fenics_contact.meshes import LOWER, UPPER, stacked_blocks
-from fenics_contact.scenes import build
+from fenics_contact.scenes import block, slab
 from fenics_contact.scenes.patch import uniform_stretches
-from fenics_contact.solver import Solver
 
 # nu (1 + nu) / E equal (equal lateral stretch in linear plane strain): nu_upper for E 1000 / 200, nu_lower 0.45
 NU_MATCHED = (-1.0 + np.sqrt(1.0 + 4.0 * 0.45 * 1.45 / 5.0)) / 2.0
@@ -104,8 +113,6 @@ def test_bad_input():
 def test_slab_plane_stress_frictionless_closed_form():
     """The slab without friction (SNES VI) is in the uniform state sigma = diag(-10, -5): plane stress gives
     u_x(A) = (sigma_xx - nu sigma_yy) / E * 40 (plane strain: (1 - nu^2)/E (sigma_xx - nu/(1-nu) sigma_yy) * 40)."""
-    from fenics_contact.scenes import slab
-
     for plane, exact in (("strain", slab.UX_A_FRICTIONLESS), ("stress", slab.UX_A_FRICTIONLESS_PLANE_STRESS)):
         setup = slab.build(make_law("vi"), plane=plane, nx=8, ny=4)
         solver = Solver(setup.problem, quiet=True)
@@ -121,11 +128,6 @@ def test_3d_neohookean_cube_nominal_and_cauchy_pressure():
     """A neo-Hookean unit cube pressed 0.1 onto a rigid plane (SNES VI), free lateral faces: uniaxial stress,
     whose 3D closed form is the plane-stress block's (lateral stretches a = l3); the Cauchy pressure is the
     nominal one over da/dA = J |F^-T N| = a^2 (3D Nanson)."""
-    from fenics_contact.bounds import contact_surface
-    from fenics_contact.obstacles import HalfPlane
-    from fenics_contact.problem import ContactProblem, Dirichlet
-    from fenics_contact.scenes import block
-
     msh = dmesh.create_unit_cube(MPI.COMM_WORLD, 2, 2, 2)
     marks = {1: lambda x: np.isclose(x[2], 0), 2: lambda x: np.isclose(x[2], 1),
              3: lambda x: np.isclose(x[0], 0), 4: lambda x: np.isclose(x[1], 0)}
