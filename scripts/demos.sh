@@ -18,6 +18,8 @@ elif [ "$MODE" = all ]; then
 else
   echo "usage: $0 quick|all [OUT]" >&2; exit 2
 fi
+TIMER=(env)  # /usr/bin/time (Debian package time) when installed
+[ -x /usr/bin/time ] && TIMER=(/usr/bin/time -f "   %e s wall, %U s user + %S s system (all ranks)")
 failed=()
 start=$(date +%s)
 for run in "${RUNS[@]}"; do
@@ -26,8 +28,7 @@ for run in "${RUNS[@]}"; do
   rm -f "$OUT/$demo/summary.json"
   echo "== demos/$demo.py $* (mpirun -n $NP)"
   # wall and CPU seconds (all ranks): on a shared machine the CPU time / NP is the unloaded wall time
-  if ! /usr/bin/time -f "   %e s wall, %U s user + %S s system (all ranks)" \
-       $MPIRUN $PY demos/$demo.py --out "$OUT/$demo" --quiet "$@"; then
+  if ! "${TIMER[@]}" $MPIRUN $PY demos/$demo.py --out "$OUT/$demo" --quiet "$@"; then
     failed+=("$demo")
   fi
 done
