@@ -38,3 +38,15 @@ def test_demo_passes_its_check(name, tmp_path_factory, comm):
     assert check["passed"], check
     assert check["rel_error"] <= check["tolerance"]
     assert summary["check"] == check and on_disk["ranks"] == comm.size
+
+
+def test_table_needs_a_passed_check_in_every_row():
+    table = load("table")
+    ok_row = {"scene": "block", "method": "cross", "ranks": 1, "dofs": 90, "newton_iterations": 8, "wall_time_s": 0.1,
+              "check": {"figure": "contact_pressure", "value": 1.0, "reference": 1.0, "rel_error": 0.0,
+                        "tolerance": 1e-8, "passed": True}}
+    text, ok = table.table([ok_row])
+    assert ok and "contact_pressure" in text and "True" in text
+    failed = {**ok_row, "check": {**ok_row["check"], "value": None, "rel_error": None, "passed": False}}
+    assert not table.table([ok_row, failed])[1]
+    assert not table.table([ok_row, {k: v for k, v in ok_row.items() if k != "check"}])[1]  # no check: a failure
