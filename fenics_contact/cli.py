@@ -4,8 +4,10 @@ The command line is strict: an unknown ``--option`` is an error naming it
 (with the closest known option), every number is range-checked while
 parsing (before any work), and single-dash options go to PETSc's options
 database (``-fc_snes_monitor``, ``-fc_snes_linesearch_type basic``: ``fc_``
-is the solver's options prefix) and are checked after the run: an option
-PETSc never read is an error naming it. :func:`main` runs a demo's
+is the solver's options prefix) and are checked once the solver is set up
+and has solved (after the first converged load step of :func:`run.run`, and
+again at the end of the demo): an option PETSc never read is an error
+naming it. :func:`main` runs a demo's
 ``main(argv)`` and turns the expected errors (bad input, a refused
 combination, a failed solve, a PETSc value PETSc rejects) into one line on
 rank 0 and a non-zero exit, on every rank.
@@ -293,18 +295,21 @@ def _petsc_used(name: str) -> bool:
 _LIB = None
 
 
-def unused_petsc_options() -> list[str]:
-    """The command line's PETSc options that PETSc never read, each with the closest known option if any."""
+def unused_petsc_options(later: Sequence[str] = ()) -> list[str]:
+    """The command line's PETSc options that PETSc never read, each with the closest known option if any; those
+    ending in one of ``later`` (read after the point of the check) are not reported."""
     known = [f"-fc_{k}" for k in dict.fromkeys([*DEFAULT_OPTIONS, *(k for s in LINEAR_SOLVERS.values() for k in s),
                                                 *_COMMON_PETSC])]
     return [f"-{name}{_did_you_mean('-' + name, known)}" for name, _ in dict.fromkeys(_PETSC_OPTIONS)
-            if not _petsc_used(name)]
+            if not name.endswith(tuple(later)) and not _petsc_used(name)]
 
 
-def check_petsc_options() -> None:
+def check_petsc_options(later: Sequence[str] = ()) -> None:
     """Raise ``UsageError`` naming every PETSc option of the command line that PETSc did not use (misspelt, or
-    without the ``fc_`` prefix); call after the solvers have been set up (the end of a demo)."""
-    unused = unused_petsc_options()
+    without the ``fc_`` prefix); call after the solvers have been set up and run (:func:`run.run` after its
+    first converged step, ``later``: options read only afterwards; :func:`main` at the end of a demo).
+    Collective in effect: every rank has the same options and raises alike."""
+    unused = unused_petsc_options(later)
     if unused:
         raise UsageError(f"PETSc option{'s' * (len(unused) > 1)} not used by any solver (misspelt, or without "
                          f"the fc_ prefix?): {', '.join(unused)}")
