@@ -118,3 +118,16 @@ def test_check_record():
                                            "tolerance": 2e-2, "passed": False, "source": ""}
     with pytest.raises(ValueError, match="tolerance"):
         check("p", 1.0, 1.0, 0.0)
+
+
+def test_error_line_knows_the_user_errors_only():
+    class UnsupportedCombination(Exception):
+        pass
+
+    from fenics_contact.solver import ConvergenceError
+
+    assert cli.error_line(ValueError("--K must be > 0\nmore")) == "--K must be > 0"
+    assert cli.error_line(UnsupportedCombination("nodal two-pass: use gauss")) == "nodal two-pass: use gauss"
+    assert cli.error_line(ConvergenceError("step 1 failed", {}, 12)) == \
+        "did not converge: step 1 failed (12 Newton iterations spent)"
+    assert cli.error_line(TypeError("a bug")) is None  # a bug keeps its traceback
