@@ -15,6 +15,7 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
+from .capabilities import check, of
 from .compat import bc_dofs, petsc_vec
 from .contact import ContactSurface
 from .laws import ContactLaw, Coulomb, Exact, LagrangeMultiplier, NitscheLaw
@@ -86,7 +87,10 @@ def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal",
     (``u`` then the mixed unknown of :func:`~fenics_contact.multipliers.unknown`), or a
     :class:`~fenics_contact.condensed.CondensedContact` for method ``coulomb`` (whose gap is linearized
     by construction), or a :class:`~fenics_contact.nitsche.NitscheContact` for method ``nitsche`` (which
-    needs the bulk ``material``). ``linearized``: the small-displacement gap (see :class:`ContactSurface`)."""
+    needs the bulk ``material``). ``linearized``: the small-displacement gap (see :class:`ContactSurface`).
+    Raises :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly for a combination
+    the capability matrix refuses."""
+    check(**of(law, u, material), kind="rigid", quadrature=quadrature, passes="one")
     if isinstance(law, NitscheLaw):
         from .nitsche import NitscheContact
 

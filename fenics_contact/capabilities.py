@@ -19,9 +19,10 @@ from dataclasses import dataclass
 from typing import Any, Iterator, Mapping
 
 from .laws import METHODS
+from .materials import NeoHookean
 
-__all__ = ["AXES", "RULES", "Rule", "UnsupportedCombination", "check", "cells", "describe", "markdown",
-           "refusal", "supported"]
+__all__ = ["AXES", "RULES", "Rule", "UnsupportedCombination", "cells", "cells_like", "check", "describe",
+           "markdown", "of", "refusal", "supported"]
 
 MULTIPLIERS = ("lagrange", "penalty_multiplier")
 LAWS = ("penalty", "cross", "auglag", "compliance")  # penalty-type laws: a pressure F(g), friction on top
@@ -169,6 +170,23 @@ def check(method: str | None = None, kind: str | None = None, quadrature: str | 
                                      f"use {rule.use}")
 
 
+def of(law, u=None, material=None) -> dict:
+    """The axis values an entry point can see: ``method`` and ``friction`` from the law, ``dim`` and ``degree``
+    from the unknown ``u`` (a displacement or mixed (displacement, pressure) Function), ``model`` from the
+    bulk material (``None`` where not given)."""
+    name = law.name
+    friction = name.endswith("+friction") or (name == "coulomb" and float(law.mu) > 0.0)
+    out = {"method": name.split("+")[0], "friction": friction}
+    if u is not None:
+        V = u.function_space
+        Vd = V.sub(0) if V.num_sub_spaces > 0 and V.sub(0).num_sub_spaces > 0 else V  # mixed: the displacement
+        out["dim"] = V.mesh.geometry.dim
+        out["degree"] = 2 if len(Vd.dofmap.dof_layout.entity_dofs(1, 0)) else 1  # Lagrange: edge dofs from P2
+    if material is not None:
+        out["model"] = "neohookean" if isinstance(material, NeoHookean) else "linear"
+    return out
+
+
 def cells() -> Iterator[dict]:
     """Every cell of the matrix (the product of :data:`AXES`), as keyword dictionaries."""
     for values in itertools.product(*AXES.values()):
@@ -186,7 +204,8 @@ def markdown() -> str:
              "line naming it and what to use instead. `tests/test_capabilities.py` solves the supported "
              "cells on tiny meshes against closed forms and checks every refusal.", "", "## Axes", ""]
     for axis, values in AXES.items():
-        lines.append(f"- **{axis}**: {', '.join(_fmt(axis, v) if axis in ('dim', 'degree') else str(v) for v in values)}")
+        shown = (_fmt(axis, v) if axis in ("dim", "degree") else str(v) for v in values)
+        lines.append(f"- **{axis}**: {', '.join(shown)}")
     lines += ["", "## Refused combinations", "", "| refused when | why | use instead |", "|---|---|---|"]
     for rule in RULES:
         when = "; ".join(f"{a} {' or '.join(str(v) for v in vals)}" for a, vals in rule.when.items())

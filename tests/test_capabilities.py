@@ -43,9 +43,19 @@ from fenics_contact.bounds import contact_surface
 from fenics_contact.friction import Friction, FrictionalContact
 from fenics_contact.laws import make_law
 from fenics_contact.materials import MODELS
-from fenics_contact.meshes import BOTTOM, LEFT, RECT_TOP, rectangle
-from fenics_contact.meshes import BLOCK_FRONT, BLOCK_LEFT, LOWER_BOTTOM, LOWER_TOP, UPPER_BOTTOM, UPPER_TOP, \
-    stacked_blocks
+from fenics_contact.meshes import (
+    BLOCK_FRONT,
+    BLOCK_LEFT,
+    BOTTOM,
+    LEFT,
+    LOWER_BOTTOM,
+    LOWER_TOP,
+    RECT_TOP,
+    UPPER_BOTTOM,
+    UPPER_TOP,
+    rectangle,
+    stacked_blocks,
+)
 from fenics_contact.meshes.rectangle import tag_boundary
 from fenics_contact.multipliers import two_body_multipliers, unknown
 from fenics_contact.obstacles import HalfPlane
@@ -121,7 +131,8 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple
         if dim == 3:  # no lateral expansion across the slide: every point slides along x
             dirichlet += [Dirichlet.on_facets(V, ft, tag, 1) for tag in (FRONT, BACK)]
     else:
-        dirichlet += [Dirichlet.on_facets(V, ft, LEFT, 0)] + ([Dirichlet.on_facets(V, ft, FRONT, 1)] if dim == 3 else [])
+        dirichlet += [Dirichlet.on_facets(V, ft, LEFT, 0)]
+        dirichlet += [Dirichlet.on_facets(V, ft, FRONT, 1)] if dim == 3 else []
     plane = HalfPlane(np.zeros(dim), np.eye(dim)[v])
     contact = contact_surface(u, ft, BOTTOM, plane, law, load, quadrature, material=material)
     problem = ContactProblem(u, material, load, dirichlet, [contact])
@@ -293,3 +304,18 @@ def test_docs_match_the_declaration():
 
     doc = Path(__file__).resolve().parents[1] / "docs" / "capabilities.md"
     assert doc.read_text() == cap.markdown(), "regenerate: python -m fenics_contact.capabilities > docs/capabilities.md"
+
+
+def test_two_pass_coinciding_points_carry_the_one_pass_pressure(monkeypatch):
+    """Two passes whose slave points coincide (matching meshes, no initial overlap): every point of both passes
+    carries the applied pressure. (With the node-on-node exclusion the first pass alone carried it at weight
+    1/2: pressure 2 P, the +98 % p0 of a two-body Hertz case with a node on the axis in both meshes.)"""
+    from fenics_contact.scenes import build, patch
+
+    monkeypatch.setattr(patch, "OVERLAP", 0.0)
+    for quadrature in ("nodal", "gauss"):  # compliance: stiffness at g = 0, the blocks only touch at the start
+        setup = build("patch", law_factory=lambda: make_law("compliance", c_n=1e6), quadrature=quadrature,
+                      passes="two", n_lower=(4, 2), n_upper=(4, 2))
+        solve(setup.problem, "compliance", "direct")
+        for c in setup.contacts:
+            assert np.allclose(c.point_values()[2], patch.PRESSURE, rtol=1e-8), (quadrature, c.point_values()[2])

@@ -26,7 +26,7 @@ from mpi4py import MPI
 
 from ..bounds import contact_surface
 from ..compat import function_space
-from ..laws import ContactLaw
+from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import MODELS
 from ..meshes import (
     CONTACT,
@@ -39,7 +39,7 @@ from ..meshes import (
     TOP,
     hertz_quarter_disk,
 )
-from ..multipliers import unknown
+from ..multipliers import two_body_multipliers, unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
@@ -133,7 +133,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                                         HalfPlane([0.0, 2 * R], [0.0, -1.0], motion=[0.0, -2 * approach]), law_twin(
                                             law), load, quadrature, material=material, name="upper_plate"))
     if plate == "meshed":
-        from ..twobody import TwoBodySurface
+        from ..twobody import two_body_surfaces
 
         # one material, stiffer on the plate's cells: its Lame constants times PLATE_STIFFNESS there
         Q = function_space(mesh, "DG", 0)
@@ -145,8 +145,12 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         side = facet_tags.indices[facet_tags.values == PLATE_SYMMETRY]
         dirichlet += [Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, bottom)),
                       Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, np.concatenate([bottom, side])))]
-        contact = TwoBodySurface(u, facet_tags, CONTACT, PLATE_TOP, law, load, quadrature, radius=0.1 * R,
-                                 name="plate")
+        if isinstance(law, LagrangeMultiplier):  # the slave pressure an unknown (P1: quadrature 'nodal')
+            contact = two_body_multipliers(u, facet_tags, CONTACT, PLATE_TOP, law, load, radius=0.1 * R,
+                                           name="plate", work_quadrature=quadrature)[0]
+        else:
+            contact = two_body_surfaces(u, facet_tags, CONTACT, PLATE_TOP, lambda: law, load, quadrature,
+                                        radius=0.1 * R, name="plate")[0]
     else:
         contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                                   material=material)
