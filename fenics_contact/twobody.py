@@ -76,9 +76,10 @@ consistent tangent (curvature and the moving projection point included;
 Points that project on a facet's end (``xi`` clipped) keep ``xi`` fixed.
 
 Two-pass: two surfaces, each side slave once, each with ``weight = 1/2``
-(forces averaged); coinciding points of the two passes both stay (each at
-weight 1/2: together the one-pass force; leaving one out doubled the other's
-pressure). Two passes of multipliers are refused (:mod:`capabilities`). Flat facets: segments (2D), triangles (3D);
+(forces averaged); coinciding points of the two passes both stay on flat
+facets (each at weight 1/2: together the one-pass force; leaving one out
+doubled the other's pressure); quadratic facets still leave the second-pass
+point out (node-on-node). Two passes of multipliers are refused (:mod:`capabilities`). Flat facets: segments (2D), triangles (3D);
 quadratic: curved segments (2D).
 """
 from __future__ import annotations
@@ -764,7 +765,8 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
     ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
     at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
-    2D and 3D, :mod:`mortar`). Two-pass: every slave point of both passes, each at weight 1/2.
+    2D and 3D, :mod:`mortar`). Two-pass: every slave point of both passes, each at weight 1/2 (quadratic
+    facets: a second-pass point that coincides with a first-pass one in the reference configuration is left out).
     ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`)."""
     if passes not in PASSES:
         raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
@@ -785,10 +787,12 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     kw = {"work_quadrature": work_quadrature}
     if passes == "one":
         return [cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name, **kw)]
-    # No node-on-node exclusion: a second-pass point left out where it coincides with a first-pass point left
-    # that point alone at weight 1/2, i.e. half the force at the doubled pressure (+98 % p0 at a symmetry axis
-    # where both meshes have a node). Both points at weight 1/2 give the one-pass force; exact constraints
-    # (multipliers) would be duplicated there: two passes are refused for them (capabilities).
+    # Flat facets: no node-on-node exclusion. A second-pass point left out where it coincides with a first-pass
+    # point left that point alone at weight 1/2, i.e. half the force at the doubled pressure (+98 % p0 at a
+    # symmetry axis where both meshes have a node); both points at weight 1/2 give the one-pass force. Exact
+    # constraints (multipliers) would be duplicated there: two passes are refused for them (capabilities).
+    # Quadratic facets (the sheet) keep the exclusion: its surface-locking figures were measured with it.
     a = cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a", **kw)
-    b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b", **kw)
+    b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b",
+            exclude=a.reference_points() if a.quadratic else None, **kw)
     return [a, b]
