@@ -79,7 +79,8 @@ Two-pass: two surfaces, each side slave once, each with ``weight = 1/2``
 (forces averaged); coinciding points of the two passes both stay on flat
 facets (each at weight 1/2: together the one-pass force; leaving one out
 doubled the other's pressure); quadratic facets still leave the second-pass
-point out (node-on-node). Two passes of multipliers are refused (:mod:`capabilities`). Flat facets: segments (2D), triangles (3D);
+point out (node-on-node). Two passes of multipliers are refused
+(:mod:`capabilities`). Flat facets: segments (2D), triangles (3D);
 quadratic: curved segments (2D).
 """
 from __future__ import annotations
