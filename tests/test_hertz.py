@@ -45,3 +45,17 @@ def test_snes_vi_reference_is_the_augmented_limit():
     aug = solve(AugmentedLagrangian(hertz.DEFAULT_K))
     assert np.isclose(vi["p0"], aug["p0"], rtol=1e-6) and np.isclose(vi["a"], aug["a"], rtol=1e-6)
     assert np.isclose(vi["total_force"], vi["reaction_top"], rtol=1e-8)
+
+
+def test_meshed_plate_with_multipliers():
+    """Two-body contact of the disk on the meshed stiff plate with the slave pressure as an unknown (method
+    lagrange): Hertz within 2 % and equilibrium."""
+    from fenics_contact.laws import LagrangeMultiplier
+
+    setup = hertz.build(LagrangeMultiplier(hertz.DEFAULT_K), plate="meshed")
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    f = setup.figures()
+    assert f["p0_error"] < 0.02 and f["a_error"] < 0.02, (f["p0_error"], f["a_error"])
+    assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
