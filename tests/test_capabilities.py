@@ -337,3 +337,14 @@ def test_two_pass_coinciding_points_carry_the_one_pass_pressure(monkeypatch):
         solve(setup.problem, "compliance", "direct")
         for c in setup.contacts:
             assert np.allclose(c.point_values()[2], patch.PRESSURE, rtol=1e-8), (quadrature, c.point_values()[2])
+
+
+@pytest.mark.parametrize("method", ["lagrange", "vi"])
+def test_solver_refuses_an_iterative_solve_it_cannot_do(method):
+    """The linear solver is known only to the Solver: it refuses GAMG for the saddle point of the multipliers
+    and for SNES VI's changing reduced system, with the documented one-line error, before any assembly."""
+    from fenics_contact.scenes import build
+
+    setup = build("block", law=make_law(method), nx=2, ny=2)
+    with pytest.raises(cap.UnsupportedCombination, match=f"{method}, iterative solver"):
+        Solver(setup.problem, quiet=True, options=dict(LINEAR_SOLVERS["iterative"]))
