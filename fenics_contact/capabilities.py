@@ -59,7 +59,8 @@ def _r(use: str, why: str, **when: Any) -> Rule:
 
 
 NON_LAW = ("vi", "coulomb", "nitsche") + MULTIPLIERS
-# Ordered: the first matching rule gives the message.
+# Ordered: the first matching rule gives the message (method-specific rules before the generic ones, so that
+# the advice fits the method).
 RULES: tuple[Rule, ...] = (
     # --- kind and passes
     _r("passes 'one'", "a rigid obstacle is never a slave: passes are a two-body option",
@@ -75,21 +76,8 @@ RULES: tuple[Rule, ...] = (
     # --- friction
     _r("a method with friction (penalty, cross, auglag, compliance, coulomb) or mu 0",
        "these methods have no tangential law", friction=True, method=("vi", "nitsche") + MULTIPLIERS),
-    # --- quadrature and degree
-    _r("quadrature 'gauss' (or 'simpson' in 2D)",
-       "the vertex rule leaves the mid-side nodes of quadratic facets without contact (a point_values "
-       "IndexError on two bodies)", degree=2, quadrature="nodal"),
-    _r("quadrature 'nodal' or 'gauss'", "Simpson's rule uses the three nodes of a quadratic 2D facet",
-       degree=1, quadrature="simpson"),
-    _r("quadrature 'gauss' (3D)", "Simpson's rule uses the three nodes of a quadratic 2D facet",
-       dim=3, quadrature="simpson"),
-    _r("degree 1 or quadrature 'simpson'", "segment-to-segment integration clips flat facets",
-       degree=2, quadrature="segment"),
-    _r("degree 1 (or 2D)", "quadratic master facets are curved segments: 2D only", kind="two-body", degree=2, dim=3),
-    _r("quadrature 'simpson' (P2, 2D)", "a quadratic two-body surface integrates at its facet nodes",
-       kind="two-body", degree=2, quadrature="gauss"),
     # --- exact methods
-    _r("quadrature 'nodal' (degree 1)", "vi bounds the nodal displacement", method="vi",
+    _r("quadrature 'nodal' and degree 1", "vi bounds the nodal displacement", method="vi",
        quadrature=("gauss", "segment", "simpson")),
     _r("degree 1", "vi's pressure is the nodal reaction over the vertex weight (0 at a mid-side node)",
        method="vi", degree=2),
@@ -103,6 +91,9 @@ RULES: tuple[Rule, ...] = (
     _r("solver 'direct'", "coulomb factors the stiffness itself (MUMPS)", method="coulomb", solver="iterative"),
     _r("quadrature 'nodal' (P1) or 'simpson' (P2)", "the multipliers' constraint sits at the vertices",
        method=MULTIPLIERS, quadrature=("gauss", "segment")),
+    _r("degree 1", "the multipliers' quadratic (two-point) element is 2D", method=MULTIPLIERS, degree=2, dim=3),
+    _r("quadrature 'simpson' (the two-point element)", "the vertex rule alone leaves the mid-side nodes of "
+       "quadratic facets without the pressure's work", method=MULTIPLIERS, degree=2, quadrature="nodal"),
     _r("passes 'one'", "two passes of exact constraints over-constrain the surface (surface locking, "
        "a pressure split arbitrarily between the passes)", method=MULTIPLIERS, passes="two"),
     _r("solver 'direct'", "GAMG has no option for the saddle point of the mixed (displacement, pressure) space",
@@ -110,6 +101,19 @@ RULES: tuple[Rule, ...] = (
     _r("method penalty, auglag or lagrange (or model 'linear')",
        "the Nitsche term uses the Cauchy stress in reference-configuration integrals: not consistent at "
        "finite strain", method="nitsche", model="neohookean"),
+    # --- quadrature and degree
+    _r("degree 1 (or 2D)", "quadratic master facets are curved segments: 2D only", kind="two-body", degree=2, dim=3),
+    _r("quadrature 'simpson'", "a quadratic two-body surface works at the three nodes of its facets (the vertex "
+       "rule leaves the mid-side node without contact: the point_values IndexError)",
+       kind="two-body", degree=2, quadrature=("nodal", "gauss")),
+    _r("quadrature 'gauss' (or 'simpson' in 2D)",
+       "the vertex rule leaves the mid-side nodes of quadratic facets without contact", degree=2, quadrature="nodal"),
+    _r("quadrature 'nodal' or 'gauss'", "Simpson's rule uses the three nodes of a quadratic 2D facet",
+       degree=1, quadrature="simpson"),
+    _r("quadrature 'gauss' (3D)", "Simpson's rule uses the three nodes of a quadratic 2D facet",
+       dim=3, quadrature="simpson"),
+    _r("degree 1 or quadrature 'simpson'", "segment-to-segment integration clips flat facets",
+       degree=2, quadrature="segment"),
 )
 
 

@@ -446,6 +446,7 @@ class TwoBodySurface(ContactSurface):
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
                  radius: float | None = None, name: str = "twobody", work_quadrature: str | None = None,
                  exclude: np.ndarray | None = None):
+        check(**of(law, u), kind="two-body", quadrature=work_quadrature or quadrature)  # before any assembly
         mesh = u.function_space.mesh
         if slave_tag == master_tag:
             raise ValueError(f"slave_tag and master_tag must differ, both are {slave_tag}")
