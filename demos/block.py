@@ -12,10 +12,8 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem
 
-from fenics_contact import cli
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import block, build
+from fenics_contact import build, cli, function_space, interpolate_expression, run
+from fenics_contact.scenes import block
 
 # 1. Options: the formulation and its parameters (K = 1e5 as in the paper).
 p = cli.parser(__doc__.splitlines()[0], default_K=1e5)

@@ -13,10 +13,8 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from fenics_contact import cli
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import build, hertz
+from fenics_contact import build, cli, function_space, interpolate_expression, run
+from fenics_contact.scenes import hertz
 
 # 1. Options: formulation, parameters, mesh refinement, load steps.
 p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)

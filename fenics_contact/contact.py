@@ -16,10 +16,14 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .compat import entities_to_geometry, function_space, petsc_vec
+from .domain import tag_value
 from .laws import ContactLaw, ufl_ops
-from .meshes import check_tags
+from .meshes.rectangle import check_tags
 from .obstacles import Obstacle
 from .projection import SurfaceProjector
+from .surface import Surface
+
+__all__ = ["QUADRATURES", "contact_measure", "is_mixed", "displacement", "check_facet_tag", "ContactSurface"]
 
 QUADRATURES = ("nodal", "gauss", "simpson")
 
@@ -35,9 +39,11 @@ _VERTEX_RULES = {
 _SIMPSON = (((0.0,), (0.5,), (1.0,)), (1 / 6, 4 / 6, 1 / 6))
 
 
-def contact_measure(mesh, facet_tags, tag: int, quadrature: str) -> ufl.Measure:
-    """``ds`` on the tagged facets with the vertex rule (``nodal``), the degree-2 Gauss rule, or
-    Simpson's rule (``simpson``, 2D: the three nodes of a quadratic facet)."""
+def contact_measure(mesh, facet_tags, tag: int | str, quadrature: str) -> ufl.Measure:
+    """``ds`` on the tagged facets (``tag``: a value, or a name of :class:`domain.NamedTags`) with the vertex
+    rule (``nodal``), the degree-2 Gauss rule, or Simpson's rule (``simpson``, 2D: the three nodes of a quadratic
+    facet)."""
+    facet_tags, tag = tag_value(facet_tags, tag)
     if quadrature == "simpson":
         if mesh.topology.dim != 2:
             raise ValueError("contact quadrature 'simpson' is for 2D meshes (segment facets)")
@@ -68,15 +74,17 @@ def displacement(w):
     return ufl.split(w)[0] if is_mixed(V) else w
 
 
-def check_facet_tag(mesh, facet_tags, tag: int, name: str) -> np.ndarray:
-    """Local facets with ``tag``; raise ``ValueError`` naming ``name`` if no rank has any."""
+def check_facet_tag(mesh, facet_tags, tag: int | str, name: str) -> np.ndarray:
+    """Local facets with ``tag`` (a value, or a name of :class:`domain.NamedTags`); raise ``ValueError`` naming
+    ``name`` if no rank has any."""
+    facet_tags, tag = tag_value(facet_tags, tag)
     if facet_tags is None or facet_tags.dim != mesh.topology.dim - 1:
         raise ValueError(f"{name}: the mesh has no facet tags (need facets of dimension {mesh.topology.dim - 1})")
     check_tags(facet_tags, {name: tag}, mesh.comm)
     return facet_tags.indices[facet_tags.values == tag]
 
 
-class ContactSurface:
+class ContactSurface(Surface):
     """Contact of the tagged boundary ``tag`` of the body with displacement ``u`` against ``obstacle``.
 
     The current position is ``x = X + u`` (also for linear elasticity, so a
@@ -87,9 +95,6 @@ class ContactSurface:
     ``Constant`` that moves the obstacle. ``u`` is the problem's unknown: the displacement,
     or a mixed (displacement, pressure) Function (:mod:`multipliers`).
     """
-
-    bcs: tuple = ()  # Dirichlet conditions the surface adds to the problem (multipliers: p = 0 off the surface)
-    solver_options: dict = {}  # PETSc defaults the formulation needs (options given by the user still win)
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
@@ -143,34 +148,11 @@ class ContactSurface:
     def _pressure(self) -> ufl.core.expr.Expr:
         return self.law.force(self.gap, self.params, ufl_ops())
 
-    # --- hooks of the solver (used by exact enforcement, see :mod:`bounds`) ----
-    bounded = False  # True: the surface is enforced by variable bounds (SNES VI), not by a law
-
-    def bounds(self, t: float, like):
-        """Variable bounds ``(lower, upper)`` on the unknowns at load ``t``, or None (a law, no bounds)."""
-        return None
-
-    def after_solve(self, problem) -> None:
-        """Called after every converged Newton solve."""
-
-    def commit(self) -> None:
-        """Called once a load step is accepted: advance history variables (friction); no-op here."""
-
-    solves_step = False  # True: the surface solves a whole load step itself (:meth:`solve_step`), no SNES
-
-    def solve_step(self, problem) -> tuple[int, list[float], str]:
-        """Solve the load step at ``problem.load``: ``(reason as SNES's, residual history, failure message)``."""
-        raise NotImplementedError
-    def prepare(self, problem) -> None:
-        """Called before every residual evaluation, with ``u`` set (two-body contact re-pairs here)."""
-
-    def add_residual(self, b) -> None:
-        """Add terms that are not in the problem's forms to the assembled residual (owned entries)."""
-
-    def add_jacobian(self, A, bcs) -> bool:
-        """Add blocks that are not in the problem's forms to the assembled Jacobian ``A`` (Dirichlet rows and
-        columns left zero); True if ``A``'s nonzero pattern changed."""
-        return False
+    # --- hooks of the solver (see :class:`~fenics_contact.surface.Surface`) ------------
+    @property
+    def augmentable(self) -> bool:
+        """The law's: True when it has augmentable fields (augmented Lagrangian, Uzawa)."""
+        return self.law.augmentable
 
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:

@@ -45,6 +45,10 @@ from typing import Hashable, Sequence
 import numpy as np
 from mpi4py import MPI
 
+__all__ = [
+    "ILL_CONDITIONED", "KINDS", "fingerprint", "find_cycle", "condition_estimate", "classify", "stalled", "reason_name"
+]
+
 ILL_CONDITIONED = 1e12  # condition estimate above which a failed solve is blamed on the Jacobian
 KINDS = ("linear_solve", "ill_conditioning", "divergence", "cycling", "stagnation", "max_iterations")
 

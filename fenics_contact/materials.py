@@ -9,6 +9,8 @@ import math
 
 import ufl
 
+__all__ = ["lame", "Material", "LinearElastic", "NeoHookean", "MODELS"]
+
 
 def lame(E: float, nu: float) -> tuple[float, float]:
     """Lamé constants ``(lambda, mu)`` of Young's modulus and Poisson's ratio (3D values)."""

@@ -44,9 +44,9 @@ which is then evaluated in dual numbers), fanned into triangles with a
 3-point rule each (exact to degree 2). The gap is the distance to the master
 plane, ``dg/dx`` includes the rotation of ``n_m = (e_1 x e_2)/|e_1 x e_2|``.
 
-Pairing: candidate master facets from :class:`twobody.BucketGrid` over the
-slave facet's bounding box, normals facing each other, a non-empty overlap;
-a sub-segment is kept when :func:`twobody.project` (the pointwise
+Pairing: candidate master facets whose bounding box is within the search radius
+of the slave facet's (:func:`search.facet_pairs`, a k-d tree), normals facing each other, a non-empty overlap;
+a sub-segment is kept when :func:`search.project` (the pointwise
 closest-point search) pairs its midpoint with the same master facet, so the
 two options share one projection. At a convex master kink the slave points
 whose closest point is the vertex itself belong to no sub-segment (no
@@ -70,9 +70,16 @@ from __future__ import annotations
 import types
 
 import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
 
-from .twobody import BucketGrid, TwoBodySurface, closest_point_on_facets, facet_normals, project
+from .search import STRETCH_LIMIT, closest_point_on_facets, facet_normals, facet_pairs, project, stretch
+from .twobody import TwoBodySurface
+
+__all__ = [
+    "SEGMENT_RULE", "Dual", "dual_max", "dual_min", "dual_exp", "dual_sqrt", "DUAL_OPS", "segment_element",
+    "clip_polygons", "polygon_area", "triangle_element", "overlap", "pair_segments", "pair_triangles", "SegmentSurface"
+]
 
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
 SEGMENT_RULE = (np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)]), np.array([0.5, 0.5]))
@@ -442,8 +449,8 @@ def overlap(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def pair_segments(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
     """Slave/master facet pairs ``(slave index, master index)`` with a sub-segment: the master facet's
     projection overlaps the slave facet (more than 1e-10 of it), their normals face each other, and the
-    closest-point search (:func:`twobody.project`) pairs the sub-segment's midpoint with that facet."""
-    fs, ms = _grid_candidates(xs, xm, radius)
+    closest-point search (:func:`search.project`) pairs the sub-segment's midpoint with that facet."""
+    fs, ms = facet_pairs(xs, xm, radius)
     if len(fs) == 0:
         return fs, ms
     facing = np.einsum("ij,ij->i", facet_normals(xs[fs]), facet_normals(xm[ms])) < 0.0
@@ -463,8 +470,8 @@ def pair_segments(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nda
 
 def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
     """3D analogue of :func:`pair_segments`: pairs whose overlap polygon covers more than 1e-10 of the slave
-    triangle, normals facing, and whose polygon centroid :func:`twobody.project` pairs with that facet."""
-    fs, ms = _grid_candidates(xs, xm, radius)
+    triangle, normals facing, and whose polygon centroid :func:`search.project` pairs with that facet."""
+    fs, ms = facet_pairs(xs, xm, radius)
     if len(fs) == 0:
         return fs, ms
     facing = np.einsum("ij,ij->i", facet_normals(xs[fs]), facet_normals(xm[ms])) < 0.0
@@ -488,21 +495,6 @@ def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nd
     own = np.array([closest_point_on_facets(q, xm[m][None])[0][0] for q, m in zip(p, ms)]) if len(p) else dist
     keep = (best == ms) | ((best >= 0) & (own <= dist * (1 + 1e-9) + 1e-14 * radius))
     return fs[keep], ms[keep]
-
-
-def _grid_candidates(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
-    """(slave, master) index pairs whose bounding boxes are within ``radius`` (bucket grid of the master)."""
-    grid = BucketGrid(xm, radius)
-    fs, ms = [], []
-    for f, seg in enumerate(xs):
-        a = np.floor(seg.min(axis=0) / radius).astype(np.int64)
-        b = np.floor(seg.max(axis=0) / radius).astype(np.int64)
-        cand: set[int] = set()
-        for key in np.ndindex(*(b - a + 1)):
-            cand.update(grid.cells.get(tuple(a + np.array(key)), ()))
-        fs.extend([f] * len(cand))
-        ms.extend(sorted(cand))
-    return np.array(fs, np.int64), np.array(ms, np.int64)
 
 
 # --------------------------------------------------------------------------------------------
@@ -543,6 +535,11 @@ class SegmentSurface(TwoBodySurface):
     def update(self) -> bool:
         """Nodal projection (state, outputs) and the sub-segments of the owned slave facets. Collective."""
         changed = super().update()
+        # Slave facets are local: an exploded slave facet on any rank rejects the iterate on every rank.
+        local = stretch(self._slave_current(), self.slave_data.X) > STRETCH_LIMIT
+        self.exploded = self.comm.allreduce(self.exploded or local, op=MPI.LOR)
+        if self.exploded:
+            return False
         xm = self._mX + self._gather_master()
         own = np.flatnonzero(self.slave_data.owned)
         pair = pair_segments if self.gdim == 2 else pair_triangles
@@ -555,6 +552,11 @@ class SegmentSurface(TwoBodySurface):
             self._pattern_version += 1
         self._xm = xm
         return changed or seg_changed
+
+    def pairing(self) -> np.ndarray:
+        """The point pairs (:meth:`TwoBodySurface.pairing`) followed by the (slave facet, master facet) pairs of
+        the sub-segments, flattened."""
+        return np.concatenate([super().pairing(), self._segment_pairs.ravel()])
 
     def _elements(self, points: bool = False):
         """Element residuals, tangents and global dof indices (n, 8) of the current sub-segments."""
@@ -570,6 +572,9 @@ class SegmentSurface(TwoBodySurface):
 
     # --- solver hooks ----------------------------------------------------------
     def add_residual(self, b: PETSc.Vec) -> None:
+        if self.exploded:  # a non-finite residual: the solve fails and the step is cut (search.STRETCH_LIMIT)
+            b.set(np.nan)
+            return
         (r, _), dofs = self._elements()
         if len(r):
             b.setValues(dofs.ravel().astype(PETSc.IntType), r.ravel(), addv=PETSc.InsertMode.ADD_VALUES)
@@ -584,10 +589,12 @@ class SegmentSurface(TwoBodySurface):
         C = PETSc.Mat().createAIJ(sizes, comm=self.comm)
         C.setPreallocationNNZ((24, 24))
         C.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        bc = self._bc_global if self._bc_global is not None else set()
-        idx = np.array([[-1 if int(i) in bc else int(i) for i in row] for row in dofs], dtype=PETSc.IntType)
-        for k in range(len(K)):  # negative indices (Dirichlet dofs) are ignored by MatSetValues
-            C.setValues(idx[k], idx[k], K[k].ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+        if len(K):  # one CSR row per element row; Dirichlet rows and columns as -1 (ignored by MatSetValues)
+            idx = np.where(np.isin(dofs, self._bc_array), -1, dofs).astype(PETSc.IntType)
+            n, m = idx.shape
+            cols = np.repeat(idx, m, axis=0).ravel()
+            indptr = np.arange(n * m + 1, dtype=PETSc.IntType) * m
+            C.setValuesIJV(indptr, cols, K.reshape(-1), addv=PETSc.InsertMode.ADD_VALUES, rowmap=idx.ravel())
         C.assemble()
         return C
 

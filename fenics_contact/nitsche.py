@@ -23,6 +23,8 @@ from .contact import ContactSurface
 from .laws import ufl_ops
 from .materials import Material
 
+__all__ = ["NitscheContact"]
+
 
 class NitscheContact(ContactSurface):
     """Contact by symmetric Nitsche; same figures, output and hooks as :class:`ContactSurface`."""

@@ -46,8 +46,8 @@ slave or master facets. At each update the owned master facets (global dof
 numbers, reference coordinates, current displacements; ``nv * (1 + 2 gdim)``
 numbers per facet) are all-gathered, so each rank holds the whole current
 master surface and projects its own slave points (owned and ghost) with a
-uniform bucket grid (cell size = search radius, 3^d cells per query; no
-all-pairs loop). Cost per update: one ``MPI_Allgather`` of the master
+k-d tree (:mod:`search`: memory bounded by the surfaces' size whatever
+the iterate; no all-pairs loop). Cost per update: one ``MPI_Allgather`` of the master
 surface (``O(N_master)`` numbers to every rank) and ``O(N_slave_local)``
 local searches; a master facet owned by another rank is then just a column
 of ``I`` with a global index, PETSc moves the values. This is the right
@@ -98,6 +98,16 @@ from .compat import bc_dofs, function_space
 from .contact import ContactSurface, check_facet_tag, contact_measure, is_mixed
 from .laws import ContactLaw
 from .obstacles import Obstacle
+from .search import (
+    STRETCH_LIMIT,
+    facet_normals,
+    project,
+    quadratic_normals,
+    quadratic_shape,
+    stretch,
+)
+
+__all__ = ["PASSES", "QUADRATURES", "FacetData", "ufl_normal", "MirrorObstacle", "TwoBodySurface"]
 
 PASSES = ("one", "two")
 QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
@@ -189,17 +199,6 @@ class FacetData:
                                 else self.comp.astype(np.int64))
 
 
-def facet_normals(x: np.ndarray) -> np.ndarray:
-    """Unit normals of flat facets ``x`` (nf, nv, gdim): ``(t_y, -t_x)`` of ``t = x_1 - x_0`` in 2D,
-    ``(x_1 - x_0) x (x_2 - x_0)`` in 3D (the same formulas as the UFL gap)."""
-    if x.shape[2] == 2:
-        t = x[:, 1] - x[:, 0]
-        n = np.stack([t[:, 1], -t[:, 0]], axis=1)
-    else:
-        n = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
-    return n / np.linalg.norm(n, axis=1)[:, None]
-
-
 def ufl_normal(xs: Sequence[ufl.core.expr.Expr]) -> ufl.core.expr.Expr:
     """UFL unit normal of the flat facet with current vertices ``xs`` (same formula as :func:`facet_normals`)."""
     if len(xs) == 2:
@@ -208,161 +207,6 @@ def ufl_normal(xs: Sequence[ufl.core.expr.Expr]) -> ufl.core.expr.Expr:
     else:
         n = ufl.cross(xs[1] - xs[0], xs[2] - xs[0])
     return n / ufl.sqrt(ufl.dot(n, n))
-
-
-# --------------------------------------------------------------------------------------------
-# Closest-point search
-# --------------------------------------------------------------------------------------------
-def closest_point_on_facets(p: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Distance from point ``p`` to each flat facet ``x`` (n, nv, gdim) and the barycentric coordinates of
-    the closest point (clipped to the facet)."""
-    if x.shape[1] == 2:
-        t = x[:, 1] - x[:, 0]
-        s = np.clip(np.einsum("ij,ij->i", p - x[:, 0], t) / np.einsum("ij,ij->i", t, t), 0.0, 1.0)
-        bary = np.stack([1 - s, s], axis=1)
-    else:
-        bary = np.array([_closest_on_triangle(p, tri) for tri in x]).reshape(-1, 3)
-    q = np.einsum("ik,ikj->ij", bary, x)
-    return np.linalg.norm(q - p, axis=1), bary
-
-
-def quadratic_shape(xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Quadratic Lagrange shape functions on ``xi`` in [0, 1] with nodes (end 0, middle, end 1) at 0, 1/2, 1,
-    and their first and second derivatives: three arrays (..., 3)."""
-    xi = np.asarray(xi, dtype=float)[..., None]
-    N = np.concatenate([2 * (xi - 0.5) * (xi - 1), -4 * xi * (xi - 1), 2 * xi * (xi - 0.5)], axis=-1)
-    dN = np.concatenate([4 * xi - 3, 4 - 8 * xi, 4 * xi - 1], axis=-1)
-    return N, dN, np.broadcast_to(np.array([4.0, -8.0, 4.0]), N.shape)
-
-
-def closest_point_on_quadratic(p: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Distance from ``p`` to each quadratic segment ``x`` (n, 3, 2) (nodes end, middle, end) and the
-    local coordinate ``xi`` in [0, 1] of the closest point: Newton on ``(p - x(xi)) . x'(xi) = 0`` from the
-    chord's projection, clipped to the segment (a step that would go uphill is replaced by a bisection)."""
-    t = x[:, 2] - x[:, 0]
-    xi = np.clip(np.einsum("ij,ij->i", p - x[:, 0], t) / np.einsum("ij,ij->i", t, t), 0.0, 1.0)
-    for _ in range(50):
-        N, dN, ddN = quadratic_shape(xi)
-        r = p - np.einsum("ik,ikj->ij", N, x)
-        dX, ddX = np.einsum("ik,ikj->ij", dN, x), np.einsum("ik,ikj->ij", ddN, x)
-        f = np.einsum("ij,ij->i", r, dX)
-        curv = np.einsum("ij,ij->i", dX, dX) - np.einsum("ij,ij->i", r, ddX)  # d2/dxi2 of |p - x|^2 / 2
-        step = np.where(curv > 0, f / np.where(curv > 0, curv, 1.0), np.sign(f) * 0.25)
-        new = np.clip(xi + step, 0.0, 1.0)
-        if np.all(np.abs(new - xi) < 1e-15):
-            xi = new
-            break
-        xi = new
-    N = quadratic_shape(xi)[0]
-    return np.linalg.norm(p - np.einsum("ik,ikj->ij", N, x), axis=1), xi
-
-
-def quadratic_normals(x: np.ndarray, xi: np.ndarray) -> np.ndarray:
-    """Unit normals ``(x'_y, -x'_x)/|x'|`` of quadratic segments ``x`` (n, 3, 2) at ``xi`` (n,)."""
-    dX = np.einsum("ik,ikj->ij", quadratic_shape(xi)[1], x)
-    n = np.stack([dX[:, 1], -dX[:, 0]], axis=1)
-    return n / np.linalg.norm(n, axis=1)[:, None]
-
-
-def _closest_on_triangle(p, tri):
-    """Barycentric coordinates of the closest point of triangle ``tri`` to ``p`` (Ericson's regions)."""
-    a, b, c = tri
-    ab, ac, ap = b - a, c - a, p - a
-    d1, d2 = ab @ ap, ac @ ap
-    if d1 <= 0 and d2 <= 0:
-        return (1.0, 0.0, 0.0)
-    bp = p - b
-    d3, d4 = ab @ bp, ac @ bp
-    if d3 >= 0 and d4 <= d3:
-        return (0.0, 1.0, 0.0)
-    vc = d1 * d4 - d3 * d2
-    if vc <= 0 and d1 >= 0 and d3 <= 0:
-        v = d1 / (d1 - d3)
-        return (1 - v, v, 0.0)
-    cp = p - c
-    d5, d6 = ab @ cp, ac @ cp
-    if d6 >= 0 and d5 <= d6:
-        return (0.0, 0.0, 1.0)
-    vb = d5 * d2 - d1 * d6
-    if vb <= 0 and d2 >= 0 and d6 <= 0:
-        w = d2 / (d2 - d6)
-        return (1 - w, 0.0, w)
-    va = d3 * d6 - d5 * d4
-    if va <= 0 and (d4 - d3) >= 0 and (d5 - d6) >= 0:
-        w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        return (0.0, 1 - w, w)
-    denom = 1.0 / (va + vb + vc)
-    v, w = vb * denom, vc * denom
-    return (1 - v - w, v, w)
-
-
-class BucketGrid:
-    """Uniform grid of cell size ``h`` over facets ``x`` (n, nv, gdim); each facet is listed in every cell
-    its bounding box, widened by ``h``, overlaps, so a query of one cell returns every facet within ``h``."""
-
-    def __init__(self, x: np.ndarray, h: float):
-        self.h = h
-        self.cells: dict[tuple, list[int]] = {}
-        if len(x) == 0:
-            return
-        lo = np.floor((x.min(axis=1) - h) / h).astype(np.int64)
-        hi = np.floor((x.max(axis=1) + h) / h).astype(np.int64)
-        for i, (a, b) in enumerate(zip(lo, hi)):
-            for key in np.ndindex(*(b - a + 1)):
-                self.cells.setdefault(tuple(a + np.array(key)), []).append(i)
-
-    def candidates(self, p: np.ndarray) -> list[int]:
-        return self.cells.get(tuple(np.floor(p / self.h).astype(np.int64)), [])
-
-
-def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.ndarray | None = None,
-            hysteresis: float = 1e-2, quadratic: bool = False):
-    """Closest master facet to each point within ``radius``: ``(facet or -1, barycentric coordinates,
-    distance)``, and for ``quadratic`` facets (n, 3, 2) also the local coordinate ``xi`` (the
-    "barycentric coordinates" are then the shape function values). Ties go to the lowest facet index
-    (callers order facets independently of the partition).
-    ``previous`` (facet per point, -1 for none): a point keeps its previous facet while that facet is no
-    more than ``hysteresis`` x its own size farther than the closest one, so that a point sitting where
-    two facets are (almost) equally close does not switch back and forth between Newton iterations."""
-    n = len(points)
-    nv = master.shape[1] if master.ndim == 3 else 2
-    facet = np.full(n, -1, np.int64)
-    bary = np.zeros((n, nv))
-    dist = np.full(n, np.inf)
-    xis = np.zeros(n)
-    grid = BucketGrid(master, radius)
-    for i, p in enumerate(points):
-        cand = np.array(sorted(grid.candidates(p)), dtype=np.int64)
-        if len(cand) == 0:
-            continue
-        if quadratic:
-            d, xi = closest_point_on_quadratic(p, master[cand])
-            b = quadratic_shape(xi)[0]
-        else:
-            d, b = closest_point_on_facets(p, master[cand])
-        j = int(np.argmin(d))
-        # Ties (a point outside a convex vertex is equally close to both facets at the vertex): take the
-        # facet whose plane is farthest, which makes the gap continuous as the point moves across.
-        tied = np.flatnonzero(d <= d[j] * (1 + 1e-9) + 1e-14 * radius)
-        if len(tied) > 1:
-            mt = master[cand[tied]]
-            if quadratic:
-                q = np.einsum("ik,ikj->ij", b[tied], mt)
-                line = np.abs(np.einsum("ij,ij->i", p - q, quadratic_normals(mt, xi[tied])))
-            else:
-                line = np.abs(np.einsum("ij,ij->i", p - mt[:, 0], facet_normals(mt)))
-            j = int(tied[np.argmax(line)])
-        if previous is not None and previous[i] >= 0 and cand[j] != previous[i]:
-            k = np.flatnonzero(cand == previous[i])
-            if len(k):
-                size = np.linalg.norm(master[previous[i], -1 if quadratic else 1] - master[previous[i], 0])
-                if d[k[0]] <= d[j] + hysteresis * size:
-                    j = int(k[0])
-        if d[j] <= radius:
-            facet[i], bary[i], dist[i] = cand[j], b[j], d[j]
-            if quadratic:
-                xis[i] = xi[j]
-    return (facet, bary, dist, xis) if quadratic else (facet, bary, dist)
 
 
 # --------------------------------------------------------------------------------------------
@@ -515,9 +359,12 @@ class TwoBodySurface(ContactSurface):
         if not (np.isfinite(radius) and radius > 0):
             raise ValueError(f"search radius must be a finite number > 0, got {radius!r}")
         self.radius = float(radius)
-        self._bc_global = None  # set by bind_problem
+        self._bc_global = None  # set by bind_problem (and its sorted array _bc_array)
+        self._bc_array = np.zeros(0, np.int64)
+        self._problem = None  # the problem bound by bind_problem
         self.I = None
         self._pairs = None
+        self.exploded = False  # the last update met a master facet stretched past search.STRETCH_LIMIT
         self.pairing_changes = 0
         self._pattern_version = 0
         self._merged_version = -1
@@ -569,6 +416,10 @@ class TwoBodySurface(ContactSurface):
         Collective. Returns True if the pairing changed."""
         U = self._gather_master()
         xm = self._mX + U
+        # An exploded iterate is rejected, not searched (the gathered master surface is the same on every rank).
+        self.exploded = stretch(xm, self._mX) > STRETCH_LIMIT
+        if self.exploded:
+            return False
         pts = self.slave_points()
         nf, nq, d = pts.shape if pts.size else (0, self.B.shape[0], self.gdim)
         previous = None if self._pairs is None else self._pairs.ravel()
@@ -644,23 +495,34 @@ class TwoBodySurface(ContactSurface):
         nq = self.B.shape[0]
         I.setPreallocationNNZ((nq, nq))
         I.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        bc = self._bc_global if self._bc_global is not None else set()
-        for f in range(len(facet)):
-            for a in range(self.B.shape[1]):
-                row0 = int(self._wglobal[f, a]) * bs
-                for k in range(nv):
-                    for i in range(d):
-                        entries: dict[int, float] = {}  # two points may share a master vertex: sum
-                        for q in range(nq):
-                            m = facet[f, q]
-                            if m < 0 or self.Binv[a, q] == 0.0:
-                                continue
-                            col = int(self._mG[m, k, i])
-                            if col not in bc:
-                                entries[col] = entries.get(col, 0.0) + self.Binv[a, q]
-                        if entries:
-                            I.setValues([row0 + k * d + i], list(entries), list(entries.values()),
-                                        addv=PETSc.InsertMode.INSERT_VALUES)
+        # Entries (row, column, B^-1 weight) of every paired point, summed where two points of one mirror node share
+        # a master vertex, Dirichlet columns dropped; rows of ghost slave facets are inserted by both ranks with
+        # the same values (INSERT), PETSc moves the off-process ones.
+        nf, nn = facet.shape[0], self.B.shape[1]
+        f, a, q = (x.ravel() for x in np.meshgrid(np.arange(nf), np.arange(nn), np.arange(nq), indexing="ij"))
+        m, w = facet[f, q], self.Binv[a, q]
+        keep = (m >= 0) & (w != 0.0)
+        f, a, m, w = f[keep], a[keep], m[keep], w[keep]
+        local = (np.arange(nv)[:, None] * d + np.arange(d)).ravel()
+        rows = (self._wglobal[f, a].astype(np.int64) * bs)[:, None] + local
+        cols = self._mG[m].reshape(len(m), nv * d).astype(np.int64)
+        vals = np.broadcast_to(w[:, None], rows.shape)
+        fac = np.broadcast_to(f[:, None], rows.shape)
+        rows, cols, vals, fac = rows.ravel(), cols.ravel(), vals.ravel(), fac.ravel()
+        if self._bc_global:
+            free = ~np.isin(cols, self._bc_array)
+            rows, cols, vals, fac = rows[free], cols[free], vals[free], fac[free]
+        if len(rows):
+            # Sum over the points of one facet; a mirror node shared by two slave facets gets the same row from
+            # each (one insert, as INSERT_VALUES would leave it).
+            key, inverse = np.unique(np.stack([rows, cols, fac]), axis=1, return_inverse=True)
+            vals = np.bincount(inverse.ravel(), weights=vals)
+            rc, first = np.unique(key[:2], axis=1, return_index=True)
+            rows, cols, vals = rc[0], rc[1], vals[first]
+            urows, start = np.unique(rows, return_index=True)
+            indptr = np.append(start, len(rows)).astype(PETSc.IntType)
+            I.setValuesIJV(indptr, cols.astype(PETSc.IntType), vals, addv=PETSc.InsertMode.INSERT_VALUES,
+                           rowmap=urows.astype(PETSc.IntType))
         I.assemble()
         if self.I is not None:
             self.I.destroy()
@@ -673,19 +535,24 @@ class TwoBodySurface(ContactSurface):
         local = np.unique(np.concatenate([bc_dofs(b) for b in problem.bcs])) if problem.bcs else np.zeros(0, int)
         local = local[local < Vmap.size_local * bs]
         glob = Vmap.local_to_global(local // bs) * bs + local % bs if len(local) else np.zeros(0, np.int64)
-        self._bc_global = set(np.concatenate(self.comm.allgather(glob)).tolist())
+        self._bc_array = np.unique(np.concatenate(self.comm.allgather(glob))).astype(np.int64)
+        self._bc_global = set(self._bc_array.tolist())
         self._problem = problem
         self._build_I(self._pairs)
         self._pattern_version += 1
 
     def prepare(self, problem) -> None:
         """Before each residual evaluation (``u`` current): re-pair and refresh the mirror fields."""
-        if getattr(self, "_problem", None) is not problem:
+        if self._problem is not problem:
             self.bind_problem(problem)
         self.update()
 
     def add_residual(self, b: PETSc.Vec) -> None:
-        """``b += I^T r_w`` (owned entries; before boundary conditions are set)."""
+        """``b += I^T r_w`` (owned entries; before boundary conditions are set). An exploded iterate
+        (:data:`search.STRETCH_LIMIT`) gets a non-finite residual: the solve fails and the step is cut."""
+        if self.exploded:
+            b.set(np.nan)
+            return
         rw = fem_petsc.assemble_vector(self._r_w)
         rw.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         if self._tmp is None:
@@ -760,41 +627,7 @@ class TwoBodySurface(ContactSurface):
         X = np.einsum("qk,fkj->fqj", self.B, self.slave_data.X).reshape(-1, self.gdim)
         return np.concatenate(self.comm.allgather(X))
 
-
-def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,
-                      quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
-                      name: str = "twobody", work_quadrature: str | None = None, cls=None) -> list[TwoBodySurface]:
-    """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
-    ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
-    at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
-    2D and 3D, :mod:`mortar`). Two-pass: every slave point of both passes, each at weight 1/2 (quadratic
-    facets: a second-pass point that coincides with a first-pass one in the reference configuration is left out).
-    ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`)."""
-    if passes not in PASSES:
-        raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
-    if quadrature not in QUADRATURES + ("simpson",):
-        raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
-    # The capability matrix (multipliers: the rule of the work term is the option; the constraint is nodal).
-    check(**of(law_factory(), u), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes)
-    if quadrature == "segment":
-        if cls is not None or work_quadrature is not None:
-            raise ValueError("quadrature 'segment' takes neither cls nor work_quadrature")
-        from .mortar import SegmentSurface
-
-        if passes == "one":
-            return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 1.0, radius, name)]
-        return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 0.5, radius, f"{name}_a"),
-                SegmentSurface(u, facet_tags, tag_b, tag_a, law_factory(), load, 0.5, radius, f"{name}_b")]
-    cls = cls or TwoBodySurface
-    kw = {"work_quadrature": work_quadrature}
-    if passes == "one":
-        return [cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name, **kw)]
-    # Flat facets: no node-on-node exclusion. A second-pass point left out where it coincides with a first-pass
-    # point left that point alone at weight 1/2, i.e. half the force at the doubled pressure (+98 % p0 at a
-    # symmetry axis where both meshes have a node); both points at weight 1/2 give the one-pass force. Exact
-    # constraints (multipliers) would be duplicated there: two passes are refused for them (capabilities).
-    # Quadratic facets (the sheet) keep the exclusion: its surface-locking figures were measured with it.
-    a = cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a", **kw)
-    b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b",
-            exclude=a.reference_points() if a.quadratic else None, **kw)
-    return [a, b]
+    def pairing(self) -> np.ndarray:
+        """The pairing the residual depends on (a copy, this rank's): the master facet of each local slave
+        point (-1: none), flattened."""
+        return self._pairs.ravel().copy()

@@ -38,11 +38,8 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 from scipy.optimize import brentq
 
+import fenics_contact as fc
 from fenics_contact import capabilities as cap
-from fenics_contact.bounds import contact_surface
-from fenics_contact.friction import Friction, FrictionalContact
-from fenics_contact.laws import make_law
-from fenics_contact.materials import MODELS
 from fenics_contact.meshes import (
     BLOCK_FRONT,
     BLOCK_LEFT,
@@ -57,12 +54,7 @@ from fenics_contact.meshes import (
     stacked_blocks,
 )
 from fenics_contact.meshes.rectangle import tag_boundary
-from fenics_contact.multipliers import two_body_multipliers, unknown
-from fenics_contact.obstacles import HalfPlane
-from fenics_contact.problem import ContactProblem, Dirichlet
 from fenics_contact.scenes.patch import uniform_stretches
-from fenics_contact.solver import LINEAR_SOLVERS, Solver
-from fenics_contact.twobody import two_body_surfaces
 
 E, NU, H, MU = 1000.0, 0.3, 1.0, 0.2
 K = 1e6  # penalty-type laws: the regularized closed form includes the penetration p / K
@@ -75,13 +67,13 @@ EXACT = ("auglag", "vi", "lagrange", "nitsche", "coulomb")
 
 
 def law_for(method: str, friction: bool):
-    law = {"penalty": lambda: make_law("penalty", K=K), "cross": lambda: make_law("cross", K_hat=K),
-           "auglag": lambda: make_law("auglag", K=K), "compliance": lambda: make_law("compliance", c_n=K),
-           "vi": lambda: make_law("vi"), "coulomb": lambda: make_law("coulomb", mu=MU if friction else 0.0),
-           "lagrange": lambda: make_law("lagrange", c=K), "penalty_multiplier": lambda: make_law(
-               "penalty_multiplier", K=K), "nitsche": lambda: make_law("nitsche", gamma0=10.0)}[method]()
+    law = {"penalty": lambda: fc.make_law("penalty", K=K), "cross": lambda: fc.make_law("cross", K_hat=K),
+           "auglag": lambda: fc.make_law("auglag", K=K), "compliance": lambda: fc.make_law("compliance", c_n=K),
+           "vi": lambda: fc.make_law("vi"), "coulomb": lambda: fc.make_law("coulomb", mu=MU if friction else 0.0),
+           "lagrange": lambda: fc.make_law("lagrange", c=K), "penalty_multiplier": lambda: fc.make_law(
+               "penalty_multiplier", K=K), "nitsche": lambda: fc.make_law("nitsche", gamma0=10.0)}[method]()
     if friction and method != "coulomb":
-        return Friction(law, mu=MU, omega_t=K)
+        return fc.Friction(law, mu=MU, omega_t=K)
     return law
 
 
@@ -112,7 +104,7 @@ def rigid_mesh(dim: int):
 
 
 def solve(problem, method: str, solver: str, augment: int = 0, steps: int = 1):
-    s = Solver(problem, options=dict(LINEAR_SOLVERS[solver]), quiet=True, augment_max=augment, augment_tol=1e-10)
+    s = fc.Solver(problem, options=dict(fc.LINEAR_SOLVERS[solver]), quiet=True, augment_max=augment, augment_tol=1e-10)
     s.run([(i + 1) / steps for i in range(steps)])
     assert all(r.converged for r in s.records)
 
@@ -121,28 +113,28 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple
     """(measured, reference): the mean contact pressure, or with friction the ratio tangential / normal force."""
     law = law_for(method, friction)
     mesh, ft = rigid_mesh(dim)
-    u, V = unknown(mesh, degree, law)
+    u, V = fc.unknown(mesh, degree, law)
     load = fem.Constant(mesh, 0.0)
-    material = MODELS[model](E, NU)
+    material = fc.MODELS[model](E, NU)
     v = dim - 1
-    dirichlet = [Dirichlet.on_facets(V, ft, RECT_TOP, v, -D[model])]
+    dirichlet = [fc.Dirichlet.on_facets(V, ft, RECT_TOP, v, -D[model])]
     if friction:
-        dirichlet += [Dirichlet.on_facets(V, ft, RECT_TOP, 0, SLIDE[model])]
+        dirichlet += [fc.Dirichlet.on_facets(V, ft, RECT_TOP, 0, SLIDE[model])]
         if dim == 3:  # no lateral expansion across the slide: every point slides along x
-            dirichlet += [Dirichlet.on_facets(V, ft, tag, 1) for tag in (FRONT, BACK)]
+            dirichlet += [fc.Dirichlet.on_facets(V, ft, tag, 1) for tag in (FRONT, BACK)]
     else:
-        dirichlet += [Dirichlet.on_facets(V, ft, LEFT, 0)]
-        dirichlet += [Dirichlet.on_facets(V, ft, FRONT, 1)] if dim == 3 else []
-    plane = HalfPlane(np.zeros(dim), np.eye(dim)[v])
-    contact = contact_surface(u, ft, BOTTOM, plane, law, load, quadrature, material=material)
-    problem = ContactProblem(u, material, load, dirichlet, [contact])
+        dirichlet += [fc.Dirichlet.on_facets(V, ft, LEFT, 0)]
+        dirichlet += [fc.Dirichlet.on_facets(V, ft, FRONT, 1)] if dim == 3 else []
+    plane = fc.HalfPlane(np.zeros(dim), np.eye(dim)[v])
+    contact = fc.contact_surface(u, ft, BOTTOM, plane, law, load, quadrature, material=material)
+    problem = fc.ContactProblem(u, material, load, dirichlet, [contact], step_solver=fc.step_solver_for([contact]))
     solve(problem, method, solver, augment=30 if method == "auglag" else 0,
           steps=4 if friction and model == "neohookean" else 1)
     if friction:
         if method == "coulomb":
             f = contact.contact_force()
             return abs(f[0]) / abs(f[v]), MU
-        assert isinstance(contact, FrictionalContact)
+        assert isinstance(contact, fc.FrictionalContact)
         return float(np.linalg.norm(contact.tangential_force())) / abs(contact.total_force()[v]), MU
     if method == "coulomb":
         prof = contact.friction_profile()
@@ -155,20 +147,20 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver) -> tupl
     law = law_for(method, False)
     n = (2, 2) if dim == 2 else (2, 2, 1)
     mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, n, n, 1e-6)
-    u, V = unknown(mesh, degree, law)
+    u, V = fc.unknown(mesh, degree, law)
     load = fem.Constant(mesh, 0.0)
-    dirichlet = [Dirichlet.on_facets(V, ft, LOWER_BOTTOM, dim - 1), Dirichlet.on_facets(V, ft, BLOCK_LEFT, 0)]
+    dirichlet = [fc.Dirichlet.on_facets(V, ft, LOWER_BOTTOM, dim - 1), fc.Dirichlet.on_facets(V, ft, BLOCK_LEFT, 0)]
     if dim == 3:
-        dirichlet.append(Dirichlet.on_facets(V, ft, BLOCK_FRONT, 1))
+        dirichlet.append(fc.Dirichlet.on_facets(V, ft, BLOCK_FRONT, 1))
     if method in cap.MULTIPLIERS:
-        contacts = two_body_multipliers(u, ft, UPPER_BOTTOM, LOWER_TOP, law, load, passes=passes,
+        contacts = fc.two_body_multipliers(u, ft, UPPER_BOTTOM, LOWER_TOP, law, load, passes=passes,
                                         work_quadrature=None if quadrature == "nodal" else quadrature)
     else:
-        contacts = two_body_surfaces(u, ft, UPPER_BOTTOM, LOWER_TOP, lambda: law_for(method, False), load,
+        contacts = fc.two_body_surfaces(u, ft, UPPER_BOTTOM, LOWER_TOP, lambda: law_for(method, False), load,
                                      quadrature, passes)
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft, subdomain_id=UPPER_TOP)
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-P[model],)), ds)
-    problem = ContactProblem(u, MODELS[model](E, NU), load, dirichlet, contacts, [traction])
+    problem = fc.ContactProblem(u, fc.MODELS[model](E, NU), load, dirichlet, contacts, [traction])
     solve(problem, method, solver, augment=30 if method == "auglag" else 0)
     dev = max(float(np.max(np.abs(c.point_values()[2] - P[model]))) for c in contacts) / P[model]
     return dev, 0.0
@@ -301,19 +293,19 @@ def test_entry_points_refuse_before_assembly(kwargs, match):
     law = law_for(c["method"], c["friction"])
     if c["kind"] == "rigid":
         mesh, ft = rigid_mesh(2)
-        u, _ = unknown(mesh, c["degree"], law)
+        u, _ = fc.unknown(mesh, c["degree"], law)
         with pytest.raises(cap.UnsupportedCombination, match=match):
-            contact_surface(u, ft, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, fem.Constant(mesh, 0.0),
-                            c["quadrature"], material=MODELS["linear"](E, NU))
+            fc.contact_surface(u, ft, BOTTOM, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, fem.Constant(mesh, 0.0),
+                            c["quadrature"], material=fc.MODELS["linear"](E, NU))
     else:
         mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (2, 2), 1e-6)
-        u, _ = unknown(mesh, c["degree"], law)
-        call = two_body_multipliers if c["method"] in cap.MULTIPLIERS else None
+        u, _ = fc.unknown(mesh, c["degree"], law)
+        call = fc.two_body_multipliers if c["method"] in cap.MULTIPLIERS else None
         with pytest.raises(cap.UnsupportedCombination, match=match):
             if call is not None:
                 call(u, ft, UPPER_BOTTOM, LOWER_TOP, law, fem.Constant(mesh, 0.0), passes=c["passes"])
             else:
-                two_body_surfaces(u, ft, UPPER_BOTTOM, LOWER_TOP, lambda: law, fem.Constant(mesh, 0.0),
+                fc.two_body_surfaces(u, ft, UPPER_BOTTOM, LOWER_TOP, lambda: law, fem.Constant(mesh, 0.0),
                                   c["quadrature"], c["passes"])
 
 
@@ -332,7 +324,7 @@ def test_two_pass_coinciding_points_carry_the_one_pass_pressure(monkeypatch):
 
     monkeypatch.setattr(patch, "OVERLAP", 0.0)
     for quadrature in ("nodal", "gauss"):  # compliance: stiffness at g = 0, the blocks only touch at the start
-        setup = build("patch", law_factory=lambda: make_law("compliance", c_n=1e6), quadrature=quadrature,
+        setup = build("patch", law_factory=lambda: fc.make_law("compliance", c_n=1e6), quadrature=quadrature,
                       passes="two", n_lower=(4, 2), n_upper=(4, 2))
         solve(setup.problem, "compliance", "direct")
         for c in setup.contacts:
@@ -345,6 +337,6 @@ def test_solver_refuses_an_iterative_solve_it_cannot_do(method):
     and for SNES VI's changing reduced system, with the documented one-line error, before any assembly."""
     from fenics_contact.scenes import build
 
-    setup = build("block", law=make_law(method), nx=2, ny=2)
+    setup = build("block", law=fc.make_law(method), nx=2, ny=2)
     with pytest.raises(cap.UnsupportedCombination, match=f"{method}, iterative solver"):
-        Solver(setup.problem, quiet=True, options=dict(LINEAR_SOLVERS["iterative"]))
+        fc.Solver(setup.problem, quiet=True, options=dict(fc.LINEAR_SOLVERS["iterative"]))

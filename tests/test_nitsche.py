@@ -6,8 +6,8 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from fenics_contact.bounds import contact_surface
 from fenics_contact.compat import petsc_vec
+from fenics_contact.factory import contact_surface
 from fenics_contact.laws import NitscheLaw, make_law
 from fenics_contact.scenes import block, hertz
 from fenics_contact.solver import Solver
@@ -33,7 +33,7 @@ def full_residual_reaction(problem, dofs):
     """Sum over ``dofs`` (owned) of the whole residual, bulk and contact, over all ranks."""
     r = fem.Function(problem.u.function_space)
     vec = petsc_vec(r)
-    fem_petsc.assemble_vector(vec, problem.F)
+    fem_petsc.assemble_vector(vec, problem.L)
     vec.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
     owned = problem.u.function_space.dofmap.index_map.size_local * problem.u.function_space.dofmap.index_map_bs
     return problem.comm.allreduce(float(np.sum(vec.array[dofs[dofs < owned]])), op=MPI.SUM)

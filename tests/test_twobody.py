@@ -7,41 +7,12 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from fenics_contact.compat import bc_dofs, petsc_vec
+from fenics_contact.factory import two_body_surfaces
 from fenics_contact.laws import make_law
 from fenics_contact.meshes import LOWER_TOP, UPPER_BOTTOM, stacked_blocks
 from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
-from fenics_contact.twobody import TwoBodySurface, closest_point_on_facets, project, two_body_surfaces
-
-
-def test_projection_matches_brute_force():
-    """The bucket-grid search returns the closest facet of an all-pairs search, within the radius."""
-    rng = np.random.default_rng(1)
-    t = np.sort(rng.uniform(0, 2 * np.pi, 60))
-    ring = np.stack([np.cos(t), np.sin(t)], 1) * (1 + 0.05 * rng.standard_normal((60, 1)))
-    facets = np.stack([ring, np.roll(ring, -1, axis=0)], 1)
-    pts = rng.uniform(-1.3, 1.3, (300, 2))
-    radius = 0.3
-    facet, bary, dist = project(pts, facets, radius)
-    for p, f, b, d in zip(pts, facet, bary, dist):
-        dd, bb = closest_point_on_facets(p, facets)
-        if dd.min() <= radius:
-            assert f >= 0 and np.isclose(d, dd.min(), rtol=1e-14, atol=1e-15)
-            assert np.allclose(b @ facets[f], bb[np.argmin(dd)] @ facets[np.argmin(dd)])
-        else:
-            assert f == -1
-
-
-def test_closest_point_on_triangle_brute_force():
-    rng = np.random.default_rng(2)
-    tri = rng.standard_normal((1, 3, 3))
-    for p in rng.standard_normal((50, 3)) * 2:
-        d, b = closest_point_on_facets(p, tri)
-        s = rng.uniform(0, 1, (20000, 2))
-        s = np.where(s.sum(1, keepdims=True) > 1, 1 - s, s)
-        q = tri[0, 0] + s[:, :1] * (tri[0, 1] - tri[0, 0]) + s[:, 1:] * (tri[0, 2] - tri[0, 0])
-        assert d[0] <= np.linalg.norm(q - p, axis=1).min() + 1e-12
-        assert np.all(b >= -1e-14) and np.isclose(b.sum(), 1.0)
+from fenics_contact.twobody import TwoBodySurface
 
 
 @pytest.mark.parametrize("quadrature,passes,dim", [("nodal", "one", 2), ("gauss", "one", 2), ("gauss", "two", 2),
@@ -103,7 +74,7 @@ def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, tangent_ch
 
 def _pairing(c):
     """The pairing a surface's residual depends on: point pairs, and sub-segment pairs (segment quadrature)."""
-    return np.concatenate([c._pairs.ravel(), getattr(c, "_segment_pairs", np.zeros((0, 2), int)).ravel()])
+    return c.pairing()
 
 
 def _patch(quadrature, passes, comm=MPI.COMM_WORLD, by_body=False):

@@ -4,13 +4,28 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import gmsh
-from dolfinx.io import gmshio
 from mpi4py import MPI
+
+from ..compat import model_to_mesh
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+__all__: list[str] = []  # plumbing of the mesh builders: nothing public
+
+
+class _Lazy:
+    """gmsh, imported on first use (inside a mesh builder): importing the package does not load gmsh."""
+
+    def __getattr__(self, name: str):
+        import gmsh as module
+
+        return getattr(module, name)
+
+
+gmsh = _Lazy()
+
 
 def _positive(**values: float) -> None:
     """Raise a ValueError naming the first of ``values`` that is not a finite number > 0."""
@@ -47,7 +62,7 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, M
         error = comm.bcast(error, root=0)
         if error:
             raise RuntimeError(error)
-        return gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=gdim)
+        return model_to_mesh(gmsh.model, comm, 0, gdim)
     finally:
         gmsh.finalize()
 

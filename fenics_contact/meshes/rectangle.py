@@ -12,7 +12,10 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
+from ..compat import cell_partitioner
 from .tags import BOTTOM, LEFT, RECT_TOP, RIGHT
+
+__all__ = ["rectangle", "tag_boundary", "check_tags"]
 
 
 def rectangle(
@@ -32,7 +35,8 @@ def rectangle(
     """
     cell_type = dmesh.CellType.quadrilateral if quadrilateral else dmesh.CellType.triangle
     msh = dmesh.create_rectangle(
-        comm, [np.array([0.0, 0.0]), np.array([width, height])], [nx, ny], cell_type)
+        comm, [np.array([0.0, 0.0]), np.array([width, height])], [nx, ny], cell_type,
+        partitioner=cell_partitioner())
     tol = 1e-10 * max(width, height)
     sides = ((BOTTOM, lambda x: np.abs(x[1]) < tol), (RIGHT, lambda x: np.abs(x[0] - width) < tol),
              (RECT_TOP, lambda x: np.abs(x[1] - height) < tol), (LEFT, lambda x: np.abs(x[0]) < tol))

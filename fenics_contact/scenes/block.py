@@ -13,7 +13,8 @@ from __future__ import annotations
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
+from ..condensed import step_solver_for
+from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import MODELS
 from ..meshes import BOTTOM, LEFT, rectangle
@@ -22,6 +23,8 @@ from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = ["HEIGHT", "HALF_WIDTH", "E", "NU", "DISPLACEMENT", "EXACT_PRESSURE", "BENCH", "build", "reference"]
 
 HEIGHT, HALF_WIDTH, E, NU, DISPLACEMENT = 2.0, 1.0, 1000.0, 0.3, 0.32
 EXACT_PRESSURE = E / (1 - NU**2) * DISPLACEMENT / HEIGHT
@@ -46,7 +49,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
     material = MODELS[model](E, NU)
     contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                               material=material)
-    problem = ContactProblem(u, material, load, dirichlet, [contact])
+    problem = ContactProblem(u, material, load, dirichlet, [contact], step_solver=step_solver_for([contact]))
 
     def figures() -> dict:
         force = contact.total_force()

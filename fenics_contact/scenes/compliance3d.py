@@ -25,14 +25,19 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
-from ..compat import function_space
+from ..compat import cell_partitioner, function_space
+from ..factory import contact_surface
 from ..friction import Friction, FrictionalContact
 from ..laws import ContactLaw, NormalCompliance
 from ..materials import LinearElastic
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "LX", "LY", "H", "E", "NU", "PRESS", "DRAG", "C_N", "M_N", "MU", "OMEGA_T", "BASE", "TOP", "SYMMETRY",
+    "default_law", "half_box", "build"
+]
 
 LX, LY, H, E, NU = 1.0, 1.0, 0.5, 1000.0, 0.3
 PRESS, DRAG = 0.01, 0.006
@@ -47,7 +52,8 @@ def default_law() -> Friction:
 
 def half_box(comm: MPI.Comm, nx: int, ny: int, nz: int):
     """Tetrahedral box [0, LX] x [0, LY/2] x [0, H]; facet tags BASE (z = 0), TOP (z = H), SYMMETRY (y = 0)."""
-    msh = dmesh.create_box(comm, [np.zeros(3), np.array([LX, LY / 2, H])], [nx, ny, nz], dmesh.CellType.tetrahedron)
+    msh = dmesh.create_box(comm, [np.zeros(3), np.array([LX, LY / 2, H])], [nx, ny, nz], dmesh.CellType.tetrahedron,
+                           partitioner=cell_partitioner())
     fdim = 2
     found = [(tag, dmesh.locate_entities_boundary(msh, fdim, lambda x, a=a, c=c: np.isclose(x[a], c)))
              for tag, a, c in ((BASE, 2, 0.0), (TOP, 2, H), (SYMMETRY, 1, 0.0))]

@@ -42,16 +42,21 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
+from ..condensed import step_solver_for
+from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import LinearElastic, Material, NeoHookean
 from ..meshes import DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP, two_half_disks
-from ..multipliers import two_body_multipliers, unknown
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from ..twobody import two_body_surfaces
 from . import Setup
 from .hertz import contact_half_width
+
+__all__ = [
+    "R_LOWER", "R_UPPER", "LAMBDA", "MU", "T_END", "OVERLAP", "DEFAULT_K", "T_HERTZ", "hertz_two_cylinders", "build",
+    "BENCH"
+]
 
 R_LOWER, R_UPPER, LAMBDA, MU, T_END = 18.0, 8.0, 288.0, 192.0, 15.0
 OVERLAP = 1e-4
@@ -119,7 +124,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
                                  passes, radius=max(2.0, 4 * h_far), name="cylinders")
     contacts = [lower_plate, upper_plate, *pair]
     bulk = (NeoHookean if model == "neohookean" else LinearElastic).from_lame(LAMBDA, MU)
-    problem = ContactProblem(u, bulk, load, dirichlet, contacts)
+    problem = ContactProblem(u, bulk, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
     copies = 2 if symmetry == "half" else 1  # figures for the whole cylinders
 
     def profiles() -> list[tuple[np.ndarray, np.ndarray]]:

@@ -24,8 +24,9 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import function_space
+from ..condensed import step_solver_for
+from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import MODELS
 from ..meshes import (
@@ -39,10 +40,15 @@ from ..meshes import (
     TOP,
     hertz_quarter_disk,
 )
-from ..multipliers import two_body_multipliers, unknown
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "R", "E", "NU", "APPROACH", "DEFAULT_K", "BENCH", "hertz", "contact_half_width", "PLATE_STIFFNESS", "PLATE_SIZE",
+    "build", "law_twin"
+]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
@@ -133,8 +139,6 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                                         HalfPlane([0.0, 2 * R], [0.0, -1.0], motion=[0.0, -2 * approach]), law_twin(
                                             law), load, quadrature, material=material, name="upper_plate"))
     if plate == "meshed":
-        from ..twobody import two_body_surfaces
-
         # one material, stiffer on the plate's cells: its Lame constants times PLATE_STIFFNESS there
         Q = function_space(mesh, "DG", 0)
         factor = fem.Function(Q)
@@ -155,7 +159,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                                   material=material)
     contacts.insert(0, contact)
-    problem = ContactProblem(u, material, load, dirichlet, contacts)
+    problem = ContactProblem(u, material, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
 
     def figures() -> dict:
         if plate == "meshed":

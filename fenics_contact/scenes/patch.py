@@ -33,12 +33,14 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ..compat import function_space
+from ..factory import two_body_surfaces
 from ..laws import ContactLaw
 from ..materials import LinearElastic, NeoHookean
 from ..meshes import BLOCK_FRONT, BLOCK_LEFT, LOWER_BOTTOM, LOWER_TOP, UPPER, UPPER_BOTTOM, UPPER_TOP, stacked_blocks
 from ..problem import ContactProblem, Dirichlet
-from ..twobody import two_body_surfaces
 from . import Setup
+
+__all__ = ["E_LOWER", "E_UPPER", "NU", "PRESSURE", "OVERLAP", "uniform_stretches", "build"]
 
 E_LOWER, E_UPPER, NU, PRESSURE, OVERLAP = 1000.0, 1000.0, 0.3, 10.0, 1e-6
 

@@ -47,14 +47,19 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import function_space
+from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import LinearElastic
 from ..meshes import CONTACT, SYMMETRY, TOP, pin_plate
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "SEAT", "DEFAULT_K", "LOADED_FORCE",
+    "pressure_along_pin", "contact_angle", "GAPS", "build", "BENCH"
+]
 
 R, HALF_WIDTH, BELOW, ABOVE = 1.0, 5.0, 5.0, 5.0
 E, NU, P0 = 1000.0, 0.3, 10.0

@@ -38,6 +38,10 @@ from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
 
+__all__ = [
+    "R_OUT", "R_IN", "E", "NU", "APPROACH", "K", "PAPER_PENETRATION", "PAPER_RESIDUAL_6", "build", "VARIANTS", "BENCH"
+]
+
 R_OUT, R_IN, E, NU, APPROACH = 8.0, 6.0, 1000.0, 0.3, 1.0
 K = 1e5
 # Published first-step penetrations (centre, neighbours) and residual after 6 iterations.

@@ -70,6 +70,11 @@ from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
 
+__all__ = [
+    "E", "NU", "R_OUT", "R_IN", "GAP", "K_HAT", "F_HAT", "SOLVER_OPTIONS", "PREDICTOR", "SHAPES", "LOADS", "build",
+    "BENCH"
+]
+
 E, NU, R_OUT, R_IN, GAP = 1000.0, 0.3, 10.0, 9.0, 7.0
 K_HAT = 1e5
 F_HAT = 1e-3  # 0.1 % of the contact pressures: stiffness K_hat for the points that touch at g = 0 (docstring)

@@ -31,8 +31,9 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import function_space
+from ..condensed import step_solver_for
+from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import LinearElastic
 from ..meshes import BOTTOM, LEFT, RIGHT, rectangle
@@ -40,6 +41,11 @@ from ..meshes import RECT_TOP as TOP
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "WIDTH", "HEIGHT", "E", "NU", "TOP_PRESSURE", "SIDE_PRESSURE", "NX", "NY", "SIGMA_XX", "SIGMA_YY",
+    "UX_A_FRICTIONLESS", "TOP_LOAD", "SIDE_LOAD", "STATES", "profile", "tributary_lengths", "zones", "build", "BENCH"
+]
 
 WIDTH, HEIGHT, E, NU = 40.0, 40.0, 13000.0, 0.2
 TOP_PRESSURE, SIDE_PRESSURE = 5.0, 10.0
@@ -102,7 +108,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     tractions = [(fem.Constant(mesh, np.array([0.0, -TOP_PRESSURE])), ds(TOP)),
                  (fem.Constant(mesh, np.array([-SIDE_PRESSURE, 0.0])), ds(RIGHT))]
     contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
-    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact], tractions)
+    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact], tractions,
+                             step_solver=step_solver_for([contact]))
 
     # The free bottom corner A: the rank owning its vertex reports it (max over ranks of a masked value).
     corner = np.flatnonzero(np.isclose(V.tabulate_dof_coordinates()[:, 0], WIDTH)

@@ -22,7 +22,7 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
+from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import MODELS
 from ..meshes import CONTACT, SYMMETRY, SYMMETRY_Y, TOP, sphere_octant
@@ -30,6 +30,8 @@ from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "hertz3d", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1

@@ -1,0 +1,117 @@
+"""A user's mesh with named regions: gmsh physical names instead of integer tags.
+
+``read_gmsh("part.msh" | "part.geo" | None, comm, gdim)`` reads a mesh file
+(``.geo`` is meshed first, ``None`` takes the gmsh model already built in
+this process) on rank 0, distributes it with the deterministic partitioner
+and returns ``(mesh, cells, facets)``: :class:`NamedTags` that give each
+physical group by its name (``facets["contact"]``) and work wherever the
+library takes facet or cell tags. A name that the mesh does not have is an
+error naming the names it has.
+
+Everything here is collective on ``comm``; gmsh is imported only when a
+mesh is read.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+from mpi4py import MPI
+
+__all__ = ["NamedTags", "read_gmsh", "tag_value"]
+
+
+class NamedTags:
+    """Mesh tags (dolfinx ``MeshTags``) with a name for each value: ``tags["contact"]`` is the value of the
+    physical group named ``contact``; ``indices``, ``values``, ``dim`` as on ``MeshTags``; ``meshtags`` is the
+    dolfinx object (for ``ufl.Measure(subdomain_data=...)``)."""
+
+    def __init__(self, meshtags, names: Mapping[str, int]):
+        self.meshtags = meshtags
+        self.names = dict(names)
+
+    @property
+    def indices(self) -> np.ndarray:
+        return self.meshtags.indices
+
+    @property
+    def values(self) -> np.ndarray:
+        return self.meshtags.values
+
+    @property
+    def dim(self) -> int:
+        return self.meshtags.dim
+
+    def __getitem__(self, name: str) -> int:
+        if name not in self.names:
+            raise ValueError(f"no region named {name!r}; the mesh has {sorted(self.names)}")
+        return self.names[name]
+
+    def find(self, name: str) -> np.ndarray:
+        """Local entities of the region ``name``."""
+        return self.indices[self.values == self[name]]
+
+    def __repr__(self) -> str:
+        return f"NamedTags(dim={self.dim}, {self.names})"
+
+
+def tag_value(tags, tag: int | str) -> tuple[object, int]:
+    """``(dolfinx MeshTags, integer value)`` of ``tag`` (a name of :class:`NamedTags`, or an integer value of
+    plain ``MeshTags``)."""
+    if isinstance(tags, NamedTags):
+        return tags.meshtags, tags[tag] if isinstance(tag, str) else int(tag)
+    if isinstance(tag, str):
+        raise ValueError(f"region {tag!r} given by name, but the tags have no names (use read_gmsh's NamedTags)")
+    return tags, int(tag)
+
+
+def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: int = 3):
+    """Mesh and named cell and facet tags from a gmsh ``.msh``/``.geo`` file or (``source=None``) the gmsh model
+    of this process (rank 0's). Returns ``(mesh, cells, facets)`` (:class:`NamedTags`). ``gdim``: the geometric
+    dimension (2 for a planar mesh)."""
+    import gmsh
+
+    from .compat import model_to_mesh
+
+    if gdim not in (2, 3):
+        raise ValueError(f"gdim must be 2 or 3, got {gdim!r}")
+    path = None if source is None else Path(source)
+    error = ""
+    if comm.rank == 0 and path is not None and (not path.is_file() or path.suffix not in (".msh", ".geo")):
+        error = f"read_gmsh: {str(path)!r} is not a .msh or .geo file"
+    error = comm.bcast(error, root=0)
+    if error:
+        raise ValueError(error)
+    own = path is not None or not gmsh.isInitialized()
+    if own:
+        gmsh.initialize()
+        gmsh.option.setNumber("General.Terminal", 0)
+    try:
+        names, error = {}, ""
+        if comm.rank == 0:
+            try:
+                if path is not None:
+                    gmsh.model.add(path.stem)
+                    gmsh.merge(str(path))
+                    if path.suffix == ".geo":
+                        gmsh.model.geo.synchronize()
+                        gmsh.model.mesh.generate(gdim)
+                tdim = max(d for d, _ in gmsh.model.getPhysicalGroups()) if gmsh.model.getPhysicalGroups() else -1
+                if tdim < 1:
+                    raise ValueError("the gmsh model has no physical groups (name the regions to read)")
+                for d, t in gmsh.model.getPhysicalGroups():
+                    if d in (tdim, tdim - 1):
+                        names.setdefault(d, {})[gmsh.model.getPhysicalName(d, t) or str(t)] = t
+            except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
+                error = f"read_gmsh: {exc}"
+        error = comm.bcast(error, root=0)
+        if error:
+            raise ValueError(error)
+        names = comm.bcast(names, root=0)
+        mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, gdim)
+    finally:
+        if own:
+            gmsh.finalize()
+    tdim = mesh.topology.dim
+    return mesh, NamedTags(cell_tags, names.get(tdim, {})), NamedTags(facet_tags, names.get(tdim - 1, {}))

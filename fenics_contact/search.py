@@ -1,0 +1,292 @@
+"""Closest-point search of points on a facet surface: k-d tree candidates, vectorised distances.
+
+The candidates of a point are the facets whose bounding box lies within the
+search radius of it. A ``scipy.spatial.cKDTree`` of the points is queried
+with each facet's box (centre, radius + half diagonal) and the answer is
+filtered by the exact point-to-box distance. The distance to each candidate
+facet (flat segment or triangle, or quadratic segment) is evaluated for all
+pairs at once; each point keeps its nearest facet, with the rules of
+:func:`project` for ties and hysteresis.
+
+Memory is bounded whatever an iterate does: the number of pairs is counted
+before any is listed (``return_length``) and facets are processed in
+chunks of at most ``PAIR_BUDGET`` pairs, so a Newton iterate that stretches
+a facet across the whole surface costs time (every point becomes its
+candidate), never an allocation proportional to the geometry's extent (the
+earlier uniform bucket grid listed a facet in every cell of its bounding
+box: a stretched facet allocated gigabytes). The two-body surfaces also
+reject such an iterate outright (:data:`STRETCH_LIMIT`).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+__all__ = ["PAIR_BUDGET", "STRETCH_LIMIT", "candidates", "closest_point_on_facets", "closest_point_on_quadratic",
+           "facet_normals", "facet_pairs", "project", "quadratic_normals", "quadratic_shape", "stretch"]
+
+PAIR_BUDGET = 1 << 20  # (point, facet) pairs held at once: ~100 MB of work arrays at most
+# A facet whose extent grew beyond this factor of its reference extent within one iterate is an exploded
+# iterate, not a deformation: the two-body surfaces reject it (non-finite residual: a failed solve, cut step).
+STRETCH_LIMIT = 10.0
+
+
+def _boxes(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return x.min(axis=1), x.max(axis=1)
+
+
+def _box_distance(p: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    return np.linalg.norm(np.maximum(np.maximum(lo - p, p - hi), 0.0), axis=1)
+
+
+def _chunks(counts: np.ndarray):
+    """Consecutive index ranges whose ``counts`` add up to at most ``PAIR_BUDGET`` (one item at least)."""
+    start, n = 0, len(counts)
+    total = np.cumsum(counts)
+    while start < n:
+        base = total[start - 1] if start else 0
+        stop = max(int(np.searchsorted(total, base + PAIR_BUDGET, side="right")), start + 1)
+        yield start, min(stop, n)
+        start = stop
+
+
+def _query(tree: cKDTree, lo: np.ndarray, hi: np.ndarray, radius: float):
+    """For boxes ``[lo, hi]``: chunks of (box index, tree point index) pairs with the points within the box's
+    ball of radius ``radius + half diagonal`` (a superset of the points within ``radius`` of the box)."""
+    centre = 0.5 * (lo + hi)
+    r = radius + 0.5 * np.linalg.norm(hi - lo, axis=1)
+    counts = tree.query_ball_point(centre, r, return_length=True)
+    for a, b in _chunks(np.asarray(counts)):
+        lists = tree.query_ball_point(centre[a:b], r[a:b])
+        sizes = np.fromiter((len(v) for v in lists), np.int64, b - a)
+        box = np.repeat(np.arange(a, b, dtype=np.int64), sizes)
+        pts = np.fromiter((j for v in lists for j in v), np.int64, int(sizes.sum()))
+        yield box, pts
+
+
+def candidates(points: np.ndarray, facets: np.ndarray, radius: float):
+    """Chunks of ``(point index, facet index)`` pairs, every pair whose facet bounding box is within ``radius``
+    of the point (each pair once, in some chunk)."""
+    if len(points) == 0 or len(facets) == 0:
+        return
+    tree = cKDTree(points)
+    lo, hi = _boxes(facets)
+    for f, p in _query(tree, lo, hi, radius):
+        keep = _box_distance(points[p], lo[f], hi[f]) <= radius
+        yield p[keep], f[keep]
+
+
+def facet_pairs(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(slave facet, master facet)`` index pairs whose bounding boxes are within ``radius`` of each other,
+    sorted by slave then master index (segment-to-segment pairing)."""
+    if len(xs) == 0 or len(xm) == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    slo, shi = _boxes(xs)
+    tree = cKDTree(0.5 * (slo + shi))
+    mlo, mhi = _boxes(xm)
+    # Box-to-box within radius: the slave box centre within radius + both half diagonals of the master centre.
+    grow = radius + 0.5 * float(np.max(np.linalg.norm(shi - slo, axis=1)))
+    fs, ms = [], []
+    for m, s in _query(tree, mlo, mhi, grow):
+        gap = np.maximum(np.maximum(mlo[m] - shi[s], slo[s] - mhi[m]), 0.0)
+        keep = np.linalg.norm(gap, axis=1) <= radius
+        fs.append(s[keep])
+        ms.append(m[keep])
+    fs = np.concatenate(fs) if fs else np.zeros(0, np.int64)
+    ms = np.concatenate(ms) if ms else np.zeros(0, np.int64)
+    order = np.lexsort((ms, fs))
+    return fs[order], ms[order]
+
+
+def stretch(x: np.ndarray, X: np.ndarray) -> float:
+    """Largest ratio of a facet's current extent (bounding-box diagonal of ``x`` (n, nv, d)) to its reference
+    extent (``X``); 0 without facets."""
+    if len(x) == 0:
+        return 0.0
+    lo, hi = _boxes(x)
+    Lo, Hi = _boxes(X)
+    return float(np.max(np.linalg.norm(hi - lo, axis=1) / np.linalg.norm(Hi - Lo, axis=1)))
+
+
+# --------------------------------------------------------------------------------------------
+# Facet geometry (vectorised over pairs: one point per facet row)
+# --------------------------------------------------------------------------------------------
+def facet_normals(x: np.ndarray) -> np.ndarray:
+    """Unit normals of flat facets ``x`` (nf, nv, gdim): ``(t_y, -t_x)`` of ``t = x_1 - x_0`` in 2D,
+    ``(x_1 - x_0) x (x_2 - x_0)`` in 3D (the same formulas as the UFL gap)."""
+    if x.shape[2] == 2:
+        t = x[:, 1] - x[:, 0]
+        n = np.stack([t[:, 1], -t[:, 0]], axis=1)
+    else:
+        n = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.einsum("ij,ij->i", a, b)
+
+
+def _closest_on_triangles(p: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Barycentric coordinates (n, 3) of the closest point of triangle ``x[i]`` to ``p[i]`` (Ericson's Voronoi
+    regions, vectorised: the first region that applies, in Ericson's order)."""
+    a, b, c = x[:, 0], x[:, 1], x[:, 2]
+    ab, ac = b - a, c - a
+    ap, bp, cp = p - a, p - b, p - c
+    d1, d2, d3, d4, d5, d6 = _dot(ab, ap), _dot(ac, ap), _dot(ab, bp), _dot(ac, bp), _dot(ab, cp), _dot(ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    n = len(p)
+    out = np.zeros((n, 3))
+    done = np.zeros(n, bool)
+
+    def put(mask, value):
+        m = mask & ~done
+        out[m] = value(m) if callable(value) else value
+        done[m] = True
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        put((d1 <= 0) & (d2 <= 0), (1.0, 0.0, 0.0))
+        put((d3 >= 0) & (d4 <= d3), (0.0, 1.0, 0.0))
+        put((vc <= 0) & (d1 >= 0) & (d3 <= 0),
+            lambda m: np.stack([1 - d1[m] / (d1[m] - d3[m]), d1[m] / (d1[m] - d3[m]), 0 * d1[m]], axis=1))
+        put((d6 >= 0) & (d5 <= d6), (0.0, 0.0, 1.0))
+        put((vb <= 0) & (d2 >= 0) & (d6 <= 0),
+            lambda m: np.stack([1 - d2[m] / (d2[m] - d6[m]), 0 * d2[m], d2[m] / (d2[m] - d6[m])], axis=1))
+
+        def edge_bc(m):
+            w = (d4[m] - d3[m]) / ((d4[m] - d3[m]) + (d5[m] - d6[m]))
+            return np.stack([0 * w, 1 - w, w], axis=1)
+
+        put((va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0), edge_bc)
+
+        def inside(m):
+            denom = 1.0 / (va[m] + vb[m] + vc[m])
+            v, w = vb[m] * denom, vc[m] * denom
+            return np.stack([1 - v - w, v, w], axis=1)
+
+        put(np.ones(n, bool), inside)
+    return out
+
+
+def closest_point_on_facets(p: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from ``p`` ((n, gdim), or one point (gdim,) for every facet) to each flat facet ``x``
+    (n, nv, gdim) and the barycentric coordinates of the closest point (clipped to the facet)."""
+    p = np.broadcast_to(p, (len(x), x.shape[2]))
+    if x.shape[1] == 2:
+        t = x[:, 1] - x[:, 0]
+        s = np.clip(_dot(p - x[:, 0], t) / _dot(t, t), 0.0, 1.0)
+        bary = np.stack([1 - s, s], axis=1)
+    else:
+        bary = _closest_on_triangles(p, x)
+    q = np.einsum("ik,ikj->ij", bary, x)
+    return np.linalg.norm(q - p, axis=1), bary
+
+
+def quadratic_shape(xi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Quadratic Lagrange shape functions on ``xi`` in [0, 1] with nodes (end 0, middle, end 1) at 0, 1/2, 1,
+    and their first and second derivatives: three arrays (..., 3)."""
+    xi = np.asarray(xi, dtype=float)[..., None]
+    N = np.concatenate([2 * (xi - 0.5) * (xi - 1), -4 * xi * (xi - 1), 2 * xi * (xi - 0.5)], axis=-1)
+    dN = np.concatenate([4 * xi - 3, 4 - 8 * xi, 4 * xi - 1], axis=-1)
+    return N, dN, np.broadcast_to(np.array([4.0, -8.0, 4.0]), N.shape)
+
+
+def closest_point_on_quadratic(p: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from ``p`` ((n, 2), or one point for every segment) to each quadratic segment ``x`` (n, 3, 2)
+    (nodes end, middle, end) and the local coordinate ``xi`` in [0, 1] of the closest point: Newton on
+    ``(p - x(xi)) . x'(xi) = 0`` from the chord's projection, clipped to the segment (a step that would go
+    uphill is replaced by a bisection)."""
+    t = x[:, 2] - x[:, 0]
+    xi = np.clip(np.einsum("ij,ij->i", p - x[:, 0], t) / np.einsum("ij,ij->i", t, t), 0.0, 1.0)
+    for _ in range(50):
+        N, dN, ddN = quadratic_shape(xi)
+        r = p - np.einsum("ik,ikj->ij", N, x)
+        dX, ddX = np.einsum("ik,ikj->ij", dN, x), np.einsum("ik,ikj->ij", ddN, x)
+        f = np.einsum("ij,ij->i", r, dX)
+        curv = np.einsum("ij,ij->i", dX, dX) - np.einsum("ij,ij->i", r, ddX)  # d2/dxi2 of |p - x|^2 / 2
+        step = np.where(curv > 0, f / np.where(curv > 0, curv, 1.0), np.sign(f) * 0.25)
+        new = np.clip(xi + step, 0.0, 1.0)
+        if np.all(np.abs(new - xi) < 1e-15):
+            xi = new
+            break
+        xi = new
+    N = quadratic_shape(xi)[0]
+    return np.linalg.norm(p - np.einsum("ik,ikj->ij", N, x), axis=1), xi
+
+
+def quadratic_normals(x: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """Unit normals ``(x'_y, -x'_x)/|x'|`` of quadratic segments ``x`` (n, 3, 2) at ``xi`` (n,)."""
+    dX = np.einsum("ik,ikj->ij", quadratic_shape(xi)[1], x)
+    n = np.stack([dX[:, 1], -dX[:, 0]], axis=1)
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
+# --------------------------------------------------------------------------------------------
+# Projection
+# --------------------------------------------------------------------------------------------
+def _first_per_group(group: np.ndarray, keys: tuple[np.ndarray, ...]) -> np.ndarray:
+    """Index of the first row of each group after sorting by ``group`` then ``keys`` (last key most minor)."""
+    order = np.lexsort((*keys[::-1], group))
+    g = group[order]
+    first = np.ones(len(g), bool)
+    first[1:] = g[1:] != g[:-1]
+    return order[first]
+
+
+def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.ndarray | None = None,
+            hysteresis: float = 1e-2, quadratic: bool = False):
+    """Closest master facet to each point within ``radius``: ``(facet or -1, barycentric coordinates,
+    distance)``, and for ``quadratic`` facets (n, 3, 2) also the local coordinate ``xi`` (the
+    "barycentric coordinates" are then the shape function values). Ties go to the lowest facet index
+    (callers order facets independently of the partition); a point outside a convex vertex, equally close to
+    both facets there, takes the facet whose plane is farthest (the gap is then continuous as it moves across).
+    ``previous`` (facet per point, -1 for none): a point keeps its previous facet while that facet is no
+    more than ``hysteresis`` x its own size farther than the closest one, so that a point sitting where
+    two facets are (almost) equally close does not switch back and forth between Newton iterations."""
+    n = len(points)
+    nv = master.shape[1] if master.ndim == 3 else 2
+    facet = np.full(n, -1, np.int64)
+    bary = np.zeros((n, nv))
+    dist = np.full(n, np.inf)
+    xis = np.zeros(n)
+    for pi, fi in candidates(points, master, radius):
+        # Chunks hold whole facets, not whole points: the running best of a point joins as one more candidate.
+        old = np.unique(pi[facet[pi] >= 0])
+        if len(old):
+            pi, fi = np.concatenate([pi, old]), np.concatenate([fi, facet[old]])
+        p, mf = points[pi], master[fi]
+        if quadratic:
+            d, xi = closest_point_on_quadratic(p, mf)
+            b = quadratic_shape(xi)[0]
+            q = np.einsum("ik,ikj->ij", b, mf)
+            line = np.abs(_dot(p - q, quadratic_normals(mf, xi)))
+        else:
+            d, b = closest_point_on_facets(p, mf)
+            xi = np.zeros(len(pi))
+            line = np.abs(_dot(p - mf[:, 0], facet_normals(mf)))
+        # Nearest distance per point; among the (near-)tied facets the farthest plane, then the lowest index.
+        dmin = np.full(n, np.inf)
+        np.minimum.at(dmin, pi, d)
+        k = np.flatnonzero(d <= dmin[pi] * (1 + 1e-9) + 1e-14 * radius)
+        best = k[_first_per_group(pi[k], (-line[k], fi[k]))]
+        i = pi[best]
+        facet[i], bary[i], dist[i], xis[i] = fi[best], b[best], d[best], xi[best]
+    if previous is not None:  # hysteresis: keep the previous facet (a candidate) if it is nearly as close
+        i = np.flatnonzero((previous >= 0) & (facet >= 0) & (facet != previous))
+        if len(i):
+            mp = master[previous[i]]
+            lo, hi = _boxes(mp)
+            i, mp = i[_box_distance(points[i], lo, hi) <= radius], mp[_box_distance(points[i], lo, hi) <= radius]
+        if len(i):
+            if quadratic:
+                d, xi = closest_point_on_quadratic(points[i], mp)
+                b = quadratic_shape(xi)[0]
+            else:
+                d, b = closest_point_on_facets(points[i], mp)
+                xi = np.zeros(len(i))
+            size = np.linalg.norm(mp[:, -1 if quadratic else 1] - mp[:, 0], axis=1)
+            keep = d <= dist[i] + hysteresis * size
+            i = i[keep]
+            facet[i], bary[i], dist[i], xis[i] = previous[i], b[keep], d[keep], xi[keep]
+    far = dist > radius
+    facet[far], bary[far], dist[far], xis[far] = -1, 0.0, np.inf, 0.0
+    return (facet, bary, dist, xis) if quadratic else (facet, bary, dist)

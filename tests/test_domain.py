@@ -1,0 +1,40 @@
+"""A user's gmsh mesh with named regions: names from the physical groups, errors naming what exists, the same
+mesh on any number of ranks (the deterministic partitioner)."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from fenics_contact.domain import read_gmsh
+
+GEO = Path(__file__).parents[1] / "meshes" / "half_disk.geo"
+
+
+def test_names_from_physical_groups():
+    comm = MPI.COMM_WORLD
+    mesh, cells, facets = read_gmsh(GEO, comm, gdim=2)
+    assert cells.names == {"disk": 1} and facets.names == {"contact": 2, "top": 3}
+    # The contact arc (half a circle of radius 1) and the diameter (length 2), summed over ranks, owned facets only.
+    x = mesh.geometry.x
+    nown = mesh.topology.index_map(1).size_local
+    from fenics_contact.compat import entities_to_geometry
+
+    def length(name):
+        f = facets.find(name)
+        f = f[f < nown]
+        g = entities_to_geometry(mesh, 1, f)
+        return comm.allreduce(float(np.sum(np.linalg.norm(x[g[:, 1]] - x[g[:, 0]], axis=1))))
+
+    assert abs(length("top") - 2.0) < 1e-12
+    # Chords of the unit arc: each is shorter than its arc by h^3/24 (to leading order), h <= 0.1 (the .geo's h).
+    assert 0 < np.pi - length("contact") < np.pi * 0.1**2 / 24
+    with pytest.raises(ValueError, match=r"no region named 'bottom'; the mesh has \['contact', 'top'\]"):
+        facets.find("bottom")
+
+
+def test_bad_source():
+    with pytest.raises(ValueError, match="is not a .msh or .geo file"):
+        read_gmsh("no_such_mesh.msh", MPI.COMM_WORLD, gdim=2)
+    with pytest.raises(ValueError, match="gdim must be 2 or 3"):
+        read_gmsh(GEO, MPI.COMM_WORLD, gdim=4)

@@ -1,0 +1,113 @@
+"""Closest-point search: the k-d tree answers as an all-pairs search does; memory stays bounded whatever the
+geometry; an exploded two-body iterate is rejected with a non-finite residual."""
+import resource
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from fenics_contact import search
+from fenics_contact.laws import make_law
+from fenics_contact.scenes import build
+from fenics_contact.search import closest_point_on_facets, closest_point_on_quadratic, project
+
+
+def _ring(rng, n=60, wobble=0.05):
+    t = np.sort(rng.uniform(0, 2 * np.pi, n))
+    return np.stack([np.cos(t), np.sin(t)], 1) * (1 + wobble * rng.standard_normal((n, 1)))
+
+
+def _brute(pts, facets, radius, quadratic=False):
+    """Nearest facet of every point by an all-pairs loop (-1 beyond radius), and its distance."""
+    out = []
+    for p in pts:
+        d = closest_point_on_quadratic(p, facets)[0] if quadratic else closest_point_on_facets(p, facets)[0]
+        out.append((int(np.argmin(d)), d.min()) if d.min() <= radius else (-1, np.inf))
+    return np.array([f for f, _ in out]), np.array([d for _, d in out])
+
+
+@pytest.mark.parametrize("budget", [search.PAIR_BUDGET, 17])  # 17: many chunks, each a few facets
+def test_projection_matches_brute_force_2d(budget, monkeypatch):
+    """Segments and quadratic segments of a wobbly ring, points scattered around it: the same distances as an
+    all-pairs search, the nearest facet (up to exact ties), no pair beyond the radius."""
+    monkeypatch.setattr(search, "PAIR_BUDGET", budget)
+    rng = np.random.default_rng(1)
+    ring = _ring(rng)
+    segments = np.stack([ring, np.roll(ring, -1, axis=0)], 1)
+    mid = 0.5 * (segments[:, 0] + segments[:, 1]) * (1 + 0.02 * rng.standard_normal((60, 1)))
+    curves = np.stack([segments[:, 0], mid, segments[:, 1]], 1)
+    pts = rng.uniform(-1.3, 1.3, (300, 2))
+    radius = 0.3
+    for facets, quadratic in ((segments, False), (curves, True)):
+        facet, bary, dist = project(pts, facets, radius, quadratic=quadratic)[:3]
+        f_ref, d_ref = _brute(pts, facets, radius, quadratic)
+        assert np.array_equal(facet >= 0, f_ref >= 0)
+        ok = f_ref >= 0
+        assert np.allclose(dist[ok], d_ref[ok], rtol=1e-12, atol=1e-14)
+        assert np.all(np.isinf(dist[~ok]))
+
+
+def test_projection_matches_brute_force_3d():
+    """Triangles of a bumpy sheet, points above and below it."""
+    rng = np.random.default_rng(3)
+    n = 9
+    X, Y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    P = np.stack([X, Y, 0.05 * np.sin(3 * X) * np.cos(2 * Y)], -1)
+    tris = np.array([t for i in range(n - 1) for j in range(n - 1)
+                     for t in ([P[i, j], P[i + 1, j], P[i, j + 1]], [P[i + 1, j], P[i + 1, j + 1], P[i, j + 1]])])
+    pts = np.column_stack([rng.uniform(-0.1, 1.1, (400, 2)), 0.1 * rng.standard_normal(400)])
+    facet, bary, dist = project(pts, tris, 0.15)
+    f_ref, d_ref = _brute(pts, tris, 0.15)
+    assert np.array_equal(facet >= 0, f_ref >= 0)
+    ok = f_ref >= 0
+    assert np.allclose(dist[ok], d_ref[ok], rtol=1e-12, atol=1e-14)
+    q = np.einsum("ik,ikj->ij", bary[ok], tris[facet[ok]])
+    assert np.allclose(np.linalg.norm(q - pts[ok], axis=1), dist[ok], rtol=1e-12, atol=1e-14)
+
+
+def test_closest_point_on_triangle_brute_force():
+    rng = np.random.default_rng(2)
+    tri = rng.standard_normal((1, 3, 3))
+    for p in rng.standard_normal((50, 3)) * 2:
+        d, b = closest_point_on_facets(p, tri)
+        s = rng.uniform(0, 1, (20000, 2))
+        s = np.where(s.sum(1, keepdims=True) > 1, 1 - s, s)
+        q = tri[0, 0] + s[:, :1] * (tri[0, 1] - tri[0, 0]) + s[:, 1:] * (tri[0, 2] - tri[0, 0])
+        assert d[0] <= np.linalg.norm(q - p, axis=1).min() + 1e-12
+        assert np.all(b >= -1e-14) and np.isclose(b.sum(), 1.0)
+
+
+def test_memory_bounded_for_a_stretched_facet():
+    """One facet stretched to 1e12 (an exploded Newton iterate): the search still answers the nearest facet of
+    every point, and the peak memory does not grow by more than 50 MB (a grid over the facet's bounding box, as
+    the search had before, asks for 1e12 / radius cells)."""
+    rng = np.random.default_rng(4)
+    ring = _ring(rng, 400, 0.0)
+    facets = np.stack([ring, np.roll(ring, -1, axis=0)], 1)
+    facets[7, 1] = [1e12, -3e11]
+    pts = ring * 1.01
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    facet, _, dist = project(pts, facets, 0.05)
+    grown_mb = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024
+    f_ref, d_ref = _brute(pts, facets, 0.05)
+    assert np.allclose(dist, d_ref, rtol=1e-12, atol=1e-14)
+    assert grown_mb < 50
+
+
+def test_exploded_two_body_iterate_is_rejected():
+    """Master displacements that stretch a facet past search.STRETCH_LIMIT: the surface reports the iterate
+    exploded and the contact residual is non-finite (the solve fails, the step is cut), on every rank."""
+    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature="nodal", passes="one")
+    c = setup.contacts[0]
+    p = setup.problem
+    b = p.u.vector.copy() if hasattr(p.u, "vector") else p.u.x.petsc_vec.copy()
+    c.prepare(p)
+    assert not c.exploded
+    md = c.master_data
+    p.u.x.array[md.comp[:, 0]] += 1e6 * (1 + np.arange(md.comp[:, 0].size).reshape(md.comp[:, 0].shape))
+    p.u.x.scatter_forward()
+    c.prepare(p)
+    assert MPI.COMM_WORLD.allreduce(c.exploded, op=MPI.LAND)
+    b.set(0.0)
+    c.add_residual(b)
+    assert not np.isfinite(b.norm())
