@@ -7,6 +7,7 @@ modules never import each other back: :func:`contact_surface` (rigid obstacle),
 """
 from __future__ import annotations
 
+import logging
 from typing import Callable
 
 from dolfinx import fem
@@ -90,6 +91,11 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     a = cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a", **kw)
     b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b",
             exclude=a.reference_points() if a.quadratic else None, **kw)
+    left_out = b.comm.allreduce(int(b._excluded.sum()))
+    if left_out and b.comm.rank == 0:  # not silent: the partner carries half the force there (see above)
+        logging.getLogger(__name__).warning(
+            "%s: %d second-pass points coincide with first-pass points on quadratic facets and are left out; "
+            "their partners carry weight 1/2 (pressure there doubled)", name, left_out)
     return [a, b]
 
 
