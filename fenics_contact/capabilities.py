@@ -177,10 +177,12 @@ def check(method: str | None = None, kind: str | None = None, quadrature: str | 
 def of(law, u=None, material=None) -> dict:
     """The axis values an entry point can see: ``method`` and ``friction`` from the law, ``dim`` and ``degree``
     from the unknown ``u`` (a displacement or mixed (displacement, pressure) Function), ``model`` from the
-    bulk material (``None`` where not given)."""
+    bulk material (``None`` where not given). A law of the user's own (a name not in ``METHODS``) has method
+    ``None``: the rules on the method are skipped for it."""
     name = law.name
     friction = name.endswith("+friction") or (name == "coulomb" and float(law.mu) > 0.0)
-    out = {"method": name.split("+")[0], "friction": friction}
+    method = name.split("+")[0]
+    out = {"method": method if method in METHODS else None, "friction": friction}  # a user's own law: unknown
     if u is not None:
         V = u.function_space
         Vd = V.sub(0) if V.num_sub_spaces > 0 and V.sub(0).num_sub_spaces > 0 else V  # mixed: the displacement

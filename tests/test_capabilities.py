@@ -340,3 +340,17 @@ def test_solver_refuses_an_iterative_solve_it_cannot_do(method):
     setup = build("block", law=fc.make_law(method), nx=2, ny=2)
     with pytest.raises(cap.UnsupportedCombination, match=f"{method}, iterative solver"):
         fc.Solver(setup.problem, quiet=True, options=dict(fc.LINEAR_SOLVERS["iterative"]))
+
+
+def test_a_users_own_law_is_not_refused_for_its_name():
+    """A law class of the user's own (a name outside METHODS): the method-specific rules are skipped, the others
+    still apply."""
+
+    class Linear(fc.ContactLaw):
+        name = "my_law"
+        scalars, fields = {"K": 1e3}, {}
+
+    assert cap.of(Linear())["method"] is None
+    cap.check(**cap.of(Linear()), kind="rigid", quadrature="gauss", dim=3, degree=1)  # no error
+    with pytest.raises(cap.UnsupportedCombination, match="segment quadrature"):
+        cap.check(**cap.of(Linear()), kind="rigid", quadrature="segment")
