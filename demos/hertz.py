@@ -24,6 +24,7 @@ p.add_argument("--model", choices=["linear", "neohookean"], default="linear", he
 p.add_argument("--symmetry", choices=["quarter", "half", "full"], default="quarter", help="modelled part of the disk")
 p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
                help="lower plate: analytic rigid, or meshed (E x 1000, two-body contact; quarter only)")
+p.add_argument("--plane", choices=["strain", "stress"], default="strain", help="2D assumption (Hertz's E* follows)")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
 # Refused combinations: one line, before any work.
@@ -32,7 +33,7 @@ out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
 setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate)
+              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate, plane=args.plane)
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},

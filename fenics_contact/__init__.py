@@ -45,7 +45,7 @@ from .laws import (
     PenaltyMultiplier,
     make_law,
 )
-from .materials import MODELS, LinearElastic, Material, NeoHookean, lame
+from .materials import MODELS, PLANES, LinearElastic, Material, Materials, NeoHookean, lame
 from .mortar import SegmentSurface
 from .multipliers import MultiplierContact, TwoBodyMultiplier, unknown
 from .nitsche import NitscheContact
@@ -60,7 +60,7 @@ from .twobody import TwoBodySurface
 
 __all__ = [
     # materials
-    "Material", "LinearElastic", "NeoHookean", "MODELS", "lame",
+    "Material", "LinearElastic", "NeoHookean", "Materials", "MODELS", "PLANES", "lame",
     # contact laws (method name -> class: METHODS, make_law)
     "ContactLaw", "Penalty", "CrossConstraints", "AugmentedLagrangian", "NormalCompliance", "Exact", "Coulomb",
     "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw", "Friction", "METHODS", "make_law",

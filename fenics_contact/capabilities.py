@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from typing import Any, Iterator, Mapping
 
 from .laws import METHODS
-from .materials import NeoHookean
 
 __all__ = ["AXES", "RULES", "Rule", "UnsupportedCombination", "cells", "cells_like", "check", "describe",
            "markdown", "of", "refusal", "supported"]
@@ -98,9 +97,6 @@ RULES: tuple[Rule, ...] = (
        "a pressure split arbitrarily between the passes)", method=MULTIPLIERS, passes="two"),
     _r("solver 'direct'", "GAMG has no option for the saddle point of the mixed (displacement, pressure) space",
        method=MULTIPLIERS, solver="iterative"),
-    _r("method penalty, auglag or lagrange (or model 'linear')",
-       "the Nitsche term uses the Cauchy stress in reference-configuration integrals: not consistent at "
-       "finite strain", method="nitsche", model="neohookean"),
     # --- quadrature and degree
     _r("degree 1 (or 2D)", "quadratic master facets are curved segments: 2D only", kind="two-body", degree=2, dim=3),
     _r("quadrature 'simpson'", "a quadratic two-body surface works at the three nodes of its facets (the vertex "
@@ -189,7 +185,7 @@ def of(law, u=None, material=None) -> dict:
         out["dim"] = V.mesh.geometry.dim
         out["degree"] = 2 if len(Vd.dofmap.dof_layout.entity_dofs(1, 0)) else 1  # Lagrange: edge dofs from P2
     if material is not None:
-        out["model"] = "neohookean" if isinstance(material, NeoHookean) else "linear"
+        out["model"] = "linear" if material.linear else "neohookean"  # per-body Materials: linear if every body is
     return out
 
 

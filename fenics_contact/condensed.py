@@ -52,7 +52,6 @@ from petsc4py import PETSc
 from .bounds import BoundContact
 from .compat import bc_dofs, petsc_vec
 from .laws import ContactLaw
-from .materials import LinearElastic
 from .obstacles import HalfPlane, Obstacle
 from .surface import StepSolver
 
@@ -170,7 +169,7 @@ class CondensedCoulomb(StepSolver):
 
     # --- set-up: the condensed system ----------------------------------------
     def _condense(self, problem) -> None:
-        if not isinstance(problem.material, LinearElastic):
+        if not problem.material.linear:
             raise ValueError("method 'coulomb' needs linear elasticity (a constant stiffness to condense), "
                              f"got material {type(problem.material).__name__}")
         start = time.perf_counter()

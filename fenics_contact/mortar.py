@@ -614,9 +614,13 @@ class SegmentSurface(TwoBodySurface):
         return {"X": X, "x": x, "weight": pts["weight"], "gap": pts["gap"], "pressure": pts["pressure"],
                 "normal": pts["normal"]}
 
-    def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Current position, gap and pressure at every sub-segment Gauss point, gathered on every rank and
-        sorted by reference position."""
+    def point_values(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Current position, gap and nominal pressure (per reference slave area) at every sub-segment Gauss
+        point, gathered on every rank and sorted by reference position. ``kind="cauchy"`` is refused here
+        (use the pointwise quadratures' :meth:`TwoBodySurface.point_values`)."""
+        if kind != "nominal":
+            raise ValueError(f"{self.name}: segment integration reports the nominal pressure only (kind "
+                             f"'nominal'), got kind {kind!r}; the pointwise quadratures give 'cauchy' too")
         p = self.segment_points()
         data = [np.concatenate(a) for a in zip(*self.comm.allgather((p["X"], p["x"], p["gap"], p["pressure"])))]
         order = np.lexsort(np.round(data[0], 12).T[::-1])

@@ -15,10 +15,10 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .compat import lift_and_set_bc, petsc_vec
+from .compat import function_space, interpolate_expression, lift_and_set_bc, petsc_vec
 from .contact import displacement
 from .domain import tag_value
-from .materials import Material
+from .materials import Material, Materials
 from .surface import StepSolver, Surface
 
 __all__ = ["Dirichlet", "ContactProblem"]
@@ -67,7 +67,7 @@ class ContactProblem:
     surface with ``requires_step_solver``, method ``coulomb``).
     """
 
-    def __init__(self, u: fem.Function, material: Material, load: fem.Constant,
+    def __init__(self, u: fem.Function, material: Material | Materials, load: fem.Constant,
                  dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[Surface] = (),
                  tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = (),
                  step_solver: StepSolver | None = None):
@@ -81,11 +81,12 @@ class ContactProblem:
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        bulk = ufl.derivative(material.energy(displacement(u)) * ufl.dx, u, v)
+        bulk = ufl.derivative(material.energy_form(displacement(u)), u, v)  # per body with Materials
         residual = bulk
         for t, ds in tractions:
             residual -= load * ufl.dot(t, displacement(v)) * ds
         for c in self.contacts:
+            c.bind_material(material)  # for the Cauchy pressure (da/dA)
             term = c.residual(v)
             if term is not None:  # exact enforcement adds bounds, not a term
                 residual += term
@@ -135,6 +136,21 @@ class ContactProblem:
         self.load.value = t
         for d in self.dirichlet:
             d.value.value = d.at(t)
+
+    def min_jacobian(self) -> float | None:
+        """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the
+        vertices), over all ranks; None for a small-strain material (no such constraint). ``J <= 0``: an
+        inverted element, an inadmissible finite-strain state even if Newton converged to it."""
+        if self.material.linear:
+            return None
+        if not hasattr(self, "_detF"):
+            w = displacement(self.u)
+            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)),
+                          ufl.det(ufl.Identity(len(w)) + ufl.grad(w)))
+        f, expr = self._detF
+        interpolate_expression(f, expr)
+        local = f.x.array[: f.function_space.dofmap.index_map.size_local]
+        return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
 
     def internal_force(self) -> np.ndarray:
         """Internal forces ``dW[phi_i]`` at the current state, local array (owned and ghost dofs)."""

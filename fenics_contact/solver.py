@@ -387,6 +387,13 @@ class Solver:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                **self._diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
                 break
+            J = self.problem.min_jacobian()  # finite strain: a converged state with an inverted element is no answer
+            if J is not None and not J > 0.0:
+                rec.message = f"converged to a state with an inverted element (min det F = {J:.3g})"
+                rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
+                               "kind": "inverted_elements", "iterations": max(len(self._history) - 1, 0),
+                               "min_jacobian": J, "message": rec.message}
+                break
             for c in self.problem.contacts:
                 c.after_solve(self.problem)
             if not self.augment_max or not augmentable:

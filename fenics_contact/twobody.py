@@ -598,15 +598,28 @@ class TwoBodySurface(ContactSurface):
         gg = np.where(np.isfinite(g), g, -self.radius)  # the UFL gap of an unpaired point
         return np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
 
-    def point_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def _point_area_ratio(self) -> np.ndarray:
+        """``da/dA`` of the slave surface at the slave points (nf, nq): the bound material's area ratio
+        (:meth:`ContactSurface.area_ratio`) projected on the surface space, as the law's fields."""
+        if not hasattr(self, "_ratio_rhs"):
+            self._ratio_rhs = self.projector.compile(self.area_ratio())
+            self._ratio = fem.Function(self.S)
+        self.projector.project(self._ratio_rhs, self._ratio)
+        return np.einsum("qk,fk->fq", self.B, self._ratio.x.array[self._sdofs])
+
+    def point_table(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Reference position, current position, gap and pressure at the slave points of the owned slave
         facets, gathered on every rank and sorted by reference position (a node shared by two facets once).
-        Unpaired points have gap ``-inf`` and pressure 0."""
+        Unpaired points have gap ``-inf`` and pressure 0. ``kind``: ``nominal`` (per reference slave area,
+        default) or ``cauchy`` (per current slave area: nominal ``/ (da/dA)``)."""
+        self._check_kind(kind)
         sd = self.slave_data
         X = np.einsum("qk,fkj->fqj", self.B, sd.X)
         x = self.slave_points()
         g = self.projection["gap"]
         p = self._point_pressure(g)
+        if kind == "cauchy":
+            p = p / self._point_area_ratio()
         own = sd.owned
         d = self.gdim
         data = [np.concatenate(a) for a in zip(*self.comm.allgather(
@@ -616,10 +629,11 @@ class TwoBodySurface(ContactSurface):
         order = first[np.lexsort(Xr[first].T[::-1])]
         return tuple(a[order] for a in data)
 
-    def point_values(self, reference: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Current position (``reference=True``: reference position), gap and pressure at the slave points
-        (:meth:`point_table` without the other position)."""
-        X, x, g, p = self.point_table()
+    def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
+                                                                                     np.ndarray]:
+        """Current position (``reference=True``: reference position), gap and pressure (``kind``: ``nominal``
+        or ``cauchy``) at the slave points (:meth:`point_table` without the other position)."""
+        X, x, g, p = self.point_table(kind)
         return (X if reference else x), g, p
 
     def reference_points(self) -> np.ndarray:
