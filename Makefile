@@ -9,7 +9,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 MPIRUN := mpirun -n $(NP)
 
-.PHONY: setup demo demo-all bench scaling test lint test-serial test-mpi test-debian13 clean
+.PHONY: setup demo demo-all bench scaling docs test lint test-serial test-mpi test-debian13 clean
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
@@ -27,6 +27,10 @@ bench: setup
 # 3D Hertz (sphere) from ~1e4 to ~1e6 dofs, serial and mpirun -n 2: time per Newton iteration, slope (heavy)
 scaling: setup
 	$(PY) demos/scaling.py --out results/scaling
+
+# the capability matrix, printed from its declaration (tests/test_capabilities.py checks the committed file)
+docs: setup
+	$(PY) -m fenics_contact.capabilities > docs/capabilities.md
 
 lint: setup
 	$(VENV)/bin/ruff check fenics_contact demos tests

@@ -35,6 +35,8 @@ def main(argv=None) -> dict:
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)
     out = Path(args.out or "results/hertz")
+    # Refused combinations: one line, before any work.
+    cli.check(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=2, degree=1, model=args.model)
 
     # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
     setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,

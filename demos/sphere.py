@@ -30,6 +30,7 @@ def main(argv=None) -> dict:
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)
     out = Path(args.out or "results/sphere")
+    cli.check(args, kind="rigid", dim=3, degree=1, model="linear")  # refused combinations: one line, before any work
 
     # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane.
     setup = build("sphere", law=cli.law_from_args(args), quadrature=args.quadrature, level=args.level, steps=args.steps,

@@ -38,7 +38,8 @@ _COMMON_PETSC = ("snes_monitor", "snes_converged_reason", "snes_view", "snes_lin
                  "snes_convergence_test", "ksp_monitor", "ksp_converged_reason", "ksp_view", "condition_estimate",
                  "pc_factor_mat_solver_type", "mat_mumps_icntl_14", "ksp_gmres_restart", "pc_gamg_threshold")
 
-__all__ = ["parser", "parse", "has_friction", "law_from_args", "method_parameters", "solver_options", "StrictParser",
+__all__ = ["parser", "parse", "check", "one_line_errors", "has_friction", "law_from_args", "method_parameters",
+           "solver_options", "StrictParser",
            "UsageError", "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
            "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "error_line", "main"]
 
@@ -149,6 +150,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     """Parse our options (an unknown ``--option`` is an error naming it, with the closest known one); insert the
     single-dash ones with their values into PETSc's options (checked after the run: :func:`check_petsc_options`);
     set up logging (``--quiet``, ``--verbose``)."""
+    one_line_errors()  # for scripts not run through main()
     argv = list(sys.argv[1:] if argv is None else argv)
     args, rest = p.parse_known_args(argv)
     known = p.long_options() if isinstance(p, StrictParser) else [
@@ -205,6 +207,35 @@ def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
         quiet_root.filter = lambda record: record.levelno >= logging.WARNING
         quiet_root._fenics_contact = True
         root_logger.addFilter(quiet_root)
+
+
+def one_line_errors() -> None:
+    """Make a ``ValueError`` that ends a demo (a refused combination, a bad option value) one line on stderr
+    (``error: ...``, from rank 0) and exit status 1, without a traceback; other exceptions keep theirs."""
+    previous = sys.excepthook
+
+    def hook(kind, value, tb):
+        if not issubclass(kind, ValueError):
+            return previous(kind, value, tb)
+        from mpi4py import MPI
+
+        if MPI.COMM_WORLD.rank == 0:
+            sys.stderr.write(f"error: {str(value).splitlines()[0] if str(value) else kind.__name__}\n")
+        sys.stderr.flush()  # the interpreter then exits with status 1 (every rank raised the same error)
+
+    sys.excepthook = hook
+
+
+def check(args: argparse.Namespace, **axes) -> None:
+    """Check the demo's options against the capability matrix before any work: method, quadrature, linear
+    solver, friction and passes from ``args``, the scene's own axes (``kind``, ``dim``, ``degree``, ``model``)
+    as keywords. Raises :class:`~fenics_contact.capabilities.UnsupportedCombination`."""
+    from .capabilities import check as check_combination
+
+    combo = {"method": args.method, "quadrature": args.quadrature, "solver": getattr(args, "solver", None),
+             "friction": has_friction(args) or (args.method == "coulomb" and args.mu > 0),
+             "passes": getattr(args, "passes", None)}
+    check_combination(**{**combo, **axes})
 
 
 def say(*parts: object) -> None:
