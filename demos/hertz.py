@@ -16,7 +16,7 @@ from dolfinx import fem
 from fenics_contact import cli
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.run import run
-from fenics_contact.scenes import build, hertz
+from fenics_contact.scenes import add_scene_options, build, hertz, scene_arguments
 
 # 1. Options: formulation, parameters, mesh refinement, load steps.
 p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
@@ -25,14 +25,17 @@ p.add_argument("--steps", type=int, default=2, help="load steps")
 p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
 p.add_argument("--symmetry", choices=["quarter", "half", "full"], default="quarter", help="modelled part of the disk")
 p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
-               help="lower plate: analytic rigid, or meshed (E x 1000, two-body contact; quarter only)")
+               help="lower plate: analytic rigid, or meshed (default E x 1000, two-body contact; quarter only)")
+# --R, --E, --nu, --approach, --load (force control: total force per unit length), --plate-E, --plate-nu, ...
+scene = add_scene_options(p, hertz.build)
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
 out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
 setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate)
+              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate,
+              **scene_arguments(args, scene))
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},

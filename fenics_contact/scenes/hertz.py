@@ -15,22 +15,46 @@ the quarter's figures within 0.5 % (``results/bench/model_reduction.md``, README
 Hertz (plane strain, rigid plane, load ``P`` per unit length,
 ``E* = E/(1-nu^2)``): ``a = sqrt(4 P R / (pi E*))``, ``p0 = 2P/(pi a)``.
 The default approach gives ``a/R ~ 0.09``, small enough for Hertz's
-half-space assumption (error ``O((a/R)^2)``).
+half-space assumption (error ``O((a/R)^2)``). Every constant below is a keyword
+argument of :func:`build` (``R``, ``E``, ``nu``, ``approach``, the plate's size and
+material, the refined zone), its default the module constant.
+
+Force control (``load=P``, quarter only): instead of the approach, the
+diameter ``y = R`` carries the uniform traction ``P / (2 R)`` downward (the
+quarter carries half of ``P``), so the disk is held only by the contact.
+It converges from rest without a hand-made initial guess by load stepping
+with a vanishing stabilisation: a spring ``k (1 - t) u`` on the disk's cells,
+``k = stabilisation * E / R^2`` (total stiffness about ``stabilisation * E``
+per unit length: the first iterate moves the disk by about the contact's own
+approach ``~ P / E``, not into the plate), which carries part of the load at
+``t < 1`` and is exactly zero at the last step ``t = 1``: the final answer has
+no stabilisation in it (its force balance, ``load_error``, is the check).
+The figures are then against Hertz for the applied ``P``.
+
+Two deformable bodies (``plate="meshed"``): ``E* = 1/((1-nu^2)/E + (1-nu_p^2)/E_p)``
+(two identical bodies: ``E/(2 (1-nu^2))``); the plate ``plate_width`` x
+``plate_depth`` is fixed at its bottom, so it approximates a half-space only
+when it is large against ``a``.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
+import ufl
 from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ..bounds import contact_surface
 from ..compat import function_space
-from ..laws import ContactLaw
-from ..materials import MODELS
+from ..contact import displacement
+from ..laws import ContactLaw, LagrangeMultiplier
+from ..materials import MODELS, lame
 from ..meshes import (
     CONTACT,
     CONTACT_UPPER,
+    DOMAIN,
     PLATE,
     PLATE_BOTTOM,
     PLATE_SYMMETRY,
@@ -39,10 +63,10 @@ from ..meshes import (
     TOP,
     hertz_quarter_disk,
 )
-from ..multipliers import unknown
+from ..multipliers import two_body_multipliers, unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, nonnegative, poisson, positive
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
@@ -58,9 +82,11 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "
          "quick_stability": {"variants": (("penalty", 0), ("cross", 10), ("cross", 10, 1.0), ("auglag", 10))}}
 
 
-def hertz(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:
-    """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length."""
-    Es = E / (1 - nu**2)
+def hertz(P: float, R: float = R, E: float = E, nu: float = NU, E2: float = math.inf,
+          nu2: float = NU) -> tuple[float, float]:
+    """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length, a cylinder (``E``, ``nu``)
+    on a half-space (``E2``, ``nu2``; default rigid): ``1/E* = (1-nu^2)/E + (1-nu2^2)/E2``."""
+    Es = 1.0 / ((1 - nu**2) / E + (1 - nu2**2) / E2)
     a = np.sqrt(4 * P * R / (np.pi * Es))
     return float(a), float(2 * P / (np.pi * a))
 
@@ -83,11 +109,31 @@ def contact_half_width(x: np.ndarray, p: np.ndarray) -> float:
 
 PLATE_STIFFNESS = 1000.0  # the meshed plate's E / the disk's E (model-reduction check)
 PLATE_SIZE = (0.5 * R, 0.25 * R)  # meshed plate: width, depth
+CONTACT_WIDTH = 0.1 * R  # the refined zone's half-width (mesh size R / 400 within it at refinement 0)
+STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E (module docstring)
+
+
+class _Stabilised(ContactProblem):
+    """A problem with the spring ``k (1 - t) u`` on ``dx_body``, switched off at ``t = 1``. The spring enters as
+    a load-scaled body force (``t * spring * u``, ``spring = k (1 - t) / t``): ContactProblem's residual
+    terms scale with ``t``."""
+
+    def __init__(self, u, material, load, dirichlet, contacts, tractions, k: float, dx_body: ufl.Measure):
+        self.spring, self.k = fem.Constant(u.function_space.mesh, 0.0), float(k)
+        super().__init__(u, material, load, dirichlet, contacts,
+                         [*tractions, (-self.spring * displacement(u), dx_body)])
+
+    def set_load(self, t: float) -> None:
+        super().set_load(t)
+        self.spring.value = self.k * (1.0 - t) / t if 0.0 < t < 1.0 else 0.0
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
-          symmetry: str = "quarter", plate: str = "rigid") -> Setup:
+          symmetry: str = "quarter", plate: str = "rigid", R: float = R, E: float = E, nu: float = NU,
+          load: float | None = None, plate_E: float | None = None, plate_nu: float | None = None,
+          plate_width: float | None = None, plate_depth: float | None = None, contact_width: float | None = None,
+          stabilisation: float = STABILISATION) -> Setup:
     """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
     ``model``: ``linear`` (default: strains ~1e-3) or ``neohookean`` (the model-reduction check);
     ``symmetry``: ``quarter`` (default), ``half`` (the lower half disk, ``u_x = 0`` at the centre
@@ -98,7 +144,27 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     how far the two contacts are from balance); ``plate``: ``rigid`` (the analytic half-plane, default)
     or ``meshed`` (quarter only: a plate ``PLATE_SIZE`` of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
     in the same mesh, in two-body contact, one pass, the disk's arc the slave). The last three are the
-    model-reduction checks."""
+    model-reduction checks.
+
+    Physical parameters (defaults: the module constants): the disk's ``R``, ``E``, ``nu``; ``approach``
+    (displacement control) or ``load`` (force control: the total force ``P`` per unit length of the whole
+    cylinder, quarter only; module docstring), ``stabilisation`` its vanishing spring; the meshed plate's
+    ``plate_E`` (default ``PLATE_STIFFNESS * E``), ``plate_nu`` (default ``nu``), ``plate_width`` and
+    ``plate_depth`` (default ``0.5 R``, ``0.25 R``); ``contact_width``: the refined zone (default ``0.1 R``)."""
+    positive(R=R, E=E, approach=approach, load=load, plate_E=plate_E, plate_width=plate_width,
+             plate_depth=plate_depth, contact_width=contact_width)
+    nonnegative(stabilisation=stabilisation)
+    poisson(nu=nu, plate_nu=plate_nu)
+    if int(refinement) < 0:
+        raise ValueError(f"refinement must be >= 0, got {refinement!r}")
+    if int(steps) < 1:
+        raise ValueError(f"steps must be >= 1, got {steps!r}")
+    if load is not None and symmetry != "quarter":
+        raise ValueError(f"hertz load (force control) needs symmetry 'quarter', got {symmetry!r}")
+    plate_E = PLATE_STIFFNESS * E if plate_E is None else plate_E
+    plate_nu = nu if plate_nu is None else plate_nu
+    plate_size = (0.5 * R if plate_width is None else plate_width, 0.25 * R if plate_depth is None else plate_depth)
+    contact_width = 0.1 * R if contact_width is None else contact_width
     if symmetry not in ("quarter", "half", "full"):
         raise ValueError(f"hertz symmetry must be 'quarter', 'half' or 'full', got {symmetry!r}")
     if plate not in ("rigid", "meshed"):
@@ -106,11 +172,11 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     if plate == "meshed" and symmetry != "quarter":
         raise ValueError(f"hertz plate 'meshed' needs symmetry 'quarter', got {symmetry!r}")
     h = R / 400 / 2**refinement
-    mesh, cell_tags, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R,
+    mesh, cell_tags, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=contact_width,
                                                      half=symmetry == "half", full=symmetry == "full",
-                                                     plate=PLATE_SIZE if plate == "meshed" else None)
+                                                     plate=plate_size if plate == "meshed" else None)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
-    load = fem.Constant(mesh, 0.0)
+    t = fem.Constant(mesh, 0.0)  # the load parameter
     fdim = mesh.topology.dim - 1
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
     copies = 1
@@ -121,8 +187,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         mesh.topology.create_connectivity(0, mesh.topology.dim)
         centre = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], R))
         fix_x = fem.locate_dofs_topological(V.sub(0), 0, centre)
-    dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), fix_x)]
-    material = MODELS[model](E, NU)
+    dirichlet = [Dirichlet(V.sub(0), fix_x)] if load is not None else [Dirichlet(V.sub(1), top_y, -approach),
+                                                                        Dirichlet(V.sub(0), fix_x)]
+    material = MODELS[model](E, nu)
     contacts = []
     if symmetry == "full":  # the rigid modes: u_y at the centre, u_x at the centre and the upper pole
         pole = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 2 * R))
@@ -131,27 +198,42 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                      Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), 0, pole))]
         contacts.append(contact_surface(u, facet_tags, CONTACT_UPPER,
                                         HalfPlane([0.0, 2 * R], [0.0, -1.0], motion=[0.0, -2 * approach]), law_twin(
-                                            law), load, quadrature, material=material, name="upper_plate"))
+                                            law), t, quadrature, material=material, name="upper_plate"))
     if plate == "meshed":
-        from ..twobody import TwoBodySurface
+        from ..twobody import two_body_surfaces
 
-        # one material, stiffer on the plate's cells: its Lame constants times PLATE_STIFFNESS there
+        # one material model, the plate's Lame constants on its cells (DG0 fields)
         Q = function_space(mesh, "DG", 0)
-        factor = fem.Function(Q)
-        factor.x.array[:] = 1.0
-        factor.x.array[cell_tags.indices[cell_tags.values == PLATE]] = PLATE_STIFFNESS
-        material.lmbda, material.mu = material.lmbda * factor, material.mu * factor
+        plate_cells = cell_tags.indices[cell_tags.values == PLATE]
+        constants = []
+        for disk_value, plate_value in zip(lame(E, nu), lame(plate_E, plate_nu)):
+            f = fem.Function(Q)
+            f.x.array[:] = disk_value
+            f.x.array[plate_cells] = plate_value
+            constants.append(f)
+        material.lmbda, material.mu = constants
         bottom = facet_tags.indices[facet_tags.values == PLATE_BOTTOM]
         side = facet_tags.indices[facet_tags.values == PLATE_SYMMETRY]
         dirichlet += [Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, bottom)),
                       Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, np.concatenate([bottom, side])))]
-        contact = TwoBodySurface(u, facet_tags, CONTACT, PLATE_TOP, law, load, quadrature, radius=0.1 * R,
-                                 name="plate")
+        if isinstance(law, LagrangeMultiplier):  # the slave pressure an unknown (P1: quadrature 'nodal')
+            contact = two_body_multipliers(u, facet_tags, CONTACT, PLATE_TOP, law, t, radius=0.1 * R,
+                                           name="plate", work_quadrature=quadrature)[0]
+        else:
+            contact = two_body_surfaces(u, facet_tags, CONTACT, PLATE_TOP, lambda: law, t, quadrature,
+                                        radius=0.1 * R, name="plate")[0]
     else:
-        contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+        contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, t, quadrature,
                                   material=material)
     contacts.insert(0, contact)
-    problem = ContactProblem(u, material, load, dirichlet, contacts)
+    if load is None:
+        problem = ContactProblem(u, material, t, dirichlet, contacts)
+    else:  # the quarter's half of P on its diameter; the vanishing spring on the disk (module docstring)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
+        traction = fem.Constant(mesh, np.array([0.0, -load / (2 * R)]))
+        problem = _Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(TOP))], stabilisation * E / R**2,
+                              dx(DOMAIN))
 
     def figures() -> dict:
         if plate == "meshed":
@@ -162,22 +244,30 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         x, p = x[lower], p[lower]
         right = x[:, 0] >= -1e-12 * R  # the half model: the profile from the centre to the right
         P = copies * contact.total_force()[1]
-        a_h, p0_h = hertz(P)
+        applied = None if load is None else float(t.value) * load  # force control: Hertz for the applied load
+        a_h, p0_h = hertz(P if applied is None else applied, R, E, nu, *((plate_E, plate_nu) if plate == "meshed"
+                                                                         else ()))
         p0, a = float(p.max()), contact_half_width(x[right, 0], p[right])
-        out = {"total_force": P, "reaction_top": -copies * problem.reaction(top_y), "p0": p0, "a": a,
+        reaction = -copies * problem.reaction(top_y) if applied is None else applied
+        out = {"total_force": P, "reaction_top": reaction, "p0": p0, "a": a,
                "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
                "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())),
                "h_contact": h}
+        if applied is not None:  # the spring is off at t = 1: the contact carries the whole load
+            out["load"], out["load_error"] = applied, abs(P - applied) / applied
         if symmetry == "full":  # the centre's reaction is the difference of the two contact forces
             out["reaction_top"] = -contacts[1].total_force()[1]
             out["centre_reaction"] = out["reaction_top"] - P
         return out
 
-    params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h,
+    params = {"E": E, "nu": nu, "R": R, "material": model, "h_contact": h, "contact_width": contact_width,
               "refinement": refinement, "quadrature": quadrature, "plate": plate,
+              **({"approach": approach} if load is None else {"load": load, "stabilisation": stabilisation}),
+              **({"plate_E": plate_E, "plate_nu": plate_nu, "plate_width": plate_size[0], "plate_depth": plate_size[1]}
+                 if plate == "meshed" else {}),
               "model": {"quarter": "quarter disk (symmetry x = 0 and y = R)", "half": "half disk (symmetry y = R)",
                         "full": "full disk between two rigid plates"}[symmetry]
-              + (f", meshed plate E x {PLATE_STIFFNESS:g}" if plate == "meshed" else "")}
+              + (f", meshed plate E = {plate_E:g}" if plate == "meshed" else "")}
     return Setup("hertz", problem, contacts, np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [contact.displacement_out, contact.gap_out, contact.pressure_out])
 
