@@ -17,9 +17,10 @@ from fenics_contact import cli
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.run import run
 from fenics_contact.scenes import add_scene_options, build, hertz, scene_arguments
+from fenics_contact.twobody import QUADRATURES
 
 # 1. Options: formulation, parameters, mesh refinement, load steps.
-p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
+p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K, quadratures=QUADRATURES)  # segment: meshed plate
 p.add_argument("--refinement", type=int, default=0, help="halve the contact mesh size this many times")
 p.add_argument("--steps", type=int, default=2, help="load steps")
 p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")

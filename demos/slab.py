@@ -18,18 +18,47 @@ from dolfinx import fem
 
 from fenics_contact import cli
 from fenics_contact.compat import function_space, interpolate_expression
+from fenics_contact.friction import Friction
+from fenics_contact.laws import make_law
 from fenics_contact.run import run
-from fenics_contact.scenes import build, slab
+from fenics_contact.scenes import add_scene_options, build, scene_arguments, slab
 
 SWEEP = (0.0, 0.4, 0.8, 1.0, 1.3)
 
 # 1. Options: the formulation (default: the exact condensed Signorini-Coulomb), mu, mesh, load steps.
-p = cli.parser(__doc__.splitlines()[0], default_K=1e7)
+# The slab rests on the plate (g = 0 everywhere at t = 0), where penalty-type laws are open: methods penalty and
+# nitsche (no normal stiffness at g = 0 and zero stress: a singular first Jacobian) are not offered (compliance is
+# the penalty closed at g = 0); auglag and cross start from lam0 = F_hat = the mean contact pressure
+# (scenes/slab.py: K_DEMO, OMEGA_T, LAM0). vi, lagrange, penalty_multiplier: frictionless only (--mu 0).
+p = cli.parser(__doc__.splitlines()[0], default_K=slab.K_DEMO)
 p.add_argument("--refinement", type=int, default=0, help="halve the cells this many times (32 x 16 at 0)")
 p.add_argument("--steps", type=int, default=1, help="proportional load steps (friction is path dependent)")
 p.add_argument("--sweep", action="store_true", help=f"run mu in {SWEEP} and plot the zones against mu")
-p.set_defaults(method="coulomb")
+p.add_argument("--lam0", type=float, default=slab.LAM0,
+               help="auglag: initial normal multiplier (> 0: the resting slab's first Jacobian needs it)")
+scene = add_scene_options(p, slab.build)  # --width, --height, --E, --nu, --top-pressure, --side-pressure
+p.set_defaults(method="coulomb", omega_t=slab.OMEGA_T, F_hat=slab.LAM0)
+for action in p._actions:
+    if action.dest == "method":
+        action.choices = [m for m in action.choices if m not in ("penalty", "nitsche")]
 args = cli.parse(p)
+if not args.lam0 >= 0:
+    p.error(f"--lam0 must be >= 0, got {args.lam0}")
+
+
+def law_from_args(args):
+    """cli's law, with ``lam0`` for auglag (cli has no option for it)."""
+    law = cli.law_from_args(args)
+    if args.method != "auglag":
+        return law
+    normal = make_law("auglag", K=args.K, lam0=args.lam0)
+    if not cli.has_friction(args):
+        return normal
+    if args.c_t is not None:
+        return Friction(normal, c_t=args.c_t, m_t=args.m_t, omega_t=args.omega_t)
+    return Friction(normal, mu=args.mu, omega_t=args.omega_t)
+
+
 out = Path(args.out or "results/slab")
 rows = []
 
@@ -38,13 +67,15 @@ for mu in SWEEP if args.sweep else (args.mu,):
     folder = out / f"mu_{mu:g}" if args.sweep else out
 
     # 2. The scene: half slab, tractions on top and free side, symmetry, rigid frictional base.
-    setup = build("slab", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-                  steps=args.steps)
+    setup = build("slab", law=law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
+                  steps=args.steps, **scene_arguments(args, scene))
     comm = setup.problem.comm
 
     # 3. Solve (one proportional step by default), write XDMF and summary.json.
-    summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps},
-                  args.augment, args.augment_tol, args.quiet)
+    summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps,
+                                                  **({"lam0": args.lam0} if args.method == "auglag" else {})},
+                  args.augment, args.augment_tol, args.quiet,
+                  options={**cli.solver_options(args), **slab.SOLVER_OPTIONS})
     z = summary["zones"]
     rows.append((mu, summary["ux_A"], summary["uy_A"], z["separated"], z["sliding"], z["sticking"],
                  summary["newton_iterations"]))
@@ -53,7 +84,7 @@ for mu in SWEEP if args.sweep else (args.mu,):
     base = summary["base"]
     x = np.asarray(base["x"])[:, 0]
     if comm.rank == 0:
-        columns = [x, slab.WIDTH - x, base["gap"], base["pressure"], base["traction"], base["state"]]
+        columns = [x, setup.parameters["width"] - x, base["gap"], base["pressure"], base["traction"], base["state"]]
         np.savetxt(folder / "slab_base.csv", np.column_stack(columns), delimiter=",", comments="",
                    header="x,distance_from_A,gap,pressure,tangential_traction,state (0 open 1 slip 2 stick)")
     if args.no_pictures:
