@@ -15,16 +15,18 @@ from dolfinx import fem
 from fenics_contact import cli
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.run import run
-from fenics_contact.scenes import block, build
+from fenics_contact.scenes import add_scene_options, block, build, scene_arguments
 
 # 1. Options: the formulation and its parameters (K = 1e5 as in the paper).
 p = cli.parser(__doc__.splitlines()[0], default_K=1e5)
 p.add_argument("--steps", type=int, default=1, help="load steps")
+scene = add_scene_options(p, block.build)  # --height, --width, --E, --nu, --displacement
 args = cli.parse(p)
 out = Path(args.out or "results/block")
 
 # 2. The scene: mesh, material, Dirichlet data, the rigid foundation and the contact law.
-setup = build("block", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps)
+setup = build("block", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps,
+              **scene_arguments(args, scene))
 
 # 3. Solve (one load step by default, augmentations as asked), write XDMF and summary.json.
 summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
@@ -39,9 +41,10 @@ if not args.no_pictures:
                                               name="sigma_yy"), setup.problem.material.stress(u)[1, 1])
     # The state is uniform: a fixed colour range keeps round-off from looking like a pattern.
     plot_deformed(u, syy, out / "block_deformed.png", title=f"block, {args.method}",
-                  clim=(-2 * block.EXACT_PRESSURE, 0.0))
+                  clim=(-2 * summary["exact_pressure"], 0.0))
     x, g, p = setup.contacts[0].surface_values()
     if setup.problem.comm.rank == 0:
-        plot_profile(x[:, 0], p, out / "block_pressure.png", x_ref=np.array([0.0, 1.0]),
-                     p_ref=np.full(2, block.EXACT_PRESSURE), xlabel="x", labels=(args.method, "exact 175.8243"),
+        plot_profile(x[:, 0], p, out / "block_pressure.png", x_ref=np.array([0.0, args.width / 2]),
+                     p_ref=np.full(2, summary["exact_pressure"]), xlabel="x",
+                     labels=(args.method, f"exact {summary['exact_pressure']:.7g}"),
                      title=f"block: contact pressure, {args.method}")

@@ -13,18 +13,23 @@ import numpy as np
 
 from fenics_contact import cli
 from fenics_contact.run import run
-from fenics_contact.scenes import build, sphere
+from fenics_contact.scenes import add_scene_options, build, scene_arguments, sphere
 
 # 1. Options: formulation, mesh level (about 1e4 to 1e6 dofs), linear solver.
 p = cli.parser(__doc__.splitlines()[0], default_K=sphere.DEFAULT_K)
 p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)), help="mesh level")
-p.add_argument("--steps", type=int, default=1, help="load steps")
+p.add_argument("--steps", type=int, default=None, help="load steps (default: 1, or 2 with --load)")
+p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
+scene = add_scene_options(p, sphere.build)  # --R, --E, --nu, --approach, --load (force control), ...
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
+if args.steps is None:
+    args.steps = 1 if args.load is None else 2
 out = Path(args.out or "results/sphere")
 
 # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane.
-setup = build("sphere", law=cli.law_from_args(args), quadrature=args.quadrature, level=args.level, steps=args.steps)
+setup = build("sphere", law=cli.law_from_args(args), quadrature=args.quadrature, level=args.level, steps=args.steps,
+              model=args.model, **scene_arguments(args, scene))
 
 # 3. Solve, write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},

@@ -48,7 +48,6 @@ from mpi4py import MPI
 
 from ..bounds import contact_surface
 from ..compat import function_space
-from ..contact import displacement
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import MODELS, lame
 from ..meshes import (
@@ -66,7 +65,7 @@ from ..meshes import (
 from ..multipliers import two_body_multipliers, unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup, nonnegative, poisson, positive
+from . import Setup, Stabilised, nonnegative, poisson, positive
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
@@ -113,21 +112,6 @@ CONTACT_WIDTH = 0.1 * R  # the refined zone's half-width (mesh size R / 400 with
 STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E (module docstring)
 
 
-class _Stabilised(ContactProblem):
-    """A problem with the spring ``k (1 - t) u`` on ``dx_body``, switched off at ``t = 1``. The spring enters as
-    a load-scaled body force (``t * spring * u``, ``spring = k (1 - t) / t``): ContactProblem's residual
-    terms scale with ``t``."""
-
-    def __init__(self, u, material, load, dirichlet, contacts, tractions, k: float, dx_body: ufl.Measure):
-        self.spring, self.k = fem.Constant(u.function_space.mesh, 0.0), float(k)
-        super().__init__(u, material, load, dirichlet, contacts,
-                         [*tractions, (-self.spring * displacement(u), dx_body)])
-
-    def set_load(self, t: float) -> None:
-        super().set_load(t)
-        self.spring.value = self.k * (1.0 - t) / t if 0.0 < t < 1.0 else 0.0
-
-
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
           symmetry: str = "quarter", plate: str = "rigid", R: float = R, E: float = E, nu: float = NU,
@@ -154,6 +138,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     positive(R=R, E=E, approach=approach, load=load, plate_E=plate_E, plate_width=plate_width,
              plate_depth=plate_depth, contact_width=contact_width)
     nonnegative(stabilisation=stabilisation)
+    if load is not None and int(steps) < 2:
+        raise ValueError(f"force control (load) needs steps >= 2 (the vanishing spring acts before the last), "
+                         f"got {steps!r}")
     poisson(nu=nu, plate_nu=plate_nu)
     if int(refinement) < 0:
         raise ValueError(f"refinement must be >= 0, got {refinement!r}")
@@ -232,7 +219,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
         dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
         traction = fem.Constant(mesh, np.array([0.0, -load / (2 * R)]))
-        problem = _Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(TOP))], stabilisation * E / R**2,
+        problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(TOP))], stabilisation * E / R**2,
                               dx(DOMAIN))
 
     def figures() -> dict:
