@@ -15,7 +15,7 @@ import numpy as np
 
 from fenics_contact import cli
 from fenics_contact.run import run
-from fenics_contact.scenes import build, compliance3d
+from fenics_contact.scenes import add_scene_options, build, compliance3d, scene_arguments
 
 # 1. Options: Coulomb friction (mu = 0.3) on normal compliance c_n = 5e5, m_n = 1.5 unless told otherwise.
 p = cli.parser(__doc__.splitlines()[0], default_K=1e5)
@@ -24,6 +24,7 @@ p.add_argument("--mesh", type=int, nargs=3, default=[16, 8, 4], metavar=("NX", "
                help="cells of the half box")
 p.add_argument("--press-steps", type=int, default=2, help="load steps of the pressing phase")
 p.add_argument("--drag-steps", type=int, default=8, help="load steps of the drag phase")
+scene = add_scene_options(p, compliance3d.build)  # --lx, --ly, --height, --E, --nu, --press
 p.set_defaults(method="compliance", c_n=compliance3d.C_N, m_n=compliance3d.M_N, mu=None, omega_t=compliance3d.OMEGA_T)
 args = cli.parse(p)
 if args.mu is None:  # mu = 0.3 unless the compliance bound c_t <g>^m_t is asked for
@@ -33,7 +34,7 @@ out = Path(args.out or "results/compliance3d")
 # 2. The scene: half box, glued platen (press, then drag), rigid plane, the law with friction.
 setup = build("compliance3d", law=cli.law_from_args(args), quadrature=args.quadrature, nx=args.mesh[0],
               ny=args.mesh[1], nz=args.mesh[2], press_steps=args.press_steps, drag_steps=args.drag_steps,
-              drag=args.drag)
+              drag=args.drag, **scene_arguments(args, scene))
 
 # 3. Solve step by step (friction history advances on every accepted step), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "drag": args.drag}, args.augment,

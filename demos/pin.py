@@ -22,7 +22,7 @@ from mpi4py import MPI
 from fenics_contact import cli
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.run import run
-from fenics_contact.scenes import build, pin
+from fenics_contact.scenes import add_scene_options, build, pin, scene_arguments
 
 # 1. Options: formulation, parameters, mesh refinement, load steps, convergence study.
 p = cli.parser(__doc__.splitlines()[0], default_K=pin.DEFAULT_K)
@@ -30,6 +30,7 @@ p.add_argument("--refinement", type=int, default=0, help="halve the mesh size at
 p.add_argument("--steps", type=int, default=1, help="load steps")
 p.add_argument("--gap", choices=pin.GAPS, default="linearized",
                help="linearized (small displacements) or current (exact gap of the deformed position)")
+scene = add_scene_options(p, pin.build)  # --R, --half-width, --below, --above, --E, --nu, --P0, --h-contact, --seat
 p.add_argument("--convergence", action="store_true", help="run refinements 0, 1, 2 and plot the angle against h")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
@@ -41,7 +42,7 @@ def solve(refinement: int, folder: Path) -> dict:
     """2.-4. Build the scene at ``refinement``, solve, write XDMF, summary.json, the CSV and the pictures."""
     # 2. The scene: graded half plate, symmetry u_x = 0 on x = 0, traction P0 on the top, the rigid pin.
     setup = build("pin", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=refinement,
-                  steps=args.steps, gap=args.gap)
+                  steps=args.steps, gap=args.gap, **scene_arguments(args, scene))
 
     # 3. Solve (load steps, augmentations), write XDMF and summary.json.
     summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps, "gap": args.gap},
@@ -61,7 +62,7 @@ def solve(refinement: int, folder: Path) -> dict:
         syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
                                                   name="sigma_yy"), setup.problem.material.stress(u)[1, 1])
         plot_deformed(u, syy, folder / "pin_deformed.png", title=f"pin, {args.method} (displacement x10)",
-                      scale=10, clim=(-3 * pin.P0, 3 * pin.P0))
+                      scale=10, clim=(-3 * args.P0, 3 * args.P0))
         if comm.rank == 0:
             a = summary["contact_angle_deg"]
             plot_profile(theta, pr, folder / "pin_pressure.png", x_ref=np.array([a, a]),

@@ -32,13 +32,14 @@ from fenics_contact import cli, tables
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty
 from fenics_contact.run import run
-from fenics_contact.scenes import build, ring
+from fenics_contact.scenes import add_scene_options, build, ring, scene_arguments
 from fenics_contact.solver import ConvergenceError, Solver
 
 # 1. Options: mesh and the paper's data (K = K^ = 1e5, F^ = 0, one augmentation).
 p = cli.parser(__doc__.splitlines()[0], default_K=ring.K)
 p.add_argument("--n-theta", type=int, default=44, help="cells along the quarter circle")
 p.add_argument("--n-r", type=int, default=4, help="cells through the thickness")
+scene = add_scene_options(p, ring.build)  # --R-out, --R-in, --E, --nu, --approach
 p.set_defaults(augment=1)
 args = cli.parse(p)
 out = Path(args.out or "results/ring")
@@ -54,14 +55,14 @@ METHODS = {"penalty": ("penalty + augmentation", lambda: Penalty(args.K, augment
 #    symmetry axis, its quarter-model force is doubled).
 summaries, forces = {}, {}
 for method, (label, law) in METHODS.items():
-    setup = build("ring", law=law(), n_theta=args.n_theta, n_r=args.n_r)
+    setup = build("ring", law=law(), n_theta=args.n_theta, n_r=args.n_r, **scene_arguments(args, scene))
     contact = setup.contacts[0]
     history = []  # (solve, iterate, forces sorted from the centre outward)
 
     def on_iterate(it, contact=contact, history=history):
         x, f = contact.point_forces()
         x, f = (np.concatenate(a) for a in zip(*comm.allgather((x, f))))
-        order = np.argsort(np.arctan2(x[:, 1] - ring.R_OUT, x[:, 0]))
+        order = np.argsort(np.arctan2(x[:, 1] - args.R_out, x[:, 0]))
         f = f[order] * np.where(np.abs(x[order, 0]) < 1e-9, 2.0, 1.0)
         solve = sum(1 for h in history if h[1] == 0) - (0 if it == 0 else 1)
         history.append((solve, it, f))
@@ -75,7 +76,7 @@ for method, (label, law) in METHODS.items():
     forces[method] = history
 
 # The first step alone (identical for the three laws: F^ = 0, lam = 0): penetrations against the paper's.
-first = build("ring", law=Penalty(args.K), n_theta=args.n_theta, n_r=args.n_r)
+first = build("ring", law=Penalty(args.K), n_theta=args.n_theta, n_r=args.n_r, **scene_arguments(args, scene))
 Solver(first.problem, quiet=True, options=OPTIONS).run(first.loads)
 first_step = {**first.figures(), "paper_penetration_centre": ring.PAPER_PENETRATION[0],
               "paper_penetration_neighbour": ring.PAPER_PENETRATION[1]}
@@ -127,7 +128,8 @@ if not args.no_pictures:
             ax.legend()
         fig.tight_layout()
         fig.savefig(str(out / "ring_forces.png"), dpi=150)
-    setup = build("ring", law=CrossConstraints(args.K, 0.0), n_theta=args.n_theta, n_r=args.n_r)
+    setup = build("ring", law=CrossConstraints(args.K, 0.0), n_theta=args.n_theta, n_r=args.n_r,
+                  **scene_arguments(args, scene))
     Solver(setup.problem, augment_max=args.augment, quiet=True, options=OPTIONS).run(setup.loads)
     u = setup.problem.u
     syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1), name="sigma_yy"),

@@ -224,7 +224,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
 
     def figures() -> dict:
         if plate == "meshed":
-            x, _, p = contact.point_values(reference=True)
+            # segment: the sub-segment Gauss points (current positions: they move by ~ the approach)
+            x, _, p = contact.point_values() if quadrature == "segment" else contact.point_values(reference=True)
         else:
             x, _, p = contact.surface_values()
         lower = x[:, 1] <= R  # the full disk: the lower contact
