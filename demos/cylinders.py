@@ -17,7 +17,7 @@ import numpy as np
 
 from fenics_contact import cli
 from fenics_contact.run import run
-from fenics_contact.scenes import build, cylinders
+from fenics_contact.scenes import add_scene_options, build, cylinders, scene_arguments
 from fenics_contact.twobody import QUADRATURES
 
 # 1. Options: penalty two-pass with Gauss points by default (see the scene's docstring for why).
@@ -31,6 +31,7 @@ p.add_argument("--dt", type=float, default=0.5, help="load step after the Hertz 
 p.add_argument("--model", choices=["neohookean", "linear"], default="neohookean",
                help="bulk material (linear: small t only, the model-reduction check)")
 p.add_argument("--symmetry", choices=["half", "full"], default="half", help="right halves (x >= 0) or whole disks")
+scene = add_scene_options(p, cylinders.build)  # --R-lower, --R-upper, --E, --nu, --h-far, --contact-width
 args = cli.parse(p)
 out = Path(args.out or "results/cylinders")
 
@@ -38,7 +39,8 @@ out = Path(args.out or "results/cylinders")
 loads = [cylinders.T_HERTZ] + np.arange(args.dt, args.t_end + 1e-9, args.dt).tolist()
 setup = build("cylinders", law_factory=lambda: cli.law_from_args(args), quadrature=args.quadrature,
               passes=args.passes, h_contact=args.h_contact, grading=args.grading,
-              loads=[t for t in loads if t <= args.t_end + 1e-9], model=args.model, symmetry=args.symmetry)
+              loads=[t for t in loads if t <= args.t_end + 1e-9], model=args.model, symmetry=args.symmetry,
+              **scene_arguments(args, scene))
 comm = setup.problem.comm
 
 # 3. Solve with load stepping; after each step keep the figures and both surfaces' pressure profiles.

@@ -27,13 +27,14 @@ from fenics_contact import cli, tables
 from fenics_contact.compat import function_space, interpolate_expression
 from fenics_contact.laws import CrossConstraints, Penalty
 from fenics_contact.run import run
-from fenics_contact.scenes import build, seal
+from fenics_contact.scenes import add_scene_options, build, scene_arguments, seal
 from fenics_contact.solver import ConvergenceError
 
 # 1. Options: mesh size, contact data (K^ = 1e5 as in the paper).
 p = cli.parser(__doc__.splitlines()[0], default_K=seal.K_HAT)
 p.add_argument("--h", type=float, default=0.5, help="cell size (0.5: 2 cells through the thickness)")
 p.add_argument("--shape", choices=list(seal.SHAPES), default="wave", help="seal cross-section (see the scene)")
+scene = add_scene_options(p, seal.build)  # --E, --nu, --R-out, --R-in, --plate-distance
 p.set_defaults(F_hat=seal.F_HAT)
 args = cli.parse(p)
 out = Path(args.out or "results/seal")
@@ -41,7 +42,8 @@ comm = MPI.COMM_WORLD
 PICTURES = (0.5, 2.0, 5.5, 6.0)
 
 # 2. The scene and the step hook: contact zones per plate after every step, pictures at PICTURES.
-setup = build("seal", law=CrossConstraints(args.K, args.F_hat), h=args.h, shape=args.shape)
+setup = build("seal", law=CrossConstraints(args.K, args.F_hat), h=args.h, shape=args.shape,
+              **scene_arguments(args, scene))
 u = setup.problem.u
 syy = fem.Function(function_space(u.function_space.mesh, "Lagrange", 1), name="sigma_yy")
 zones, states = [], {}
@@ -79,7 +81,7 @@ if not args.no_pictures:
         plot_deformed(u, syy, out / f"seal_{t:.1f}.png", title=f"seal ({args.shape}), t = {t:.1f}")
 
 # 5. The penalty method on the same scene, for the comparison table.
-penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape)
+penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape, **scene_arguments(args, scene))
 try:
     penalty_summary = run(penalty, out / "penalty", "penalty", {"K": args.K}, 0, quiet=args.quiet,
                           options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape])
