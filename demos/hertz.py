@@ -2,6 +2,9 @@
 
     python demos/hertz.py --method auglag
     mpirun -n 2 python demos/hertz.py --method cross --refinement 1 -fc_snes_monitor
+    python demos/hertz.py --load 0.36 --method auglag          # force control: the disk held by contact alone
+    python demos/hertz.py --plate meshed --E 200 --nu 0.3 --R 8 --load 10 --plate-E 200 \
+        --plate-width 16 --plate-depth 16 --method lagrange    # two identical bodies (E* = E / (2 (1 - nu^2)))
 
 Quarter of a disk (R = 1, E = 1000, nu = 0.3) pressed on the plane y = 0;
 p0 and a are compared with Hertz for the computed load. Writes hertz.xdmf,
