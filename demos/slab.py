@@ -36,6 +36,8 @@ p.add_argument("--steps", type=int, default=1, help="proportional load steps (fr
 p.add_argument("--sweep", action="store_true", help=f"run mu in {SWEEP} and plot the zones against mu")
 p.add_argument("--lam0", type=float, default=slab.LAM0,
                help="auglag: initial normal multiplier (> 0: the resting slab's first Jacobian needs it)")
+p.add_argument("--model", choices=["linear", "neohookean"], default="linear",
+               help="bulk material (coulomb: linear only)")
 scene = add_scene_options(p, slab.build)  # --width, --height, --E, --nu, --top-pressure, --side-pressure
 p.set_defaults(method="coulomb", omega_t=slab.OMEGA_T, F_hat=slab.LAM0)
 for action in p._actions:
@@ -68,7 +70,7 @@ for mu in SWEEP if args.sweep else (args.mu,):
 
     # 2. The scene: half slab, tractions on top and free side, symmetry, rigid frictional base.
     setup = build("slab", law=law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-                  steps=args.steps, **scene_arguments(args, scene))
+                  steps=args.steps, model=args.model, **scene_arguments(args, scene))
     comm = setup.problem.comm
 
     # 3. Solve (one proportional step by default), write XDMF and summary.json.

@@ -33,7 +33,7 @@ from mpi4py import MPI
 
 from ..bounds import contact_surface
 from ..laws import ContactLaw
-from ..materials import LinearElastic
+from ..materials import MODELS
 from ..meshes import BOTTOM, LEFT, RIGHT, rectangle
 from ..meshes import RECT_TOP as TOP
 from ..multipliers import unknown
@@ -99,10 +99,12 @@ def zones(x: np.ndarray, state: np.ndarray, width: float = WIDTH) -> dict:
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY, refinement: int = 0,
           steps: int = 1, comm: MPI.Comm = MPI.COMM_WORLD, width: float = WIDTH, height: float = HEIGHT,
           E: float = E, nu: float = NU, top_pressure: float = TOP_PRESSURE,
-          side_pressure: float = SIDE_PRESSURE) -> Setup:
+          side_pressure: float = SIDE_PRESSURE, model: str = "linear") -> Setup:
     """``nx`` x ``ny`` Q1 cells times ``2**refinement`` each way; ``steps`` proportional load steps; the half
     slab ``width`` x ``height`` (``E``, ``nu``), ``top_pressure`` on its top, ``side_pressure`` on its free side
-    (defaults: the module constants, the paper's)."""
+    (defaults: the module constants, the paper's); ``model``: ``linear`` (the paper's) or ``neohookean``."""
+    if model not in MODELS:
+        raise ValueError(f"slab model must be one of {sorted(MODELS)}, got {model!r}")
     positive(width=width, height=height, E=E, top_pressure=top_pressure)
     nonnegative(side_pressure=side_pressure)
     poisson(nu=nu)
@@ -119,7 +121,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
     tractions = [(fem.Constant(mesh, np.array([0.0, -top_pressure])), ds(TOP)),
                  (fem.Constant(mesh, np.array([-side_pressure, 0.0])), ds(RIGHT))]
-    material = LinearElastic(E, nu)
+    material = MODELS[model](E, nu)
     contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                               material=material)
     problem = ContactProblem(u, material, load, dirichlet, [contact], tractions)
@@ -154,7 +156,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
 
     params = {"E": E, "nu": nu, "width": width, "height": height, "top_pressure": top_pressure,
               "side_pressure": side_pressure, "nx": nx, "ny": ny, "refinement": refinement, "steps": steps,
-              "quadrature": quadrature, "model": "half slab (symmetry u_x = 0 on x = 0), Q1, plane strain"}
+              "quadrature": quadrature, "material": model,
+              "model": "half slab (symmetry u_x = 0 on x = 0), Q1, plane strain"}
     extra = [contact.traction_out] if hasattr(contact, "traction_out") else []
     return Setup("slab", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
                  [disp, contact.gap_out, contact.pressure_out, *extra])
