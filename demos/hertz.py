@@ -16,20 +16,19 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from fenics_contact import cli
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import add_scene_options, build, hertz, scene_arguments
-from fenics_contact.twobody import QUADRATURES
+from fenics_contact import build, cli, function_space, interpolate_expression, run
+from fenics_contact.scenes import add_scene_options, hertz, scene_arguments
 
 # 1. Options: formulation, parameters, mesh refinement, load steps.
-p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K, quadratures=QUADRATURES)  # segment: meshed plate
+p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K,
+               quadratures=("nodal", "gauss", "simpson", "segment"))  # segment: the meshed plate
 p.add_argument("--refinement", type=int, default=0, help="halve the contact mesh size this many times")
 p.add_argument("--steps", type=int, default=2, help="load steps")
 p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
 p.add_argument("--symmetry", choices=["quarter", "half", "full"], default="quarter", help="modelled part of the disk")
 p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
                help="lower plate: analytic rigid, or meshed (default E x 1000, two-body contact; quarter only)")
+p.add_argument("--plane", choices=["strain", "stress"], default="strain", help="2D assumption (Hertz's E* follows)")
 # --R, --E, --nu, --approach, --load (force control: total force per unit length), --plate-E, --plate-nu, ...
 scene = add_scene_options(p, hertz.build)
 p.set_defaults(augment_tol=1e-10)
@@ -38,7 +37,7 @@ out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
 setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate,
+              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate, plane=args.plane,
               **scene_arguments(args, scene))
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.

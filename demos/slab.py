@@ -16,12 +16,8 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem
 
-from fenics_contact import cli
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.friction import Friction
-from fenics_contact.laws import make_law
-from fenics_contact.run import run
-from fenics_contact.scenes import add_scene_options, build, scene_arguments, slab
+from fenics_contact import Friction, build, cli, function_space, interpolate_expression, make_law, run
+from fenics_contact.scenes import add_scene_options, scene_arguments, slab
 
 SWEEP = (0.0, 0.4, 0.8, 1.0, 1.3)
 

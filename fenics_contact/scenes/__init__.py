@@ -18,8 +18,12 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..contact import ContactSurface, displacement
+from ..contact import displacement
 from ..problem import ContactProblem
+from ..surface import Surface
+
+__all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
+           "add_scene_options", "scene_arguments"]
 
 
 @dataclass
@@ -28,7 +32,7 @@ class Setup:
 
     name: str
     problem: ContactProblem
-    contacts: list[ContactSurface]
+    contacts: list[Surface]
     loads: Sequence[float]
     parameters: dict
     figures: Callable[[], dict]
@@ -45,7 +49,7 @@ class Setup:
         """Global number of unknowns: with multipliers, the displacement and the pressures on the contact
         surfaces (the pressure dofs pinned to 0 off the surfaces are not counted, see :mod:`multipliers`)."""
         V = self.problem.u.function_space
-        pinned = sum(getattr(c, "pinned_dofs", 0) for c in self.contacts)
+        pinned = sum(c.pinned_dofs for c in self.contacts)
         return V.dofmap.index_map.size_global * V.dofmap.index_map_bs - pinned
 
 
@@ -56,10 +60,10 @@ class Stabilised(ContactProblem):
     residual terms of ContactProblem's ``tractions`` scale with ``t``."""
 
     def __init__(self, u: fem.Function, material, load: fem.Constant, dirichlet, contacts, tractions,
-                 k: float, dx_body: ufl.Measure):
+                 k: float, dx_body: ufl.Measure, step_solver=None):
         self.spring, self.k = fem.Constant(u.function_space.mesh, 0.0), float(k)
         super().__init__(u, material, load, dirichlet, contacts,
-                         [*tractions, (-self.spring * displacement(u), dx_body)])
+                         [*tractions, (-self.spring * displacement(u), dx_body)], step_solver=step_solver)
 
     def set_load(self, t: float) -> None:
         super().set_load(t)

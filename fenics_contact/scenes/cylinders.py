@@ -42,16 +42,21 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
+from ..condensed import step_solver_for
+from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
-from ..materials import LinearElastic, Material, NeoHookean
+from ..materials import PLANES, LinearElastic, Material, NeoHookean
 from ..meshes import DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP, two_half_disks
-from ..multipliers import two_body_multipliers, unknown
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from ..twobody import two_body_surfaces
 from . import Setup, poisson, positive
 from .hertz import contact_half_width
+
+__all__ = [
+    "R_LOWER", "R_UPPER", "LAMBDA", "MU", "T_END", "OVERLAP", "DEFAULT_K", "T_HERTZ", "hertz_two_cylinders", "build",
+    "BENCH"
+]
 
 R_LOWER, R_UPPER, LAMBDA, MU, T_END = 18.0, 8.0, 288.0, 192.0, 15.0
 OVERLAP = 1e-4
@@ -59,14 +64,17 @@ DEFAULT_K = 1e4  # penalty: large against E*/a (~500 at t = 0.2), small against 
 T_HERTZ = 0.2  # a/R = 0.1 at t = 0.2: small enough for Hertz (half-space error O((a/R)^2))
 
 
-def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER, E: float | None = None,
-                        nu: float | None = None) -> tuple[float, float]:
-    """Hertz half-width ``a`` and peak pressure ``p0`` of two cylinders of the same material (default: the
-    scene's Lame constants), load ``P`` per unit length (plane strain)."""
+def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER, plane: str = "strain",
+                        E: float | None = None, nu: float | None = None) -> tuple[float, float]:
+    """Hertz half-width ``a`` and peak pressure ``p0`` of two cylinders of the same material (``E``, ``nu``;
+    default: the scene's Lame constants), load ``P`` per unit length (``1/E* = 2 (1 - nu^2)/E`` in plane strain,
+    ``2/E`` in plane stress)."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     mat = Material.from_lame(LAMBDA, MU)
     E, nu = (mat.E if E is None else E), (mat.nu if nu is None else nu)
     R = 1.0 / (1.0 / R1 + 1.0 / R2)
-    Es = 1.0 / (2.0 * (1.0 - nu**2) / E)
+    Es = 1.0 / (2.0 * ((1.0 - nu**2) if plane == "strain" else 1.0) / E)
     a = np.sqrt(4.0 * P * R / (np.pi * Es))
     return float(a), float(2.0 * P / (np.pi * a))
 
@@ -74,16 +82,19 @@ def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER, E: f
 def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "gauss", passes: str = "two",
           h_contact: float = 0.05, h_far: float = 2.0, contact_width: float = 1.0, grading: float = 0.25,
           loads: list[float] | None = None, comm: MPI.Comm = MPI.COMM_WORLD, model: str = "neohookean",
-          symmetry: str = "half", R_lower: float = R_LOWER, R_upper: float = R_UPPER, E: float | None = None,
-          nu: float | None = None) -> Setup:
+          symmetry: str = "half", plane: str = "strain", R_lower: float = R_LOWER, R_upper: float = R_UPPER,
+          E: float | None = None, nu: float | None = None) -> Setup:
     """``law_factory()`` gives a fresh contact law for each of the contact surfaces (plates and cylinders).
     ``grading``: growth of the mesh size per unit distance beyond ``contact_width`` (the contact zone
     reaches x ~ 7 at t = 15: the demo uses a slow grading). ``loads``: the plate motions ``t``
     (default: ``T_HERTZ``, then steps of 0.5 to 15). Model-reduction checks: ``model`` ``linear`` (small
     strain; only for small ``t``) instead of ``neohookean``; ``symmetry`` ``full`` (the whole disks instead of
     the right halves: the horizontal rigid modes of each cylinder, held by frictionless contact alone, are
-    removed by ``u_x = 0`` at its two poles, values of the exact symmetric solution). The cylinders' radii
-    ``R_lower``, ``R_upper``; ``E``, ``nu`` (both bodies; default: the Lame constants ``LAMBDA``, ``MU``)."""
+    removed by ``u_x = 0`` at its two poles, values of the exact symmetric solution). ``plane``: ``strain``
+    (the paper's) or ``stress``. The cylinders' radii ``R_lower``, ``R_upper``; ``E``, ``nu`` (both bodies;
+    default: the Lame constants ``LAMBDA``, ``MU``)."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     positive(R_lower=R_lower, R_upper=R_upper, E=E, h_contact=h_contact, h_far=h_far, contact_width=contact_width,
              grading=grading)
     poisson(nu=nu)
@@ -127,9 +138,9 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     contacts = [lower_plate, upper_plate, *pair]
     Model = NeoHookean if model == "neohookean" else LinearElastic
     reference = Material.from_lame(LAMBDA, MU)  # the paper's constants, exactly, unless E or nu is given
-    bulk = Model.from_lame(LAMBDA, MU) if E is None and nu is None else Model(
-        reference.E if E is None else E, reference.nu if nu is None else nu)
-    problem = ContactProblem(u, bulk, load, dirichlet, contacts)
+    bulk = Model.from_lame(LAMBDA, MU, plane=plane) if E is None and nu is None else Model(
+        reference.E if E is None else E, reference.nu if nu is None else nu, plane=plane)
+    problem = ContactProblem(u, bulk, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
     copies = 2 if symmetry == "half" else 1  # figures for the whole cylinders
 
     def profiles() -> list[tuple[np.ndarray, np.ndarray]]:
@@ -145,7 +156,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         prof = profiles()
         forces = [copies * abs(float(c.total_force()[1])) for c in pair]
         P = float(np.mean(forces))
-        a_h, p0_h = hertz_two_cylinders(P, R_lower, R_upper, bulk.E, bulk.nu)
+        a_h, p0_h = hertz_two_cylinders(P, R_lower, R_upper, plane, bulk.E, bulk.nu)
         prof = [(x[x >= -1e-12], p[x >= -1e-12]) for x, p in prof]  # full disks: the right half of the profile
         p0 = float(max(q.max() for _, q in prof))
         a = float(np.mean([contact_half_width(xx, q) for xx, q in prof]))
@@ -159,7 +170,14 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
                 "lower_plate_force": copies * abs(float(lower_plate.total_force()[1])),
                 "p0": p0, "a": a, "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
                 "a_error": abs(a - a_h) / a_h,
-                "pairing_changes": int(sum(c.pairing_changes for c in pair))}
+                "pairing_changes": int(sum(c.pairing_changes for c in pair)),
+                **cauchy_peak(p0)}
+
+    def cauchy_peak(p0: float) -> dict:
+        """Neo-Hookean, pointwise quadratures: the peak pressure per current area beside the nominal ``p0``."""
+        if model != "neohookean" or quadrature == "segment":
+            return {}
+        return {"p0_nominal": p0, "p0_cauchy": float(max(c.point_values(kind="cauchy")[2].max() for c in pair))}
 
     lame_constants = (LAMBDA, MU) if E is None and nu is None else (float(bulk.lmbda), float(bulk.mu))
     params = {"R_lower": R_lower, "R_upper": R_upper, "lambda": lame_constants[0], "mu": lame_constants[1],
@@ -168,7 +186,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
               "quadrature": quadrature, "passes": passes,
               "overlap": OVERLAP,
               "model": f"{'right halves (symmetry x = 0)' if symmetry == 'half' else 'whole disks'}, "
-              f"plane strain, {'neo-Hookean' if model == 'neohookean' else 'linear elastic'}"}
+              f"plane {plane}, {'neo-Hookean' if model == 'neohookean' else 'linear elastic'}"}
     if loads is None:
         loads = [T_HERTZ] + np.arange(0.5, T_END + 1e-9, 0.5).tolist()
     for c in contacts:  # one name per field in the XDMF file

@@ -12,8 +12,10 @@ The richer models of the benchmark's model-reduction table are options of :func:
 the full disk between two rigid plates, a meshed stiff plate (two-body contact), neo-Hookean; they give
 the quarter's figures within 0.5 % (``results/bench/model_reduction.md``, README).
 
-Hertz (plane strain, rigid plane, load ``P`` per unit length,
-``E* = E/(1-nu^2)``): ``a = sqrt(4 P R / (pi E*))``, ``p0 = 2P/(pi a)``.
+Hertz (rigid plane, load ``P`` per unit length, ``E* = E/(1-nu^2)`` in plane
+strain, ``E* = E`` in plane stress, ``plane="stress"``): ``a = sqrt(4 P R / (pi E*))``,
+``p0 = 2P/(pi a)``. Pressures are nominal (per reference length); neo-Hookean
+runs on the rigid plate also report the Cauchy peak ``p0_cauchy`` (per current length).
 The default approach gives ``a/R ~ 0.09``, small enough for Hertz's
 half-space assumption (error ``O((a/R)^2)``). Every constant below is a keyword
 argument of :func:`build` (``R``, ``E``, ``nu``, ``approach``, the plate's size and
@@ -46,10 +48,10 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
-from ..compat import function_space
+from ..condensed import step_solver_for
+from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
-from ..materials import MODELS, lame
+from ..materials import MODELS, PLANES, Materials
 from ..meshes import (
     CONTACT,
     CONTACT_UPPER,
@@ -62,10 +64,15 @@ from ..meshes import (
     TOP,
     hertz_quarter_disk,
 )
-from ..multipliers import two_body_multipliers, unknown
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, Stabilised, nonnegative, poisson, positive
+
+__all__ = [
+    "R", "E", "NU", "APPROACH", "DEFAULT_K", "BENCH", "hertz", "contact_half_width", "PLATE_STIFFNESS", "PLATE_SIZE",
+    "build", "law_twin"
+]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
@@ -81,11 +88,18 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "
          "quick_stability": {"variants": (("penalty", 0), ("cross", 10), ("cross", 10, 1.0), ("auglag", 10))}}
 
 
-def hertz(P: float, R: float = R, E: float = E, nu: float = NU, E2: float = math.inf,
+def hertz(P: float, R: float = R, E: float = E, nu: float = NU, plane: str = "strain", E2: float = math.inf,
           nu2: float = NU) -> tuple[float, float]:
     """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length, a cylinder (``E``, ``nu``)
-    on a half-space (``E2``, ``nu2``; default rigid): ``1/E* = (1-nu^2)/E + (1-nu2^2)/E2``."""
-    Es = 1.0 / ((1 - nu**2) / E + (1 - nu2**2) / E2)
+    on a half-space (``E2``, ``nu2``; default rigid): ``1/E* = c(E, nu) + c(E2, nu2)`` with ``c = (1-nu^2)/E``
+    (``plane``: ``strain``) or ``1/E`` (``stress``)."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+
+    def compliance(E_: float, nu_: float) -> float:
+        return (1 - nu_**2) / E_ if plane == "strain" else 1.0 / E_
+
+    Es = 1.0 / (compliance(E, nu) + compliance(E2, nu2))
     a = np.sqrt(4 * P * R / (np.pi * Es))
     return float(a), float(2 * P / (np.pi * a))
 
@@ -114,8 +128,8 @@ STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E (module d
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
-          symmetry: str = "quarter", plate: str = "rigid", R: float = R, E: float = E, nu: float = NU,
-          load: float | None = None, plate_E: float | None = None, plate_nu: float | None = None,
+          symmetry: str = "quarter", plate: str = "rigid", plane: str = "strain", R: float = R, E: float = E,
+          nu: float = NU, load: float | None = None, plate_E: float | None = None, plate_nu: float | None = None,
           plate_width: float | None = None, plate_depth: float | None = None, contact_width: float | None = None,
           stabilisation: float = STABILISATION) -> Setup:
     """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
@@ -128,7 +142,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     how far the two contacts are from balance); ``plate``: ``rigid`` (the analytic half-plane, default)
     or ``meshed`` (quarter only: a plate ``PLATE_SIZE`` of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
     in the same mesh, in two-body contact, one pass, the disk's arc the slave). The last three are the
-    model-reduction checks.
+    model-reduction checks. ``plane``: ``strain`` (default) or ``stress`` (disk and plate).
 
     Physical parameters (defaults: the module constants): the disk's ``R``, ``E``, ``nu``; ``approach``
     (displacement control) or ``load`` (force control: the total force ``P`` per unit length of the whole
@@ -152,6 +166,10 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     plate_nu = nu if plate_nu is None else plate_nu
     plate_size = (0.5 * R if plate_width is None else plate_width, 0.25 * R if plate_depth is None else plate_depth)
     contact_width = 0.1 * R if contact_width is None else contact_width
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
     if symmetry not in ("quarter", "half", "full"):
         raise ValueError(f"hertz symmetry must be 'quarter', 'half' or 'full', got {symmetry!r}")
     if plate not in ("rigid", "meshed"):
@@ -176,7 +194,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         fix_x = fem.locate_dofs_topological(V.sub(0), 0, centre)
     dirichlet = [Dirichlet(V.sub(0), fix_x)] if load is not None else [Dirichlet(V.sub(1), top_y, -approach),
                                                                         Dirichlet(V.sub(0), fix_x)]
-    material = MODELS[model](E, nu)
+    material = MODELS[model](E, nu, plane=plane)
     contacts = []
     if symmetry == "full":  # the rigid modes: u_y at the centre, u_x at the centre and the upper pole
         pole = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 2 * R))
@@ -187,18 +205,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                                         HalfPlane([0.0, 2 * R], [0.0, -1.0], motion=[0.0, -2 * approach]), law_twin(
                                             law), t, quadrature, material=material, name="upper_plate"))
     if plate == "meshed":
-        from ..twobody import two_body_surfaces
-
-        # one material model, the plate's Lame constants on its cells (DG0 fields)
-        Q = function_space(mesh, "DG", 0)
-        plate_cells = cell_tags.indices[cell_tags.values == PLATE]
-        constants = []
-        for disk_value, plate_value in zip(lame(E, nu), lame(plate_E, plate_nu)):
-            f = fem.Function(Q)
-            f.x.array[:] = disk_value
-            f.x.array[plate_cells] = plate_value
-            constants.append(f)
-        material.lmbda, material.mu = constants
+        # per-body materials: the plate's E and nu (same model)
+        material = Materials(mesh, cell_tags, {DOMAIN: material,
+                                               PLATE: MODELS[model](plate_E, plate_nu, plane=plane)})
         bottom = facet_tags.indices[facet_tags.values == PLATE_BOTTOM]
         side = facet_tags.indices[facet_tags.values == PLATE_SYMMETRY]
         dirichlet += [Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, bottom)),
@@ -214,13 +223,13 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                                   material=material)
     contacts.insert(0, contact)
     if load is None:
-        problem = ContactProblem(u, material, t, dirichlet, contacts)
+        problem = ContactProblem(u, material, t, dirichlet, contacts, step_solver=step_solver_for(contacts))
     else:  # the quarter's half of P on its diameter; the vanishing spring on the disk (module docstring)
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
         dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
         traction = fem.Constant(mesh, np.array([0.0, -load / (2 * R)]))
         problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(TOP))], stabilisation * E / R**2,
-                              dx(DOMAIN))
+                             dx(DOMAIN), step_solver=step_solver_for(contacts))
 
     def figures() -> dict:
         if plate == "meshed":
@@ -233,8 +242,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         right = x[:, 0] >= -1e-12 * R  # the half model: the profile from the centre to the right
         P = copies * contact.total_force()[1]
         applied = None if load is None else float(t.value) * load  # force control: Hertz for the applied load
-        a_h, p0_h = hertz(P if applied is None else applied, R, E, nu, *((plate_E, plate_nu) if plate == "meshed"
-                                                                         else ()))
+        a_h, p0_h = hertz(P if applied is None else applied, R, E, nu, plane,
+                          *((plate_E, plate_nu) if plate == "meshed" else ()))
         p0, a = float(p.max()), contact_half_width(x[right, 0], p[right])
         reaction = -copies * problem.reaction(top_y) if applied is None else applied
         out = {"total_force": P, "reaction_top": reaction, "p0": p0, "a": a,
@@ -243,12 +252,16 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                "h_contact": h}
         if applied is not None:  # the spring is off at t = 1: the contact carries the whole load
             out["load"], out["load_error"] = applied, abs(P - applied) / applied
+        if model != "linear" and plate == "rigid":  # the peak per current length too (nominal / (da/dA))
+            xc, _, pc = contact.surface_values("cauchy")
+            out["p0_nominal"], out["p0_cauchy"] = p0, float(pc[(xc[:, 1] <= R)].max())
         if symmetry == "full":  # the centre's reaction is the difference of the two contact forces
             out["reaction_top"] = -contacts[1].total_force()[1]
             out["centre_reaction"] = out["reaction_top"] - P
         return out
 
     params = {"E": E, "nu": nu, "R": R, "material": model, "h_contact": h, "contact_width": contact_width,
+              "plane": plane,
               "refinement": refinement, "quadrature": quadrature, "plate": plate,
               **({"approach": approach} if load is None else {"load": load, "stabilisation": stabilisation}),
               **({"plate_E": plate_E, "plate_nu": plate_nu, "plate_width": plate_size[0], "plate_depth": plate_size[1]}

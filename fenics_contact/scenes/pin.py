@@ -47,14 +47,19 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import function_space
+from ..factory import contact_surface
 from ..laws import ContactLaw
-from ..materials import LinearElastic
+from ..materials import PLANES, LinearElastic
 from ..meshes import CONTACT, SYMMETRY, TOP, pin_plate
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, poisson, positive
+
+__all__ = [
+    "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "SEAT", "DEFAULT_K", "LOADED_FORCE",
+    "pressure_along_pin", "contact_angle", "GAPS", "build", "BENCH"
+]
 
 R, HALF_WIDTH, BELOW, ABOVE = 1.0, 5.0, 5.0, 5.0
 E, NU, P0 = 1000.0, 0.3, 10.0
@@ -106,12 +111,15 @@ GAPS = ("linearized", "current")
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_contact: float | None = None,
           steps: int = 1, gap: str = "linearized", comm: MPI.Comm = MPI.COMM_WORLD, R: float = R,
           half_width: float = HALF_WIDTH, below: float = BELOW, above: float = ABOVE, E: float = E, nu: float = NU,
-          P0: float = P0, seat: float | None = None) -> Setup:
+          P0: float = P0, seat: float | None = None, plane: str = "strain") -> Setup:
     """``refinement`` halves the mesh size at the hole (``h_contact``, default ``R/50``) that many times; ``steps``
     load steps; ``gap``: ``linearized`` (small displacements, default) or ``current`` (exact gap of the deformed
     position). The plate ``2 half_width`` wide, from ``below`` under to ``above`` over the pin's centre, the hole
     of radius ``R``, ``E``, ``nu``, the traction ``P0`` on its top; ``seat``: the initial translation toward the
-    load (default ``1e-4 R``; module docstring). Defaults: the module constants."""
+    load (default ``1e-4 R``; module docstring). Defaults: the module constants. ``plane``: ``strain`` (the
+    paper's, default; its figures are plane strain) or ``stress``."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     positive(R=R, half_width=half_width, below=below, above=above, E=E, P0=P0, h_contact=h_contact, seat=seat)
     poisson(nu=nu)
     if not (R < half_width and R < below and R < above):
@@ -138,7 +146,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
                               linearized=gap == "linearized")
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=TOP)
     traction = ufl.as_vector([0.0, P0])
-    problem = ContactProblem(u, LinearElastic(E, nu), load, dirichlet, [contact], tractions=[(traction, ds)])
+    problem = ContactProblem(u, LinearElastic(E, nu, plane=plane), load, dirichlet, [contact],
+                             tractions=[(traction, ds)])
     u.x.array.reshape(-1, 2)[:, 1] = seat  # the plate seated on the pin (Newton's starting point)
 
     def figures() -> dict:
@@ -155,7 +164,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
               "seat": seat,
               "gap": gap,
               "h_contact": h, "refinement": refinement, "steps": steps, "quadrature": quadrature,
-              "model": "half plate (symmetry x = 0), plane strain, linear elasticity"}
+              "plane": plane, "model": f"half plate (symmetry x = 0), plane {plane}, linear elasticity"}
     return Setup("pin", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [u, contact.gap_out, contact.pressure_out])
 

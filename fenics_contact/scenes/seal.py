@@ -64,11 +64,16 @@ from mpi4py import MPI
 from ..compat import function_space
 from ..contact import ContactSurface
 from ..laws import ContactLaw
-from ..materials import NeoHookean
+from ..materials import PLANES, NeoHookean
 from ..meshes import SEAL_BOUNDARY, SEAL_SYMMETRY, seal_s_geometry, seal_s_section, seal_section, seal_wave_section
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, poisson, positive
+
+__all__ = [
+    "E", "NU", "R_OUT", "R_IN", "GAP", "K_HAT", "F_HAT", "SOLVER_OPTIONS", "PREDICTOR", "SHAPES", "LOADS", "build",
+    "BENCH"
+]
 
 E, NU, R_OUT, R_IN, GAP = 1000.0, 0.3, 10.0, 9.0, 7.0
 K_HAT = 1e5
@@ -83,11 +88,14 @@ LOADS = [0.5 * k for k in range(1, 12)] + [5.5 + 0.1 * k for k in range(1, 6)]
 
 def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: list[float] | None = None,
           comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "wave", E: float = E, nu: float = NU, R_out: float = R_OUT,
-          R_in: float = R_IN, plate_distance: float = GAP) -> Setup:
+          R_in: float = R_IN, plate_distance: float = GAP, plane: str = "strain") -> Setup:
     """``h``: cell size of the structured quadrilaterals (0.5: 2 cells through the thickness); ``shape``:
     ``"wave"``, ``"S"`` or ``"U"`` (module docstring). Solve with ``SOLVER_OPTIONS`` and ``PREDICTOR[shape]``.
     The section's radii ``R_in < R_out``, the plates ``plate_distance`` apart at t = 0, ``E``, ``nu``
-    (defaults: the module constants)."""
+    (defaults: the module constants). ``plane``: ``strain`` (default, the figures of the module docstring) or
+    ``stress`` (neo-Hookean with the out-of-plane stretch of :class:`~fenics_contact.materials.NeoHookean`)."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     positive(E=E, R_out=R_out, R_in=R_in, plate_distance=plate_distance, h=h)
     poisson(nu=nu)
     if not R_in < R_out:
@@ -113,7 +121,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
     upper = ContactSurface(u, facet_tags, SEAL_BOUNDARY,
                            HalfPlane([0.0, plate_distance], [0.0, -1.0], motion=[0.0, -1.0]), _copy(law), load,
                            quadrature, name="upper plate")
-    problem = ContactProblem(u, NeoHookean(E, nu), load, dirichlet, [lower, upper])
+    problem = ContactProblem(u, NeoHookean(E, nu, plane=plane), load, dirichlet, [lower, upper])
 
     def figures() -> dict:
         zl, zu = lower.contact_zones(), upper.contact_zones()
@@ -128,7 +136,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
                 "max_penetration": max(lower.max_penetration(), upper.max_penetration())}
 
     params = {"E": E, "nu": nu, "R_out": R_out, "R_in": R_in, "plate_distance": plate_distance, "h": h, "shape": shape,
-              "quadrature": quadrature, "material": "neohookean",
+              "quadrature": quadrature, "material": "neohookean", "plane": plane,
               "model": f"half of the {shape}-shaped section (symmetry x = 0)" if half else
               "whole S-shaped section, u(P0) = (0, -t/2) at its centre of symmetry"}
     fields = [u, lower.gap_out, lower.pressure_out]

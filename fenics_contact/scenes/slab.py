@@ -15,7 +15,8 @@ Sign convention of the figures: ``ux_A``, ``uy_A`` are the displacement
 components of ``A`` along ``+x`` (from the symmetry plane toward the free
 side) and ``+y`` (up, away from the plate). The side load makes ``ux_A < 0``.
 With ``mu = 0`` the stress is uniform (``sigma_xx = -10``, ``sigma_yy = -5``) and
-``ux_A = (1-nu^2)/E (sigma_xx - nu/(1-nu) sigma_yy) * 40 = -0.0258462``, ``uy_A = 0``.
+``ux_A = (1-nu^2)/E (sigma_xx - nu/(1-nu) sigma_yy) * 40 = -0.0258462``, ``uy_A = 0``
+(``plane="stress"``: ``ux_A = (sigma_xx - nu sigma_yy)/E * 40``).
 
 Zones (``zones``): lengths along the base, from the free corner ``A`` inward,
 of the separated, sliding and sticking parts; each base vertex counts with its
@@ -31,9 +32,10 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
+from ..condensed import step_solver_for
+from ..factory import contact_surface
 from ..laws import ContactLaw
-from ..materials import MODELS
+from ..materials import MODELS, PLANES
 from ..meshes import BOTTOM, LEFT, RIGHT, rectangle
 from ..meshes import RECT_TOP as TOP
 from ..multipliers import unknown
@@ -41,11 +43,18 @@ from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, nonnegative, poisson, positive
 
+__all__ = [
+    "WIDTH", "HEIGHT", "E", "NU", "TOP_PRESSURE", "SIDE_PRESSURE", "NX", "NY", "SIGMA_XX", "SIGMA_YY",
+    "UX_A_FRICTIONLESS", "TOP_LOAD", "SIDE_LOAD", "STATES", "profile", "tributary_lengths", "zones", "build", "BENCH",
+    "ux_a_frictionless", "K_DEMO", "OMEGA_T", "LAM0", "SOLVER_OPTIONS"
+]
+
 WIDTH, HEIGHT, E, NU = 40.0, 40.0, 13000.0, 0.2
 TOP_PRESSURE, SIDE_PRESSURE = 5.0, 10.0
 NX, NY = 32, 16
 SIGMA_XX, SIGMA_YY = -SIDE_PRESSURE, -TOP_PRESSURE
 UX_A_FRICTIONLESS = (1 - NU**2) / E * (SIGMA_XX - NU / (1 - NU) * SIGMA_YY) * WIDTH
+UX_A_FRICTIONLESS_PLANE_STRESS = (SIGMA_XX - NU * SIGMA_YY) / E * WIDTH
 TOP_LOAD, SIDE_LOAD = TOP_PRESSURE * WIDTH, SIDE_PRESSURE * HEIGHT  # per unit thickness
 STATES = ("separated", "sliding", "sticking")
 # Demo defaults of the regularized friction methods (demos/slab.py; a resting body, g = 0 everywhere at t = 0):
@@ -75,8 +84,11 @@ def tributary_lengths(s: np.ndarray) -> np.ndarray:
 
 
 def ux_a_frictionless(width: float = WIDTH, E: float = E, nu: float = NU, top_pressure: float = TOP_PRESSURE,
-                      side_pressure: float = SIDE_PRESSURE) -> float:
-    """``u_x(A)`` of the frictionless slab (uniform plane-strain stress ``-side_pressure``, ``-top_pressure``)."""
+                      side_pressure: float = SIDE_PRESSURE, plane: str = "strain") -> float:
+    """``u_x(A)`` of the frictionless slab (uniform stress ``-side_pressure``, ``-top_pressure``; plane strain or
+    stress)."""
+    if plane == "stress":
+        return (-side_pressure + nu * top_pressure) / E * width
     return (1 - nu**2) / E * (-side_pressure + nu / (1 - nu) * top_pressure) * width
 
 
@@ -97,12 +109,15 @@ def zones(x: np.ndarray, state: np.ndarray, width: float = WIDTH) -> dict:
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY, refinement: int = 0,
-          steps: int = 1, comm: MPI.Comm = MPI.COMM_WORLD, width: float = WIDTH, height: float = HEIGHT,
-          E: float = E, nu: float = NU, top_pressure: float = TOP_PRESSURE,
+          steps: int = 1, comm: MPI.Comm = MPI.COMM_WORLD, plane: str = "strain", width: float = WIDTH,
+          height: float = HEIGHT, E: float = E, nu: float = NU, top_pressure: float = TOP_PRESSURE,
           side_pressure: float = SIDE_PRESSURE, model: str = "linear") -> Setup:
-    """``nx`` x ``ny`` Q1 cells times ``2**refinement`` each way; ``steps`` proportional load steps; the half
-    slab ``width`` x ``height`` (``E``, ``nu``), ``top_pressure`` on its top, ``side_pressure`` on its free side
-    (defaults: the module constants, the paper's); ``model``: ``linear`` (the paper's) or ``neohookean``."""
+    """``nx`` x ``ny`` Q1 cells times ``2**refinement`` each way; ``steps`` proportional load steps; ``plane``:
+    ``strain`` (the paper's) or ``stress``; the half slab ``width`` x ``height`` (``E``, ``nu``),
+    ``top_pressure`` on its top, ``side_pressure`` on its free side (defaults: the module constants, the
+    paper's); ``model``: ``linear`` (the paper's) or ``neohookean``."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:
         raise ValueError(f"slab model must be one of {sorted(MODELS)}, got {model!r}")
     positive(width=width, height=height, E=E, top_pressure=top_pressure)
@@ -112,6 +127,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
         raise ValueError(f"refinement must be >= 0, got {refinement!r}")
     if int(steps) < 1:
         raise ValueError(f"steps must be >= 1, got {steps!r}")
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     nx, ny = int(nx) * 2**refinement, int(ny) * 2**refinement
     mesh, _, facet_tags = rectangle(comm, width, height, nx, ny, quadrilateral=True)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
@@ -121,12 +138,12 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
     tractions = [(fem.Constant(mesh, np.array([0.0, -top_pressure])), ds(TOP)),
                  (fem.Constant(mesh, np.array([-side_pressure, 0.0])), ds(RIGHT))]
-    material = MODELS[model](E, nu)
+    material = MODELS[model](E, nu, plane=plane)
     contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                               material=material)
-    problem = ContactProblem(u, material, load, dirichlet, [contact], tractions)
+    problem = ContactProblem(u, material, load, dirichlet, [contact], tractions, step_solver=step_solver_for([contact]))
     top_load, side_load = top_pressure * width, side_pressure * height  # per unit thickness
-    ux_free = ux_a_frictionless(width, E, nu, top_pressure, side_pressure)
+    ux_free = ux_a_frictionless(width, E, nu, top_pressure, side_pressure, plane)
 
     # The free bottom corner A: the rank owning its vertex reports it (max over ranks of a masked value).
     disp = contact.displacement_out  # u, or its collapsed copy when u is mixed
@@ -156,8 +173,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
 
     params = {"E": E, "nu": nu, "width": width, "height": height, "top_pressure": top_pressure,
               "side_pressure": side_pressure, "nx": nx, "ny": ny, "refinement": refinement, "steps": steps,
-              "quadrature": quadrature, "material": model,
-              "model": "half slab (symmetry u_x = 0 on x = 0), Q1, plane strain"}
+              "quadrature": quadrature, "plane": plane, "material": model,
+              "model": f"half slab (symmetry u_x = 0 on x = 0), Q1, plane {plane}"}
     extra = [contact.traction_out] if hasattr(contact, "traction_out") else []
     return Setup("slab", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
                  [disp, contact.gap_out, contact.pressure_out, *extra])

@@ -28,14 +28,16 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import function_space
+from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import MODELS
 from ..meshes import CONTACT, SYMMETRY, SYMMETRY_Y, TOP, sphere_octant
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, Stabilised, nonnegative, poisson, positive
+
+__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "hertz3d", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
@@ -123,6 +125,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
                "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(loaded)), "h_contact": h}
         if applied is not None:  # the spring is off at t = 1: the contact carries the whole load
             out["load"], out["load_error"] = applied, abs(P - applied) / applied
+        if model != "linear":  # p0 is nominal (per reference area); the peak per current area too
+            out["p0_nominal"], out["p0_cauchy"] = p0, float(contact.surface_values("cauchy")[2].max())
         return out
 
     params = {"E": E, "nu": nu, "R": R, "material": model, "h_contact": h, "level": level,
