@@ -24,6 +24,7 @@ p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
 if args.steps is None:
     args.steps = 1 if args.load is None else 2
+cli.check(args, kind="rigid", dim=3, degree=1, model=args.model)  # refused combinations: one line, before any work
 out = Path(args.out or "results/sphere")
 
 # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane.
