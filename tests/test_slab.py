@@ -136,8 +136,8 @@ def test_bad_input():
         contact_surface(u, tags, BOTTOM, Cylinder([0.5, -1.0], 1.0), Coulomb(0.3), load)
     with pytest.raises(ValueError, match="nodal"):
         contact_surface(u, tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), Coulomb(0.3), load, quadrature="gauss")
-    setup = build("block", law=Coulomb(0.3), model="neohookean")
-    with pytest.raises(ValueError, match="linear elasticity"):
+    with pytest.raises(ValueError, match="linear"):  # refused by the capability matrix, before any assembly
+        setup = build("block", law=Coulomb(0.3), model="neohookean")
         Solver(setup.problem, quiet=True).run(setup.loads)
 
 
