@@ -209,14 +209,15 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     def constrained(cs) -> np.ndarray:
         """Pressure at the constrained points of one slave surface (every rank)."""
         if quadrature == "segment":
-            return cs.point_values()[2]
+            _, g, p = cs.point_values()
+            return p[np.isfinite(g)]
         X, _, g, p = cs.point_table()
+        keep = np.isfinite(g)  # unpaired: left out of a two-pass pair (node on node)
         if quadratic and (multipliers or quadrature == "nodal"):  # the end nodes (mesh vertices) only
             sd = cs.slave_data
             ends = np.concatenate(comm.allgather(sd.X[sd.owned][:, [0, 2]].reshape(-1, 2)))
-            keep = np.isin(_keys(X), _keys(ends))
-            p = p[keep]
-        return p
+            keep &= np.isin(_keys(X), _keys(ends))
+        return p[keep]
 
     def figures() -> dict:
         ps = [constrained(cs) for cs in contacts]
