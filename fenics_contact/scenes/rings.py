@@ -44,6 +44,38 @@ facets and for multipliers) the pressure's ``p_max_deviation = max |p - p_lame| 
 inner ring's roller reaction on ``y = 0`` (the quarter's vertical equilibrium: ``R_y = p b``),
 formulation-independent; ``ur_a`` / ``ur_c``: mean radial displacement of the nodes on ``r = a`` /
 ``r = c``, ``ur_a_deviation`` / ``ur_c_deviation``: max relative deviation from Lamé over them.
+
+Measured (``demos/rings.py``, defaults: ``E = 1000, nu = 0.3`` both rings, ``q = 10`` (strains ~1e-2),
+plane strain, ``n = 16``, ``n_outer = 12``; serial; max / mean pointwise deviation, the reaction's
+deviation, ``u_r(a)``, ``u_r(c)`` deviations; K in pressure per length)::
+
+    P1 nodal one     penalty 1e5 / 1e8     0.76 / 0.43   0.046   0.019  0.077
+                     auglag, lagrange      0.84 / 0.48   0.051   0.024  0.085
+    P1 nodal two     penalty 1e8, auglag, lagrange
+                                           1.99 / 1.22   0.050   0.022  0.083
+    P1 gauss one     penalty 1e8, auglag   2.19 / 1.05   0.041   0.015  0.071
+    P1 gauss two     penalty 1e7, auglag   5.4 / 1.6     0.041   0.015  0.071   (1e8: no convergence)
+    P1 segment one   penalty 1e8           1.94 / 1.14   0.045   0.018  0.077   (auglag 1.77 / 1.18)
+    P1 segment two   penalty 1e8           3.56 / 1.31   0.044   0.018  0.077   (auglag 4.4 / 1.5)
+    P2 nodal one     penalty 1e8, auglag, lagrange
+                                           0.171 / 0.077 0.022   0.024  0.038
+    P2 nodal two     penalty 1e8, auglag, lagrange
+                                           1.0 / 0.47    0.014   0.020  0.028   (points open: p = 0)
+    P2 simpson one   penalty 1e5           0.027 / 0.010 5.4e-3  6.8e-3 8.6e-3
+                     penalty 1e6           0.026 / 0.011 5.1e-4  2.0e-3 8.4e-4
+                     penalty 1e8, auglag   0.027 / 0.011 2.6e-5  1.5e-3 5.1e-5
+                     lagrange (two-point)  0.024 / 0.019 1.3e-5  1.5e-3 5.7e-5
+    P2 simpson two   penalty 1e7, auglag   1.2-1.4 / 0.5-0.6  2e-4 1.5e-3 1e-4   (locking; 1e8 and
+                                                                                  lagrange: no convergence)
+
+Reading: with P1 facets every option is dominated by the chord sag ``h^2/8b`` (1.3e-3 for the outer
+ring's facets) against interface displacements ~6e-3: the two polygons interfere, and the pressure
+oscillates by O(1) between the meshes' nodes (first order in ``h`` and proportional to ``E/q``; the
+interface force, second order). P2 facets remove the sag (quadratic curves agree with the circle to
+``O(h^4)``); the one-pass elements with Simpson's rule then reach ~2.5 % pointwise, an error that does
+not decrease with ``h`` (``n = 8, 16, 32``: 2.5, 2.4, 2.4 %; the interface force converges, 2e-4, 1.3e-5,
+8e-6): the one-pass node-to-surface element fails the patch test on non-matching meshes. The ``nodal`` rule
+on P2 facets (end nodes only) is inconsistent (17 %); two passes over-constrain (locking, open points).
 """
 from __future__ import annotations
 
