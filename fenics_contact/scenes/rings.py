@@ -198,7 +198,15 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     load = fem.Constant(mesh, 0.0)
     rollers = [Dirichlet.on_facets(V, facet_tags, tag, comp) for tag, comp in
                ((RINGS_X0_INNER, 0), (RINGS_Y0_INNER, 1), (RINGS_X0_OUTER, 0), (RINGS_Y0_OUTER, 1))]
-    if multipliers:
+    if quadrature == "collocated":
+        if degree != 2 or not multipliers:
+            raise ValueError("quadrature 'collocated' (Papadopoulos & Solberg's element) needs degree 2 and method "
+                             f"'lagrange' or 'penalty_multiplier', got degree {degree!r}, method {first.name!r}")
+        from ..collocation import collocated_surfaces
+
+        contacts = collocated_surfaces(u, facet_tags, RINGS_INNER_SURFACE, RINGS_OUTER_SURFACE, first, load, RADIUS,
+                                       "interface")
+    elif multipliers:
         if quadrature not in (("nodal",) if degree == 1 else ("nodal", "simpson")):
             raise ValueError(f"method {first.name!r} on degree-{degree} facets: quadrature must be 'nodal'"
                              f"{'' if degree == 1 else ' or simpson'}, got {quadrature!r}")
@@ -243,7 +251,10 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
         if quadrature == "segment":
             _, g, p = cs.point_values()
             return p[np.isfinite(g)]
-        X, _, g, p = cs.point_table()
+        X, x, g, p = cs.point_table()
+        if quadrature == "collocated":  # vertices (constrained) and middle nodes (collocated)
+            # per current length -> per reference length (Lamé's, small strain): the tangential stretch r/R
+            return p * np.linalg.norm(x, axis=1) / np.linalg.norm(X, axis=1)
         keep = np.isfinite(g)  # unpaired: left out of a two-pass pair (node on node)
         if quadratic and (multipliers or quadrature == "nodal"):  # the end nodes (mesh vertices) only
             sd = cs.slave_data
