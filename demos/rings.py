@@ -6,7 +6,8 @@
 Inner ring 0.2 <= r <= 0.6, outer ring 0.6 <= r <= 1.0 (separate bodies, non-matching meshes at r = 0.6),
 pressure q on r = 1, linear elasticity (see fenics_contact/scenes/rings.py for Lamé's solution). For P1
 facets (nodal, gauss, segment) and P2 facets (nodal, simpson), one and two passes: the penalty at
---K values, the augmented Lagrangian (converged) and Lagrange multipliers (pointwise quadratures).
+--K values, the augmented Lagrangian (converged) and Lagrange multipliers (pointwise quadratures); P2
+with Papadopoulos & Solberg's collocated element (multipliers and p = eps <g> at --K values).
 Writes rings_options.csv|md (one row per option: pressure deviations from Lamé, the pressure from the
 roller reaction, u_r at r = a and r = c, Newton iterations, or the error a run raised) and summary.json.
 """
@@ -15,7 +16,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from fenics_contact.laws import AugmentedLagrangian, LagrangeMultiplier, Penalty
+from fenics_contact.laws import AugmentedLagrangian, LagrangeMultiplier, Penalty, PenaltyMultiplier
 from fenics_contact.output import write_summary
 from fenics_contact.scenes import build, rings
 from fenics_contact.solver import Solver
@@ -33,19 +34,22 @@ comm = MPI.COMM_WORLD
 if comm.rank == 0:
     out.mkdir(parents=True, exist_ok=True)
 
-OPTIONS = [(1, q) for q in ("nodal", "gauss", "segment")] + [(2, q) for q in ("nodal", "simpson")]
+OPTIONS = [(1, q) for q in ("nodal", "gauss", "segment")] + [(2, q) for q in ("nodal", "simpson", "collocated")]
 rows = []
 for degree, quadrature in OPTIONS:
-    for passes in ("one", "two"):
+    for passes in (("both",) if quadrature == "collocated" else ("one", "two")):
         laws = [(f"penalty K={K:g}", lambda K=K: Penalty(K), 0) for K in args.K]
         laws.append(("auglag K=1e6", lambda: AugmentedLagrangian(1e6), 50))
+        if quadrature == "collocated":  # the pressure is an unknown: multipliers and p = eps <g>
+            laws = [(f"penalty_multiplier eps={K:g}", lambda K=K: PenaltyMultiplier(K), 0) for K in args.K]
         if quadrature != "segment":
             laws.append(("lagrange", lambda: LagrangeMultiplier(1e3), 0))
         for name, law, augment in laws:
             row = {"degree": degree, "quadrature": quadrature, "passes": passes, "method": name}
             try:
-                setup = build("rings", law_factory=law, degree=degree, quadrature=quadrature, passes=passes,
-                              n=args.n, q=args.q, plane=args.plane, comm=comm)
+                setup = build("rings", law_factory=law, degree=degree, quadrature=quadrature,
+                              passes="one" if passes == "both" else passes, n=args.n, q=args.q, plane=args.plane,
+                              comm=comm)
                 solver = Solver(setup.problem, quiet=True, augment_max=augment, augment_tol=1e-10)
                 solver.run(setup.loads)
                 f = setup.figures()
