@@ -13,9 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fenics_contact import cli
-from fenics_contact.run import run
-from fenics_contact.scenes import build, compliance3d
+from fenics_contact import build, cli, run
+from fenics_contact.scenes import compliance3d
 
 # 1. Options: Coulomb friction (mu = 0.3) on normal compliance c_n = 5e5, m_n = 1.5 unless told otherwise.
 p = cli.parser(__doc__.splitlines()[0], default_K=1e5)

@@ -15,9 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fenics_contact import cli
-from fenics_contact.run import run
-from fenics_contact.scenes import build, cylinders
+from fenics_contact import build, cli, run
+from fenics_contact.scenes import cylinders
 from fenics_contact.twobody import QUADRATURES
 
 # 1. Options: penalty two-pass with Gauss points by default (see the scene's docstring for why).

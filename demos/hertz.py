@@ -13,10 +13,8 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from fenics_contact import cli
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import build, hertz
+from fenics_contact import build, cli, function_space, interpolate_expression, run
+from fenics_contact.scenes import hertz
 
 # 1. Options: formulation, parameters, mesh refinement, load steps.
 p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
@@ -26,13 +24,14 @@ p.add_argument("--model", choices=["linear", "neohookean"], default="linear", he
 p.add_argument("--symmetry", choices=["quarter", "half", "full"], default="quarter", help="modelled part of the disk")
 p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
                help="lower plate: analytic rigid, or meshed (E x 1000, two-body contact; quarter only)")
+p.add_argument("--plane", choices=["strain", "stress"], default="strain", help="2D assumption (Hertz's E* follows)")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
 out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
 setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
-              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate)
+              steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate, plane=args.plane)
 
 # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
 summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},

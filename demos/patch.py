@@ -14,12 +14,7 @@ and patch_pressure.png.
 import csv
 from pathlib import Path
 
-from fenics_contact import cli
-from fenics_contact.laws import make_law
-from fenics_contact.output import write_summary
-from fenics_contact.run import run
-from fenics_contact.scenes import build
-from fenics_contact.solver import Solver
+from fenics_contact import Solver, build, cli, make_law, run, write_summary
 from fenics_contact.twobody import QUADRATURES
 
 # 1. Options of the main run.

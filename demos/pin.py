@@ -19,10 +19,8 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from fenics_contact import cli
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import build, pin
+from fenics_contact import build, cli, function_space, interpolate_expression, run
+from fenics_contact.scenes import pin
 
 # 1. Options: formulation, parameters, mesh refinement, load steps, convergence study.
 p = cli.parser(__doc__.splitlines()[0], default_K=pin.DEFAULT_K)

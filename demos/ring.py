@@ -28,12 +28,20 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from fenics_contact import cli, tables
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty
-from fenics_contact.run import run
-from fenics_contact.scenes import build, ring
-from fenics_contact.solver import ConvergenceError, Solver
+from fenics_contact import (
+    AugmentedLagrangian,
+    ConvergenceError,
+    CrossConstraints,
+    Penalty,
+    Solver,
+    build,
+    cli,
+    function_space,
+    interpolate_expression,
+    run,
+    tables,
+)
+from fenics_contact.scenes import ring
 
 # 1. Options: mesh and the paper's data (K = K^ = 1e5, F^ = 0, one augmentation).
 p = cli.parser(__doc__.splitlines()[0], default_K=ring.K)

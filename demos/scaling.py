@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fenics_contact.bench import _child_env, _figure
+from fenics_contact.bench import child_env, figure
 from fenics_contact.scenes import sphere
 
 DEMO = Path(__file__).resolve().parent / "sphere.py"
@@ -43,7 +43,7 @@ for n in args.ranks:
         folder = out / f"n{n}_level{level}"
         cmd = [sys.executable, str(DEMO), "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
                "--method", args.method, "--solver", "iterative", "--level", str(level)]
-        env = _child_env()  # a fresh job, not a member of ours; mpirun keeps the run-as-root settings
+        env = child_env()  # a fresh job, not a member of ours; mpirun keeps the run-as-root settings
         if n > 1:
             cmd = [shutil.which("mpirun") or "mpirun", "-n", str(n), *cmd]
             env.update({"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
@@ -85,7 +85,7 @@ with open(out / "scaling.csv", "w", newline="") as f:
     w.writeheader()
     w.writerows(rows)
 (out / "scaling.json").write_text(json.dumps({"rows": rows, "slopes": slopes}, indent=1, default=float) + "\n")
-fig, ax = _figure()
+fig, ax = figure()
 for n in args.ranks:
     ok = [r for r in rows if r["ranks"] == n and r["converged"]]
     label = f"{n} rank{'s' * (n > 1)}" + (f" (slope {slopes[n]:.2f})" if n in slopes else "")

@@ -23,12 +23,18 @@ from pathlib import Path
 from dolfinx import fem
 from mpi4py import MPI
 
-from fenics_contact import cli, tables
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.laws import CrossConstraints, Penalty
-from fenics_contact.run import run
-from fenics_contact.scenes import build, seal
-from fenics_contact.solver import ConvergenceError
+from fenics_contact import (
+    ConvergenceError,
+    CrossConstraints,
+    Penalty,
+    build,
+    cli,
+    function_space,
+    interpolate_expression,
+    run,
+    tables,
+)
+from fenics_contact.scenes import seal
 
 # 1. Options: mesh size, contact data (K^ = 1e5 as in the paper).
 p = cli.parser(__doc__.splitlines()[0], default_K=seal.K_HAT)

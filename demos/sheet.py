@@ -21,11 +21,8 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from fenics_contact import cli
-from fenics_contact.laws import LagrangeMultiplier, Penalty, PenaltyMultiplier
-from fenics_contact.output import write_summary
-from fenics_contact.run import run
-from fenics_contact.scenes import build, sheet
+from fenics_contact import LagrangeMultiplier, Penalty, PenaltyMultiplier, build, cli, run, write_summary
+from fenics_contact.scenes import sheet
 
 TIMES = (0.5, 1.0)
 

@@ -16,10 +16,8 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem
 
-from fenics_contact import cli
-from fenics_contact.compat import function_space, interpolate_expression
-from fenics_contact.run import run
-from fenics_contact.scenes import build, slab
+from fenics_contact import build, cli, function_space, interpolate_expression, run
+from fenics_contact.scenes import slab
 
 SWEEP = (0.0, 0.4, 0.8, 1.0, 1.3)
 

@@ -11,9 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fenics_contact import cli
-from fenics_contact.run import run
-from fenics_contact.scenes import build, sphere
+from fenics_contact import build, cli, run
+from fenics_contact.scenes import sphere
 
 # 1. Options: formulation, mesh level (about 1e4 to 1e6 dofs), linear solver.
 p = cli.parser(__doc__.splitlines()[0], default_K=sphere.DEFAULT_K)

@@ -1,0 +1,85 @@
+"""fenics_contact: contact mechanics in FEniCSx (dolfinx), as a library.
+
+Set up a contact problem on your own mesh with ``import fenics_contact as fc`` (``mesh`` and ``facets`` from
+dolfinx or :func:`read_gmsh`, facets named ``"base"``, ``"top"`` and ``"left"``; ``tests/test_api.py`` has a
+complete, tested example)::
+
+    law = fc.make_law("auglag", K=1e5)                      # or fc.Penalty(1e5), fc.Exact(), fc.Coulomb(0.3), ...
+    u, V = fc.unknown(mesh, 1, law)                          # the unknown (mixed for method lagrange)
+    load = dolfinx.fem.Constant(mesh, 0.0)                   # the load parameter t
+    contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0, 0], [0, 1]), law, load)
+    problem = fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.3), load,
+                                [fc.Dirichlet.on_facets(V, facets, "top", 1, -0.1),  # u_y = -0.1 t
+                                 fc.Dirichlet.on_facets(V, facets, "left", 0)], [contact],  # u_x = 0
+                                step_solver=fc.step_solver_for([contact]))
+    fc.Solver(problem, augment_max=10).run([0.5, 1.0])
+    contact.mean_pressure()
+
+Every contact enforcement implements :class:`Surface` (the hooks the solver calls, declared once);
+a :class:`StepSolver` solves whole load steps instead of SNES (method ``coulomb``). Scenes of the
+benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :func:`write_summary`,
+:func:`run`. Submodules for the command line (:mod:`~fenics_contact.cli`), plots
+(:mod:`~fenics_contact.plotting`), meshes (:mod:`~fenics_contact.meshes`, gmsh imported only by the
+builders that use it) and tables are public too. Importing the package does not import gmsh.
+"""
+from . import bench, cli, compat, domain, failure, meshes, plotting, scenes, search, tables
+from .bounds import BoundContact
+from .compat import function_space, interpolate_expression
+from .condensed import CondensedContact, CondensedCoulomb, step_solver_for
+from .contact import ContactSurface, contact_measure
+from .domain import NamedTags, read_gmsh
+from .factory import contact_surface, two_body_multipliers, two_body_surfaces
+from .friction import Friction, FrictionalContact
+from .laws import (
+    METHODS,
+    AugmentedLagrangian,
+    ContactLaw,
+    Coulomb,
+    CrossConstraints,
+    Exact,
+    LagrangeMultiplier,
+    NitscheLaw,
+    NormalCompliance,
+    Penalty,
+    PenaltyMultiplier,
+    make_law,
+)
+from .materials import MODELS, PLANES, LinearElastic, Material, Materials, NeoHookean, lame
+from .mortar import SegmentSurface
+from .multipliers import MultiplierContact, TwoBodyMultiplier, unknown
+from .nitsche import NitscheContact
+from .obstacles import Ball, Cylinder, HalfPlane, Obstacle, Sphere
+from .output import XDMFWriter, write_summary
+from .problem import ContactProblem, Dirichlet
+from .run import run
+from .scenes import Setup, build, scene_names
+from .solver import LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
+from .surface import StepSolver, Surface
+from .twobody import TwoBodySurface
+
+__all__ = [
+    # materials
+    "Material", "LinearElastic", "NeoHookean", "Materials", "MODELS", "PLANES", "lame",
+    # contact laws (method name -> class: METHODS, make_law)
+    "ContactLaw", "Penalty", "CrossConstraints", "AugmentedLagrangian", "NormalCompliance", "Exact", "Coulomb",
+    "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw", "Friction", "METHODS", "make_law",
+    # rigid obstacles
+    "Obstacle", "HalfPlane", "Ball", "Cylinder", "Sphere",
+    # contact surfaces: the interface, the constructors, the enforcements
+    "Surface", "StepSolver", "contact_surface", "two_body_surfaces", "two_body_multipliers", "unknown",
+    "step_solver_for", "contact_measure", "ContactSurface", "FrictionalContact", "BoundContact", "NitscheContact",
+    "MultiplierContact", "CondensedContact", "CondensedCoulomb", "TwoBodySurface", "SegmentSurface",
+    "TwoBodyMultiplier",
+    # your own mesh: gmsh physical names
+    "read_gmsh", "NamedTags",
+    # problem, boundary conditions, solver
+    "ContactProblem", "Dirichlet", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
+    # spaces (the same call on every supported dolfinx)
+    "function_space", "interpolate_expression",
+    # output and runs
+    "XDMFWriter", "write_summary", "run",
+    # benchmark scenes
+    "Setup", "build", "scene_names",
+    # public submodules
+    "bench", "cli", "compat", "domain", "failure", "meshes", "plotting", "scenes", "search", "tables",
+]

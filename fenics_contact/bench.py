@@ -43,6 +43,16 @@ from typing import Sequence
 
 import numpy as np
 
+__all__ = [
+    "DEMOS", "COLUMNS", "AUGMENT", "ERROR_FLOOR", "PETSC_DTOL", "DTOL", "REFERENCES", "BUILT_IN", "PARAMETERLESS",
+    "GAMMA0", "spec", "bench_scenes", "run_config", "sweep", "stability_sweep", "status", "run_name", "child_env",
+    "command", "run_one", "run_all", "add_limit_gap", "bench", "report", "STABILITY_TITLE", "stability",
+    "add_stability_limit", "stability_summary", "REDUCTIONS", "REDUCTION_HEADER", "reduction", "write_rows",
+    "read_rows", "findings", "convergence_findings", "pareto_front", "COLOURS", "MARKERS", "SIZES", "figure",
+    "plot_pareto", "plot_dofs", "plot_iterations", "KIND_SHORT", "plot_stability", "plot_stability_accuracy",
+    "run_scene", "main"
+]
+
 DEMOS = Path(__file__).resolve().parents[1] / "demos"
 COLUMNS = ["scene", "method", "K", "F_hat", "augment", "quadrature", "refinement", "steps", "dofs", "wall_time_s",
            "newton_iterations", "linear_iterations", "augmentations", "converged", "cutbacks", "snes_reason",
@@ -77,7 +87,9 @@ def bench_scenes() -> list[str]:
     return [n for n in scene_names() if hasattr(importlib.import_module(f"fenics_contact.scenes.{n}"), "BENCH")]
 
 
-def _run(method, K, augment=0, quadrature="nodal", refinement=None, F_hat=0.0, steps=None) -> dict:
+def run_config(method, K, augment=0, quadrature="nodal", refinement=None, F_hat=0.0, steps=None) -> dict:
+    """One run of a sweep: the method, its parameter K (or gamma0), augmentations, quadrature, mesh level,
+    cross-constraint F_hat and load steps."""
     return dict(method=method, K=float(K), F_hat=F_hat, augment=augment, quadrature=quadrature, refinement=refinement,
                 steps=steps)
 
@@ -99,16 +111,16 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
     for level in levels:
         for quad in quadratures:
             if "penalty" in methods:
-                runs += [_run("penalty", K0 * 10.0**e, 0, quad, level) for e in q["penalty"]]
-            runs += [_run(m, K0 * 10.0**e, aug, quad, level, F if m == "cross" else 0.0)
+                runs += [run_config("penalty", K0 * 10.0**e, 0, quad, level) for e in q["penalty"]]
+            runs += [run_config(m, K0 * 10.0**e, aug, quad, level, F if m == "cross" else 0.0)
                      for m in ("cross", "auglag") if m in methods for aug in (0, AUGMENT) for e in q["other"]]
             if "nitsche" in methods:
-                runs += [_run("nitsche", g, 0, quad, level) for g in q["gamma0"]]
+                runs += [run_config("nitsche", g, 0, quad, level) for g in q["gamma0"]]
             # further laws of the scene: with a parameter (K / c_n) over the small range, else once
-            runs += [_run(m, K0 * 10.0**e, 0, quad, level) for m in methods if m not in BUILT_IN + PARAMETERLESS
+            runs += [run_config(m, K0 * 10.0**e, 0, quad, level) for m in methods if m not in BUILT_IN + PARAMETERLESS
                      for e in q["other"]]
         # exact laws (no parameter, K = 0 in the rows): SNES VI, the exact condensed Coulomb law
-        runs += [_run(m, 0.0, 0, "nodal", level) for m in PARAMETERLESS if m in methods]
+        runs += [run_config(m, 0.0, 0, "nodal", level) for m in PARAMETERLESS if m in methods]
     return runs
 
 
@@ -136,13 +148,13 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
         for method, aug, *F in variants:
             F_hat = F[0] if F else 0.0
             label = {"label": f"{method} F^ = {F_hat:g}" + (" augmented" if aug else "")} if F_hat else {}
-            runs += [dict(_run(method, K0 * 10.0**e, aug, "nodal", level, F_hat, steps=n), **label) for e in exps
+            runs += [dict(run_config(method, K0 * 10.0**e, aug, "nodal", level, F_hat, steps=n), **label) for e in exps
                      if not quick or (method, e) not in q.get("skip", ())]
-        runs += [_run("nitsche", g, 0, "nodal", level, steps=n) for g in gammas]
+        runs += [run_config("nitsche", g, 0, "nodal", level, steps=n) for g in gammas]
         # the control: penalty with PETSc's own divergence test (residual > 1e4 x the first one at any iterate stops
         # SNES; the solver's test also asks for growth), which stops every K-based method at its first iterate
         # when K is very large
-        runs += [dict(_run("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=DTOL, args=PETSC_DTOL)
+        runs += [dict(run_config("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=DTOL, args=PETSC_DTOL)
                  for e in exps                 if q.get("dtol", True) and n == steps[0]]
     return [dict(r, args=[*r.get("args", []), "-fc_condition_estimate"]) for r in runs if r["method"] in s["methods"]]
 
@@ -178,7 +190,7 @@ def run_name(cfg: dict) -> str:
             f"{ref}{steps}{label}")
 
 
-def _child_env() -> dict:
+def child_env() -> dict:
     """The environment without MPI launcher variables: a demo started from a rank of an ``mpirun``
     job (e.g. the tests under ``mpirun -n 2``) must start as its own serial job, not join ours."""
     return {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "PMI_", "MPI_LOCALNRANKS"))}
@@ -209,7 +221,7 @@ def run_one(scene: str, cfg: dict, folder: Path, timeout: float = 1800.0) -> dic
     start = time.perf_counter()
     try:
         proc = subprocess.run(command(scene, cfg, folder), capture_output=True, text=True, timeout=timeout,
-                              env=_child_env())
+                              env=child_env())
         ok, log = proc.returncode == 0, proc.stdout + proc.stderr
     except subprocess.TimeoutExpired as exc:
         ok, log = False, f"timeout after {timeout} s\n{exc.stdout or ''}{exc.stderr or ''}"
@@ -396,7 +408,7 @@ def reduction(scene: str, out: str | Path, quiet: bool = False, timeout: float =
     keys = r0["figures"]
     rows = []
     for label, args in r0["variants"]:
-        cfg = dict(_run(r0["method"], s["K"], r0["augment"], r0["quadrature"], level), args=[*r0["args"], *args])
+        cfg = dict(run_config(r0["method"], s["K"], r0["augment"], r0["quadrature"], level), args=[*r0["args"], *args])
         folder = out / scene / ("reduction_" + "".join(c if c.isalnum() else "-" for c in label.split(": ")[1])[:60])
         # the fastest of `repeats` runs: single timings on a shared machine are too noisy to subtract
         row = min((run_one(scene, cfg, folder, timeout) for _ in range(r0["repeats"])), key=lambda r: r["wall_time_s"])
@@ -562,7 +574,7 @@ def _colour(method: str) -> str:
     return COLOURS.get(method, "tab:gray")
 
 
-def _figure(ncols: int = 1, width: float = 7.5):
+def figure(ncols: int = 1, width: float = 7.5):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -605,7 +617,7 @@ def plot_pareto(rows: Sequence[dict], path: str | Path, title: str = "") -> None
     from matplotlib.lines import Line2D
     from matplotlib.ticker import FuncFormatter
 
-    fig, ax = _figure()
+    fig, ax = figure()
     ok = [r for r in rows if r["converged"] and not math.isnan(r["error"]) and not math.isnan(r["wall_time_s"])]
     t = np.array([r["wall_time_s"] for r in ok])
     e = np.maximum([r["error"] for r in ok], ERROR_FLOOR)
@@ -639,7 +651,7 @@ def plot_pareto(rows: Sequence[dict], path: str | Path, title: str = "") -> None
 
 def plot_dofs(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
     """Error against dofs: per method variant, its most accurate converged run on each mesh."""
-    fig, ax = _figure()
+    fig, ax = figure()
     ok = [r for r in rows if r["converged"] and not math.isnan(r["error"])]
     for variant in dict.fromkeys(_variant(r) for r in ok):
         best = {}
@@ -666,7 +678,7 @@ def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> 
     augmentation and refinement; failed runs as crosses. (Nitsche's gamma0 is on the stability map.)"""
     from matplotlib.lines import Line2D
 
-    fig, ax = _figure()
+    fig, ax = figure()
     rows = [r for r in rows if r["method"] not in ("vi", "nitsche")]  # no K
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
@@ -705,7 +717,7 @@ def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> N
     from matplotlib.colors import LogNorm
 
     variants = list(dict.fromkeys(_variant(r) for r in rows))
-    fig, axes = _figure(len(variants), width=3.0 * len(variants) + 1.0)
+    fig, axes = figure(len(variants), width=3.0 * len(variants) + 1.0)
     fig.set_figheight(5.8)
     axes = np.atleast_1d(axes)
     its = [r["newton_iterations"] for r in rows if r["newton_iterations"] > 0]
@@ -755,7 +767,7 @@ def plot_stability_accuracy(rows: Sequence[dict], path: str | Path, title: str =
     one line per K-based method variant (Nitsche and the divergence-test control left out). Filled: converged;
     orange ring: ill-conditioned (stalled at round-off or condition estimate > 1e12); red x at the top:
     failed. It shows which K each method needs for an accuracy, and whether it still converges there."""
-    fig, ax = _figure()
+    fig, ax = figure()
     rows = [r for r in rows if r["method"] != "nitsche" and r.get("label") != DTOL]
     fewest = min((r["steps"] or 1 for r in rows), default=1)
     rows = [r for r in rows if (r["steps"] or 1) == fewest]

@@ -17,8 +17,10 @@ from petsc4py import PETSc
 
 from .compat import bc_dofs, petsc_vec
 from .contact import ContactSurface
-from .laws import ContactLaw, Coulomb, Exact, LagrangeMultiplier, NitscheLaw
+from .laws import ContactLaw
 from .obstacles import HalfPlane, Obstacle
+
+__all__ = ["BoundContact"]
 
 _BIG = 1e300  # "no bound" (PETSc's VI treats |bound| >= 1e20 as infinite)
 
@@ -76,32 +78,3 @@ class BoundContact(ContactSurface):
         self._p.x.array[:] = 0.0
         self._p.x.array[self._dofs[free]] = self.sign * r[idx[free]] / self._weight[free]
         self._p.x.scatter_forward()
-
-
-def contact_surface(u, facet_tags, tag, obstacle, law, load, quadrature="nodal", name="contact",
-                    linearized=False, material=None) -> ContactSurface:
-    """The contact surface a law needs: a :class:`ContactSurface` for a law, a
-    :class:`~fenics_contact.friction.FrictionalContact` for a law with friction, a :class:`BoundContact`
-    for method ``vi``, a :class:`~fenics_contact.multipliers.MultiplierContact` for method ``lagrange``
-    (``u`` then the mixed unknown of :func:`~fenics_contact.multipliers.unknown`), or a
-    :class:`~fenics_contact.condensed.CondensedContact` for method ``coulomb`` (whose gap is linearized
-    by construction), or a :class:`~fenics_contact.nitsche.NitscheContact` for method ``nitsche`` (which
-    needs the bulk ``material``). ``linearized``: the small-displacement gap (see :class:`ContactSurface`)."""
-    if isinstance(law, NitscheLaw):
-        from .nitsche import NitscheContact
-
-        return NitscheContact(u, facet_tags, tag, obstacle, law, load, quadrature, name, material=material)
-    if isinstance(law, Coulomb):
-        from .condensed import CondensedContact  # imports this module
-
-        return CondensedContact(u, facet_tags, tag, obstacle, law, load, quadrature, name)
-    if isinstance(law, LagrangeMultiplier):
-        if linearized:
-            raise ValueError("method 'lagrange' enforces the current gap: linearized=True is not available")
-        from .multipliers import MultiplierContact  # multipliers imports contact, as this module does
-
-        return MultiplierContact(u, facet_tags, tag, obstacle, law, load, quadrature, name)
-    from .friction import Friction, FrictionalContact
-
-    cls = BoundContact if isinstance(law, Exact) else FrictionalContact if isinstance(law, Friction) else ContactSurface
-    return cls(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized)

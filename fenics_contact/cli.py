@@ -17,6 +17,8 @@ from .contact import QUADRATURES
 from .laws import METHODS, ContactLaw, make_law
 from .solver import LINEAR_SOLVERS
 
+__all__ = ["parser", "parse", "has_friction", "law_from_args", "method_parameters", "solver_options"]
+
 
 def parser(description: str, default_K: float, quadratures: Sequence[str] = QUADRATURES) -> argparse.ArgumentParser:
     """The shared options; ``quadratures``: the accepted ``--quadrature`` values (two-body scenes add ``segment``)."""

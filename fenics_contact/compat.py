@@ -14,6 +14,11 @@ from dolfinx import fem
 if typing.TYPE_CHECKING:
     from petsc4py import PETSc
 
+__all__ = [
+    "function_space", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "interpolate_expression", "cell_sizes",
+    "entities_to_geometry", "cell_partitioner", "model_to_mesh", "create_mesh"
+]
+
 
 def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None = None):
     """Lagrange-type space; ``shape=(gdim,)`` for a vector space."""

@@ -52,8 +52,13 @@ from petsc4py import PETSc
 from .bounds import BoundContact
 from .compat import bc_dofs, petsc_vec
 from .laws import ContactLaw
-from .materials import LinearElastic
 from .obstacles import HalfPlane, Obstacle
+from .surface import StepSolver
+
+__all__ = [
+    "OPEN", "SLIP", "STICK", "P_TOL", "T_TOL", "CHUNK", "classify", "StepFailure", "CondensedContact",
+    "CondensedCoulomb", "step_solver_for"
+]
 
 OPEN, SLIP, STICK = 0, 1, 2
 # State of a vertex from its values: open if p <= P_TOL * max p; at the Coulomb bound (slip) if
@@ -76,19 +81,16 @@ class StepFailure(RuntimeError):
 
 
 class CondensedContact(BoundContact):
-    """Signorini contact with Coulomb friction, solved exactly on the condensed system (see the module).
-
-    Plugs into :class:`fenics_contact.solver.Solver` by ``solves_step``: the solver
-    calls :meth:`solve_step` instead of SNES. Pressure and tangential traction
-    are the nodal contact forces over the vertex weights ``int phi_i ds``.
-    """
+    """The contact surface of method ``coulomb``: contact vertices, their weights ``int phi_i ds``, the output
+    fields (pressure, tangential traction) and figures. It has no residual term and no bounds: its load steps
+    are solved by a :class:`CondensedCoulomb` given to the problem (``requires_step_solver``), which writes
+    the nodal contact forces over the vertex weights back here (:meth:`set_solution`)."""
 
     bounded = False
-    solves_step = True
+    requires_step_solver = True
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
-                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact",
-                 max_it: int = 50, tol: float = 1e-11):
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
         if not isinstance(obstacle, HalfPlane) or np.count_nonzero(obstacle.n) != 1:
             raise ValueError("method 'coulomb' needs a flat rigid obstacle (a half-plane with an axis-aligned "
                              f"normal): it uses the linearized normal; got {type(obstacle).__name__}")
@@ -98,22 +100,76 @@ class CondensedContact(BoundContact):
             raise ValueError("method 'coulomb' is implemented in 2D only (one tangential direction)")
         super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name)
         self.mu = float(law.mu)
+        self.kt = 1 - self.k  # the tangential component
+        _, parent_t = u.function_space.sub(self.kt).collapse()
+        self._parent_t = np.asarray(parent_t, dtype=np.int32)
+        self.traction_out = fem.Function(self._Vk, name="tangential_traction")
+        self._solution = None  # (vx, w, pn, pt, gap) of the last step, from set_solution
+
+    def after_solve(self, problem) -> None:
+        """Nothing: the pressure is the step solver's (:meth:`set_solution`), not the nodal reaction."""
+
+    def set_solution(self, vx: np.ndarray, w: np.ndarray, pn: np.ndarray, pt: np.ndarray, gap: np.ndarray,
+                     mine: list[tuple[int, int]]) -> None:
+        """The contact vertices' positions ``vx``, weights ``w``, pressure ``pn``, tangential traction ``pt`` and gap
+        (all vertices, the same on every rank) of a solved step; ``mine``: (vertex, local dof) of this rank's."""
+        self._solution = (vx, w, pn, pt, gap)
+        self._p.x.array[:] = 0.0
+        self.traction_out.x.array[:] = 0.0
+        for i, dof in mine:
+            self._p.x.array[dof] = pn[i]
+            self.traction_out.x.array[dof] = pt[i]
+        self._p.x.scatter_forward()
+        self.traction_out.x.scatter_forward()
+
+    # --- figures --------------------------------------------------------------
+    def friction_profile(self) -> dict:
+        """Base vertices sorted by position (identical on every rank): ``x`` (n, 2), ``gap`` (> 0
+        penetration), ``pressure`` (> 0 compression), ``traction`` (tangential, along +x), ``state``
+        (0 open, 1 slip, 2 stick, by :func:`classify`)."""
+        if self._solution is None:
+            raise RuntimeError("no step has been solved yet")
+        vx, _, pn, pt, gap = self._solution
+        return {"x": vx.copy(), "gap": gap.copy(), "pressure": pn.copy(), "traction": pt.copy(),
+                "state": classify(pn, pt, self.mu)}
+
+    def contact_force(self) -> np.ndarray:
+        """Total force of the obstacle on the body (sum of the nodal contact forces), by component."""
+        _, w, pn, pt, _ = self._solution
+        f = np.zeros(2)
+        f[self.k] = self.sign * float(np.sum(pn * w))
+        f[self.kt] = float(np.sum(pt * w))
+        return f
+
+
+class CondensedCoulomb(StepSolver):
+    """Signorini contact with Coulomb friction of ``contact``, solved exactly on the condensed system (see the
+    module): the problem's step solver (``ContactProblem(..., step_solver=CondensedCoulomb(contact))``).
+    ``max_it`` semismooth Newton iterations at most per try, converged at the relative residual ``tol``."""
+
+    def __init__(self, contact: CondensedContact, max_it: int = 50, tol: float = 1e-11):
+        if not isinstance(contact, CondensedContact):
+            raise ValueError(f"contact must be the CondensedContact of method 'coulomb', got {type(contact).__name__}")
+        if int(max_it) < 1 or not (np.isfinite(tol) and tol > 0):
+            raise ValueError(f"max_it must be >= 1 and tol a finite number > 0, got {max_it!r}, {tol!r}")
+        self.contact = contact
+        c = contact  # its geometry: normal component k (sign), tangential kt, vertex dofs and weights
+        self.k, self.kt, self.sign, self.obstacle, self.comm = c.k, c.kt, c.sign, c.obstacle, c.comm
+        self._Vk, self._dofs, self._parent, self._parent_t, self._weight = (c._Vk, c._dofs, c._parent, c._parent_t,
+                                                                             c._weight)
+        self.mu = contact.mu
         self.max_it, self.tol = int(max_it), float(tol)
         # Alart-Curnier's c = c_scale * (mean diagonal of S); a failed iteration is retried with c / 10 and
         # c / 100 (a safeguard). Measured on the slab from the zero start (mu 0.4 - 5): c_scale from 1e-3 to
         # 1e2 gives the same iterations (6-8) and the same solution to 1e-14: active contacts get d = 0 and
         # sticking vertices s = 0 exactly after one step, so c hardly enters the active-set decisions.
         self.c_scale, self.retries = 1.0, 2
-        self.kt = 1 - self.k  # the tangential component
-        _, parent_t = u.function_space.sub(self.kt).collapse()
-        self._parent_t = np.asarray(parent_t, dtype=np.int32)
-        self.traction_out = fem.Function(self._Vk, name="tangential_traction")
         self._ready = False
         self.timings = {"condense_s": 0.0, "contact_newton_s": 0.0, "recover_s": 0.0}
 
     # --- set-up: the condensed system ----------------------------------------
     def _condense(self, problem) -> None:
-        if not isinstance(problem.material, LinearElastic):
+        if not problem.material.linear:
             raise ValueError("method 'coulomb' needs linear elasticity (a constant stiffness to condense), "
                              f"got material {type(problem.material).__name__}")
         start = time.perf_counter()
@@ -125,12 +181,12 @@ class CondensedContact(BoundContact):
         # K (no boundary conditions) and the external load f at t = 1 (-F at u = 0).
         problem.u.x.array[:] = 0.0
         problem.load.value = 1.0
-        self._A = fem_petsc.assemble_matrix(problem.J)
+        self._A = fem_petsc.assemble_matrix(problem.a)
         self._A.assemble()
-        self._f = fem_petsc.create_vector(problem.F)
+        self._f = fem_petsc.create_vector(problem.L)
         with self._f.localForm() as fl:
             fl.set(0.0)
-        fem_petsc.assemble_vector(self._f, problem.F)
+        fem_petsc.assemble_vector(self._f, problem.L)
         self._f.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         self._f.scale(-1.0)
         problem.u.x.array[:] = u_save
@@ -355,24 +411,15 @@ class CondensedContact(BoundContact):
     def _set_output(self, uc: np.ndarray, t: float) -> None:
         nv = len(self._gn)
         R = self.S @ uc + t * self.r0
-        self._pn = self.sign * R[:nv] / self._w
-        self._pt = np.zeros(nv)
-        self._pt[self._it] = R[self._tpos] / self._w[self._it]
-        self._gap = -(self._d0 + t * self._dmotion + self.sign * uc[:nv])
-        self._p.x.array[:] = 0.0
-        self.traction_out.x.array[:] = 0.0
-        for i, dof in self._mine:
-            self._p.x.array[dof] = self._pn[i]
-            self.traction_out.x.array[dof] = self._pt[i]
-        self._p.x.scatter_forward()
-        self.traction_out.x.scatter_forward()
+        pn = self.sign * R[:nv] / self._w
+        pt = np.zeros(nv)
+        pt[self._it] = R[self._tpos] / self._w[self._it]
+        gap = -(self._d0 + t * self._dmotion + self.sign * uc[:nv])
+        self.contact.set_solution(self._vx, self._w, pn, pt, gap, self._mine)
 
-    # --- solver hooks -----------------------------------------------------------
-    def after_solve(self, problem) -> None:
-        """The converged step becomes the reference of the next step's slip increments."""
-        self.commit()
-
+    # --- step-solver hooks ------------------------------------------------------
     def commit(self) -> None:
+        """The converged step becomes the reference of the next step's slip increments."""
         if self._ready:
             self._ref = self._uc[self._tpos].copy()
 
@@ -385,20 +432,12 @@ class CondensedContact(BoundContact):
         if state:
             self._uc, self._ref = state["uc"].copy(), state["ref"].copy()
 
-    # --- figures --------------------------------------------------------------
-    def friction_profile(self) -> dict:
-        """Base vertices sorted by position (identical on every rank): ``x`` (n, 2), ``gap`` (> 0
-        penetration), ``pressure`` (> 0 compression), ``traction`` (tangential, along +x), ``state``
-        (0 open, 1 slip, 2 stick, by :func:`classify`)."""
-        if not self._ready:
-            raise RuntimeError("no step has been solved yet")
-        return {"x": self._vx.copy(), "gap": self._gap.copy(), "pressure": self._pn.copy(),
-                "traction": self._pt.copy(), "state": classify(self._pn, self._pt, self.mu)}
 
-    def contact_force(self) -> np.ndarray:
-        """Total force of the obstacle on the body (sum of the nodal contact forces), by component."""
-        f = np.zeros(2)
-        f[self.k] = self.sign * float(np.sum(self._pn * self._w))
-        f[self.kt] = float(np.sum(self._pt * self._w))
-        return f
-
+def step_solver_for(contacts) -> CondensedCoulomb | None:
+    """The step solver ``contacts`` need: a :class:`CondensedCoulomb` for the one that requires it (method
+    ``coulomb``), or None when none does."""
+    need = [c for c in contacts if c.requires_step_solver]
+    if len(need) > 1:
+        raise ValueError(f"method 'coulomb' condenses one contact surface, got {len(need)}: "
+                         f"{', '.join(c.name for c in need)}")
+    return CondensedCoulomb(need[0]) if need else None

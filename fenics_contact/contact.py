@@ -18,11 +18,15 @@ from petsc4py import PETSc
 from .compat import entities_to_geometry, function_space, petsc_vec
 from .domain import tag_value
 from .laws import ContactLaw, ufl_ops
-from .meshes import check_tags
+from .meshes.rectangle import check_tags
 from .obstacles import Obstacle
 from .projection import SurfaceProjector
+from .surface import Surface
+
+__all__ = ["QUADRATURES", "contact_measure", "is_mixed", "displacement", "check_facet_tag", "ContactSurface"]
 
 QUADRATURES = ("nodal", "gauss", "simpson")
+PRESSURE_KINDS = ("nominal", "cauchy")  # per reference area, per current area
 
 # Reference-facet vertex rules (trapezoid and its 2D analogues) by facet cell name.
 _VERTEX_RULES = {
@@ -81,7 +85,7 @@ def check_facet_tag(mesh, facet_tags, tag: int | str, name: str) -> np.ndarray:
     return facet_tags.indices[facet_tags.values == tag]
 
 
-class ContactSurface:
+class ContactSurface(Surface):
     """Contact of the tagged boundary ``tag`` of the body with displacement ``u`` against ``obstacle``.
 
     The current position is ``x = X + u`` (also for linear elasticity, so a
@@ -93,8 +97,7 @@ class ContactSurface:
     or a mixed (displacement, pressure) Function (:mod:`multipliers`).
     """
 
-    bcs: tuple = ()  # Dirichlet conditions the surface adds to the problem (multipliers: p = 0 off the surface)
-    solver_options: dict = {}  # PETSc defaults the formulation needs (options given by the user still win)
+    material = None  # the bulk material next to the surface (bind_material): its da/dA gives the Cauchy pressure
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
@@ -148,34 +151,11 @@ class ContactSurface:
     def _pressure(self) -> ufl.core.expr.Expr:
         return self.law.force(self.gap, self.params, ufl_ops())
 
-    # --- hooks of the solver (used by exact enforcement, see :mod:`bounds`) ----
-    bounded = False  # True: the surface is enforced by variable bounds (SNES VI), not by a law
-
-    def bounds(self, t: float, like):
-        """Variable bounds ``(lower, upper)`` on the unknowns at load ``t``, or None (a law, no bounds)."""
-        return None
-
-    def after_solve(self, problem) -> None:
-        """Called after every converged Newton solve."""
-
-    def commit(self) -> None:
-        """Called once a load step is accepted: advance history variables (friction); no-op here."""
-
-    solves_step = False  # True: the surface solves a whole load step itself (:meth:`solve_step`), no SNES
-
-    def solve_step(self, problem) -> tuple[int, list[float], str]:
-        """Solve the load step at ``problem.load``: ``(reason as SNES's, residual history, failure message)``."""
-        raise NotImplementedError
-    def prepare(self, problem) -> None:
-        """Called before every residual evaluation, with ``u`` set (two-body contact re-pairs here)."""
-
-    def add_residual(self, b) -> None:
-        """Add terms that are not in the problem's forms to the assembled residual (owned entries)."""
-
-    def add_jacobian(self, A, bcs) -> bool:
-        """Add blocks that are not in the problem's forms to the assembled Jacobian ``A`` (Dirichlet rows and
-        columns left zero); True if ``A``'s nonzero pattern changed."""
-        return False
+    # --- hooks of the solver (see :class:`~fenics_contact.surface.Surface`) ------------
+    @property
+    def augmentable(self) -> bool:
+        """The law's: True when it has augmentable fields (augmented Lagrangian, Uzawa)."""
+        return self.law.augmentable
 
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:
@@ -234,9 +214,36 @@ class ContactSurface:
         self.projector.project(self._gap_rhs, self._gap_status)
         return self._gap_status.x.array[self.projector.surface_dofs] > 0.0
 
+    # --- pressures: nominal (per reference area) and Cauchy (per current area) ---------------------------
+    def bind_material(self, material) -> None:
+        """The bulk material next to the surface (:class:`~fenics_contact.problem.ContactProblem` binds its
+        own unless the surface has one): its area ratio ``da/dA`` turns nominal pressures into Cauchy ones."""
+        if self.material is None:
+            self.material = material
+
+    def _check_kind(self, kind: str) -> None:
+        if kind not in PRESSURE_KINDS:
+            raise ValueError(f"pressure kind must be one of {PRESSURE_KINDS}, got {kind!r}")
+        if kind == "cauchy" and self.material is None:
+            raise ValueError(f"{self.name}: the Cauchy pressure needs the bulk material (bind_material, or build "
+                             "the ContactProblem first)")
+
+    def area_ratio(self) -> ufl.core.expr.Expr:
+        """``da/dA`` on the surface (Nanson, ``J |F^-T N|``; 1 for a small-strain material)."""
+        N = ufl.FacetNormal(self.u.function_space.mesh)
+        return self.material.area_ratio(displacement(self.u), N)
+
+    def _cauchy_forms(self) -> None:
+        if not hasattr(self, "_current_area_form"):
+            ratio = self.area_ratio()
+            self._current_area_form = fem.form(ratio * self.ds)
+            self.pressure_cauchy_out = fem.Function(self.pressure_out.function_space, name="contact_pressure_cauchy")
+            self._cauchy_rhs = self._out.compile(self.pressure / ratio)
+
     def point_forces(self) -> tuple[np.ndarray, np.ndarray]:
         """Coordinates and nodal contact forces ``F(g_i) int phi_i ds`` (per unit thickness in 2D) of this
-        rank's contact vertices at the current ``u`` (nodal quadrature only, where they are exact)."""
+        rank's contact vertices at the current ``u`` (nodal quadrature only, where they are exact): the
+        nominal pressure times the vertex's reference area, a force (no kind)."""
         if self.quadrature != "nodal":
             raise ValueError("point_forces needs quadrature 'nodal' (one contact point per vertex)")
         if not hasattr(self, "_weights"):
@@ -260,14 +267,22 @@ class ContactSurface:
         for rhs, f in self._out_rhs:
             self._out.project(rhs, f)
 
-    def surface_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Coordinates, gap and pressure at the contact-surface vertices, gathered on every rank."""
+    def surface_values(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Reference coordinates, gap and pressure at the contact-surface vertices, gathered on every rank.
+        ``kind``: ``nominal`` (per reference area, default) or ``cauchy`` (per current area: nominal
+        ``/ (da/dA)``; the same in small strain)."""
+        self._check_kind(kind)
         self.update_output()
+        pressure = self.pressure_out
+        if kind == "cauchy":
+            self._cauchy_forms()
+            self._out.project(self._cauchy_rhs, self.pressure_cauchy_out)
+            pressure = self.pressure_cauchy_out
         V = self.gap_out.function_space
         dofs = self._out.surface_dofs
         x = V.tabulate_dof_coordinates()[dofs]
         data = [np.concatenate(a) for a in zip(*self.comm.allgather(
-            (x, self.gap_out.x.array[dofs], self.pressure_out.x.array[dofs])))]
+            (x, self.gap_out.x.array[dofs], pressure.x.array[dofs])))]
         order = np.lexsort(data[0].T[::-1])
         return data[0][order], data[1][order], data[2][order]
 
@@ -313,8 +328,16 @@ class ContactSurface:
         """Largest gap over the contact vertices (positive = penetration, negative = open)."""
         return float(np.max(self.surface_values()[1]))
 
-    def area(self) -> float:
-        return self.comm.allreduce(fem.assemble_scalar(self._area_form), op=MPI.SUM)
+    def area(self, kind: str = "nominal") -> float:
+        """Area (length in 2D) of the contact surface: reference (``nominal``) or current (``cauchy``)."""
+        self._check_kind(kind)
+        if kind == "cauchy":
+            self._cauchy_forms()
+        form = self._current_area_form if kind == "cauchy" else self._area_form
+        return self.comm.allreduce(fem.assemble_scalar(form), op=MPI.SUM)
 
-    def mean_pressure(self) -> float:
-        return self.comm.allreduce(fem.assemble_scalar(self._mean_p_form), op=MPI.SUM) / self.area()
+    def mean_pressure(self, kind: str = "nominal") -> float:
+        """Mean contact pressure over the surface: ``nominal`` (default), ``int p dA / A``, the force per
+        reference area, or ``cauchy``, ``int p dA / a``, the force per current area ``a = int (da/dA) dA``
+        (the same in small strain)."""
+        return self.comm.allreduce(fem.assemble_scalar(self._mean_p_form), op=MPI.SUM) / self.area(kind)

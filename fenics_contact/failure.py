@@ -28,6 +28,9 @@ in this order of precedence:
     (at least 6 iterations).
 ``max_iterations``
     none of the above: still converging, too slowly for the iteration limit.
+``inverted_elements``
+    (set by the solver, not by :func:`classify`) Newton converged, but to a finite-strain state with
+    ``det F <= 0`` somewhere (:meth:`ContactProblem.min_jacobian`): not an answer; the step is cut back.
 
 PETSc's own divergence test (``DIVERGED_DTOL`` when the residual exceeds 1e4 x the first) is replaced
 in the solver by one that also asks for growth in the last two iterations: a penalty-like law's first
@@ -45,8 +48,13 @@ from typing import Hashable, Sequence
 import numpy as np
 from mpi4py import MPI
 
+__all__ = [
+    "ILL_CONDITIONED", "KINDS", "fingerprint", "find_cycle", "condition_estimate", "classify", "stalled", "reason_name"
+]
+
 ILL_CONDITIONED = 1e12  # condition estimate above which a failed solve is blamed on the Jacobian
-KINDS = ("linear_solve", "ill_conditioning", "divergence", "cycling", "stagnation", "max_iterations")
+KINDS = ("linear_solve", "ill_conditioning", "divergence", "cycling", "stagnation", "max_iterations",
+         "inverted_elements")
 
 # KSP reasons that mean a singular or numerically unusable operator (PETSc KSPConvergedReason).
 _ILL_CONDITIONED_KSP = {"DIVERGED_PC_FAILED", "DIVERGED_PCSETUP_FAILED", "DIVERGED_NANORINF", "DIVERGED_BREAKDOWN",

@@ -35,6 +35,8 @@ from .compat import function_space, interpolate_expression
 from .contact import ContactSurface
 from .laws import NUMPY, ContactLaw, Coulomb, Exact, NormalCompliance, _check_exponent, ufl_ops
 
+__all__ = ["OPEN", "SLIP", "STICK", "friction_ops", "Friction", "FrictionalContact"]
+
 OPEN, SLIP, STICK = 0, 1, 2
 _TINY = 1e-300  # |q| = sqrt(q.q + tiny): finite derivative at q = 0 (the stick branch never uses it)
 
@@ -183,7 +185,7 @@ class FrictionalContact(ContactSurface):
         r = ufl.SpatialCoordinate(mesh) + u - obstacle.origin()
         args = (self.gap, ufl.as_vector(self.q_old), r - ufl.as_vector(self.r_old), self.normal, self.params, ufl_ops())
         self.traction = law.traction(*args)
-        self._slip_state = law.slip_state(*args)
+        self.slip_state_expr = law.slip_state(*args)  # UFL: 0 open, 1 slip, 2 stick at the current u
         self._dissipation_form = fem.form(law.dissipation(*args) * self.ds)
         self._tangential_forms = [fem.form(self.traction[i] * self.ds) for i in range(gdim)]
         self._capacity_form = fem.form(law.bound(self.gap, self.params, ufl_ops()) * self.ds)
@@ -193,8 +195,8 @@ class FrictionalContact(ContactSurface):
         near = lambda v: ufl.conditional(ufl.lt(abs(self.slip_state - v), 0.5), 1.0, 0.0)  # noqa: E731
         self._state_area_forms = {k: fem.form(near(v) * self.ds)
                                   for k, v in (("open", OPEN), ("slip", SLIP), ("stick", STICK))}
-        self._history = [self.slip_state, *self.q_old, *self.r_old]
-        self._history_rhs = [self.projector.compile(e) for e in [self._slip_state, *self.traction, *r]]
+        self.history = [self.slip_state, *self.q_old, *self.r_old]  # what commit advances and restore resets
+        self._history_rhs = [self.projector.compile(e) for e in [self.slip_state_expr, *self.traction, *r]]
         self._load = load
         self._r_prev = None
         self.dissipated, self.log = 0.0, []
@@ -245,19 +247,19 @@ class FrictionalContact(ContactSurface):
         and ``r_old``."""
         self.dissipated += self.comm.allreduce(fem.assemble_scalar(self._dissipation_form), op=MPI.SUM)
         new = [self.projector.project(rhs, fem.Function(self.S)) for rhs in self._history_rhs]
-        for f, n in zip(self._history, new):
+        for f, n in zip(self.history, new):
             f.x.array[:] = n.x.array
         self.log.append({"load": float(self._load.value), "normal_force": self.total_force().tolist(),
                          "tangential_force": self.tangential_force().tolist(), "capacity": self.capacity(),
                          "dissipated": self.dissipated, **self.state_areas()})
 
     def state(self) -> dict:
-        return {**super().state(), "history": [f.x.array.copy() for f in self._history],
+        return {**super().state(), "history": [f.x.array.copy() for f in self.history],
                 "dissipated": self.dissipated}
 
     def restore(self, state: dict) -> None:
         super().restore(state)
-        for f, a in zip(self._history, state["history"]):
+        for f, a in zip(self.history, state["history"]):
             f.x.array[:] = a
         self.dissipated = state["dissipated"]
 

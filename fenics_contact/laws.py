@@ -21,6 +21,11 @@ from typing import Any, Mapping
 
 import numpy as np
 
+__all__ = [
+    "NUMPY", "ufl_ops", "ContactLaw", "Penalty", "AugmentedLagrangian", "CrossConstraints", "NormalCompliance",
+    "Exact", "Coulomb", "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw", "METHODS", "make_law"
+]
+
 NUMPY = types.SimpleNamespace(exp=np.exp, max=np.maximum, min=np.minimum)
 
 

@@ -76,6 +76,11 @@ from petsc4py import PETSc
 from .search import STRETCH_LIMIT, closest_point_on_facets, facet_normals, facet_pairs, project, stretch
 from .twobody import TwoBodySurface
 
+__all__ = [
+    "SEGMENT_RULE", "Dual", "dual_max", "dual_min", "dual_exp", "dual_sqrt", "DUAL_OPS", "segment_element",
+    "clip_polygons", "polygon_area", "triangle_element", "overlap", "pair_segments", "pair_triangles", "SegmentSurface"
+]
+
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
 SEGMENT_RULE = (np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)]), np.array([0.5, 0.5]))
 
@@ -548,6 +553,11 @@ class SegmentSurface(TwoBodySurface):
         self._xm = xm
         return changed or seg_changed
 
+    def pairing(self) -> np.ndarray:
+        """The point pairs (:meth:`TwoBodySurface.pairing`) followed by the (slave facet, master facet) pairs of
+        the sub-segments, flattened."""
+        return np.concatenate([super().pairing(), self._segment_pairs.ravel()])
+
     def _elements(self, points: bool = False):
         """Element residuals, tangents and global dof indices (n, 8) of the current sub-segments."""
         f, m = self._segment_pairs[:, 0], self._segment_pairs[:, 1]
@@ -604,9 +614,13 @@ class SegmentSurface(TwoBodySurface):
         return {"X": X, "x": x, "weight": pts["weight"], "gap": pts["gap"], "pressure": pts["pressure"],
                 "normal": pts["normal"]}
 
-    def point_values(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Current position, gap and pressure at every sub-segment Gauss point, gathered on every rank and
-        sorted by reference position."""
+    def point_values(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Current position, gap and nominal pressure (per reference slave area) at every sub-segment Gauss
+        point, gathered on every rank and sorted by reference position. ``kind="cauchy"`` is refused here
+        (use the pointwise quadratures' :meth:`TwoBodySurface.point_values`)."""
+        if kind != "nominal":
+            raise ValueError(f"{self.name}: segment integration reports the nominal pressure only (kind "
+                             f"'nominal'), got kind {kind!r}; the pointwise quadratures give 'cauchy' too")
         p = self.segment_points()
         data = [np.concatenate(a) for a in zip(*self.comm.allgather((p["X"], p["x"], p["gap"], p["pressure"])))]
         order = np.lexsort(np.round(data[0], 12).T[::-1])

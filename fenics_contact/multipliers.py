@@ -77,6 +77,9 @@ from .compat import function_space, mixed_space
 from .contact import ContactSurface, contact_measure, is_mixed
 from .laws import ContactLaw, LagrangeMultiplier, ufl_ops
 from .obstacles import Obstacle
+from .twobody import TwoBodySurface
+
+__all__ = ["unknown", "PressureUnknown", "MultiplierContact", "TwoBodyMultiplier"]
 
 
 def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement") -> tuple[fem.Function, object]:
@@ -192,56 +195,32 @@ class MultiplierContact(PressureUnknown, ContactSurface):
         return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work + self._constraint(v)
 
 
-_TWO_BODY_CLASS: list = []
+class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
+    """Two-body contact (:class:`~fenics_contact.twobody.TwoBodySurface`) with the slave pressure in the mixed
+    unknown: nodal Signorini conditions of the slave vertices against the current master facets."""
 
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._pressure_setup(self.u, self.facets)
 
-def _two_body_multiplier_class():
-    """The two-body surface with its slave pressure in the mixed unknown (made once, on first use:
-    :mod:`twobody` imports :mod:`contact`, as this module does)."""
-    if _TWO_BODY_CLASS:
-        return _TWO_BODY_CLASS[0]
-    from .twobody import TwoBodySurface
+    def _pressure(self):
+        return ufl.split(self.u)[1]  # p = 0 where unpaired: the gap is then -open_gap (open)
 
-    class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
-        def __init__(self, *args, **kwargs):
-            super().__init__(*args, **kwargs)
-            self._pressure_setup(self.u, self.facets)
+    def residual(self, v):
+        """``weight int p dg/du[v] ds_work - int C(p, g)/c q ds``; the master part is ``add_residual``."""
+        return (self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
+                + self._constraint(v))
 
-        def _pressure(self):
-            return ufl.split(self.u)[1]  # p = 0 where unpaired: the gap is then -open_gap (open)
-
-        def residual(self, v):
-            """``weight int p dg/du[v] ds_work - int C(p, g)/c q ds``; the master part is ``add_residual``."""
-            return (self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
-                    + self._constraint(v))
-
-        def _point_pressure(self, g):
-            """The pressure unknown at the slave points: P1, so linear along a quadratic facet (the middle
-            node gets the mean of the ends)."""
-            sd, Wp = self.slave_data, self.u.function_space.sub(1)
-            loc = sd.vertex_local if self.quadratic else sd.local
-            dofs = np.array([Wp.dofmap.cell_dofs(c)[lo] for c, lo in zip(sd.cells, loc)],
-                            dtype=np.int32).reshape(-1, loc.shape[1])
-            if not len(dofs):
-                return np.zeros_like(g)
-            pv = self.u.x.array[dofs]
-            if self.quadratic:
-                return np.stack([pv[:, 0], 0.5 * (pv[:, 0] + pv[:, 1]), pv[:, 1]], axis=1)
-            return np.einsum("qk,fk->fq", self.B, pv)
-
-    _TWO_BODY_CLASS.append(TwoBodyMultiplier)
-    return TwoBodyMultiplier
-
-
-def two_body_multipliers(w: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: LagrangeMultiplier,
-                         load: fem.Constant, radius: float | None = None, name: str = "twobody",
-                         passes: str = "one", work_quadrature: str | None = None) -> list:
-    """Two-body contact with the slave pressure as an unknown: nodal Signorini conditions of the slave
-    vertices against the current master facets (:mod:`twobody`'s projection and coupling). ``passes="two"``:
-    each surface slave once (weight 1/2), a pressure on both surfaces. Quadratic displacements: the
-    constraint at the end nodes of each slave facet, the pressure P1 (linear along the facet) and its work
-    integrated with ``work_quadrature`` (``simpson``: the two-point element)."""
-    from .twobody import two_body_surfaces
-
-    return two_body_surfaces(w, facet_tags, slave_tag, master_tag, lambda: law,
-                             load, "nodal", passes, radius, name, work_quadrature, _two_body_multiplier_class())
+    def _point_pressure(self, g):
+        """The pressure unknown at the slave points: P1, so linear along a quadratic facet (the middle
+        node gets the mean of the ends)."""
+        sd, Wp = self.slave_data, self.u.function_space.sub(1)
+        loc = sd.vertex_local if self.quadratic else sd.local
+        dofs = np.array([Wp.dofmap.cell_dofs(c)[lo] for c, lo in zip(sd.cells, loc)],
+                        dtype=np.int32).reshape(-1, loc.shape[1])
+        if not len(dofs):
+            return np.zeros_like(g)
+        pv = self.u.x.array[dofs]
+        if self.quadratic:
+            return np.stack([pv[:, 0], 0.5 * (pv[:, 0] + pv[:, 1]), pv[:, 1]], axis=1)
+        return np.einsum("qk,fk->fq", self.B, pv)

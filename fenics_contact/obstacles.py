@@ -12,6 +12,8 @@ from typing import Sequence
 import numpy as np
 import ufl
 
+__all__ = ["Obstacle", "HalfPlane", "Ball", "Cylinder", "Sphere"]
+
 
 class Obstacle:
     """Base class. ``bind(load)`` must be called before ``gap``/``normal``."""

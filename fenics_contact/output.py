@@ -9,6 +9,8 @@ from typing import Sequence
 from dolfinx import fem, io
 from mpi4py import MPI
 
+__all__ = ["XDMFWriter", "write_summary"]
+
 
 class XDMFWriter:
     """Writes the mesh once and the given P1 functions at every call (time = load parameter)."""

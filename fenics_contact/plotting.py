@@ -17,6 +17,8 @@ import numpy as np
 if TYPE_CHECKING:
     from dolfinx.fem import Function, FunctionSpace
 
+__all__ = ["plot_deformed", "plot_profile", "STATE_COLOURS", "STATE_NAMES", "plot_contact_face", "plot_curves"]
+
 
 def _vtk_mesh(V: FunctionSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """VTK (topology, cell types, dof coordinates) of the owned cells of V."""

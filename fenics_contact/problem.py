@@ -15,10 +15,13 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .compat import petsc_vec
-from .contact import ContactSurface, displacement
+from .compat import function_space, interpolate_expression, lift_and_set_bc, petsc_vec
+from .contact import displacement
 from .domain import tag_value
-from .materials import Material
+from .materials import Material, Materials
+from .surface import StepSolver, Surface
+
+__all__ = ["Dirichlet", "ContactProblem"]
 
 
 @dataclass
@@ -58,29 +61,74 @@ class ContactProblem:
     """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
 
     ``u`` is the unknown: the displacement, or a mixed (displacement, pressure)
-    Function when a contact surface has its pressure as an unknown (:mod:`multipliers`).
+    Function when a contact surface has its pressure as an unknown (:mod:`multipliers`). ``contacts``: the
+    :class:`~fenics_contact.surface.Surface` objects; ``step_solver``: a
+    :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES (required by a
+    surface with ``requires_step_solver``, method ``coulomb``).
     """
 
-    def __init__(self, u: fem.Function, material: Material, load: fem.Constant,
-                 dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[ContactSurface] = (),
-                 tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = ()):
+    def __init__(self, u: fem.Function, material: Material | Materials, load: fem.Constant,
+                 dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[Surface] = (),
+                 tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = (),
+                 step_solver: StepSolver | None = None):
         self.u, self.material, self.load = u, material, load
         self.dirichlet, self.contacts = list(dirichlet), list(contacts)
+        need = [c.name for c in self.contacts if c.requires_step_solver]
+        if need and step_solver is None:
+            raise ValueError(f"contact {', '.join(need)} is solved by a step solver (method 'coulomb'): pass "
+                             "step_solver=CondensedCoulomb(contact) (or condensed.step_solver_for(contacts))")
+        self.step_solver = step_solver  # solves whole load steps instead of SNES (None: SNES)
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        bulk = ufl.derivative(material.energy(displacement(u)) * ufl.dx, u, v)
+        bulk = ufl.derivative(material.energy_form(displacement(u)), u, v)  # per body with Materials
         residual = bulk
         for t, ds in tractions:
             residual -= load * ufl.dot(t, displacement(v)) * ds
         for c in self.contacts:
+            c.bind_material(material)  # for the Cauchy pressure (da/dA)
             term = c.residual(v)
             if term is not None:  # exact enforcement adds bounds, not a term
                 residual += term
-        self.F = fem.form(residual)
-        self.J = fem.form(ufl.derivative(residual, u, du))
+        self.L = fem.form(residual)  # the residual form (dolfinx's NonlinearProblem.L)
+        self.a = fem.form(ufl.derivative(residual, u, du))  # its Jacobian form (NonlinearProblem.a)
         self._bulk = fem.form(bulk)
         self.comm = V.mesh.comm
+
+    def F(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
+        """The residual at ``x`` into ``b``, as dolfinx's ``NonlinearProblem.F``: sets ``u`` to ``x``, lets every
+        contact prepare (two-body contact re-pairs), assembles the forms, adds the contacts' terms outside the
+        forms, and sets the Dirichlet rows to ``x - g`` (lifting on the free rows)."""
+        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        x.copy(petsc_vec(self.u))
+        self.u.x.scatter_forward()
+        for c in self.contacts:  # e.g. two-body contact re-pairs at the current state
+            c.prepare(self)
+        with b.localForm() as bl:
+            bl.set(0.0)
+        fem_petsc.assemble_vector(b, self.L)
+        for c in self.contacts:  # coupling terms outside the forms (owned entries)
+            c.add_residual(b)
+        lift_and_set_bc(b, self.a, self.bcs, x, -1.0)
+
+    def J(self, x: PETSc.Vec, A: PETSc.Mat) -> bool:
+        """The Jacobian at ``x`` into ``A`` (Dirichlet rows and columns: identity), as dolfinx's
+        ``NonlinearProblem.J``: the state (``u``, contact pairing) is that of the last :meth:`F` at the same
+        ``x``, as in a Newton iteration. Returns True when a contact's coupling changed ``A``'s nonzero pattern
+        (a solver must then factor from scratch)."""
+        A.zeroEntries()
+        fem_petsc.assemble_matrix(A, self.a, bcs=self.bcs)
+        A.assemble()
+        # PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change: report it.
+        return any([c.add_jacobian(A, self.bcs) for c in self.contacts])
+
+    def create_vector(self) -> PETSc.Vec:
+        """A vector for :meth:`F` (the residual's layout)."""
+        return fem_petsc.create_vector(self.L)
+
+    def create_matrix(self) -> PETSc.Mat:
+        """A matrix for :meth:`J` (the Jacobian form's sparsity; contact couplings widen it when needed)."""
+        return fem_petsc.create_matrix(self.a)
 
     def set_load(self, t: float) -> None:
         """Load parameter ``t``: obstacles move by ``t * motion``, tractions scale by ``t``, Dirichlet values follow
@@ -88,6 +136,21 @@ class ContactProblem:
         self.load.value = t
         for d in self.dirichlet:
             d.value.value = d.at(t)
+
+    def min_jacobian(self) -> float | None:
+        """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the
+        vertices), over all ranks; None for a small-strain material (no such constraint). ``J <= 0``: an
+        inverted element, an inadmissible finite-strain state even if Newton converged to it."""
+        if self.material.linear:
+            return None
+        if not hasattr(self, "_detF"):
+            w = displacement(self.u)
+            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)),
+                          ufl.det(ufl.Identity(len(w)) + ufl.grad(w)))
+        f, expr = self._detF
+        interpolate_expression(f, expr)
+        local = f.x.array[: f.function_space.dofmap.index_map.size_local]
+        return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
 
     def internal_force(self) -> np.ndarray:
         """Internal forces ``dW[phi_i]`` at the current state, local array (owned and ghost dofs)."""

@@ -20,6 +20,8 @@ from petsc4py import PETSc
 
 from .compat import petsc_vec
 
+__all__ = ["SurfaceProjector"]
+
 
 class SurfaceProjector:
     """Projects expressions onto ``S`` at the quadrature points of ``ds``."""

@@ -14,6 +14,8 @@ from .output import XDMFWriter, write_summary
 from .scenes import Setup
 from .solver import ConvergenceError, Solver
 
+__all__ = ["run"]
+
 
 def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment_max: int = 0,
         augment_tol: float = 1e-12, quiet: bool = False, options: dict | None = None, max_cutbacks: int = 4,

@@ -17,14 +17,18 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
-import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import failure as _failure
-from .compat import lift_and_set_bc, petsc_vec
+from .compat import petsc_vec
 from .problem import ContactProblem
+
+__all__ = [
+    "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "LINEAR_SOLVERS", "rigid_body_modes",
+    "ConvergenceError", "StepRecord", "Solver"
+]
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
@@ -177,16 +181,16 @@ class Solver:
         wanted = {**defaults, **(options or {})}
         if wanted.get("pc_type") == "lu":  # a direct solve: a formulation may split off trivial blocks
             for c in problem.contacts:
-                wanted.update(getattr(c, "direct_solver_options", {}))
+                wanted.update(c.direct_solver_options)
         self._wanted, self._prefix = wanted, prefix
         u = problem.u
-        self._b = fem_petsc.create_vector(problem.F)
-        self._A = fem_petsc.create_matrix(problem.J)
+        self.b = problem.create_vector()  # the residual vector of the SNES (dolfinx_mpc style: public)
+        self.A = problem.create_matrix()  # the Jacobian matrix of the SNES
         self._x = petsc_vec(u).copy()
         self.snes = PETSc.SNES().create(problem.comm)
         self.snes.setOptionsPrefix(prefix)
-        self.snes.setFunction(self._residual, self._b)
-        self.snes.setJacobian(self._jacobian, self._A)
+        self.snes.setFunction(self._residual, self.b)
+        self.snes.setJacobian(self._jacobian, self.A)
         self.snes.setMonitor(self._monitor)
         with self._wanted_options():
             self.snes.setFromOptions()
@@ -196,7 +200,7 @@ class Solver:
                 self.snes.setConvergenceTest(self._convergence_test)
             self._split_fields()
             if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
-                self._A.setNearNullSpace(rigid_body_modes(u.function_space))
+                self.A.setNearNullSpace(rigid_body_modes(u.function_space))
         self.records: list[StepRecord] = []
         self.failures: list[dict] = []  # every failed solve, also those rescued by a cutback
         self._history: list[float] = []
@@ -217,25 +221,12 @@ class Solver:
 
     def _residual(self, snes, x, b):
         start = time.perf_counter()
-        self._set_u(x)
-        for c in self.problem.contacts:  # e.g. two-body contact re-pairs at the current state
-            c.prepare(self.problem)
-        with b.localForm() as bl:
-            bl.set(0.0)
-        fem_petsc.assemble_vector(b, self.problem.F)
-        for c in self.problem.contacts:  # coupling terms outside the forms (owned entries)
-            c.add_residual(b)
-        lift_and_set_bc(b, self.problem.J, self.problem.bcs, x, -1.0)
+        self.problem.F(x, b)
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _jacobian(self, snes, x, A, P):
         start = time.perf_counter()
-        A.zeroEntries()
-        fem_petsc.assemble_matrix(A, self.problem.J, bcs=self.problem.bcs)
-        A.assemble()
-        # Coupling blocks; a contact whose pairing changed widens A's pattern: factor from scratch then
-        # (PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change).
-        if any([c.add_jacobian(A, self.problem.bcs) for c in self.problem.contacts]):
+        if self.problem.J(x, A):  # a contact's pairing changed A's pattern: factor from scratch
             self.snes.getKSP().getPC().reset()
             self._split_fields()  # a reset field split has forgotten its index sets
         self.timings["assembly_s"] += time.perf_counter() - start
@@ -262,7 +253,7 @@ class Solver:
         if pc.getType() != "fieldsplit":
             return
         for c in self.problem.contacts:
-            fields = c.field_split() if hasattr(c, "field_split") else None
+            fields = c.field_split()
             if fields:
                 pc.setFieldSplitIS(*fields)
                 # The split's own KSPs exist now: they read their options (``fieldsplit_<name>_...``), which
@@ -323,10 +314,9 @@ class Solver:
     # --- driver -----------------------------------------------------------
     def _newton(self) -> int:
         self._history, self._message, self._sets, self._closed = [], "", [], []
-        own = [c for c in self.problem.contacts if getattr(c, "solves_step", False)]
-        if own:  # a surface that solves the whole step itself (condensed exact contact) replaces SNES
+        if self.problem.step_solver is not None:  # a strategy that solves the whole step (condensed exact contact)
             start = time.perf_counter()
-            reason, self._history, self._message = own[0].solve_step(self.problem)
+            reason, self._history, self._message = self.problem.step_solver.solve_step(self.problem)
             self.timings["snes_s"] += time.perf_counter() - start
             return reason
         petsc_vec(self.problem.u).copy(self._x)
@@ -346,13 +336,17 @@ class Solver:
             upper.pointwiseMin(upper, up)
         return lower, upper
 
+    def _stateful(self) -> list:
+        """The contacts and the step solver: everything with ``state``/``restore``/``commit``."""
+        return [*self.problem.contacts, *([self.problem.step_solver] if self.problem.step_solver else [])]
+
     def _snapshot(self):
-        return petsc_vec(self.problem.u).copy(), [c.state() for c in self.problem.contacts]
+        return petsc_vec(self.problem.u).copy(), [c.state() for c in self._stateful()]
 
     def _rollback(self, snap) -> None:
         snap[0].copy(petsc_vec(self.problem.u))
         self.problem.u.x.scatter_forward()
-        for c, s in zip(self.problem.contacts, snap[1]):
+        for c, s in zip(self._stateful(), snap[1]):
             c.restore(s)
 
     def _step(self, t: float, number: int) -> StepRecord:
@@ -363,7 +357,7 @@ class Solver:
         if self._bounded:
             lower, upper = self._bounds(t)
             self.snes.setVariableBounds(lower, upper)
-        augmentable = [c for c in self.problem.contacts if c.law.augmentable]
+        augmentable = [c for c in self.problem.contacts if c.augmentable]
         for c in augmentable:
             c.forget_gap()
         if self.predictor == "tangent" and not self._bounded and t != self.t:
@@ -389,6 +383,13 @@ class Solver:
             if rec.reason <= 0 or ill:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                **self._diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
+                break
+            J = self.problem.min_jacobian()  # finite strain: a converged state with an inverted element is no answer
+            if J is not None and not J > 0.0:
+                rec.message = f"converged to a state with an inverted element (min det F = {J:.3g})"
+                rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
+                               "kind": "inverted_elements", "iterations": max(len(self._history) - 1, 0),
+                               "min_jacobian": J, "message": rec.message}
                 break
             for c in self.problem.contacts:
                 c.after_solve(self.problem)
@@ -426,19 +427,19 @@ class Solver:
         start, assembly = time.perf_counter(), self.timings["assembly_s"]
         p, t0 = self.problem, self.t
         if not hasattr(self, "_work"):
-            self._work = [self._b.duplicate() for _ in range(4)]
+            self._work = [self.b.duplicate() for _ in range(4)]
         x, r0, r1, du = self._work
         petsc_vec(p.u).copy(x)
         p.set_load(t0)
         self._residual(self.snes, x, r0)
-        self._jacobian(self.snes, x, self._A, self._A)
+        self._jacobian(self.snes, x, self.A, self.A)
         eps = PREDICTOR_FD * abs(t - t0)
         p.set_load(t0 + eps)
         self._residual(self.snes, x, r1)
         r1.axpy(-1.0, r0)
         r1.scale(-(t - t0) / eps)
         ksp = self.snes.getKSP()
-        ksp.setOperators(self._A)
+        ksp.setOperators(self.A)
         ksp.solve(r1, du)
         p.set_load(t)
         if ksp.getConvergedReason() < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
@@ -480,14 +481,14 @@ class Solver:
         ksp_reason = _failure.reason_name(PETSc.KSP.ConvergedReason, ksp.getConvergedReason())
         condition = None
         if ksp_reason not in ("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED"):  # a failed factorization: no estimate
-            condition = _failure.condition_estimate(self._A, ksp)
+            condition = _failure.condition_estimate(self.A, ksp)
         return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
                                  self._history, self._sets, self._closed, condition)
 
     def condition_estimate(self) -> float | None:
         """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,
         else None). Collective."""
-        return _failure.condition_estimate(self._A, self.snes.getKSP())
+        return _failure.condition_estimate(self.A, self.snes.getKSP())
 
     def run(self, loads: Sequence[float]) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
@@ -500,8 +501,8 @@ class Solver:
                 snap = self._snapshot()
                 rec = self._step(t, len(self.records) + 1)
                 if rec.converged:
-                    for c in self.problem.contacts:
-                        c.commit()  # history (friction) advances only on accepted steps
+                    for c in self._stateful():
+                        c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
                     self.t = t
                     if self.predictor:
@@ -543,11 +544,11 @@ class Solver:
         with self._wanted_options(lambda k: k.startswith(("ksp_", "pc_", "mg_"))):
             ksp.setFromOptions()
             self._split_fields(ksp.getPC())
-        x = self._b.duplicate()
+        x = self.b.duplicate()
         start = time.perf_counter()
-        self._jacobian(self.snes, self._x, self._A, self._A)
-        ksp.setOperators(self._A)
-        ksp.solve(self._b, x)
+        self._jacobian(self.snes, self._x, self.A, self.A)
+        ksp.setOperators(self.A)
+        ksp.solve(self.b, x)
         elapsed = time.perf_counter() - start
         ksp.destroy()
         x.destroy()

@@ -8,6 +8,8 @@ import csv
 from pathlib import Path
 from typing import Sequence
 
+__all__ = ["METHOD_COLUMNS", "method_row", "write_table", "merge_method_tables", "residual_table"]
+
 METHOD_COLUMNS = ("scene", "method", "converged", "newton_iterations", "augmentations", "load_steps", "wall_time_s",
                   "failure", "ranks", "dofs")
 

@@ -104,6 +104,8 @@ from .search import (
     stretch,
 )
 
+__all__ = ["PASSES", "QUADRATURES", "FacetData", "ufl_normal", "MirrorObstacle", "TwoBodySurface"]
+
 PASSES = ("one", "two")
 QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
 
@@ -355,6 +357,7 @@ class TwoBodySurface(ContactSurface):
         self.radius = float(radius)
         self._bc_global = None  # set by bind_problem (and its sorted array _bc_array)
         self._bc_array = np.zeros(0, np.int64)
+        self._problem = None  # the problem bound by bind_problem
         self.I = None
         self._pairs = None
         self.exploded = False  # the last update met a master facet stretched past search.STRETCH_LIMIT
@@ -536,7 +539,7 @@ class TwoBodySurface(ContactSurface):
 
     def prepare(self, problem) -> None:
         """Before each residual evaluation (``u`` current): re-pair and refresh the mirror fields."""
-        if getattr(self, "_problem", None) is not problem:
+        if self._problem is not problem:
             self.bind_problem(problem)
         self.update()
 
@@ -598,15 +601,28 @@ class TwoBodySurface(ContactSurface):
         gg = np.where(np.isfinite(g), g, -self.radius)  # the UFL gap of an unpaired point
         return np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
 
-    def point_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def _point_area_ratio(self) -> np.ndarray:
+        """``da/dA`` of the slave surface at the slave points (nf, nq): the bound material's area ratio
+        (:meth:`ContactSurface.area_ratio`) projected on the surface space, as the law's fields."""
+        if not hasattr(self, "_ratio_rhs"):
+            self._ratio_rhs = self.projector.compile(self.area_ratio())
+            self._ratio = fem.Function(self.S)
+        self.projector.project(self._ratio_rhs, self._ratio)
+        return np.einsum("qk,fk->fq", self.B, self._ratio.x.array[self._sdofs])
+
+    def point_table(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Reference position, current position, gap and pressure at the slave points of the owned slave
         facets, gathered on every rank and sorted by reference position (a node shared by two facets once).
-        Unpaired points have gap ``-inf`` and pressure 0."""
+        Unpaired points have gap ``-inf`` and pressure 0. ``kind``: ``nominal`` (per reference slave area,
+        default) or ``cauchy`` (per current slave area: nominal ``/ (da/dA)``)."""
+        self._check_kind(kind)
         sd = self.slave_data
         X = np.einsum("qk,fkj->fqj", self.B, sd.X)
         x = self.slave_points()
         g = self.projection["gap"]
         p = self._point_pressure(g)
+        if kind == "cauchy":
+            p = p / self._point_area_ratio()
         own = sd.owned
         d = self.gdim
         data = [np.concatenate(a) for a in zip(*self.comm.allgather(
@@ -616,10 +632,11 @@ class TwoBodySurface(ContactSurface):
         order = first[np.lexsort(Xr[first].T[::-1])]
         return tuple(a[order] for a in data)
 
-    def point_values(self, reference: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Current position (``reference=True``: reference position), gap and pressure at the slave points
-        (:meth:`point_table` without the other position)."""
-        X, x, g, p = self.point_table()
+    def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
+                                                                                     np.ndarray]:
+        """Current position (``reference=True``: reference position), gap and pressure (``kind``: ``nominal``
+        or ``cauchy``) at the slave points (:meth:`point_table` without the other position)."""
+        X, x, g, p = self.point_table(kind)
         return (X if reference else x), g, p
 
     def reference_points(self) -> np.ndarray:
@@ -627,34 +644,7 @@ class TwoBodySurface(ContactSurface):
         X = np.einsum("qk,fkj->fqj", self.B, self.slave_data.X).reshape(-1, self.gdim)
         return np.concatenate(self.comm.allgather(X))
 
-
-def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory, load: fem.Constant,
-                      quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
-                      name: str = "twobody", work_quadrature: str | None = None, cls=None) -> list[TwoBodySurface]:
-    """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
-    ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
-    at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
-    2D and 3D, :mod:`mortar`). Two-pass, pointwise: a slave point of the second pass that coincides with one
-    of the first in the reference configuration is left out (node-on-node: one constraint per pair).
-    ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`)."""
-    if passes not in PASSES:
-        raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
-    if quadrature not in QUADRATURES + ("simpson",):
-        raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
-    if quadrature == "segment":
-        if cls is not None or work_quadrature is not None:
-            raise ValueError("quadrature 'segment' takes neither cls nor work_quadrature")
-        from .mortar import SegmentSurface
-
-        if passes == "one":
-            return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 1.0, radius, name)]
-        return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 0.5, radius, f"{name}_a"),
-                SegmentSurface(u, facet_tags, tag_b, tag_a, law_factory(), load, 0.5, radius, f"{name}_b")]
-    cls = cls or TwoBodySurface
-    kw = {"work_quadrature": work_quadrature}
-    if passes == "one":
-        return [cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name, **kw)]
-    a = cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a", **kw)
-    b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b",
-            exclude=a.reference_points(), **kw)
-    return [a, b]
+    def pairing(self) -> np.ndarray:
+        """The pairing the residual depends on (a copy, this rank's): the master facet of each local slave
+        point (-1: none), flattened."""
+        return self._pairs.ravel().copy()

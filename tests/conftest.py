@@ -22,19 +22,20 @@ def tangent_check():
     ``x`` (PETSc vectors), asserting that ``pairing(contact)`` of every contact is the same at ``x +- eps d``
     as at ``x`` (a pairing change is a discrete event, not part of the derivative)."""
     def check(solver, x, d, eps, pairing):
-        contacts = solver.problem.contacts
+        problem = solver.problem
+        contacts = problem.contacts
         b = x.duplicate()
-        solver._residual(None, x, b)
+        problem.F(x, b)
         before = [pairing(c) for c in contacts]
-        solver._jacobian(None, x, solver._A, solver._A)
+        problem.J(x, solver.A)
         Jd = x.duplicate()
-        solver._A.mult(d, Jd)
+        solver.A.mult(d, Jd)
         r = []
         for s in (1.0, -1.0):
             xs = x.copy()
             xs.axpy(s * eps, d)
             bs = x.duplicate()
-            solver._residual(None, xs, bs)
+            problem.F(xs, bs)
             r.append(bs)
             assert all(np.array_equal(p, pairing(c)) for p, c in zip(before, contacts))
         fd = r[0].copy()
@@ -50,3 +51,22 @@ def pytest_configure(config):
     comm = MPI.COMM_WORLD
     if comm.size > 1 and config.option.basetemp is None:
         config.option.basetemp = os.path.join(tempfile.gettempdir(), f"pytest-fc-rank{comm.rank}-of-{comm.size}")
+
+
+@pytest.fixture(autouse=True)
+def _petsc_options_unchanged():
+    """No test may leave options in PETSc's database: a later solver with the same prefix would read them (a
+    divergence tolerance, a line search, a linear solver left by one test changed another's answer)."""
+    from petsc4py import PETSc
+
+    opts = PETSc.Options()
+    before = opts.getAll()
+    yield
+    after = opts.getAll()
+    leaked = {k: v for k, v in after.items() if before.get(k) != v}
+    for k in leaked:
+        opts.delValue(k)
+    for k, v in before.items():
+        if k not in after:
+            opts.setValue(k, v)
+    assert not leaked, f"options left in PETSc's database: {leaked}"

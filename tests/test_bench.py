@@ -53,10 +53,10 @@ def test_scene_specs_and_commands(tmp_path):
         assert {r["method"] for r in runs} == set(bench.spec(scene)["methods"])
         exact = [m for m in bench.PARAMETERLESS if m in bench.spec(scene)["methods"]]  # once per mesh
         assert sum(r["method"] in exact for r in runs) == len(exact) * len({r["refinement"] for r in runs})
-    nitsche = bench.command("hertz", bench._run("nitsche", 30.0, refinement=1, steps=4), tmp_path)
+    nitsche = bench.command("hertz", bench.run_config("nitsche", 30.0, refinement=1, steps=4), tmp_path)
     assert nitsche[nitsche.index("--gamma0") + 1] == "30.0" and "--K" not in nitsche
     assert nitsche[-4:] == ["--refinement", "1", "--steps", "4"]
-    vi = bench.command("sphere", bench._run("vi", 0.0, refinement=0), tmp_path)
+    vi = bench.command("sphere", bench.run_config("vi", 0.0, refinement=0), tmp_path)
     assert vi[vi.index("--level") + 1] == "0"
     # the scene's iterative solver, then the method's direct one: argparse keeps the last
     assert [vi[i + 1] for i, a in enumerate(vi) if a == "--solver"] == ["iterative", "direct"]
@@ -97,7 +97,7 @@ def test_ring_through_the_scene_runner(tmp_path):
     """The ring (no demo with --method): the harness builds it. Zavarise et al. (1998): penalty with
     augmentation cycles after the first augmentation, cross-constraints converges; no error figure."""
     out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
-    runs = [bench._run("penalty", 1e5, 1), bench._run("cross", 1e5, 1)]
+    runs = [bench.run_config("penalty", 1e5, 1), bench.run_config("cross", 1e5, 1)]
     assert bench.command("ring", runs[0], out)[1:4] == ["-m", "fenics_contact.bench", "--run-scene"]
     penalty, cross = bench.bench("ring", out, runs, quiet=True)
     assert not penalty["converged"] and cross["converged"] and cross["augmentations"] == 1
@@ -111,8 +111,8 @@ def test_slab_error_from_the_exact_coulomb_reference(tmp_path):
     """Slab, mu = 0.4: the error is u_x(A)'s distance from the exact condensed Coulomb method on the same mesh;
     normal compliance with the Coulomb bound (omega_t = c_n) approaches it as 1 / c_n."""
     out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
-    runs = [bench._run("coulomb", 0.0, refinement=0), bench._run("compliance", 1e5, refinement=0),
-            bench._run("compliance", 1e6, refinement=0)]
+    runs = [bench.run_config("coulomb", 0.0, refinement=0), bench.run_config("compliance", 1e5, refinement=0),
+            bench.run_config("compliance", 1e6, refinement=0)]
     exact, coarse, fine = bench.bench("slab", out, runs, quiet=True, pictures=False)
     assert all(r["converged"] for r in (exact, coarse, fine))
     assert exact["error"] == 0.0
@@ -128,14 +128,14 @@ def test_stability_harness_classifies_the_ring(tmp_path):
     falls like 1/K for penalty."""
     out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
     cond = ["-fc_condition_estimate"]
-    runs = [dict(bench._run("auglag", 1e5, 10, steps=1), args=cond),
-            dict(bench._run("penalty", 1e5, 0, steps=1), args=cond),
-            dict(bench._run("penalty", 1e12, 0, steps=1), args=cond),
-            dict(bench._run("penalty", 1e16, 0, steps=1), args=cond),
-            dict(bench._run("penalty", 1e5, 10, steps=1), args=cond),
-            dict(bench._run("penalty", 1e8, 0, steps=1), label=bench.DTOL,
+    runs = [dict(bench.run_config("auglag", 1e5, 10, steps=1), args=cond),
+            dict(bench.run_config("penalty", 1e5, 0, steps=1), args=cond),
+            dict(bench.run_config("penalty", 1e12, 0, steps=1), args=cond),
+            dict(bench.run_config("penalty", 1e16, 0, steps=1), args=cond),
+            dict(bench.run_config("penalty", 1e5, 10, steps=1), args=cond),
+            dict(bench.run_config("penalty", 1e8, 0, steps=1), label=bench.DTOL,
                  args=bench.PETSC_DTOL),
-            dict(bench._run("penalty", 1e8, 0, steps=1), args=cond)]
+            dict(bench.run_config("penalty", 1e8, 0, steps=1), args=cond)]
     rows = bench.run_all("ring", out, runs, quiet=True, timeout=300)
     bench.add_stability_limit(rows, "ring")
     auglag, p5, p12, p16, augmented, dtol, p8 = rows

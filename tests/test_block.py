@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty
+from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty, make_law
 from fenics_contact.scenes import block
 from fenics_contact.solver import Solver
 
@@ -82,3 +82,42 @@ def test_snes_vi_rejects_what_it_cannot_enforce():
 
     with pytest.raises(ValueError, match="quadrature 'nodal'"):
         solve(Exact(), quadrature="gauss")
+
+
+@pytest.mark.parametrize("method,augment_max", [("lagrange", 0), ("vi", 0), ("auglag", 20)])
+def test_plane_stress_exact_methods_give_the_plane_stress_pressure(method, augment_max):
+    # plane stress (sigma_zz = 0, lambda* = 2 lambda mu / (lambda + 2 mu)): uniaxial stress, p = E * 0.32/2 = 160
+    law = make_law(method, **({"K": 1e5} if method == "auglag" else {}))
+    setup = block.build(law, plane="stress")
+    solver = Solver(setup.problem, augment_max=augment_max, augment_tol=1e-12, quiet=True)
+    solver.run(setup.loads)
+    rec = solver.records[-1]
+    assert rec.converged and (augment_max == 0 or rec.augmentation_converged)
+    f = setup.figures()
+    assert np.isclose(block.homogeneous_state("linear", "stress")["p_nominal"], 1000.0 * 0.16, rtol=1e-15)
+    assert np.isclose(f["contact_pressure"], 160.0, rtol=1e-8)
+    assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
+
+
+def test_plane_stress_neohookean_exact_state():
+    """Neo-Hookean plane stress (out-of-plane stretch l3 from P_33 = 0 per point): SNES VI reaches the closed
+    form, and the lateral stretch equals l3 (equal lateral and thickness stretches of uniaxial stress)."""
+    setup = block.build(make_law("vi"), plane="stress", model="neohookean")
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert solver.records[-1].converged
+    exact = block.homogeneous_state("neohookean", "stress")
+    f = setup.figures()
+    assert np.isclose(f["contact_pressure"], exact["p_nominal"], rtol=1e-8)
+    assert np.isclose(f["contact_pressure_cauchy"], exact["p_cauchy"], rtol=1e-8)
+    assert np.isclose(exact["a"], exact["l3"]) and exact["a"] > 1.0
+    u = setup.displacement
+    X = u.function_space.tabulate_dof_coordinates()
+    n_own = u.function_space.dofmap.index_map.size_local
+    ux = u.x.array.reshape(-1, 2)[:n_own, 0]
+    assert np.allclose(ux, (exact["a"] - 1.0) * X[:n_own, 0], rtol=0, atol=1e-10)
+
+
+def test_plane_option_is_checked():
+    with pytest.raises(ValueError, match="plane"):
+        block.build(make_law("vi"), plane="strian")

@@ -7,8 +7,8 @@ from dolfinx import fem, mesh
 from mpi4py import MPI
 
 from fenics_contact import cli
-from fenics_contact.bounds import contact_surface
 from fenics_contact.compat import function_space
+from fenics_contact.factory import contact_surface
 from fenics_contact.friction import OPEN, SLIP, STICK, Friction
 from fenics_contact.laws import CrossConstraints, Exact, NormalCompliance, Penalty, ufl_ops
 from fenics_contact.materials import LinearElastic
@@ -135,16 +135,16 @@ def test_tangent_matches_finite_differences(d, quadrature):
 
     def residual(values):
         u.x.array[:] = values
-        return fem_petsc.assemble_vector(problem.F).array.copy()
+        return fem_petsc.assemble_vector(problem.L).array.copy()
 
     for mu, expected in ((50.0, {STICK}), (0.3, {STICK, SLIP}), (1e-3, {SLIP})):
         c.constants["mu"].value = mu
         u.x.array[:] = u0
-        c.projector.project(c.projector.compile(c._slip_state), state)
+        c.projector.project(c.projector.compile(c.slip_state_expr), state)
         if quadrature == "nodal":  # (Gauss: the DG1 dofs are not the Gauss-point values)
             found = set(np.rint(state.x.array[c.projector.surface_dofs]).astype(int).tolist())
             assert found == expected, (mu, found)
-        A = fem_petsc.assemble_matrix(problem.J)
+        A = fem_petsc.assemble_matrix(problem.a)
         A.assemble()
         x, y = A.createVecs()
         x.array[:] = du
@@ -165,7 +165,7 @@ def test_history_advances_only_on_commit_and_rolls_back():
     c.commit()
     assert any(np.any(q.x.array != 0.0) for q in c.q_old) and c.dissipated > 0
     c.restore(before)
-    assert all(np.array_equal(f.x.array, a) for f, a in zip(c._history, before["history"])) and c.dissipated == 0.0
+    assert all(np.array_equal(f.x.array, a) for f, a in zip(c.history, before["history"])) and c.dissipated == 0.0
 
 
 def test_dissipation_over_a_closed_cycle():

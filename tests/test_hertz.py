@@ -7,8 +7,8 @@ from fenics_contact.scenes import hertz
 from fenics_contact.solver import Solver
 
 
-def solve(law, refinement=0):
-    setup = hertz.build(law, refinement=refinement)
+def solve(law, refinement=0, **kw):
+    setup = hertz.build(law, refinement=refinement, **kw)
     solver = Solver(setup.problem, augment_max=30, augment_tol=1e-10, quiet=True)
     solver.run(setup.loads)
     assert all(r.converged and r.augmentation_converged for r in solver.records)
@@ -32,6 +32,18 @@ def test_p0_and_a_within_2_percent_and_equilibrium(law):
     assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
 
 
+def test_plane_stress_against_hertz_with_E_star_E():
+    """Plane stress: Hertz with E* = E (not E/(1-nu^2)); the same approach presses less hard (the plane-strain
+    formula would be off by (1-nu^2)^(-1/2) - 1 = 4.8 % in p0)."""
+    a, p0 = hertz.hertz(P=1.0, R=1.0, E=1.0, nu=0.3, plane="stress")
+    assert np.isclose(a, np.sqrt(4 / np.pi))
+    f = solve(AugmentedLagrangian(hertz.DEFAULT_K), plane="stress")
+    strain = solve(AugmentedLagrangian(hertz.DEFAULT_K))
+    assert f["p0_error"] < 0.01 and f["a_error"] < 0.02
+    assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
+    assert f["total_force"] < strain["total_force"]
+
+
 def test_refinement_reduces_p0_error():
     errors = [solve(AugmentedLagrangian(hertz.DEFAULT_K), r)["p0_error"] for r in (0, 1)]
     assert errors[1] < errors[0]
@@ -45,3 +57,24 @@ def test_snes_vi_reference_is_the_augmented_limit():
     aug = solve(AugmentedLagrangian(hertz.DEFAULT_K))
     assert np.isclose(vi["p0"], aug["p0"], rtol=1e-6) and np.isclose(vi["a"], aug["a"], rtol=1e-6)
     assert np.isclose(vi["total_force"], vi["reaction_top"], rtol=1e-8)
+
+
+def test_neohookean_inverted_state_is_rejected_and_cut_back():
+    """Neo-Hookean, approach 0.01 in 2 steps with SNES VI: the first Newton solve converges to a state with
+    inverted elements (min det F = -1.18 measured) whose contact force is 40 % off; the solver rejects it as
+    ``inverted_elements``, cuts the step back and reaches the state of the multipliers (min det F ~ 0.96)."""
+    from fenics_contact.laws import make_law
+
+    setup = hertz.build(make_law("vi"), model="neohookean", approach=0.01, steps=2)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    assert any(f["kind"] == "inverted_elements" and f["min_jacobian"] <= 0 for f in solver.failures)
+    assert setup.problem.min_jacobian() > 0.9
+    f = setup.figures()
+    ref = hertz.build(make_law("lagrange"), model="neohookean", approach=0.01, steps=2)
+    ref_solver = Solver(ref.problem, quiet=True)
+    ref_solver.run(ref.loads)
+    assert not ref_solver.failures
+    assert np.isclose(f["total_force"], ref.figures()["total_force"], rtol=1e-8)
+    assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)

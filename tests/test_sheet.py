@@ -130,7 +130,7 @@ def test_quadratic_two_body_tangent_is_consistent(tangent_check):
     for bc in problem.bcs:
         x.array[bc_dofs(bc)] = 0.0
         d.array[bc_dofs(bc)] = 0.0
-    Jd, fd = tangent_check(solver, x, d, 1e-7, lambda c: c._pairs.copy())
+    Jd, fd = tangent_check(solver, x, d, 1e-7, lambda c: c.pairing())
     err = fd.copy()
     err.axpy(-1.0, Jd)
     for c in setup.contacts:  # both passes have penetrating (loaded) points

@@ -4,8 +4,8 @@ import pytest
 from dolfinx import fem
 from mpi4py import MPI
 
-from fenics_contact.bounds import contact_surface
 from fenics_contact.compat import function_space
+from fenics_contact.factory import contact_surface
 from fenics_contact.laws import Coulomb, Exact, make_law
 from fenics_contact.meshes import BOTTOM, rectangle
 from fenics_contact.obstacles import Cylinder, HalfPlane
@@ -118,7 +118,7 @@ def test_block_with_prescribed_displacement():
 
 def test_failure_names_the_step():
     setup = build("slab", law=Coulomb(1.0))
-    setup.contacts[0].max_it = 2
+    setup.problem.step_solver.max_it = 2
     with pytest.raises(ConvergenceError, match=r"load step \d+ .*coulomb.*no convergence in 2 iterations"):
         Solver(setup.problem, quiet=True, max_cutbacks=1).run(setup.loads)
     assert np.all(setup.problem.u.x.array == 0.0)  # rolled back to the last converged state (rest)

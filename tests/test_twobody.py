@@ -7,11 +7,12 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from fenics_contact.compat import bc_dofs, petsc_vec
+from fenics_contact.factory import two_body_surfaces
 from fenics_contact.laws import make_law
 from fenics_contact.meshes import LOWER_TOP, UPPER_BOTTOM, stacked_blocks
 from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
-from fenics_contact.twobody import TwoBodySurface, two_body_surfaces
+from fenics_contact.twobody import TwoBodySurface
 
 
 @pytest.mark.parametrize("quadrature,passes,dim", [("nodal", "one", 2), ("gauss", "one", 2), ("gauss", "two", 2),
@@ -73,7 +74,7 @@ def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, tangent_ch
 
 def _pairing(c):
     """The pairing a surface's residual depends on: point pairs, and sub-segment pairs (segment quadrature)."""
-    return np.concatenate([c._pairs.ravel(), getattr(c, "_segment_pairs", np.zeros((0, 2), int)).ravel()])
+    return c.pairing()
 
 
 def _patch(quadrature, passes, comm=MPI.COMM_WORLD, by_body=False):

@@ -7,11 +7,11 @@ gmsh meshes (``hertz_quarter_disk``, ``pin_plate``, the seal sections, ``two_hal
 to polar coordinates. All functions are collective on ``comm``. The seal geometry is documented in
 :mod:`fenics_contact.meshes.seal`.
 """
-from .hertz import hertz_quarter_disk  # noqa: F401
-from .pin import pin_plate  # noqa: F401
-from .rectangle import check_tags, rectangle  # noqa: F401
-from .ring import ring_quarter  # noqa: F401
-from .seal import (  # noqa: F401
+from .hertz import hertz_quarter_disk
+from .pin import pin_plate
+from .rectangle import check_tags, rectangle
+from .ring import ring_quarter
+from .seal import (
     seal_geometry,
     seal_s_geometry,
     seal_s_section,
@@ -19,9 +19,9 @@ from .seal import (  # noqa: F401
     seal_wave_geometry,
     seal_wave_section,
 )
-from .sheet import sheet_over_cylinder  # noqa: F401
-from .sphere import sphere_octant  # noqa: F401
-from .tags import (  # noqa: F401
+from .sheet import sheet_over_cylinder
+from .sphere import sphere_octant
+from .tags import (
     BOTTOM,
     CONTACT,
     CONTACT_UPPER,
@@ -54,7 +54,7 @@ from .tags import (  # noqa: F401
     SYMMETRY_Y,
     TOP,
 )
-from .twobody import (  # noqa: F401
+from .twobody import (
     BLOCK_FRONT,
     BLOCK_LEFT,
     DISK_SYMMETRY,
@@ -73,3 +73,15 @@ from .twobody import (  # noqa: F401
     stacked_blocks,
     two_half_disks,
 )
+
+__all__ = [
+    "hertz_quarter_disk", "pin_plate", "check_tags", "rectangle", "ring_quarter", "seal_geometry", "seal_s_geometry",
+    "seal_s_section", "seal_section", "seal_wave_geometry", "seal_wave_section", "sheet_over_cylinder",
+    "sphere_octant", "BOTTOM", "CONTACT", "CONTACT_UPPER", "CYLINDER_DOMAIN", "CYLINDER_FIXED", "CYLINDER_SURFACE",
+    "DOMAIN", "END", "FREE", "HERTZ_FACETS", "LEFT", "PIN_FACETS", "PLATE", "PLATE_BOTTOM", "PLATE_SYMMETRY",
+    "PLATE_TOP", "RECT_TOP", "RECTANGLE_FACETS", "RIGHT", "RING_AXIS", "RING_FACETS", "RING_INNER", "RING_MID",
+    "RING_OUTER", "SEAL_BOUNDARY", "SEAL_DOMAIN", "SEAL_SYMMETRY", "SHEET_FACETS", "SYMMETRY", "SYMMETRY_Y", "TOP",
+    "BLOCK_FRONT", "BLOCK_LEFT", "DISK_SYMMETRY", "DISKS_FACETS", "LOWER", "LOWER_ARC_BOTTOM", "LOWER_ARC_TOP",
+    "LOWER_BOTTOM", "LOWER_TOP", "STACKED_FACETS", "UPPER", "UPPER_ARC_BOTTOM", "UPPER_ARC_TOP", "UPPER_BOTTOM",
+    "UPPER_TOP", "stacked_blocks", "two_half_disks"
+]

@@ -4,7 +4,6 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import gmsh
 from mpi4py import MPI
 
 from ..compat import model_to_mesh
@@ -12,6 +11,21 @@ from ..compat import model_to_mesh
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+__all__: list[str] = []  # plumbing of the mesh builders: nothing public
+
+
+class _Lazy:
+    """gmsh, imported on first use (inside a mesh builder): importing the package does not load gmsh."""
+
+    def __getattr__(self, name: str):
+        import gmsh as module
+
+        return getattr(module, name)
+
+
+gmsh = _Lazy()
+
 
 def _positive(**values: float) -> None:
     """Raise a ValueError naming the first of ``values`` that is not a finite number > 0."""

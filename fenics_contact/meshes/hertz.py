@@ -3,15 +3,16 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import gmsh
 from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
 from .tags import CONTACT, CONTACT_UPPER, DOMAIN, PLATE, PLATE_BOTTOM, PLATE_SYMMETRY, PLATE_TOP, SYMMETRY, TOP
+
+__all__ = ["hertz_quarter_disk"]
 
 
 def hertz_quarter_disk(

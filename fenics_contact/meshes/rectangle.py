@@ -15,6 +15,8 @@ if TYPE_CHECKING:
 from ..compat import cell_partitioner
 from .tags import BOTTOM, LEFT, RECT_TOP, RIGHT
 
+__all__ = ["rectangle", "tag_boundary", "check_tags"]
+
 
 def rectangle(
     comm: MPI.Comm,

@@ -13,6 +13,8 @@ if TYPE_CHECKING:
 from .rectangle import rectangle, tag_boundary
 from .tags import RING_AXIS, RING_INNER, RING_MID, RING_OUTER
 
+__all__ = ["ring_quarter"]
+
 
 def ring_quarter(comm: MPI.Comm, R_out: float, R_in: float, n_theta: int, n_r: int,
                  quadrilateral: bool = True) -> tuple[Mesh, None, MeshTags]:

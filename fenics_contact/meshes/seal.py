@@ -64,15 +64,18 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import gmsh
 from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh
+from .gmshutil import _from_gmsh, gmsh
 from .tags import SEAL_BOUNDARY, SEAL_DOMAIN, SEAL_SYMMETRY
+
+__all__ = [
+    "seal_geometry", "seal_section", "seal_s_geometry", "seal_s_section", "seal_wave_geometry", "seal_wave_section"
+]
 
 
 def seal_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:

@@ -3,15 +3,16 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import gmsh
 from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _positive
+from .gmshutil import _from_gmsh, _positive, gmsh
 from .tags import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, DOMAIN, END, SYMMETRY
+
+__all__ = ["sheet_over_cylinder"]
 
 
 def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, leg: float = 2.0,

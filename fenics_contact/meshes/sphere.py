@@ -4,15 +4,16 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-import gmsh
 from mpi4py import MPI
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
 from .tags import CONTACT, DOMAIN, SYMMETRY, SYMMETRY_Y, TOP
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+__all__ = ["sphere_octant"]
 
 
 def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far: float = 0.15,

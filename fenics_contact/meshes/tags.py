@@ -1,5 +1,12 @@
 """Physical tags of the meshes (cells and facets), and name -> tag maps for ``check_tags``."""
 
+__all__ = [
+    "DOMAIN", "CONTACT", "SYMMETRY", "TOP", "FREE", "BOTTOM", "RIGHT", "RECT_TOP", "LEFT", "SYMMETRY_Y", "END",
+    "CYLINDER_SURFACE", "CYLINDER_FIXED", "CYLINDER_DOMAIN", "CONTACT_UPPER", "PLATE_TOP", "PLATE_BOTTOM",
+    "PLATE_SYMMETRY", "PLATE", "HERTZ_FACETS", "PIN_FACETS", "SHEET_FACETS", "RECTANGLE_FACETS", "RING_OUTER",
+    "RING_INNER", "RING_AXIS", "RING_MID", "RING_FACETS", "SEAL_BOUNDARY", "SEAL_SYMMETRY", "SEAL_DOMAIN"
+]
+
 DOMAIN = 1
 CONTACT = 1
 SYMMETRY = 2

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import gmsh
 import numpy as np
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
@@ -12,7 +11,13 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _GRADING, _from_gmsh, _grade_toward, _positive
+from .gmshutil import _GRADING, _from_gmsh, _grade_toward, _positive, gmsh
+
+__all__ = [
+    "LOWER", "UPPER", "LOWER_BOTTOM", "LOWER_TOP", "UPPER_BOTTOM", "UPPER_TOP", "BLOCK_LEFT", "BLOCK_FRONT",
+    "STACKED_FACETS", "stacked_blocks", "DISK_SYMMETRY", "LOWER_ARC_BOTTOM", "LOWER_ARC_TOP", "UPPER_ARC_BOTTOM",
+    "UPPER_ARC_TOP", "DISKS_FACETS", "two_half_disks"
+]
 
 # Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
 LOWER, UPPER = 1, 2

@@ -14,8 +14,10 @@ from typing import Callable, Sequence
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..contact import ContactSurface
 from ..problem import ContactProblem
+from ..surface import Surface
+
+__all__ = ["Setup", "scene_names", "build"]
 
 
 @dataclass
@@ -24,7 +26,7 @@ class Setup:
 
     name: str
     problem: ContactProblem
-    contacts: list[ContactSurface]
+    contacts: list[Surface]
     loads: Sequence[float]
     parameters: dict
     figures: Callable[[], dict]
@@ -41,7 +43,7 @@ class Setup:
         """Global number of unknowns: with multipliers, the displacement and the pressures on the contact
         surfaces (the pressure dofs pinned to 0 off the surfaces are not counted, see :mod:`multipliers`)."""
         V = self.problem.u.function_space
-        pinned = sum(getattr(c, "pinned_dofs", 0) for c in self.contacts)
+        pinned = sum(c.pinned_dofs for c in self.contacts)
         return V.dofmap.index_map.size_global * V.dofmap.index_map_bs - pinned
 
 

@@ -25,14 +25,19 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import cell_partitioner, function_space
+from ..factory import contact_surface
 from ..friction import Friction, FrictionalContact
 from ..laws import ContactLaw, NormalCompliance
 from ..materials import LinearElastic
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "LX", "LY", "H", "E", "NU", "PRESS", "DRAG", "C_N", "M_N", "MU", "OMEGA_T", "BASE", "TOP", "SYMMETRY",
+    "default_law", "half_box", "build"
+]
 
 LX, LY, H, E, NU = 1.0, 1.0, 0.5, 1000.0, 0.3
 PRESS, DRAG = 0.01, 0.006

@@ -42,16 +42,21 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
+from ..condensed import step_solver_for
+from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
-from ..materials import LinearElastic, Material, NeoHookean
+from ..materials import PLANES, LinearElastic, Material, NeoHookean
 from ..meshes import DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP, two_half_disks
-from ..multipliers import two_body_multipliers, unknown
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from ..twobody import two_body_surfaces
 from . import Setup
 from .hertz import contact_half_width
+
+__all__ = [
+    "R_LOWER", "R_UPPER", "LAMBDA", "MU", "T_END", "OVERLAP", "DEFAULT_K", "T_HERTZ", "hertz_two_cylinders", "build",
+    "BENCH"
+]
 
 R_LOWER, R_UPPER, LAMBDA, MU, T_END = 18.0, 8.0, 288.0, 192.0, 15.0
 OVERLAP = 1e-4
@@ -59,12 +64,15 @@ DEFAULT_K = 1e4  # penalty: large against E*/a (~500 at t = 0.2), small against 
 T_HERTZ = 0.2  # a/R = 0.1 at t = 0.2: small enough for Hertz (half-space error O((a/R)^2))
 
 
-def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER) -> tuple[float, float]:
+def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER,
+                        plane: str = "strain") -> tuple[float, float]:
     """Hertz half-width ``a`` and peak pressure ``p0`` of two cylinders of the same material, load ``P``
-    per unit length (plane strain)."""
+    per unit length (``1/E* = 2 (1 - nu^2)/E`` in plane strain, ``2/E`` in plane stress)."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     mat = Material.from_lame(LAMBDA, MU)
     R = 1.0 / (1.0 / R1 + 1.0 / R2)
-    Es = 1.0 / (2.0 * (1.0 - mat.nu**2) / mat.E)
+    Es = 1.0 / (2.0 * ((1.0 - mat.nu**2) if plane == "strain" else 1.0) / mat.E)
     a = np.sqrt(4.0 * P * R / (np.pi * Es))
     return float(a), float(2.0 * P / (np.pi * a))
 
@@ -72,14 +80,17 @@ def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER) -> t
 def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "gauss", passes: str = "two",
           h_contact: float = 0.05, h_far: float = 2.0, contact_width: float = 1.0, grading: float = 0.25,
           loads: list[float] | None = None, comm: MPI.Comm = MPI.COMM_WORLD, model: str = "neohookean",
-          symmetry: str = "half") -> Setup:
+          symmetry: str = "half", plane: str = "strain") -> Setup:
     """``law_factory()`` gives a fresh contact law for each of the contact surfaces (plates and cylinders).
     ``grading``: growth of the mesh size per unit distance beyond ``contact_width`` (the contact zone
     reaches x ~ 7 at t = 15: the demo uses a slow grading). ``loads``: the plate motions ``t``
     (default: ``T_HERTZ``, then steps of 0.5 to 15). Model-reduction checks: ``model`` ``linear`` (small
     strain; only for small ``t``) instead of ``neohookean``; ``symmetry`` ``full`` (the whole disks instead of
     the right halves: the horizontal rigid modes of each cylinder, held by frictionless contact alone, are
-    removed by ``u_x = 0`` at its two poles, values of the exact symmetric solution)."""
+    removed by ``u_x = 0`` at its two poles, values of the exact symmetric solution). ``plane``: ``strain``
+    (the paper's) or ``stress``."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if model not in ("neohookean", "linear"):
         raise ValueError(f"cylinders model must be 'neohookean' or 'linear', got {model!r}")
     if symmetry not in ("half", "full"):
@@ -118,8 +129,8 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         pair = two_body_surfaces(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory, load, quadrature,
                                  passes, radius=max(2.0, 4 * h_far), name="cylinders")
     contacts = [lower_plate, upper_plate, *pair]
-    bulk = (NeoHookean if model == "neohookean" else LinearElastic).from_lame(LAMBDA, MU)
-    problem = ContactProblem(u, bulk, load, dirichlet, contacts)
+    bulk = (NeoHookean if model == "neohookean" else LinearElastic).from_lame(LAMBDA, MU, plane=plane)
+    problem = ContactProblem(u, bulk, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
     copies = 2 if symmetry == "half" else 1  # figures for the whole cylinders
 
     def profiles() -> list[tuple[np.ndarray, np.ndarray]]:
@@ -135,7 +146,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         prof = profiles()
         forces = [copies * abs(float(c.total_force()[1])) for c in pair]
         P = float(np.mean(forces))
-        a_h, p0_h = hertz_two_cylinders(P)
+        a_h, p0_h = hertz_two_cylinders(P, plane=plane)
         prof = [(x[x >= -1e-12], p[x >= -1e-12]) for x, p in prof]  # full disks: the right half of the profile
         p0 = float(max(q.max() for _, q in prof))
         a = float(np.mean([contact_half_width(xx, q) for xx, q in prof]))
@@ -149,14 +160,21 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
                 "lower_plate_force": copies * abs(float(lower_plate.total_force()[1])),
                 "p0": p0, "a": a, "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
                 "a_error": abs(a - a_h) / a_h,
-                "pairing_changes": int(sum(c.pairing_changes for c in pair))}
+                "pairing_changes": int(sum(c.pairing_changes for c in pair)),
+                **cauchy_peak(p0)}
+
+    def cauchy_peak(p0: float) -> dict:
+        """Neo-Hookean, pointwise quadratures: the peak pressure per current area beside the nominal ``p0``."""
+        if model != "neohookean" or quadrature == "segment":
+            return {}
+        return {"p0_nominal": p0, "p0_cauchy": float(max(c.point_values(kind="cauchy")[2].max() for c in pair))}
 
     params = {"R_lower": R_LOWER, "R_upper": R_UPPER, "lambda": LAMBDA, "mu": MU, "h_contact": h_contact,
               "h_far": h_far, "contact_width": contact_width, "grading": grading,
               "quadrature": quadrature, "passes": passes,
               "overlap": OVERLAP,
               "model": f"{'right halves (symmetry x = 0)' if symmetry == 'half' else 'whole disks'}, "
-              f"plane strain, {'neo-Hookean' if model == 'neohookean' else 'linear elastic'}"}
+              f"plane {plane}, {'neo-Hookean' if model == 'neohookean' else 'linear elastic'}"}
     if loads is None:
         loads = [T_HERTZ] + np.arange(0.5, T_END + 1e-9, 0.5).tolist()
     for c in contacts:  # one name per field in the XDMF file

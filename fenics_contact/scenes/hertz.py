@@ -12,8 +12,10 @@ The richer models of the benchmark's model-reduction table are options of :func:
 the full disk between two rigid plates, a meshed stiff plate (two-body contact), neo-Hookean; they give
 the quarter's figures within 0.5 % (``results/bench/model_reduction.md``, README).
 
-Hertz (plane strain, rigid plane, load ``P`` per unit length,
-``E* = E/(1-nu^2)``): ``a = sqrt(4 P R / (pi E*))``, ``p0 = 2P/(pi a)``.
+Hertz (rigid plane, load ``P`` per unit length, ``E* = E/(1-nu^2)`` in plane
+strain, ``E* = E`` in plane stress, ``plane="stress"``): ``a = sqrt(4 P R / (pi E*))``,
+``p0 = 2P/(pi a)``. Pressures are nominal (per reference length); neo-Hookean
+runs on the rigid plate also report the Cauchy peak ``p0_cauchy`` (per current length).
 The default approach gives ``a/R ~ 0.09``, small enough for Hertz's
 half-space assumption (error ``O((a/R)^2)``).
 """
@@ -24,13 +26,14 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ..bounds import contact_surface
-from ..compat import function_space
+from ..condensed import step_solver_for
+from ..factory import contact_surface
 from ..laws import ContactLaw
-from ..materials import MODELS
+from ..materials import MODELS, PLANES, Materials
 from ..meshes import (
     CONTACT,
     CONTACT_UPPER,
+    DOMAIN,
     PLATE,
     PLATE_BOTTOM,
     PLATE_SYMMETRY,
@@ -43,6 +46,11 @@ from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "R", "E", "NU", "APPROACH", "DEFAULT_K", "BENCH", "hertz", "contact_half_width", "PLATE_STIFFNESS", "PLATE_SIZE",
+    "build", "law_twin"
+]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
@@ -58,9 +66,12 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "
          "quick_stability": {"variants": (("penalty", 0), ("cross", 10), ("cross", 10, 1.0), ("auglag", 10))}}
 
 
-def hertz(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float, float]:
-    """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length."""
-    Es = E / (1 - nu**2)
+def hertz(P: float, R: float = R, E: float = E, nu: float = NU, plane: str = "strain") -> tuple[float, float]:
+    """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length (``plane``: ``strain``,
+    ``E* = E/(1-nu^2)``, or ``stress``, ``E* = E``)."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    Es = E / (1 - nu**2) if plane == "strain" else E
     a = np.sqrt(4 * P * R / (np.pi * Es))
     return float(a), float(2 * P / (np.pi * a))
 
@@ -87,7 +98,7 @@ PLATE_SIZE = (0.5 * R, 0.25 * R)  # meshed plate: width, depth
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
-          symmetry: str = "quarter", plate: str = "rigid") -> Setup:
+          symmetry: str = "quarter", plate: str = "rigid", plane: str = "strain") -> Setup:
     """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
     ``model``: ``linear`` (default: strains ~1e-3) or ``neohookean`` (the model-reduction check);
     ``symmetry``: ``quarter`` (default), ``half`` (the lower half disk, ``u_x = 0`` at the centre
@@ -98,7 +109,11 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     how far the two contacts are from balance); ``plate``: ``rigid`` (the analytic half-plane, default)
     or ``meshed`` (quarter only: a plate ``PLATE_SIZE`` of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
     in the same mesh, in two-body contact, one pass, the disk's arc the slave). The last three are the
-    model-reduction checks."""
+    model-reduction checks. ``plane``: ``strain`` (default) or ``stress`` (disk and plate)."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
     if symmetry not in ("quarter", "half", "full"):
         raise ValueError(f"hertz symmetry must be 'quarter', 'half' or 'full', got {symmetry!r}")
     if plate not in ("rigid", "meshed"):
@@ -122,7 +137,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         centre = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], R))
         fix_x = fem.locate_dofs_topological(V.sub(0), 0, centre)
     dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), fix_x)]
-    material = MODELS[model](E, NU)
+    material = MODELS[model](E, NU, plane=plane)
     contacts = []
     if symmetry == "full":  # the rigid modes: u_y at the centre, u_x at the centre and the upper pole
         pole = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 2 * R))
@@ -135,12 +150,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     if plate == "meshed":
         from ..twobody import TwoBodySurface
 
-        # one material, stiffer on the plate's cells: its Lame constants times PLATE_STIFFNESS there
-        Q = function_space(mesh, "DG", 0)
-        factor = fem.Function(Q)
-        factor.x.array[:] = 1.0
-        factor.x.array[cell_tags.indices[cell_tags.values == PLATE]] = PLATE_STIFFNESS
-        material.lmbda, material.mu = material.lmbda * factor, material.mu * factor
+        # per-body materials: the plate PLATE_STIFFNESS x stiffer (same nu and model)
+        material = Materials(mesh, cell_tags, {DOMAIN: material,
+                                               PLATE: MODELS[model](PLATE_STIFFNESS * E, NU, plane=plane)})
         bottom = facet_tags.indices[facet_tags.values == PLATE_BOTTOM]
         side = facet_tags.indices[facet_tags.values == PLATE_SYMMETRY]
         dirichlet += [Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, bottom)),
@@ -151,7 +163,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                                   material=material)
     contacts.insert(0, contact)
-    problem = ContactProblem(u, material, load, dirichlet, contacts)
+    problem = ContactProblem(u, material, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
 
     def figures() -> dict:
         if plate == "meshed":
@@ -162,18 +174,21 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         x, p = x[lower], p[lower]
         right = x[:, 0] >= -1e-12 * R  # the half model: the profile from the centre to the right
         P = copies * contact.total_force()[1]
-        a_h, p0_h = hertz(P)
+        a_h, p0_h = hertz(P, plane=plane)
         p0, a = float(p.max()), contact_half_width(x[right, 0], p[right])
         out = {"total_force": P, "reaction_top": -copies * problem.reaction(top_y), "p0": p0, "a": a,
                "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
                "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())),
                "h_contact": h}
+        if model != "linear" and plate == "rigid":  # the peak per current length too (nominal / (da/dA))
+            xc, _, pc = contact.surface_values("cauchy")
+            out["p0_nominal"], out["p0_cauchy"] = p0, float(pc[(xc[:, 1] <= R)].max())
         if symmetry == "full":  # the centre's reaction is the difference of the two contact forces
             out["reaction_top"] = -contacts[1].total_force()[1]
             out["centre_reaction"] = out["reaction_top"] - P
         return out
 
-    params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h,
+    params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h, "plane": plane,
               "refinement": refinement, "quadrature": quadrature, "plate": plate,
               "model": {"quarter": "quarter disk (symmetry x = 0 and y = R)", "half": "half disk (symmetry y = R)",
                         "full": "full disk between two rigid plates"}[symmetry]

@@ -19,6 +19,15 @@ slave, two-pass): pointwise enforcement integrates the master forces at the slav
 kinks of the master shape functions, so the uniform state is not the discrete solution. Only a soft
 penalty hides it (K = 100: 3.3e-4 with Gauss one-pass, at a penetration of 0.1).
 
+Per-body materials (:class:`~fenics_contact.materials.Materials`): ``E_lower, nu_lower`` and
+``E_upper, nu_upper`` may differ. The piecewise-uniform state (each block uniaxial with its own
+stretches) is exact only if both blocks expand equally sideways (else the wider block's edge is
+unloaded): linear plane strain needs ``nu (1 + nu) / E`` equal (``nu = 0``: any ``E``), neo-Hookean
+``nu = 0`` (no lateral stretch) or equal materials; the figure ``lateral_mismatch`` (difference of the
+two lateral stretches) says whether it holds. Then ``strain_lower`` and ``strain_upper`` (mean axial
+strain of each block) and ``displacement_error`` (every node against the exact piecewise-uniform
+field) check each body.
+
 ``material="neohookean"`` with a large ``pressure`` (a dead load) tests finite strain: the exact state
 is still uniform (uniaxial nominal stress, :func:`uniform_stretches`), and the figure
 ``top_displacement_error`` (top face against it, converged contact: gap 0) checks the whole solution.
@@ -33,42 +42,38 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ..compat import function_space
+from ..factory import two_body_surfaces
 from ..laws import ContactLaw
-from ..materials import LinearElastic, NeoHookean
-from ..meshes import BLOCK_FRONT, BLOCK_LEFT, LOWER_BOTTOM, LOWER_TOP, UPPER, UPPER_BOTTOM, UPPER_TOP, stacked_blocks
+from ..materials import MODELS, LinearElastic, Materials
+from ..meshes import (
+    BLOCK_FRONT,
+    BLOCK_LEFT,
+    LOWER,
+    LOWER_BOTTOM,
+    LOWER_TOP,
+    UPPER,
+    UPPER_BOTTOM,
+    UPPER_TOP,
+    stacked_blocks,
+)
 from ..problem import ContactProblem, Dirichlet
-from ..twobody import two_body_surfaces
 from . import Setup
+
+__all__ = ["E_LOWER", "E_UPPER", "NU", "PRESSURE", "OVERLAP", "uniform_stretches", "build"]
 
 E_LOWER, E_UPPER, NU, PRESSURE, OVERLAP = 1000.0, 1000.0, 0.3, 10.0, 1e-6
 
 
-class _TwoMaterials(LinearElastic):
-    """Linear elasticity with E per block (a DG0 field)."""
-
-    def __init__(self, E_field, nu):
-        super().__init__(1.0, nu)
-        self.E_field = E_field
-
-    def energy(self, u):
-        return self.E_field * super().energy(u)
-
-    def stress(self, u):
-        return self.E_field * super().stress(u)
-
-    def describe(self):
-        return {"model": "LinearElastic", "E_lower": E_LOWER, "E_upper": E_UPPER, "nu": NU}
-
-
-def uniform_stretches(pressure: float, material: str, dim: int) -> tuple[float, float]:
-    """Lateral and axial stretch ``(a, c)`` of the exact uniform state: uniaxial nominal stress ``-pressure``
-    along the stacking axis, zero across (free lateral faces; plane strain ``F_zz = 1`` in 2D), for the
-    blocks' material (``linear``: ``1 + strain``). Both blocks have it, so the interface stays flat."""
-    lam, mu = LinearElastic(E_LOWER, NU).lmbda, LinearElastic(E_LOWER, NU).mu
+def uniform_stretches(pressure: float, material: str, dim: int, E: float = E_LOWER,
+                      nu: float = NU) -> tuple[float, float]:
+    """Lateral and axial stretch ``(a, c)`` of the exact uniform state of a block of ``E``, ``nu``:
+    uniaxial nominal stress ``-pressure`` along the stacking axis, zero across (free lateral faces; plane
+    strain ``F_zz = 1`` in 2D), for the material (``linear``: ``1 + strain``). The interface stays flat."""
+    lam, mu = LinearElastic(E, nu).lmbda, LinearElastic(E, nu).mu
     if material == "linear":
         if dim == 3:
-            return 1.0 + NU * pressure / E_LOWER, 1.0 - pressure / E_LOWER
-        return 1.0 + NU * (1 + NU) * pressure / E_LOWER, 1.0 - (1 - NU**2) * pressure / E_LOWER
+            return 1.0 + nu * pressure / E, 1.0 - pressure / E
+        return 1.0 + nu * (1 + nu) * pressure / E, 1.0 - (1 - nu**2) * pressure / E
     # Neo-Hookean first Piola stress P = mu (F - F^-T) + lam/2 (J^2 - 1) F^-T, F = diag(a, .., c): Newton.
     x = np.array([1.0, 1.0])
     for _ in range(50):
@@ -91,11 +96,13 @@ def uniform_stretches(pressure: float, material: str, dim: int) -> tuple[float, 
 def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "gauss", passes: str = "one",
           slave: str = "upper", n_lower: tuple[int, ...] = (5, 4), n_upper: tuple[int, ...] = (7, 5),
           by_body: bool = False, material: str = "linear", pressure: float = PRESSURE,
-          comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+          comm: MPI.Comm = MPI.COMM_WORLD, E_lower: float = E_LOWER, E_upper: float = E_UPPER,
+          nu_lower: float = NU, nu_upper: float = NU) -> Setup:
     """``slave``: ``upper`` or ``lower`` block's interface is the slave surface (one-pass).
     ``law_factory()`` (or ``law`` for one pass) gives the contact law. Three cell counts make the 3D
     version (unit cubes of tetrahedra stacked along z, rollers also on y = 0). ``material``: ``linear``
-    or ``neohookean`` (the same E, nu; finite strain for a large ``pressure``, a dead load)."""
+    or ``neohookean`` (finite strain for a large ``pressure``, a dead load), with ``E`` and ``nu`` per block
+    (:class:`~fenics_contact.materials.Materials`)."""
     if slave not in ("upper", "lower"):
         raise ValueError(f"slave must be 'upper' or 'lower', got {slave!r}")
     if material not in ("linear", "neohookean"):
@@ -113,9 +120,6 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
     V = function_space(mesh, "Lagrange", 1, (dim,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
-    D = function_space(mesh, "DG", 0)
-    Ef = fem.Function(D)
-    Ef.x.array[:] = np.where(cell_tags.values == UPPER, E_UPPER, E_LOWER)
     fdim = mesh.topology.dim - 1
     support = Dirichlet.on_facets(V, facet_tags, LOWER_BOTTOM, dim - 1)
     dirichlet = [support, Dirichlet.on_facets(V, facet_tags, BLOCK_LEFT, 0)]
@@ -125,11 +129,27 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
     contacts = two_body_surfaces(u, facet_tags, *tags, law_factory, load, quadrature, passes, name="interface")
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=UPPER_TOP)
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-pressure,)), ds)
-    bulk = _TwoMaterials(Ef, NU) if material == "linear" else NeoHookean(E_LOWER, NU)
+    bulk = Materials(mesh, cell_tags, {LOWER: MODELS[material](E_lower, nu_lower),
+                                       UPPER: MODELS[material](E_upper, nu_upper)})
     problem = ContactProblem(u, bulk, load, dirichlet, contacts, [traction])
     top_dofs = fem.locate_dofs_topological(V, fdim, facet_tags.indices[facet_tags.values == UPPER_TOP])
-    a_lat, c_ax = uniform_stretches(pressure, material, dim)
-    u_top = 2.0 * c_ax - (2.0 - OVERLAP)  # exact top displacement (bottom fixed, gap 0)
+    (a_lo, c_lo), (a_up, c_up) = (uniform_stretches(pressure, material, dim, E, nu)
+                                  for E, nu in ((E_lower, nu_lower), (E_upper, nu_upper)))
+    u_top = c_lo + c_up - (2.0 - OVERLAP)  # exact top displacement (bottom fixed, gap 0)
+    body_dofs = {tag: np.unique(np.concatenate([V.dofmap.cell_dofs(c) for c in cell_tags.indices[cell_tags.values
+                                                                                                  == tag]]
+                                               + [np.zeros(0, np.int32)])) for tag in (LOWER, UPPER)}
+    dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
+    one = fem.Constant(mesh, 1.0)
+    strain_forms = {tag: (fem.form(ufl.grad(u)[dim - 1, dim - 1] * dx(tag)), fem.form(one * dx(tag)))
+                    for tag in (LOWER, UPPER)}
+
+    def exact_displacement(tag: int, X: np.ndarray) -> np.ndarray:
+        """The exact piecewise-uniform displacement at reference points ``X`` of block ``tag``."""
+        a, c = (a_lo, c_lo) if tag == LOWER else (a_up, c_up)
+        axial = (c - 1.0) * X[:, dim - 1] if tag == LOWER else c_lo + c_up * (X[:, dim - 1] - 1.0 + OVERLAP) - X[
+            :, dim - 1]
+        return np.concatenate([(a - 1.0) * X[:, : dim - 1], axial[:, None]], 1)
 
     def figures() -> dict:
         """Pressure deviation, forces, and the top face's displacement against the exact uniform state
@@ -143,15 +163,28 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
         top = top_dofs[top_dofs < n_own]
         X = V.tabulate_dof_coordinates()[top, :dim]
         U = u.x.array.reshape(-1, dim)[top]
-        exact = np.concatenate([(a_lat - 1.0) * X[:, : dim - 1], np.full((len(X), 1), u_top)], 1)
+        exact = np.concatenate([(a_up - 1.0) * X[:, : dim - 1], np.full((len(X), 1), u_top)], 1)
         err = comm.allreduce(float(np.max(np.abs(U - exact))) if len(top) else 0.0, op=MPI.MAX)
+        body_err, strains = 0.0, {}
+        for tag, name in ((LOWER, "lower"), (UPPER, "upper")):
+            d = body_dofs[tag][body_dofs[tag] < n_own]
+            if len(d):
+                Xd = V.tabulate_dof_coordinates()[d, :dim]
+                body_err = max(body_err, float(np.max(np.abs(u.x.array.reshape(-1, dim)[d] - exact_displacement(
+                    tag, Xd)))))
+            integral, volume = (comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in strain_forms[tag])
+            strains[f"strain_{name}"] = integral / volume
+        body_err = comm.allreduce(body_err, op=MPI.MAX)
         return {"pressure_deviation": dev, "contact_force": float(np.mean(np.abs(forces))),
                 "applied_force": pressure * 1.0, "reaction_bottom": problem.reaction(support.dofs),
-                "top_displacement_exact": u_top, "top_displacement_error": err / abs(u_top)}
+                "top_displacement_exact": u_top, "top_displacement_error": err / abs(u_top),
+                "displacement_error": body_err / abs(u_top), **strains, "lateral_mismatch": abs(a_lo - a_up),
+                "strain_lower_exact": c_lo - 1.0, "strain_upper_exact": c_up - 1.0}
 
     for c in contacts:  # one name per field in the XDMF file
         c.gap_out.name, c.pressure_out.name = f"gap_{c.name}", f"contact_pressure_{c.name}"
-    params = {"E_lower": E_LOWER, "E_upper": E_UPPER, "nu": NU, "pressure": pressure, "material": material,
+    params = {"E_lower": E_lower, "E_upper": E_upper, "nu": NU, "nu_lower": nu_lower, "nu_upper": nu_upper,
+              "pressure": pressure, "material": material,
               "n_lower": list(n_lower), "n_upper": list(n_upper), "quadrature": quadrature, "passes": passes,
               "slave": slave,
               "overlap": OVERLAP, "model": f"two blocks, rollers, {'plane strain' if dim == 2 else '3D'}, {material}"}

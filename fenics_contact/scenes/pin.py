@@ -47,14 +47,19 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import function_space
+from ..factory import contact_surface
 from ..laws import ContactLaw
-from ..materials import LinearElastic
+from ..materials import PLANES, LinearElastic
 from ..meshes import CONTACT, SYMMETRY, TOP, pin_plate
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "SEAT", "DEFAULT_K", "LOADED_FORCE",
+    "pressure_along_pin", "contact_angle", "GAPS", "build", "BENCH"
+]
 
 R, HALF_WIDTH, BELOW, ABOVE = 1.0, 5.0, 5.0, 5.0
 E, NU, P0 = 1000.0, 0.3, 10.0
@@ -104,9 +109,12 @@ GAPS = ("linearized", "current")
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_contact: float = H_CONTACT,
-          steps: int = 1, gap: str = "linearized", comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+          steps: int = 1, gap: str = "linearized", comm: MPI.Comm = MPI.COMM_WORLD, plane: str = "strain") -> Setup:
     """``refinement`` halves the mesh size at the hole (``h_contact``) that many times; ``steps`` load steps;
-    ``gap``: ``linearized`` (small displacements, default) or ``current`` (exact gap of the deformed position)."""
+    ``gap``: ``linearized`` (small displacements, default) or ``current`` (exact gap of the deformed position);
+    ``plane``: ``strain`` (the paper's, default; its figures are plane strain) or ``stress``."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if gap not in GAPS:
         raise ValueError(f"pin: gap must be one of {GAPS}, got {gap!r}")
     if not (isinstance(refinement, (int, np.integer)) and refinement >= 0):
@@ -126,7 +134,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
                               linearized=gap == "linearized")
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=TOP)
     traction = ufl.as_vector([0.0, P0])
-    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact], tractions=[(traction, ds)])
+    problem = ContactProblem(u, LinearElastic(E, NU, plane=plane), load, dirichlet, [contact],
+                             tractions=[(traction, ds)])
     u.x.array.reshape(-1, 2)[:, 1] = SEAT  # the plate seated on the pin (Newton's starting point)
 
     def figures() -> dict:
@@ -142,7 +151,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
     params = {"E": E, "nu": NU, "P0": P0, "R": R, "plate": [2 * HALF_WIDTH, BELOW + ABOVE], "clearance": 0.0,
               "gap": gap,
               "h_contact": h, "refinement": refinement, "steps": steps, "quadrature": quadrature,
-              "model": "half plate (symmetry x = 0), plane strain, linear elasticity"}
+              "plane": plane, "model": f"half plate (symmetry x = 0), plane {plane}, linear elasticity"}
     return Setup("pin", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [u, contact.gap_out, contact.pressure_out])
 

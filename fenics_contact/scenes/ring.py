@@ -1,6 +1,7 @@
 """``ring``: elastic ring pressed between two rigid plates (Zavarise, Wriggers & Schrefler 1998, ring test).
 
-R_out = 8, R_in = 6, E = 1000, nu = 0.3, linear elasticity, plane strain;
+R_out = 8, R_in = 6, E = 1000, nu = 0.3, linear elasticity, plane strain (the paper's; ``plane="stress"``
+is an option, off the paper's figures);
 the upper plate moves down by 1 in one load step, the lower one is fixed.
 The problem is symmetric about the vertical diameter and (linear elasticity:
 the solution is a rigid translation by half the approach plus a part
@@ -32,11 +33,15 @@ from mpi4py import MPI
 from ..compat import function_space
 from ..contact import ContactSurface
 from ..laws import ContactLaw
-from ..materials import LinearElastic
+from ..materials import PLANES, LinearElastic
 from ..meshes import RING_AXIS, RING_MID, RING_OUTER, ring_quarter
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "R_OUT", "R_IN", "E", "NU", "APPROACH", "K", "PAPER_PENETRATION", "PAPER_RESIDUAL_6", "build", "VARIANTS", "BENCH"
+]
 
 R_OUT, R_IN, E, NU, APPROACH = 8.0, 6.0, 1000.0, 0.3, 1.0
 K = 1e5
@@ -46,8 +51,10 @@ PAPER_RESIDUAL_6 = 0.9e-10
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: int = 4, quadrilateral: bool = True,
-          comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
-    """The quarter ring; one load step (upper plate down by ``APPROACH``)."""
+          comm: MPI.Comm = MPI.COMM_WORLD, plane: str = "strain") -> Setup:
+    """The quarter ring; one load step (upper plate down by ``APPROACH``); ``plane``: ``strain`` or ``stress``."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     mesh, _, facet_tags = ring_quarter(comm, R_OUT, R_IN, n_theta, n_r, quadrilateral)
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
@@ -58,7 +65,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: in
     dirichlet = [Dirichlet(V.sub(1), mid_y, -APPROACH / 2), Dirichlet(V.sub(0), axis_x)]
     contact = ContactSurface(u, facet_tags, RING_OUTER, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                              name="lower plate")
-    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact])
+    problem = ContactProblem(u, LinearElastic(E, NU, plane=plane), load, dirichlet, [contact])
 
     def figures() -> dict:
         x, g, p = contact.surface_values()
@@ -72,7 +79,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: in
 
     params = {"E": E, "nu": NU, "R_out": R_OUT, "R_in": R_IN, "approach": APPROACH, "n_theta": n_theta, "n_r": n_r,
               "quadrilateral": quadrilateral, "quadrature": quadrature,
-              "model": "quarter ring (symmetry x = 0 and y = R_out)"}
+              "plane": plane, "model": "quarter ring (symmetry x = 0 and y = R_out)"}
     return Setup("ring", problem, [contact], [1.0], params, figures, [u, contact.gap_out, contact.pressure_out])
 
 

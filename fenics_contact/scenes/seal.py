@@ -64,11 +64,16 @@ from mpi4py import MPI
 from ..compat import function_space
 from ..contact import ContactSurface
 from ..laws import ContactLaw
-from ..materials import NeoHookean
+from ..materials import PLANES, NeoHookean
 from ..meshes import SEAL_BOUNDARY, SEAL_SYMMETRY, seal_s_geometry, seal_s_section, seal_section, seal_wave_section
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = [
+    "E", "NU", "R_OUT", "R_IN", "GAP", "K_HAT", "F_HAT", "SOLVER_OPTIONS", "PREDICTOR", "SHAPES", "LOADS", "build",
+    "BENCH"
+]
 
 E, NU, R_OUT, R_IN, GAP = 1000.0, 0.3, 10.0, 9.0, 7.0
 K_HAT = 1e5
@@ -82,9 +87,13 @@ LOADS = [0.5 * k for k in range(1, 12)] + [5.5 + 0.1 * k for k in range(1, 6)]
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: list[float] | None = None,
-          comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "wave") -> Setup:
+          comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "wave", plane: str = "strain") -> Setup:
     """``h``: cell size of the structured quadrilaterals (0.5: 2 cells through the thickness); ``shape``:
-    ``"wave"``, ``"S"`` or ``"U"`` (module docstring). Solve with ``SOLVER_OPTIONS`` and ``PREDICTOR[shape]``."""
+    ``"wave"``, ``"S"`` or ``"U"`` (module docstring). Solve with ``SOLVER_OPTIONS`` and ``PREDICTOR[shape]``.
+    ``plane``: ``strain`` (default, the figures of the module docstring) or ``stress`` (neo-Hookean with the
+    out-of-plane stretch of :class:`~fenics_contact.materials.NeoHookean`)."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if shape not in SHAPES:
         raise ValueError(f"seal shape must be one of {', '.join(map(repr, SHAPES))}, got {shape!r}")
     half = shape != "S"
@@ -105,7 +114,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
                            name="lower plate")
     upper = ContactSurface(u, facet_tags, SEAL_BOUNDARY, HalfPlane([0.0, GAP], [0.0, -1.0], motion=[0.0, -1.0]),
                            _copy(law), load, quadrature, name="upper plate")
-    problem = ContactProblem(u, NeoHookean(E, NU), load, dirichlet, [lower, upper])
+    problem = ContactProblem(u, NeoHookean(E, NU, plane=plane), load, dirichlet, [lower, upper])
 
     def figures() -> dict:
         zl, zu = lower.contact_zones(), upper.contact_zones()
@@ -120,7 +129,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
                 "max_penetration": max(lower.max_penetration(), upper.max_penetration())}
 
     params = {"E": E, "nu": NU, "R_out": R_OUT, "R_in": R_IN, "plate_distance": GAP, "h": h, "shape": shape,
-              "quadrature": quadrature, "material": "neohookean",
+              "quadrature": quadrature, "material": "neohookean", "plane": plane,
               "model": f"half of the {shape}-shaped section (symmetry x = 0)" if half else
               "whole S-shaped section, u(P0) = (0, -t/2) at its centre of symmetry"}
     fields = [u, lower.gap_out, lower.pressure_out]

@@ -84,18 +84,22 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from ..bounds import contact_surface
 from ..compat import function_space, petsc_vec
 from ..contact import contact_measure
+from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import NeoHookean
 from ..meshes import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, END, SYMMETRY, sheet_over_cylinder
-from ..multipliers import two_body_multipliers, unknown
+from ..multipliers import unknown
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
 from ..projection import SurfaceProjector
-from ..twobody import two_body_surfaces
 from . import Setup
+
+__all__ = [
+    "R", "THICKNESS", "LMBDA", "MU", "LEG", "R_IN", "RATIO", "RADIUS", "CYLINDERS", "arc_length", "total_variation",
+    "oscillation", "build", "Scaled"
+]
 
 R, THICKNESS, LMBDA, MU, LEG = 3.0, 1.0, 1e3, 5e2, 2.0
 R_IN = 1.0  # the fixed inner radius of the cylinder (no role with a rigid cylinder)

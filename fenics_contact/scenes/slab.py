@@ -15,7 +15,8 @@ Sign convention of the figures: ``ux_A``, ``uy_A`` are the displacement
 components of ``A`` along ``+x`` (from the symmetry plane toward the free
 side) and ``+y`` (up, away from the plate). The side load makes ``ux_A < 0``.
 With ``mu = 0`` the stress is uniform (``sigma_xx = -10``, ``sigma_yy = -5``) and
-``ux_A = (1-nu^2)/E (sigma_xx - nu/(1-nu) sigma_yy) * 40 = -0.0258462``, ``uy_A = 0``.
+``ux_A = (1-nu^2)/E (sigma_xx - nu/(1-nu) sigma_yy) * 40 = -0.0258462``, ``uy_A = 0``
+(``plane="stress"``: ``ux_A = (sigma_xx - nu sigma_yy)/E * 40``).
 
 Zones (``zones``): lengths along the base, from the free corner ``A`` inward,
 of the separated, sliding and sticking parts; each base vertex counts with its
@@ -31,21 +32,28 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import function_space
+from ..condensed import step_solver_for
+from ..factory import contact_surface
 from ..laws import ContactLaw
-from ..materials import LinearElastic
+from ..materials import PLANES, LinearElastic
 from ..meshes import BOTTOM, LEFT, RIGHT, rectangle
 from ..meshes import RECT_TOP as TOP
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
 
+__all__ = [
+    "WIDTH", "HEIGHT", "E", "NU", "TOP_PRESSURE", "SIDE_PRESSURE", "NX", "NY", "SIGMA_XX", "SIGMA_YY",
+    "UX_A_FRICTIONLESS", "TOP_LOAD", "SIDE_LOAD", "STATES", "profile", "tributary_lengths", "zones", "build", "BENCH"
+]
+
 WIDTH, HEIGHT, E, NU = 40.0, 40.0, 13000.0, 0.2
 TOP_PRESSURE, SIDE_PRESSURE = 5.0, 10.0
 NX, NY = 32, 16
 SIGMA_XX, SIGMA_YY = -SIDE_PRESSURE, -TOP_PRESSURE
 UX_A_FRICTIONLESS = (1 - NU**2) / E * (SIGMA_XX - NU / (1 - NU) * SIGMA_YY) * WIDTH
+UX_A_FRICTIONLESS_PLANE_STRESS = (SIGMA_XX - NU * SIGMA_YY) / E * WIDTH
 TOP_LOAD, SIDE_LOAD = TOP_PRESSURE * WIDTH, SIDE_PRESSURE * HEIGHT  # per unit thickness
 STATES = ("separated", "sliding", "sticking")
 
@@ -85,12 +93,15 @@ def zones(x: np.ndarray, state: np.ndarray) -> dict:
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY, refinement: int = 0,
-          steps: int = 1, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
-    """``nx`` x ``ny`` Q1 cells times ``2**refinement`` each way; ``steps`` proportional load steps."""
+          steps: int = 1, comm: MPI.Comm = MPI.COMM_WORLD, plane: str = "strain") -> Setup:
+    """``nx`` x ``ny`` Q1 cells times ``2**refinement`` each way; ``steps`` proportional load steps; ``plane``:
+    ``strain`` (the paper's) or ``stress``."""
     if int(refinement) < 0:
         raise ValueError(f"refinement must be >= 0, got {refinement!r}")
     if int(steps) < 1:
         raise ValueError(f"steps must be >= 1, got {steps!r}")
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     nx, ny = int(nx) * 2**refinement, int(ny) * 2**refinement
     mesh, _, facet_tags = rectangle(comm, WIDTH, HEIGHT, nx, ny, quadrilateral=True)
     V = function_space(mesh, "Lagrange", 1, (2,))
@@ -102,7 +113,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     tractions = [(fem.Constant(mesh, np.array([0.0, -TOP_PRESSURE])), ds(TOP)),
                  (fem.Constant(mesh, np.array([-SIDE_PRESSURE, 0.0])), ds(RIGHT))]
     contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
-    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact], tractions)
+    problem = ContactProblem(u, LinearElastic(E, NU, plane=plane), load, dirichlet, [contact], tractions,
+                             step_solver=step_solver_for([contact]))
+    ux_a_frictionless = UX_A_FRICTIONLESS if plane == "strain" else UX_A_FRICTIONLESS_PLANE_STRESS
 
     # The free bottom corner A: the rank owning its vertex reports it (max over ranks of a masked value).
     corner = np.flatnonzero(np.isclose(V.tabulate_dof_coordinates()[:, 0], WIDTH)
@@ -120,7 +133,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
         symmetry = problem.reaction(symmetry_x.dofs)
         z = zones(prof["x"], prof["state"])
         return {"ux_A": float(ua[0]), "uy_A": float(ua[1]),
-                "ux_A_frictionless": t * UX_A_FRICTIONLESS,
+                "ux_A_frictionless": t * ux_a_frictionless,
                 "zones": {k: z[k] for k in STATES}, "zone_boundaries": z["boundaries"], "zone_pattern": z["pattern"],
                 "normal_force": normal, "tangential_force": tangential, "symmetry_reaction": symmetry,
                 "normal_equilibrium_error": abs(normal - t * TOP_LOAD) / TOP_LOAD,
@@ -130,7 +143,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
 
     params = {"E": E, "nu": NU, "width": WIDTH, "height": HEIGHT, "top_pressure": TOP_PRESSURE,
               "side_pressure": SIDE_PRESSURE, "nx": nx, "ny": ny, "refinement": refinement, "steps": steps,
-              "quadrature": quadrature, "model": "half slab (symmetry u_x = 0 on x = 0), Q1, plane strain"}
+              "quadrature": quadrature, "plane": plane,
+              "model": f"half slab (symmetry u_x = 0 on x = 0), Q1, plane {plane}"}
     extra = [contact.traction_out] if hasattr(contact, "traction_out") else []
     return Setup("slab", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
                  [u, contact.gap_out, contact.pressure_out, *extra])

@@ -22,14 +22,16 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..bounds import contact_surface
 from ..compat import function_space
+from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import MODELS
 from ..meshes import CONTACT, SYMMETRY, SYMMETRY_Y, TOP, sphere_octant
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
+
+__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "hertz3d", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
@@ -87,9 +89,12 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
         loaded = p > 1e-8 * max(p.max(), 1e-300)
         p0 = float(p.max())
         a = float(np.hypot(x[loaded, 0], x[loaded, 1]).max()) if loaded.any() else 0.0  # outermost loaded node
-        return {"total_force": P, "reaction_top": -4 * problem.reaction(top_z), "p0": p0, "a": a,
-                "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h, "a_error": abs(a - a_h) / a_h,
-                "contact_nodes": int(np.count_nonzero(loaded)), "h_contact": h}
+        out = {"total_force": P, "reaction_top": -4 * problem.reaction(top_z), "p0": p0, "a": a,
+               "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h, "a_error": abs(a - a_h) / a_h,
+               "contact_nodes": int(np.count_nonzero(loaded)), "h_contact": h}
+        if model != "linear":  # p0 is nominal (per reference area); the peak per current area too
+            out["p0_nominal"], out["p0_cauchy"] = p0, float(contact.surface_values("cauchy")[2].max())
+        return out
 
     params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h, "level": level,
               "quadrature": quadrature, "model": "octant (symmetry x = 0, y = 0, z = R)"}

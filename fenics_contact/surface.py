@@ -1,0 +1,158 @@
+"""The interfaces the problem and the solver talk to: :class:`Surface` (a contact enforcement) and
+:class:`StepSolver` (a strategy that solves a whole load step instead of SNES).
+
+Every hook the solver may call is declared here, once; the defaults are the no-ops that are right for
+a surface that needs nothing at that point. Order of the calls in a load step (see
+:class:`~fenics_contact.solver.Solver`):
+
+1. ``bounds(t, like)`` on the ``bounded`` surfaces (SNES VI), ``forget_gap()`` on the ``augmentable`` ones.
+2. Every residual evaluation :meth:`ContactProblem.F <fenics_contact.problem.ContactProblem.F>`: ``prepare(problem)``
+   with ``u`` at the iterate, the forms (with ``residual(v)`` compiled in once), then ``add_residual(b)``; every
+   Jacobian :meth:`ContactProblem.J <fenics_contact.problem.ContactProblem.J>`: the forms, then
+   ``add_jacobian(A, bcs)``. After every Newton iterate ``closed_points()`` (not ``bounded``: failure diagnosis).
+3. After a converged solve ``after_solve(problem)``; then, while augmenting, ``constraint_change()`` and
+   ``augment()``.
+4. An accepted step: ``commit()``; a failed one: ``restore(state())`` of the snapshot taken before it.
+5. Output: ``update_output()`` before every write.
+"""
+from __future__ import annotations
+
+import abc
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    import ufl
+    from petsc4py import PETSc
+
+__all__ = ["Surface", "StepSolver"]
+
+
+class Surface(abc.ABC):
+    """A contact enforcement: its term of the residual and the hooks the solver calls.
+
+    Class attributes (override as needed): ``bcs`` the Dirichlet conditions the surface adds to the problem
+    (multipliers: ``p = 0`` off the surface); ``solver_options`` PETSc defaults the formulation needs (the
+    user's options still win); ``direct_solver_options`` what replaces them when the linear solver is a direct
+    LU (multipliers: the exact additive field split); ``pinned_dofs`` global number of unknowns fixed by
+    ``bcs`` that are not real unknowns (not counted in reported sizes); ``bounded`` True when the surface is
+    enforced by variable bounds (SNES VI) instead of a residual term; ``requires_step_solver`` True when its
+    steps must be solved by a :class:`StepSolver` given to the problem (no residual term, no bounds).
+    """
+
+    name: str = "contact"
+    bcs: tuple = ()
+    solver_options: dict = {}
+    direct_solver_options: dict = {}
+    pinned_dofs: int = 0
+    bounded: bool = False
+    requires_step_solver: bool = False
+
+    # --- the problem's forms ------------------------------------------------------
+    @abc.abstractmethod
+    def residual(self, v: ufl.Argument) -> ufl.Form | None:
+        """The surface's term of the residual for the test function ``v`` (compiled once into the problem's
+        forms, its derivative into the Jacobian), or None when it has none (bounds, step solver, or a term
+        assembled entirely by :meth:`add_residual` / :meth:`add_jacobian`)."""
+
+    def bind_material(self, material) -> None:
+        """Called once by the problem with its bulk material(s), before :meth:`residual` (a surface whose
+        figures need the bulk, e.g. the Cauchy pressure at finite strain)."""
+        return None  # a no-op unless a surface needs it
+
+    @property
+    def augmentable(self) -> bool:
+        """True when :meth:`augment` improves the solution (augmented Lagrangian, Uzawa): the solver then runs
+        the augmentation loop on this surface."""
+        return False
+
+    # --- linear solver ------------------------------------------------------------
+    def field_split(self) -> list[tuple[str, PETSc.IS]] | None:
+        """Named global index sets of a ``fieldsplit`` preconditioner, or None (the solver then uses LU)."""
+        return None
+
+    # --- SNES VI --------------------------------------------------------------------
+    def bounds(self, t: float, like: PETSc.Vec) -> tuple[PETSc.Vec, PETSc.Vec] | None:
+        """Variable bounds ``(lower, upper)`` on the unknowns at load ``t`` (vectors like ``like``), for a
+        ``bounded`` surface; None otherwise."""
+        return None
+
+    # --- every residual and Jacobian evaluation -------------------------------------
+    def prepare(self, problem) -> None:
+        """Before every residual evaluation, with ``problem.u`` at the iterate (two-body contact re-pairs)."""
+        return None  # a no-op unless a surface needs it
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        """Add terms outside the problem's forms to the assembled residual ``b`` (owned entries, before the
+        Dirichlet rows are set)."""
+        return None  # a no-op unless a surface needs it
+
+    def add_jacobian(self, A: PETSc.Mat, bcs: list) -> bool:
+        """Add blocks outside the problem's forms to the assembled Jacobian ``A`` (Dirichlet rows and columns
+        left zero); True if ``A``'s nonzero pattern changed (the solver then factors from scratch)."""
+        return False
+
+    def closed_points(self) -> np.ndarray:
+        """Flags ``g > 0`` (closed) at this rank's contact points at the current ``u`` (failure diagnosis)."""
+        return np.zeros(0, dtype=bool)
+
+    # --- after a solve, augmentation ---------------------------------------------------
+    def after_solve(self, problem) -> None:
+        """After every converged Newton solve (e.g. the nodal reaction pressure of SNES VI)."""
+        return None  # a no-op unless a surface needs it
+
+    def forget_gap(self) -> None:
+        """Start a new augmentation sequence (a new load step)."""
+        return None  # a no-op unless a surface needs it
+
+    def constraint_change(self) -> float:
+        """Change of the constraint since the last call (``inf`` the first time); the augmentation loop stops
+        when it is below the tolerance."""
+        return 0.0
+
+    def augment(self) -> None:
+        """One augmentation (multipliers from the converged state)."""
+        return None  # a no-op unless a surface needs it
+
+    # --- load steps ------------------------------------------------------------------
+    def commit(self) -> None:
+        """A load step was accepted: advance history variables (friction)."""
+        return None  # a no-op unless a surface needs it
+
+    def state(self) -> dict:
+        """A copy of everything a failed step may change (taken before each step)."""
+        return {}
+
+    def restore(self, state: dict) -> None:
+        """Go back to a :meth:`state` (the step failed and is cut)."""
+        return None  # a no-op unless a surface needs it
+
+    # --- output ---------------------------------------------------------------------------
+    def update_output(self) -> None:
+        """Refresh the output Functions (gap, pressure, ...) from the current state before they are written."""
+        return None  # a no-op unless a surface needs it
+
+
+class StepSolver(abc.ABC):
+    """A strategy that solves a whole load step itself instead of SNES (e.g.
+    :class:`~fenics_contact.condensed.CondensedCoulomb`). Given to the problem (``ContactProblem(...,
+    step_solver=...)``); the solver calls :meth:`solve_step` at each load value, :meth:`commit` on accepted
+    steps, :meth:`state` / :meth:`restore` around failed ones."""
+
+    @abc.abstractmethod
+    def solve_step(self, problem) -> tuple[int, list[float], str]:
+        """Solve at ``problem.load`` and set ``problem.u``: ``(reason as SNES's: > 0 converged, residual
+        history, failure message or "")``."""
+
+    def commit(self) -> None:
+        """The step just solved was accepted."""
+        return None  # a no-op unless a surface needs it
+
+    def state(self) -> dict:
+        """A copy of the strategy's state (taken before each step)."""
+        return {}
+
+    def restore(self, state: dict) -> None:
+        """Go back to a :meth:`state`."""
+        return None  # a no-op unless a surface needs it

@@ -1,0 +1,200 @@
+"""The public API: ``fenics_contact.__all__``, ``__all__`` in every public module, no import cycle, no gmsh on
+import, and a problem set up on one's own mesh with public names only."""
+import ast
+import importlib
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import fenics_contact as fc
+
+PACKAGE = Path(fc.__file__).parent
+
+
+def _modules() -> dict[str, Path]:
+    """Every module of the package by dotted name (packages by their ``__init__``)."""
+    out = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        out[".".join(parts)] = path
+    return out
+
+
+def _imports(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
+    """Package modules that ``name`` imports anywhere in its source (top level, functions, TYPE_CHECKING)."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")
+                anchor = anchor[: len(anchor) - node.level + 1]
+                base = ".".join(anchor + ([base] if base else []))
+            # ``from X import y``: y is a module of X, or a name defined in X
+            targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in modules else base for a in node.names]
+        else:
+            continue
+        for t in targets:
+            while t and t not in modules:  # ``import a.b.c`` of a name: its innermost module
+                t = t.rpartition(".")[0]
+            if t and t != name:
+                found.add(t)
+    return found
+
+
+def test_all_names_resolve():
+    assert len(fc.__all__) == len(set(fc.__all__))
+    missing = [n for n in fc.__all__ if not hasattr(fc, n)]
+    assert not missing, missing
+    for needed in ("ContactProblem", "Dirichlet", "Solver", "ConvergenceError", "make_law", "contact_surface",
+                   "two_body_surfaces", "unknown", "Surface", "StepSolver", "XDMFWriter", "write_summary", "run",
+                   "build", "scene_names", "Setup", "LinearElastic", "HalfPlane", "cli"):
+        assert needed in fc.__all__, needed
+
+
+def test_every_public_module_declares_all():
+    """Every module (no ``_`` in its dotted name) has ``__all__``, and its names exist."""
+    for name in _modules():
+        if any(part.startswith("_") for part in name.split(".")):
+            continue
+        module = importlib.import_module(name)
+        assert isinstance(getattr(module, "__all__", None), list), f"{name} has no __all__"
+        missing = [n for n in module.__all__ if not hasattr(module, n)]
+        assert not missing, f"{name}.__all__ names missing objects: {missing}"
+
+
+def test_every_enforcement_implements_the_surface_interface():
+    """The surfaces the constructors return are :class:`Surface` subclasses with every abstract hook defined."""
+    for cls in (fc.ContactSurface, fc.FrictionalContact, fc.BoundContact, fc.NitscheContact, fc.MultiplierContact,
+                fc.CondensedContact, fc.TwoBodySurface, fc.SegmentSurface, fc.TwoBodyMultiplier):
+        assert issubclass(cls, fc.Surface) and not cls.__abstractmethods__, cls
+    assert issubclass(fc.CondensedCoulomb, fc.StepSolver) and not issubclass(fc.CondensedCoulomb, fc.Surface)
+
+
+def test_no_import_cycle():
+    """The graph of imports between the package's modules (including imports inside functions) is acyclic."""
+    modules = _modules()
+    graph = {name: _imports(name, path, modules) for name, path in modules.items()}
+    assert "fenics_contact.twobody" in graph["fenics_contact.mortar"]  # the parser sees relative imports
+    state: dict[str, int] = {}  # 1 on the DFS stack, 2 done
+
+    def visit(n: str, stack: list[str]) -> None:
+        state[n] = 1
+        for m in sorted(graph[n]):
+            if state.get(m) == 1:
+                cycle = stack[stack.index(m):] + [m]
+                raise AssertionError("import cycle: " + " -> ".join(cycle))
+            if m not in state:
+                visit(m, stack + [m])
+        state[n] = 2
+
+    for n in sorted(graph):
+        if n not in state:
+            visit(n, [n])
+
+
+def test_import_does_not_load_gmsh():
+    code = "import sys, fenics_contact; assert 'gmsh' not in sys.modules, 'gmsh imported'; print('ok')"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={k: v for k, v in __import__("os").environ.items()
+                              if not k.startswith(("OMPI_", "PMIX_", "PMI_"))})
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
+
+
+@pytest.mark.parametrize("method", ["vi", "auglag", "lagrange", "coulomb"])
+def test_own_mesh_with_public_names(method):
+    """A block on a rigid plate, set up from public names only on a dolfinx mesh of one's own: top moved down by
+    d, horizontal motion free, frictionless base. Uniform plane-strain state: p = E/(1 - nu^2) d/H."""
+    from dolfinx import fem
+    from dolfinx import mesh as dmesh
+
+    E, nu, H, d = 1000.0, 0.3, 2.0, 0.32
+    mesh = dmesh.create_rectangle(MPI.COMM_WORLD, [np.zeros(2), np.array([1.0, H])], [3, 6])
+    fdim = mesh.topology.dim - 1
+    sides = {1: lambda x: np.isclose(x[1], 0.0), 2: lambda x: np.isclose(x[1], H), 3: lambda x: np.isclose(x[0], 0)}
+    facets = [(tag, dmesh.locate_entities_boundary(mesh, fdim, where)) for tag, where in sides.items()]
+    indices = np.concatenate([f for _, f in facets]).astype(np.int32)
+    values = np.concatenate([np.full(len(f), tag, np.int32) for tag, f in facets])
+    order = np.argsort(indices)
+    tags = dmesh.meshtags(mesh, fdim, indices[order], values[order])
+
+    law = fc.make_law(method, **({"K": 1e3} if method == "auglag" else {}))
+    u, V = fc.unknown(mesh, 1, law)
+    load = fem.Constant(mesh, 0.0)
+    contact = fc.contact_surface(u, tags, 1, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
+    bcs = [fc.Dirichlet.on_facets(V, tags, 2, 1, -d), fc.Dirichlet.on_facets(V, tags, 3, 0)]
+    problem = fc.ContactProblem(u, fc.LinearElastic(E, nu), load, bcs, [contact],
+                                step_solver=fc.step_solver_for([contact]))
+    fc.Solver(problem, quiet=True, augment_max=30, augment_tol=1e-10).run([1.0])
+    exact = E / (1 - nu**2) * d / H
+    pressure = (contact.friction_profile()["pressure"].mean() if method == "coulomb"
+                else contact.mean_pressure())
+    assert pressure == pytest.approx(exact, rel=1e-8)
+
+
+def test_coulomb_without_its_step_solver_is_refused():
+    """A surface that needs a step solver in a problem without one: a one-line ValueError before any solve."""
+    from dolfinx import fem
+
+    mesh, _, tags = fc.meshes.rectangle(MPI.COMM_WORLD, 1.0, 1.0, 2, 2)
+    u = fem.Function(fc.function_space(mesh, "Lagrange", 1, (2,)))
+    load = fem.Constant(mesh, 0.0)
+    contact = fc.contact_surface(u, tags, fc.meshes.BOTTOM, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), fc.Coulomb(0.3),
+                                 load)
+    with pytest.raises(ValueError, match="step_solver"):
+        fc.ContactProblem(u, fc.LinearElastic(1.0, 0.3), load, [], [contact])
+
+
+def test_problem_residual_and_jacobian_are_public():
+    """``ContactProblem.F`` / ``J`` (dolfinx's NonlinearProblem signatures) at a state: the Jacobian matches a
+    central difference of the residual (penalty law, closed contact)."""
+    setup = fc.build("block", law=fc.make_law("penalty", K=1e4))
+    problem = setup.problem
+    solver = fc.Solver(problem, quiet=True)
+    solver.run(setup.loads)
+    x = problem.create_vector()
+    x.array[:] = problem.u.x.array[: len(x.array)]
+    d = x.duplicate()
+    d.setRandom()
+    eps = 1e-6
+    problem.J(x, solver.A)
+    Jd = x.duplicate()
+    solver.A.mult(d, Jd)
+    r = []
+    for s in (1.0, -1.0):
+        xs = x.copy()
+        xs.axpy(s * eps, d)
+        b = x.duplicate()
+        problem.F(xs, b)
+        r.append(b)
+    fd = r[0] - r[1]
+    fd.scale(0.5 / eps)
+    assert (fd - Jd).norm() <= 1e-6 * Jd.norm()
+
+
+def test_demos_import_public_names_only():
+    """Every ``from fenics_contact[.module] import name`` in the demos (anywhere in the file) names a public
+    module's ``__all__`` entry or a public submodule."""
+    for path in sorted((PACKAGE.parent / "demos").glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("fenics_contact"):
+                assert not any(p.startswith("_") for p in node.module.split(".")), (path.name, node.module)
+                module = importlib.import_module(node.module)
+                for a in node.names:
+                    sub = f"{node.module}.{a.name}"
+                    public = a.name in module.__all__ or (
+                        not a.name.startswith("_") and importlib.util.find_spec(sub) is not None)
+                    assert public, f"{path.name}: {sub} is not public"
+            elif isinstance(node, ast.Import):
+                for a in node.names:
+                    assert not any(p.startswith("_") for p in a.name.split(".")), (path.name, a.name)
