@@ -29,8 +29,8 @@ def test_collocated_multipliers_exact_on_the_curved_interface(runs):
     a, b = setup.contacts
     assert f16["points"] == 2 * 16 + 1 + 2 * 12 + 1  # every node of both surfaces carries a pressure
     # node on node (the meshes' common vertices at 0, 22.5, 45, 67.5, 90 degrees): one pressure
-    Xa, _, ga, pa = a.point_table()
-    Xb, _, gb, pb = b.point_table()
+    Xa, _, ga, pa = a.point_table("cauchy")
+    Xb, _, gb, pb = b.point_table("cauchy")
     va, vb = np.isfinite(ga), np.isfinite(gb)  # the vertices (a gap each)
     d = np.linalg.norm(Xa[va][:, None] - Xb[vb][None], axis=2)
     i, j = np.nonzero(d < 1e-6)

@@ -86,8 +86,8 @@ Papadopoulos & Solberg's collocated element (``quadrature="collocated"``, :mod:`
 a pressure on both surfaces, the gap at the vertices of both, the middle pressure collocated from the
 opposite surface, each body loaded by its own pressure) is the best of all and converges pointwise: max
 deviation 0.32, 0.062, 0.012 % at ``n = 8, 16, 32``. Its pressure is per current length (Cauchy); the
-figures multiply it by the tangential stretch ``r/R`` (per reference length, Lamé's small-strain
-convention: the interface shrinks by 0.7 %).
+figures use its nominal value (per reference length, Lamé's small-strain convention: the interface
+shrinks by 0.7 %), ``point_table(kind="nominal")``.
 """
 from __future__ import annotations
 
@@ -98,6 +98,7 @@ from mpi4py import MPI
 
 from ..compat import function_space
 from ..contact import is_mixed
+from ..factory import two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import LinearElastic
 from ..meshes.rings import (
@@ -113,9 +114,8 @@ from ..meshes.rings import (
     RINGS_Y0_OUTER,
     concentric_rings,
 )
-from ..multipliers import two_body_multipliers, unknown
+from ..multipliers import unknown
 from ..problem import ContactProblem, Dirichlet
-from ..twobody import two_body_surfaces
 from . import Setup
 
 A, B, C = 0.2, 0.6, 1.0
@@ -265,10 +265,9 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
         if quadrature == "segment":
             _, g, p = cs.point_values()
             return p[np.isfinite(g)]
-        X, x, g, p = cs.point_table()
-        if quadrature == "collocated":  # vertices (constrained) and middle nodes (collocated)
-            # per current length -> per reference length (Lamé's, small strain): the tangential stretch r/R
-            return p * np.linalg.norm(x, axis=1) / np.linalg.norm(X, axis=1)
+        X, _, g, p = cs.point_table()
+        if quadrature == "collocated":  # vertices (constrained) and middle nodes (collocated), nominal
+            return p
         keep = np.isfinite(g)  # unpaired: left out of a two-pass pair (node on node)
         if quadratic and (multipliers or quadrature == "nodal"):  # the end nodes (mesh vertices) only
             sd = cs.slave_data
