@@ -34,6 +34,8 @@ from .laws import LagrangeMultiplier, PenaltyMultiplier
 from .multipliers import TwoBodyMultiplier
 from .search import project, quadratic_normals, quadratic_shape
 
+__all__ = ["XI_MIN", "collocated_surfaces", "CollocatedSurface"]
+
 XI_MIN = 0.05  # collocation points closer than this (in xi) to a facet's end are not used
 _W = np.array([1.0, 4.0, 1.0]) / 6.0  # Simpson
 _XI = np.array([0.0, 0.5, 1.0])

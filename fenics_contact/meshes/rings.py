@@ -13,6 +13,11 @@ if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
+__all__ = [
+    "INNER_RING", "OUTER_RING", "RINGS_INNER_FREE", "RINGS_INNER_SURFACE", "RINGS_OUTER_SURFACE", "RINGS_LOADED",
+    "RINGS_X0_INNER", "RINGS_Y0_INNER", "RINGS_X0_OUTER", "RINGS_Y0_OUTER", "RINGS_FACETS", "concentric_rings"
+]
+
 # Cell tags: the inner ring (a <= r <= b) and the outer ring (b <= r <= c).
 INNER_RING, OUTER_RING = 1, 2
 # Facet tags: r = a (free), r = b of the inner ring, r = b of the outer ring, r = c (loaded), the symmetry

@@ -118,6 +118,11 @@ from ..multipliers import unknown
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
 
+__all__ = [
+    "A", "B", "C", "E_DEFAULT", "NU_DEFAULT", "Q_DEFAULT", "PLANES", "RADIUS", "lame_pressure", "lame_displacements",
+    "RingsElastic", "build"
+]
+
 A, B, C = 0.2, 0.6, 1.0
 E_DEFAULT, NU_DEFAULT, Q_DEFAULT = 1000.0, 0.3, 10.0
 PLANES = ("strain", "stress")
