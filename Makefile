@@ -10,7 +10,7 @@ MPIRUN := mpirun -n $(NP)
 DEMOS  := block hertz slab pin ring seal compliance3d patch cylinders sheet sphere
 
 
-.PHONY: setup demo bench scaling test lint test-serial test-mpi test-debian13 clean
+.PHONY: setup demo bench scaling docs test lint test-serial test-mpi test-debian13 clean
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
@@ -30,6 +30,10 @@ bench: setup
 # 3D Hertz (sphere) from ~1e4 to ~1e6 dofs, serial and mpirun -n 2: time per Newton iteration, slope (heavy)
 scaling: setup
 	$(PY) demos/scaling.py --out results/scaling
+
+# the capability matrix, printed from its declaration (tests/test_capabilities.py checks the committed file)
+docs: setup
+	$(PY) -m fenics_contact.capabilities > docs/capabilities.md
 
 lint: setup
 	$(VENV)/bin/ruff check fenics_contact demos tests

@@ -27,6 +27,8 @@ p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
 p.add_argument("--plane", choices=["strain", "stress"], default="strain", help="2D assumption (Hertz's E* follows)")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
+# Refused combinations: one line, before any work.
+cli.check(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=2, degree=1, model=args.model)
 out = Path(args.out or "results/hertz")
 
 # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.

@@ -20,6 +20,7 @@ p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS))
 p.add_argument("--steps", type=int, default=1, help="load steps")
 p.set_defaults(augment_tol=1e-10)
 args = cli.parse(p)
+cli.check(args, kind="rigid", dim=3, degree=1, model="linear")  # refused combinations: one line, before any work
 out = Path(args.out or "results/sphere")
 
 # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane.

@@ -22,8 +22,9 @@ benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :fu
 (:mod:`~fenics_contact.plotting`), meshes (:mod:`~fenics_contact.meshes`, gmsh imported only by the
 builders that use it) and tables are public too. Importing the package does not import gmsh.
 """
-from . import bench, cli, compat, domain, failure, meshes, plotting, scenes, search, tables
+from . import bench, capabilities, cli, compat, domain, failure, meshes, plotting, scenes, search, tables
 from .bounds import BoundContact
+from .capabilities import UnsupportedCombination
 from .compat import function_space, interpolate_expression
 from .condensed import CondensedContact, CondensedCoulomb, step_solver_for
 from .contact import ContactSurface, contact_measure
@@ -80,6 +81,8 @@ __all__ = [
     "XDMFWriter", "write_summary", "run",
     # benchmark scenes
     "Setup", "build", "scene_names",
+    # the capability matrix: a refused combination of options (capabilities.check, docs/capabilities.md)
+    "UnsupportedCombination",
     # public submodules
-    "bench", "cli", "compat", "domain", "failure", "meshes", "plotting", "scenes", "search", "tables",
+    "bench", "capabilities", "cli", "compat", "domain", "failure", "meshes", "plotting", "scenes", "search", "tables",
 ]

@@ -17,7 +17,8 @@ from .contact import QUADRATURES
 from .laws import METHODS, ContactLaw, make_law
 from .solver import LINEAR_SOLVERS
 
-__all__ = ["parser", "parse", "has_friction", "law_from_args", "method_parameters", "solver_options"]
+__all__ = ["parser", "parse", "check", "one_line_errors", "has_friction", "law_from_args", "method_parameters",
+           "solver_options"]
 
 
 def parser(description: str, default_K: float, quadratures: Sequence[str] = QUADRATURES) -> argparse.ArgumentParser:
@@ -57,6 +58,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     # UFL warns about every custom quadrature rule; the nodal rule is one on purpose.
     # (The compiler lines on a form's first JIT come from cffi, hard-coded verbose.)
     logging.getLogger("UFL").setLevel(logging.ERROR)
+    one_line_errors()
     args, rest = p.parse_known_args(sys.argv[1:] if argv is None else argv)
     stray = [r for r in rest if not r.startswith("-") and not _is_value(r)]
     if stray:
@@ -71,6 +73,35 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if args.omega_t is None:
         args.omega_t = args.K
     return args
+
+
+def one_line_errors() -> None:
+    """Make a ``ValueError`` that ends a demo (a refused combination, a bad option value) one line on stderr
+    (``error: ...``, from rank 0) and exit status 1, without a traceback; other exceptions keep theirs."""
+    previous = sys.excepthook
+
+    def hook(kind, value, tb):
+        if not issubclass(kind, ValueError):
+            return previous(kind, value, tb)
+        from mpi4py import MPI
+
+        if MPI.COMM_WORLD.rank == 0:
+            sys.stderr.write(f"error: {str(value).splitlines()[0] if str(value) else kind.__name__}\n")
+        sys.stderr.flush()  # the interpreter then exits with status 1 (every rank raised the same error)
+
+    sys.excepthook = hook
+
+
+def check(args: argparse.Namespace, **axes) -> None:
+    """Check the demo's options against the capability matrix before any work: method, quadrature, linear
+    solver, friction and passes from ``args``, the scene's own axes (``kind``, ``dim``, ``degree``, ``model``)
+    as keywords. Raises :class:`~fenics_contact.capabilities.UnsupportedCombination`."""
+    from .capabilities import check as check_combination
+
+    combo = {"method": args.method, "quadrature": args.quadrature, "solver": getattr(args, "solver", None),
+             "friction": has_friction(args) or (args.method == "coulomb" and args.mu > 0),
+             "passes": getattr(args, "passes", None)}
+    check_combination(**{**combo, **axes})
 
 
 def has_friction(args: argparse.Namespace) -> bool:

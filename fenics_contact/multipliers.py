@@ -73,6 +73,7 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
+from .capabilities import check, of
 from .compat import function_space, mixed_space
 from .contact import ContactSurface, contact_measure, is_mixed
 from .laws import ContactLaw, LagrangeMultiplier, ufl_ops
@@ -89,6 +90,7 @@ def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement") -> t
     for method ``lagrange``, ``(w, W.sub(0))`` with ``w`` on the mixed space
     (displacement of ``degree``, pressure P1). ``V.sub(i)`` are the components either way.
     """
+    check(**of(law), dim=mesh.geometry.dim, degree=degree)
     if isinstance(law, LagrangeMultiplier):
         W = mixed_space(mesh, degree)
         return fem.Function(W, name="displacement_pressure"), W.sub(0)

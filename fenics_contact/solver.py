@@ -22,6 +22,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import failure as _failure
+from .capabilities import check, of
 from .compat import petsc_vec
 from .problem import ContactProblem
 
@@ -200,6 +201,8 @@ class Solver:
                 self.snes.setConvergenceTest(self._convergence_test)
             self._split_fields()
             if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
+                for c in problem.contacts:  # the capability matrix, before any assembly
+                    check(**of(c.law, u), solver="iterative")
                 self.A.setNearNullSpace(rigid_body_modes(u.function_space))
         self.records: list[StepRecord] = []
         self.failures: list[dict] = []  # every failed solve, also those rescued by a cutback

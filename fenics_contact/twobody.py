@@ -76,9 +76,11 @@ consistent tangent (curvature and the moving projection point included;
 Points that project on a facet's end (``xi`` clipped) keep ``xi`` fixed.
 
 Two-pass: two surfaces, each side slave once, each with ``weight = 1/2``
-(forces averaged); a slave point of the second pass that coincides with one
-of the first in the reference configuration is left out (node-on-node: one
-constraint per pair). Flat facets: segments (2D), triangles (3D);
+(forces averaged); coinciding points of the two passes both stay on flat
+facets (each at weight 1/2: together the one-pass force; leaving one out
+doubled the other's pressure); quadratic facets still leave the second-pass
+point out (node-on-node). Two passes of multipliers are refused
+(:mod:`capabilities`). Flat facets: segments (2D), triangles (3D);
 quadratic: curved segments (2D).
 """
 from __future__ import annotations
@@ -91,6 +93,7 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
+from .capabilities import check, of
 from .compat import bc_dofs, function_space
 from .contact import ContactSurface, check_facet_tag, contact_measure, is_mixed
 from .laws import ContactLaw
@@ -287,6 +290,7 @@ class TwoBodySurface(ContactSurface):
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
                  radius: float | None = None, name: str = "twobody", work_quadrature: str | None = None,
                  exclude: np.ndarray | None = None):
+        check(**of(law, u), kind="two-body", quadrature=work_quadrature or quadrature)  # before any assembly
         mesh = u.function_space.mesh
         if slave_tag == master_tag:
             raise ValueError(f"slave_tag and master_tag must differ, both are {slave_tag}")

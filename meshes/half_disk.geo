@@ -3,7 +3,7 @@
 // Physical names: "disk" (the surface), "contact" (the lower arc), "top" (the diameter y = R).
 DefineConstant[ R = {1.0, Name "Parameters/R (radius)"},
                 h = {0.1, Name "Parameters/h (size away from the contact)"},
-                h_contact = {0.01, Name "Parameters/h_contact (size at the contact point)"} ];
+                h_contact = {0.002, Name "Parameters/h_contact (size at the contact point)"} ];
 Point(1) = {0, R, 0, h};
 Point(2) = {-R, R, 0, h};
 Point(3) = {0, 0, 0, h_contact};
@@ -13,10 +13,10 @@ Circle(2) = {3, 1, 4};
 Line(3) = {4, 2};
 Curve Loop(1) = {1, 2, 3};
 Plane Surface(1) = {1};
-// Grade from h_contact at the contact point to h over a distance R/3.
+// h_contact within 0.05 R of the contact point, growing to h at 0.6 R.
 Field[1] = Distance; Field[1].PointsList = {3};
 Field[2] = Threshold; Field[2].InField = 1; Field[2].SizeMin = h_contact; Field[2].SizeMax = h;
-Field[2].DistMin = 0.02 * R; Field[2].DistMax = R / 3;
+Field[2].DistMin = 0.05 * R; Field[2].DistMax = 0.6 * R;
 Background Field = 2;
 Mesh.MeshSizeExtendFromBoundary = 0;
 Mesh.MeshSizeFromPoints = 0;

@@ -78,3 +78,17 @@ def test_neohookean_inverted_state_is_rejected_and_cut_back():
     assert not ref_solver.failures
     assert np.isclose(f["total_force"], ref.figures()["total_force"], rtol=1e-8)
     assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
+
+
+def test_meshed_plate_with_multipliers():
+    """Two-body contact of the disk on the meshed stiff plate with the slave pressure as an unknown (method
+    lagrange): Hertz within 2 % and equilibrium."""
+    from fenics_contact.laws import LagrangeMultiplier
+
+    setup = hertz.build(LagrangeMultiplier(hertz.DEFAULT_K), plate="meshed")
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    f = setup.figures()
+    assert f["p0_error"] < 0.02 and f["a_error"] < 0.02, (f["p0_error"], f["a_error"])
+    assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)

@@ -78,7 +78,7 @@ def test_multipliers_independent_of_c_and_of_ranks():
 
 
 def test_three_point_penalty_independent_of_ranks(runs):
-    """Two passes (gathered master surfaces, node-on-node exclusion): the same on every partition."""
+    """Two passes (gathered master surfaces): the same on every partition."""
     fs, ps = solve(Penalty(1e4), MPI.COMM_SELF)
     f, p = runs["three4"]
     for t in (0.5, 1.0):

@@ -45,3 +45,18 @@ def test_sphere_hertz_3d_iterative():
 def test_sphere_level_is_checked():
     with pytest.raises(ValueError, match="level"):
         sphere.build(make_law("penalty", K=1.0), level=len(sphere.LEVELS))
+
+
+def test_sphere_multipliers_equal_snes_vi():
+    """Rigid 3D contact with the pressure as an unknown (method lagrange, mixed space): the same exact nodal
+    Signorini solution as SNES VI, and Hertz within the level-0 target."""
+    figures = {}
+    for method in ("lagrange", "vi"):
+        setup = sphere.build(make_law(method), level=0)
+        Solver(setup.problem, quiet=True).run(setup.loads)
+        figures[method] = setup.figures()
+    f, ref = figures["lagrange"], figures["vi"]
+    for k in ("p0", "total_force", "a"):
+        assert np.isclose(f[k], ref[k], rtol=1e-8), (k, f[k], ref[k])
+    assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
+    assert f["p0_error"] < 0.05 and f["a_error"] < 0.05

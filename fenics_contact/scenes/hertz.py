@@ -27,8 +27,8 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ..condensed import step_solver_for
-from ..factory import contact_surface
-from ..laws import ContactLaw
+from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
+from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import MODELS, PLANES, Materials
 from ..meshes import (
     CONTACT,
@@ -148,8 +148,6 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                                         HalfPlane([0.0, 2 * R], [0.0, -1.0], motion=[0.0, -2 * approach]), law_twin(
                                             law), load, quadrature, material=material, name="upper_plate"))
     if plate == "meshed":
-        from ..twobody import TwoBodySurface
-
         # per-body materials: the plate PLATE_STIFFNESS x stiffer (same nu and model)
         material = Materials(mesh, cell_tags, {DOMAIN: material,
                                                PLATE: MODELS[model](PLATE_STIFFNESS * E, NU, plane=plane)})
@@ -157,8 +155,12 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         side = facet_tags.indices[facet_tags.values == PLATE_SYMMETRY]
         dirichlet += [Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, bottom)),
                       Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, np.concatenate([bottom, side])))]
-        contact = TwoBodySurface(u, facet_tags, CONTACT, PLATE_TOP, law, load, quadrature, radius=0.1 * R,
-                                 name="plate")
+        if isinstance(law, LagrangeMultiplier):  # the slave pressure an unknown (P1: quadrature 'nodal')
+            contact = two_body_multipliers(u, facet_tags, CONTACT, PLATE_TOP, law, load, radius=0.1 * R,
+                                           name="plate", work_quadrature=quadrature)[0]
+        else:
+            contact = two_body_surfaces(u, facet_tags, CONTACT, PLATE_TOP, lambda: law, load, quadrature,
+                                        radius=0.1 * R, name="plate")[0]
     else:
         contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                                   material=material)

@@ -22,11 +22,11 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..compat import function_space
 from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import MODELS
 from ..meshes import CONTACT, SYMMETRY, SYMMETRY_Y, TOP, sphere_octant
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
@@ -65,8 +65,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     f = LEVELS[level]
     h = 0.02 * f * R
     mesh, _, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=0.15 * R)
-    V = function_space(mesh, "Lagrange", 1, (3,))
-    u = fem.Function(V, name="displacement")
+    u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
 
@@ -99,4 +98,4 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h, "level": level,
               "quadrature": quadrature, "model": "octant (symmetry x = 0, y = 0, z = R)"}
     return Setup("sphere", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
-                 [u, contact.gap_out, contact.pressure_out])
+                 [contact.displacement_out, contact.gap_out, contact.pressure_out])
