@@ -52,8 +52,9 @@ def collocated_surfaces(w: fem.Function, facet_tags, tag_a: int, tag_b: int, law
     unknown of :func:`multipliers.unknown` with a degree-2 displacement)."""
     if not isinstance(law, LagrangeMultiplier):
         raise ValueError(f"the collocated element needs method 'lagrange' or 'penalty_multiplier', got {law.name!r}")
-    a = CollocatedSurface(w, facet_tags, tag_a, tag_b, law, load, "nodal", 1.0, radius, f"{name}_a")
-    b = CollocatedSurface(w, facet_tags, tag_b, tag_a, law, load, "nodal", 1.0, radius, f"{name}_b")
+    # constraint at the vertices ("nodal"), work with Simpson's rule (this element assembles it itself)
+    a = CollocatedSurface(w, facet_tags, tag_a, tag_b, law, load, "nodal", 1.0, radius, f"{name}_a", "simpson")
+    b = CollocatedSurface(w, facet_tags, tag_b, tag_a, law, load, "nodal", 1.0, radius, f"{name}_b", "simpson")
     a._pair(b, first=True)
     b._pair(a, first=False)
     return [a, b]

@@ -74,6 +74,9 @@ deviation, ``u_r(a)``, ``u_r(c)`` deviations; K in pressure per length)::
                      p = eps <g>, 1e7      6.7e-4 / 3.3e-4  2.3e-4  1.7e-3 7.5e-5
                      p = eps <g>, 1e8      6.2e-4 / 3.2e-4  1.8e-4  1.6e-3 1.5e-4
 
+Since :mod:`~fenics_contact.capabilities`, the ``nodal`` rule on P2 facets (every method) and two-pass
+multipliers are refused up front; their rows above were measured before that refusal.
+
 Reading: with P1 facets every option is dominated by the chord sag ``h^2/8b`` (1.3e-3 for the outer
 ring's facets) against interface displacements ~6e-3: the two polygons interfere, and the pressure
 oscillates by O(1) between the meshes' nodes (first order in ``h`` and proportional to ``E/q``; the
