@@ -17,7 +17,7 @@ from dolfinx import fem
 
 from fenics_contact import build, cli, function_space, interpolate_expression, run
 from fenics_contact.checks import check
-from fenics_contact.scenes import block
+from fenics_contact.scenes import add_scene_options, block, scene_arguments
 
 EXACT_METHODS = ("vi", "lagrange", "nitsche", "coulomb", "penalty_multiplier")
 
@@ -28,13 +28,15 @@ def main(argv=None) -> dict:
     p.add_argument("--steps", type=cli.COUNT, default=1, help="load steps")
     p.add_argument("--plane", choices=["strain", "stress"], default="strain", help="2D assumption")
     p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
+    scene = add_scene_options(p, block.build)  # --height, --width, --E, --nu, --displacement
     args = cli.parse(p, argv)
     out = Path(args.out or "results/block")
 
     # 2. The scene: mesh, material, Dirichlet data, the rigid foundation and the contact law.
     setup = build("block", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps,
-                  plane=args.plane, model=args.model)
-    exact = block.homogeneous_state(args.model, args.plane)["p_nominal"]
+                  plane=args.plane, model=args.model, **scene_arguments(args, scene))
+    exact = block.homogeneous_state(args.model, args.plane, args.E, args.nu,
+                                    args.displacement / args.height)["p_nominal"]
 
     # 3. Solve (one load step by default, augmentations as asked), write XDMF and summary.json with the check.
     exact_method = args.method in EXACT_METHODS or args.augment > 0
@@ -56,7 +58,7 @@ def main(argv=None) -> dict:
                       clim=(-2 * exact, 0.0))
         x, g, p = setup.contacts[0].surface_values()
         if setup.problem.comm.rank == 0:
-            plot_profile(x[:, 0], p, out / "block_pressure.png", x_ref=np.array([0.0, 1.0]),
+            plot_profile(x[:, 0], p, out / "block_pressure.png", x_ref=np.array([0.0, args.width / 2]),
                          p_ref=np.full(2, exact), xlabel="x", labels=(args.method, f"exact {exact:.7g}"),
                          title=f"block: contact pressure, {args.method}")
     return summary

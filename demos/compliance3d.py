@@ -15,7 +15,7 @@ import numpy as np
 
 from fenics_contact import build, cli, run
 from fenics_contact.checks import check
-from fenics_contact.scenes import compliance3d
+from fenics_contact.scenes import add_scene_options, compliance3d, scene_arguments
 
 
 def main(argv=None) -> dict:
@@ -28,6 +28,7 @@ def main(argv=None) -> dict:
     p.add_argument("--drag-steps", type=cli.COUNT, default=8, help="load steps of the drag phase")
     p.set_defaults(method="compliance", c_n=compliance3d.C_N, m_n=compliance3d.M_N, mu=None,
                    omega_t=compliance3d.OMEGA_T)
+    scene = add_scene_options(p, compliance3d.build)  # --lx, --ly, --height, --E, --nu, --press
     args = cli.parse(p, argv)
     if args.mu is None:  # mu = 0.3 unless the compliance bound c_t <g>^m_t is asked for
         args.mu = 0.0 if args.c_t is not None else compliance3d.MU
@@ -36,7 +37,7 @@ def main(argv=None) -> dict:
     # 2. The scene: half box, glued platen (press, then drag), rigid plane, the law with friction.
     setup = build("compliance3d", law=cli.law_from_args(args), quadrature=args.quadrature, nx=args.mesh[0],
                   ny=args.mesh[1], nz=args.mesh[2], press_steps=args.press_steps, drag_steps=args.drag_steps,
-                  drag=args.drag)
+                  drag=args.drag, **scene_arguments(args, scene))
 
     # 3. Solve step by step (friction history advances on every accepted step), write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "drag": args.drag}, args.augment,

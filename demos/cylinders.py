@@ -17,7 +17,7 @@ import numpy as np
 
 from fenics_contact import build, cli, run
 from fenics_contact.checks import check
-from fenics_contact.scenes import cylinders
+from fenics_contact.scenes import add_scene_options, cylinders, scene_arguments
 from fenics_contact.twobody import QUADRATURES
 
 # p0 at the Hertz step: 2.0 % from Hertz at h_contact = 0.05 (README, two deformable bodies; Hertz assumes
@@ -38,6 +38,7 @@ def main(argv=None) -> dict:
     p.add_argument("--model", choices=["neohookean", "linear"], default="neohookean",
                    help="bulk material (linear: small t only, the model-reduction check)")
     p.add_argument("--symmetry", choices=["half", "full"], default="half", help="right halves (x >= 0) or whole disks")
+    scene = add_scene_options(p, cylinders.build)  # --R-lower, --R-upper, --E, --nu, --h-far, --contact-width
     args = cli.parse(p, argv)
     out = Path(args.out or "results/cylinders")
 
@@ -45,7 +46,8 @@ def main(argv=None) -> dict:
     loads = [cylinders.T_HERTZ] + np.arange(args.dt, args.t_end + 1e-9, args.dt).tolist()
     setup = build("cylinders", law_factory=lambda: cli.law_from_args(args), quadrature=args.quadrature,
                   passes=args.passes, h_contact=args.h_contact, grading=args.grading,
-                  loads=[t for t in loads if t <= args.t_end + 1e-9], model=args.model, symmetry=args.symmetry)
+                  loads=[t for t in loads if t <= args.t_end + 1e-9], model=args.model, symmetry=args.symmetry,
+                  **scene_arguments(args, scene))
     comm = setup.problem.comm
 
     # 3. Solve with load stepping; after each step keep the figures and both surfaces' pressure profiles.

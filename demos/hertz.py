@@ -2,6 +2,9 @@
 
     python demos/hertz.py --method auglag
     mpirun -n 2 python demos/hertz.py --method cross --refinement 1 -fc_snes_monitor
+    python demos/hertz.py --load 0.36 --method auglag          # force control: the disk held by contact alone
+    python demos/hertz.py --plate meshed --E 200 --nu 0.3 --R 8 --load 10 --plate-E 200 \
+        --plate-width 16 --plate-depth 16 --method lagrange    # two identical bodies (E* = E / (2 (1 - nu^2)))
 
 Quarter of a disk (R = 1, E = 1000, nu = 0.3) pressed on the plane y = 0;
 p0 and a are compared with Hertz for the computed load. Writes hertz.xdmf,
@@ -15,23 +18,26 @@ from dolfinx import fem
 
 from fenics_contact import build, cli, function_space, interpolate_expression, run
 from fenics_contact.checks import check
-from fenics_contact.scenes import hertz
+from fenics_contact.scenes import add_scene_options, hertz, scene_arguments
 
 TOLERANCE = 2e-2  # p0 of the nodal maximum on the default mesh (README: within 0.32 % with cross)
 
 
 def main(argv=None) -> dict:
     # 1. Options: formulation, parameters, mesh refinement, load steps.
-    p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K)
+    p = cli.parser(__doc__.splitlines()[0], default_K=hertz.DEFAULT_K,
+                   quadratures=("nodal", "gauss", "simpson", "segment"))  # segment: the meshed plate
     p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the contact mesh size this many times")
     p.add_argument("--steps", type=cli.COUNT, default=2, help="load steps")
     p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
     p.add_argument("--symmetry", choices=["quarter", "half", "full"], default="quarter",
                    help="modelled part of the disk")
     p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
-                   help="lower plate: analytic rigid, or meshed (E x 1000, two-body contact; quarter only)")
+                   help="lower plate: analytic rigid, or meshed (default E x 1000, two-body contact; quarter only)")
     p.add_argument("--plane", choices=["strain", "stress"], default="strain",
                    help="2D assumption (Hertz's E* follows)")
+    # --R, --E, --nu, --approach, --load (force control: total force per unit length), --plate-E, --plate-nu, ...
+    scene = add_scene_options(p, hertz.build)
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)
     out = Path(args.out or "results/hertz")
@@ -41,7 +47,7 @@ def main(argv=None) -> dict:
     # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.
     setup = build("hertz", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
                   steps=args.steps, model=args.model, symmetry=args.symmetry, plate=args.plate,
-                  plane=args.plane)
+                  plane=args.plane, **scene_arguments(args, scene))
 
     # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},

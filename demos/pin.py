@@ -21,7 +21,7 @@ from mpi4py import MPI
 
 from fenics_contact import build, cli, function_space, interpolate_expression, run
 from fenics_contact.checks import check
-from fenics_contact.scenes import pin
+from fenics_contact.scenes import add_scene_options, pin, scene_arguments
 
 # Contact angle of the linearized gap at refinement 3 (R/400, 140 580 dofs; refinements 1-3 within 0.03 deg); the
 # mesh error at refinement 0 is 0.1 % (83.88 deg). The current gap gives 81.8 deg (the plate moves by 0.16 R).
@@ -38,6 +38,7 @@ def main(argv=None) -> dict:
                    help="linearized (small displacements) or current (exact gap of the deformed position)")
     p.add_argument("--convergence", action="store_true", help="run refinements 0, 1, 2 and plot the angle against h")
     p.set_defaults(augment_tol=1e-10)
+    scene = add_scene_options(p, pin.build)  # --R, --half-width, --below, --above, --E, --nu, --P0, --h-contact, --seat
     args = cli.parse(p, argv)
     out = Path(args.out or "results/pin")
     comm = MPI.COMM_WORLD
@@ -55,7 +56,7 @@ def main(argv=None) -> dict:
         """2.-4. Build the scene at ``refinement``, solve, write XDMF, summary.json, the CSV and the pictures."""
         # 2. The scene: graded half plate, symmetry u_x = 0 on x = 0, traction P0 on the top, the rigid pin.
         setup = build("pin", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=refinement,
-                      steps=args.steps, gap=args.gap)
+                      steps=args.steps, gap=args.gap, **scene_arguments(args, scene))
 
         # 3. Solve (load steps, augmentations), write XDMF and summary.json.
         summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps, "gap": args.gap},
@@ -76,7 +77,7 @@ def main(argv=None) -> dict:
             syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
                                                       name="sigma_yy"), setup.problem.material.stress(u)[1, 1])
             plot_deformed(u, syy, folder / "pin_deformed.png", title=f"pin, {args.method} (displacement x10)",
-                          scale=10, clim=(-3 * pin.P0, 3 * pin.P0))
+                          scale=10, clim=(-3 * args.P0, 3 * args.P0))
             if comm.rank == 0:
                 a = summary["contact_angle_deg"]
                 plot_profile(theta, pr, folder / "pin_pressure.png", x_ref=np.array([a, a]),

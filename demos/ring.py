@@ -43,7 +43,7 @@ from fenics_contact import (
     write_summary,
 )
 from fenics_contact.checks import check, log_check
-from fenics_contact.scenes import ring
+from fenics_contact.scenes import add_scene_options, ring, scene_arguments
 
 # first-step penetration at the centre: 2.02e-4 on this mesh against the paper's 0.19e-3 (its mesh is described,
 # not given; the neighbour's 1.28e-4 against 0.13e-3)
@@ -56,6 +56,7 @@ def main(argv=None) -> dict:
     p.add_argument("--n-theta", type=cli.COUNT, default=44, help="cells along the quarter circle")
     p.add_argument("--n-r", type=cli.COUNT, default=4, help="cells through the thickness")
     p.set_defaults(augment=1)
+    scene = add_scene_options(p, ring.build)  # --R-out, --R-in, --E, --nu, --approach
     args = cli.parse(p, argv)
     out = Path(args.out or "results/ring")
     comm = MPI.COMM_WORLD
@@ -70,14 +71,14 @@ def main(argv=None) -> dict:
     #    symmetry axis, its quarter-model force is doubled).
     summaries, forces = {}, {}
     for method, (label, law) in METHODS.items():
-        setup = build("ring", law=law(), n_theta=args.n_theta, n_r=args.n_r)
+        setup = build("ring", law=law(), n_theta=args.n_theta, n_r=args.n_r, **scene_arguments(args, scene))
         contact = setup.contacts[0]
         history = []  # (solve, iterate, forces sorted from the centre outward)
 
         def on_iterate(it, contact=contact, history=history):
             x, f = contact.point_forces()
             x, f = (np.concatenate(a) for a in zip(*comm.allgather((x, f))))
-            order = np.argsort(np.arctan2(x[:, 1] - ring.R_OUT, x[:, 0]))
+            order = np.argsort(np.arctan2(x[:, 1] - args.R_out, x[:, 0]))
             f = f[order] * np.where(np.abs(x[order, 0]) < 1e-9, 2.0, 1.0)
             solve = sum(1 for h in history if h[1] == 0) - (0 if it == 0 else 1)
             history.append((solve, it, f))
@@ -92,7 +93,7 @@ def main(argv=None) -> dict:
         forces[method] = history
 
     # The first step alone (identical for the three laws: F^ = 0, lam = 0): penetrations against the paper's.
-    first = build("ring", law=Penalty(args.K), n_theta=args.n_theta, n_r=args.n_r)
+    first = build("ring", law=Penalty(args.K), n_theta=args.n_theta, n_r=args.n_r, **scene_arguments(args, scene))
     Solver(first.problem, quiet=True, options=OPTIONS).run(first.loads)
     first_step = {**first.figures(), "paper_penetration_centre": ring.PAPER_PENETRATION[0],
                   "paper_penetration_neighbour": ring.PAPER_PENETRATION[1]}
@@ -151,7 +152,8 @@ def main(argv=None) -> dict:
                 ax.legend()
             fig.tight_layout()
             fig.savefig(str(out / "ring_forces.png"), dpi=150)
-        setup = build("ring", law=CrossConstraints(args.K, 0.0), n_theta=args.n_theta, n_r=args.n_r)
+        setup = build("ring", law=CrossConstraints(args.K, 0.0), n_theta=args.n_theta, n_r=args.n_r,
+                      **scene_arguments(args, scene))
         Solver(setup.problem, augment_max=args.augment, quiet=True, options=OPTIONS).run(setup.loads)
         u = setup.problem.u
         syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),

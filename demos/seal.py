@@ -35,7 +35,7 @@ from fenics_contact import (
     tables,
 )
 from fenics_contact.checks import check
-from fenics_contact.scenes import seal
+from fenics_contact.scenes import add_scene_options, scene_arguments, seal
 
 
 def main(argv=None) -> dict:
@@ -44,13 +44,15 @@ def main(argv=None) -> dict:
     p.add_argument("--h", type=cli.POSITIVE, default=0.5, help="cell size (0.5: 2 cells through the thickness)")
     p.add_argument("--shape", choices=list(seal.SHAPES), default="wave", help="seal cross-section (see the scene)")
     p.set_defaults(F_hat=seal.F_HAT)
+    scene = add_scene_options(p, seal.build)  # --E, --nu, --R-out, --R-in, --plate-distance
     args = cli.parse(p, argv)
     out = Path(args.out or "results/seal")
     comm = MPI.COMM_WORLD
     PICTURES = (0.5, 2.0, 5.5, 6.0)
 
     # 2. The scene and the step hook: contact zones per plate after every step, pictures at PICTURES.
-    setup = build("seal", law=CrossConstraints(args.K, args.F_hat), h=args.h, shape=args.shape)
+    setup = build("seal", law=CrossConstraints(args.K, args.F_hat), h=args.h, shape=args.shape,
+                  **scene_arguments(args, scene))
     u = setup.problem.u
     syy = fem.Function(function_space(u.function_space.mesh, "Lagrange", 1), name="sigma_yy")
     zones, states = [], {}
@@ -90,7 +92,7 @@ def main(argv=None) -> dict:
             plot_deformed(u, syy, out / f"seal_{t:.1f}.png", title=f"seal ({args.shape}), t = {t:.1f}")
 
     # 5. The penalty method on the same scene, for the comparison table.
-    penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape)
+    penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape, **scene_arguments(args, scene))
     try:
         penalty_summary = run(penalty, out / "penalty", "penalty", {"K": args.K}, 0, quiet=args.quiet,
                               options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], xdmf=not args.no_xdmf)

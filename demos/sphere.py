@@ -13,7 +13,7 @@ import numpy as np
 
 from fenics_contact import build, cli, run
 from fenics_contact.checks import check
-from fenics_contact.scenes import sphere
+from fenics_contact.scenes import add_scene_options, scene_arguments, sphere
 
 # p0 is the nodal maximum on a mesh of h = a/7 at level 0: within 5 % (tests/test_sphere.py); 2.6 % at level 0
 # with penalty, 1.6 % on --size 1.0
@@ -24,17 +24,21 @@ def main(argv=None) -> dict:
     # 1. Options: formulation, mesh level (about 1e4 to 1e6 dofs), linear solver.
     p = cli.parser(__doc__.splitlines()[0], default_K=sphere.DEFAULT_K)
     p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)), help="mesh level")
-    p.add_argument("--steps", type=cli.COUNT, default=1, help="load steps")
+    p.add_argument("--steps", type=cli.COUNT, default=None, help="load steps (default: 1, or 2 with --load)")
+    p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
     p.add_argument("--size", type=cli.POSITIVE, default=None,
                    help="mesh-size factor instead of the level's (level 0: 0.5; 1.0 is a tiny mesh, ~2800 dofs)")
+    scene = add_scene_options(p, sphere.build)  # --R, --E, --nu, --approach, --load (force control), ...
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)
+    if args.steps is None:
+        args.steps = 1 if args.load is None else 2
     out = Path(args.out or "results/sphere")
-    cli.check(args, kind="rigid", dim=3, degree=1, model="linear")  # refused combinations: one line, before any work
+    cli.check(args, kind="rigid", dim=3, degree=1, model=args.model)  # refused combinations: one line, before any work
 
     # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane.
     setup = build("sphere", law=cli.law_from_args(args), quadrature=args.quadrature, level=args.level, steps=args.steps,
-                  size=args.size)
+                  size=args.size, model=args.model, **scene_arguments(args, scene))
 
     # 3. Solve, write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},

@@ -13,6 +13,7 @@ import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import ufl
 from dolfinx import fem
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from .compat import bc_dofs, petsc_vec
@@ -75,6 +76,11 @@ class BoundContact(ContactSurface):
         idx = self._parent[self._dofs]
         # A vertex whose component k is prescribed (Dirichlet) carries the support's reaction, not contact.
         free = ~np.isin(idx, np.concatenate([bc_dofs(bc) for bc in problem.bcs] + [np.empty(0, np.int32)]))
+        # ... and an open vertex carries none: its residual is an applied load (a loaded edge meeting the surface)
+        origin = self.obstacle.point[self.k] + float(problem.load.value) * self.obstacle.motion[self.k]
+        clearance = (self._X + problem.u.x.array[idx] - origin) * self.sign
+        size = problem.comm.allreduce(float(np.max(np.abs(self._X - origin), initial=0.0)), op=MPI.MAX)
+        free &= clearance <= 1e-8 * size
         self._p.x.array[:] = 0.0
         self._p.x.array[self._dofs[free]] = self.sign * r[idx[free]] / self._weight[free]
         self._p.x.scatter_forward()

@@ -594,7 +594,14 @@ class TwoBodySurface(ContactSurface):
         """The law's pressure at the slave points (nf, nq) from their gaps (0 where unpaired)."""
         c = {k: float(v.value) for k, v in self.constants.items()}
         for k, f in self.fields.items():
-            c[k] = np.einsum("qk,fk->fq", self.B, f.x.array[self._sdofs])
+            if self.quadratic and self.quadrature == "nodal":  # fields on P1 (the end nodes); middle: their mean
+                sd = self.slave_data
+                ends = f.x.array[np.array([f.function_space.dofmap.cell_dofs(cell)[lo] for cell, lo in
+                                           zip(sd.cells, sd.vertex_local)], dtype=np.int32).reshape(-1, 2)]
+                c[k] = np.stack([ends[:, 0], ends.mean(axis=1), ends[:, 1]], axis=1) if len(ends) else \
+                    np.zeros((0, 3))
+            else:
+                c[k] = np.einsum("qk,fk->fq", self.B, f.x.array[self._sdofs])
         gg = np.where(np.isfinite(g), g, -self.radius)  # the UFL gap of an unpaired point
         return np.where(np.isfinite(g), self.law.force(gg, c), 0.0) if g.size else np.zeros_like(g)
 

@@ -59,6 +59,64 @@ def test_snes_vi_reference_is_the_augmented_limit():
     assert np.isclose(vi["total_force"], vi["reaction_top"], rtol=1e-8)
 
 
+P_FORCE = 0.36  # about the default approach's load (0.363)
+
+
+@pytest.mark.parametrize("method", ["auglag", "lagrange", "vi"])
+def test_force_control_from_rest(method):
+    """A disk held only by the contact, pressed by a force (``load``), from rest: p0 and a against Hertz for the
+    applied load within the displacement-controlled tolerance; the vanishing spring is 0 at the end, so the
+    contact carries the whole load."""
+    from fenics_contact.laws import make_law
+
+    law = {"auglag": lambda: AugmentedLagrangian(hertz.DEFAULT_K), "lagrange": lambda: make_law("lagrange", c=1e3),
+           "vi": lambda: make_law("vi")}[method]()
+    f = solve(law, load=P_FORCE)
+    assert f["p0_error"] < 0.02 and f["a_error"] < 0.02
+    assert f["load"] == P_FORCE and f["load_error"] < 1e-8
+    assert f["contact_nodes"] >= 5
+
+
+def test_parameters_change_the_answer_as_hertz_says():
+    """E halved at the same force: a scales as 1/sqrt(E), p0 as sqrt(E) (E halved, not doubled: a
+    larger contact spans more elements, whose edge estimate is then within 2 %); the parameters are recorded."""
+    from fenics_contact.laws import make_law
+
+    f1 = solve(make_law("lagrange", c=1e3), load=P_FORCE)
+    setup = hertz.build(make_law("lagrange", c=1e3), load=P_FORCE, E=hertz.E / 2)
+    assert setup.parameters["E"] == hertz.E / 2 and setup.parameters["load"] == P_FORCE
+    Solver(setup.problem, quiet=True).run(setup.loads)
+    f2 = setup.figures()
+    assert f2["p0_error"] < 0.02 and f2["a_error"] < 0.02
+    assert f2["p0"] / f1["p0"] == pytest.approx(1 / np.sqrt(2), rel=1e-2)
+    assert f2["a"] / f1["a"] == pytest.approx(np.sqrt(2), rel=2e-2)
+
+
+def test_two_identical_bodies_force_controlled():
+    """The two-body Hertz case of two identical bodies (E = 200, nu = 0.3, R = 8, load 10): the quarter disk
+    pressed by a force on a deformable block 2R x 2R of the same material, from rest, multipliers. Hertz with
+    E* = E / (2 (1 - nu^2)) (both bodies deform)."""
+    from fenics_contact.laws import make_law
+
+    kw = dict(plate="meshed", E=200.0, nu=0.3, R=8.0, load=10.0, plate_E=200.0, plate_width=16.0, plate_depth=16.0)
+    f = solve(make_law("lagrange", c=1e3), **kw)
+    a, p0 = hertz.hertz(10.0, R=8.0, E=200.0, nu=0.3, E2=200.0, nu2=0.3)
+    assert p0 == pytest.approx(2 * 10.0 / (np.pi * np.sqrt(4 * 10.0 * 8.0 * 2 * (1 - 0.3**2) / (np.pi * 200.0))))
+    assert f["p0_hertz"] == pytest.approx(p0, rel=1e-12) and f["a_hertz"] == pytest.approx(a, rel=1e-12)
+    assert f["p0_error"] < 5e-3 and f["a_error"] < 1e-2
+    assert f["load_error"] < 1e-8
+
+
+def test_bad_parameters():
+    law = AugmentedLagrangian(hertz.DEFAULT_K)
+    for kw, match in (({"nu": 0.5}, r"nu must be in \[0, 0.5\)"), ({"E": -1.0}, "E must be a finite number > 0"),
+                      ({"R": 0.0}, "R must be"), ({"load": -1.0}, "load must be"),
+                      ({"plate_nu": -0.1}, "plate_nu must be in"), ({"contact_width": float("nan")}, "contact_width"),
+                      ({"load": 1.0, "symmetry": "half"}, "force control"), ({"stabilisation": -1.0}, "stabilisation")):
+        with pytest.raises(ValueError, match=match):
+            hertz.build(law, **kw)
+
+
 def test_neohookean_inverted_state_is_rejected_and_cut_back():
     """Neo-Hookean, approach 0.01 in 2 steps with SNES VI: the first Newton solve converges to a state with
     inverted elements (min det F = -1.18 measured) whose contact force is 40 % off; the solver rejects it as

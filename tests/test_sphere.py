@@ -47,6 +47,21 @@ def test_sphere_level_is_checked():
         sphere.build(make_law("penalty", K=1.0), level=len(sphere.LEVELS))
 
 
+def test_sphere_force_controlled_from_rest():
+    """The octant held only by the contact, pressed by the force of the default approach (0.547), from rest
+    (SNES VI, the vanishing spring): p0 and a against Hertz for the applied load within the displacement-controlled
+    tolerance, the contact carrying the whole load (the spring is 0 at the end)."""
+    setup = sphere.build(make_law("vi"), level=0, load=0.55, steps=2)
+    Solver(setup.problem, quiet=True).run(setup.loads)
+    f = setup.figures()
+    assert f["p0_error"] < 0.05 and f["a_error"] < 0.05
+    assert f["load"] == 0.55 and f["load_error"] < 1e-8
+    with pytest.raises(ValueError, match="steps >= 2"):
+        sphere.build(make_law("vi"), load=0.55, steps=1)
+    with pytest.raises(ValueError, match=r"nu must be in \[0, 0.5\)"):
+        sphere.build(make_law("vi"), nu=0.7)
+
+
 def test_sphere_multipliers_equal_snes_vi():
     """Rigid 3D contact with the pressure as an unknown (method lagrange, mixed space): the same exact nodal
     Signorini solution as SNES VI, and Hertz within the level-0 target."""

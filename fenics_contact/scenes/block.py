@@ -11,7 +11,9 @@ pressure is ``175.8243 (1 - d/0.32)``.
 Options: ``plane="stress"`` (``sigma_zz = 0``: exact pressure ``E * 0.32/2 = 160``) and
 ``model="neohookean"`` (finite strain, same E and nu), whose exact state is the homogeneous
 ``F = diag(a, c, l3)`` of :func:`homogeneous_state`. Pressures are nominal (per reference area);
-neo-Hookean runs also report the Cauchy (true) pressure, per current area.
+neo-Hookean runs also report the Cauchy (true) pressure, per current area. The constants are keyword
+arguments of :func:`build` (``height``, ``width``, ``E``, ``nu``, ``displacement``), their defaults the
+paper's; the exact state is then :func:`homogeneous_state` of ``strain = displacement / height``.
 """
 from __future__ import annotations
 
@@ -28,7 +30,7 @@ from ..meshes import RECT_TOP as TOP
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, poisson, positive
 
 __all__ = ["HEIGHT", "HALF_WIDTH", "E", "NU", "DISPLACEMENT", "EXACT_PRESSURE", "BENCH", "build", "reference"]
 
@@ -78,21 +80,25 @@ def homogeneous_state(model: str = "linear", plane: str = "strain", E: float = E
 
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
           comm: MPI.Comm = MPI.COMM_WORLD, quadrilateral: bool = False, model: str = "linear",
-          steps: int = 1, plane: str = "strain") -> Setup:
+          steps: int = 1, plane: str = "strain", height: float = HEIGHT, width: float = 2 * HALF_WIDTH, E: float = E,
+          nu: float = NU, displacement: float = DISPLACEMENT) -> Setup:
     """``model``: ``linear`` (the paper's) or ``neohookean`` (finite strain, same E and nu); ``plane``:
-    ``strain`` (the paper's) or ``stress``."""
+    ``strain`` (the paper's) or ``stress``; the block ``width`` x ``height`` (the right half modelled), its top
+    moved down by ``displacement``."""
+    positive(height=height, width=width, E=E, displacement=displacement)
+    poisson(nu=nu)
     homogeneous_state(model, plane)  # checks model and plane before any work
-    mesh, _, facet_tags = rectangle(comm, HALF_WIDTH, HEIGHT, nx, ny, quadrilateral)
+    mesh, _, facet_tags = rectangle(comm, width / 2, height, nx, ny, quadrilateral)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     top = facet_tags.indices[facet_tags.values == TOP]
     left = facet_tags.indices[facet_tags.values == LEFT]
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, top)
-    dirichlet = [Dirichlet(V.sub(1), top_y, -DISPLACEMENT),
+    dirichlet = [Dirichlet(V.sub(1), top_y, -displacement),
                  Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, left))]
-    material = MODELS[model](E, NU, plane=plane)
-    exact = homogeneous_state(model, plane)
+    material = MODELS[model](E, nu, plane=plane)
+    exact = homogeneous_state(model, plane, E, nu, displacement / height)
     contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                               material=material)
     problem = ContactProblem(u, material, load, dirichlet, [contact], step_solver=step_solver_for([contact]))
@@ -113,7 +119,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
                         "exact_pressure_cauchy": exact["p_cauchy"]})
         return out
 
-    params = {"E": E, "nu": NU, "height": HEIGHT, "width": 2 * HALF_WIDTH, "displacement": DISPLACEMENT,
+    params = {"E": E, "nu": nu, "height": height, "width": width, "displacement": displacement,
               "nx": nx, "ny": ny, "quadrature": quadrature, "material": model, "plane": plane,
               "model": "half (symmetry x = 0)" + (", plane stress" if plane == "stress" else "")}
     return Setup("block", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,

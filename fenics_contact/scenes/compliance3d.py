@@ -32,7 +32,7 @@ from ..laws import ContactLaw, NormalCompliance
 from ..materials import LinearElastic
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, nonnegative, poisson, positive
 
 __all__ = [
     "LX", "LY", "H", "E", "NU", "PRESS", "DRAG", "C_N", "M_N", "MU", "OMEGA_T", "BASE", "TOP", "SYMMETRY",
@@ -45,18 +45,19 @@ C_N, M_N, MU, OMEGA_T = 5e5, 1.5, 0.3, 1e5
 BASE, TOP, SYMMETRY = 1, 2, 3
 
 
-def default_law() -> Friction:
-    """Coulomb friction (``mu = 0.3``) on normal compliance ``c_n = 5e5``, ``m_n = 1.5``."""
-    return Friction(NormalCompliance(C_N, M_N), mu=MU, omega_t=OMEGA_T)
+def default_law(c_n: float = C_N, m_n: float = M_N, mu: float = MU, omega_t: float = OMEGA_T) -> Friction:
+    """Coulomb friction (default ``mu = 0.3``) on normal compliance (default ``c_n = 5e5``, ``m_n = 1.5``)."""
+    return Friction(NormalCompliance(c_n, m_n), mu=mu, omega_t=omega_t)
 
 
-def half_box(comm: MPI.Comm, nx: int, ny: int, nz: int):
-    """Tetrahedral box [0, LX] x [0, LY/2] x [0, H]; facet tags BASE (z = 0), TOP (z = H), SYMMETRY (y = 0)."""
-    msh = dmesh.create_box(comm, [np.zeros(3), np.array([LX, LY / 2, H])], [nx, ny, nz], dmesh.CellType.tetrahedron,
-                           partitioner=cell_partitioner())
+def half_box(comm: MPI.Comm, nx: int, ny: int, nz: int, lx: float = LX, ly: float = LY, height: float = H):
+    """Tetrahedral box [0, lx] x [0, ly/2] x [0, height]; facet tags BASE (z = 0), TOP (z = height), SYMMETRY
+    (y = 0)."""
+    msh = dmesh.create_box(comm, [np.zeros(3), np.array([lx, ly / 2, height])], [nx, ny, nz],
+                           dmesh.CellType.tetrahedron, partitioner=cell_partitioner())
     fdim = 2
     found = [(tag, dmesh.locate_entities_boundary(msh, fdim, lambda x, a=a, c=c: np.isclose(x[a], c)))
-             for tag, a, c in ((BASE, 2, 0.0), (TOP, 2, H), (SYMMETRY, 1, 0.0))]
+             for tag, a, c in ((BASE, 2, 0.0), (TOP, 2, height), (SYMMETRY, 1, 0.0))]
     idx = np.concatenate([f for _, f in found]).astype(np.int32)
     val = np.concatenate([np.full(len(f), t, dtype=np.int32) for t, f in found])
     idx, first = np.unique(idx, return_index=True)  # an edge facet keeps its first tag (base, top before symmetry)
@@ -64,28 +65,34 @@ def half_box(comm: MPI.Comm, nx: int, ny: int, nz: int):
 
 
 def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16, ny: int = 8, nz: int = 4,
-          press_steps: int = 2, drag_steps: int = 8, drag: float = DRAG, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
-    """``law``: a :class:`~fenics_contact.friction.Friction` (default :func:`default_law`); loads: press in
-    ``press_steps`` steps (t to 1), drag in ``drag_steps`` steps (t to 2)."""
+          press_steps: int = 2, drag_steps: int = 8, drag: float = DRAG, comm: MPI.Comm = MPI.COMM_WORLD,
+          lx: float = LX, ly: float = LY, height: float = H, E: float = E, nu: float = NU,
+          press: float = PRESS) -> Setup:
+    """``law``: a :class:`~fenics_contact.friction.Friction` (default :func:`default_law`); loads: press the
+    platen down by ``press`` in ``press_steps`` steps (t to 1), drag it by ``drag`` in ``drag_steps`` steps (t to 2).
+    The box ``lx`` x ``ly`` x ``height`` (``E``, ``nu``). Defaults: the module constants."""
+    positive(lx=lx, ly=ly, height=height, E=E, press=press)
+    nonnegative(drag=drag)
+    poisson(nu=nu)
     law = default_law() if law is None else law
     if not isinstance(law, Friction):
         raise ValueError("compliance3d needs a law with friction (--mu > 0 or --c-t)")
     for name, n in (("nx", nx), ("ny", ny), ("nz", nz), ("press_steps", press_steps), ("drag_steps", drag_steps)):
         if int(n) < 1:
             raise ValueError(f"compliance3d: {name} must be >= 1, got {n!r}")
-    msh, tags = half_box(comm, nx, ny, nz)
+    msh, tags = half_box(comm, nx, ny, nz, lx, ly, height)
     V = function_space(msh, "Lagrange", 1, (3,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(msh, 0.0)
     dofs = {(i, t): fem.locate_dofs_topological(V.sub(i), 2, tags.indices[tags.values == t])
             for i, t in ((0, TOP), (1, TOP), (2, TOP), (1, SYMMETRY))}
     path = [0.0, 1.0, 2.0]
-    dirichlet = [Dirichlet(V.sub(2), dofs[2, TOP], -PRESS, (path, [0.0, 1.0, 1.0])),
+    dirichlet = [Dirichlet(V.sub(2), dofs[2, TOP], -press, (path, [0.0, 1.0, 1.0])),
                  Dirichlet(V.sub(0), dofs[0, TOP], drag, (path, [0.0, 0.0, 1.0])),
                  Dirichlet(V.sub(1), dofs[1, TOP]), Dirichlet(V.sub(1), dofs[1, SYMMETRY])]
     contact: FrictionalContact = contact_surface(u, tags, BASE, HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
                                                  law, load, quadrature)
-    problem = ContactProblem(u, LinearElastic(E, NU), load, dirichlet, [contact])
+    problem = ContactProblem(u, LinearElastic(E, nu), load, dirichlet, [contact])
 
     def figures() -> dict:
         Fn = 2 * contact.total_force()[2]
@@ -93,7 +100,7 @@ def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16
         capacity = 2 * contact.capacity()
         R = [2 * problem.reaction(dofs[i, TOP]) for i in (0, 2)]  # platen on the body, x and z
         areas = {k: 2 * v for k, v in contact.state_areas().items()}
-        total = LX * LY
+        total = lx * ly
         c = {k: float(v.value) for k, v in contact.constants.items()}
         coulomb = "mu" in c or (isinstance(law.normal, NormalCompliance) and law.m_t == law.normal.m)
         mu_eff = c["mu"] if "mu" in c else (c["c_t"] / c["c_n"] if coulomb else float("nan"))
@@ -115,7 +122,7 @@ def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16
                 "open_fraction": areas["open"] / total, "dissipated": 2 * contact.dissipated,
                 "max_penetration": contact.max_penetration(), "friction_steps": steps}
 
-    params = {"E": E, "nu": NU, "size": [LX, LY, H], "press": PRESS, "drag": drag, "nx": nx, "ny": ny, "nz": nz,
+    params = {"E": E, "nu": nu, "size": [lx, ly, height], "press": press, "drag": drag, "nx": nx, "ny": ny, "nz": nz,
               "quadrature": quadrature, "law": law.name,
               "model": "half box (symmetry y = 0), glued top platen pressed then dragged along +x"}
     loads = [*np.linspace(0, 1, press_steps + 1)[1:], *np.linspace(1, 2, drag_steps + 1)[1:]]

@@ -50,7 +50,7 @@ from ..meshes import DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_B
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, poisson, positive
 from .hertz import contact_half_width
 
 __all__ = [
@@ -64,15 +64,17 @@ DEFAULT_K = 1e4  # penalty: large against E*/a (~500 at t = 0.2), small against 
 T_HERTZ = 0.2  # a/R = 0.1 at t = 0.2: small enough for Hertz (half-space error O((a/R)^2))
 
 
-def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER,
-                        plane: str = "strain") -> tuple[float, float]:
-    """Hertz half-width ``a`` and peak pressure ``p0`` of two cylinders of the same material, load ``P``
-    per unit length (``1/E* = 2 (1 - nu^2)/E`` in plane strain, ``2/E`` in plane stress)."""
+def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER, plane: str = "strain",
+                        E: float | None = None, nu: float | None = None) -> tuple[float, float]:
+    """Hertz half-width ``a`` and peak pressure ``p0`` of two cylinders of the same material (``E``, ``nu``;
+    default: the scene's Lame constants), load ``P`` per unit length (``1/E* = 2 (1 - nu^2)/E`` in plane strain,
+    ``2/E`` in plane stress)."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     mat = Material.from_lame(LAMBDA, MU)
+    E, nu = (mat.E if E is None else E), (mat.nu if nu is None else nu)
     R = 1.0 / (1.0 / R1 + 1.0 / R2)
-    Es = 1.0 / (2.0 * ((1.0 - mat.nu**2) if plane == "strain" else 1.0) / mat.E)
+    Es = 1.0 / (2.0 * ((1.0 - nu**2) if plane == "strain" else 1.0) / E)
     a = np.sqrt(4.0 * P * R / (np.pi * Es))
     return float(a), float(2.0 * P / (np.pi * a))
 
@@ -80,7 +82,8 @@ def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER,
 def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "gauss", passes: str = "two",
           h_contact: float = 0.05, h_far: float = 2.0, contact_width: float = 1.0, grading: float = 0.25,
           loads: list[float] | None = None, comm: MPI.Comm = MPI.COMM_WORLD, model: str = "neohookean",
-          symmetry: str = "half", plane: str = "strain") -> Setup:
+          symmetry: str = "half", plane: str = "strain", R_lower: float = R_LOWER, R_upper: float = R_UPPER,
+          E: float | None = None, nu: float | None = None) -> Setup:
     """``law_factory()`` gives a fresh contact law for each of the contact surfaces (plates and cylinders).
     ``grading``: growth of the mesh size per unit distance beyond ``contact_width`` (the contact zone
     reaches x ~ 7 at t = 15: the demo uses a slow grading). ``loads``: the plate motions ``t``
@@ -88,9 +91,13 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     strain; only for small ``t``) instead of ``neohookean``; ``symmetry`` ``full`` (the whole disks instead of
     the right halves: the horizontal rigid modes of each cylinder, held by frictionless contact alone, are
     removed by ``u_x = 0`` at its two poles, values of the exact symmetric solution). ``plane``: ``strain``
-    (the paper's) or ``stress``."""
+    (the paper's) or ``stress``. The cylinders' radii ``R_lower``, ``R_upper``; ``E``, ``nu`` (both bodies;
+    default: the Lame constants ``LAMBDA``, ``MU``)."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    positive(R_lower=R_lower, R_upper=R_upper, E=E, h_contact=h_contact, h_far=h_far, contact_width=contact_width,
+             grading=grading)
+    poisson(nu=nu)
     if model not in ("neohookean", "linear"):
         raise ValueError(f"cylinders model must be 'neohookean' or 'linear', got {model!r}")
     if symmetry not in ("half", "full"):
@@ -99,7 +106,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         if law is None:
             raise ValueError("give law_factory (or law)")
         law_factory = lambda: law  # noqa: E731
-    mesh, _, facet_tags = two_half_disks(comm, R_LOWER, R_UPPER, h_contact, h_far, contact_width, OVERLAP,
+    mesh, _, facet_tags = two_half_disks(comm, R_lower, R_upper, h_contact, h_far, contact_width, OVERLAP,
                                          grading, full=symmetry == "full")
     u, V = unknown(mesh, 1, law_factory())  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
@@ -111,7 +118,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         sym = fem.locate_dofs_topological(V.sub(0), 0, dmesh.locate_entities_boundary(
             mesh, 0, lambda x: np.isclose(x[0], 0.0, atol=1e-9)))
     dirichlet = [Dirichlet(V.sub(0), sym)]
-    top = 2 * R_LOWER + 2 * R_UPPER - OVERLAP
+    top = 2 * R_lower + 2 * R_upper - OVERLAP
     plate_quadrature = "gauss" if quadrature == "segment" else quadrature  # segment: two-body integration only
     lower_plate = contact_surface(u, facet_tags, LOWER_ARC_BOTTOM, HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
                                  law_factory(), load, plate_quadrature, name="lower_plate")
@@ -129,7 +136,10 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         pair = two_body_surfaces(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory, load, quadrature,
                                  passes, radius=max(2.0, 4 * h_far), name="cylinders")
     contacts = [lower_plate, upper_plate, *pair]
-    bulk = (NeoHookean if model == "neohookean" else LinearElastic).from_lame(LAMBDA, MU, plane=plane)
+    Model = NeoHookean if model == "neohookean" else LinearElastic
+    reference = Material.from_lame(LAMBDA, MU)  # the paper's constants, exactly, unless E or nu is given
+    bulk = Model.from_lame(LAMBDA, MU, plane=plane) if E is None and nu is None else Model(
+        reference.E if E is None else E, reference.nu if nu is None else nu, plane=plane)
     problem = ContactProblem(u, bulk, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
     copies = 2 if symmetry == "half" else 1  # figures for the whole cylinders
 
@@ -146,7 +156,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         prof = profiles()
         forces = [copies * abs(float(c.total_force()[1])) for c in pair]
         P = float(np.mean(forces))
-        a_h, p0_h = hertz_two_cylinders(P, plane=plane)
+        a_h, p0_h = hertz_two_cylinders(P, R_lower, R_upper, plane, bulk.E, bulk.nu)
         prof = [(x[x >= -1e-12], p[x >= -1e-12]) for x, p in prof]  # full disks: the right half of the profile
         p0 = float(max(q.max() for _, q in prof))
         a = float(np.mean([contact_half_width(xx, q) for xx, q in prof]))
@@ -169,7 +179,9 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
             return {}
         return {"p0_nominal": p0, "p0_cauchy": float(max(c.point_values(kind="cauchy")[2].max() for c in pair))}
 
-    params = {"R_lower": R_LOWER, "R_upper": R_UPPER, "lambda": LAMBDA, "mu": MU, "h_contact": h_contact,
+    lame_constants = (LAMBDA, MU) if E is None and nu is None else (float(bulk.lmbda), float(bulk.mu))
+    params = {"R_lower": R_lower, "R_upper": R_upper, "lambda": lame_constants[0], "mu": lame_constants[1],
+              "E": bulk.E, "nu": bulk.nu, "h_contact": h_contact,
               "h_far": h_far, "contact_width": contact_width, "grading": grading,
               "quadrature": quadrature, "passes": passes,
               "overlap": OVERLAP,

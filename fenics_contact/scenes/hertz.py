@@ -17,11 +17,33 @@ strain, ``E* = E`` in plane stress, ``plane="stress"``): ``a = sqrt(4 P R / (pi 
 ``p0 = 2P/(pi a)``. Pressures are nominal (per reference length); neo-Hookean
 runs on the rigid plate also report the Cauchy peak ``p0_cauchy`` (per current length).
 The default approach gives ``a/R ~ 0.09``, small enough for Hertz's
-half-space assumption (error ``O((a/R)^2)``).
+half-space assumption (error ``O((a/R)^2)``). Every constant below is a keyword
+argument of :func:`build` (``R``, ``E``, ``nu``, ``approach``, the plate's size and
+material, the refined zone), its default the module constant.
+
+Force control (``load=P``, quarter only): instead of the approach, the
+diameter ``y = R`` carries the uniform traction ``P / (2 R)`` downward (the
+quarter carries half of ``P``), so the disk is held only by the contact.
+It converges from rest without a hand-made initial guess by load stepping
+with a vanishing stabilisation: a spring ``k (1 - t) u`` on the disk's cells,
+``k = stabilisation * E / R^2`` (total stiffness about ``stabilisation * E``
+per unit length: the first iterate moves the disk by about the contact's own
+approach ``~ P / E``, not into the plate), which carries part of the load at
+``t < 1`` and is exactly zero at the last step ``t = 1``: the final answer has
+no stabilisation in it (its force balance, ``load_error``, is the check).
+The figures are then against Hertz for the applied ``P``.
+
+Two deformable bodies (``plate="meshed"``): ``E* = 1/((1-nu^2)/E + (1-nu_p^2)/E_p)``
+(two identical bodies: ``E/(2 (1-nu^2))``); the plate ``plate_width`` x
+``plate_depth`` is fixed at its bottom, so it approximates a half-space only
+when it is large against ``a``.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
+import ufl
 from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
@@ -45,7 +67,7 @@ from ..meshes import (
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, Stabilised, nonnegative, poisson, positive
 
 __all__ = [
     "R", "E", "NU", "APPROACH", "DEFAULT_K", "BENCH", "hertz", "contact_half_width", "PLATE_STIFFNESS", "PLATE_SIZE",
@@ -66,12 +88,18 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "
          "quick_stability": {"variants": (("penalty", 0), ("cross", 10), ("cross", 10, 1.0), ("auglag", 10))}}
 
 
-def hertz(P: float, R: float = R, E: float = E, nu: float = NU, plane: str = "strain") -> tuple[float, float]:
-    """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length (``plane``: ``strain``,
-    ``E* = E/(1-nu^2)``, or ``stress``, ``E* = E``)."""
+def hertz(P: float, R: float = R, E: float = E, nu: float = NU, plane: str = "strain", E2: float = math.inf,
+          nu2: float = NU) -> tuple[float, float]:
+    """Hertz half-width ``a`` and peak pressure ``p0`` for load ``P`` per unit length, a cylinder (``E``, ``nu``)
+    on a half-space (``E2``, ``nu2``; default rigid): ``1/E* = c(E, nu) + c(E2, nu2)`` with ``c = (1-nu^2)/E``
+    (``plane``: ``strain``) or ``1/E`` (``stress``)."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
-    Es = E / (1 - nu**2) if plane == "strain" else E
+
+    def compliance(E_: float, nu_: float) -> float:
+        return (1 - nu_**2) / E_ if plane == "strain" else 1.0 / E_
+
+    Es = 1.0 / (compliance(E, nu) + compliance(E2, nu2))
     a = np.sqrt(4 * P * R / (np.pi * Es))
     return float(a), float(2 * P / (np.pi * a))
 
@@ -94,11 +122,16 @@ def contact_half_width(x: np.ndarray, p: np.ndarray) -> float:
 
 PLATE_STIFFNESS = 1000.0  # the meshed plate's E / the disk's E (model-reduction check)
 PLATE_SIZE = (0.5 * R, 0.25 * R)  # meshed plate: width, depth
+CONTACT_WIDTH = 0.1 * R  # the refined zone's half-width (mesh size R / 400 within it at refinement 0)
+STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E (module docstring)
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
-          symmetry: str = "quarter", plate: str = "rigid", plane: str = "strain") -> Setup:
+          symmetry: str = "quarter", plate: str = "rigid", plane: str = "strain", R: float = R, E: float = E,
+          nu: float = NU, load: float | None = None, plate_E: float | None = None, plate_nu: float | None = None,
+          plate_width: float | None = None, plate_depth: float | None = None, contact_width: float | None = None,
+          stabilisation: float = STABILISATION) -> Setup:
     """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
     ``model``: ``linear`` (default: strains ~1e-3) or ``neohookean`` (the model-reduction check);
     ``symmetry``: ``quarter`` (default), ``half`` (the lower half disk, ``u_x = 0`` at the centre
@@ -109,7 +142,30 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     how far the two contacts are from balance); ``plate``: ``rigid`` (the analytic half-plane, default)
     or ``meshed`` (quarter only: a plate ``PLATE_SIZE`` of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
     in the same mesh, in two-body contact, one pass, the disk's arc the slave). The last three are the
-    model-reduction checks. ``plane``: ``strain`` (default) or ``stress`` (disk and plate)."""
+    model-reduction checks. ``plane``: ``strain`` (default) or ``stress`` (disk and plate).
+
+    Physical parameters (defaults: the module constants): the disk's ``R``, ``E``, ``nu``; ``approach``
+    (displacement control) or ``load`` (force control: the total force ``P`` per unit length of the whole
+    cylinder, quarter only; module docstring), ``stabilisation`` its vanishing spring; the meshed plate's
+    ``plate_E`` (default ``PLATE_STIFFNESS * E``), ``plate_nu`` (default ``nu``), ``plate_width`` and
+    ``plate_depth`` (default ``0.5 R``, ``0.25 R``); ``contact_width``: the refined zone (default ``0.1 R``)."""
+    positive(R=R, E=E, approach=approach, load=load, plate_E=plate_E, plate_width=plate_width,
+             plate_depth=plate_depth, contact_width=contact_width)
+    nonnegative(stabilisation=stabilisation)
+    if load is not None and int(steps) < 2:
+        raise ValueError(f"force control (load) needs steps >= 2 (the vanishing spring acts before the last), "
+                         f"got {steps!r}")
+    poisson(nu=nu, plate_nu=plate_nu)
+    if int(refinement) < 0:
+        raise ValueError(f"refinement must be >= 0, got {refinement!r}")
+    if int(steps) < 1:
+        raise ValueError(f"steps must be >= 1, got {steps!r}")
+    if load is not None and symmetry != "quarter":
+        raise ValueError(f"hertz load (force control) needs symmetry 'quarter', got {symmetry!r}")
+    plate_E = PLATE_STIFFNESS * E if plate_E is None else plate_E
+    plate_nu = nu if plate_nu is None else plate_nu
+    plate_size = (0.5 * R if plate_width is None else plate_width, 0.25 * R if plate_depth is None else plate_depth)
+    contact_width = 0.1 * R if contact_width is None else contact_width
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:
@@ -121,11 +177,11 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     if plate == "meshed" and symmetry != "quarter":
         raise ValueError(f"hertz plate 'meshed' needs symmetry 'quarter', got {symmetry!r}")
     h = R / 400 / 2**refinement
-    mesh, cell_tags, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=0.1 * R,
+    mesh, cell_tags, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=contact_width,
                                                      half=symmetry == "half", full=symmetry == "full",
-                                                     plate=PLATE_SIZE if plate == "meshed" else None)
+                                                     plate=plate_size if plate == "meshed" else None)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
-    load = fem.Constant(mesh, 0.0)
+    t = fem.Constant(mesh, 0.0)  # the load parameter
     fdim = mesh.topology.dim - 1
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
     copies = 1
@@ -136,8 +192,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         mesh.topology.create_connectivity(0, mesh.topology.dim)
         centre = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], R))
         fix_x = fem.locate_dofs_topological(V.sub(0), 0, centre)
-    dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), fix_x)]
-    material = MODELS[model](E, NU, plane=plane)
+    dirichlet = [Dirichlet(V.sub(0), fix_x)] if load is not None else [Dirichlet(V.sub(1), top_y, -approach),
+                                                                        Dirichlet(V.sub(0), fix_x)]
+    material = MODELS[model](E, nu, plane=plane)
     contacts = []
     if symmetry == "full":  # the rigid modes: u_y at the centre, u_x at the centre and the upper pole
         pole = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 2 * R))
@@ -146,42 +203,55 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                      Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), 0, pole))]
         contacts.append(contact_surface(u, facet_tags, CONTACT_UPPER,
                                         HalfPlane([0.0, 2 * R], [0.0, -1.0], motion=[0.0, -2 * approach]), law_twin(
-                                            law), load, quadrature, material=material, name="upper_plate"))
+                                            law), t, quadrature, material=material, name="upper_plate"))
     if plate == "meshed":
-        # per-body materials: the plate PLATE_STIFFNESS x stiffer (same nu and model)
+        # per-body materials: the plate's E and nu (same model)
         material = Materials(mesh, cell_tags, {DOMAIN: material,
-                                               PLATE: MODELS[model](PLATE_STIFFNESS * E, NU, plane=plane)})
+                                               PLATE: MODELS[model](plate_E, plate_nu, plane=plane)})
         bottom = facet_tags.indices[facet_tags.values == PLATE_BOTTOM]
         side = facet_tags.indices[facet_tags.values == PLATE_SYMMETRY]
         dirichlet += [Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, bottom)),
                       Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, np.concatenate([bottom, side])))]
         if isinstance(law, LagrangeMultiplier):  # the slave pressure an unknown (P1: quadrature 'nodal')
-            contact = two_body_multipliers(u, facet_tags, CONTACT, PLATE_TOP, law, load, radius=0.1 * R,
+            contact = two_body_multipliers(u, facet_tags, CONTACT, PLATE_TOP, law, t, radius=0.1 * R,
                                            name="plate", work_quadrature=quadrature)[0]
         else:
-            contact = two_body_surfaces(u, facet_tags, CONTACT, PLATE_TOP, lambda: law, load, quadrature,
+            contact = two_body_surfaces(u, facet_tags, CONTACT, PLATE_TOP, lambda: law, t, quadrature,
                                         radius=0.1 * R, name="plate")[0]
     else:
-        contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+        contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, t, quadrature,
                                   material=material)
     contacts.insert(0, contact)
-    problem = ContactProblem(u, material, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
+    if load is None:
+        problem = ContactProblem(u, material, t, dirichlet, contacts, step_solver=step_solver_for(contacts))
+    else:  # the quarter's half of P on its diameter; the vanishing spring on the disk (module docstring)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
+        traction = fem.Constant(mesh, np.array([0.0, -load / (2 * R)]))
+        problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(TOP))], stabilisation * E / R**2,
+                             dx(DOMAIN), step_solver=step_solver_for(contacts))
 
     def figures() -> dict:
         if plate == "meshed":
-            x, _, p = contact.point_values(reference=True)
+            # segment: the sub-segment Gauss points (current positions: they move by ~ the approach)
+            x, _, p = contact.point_values() if quadrature == "segment" else contact.point_values(reference=True)
         else:
             x, _, p = contact.surface_values()
         lower = x[:, 1] <= R  # the full disk: the lower contact
         x, p = x[lower], p[lower]
         right = x[:, 0] >= -1e-12 * R  # the half model: the profile from the centre to the right
         P = copies * contact.total_force()[1]
-        a_h, p0_h = hertz(P, plane=plane)
+        applied = None if load is None else float(t.value) * load  # force control: Hertz for the applied load
+        a_h, p0_h = hertz(P if applied is None else applied, R, E, nu, plane,
+                          *((plate_E, plate_nu) if plate == "meshed" else ()))
         p0, a = float(p.max()), contact_half_width(x[right, 0], p[right])
-        out = {"total_force": P, "reaction_top": -copies * problem.reaction(top_y), "p0": p0, "a": a,
+        reaction = -copies * problem.reaction(top_y) if applied is None else applied
+        out = {"total_force": P, "reaction_top": reaction, "p0": p0, "a": a,
                "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
                "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())),
                "h_contact": h}
+        if applied is not None:  # the spring is off at t = 1: the contact carries the whole load
+            out["load"], out["load_error"] = applied, abs(P - applied) / applied
         if model != "linear" and plate == "rigid":  # the peak per current length too (nominal / (da/dA))
             xc, _, pc = contact.surface_values("cauchy")
             out["p0_nominal"], out["p0_cauchy"] = p0, float(pc[(xc[:, 1] <= R)].max())
@@ -190,11 +260,15 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
             out["centre_reaction"] = out["reaction_top"] - P
         return out
 
-    params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h, "plane": plane,
+    params = {"E": E, "nu": nu, "R": R, "material": model, "h_contact": h, "contact_width": contact_width,
+              "plane": plane,
               "refinement": refinement, "quadrature": quadrature, "plate": plate,
+              **({"approach": approach} if load is None else {"load": load, "stabilisation": stabilisation}),
+              **({"plate_E": plate_E, "plate_nu": plate_nu, "plate_width": plate_size[0], "plate_depth": plate_size[1]}
+                 if plate == "meshed" else {}),
               "model": {"quarter": "quarter disk (symmetry x = 0 and y = R)", "half": "half disk (symmetry y = R)",
                         "full": "full disk between two rigid plates"}[symmetry]
-              + (f", meshed plate E x {PLATE_STIFFNESS:g}" if plate == "meshed" else "")}
+              + (f", meshed plate E = {plate_E:g}" if plate == "meshed" else "")}
     return Setup("hertz", problem, contacts, np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [contact.displacement_out, contact.gap_out, contact.pressure_out])
 

@@ -54,7 +54,7 @@ from ..materials import PLANES, LinearElastic
 from ..meshes import CONTACT, SYMMETRY, TOP, pin_plate
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, poisson, positive
 
 __all__ = [
     "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "SEAT", "DEFAULT_K", "LOADED_FORCE",
@@ -108,13 +108,25 @@ def contact_angle(theta: np.ndarray, p: np.ndarray, rel_tol: float = 1e-8) -> fl
 GAPS = ("linearized", "current")
 
 
-def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_contact: float = H_CONTACT,
-          steps: int = 1, gap: str = "linearized", comm: MPI.Comm = MPI.COMM_WORLD, plane: str = "strain") -> Setup:
-    """``refinement`` halves the mesh size at the hole (``h_contact``) that many times; ``steps`` load steps;
-    ``gap``: ``linearized`` (small displacements, default) or ``current`` (exact gap of the deformed position);
-    ``plane``: ``strain`` (the paper's, default; its figures are plane strain) or ``stress``."""
+def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_contact: float | None = None,
+          steps: int = 1, gap: str = "linearized", comm: MPI.Comm = MPI.COMM_WORLD, R: float = R,
+          half_width: float = HALF_WIDTH, below: float = BELOW, above: float = ABOVE, E: float = E, nu: float = NU,
+          P0: float = P0, seat: float | None = None, plane: str = "strain") -> Setup:
+    """``refinement`` halves the mesh size at the hole (``h_contact``, default ``R/50``) that many times; ``steps``
+    load steps; ``gap``: ``linearized`` (small displacements, default) or ``current`` (exact gap of the deformed
+    position). The plate ``2 half_width`` wide, from ``below`` under to ``above`` over the pin's centre, the hole
+    of radius ``R``, ``E``, ``nu``, the traction ``P0`` on its top; ``seat``: the initial translation toward the
+    load (default ``1e-4 R``; module docstring). Defaults: the module constants. ``plane``: ``strain`` (the
+    paper's, default; its figures are plane strain) or ``stress``."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    positive(R=R, half_width=half_width, below=below, above=above, E=E, P0=P0, h_contact=h_contact, seat=seat)
+    poisson(nu=nu)
+    if not (R < half_width and R < below and R < above):
+        raise ValueError(f"pin: the hole (R = {R}) must lie inside the plate (half_width {half_width}, below {below}, "
+                         f"above {above})")
+    h_contact = R / 50 if h_contact is None else h_contact
+    seat = 1e-4 * R if seat is None else seat
     if gap not in GAPS:
         raise ValueError(f"pin: gap must be one of {GAPS}, got {gap!r}")
     if not (isinstance(refinement, (int, np.integer)) and refinement >= 0):
@@ -124,7 +136,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
     if not (0 < h_contact <= R / 4):
         raise ValueError(f"pin: h_contact must be in (0, R/4 = {R / 4}], got {h_contact!r}")
     h = h_contact / 2**refinement
-    mesh, _, facet_tags = pin_plate(comm, R, HALF_WIDTH, BELOW, ABOVE, h_contact=h, h_far=R / 2, band=R / 10)
+    mesh, _, facet_tags = pin_plate(comm, R, half_width, below, above, h_contact=h, h_far=R / 2, band=R / 10)
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
@@ -134,21 +146,22 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
                               linearized=gap == "linearized")
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=TOP)
     traction = ufl.as_vector([0.0, P0])
-    problem = ContactProblem(u, LinearElastic(E, NU, plane=plane), load, dirichlet, [contact],
+    problem = ContactProblem(u, LinearElastic(E, nu, plane=plane), load, dirichlet, [contact],
                              tractions=[(traction, ds)])
-    u.x.array.reshape(-1, 2)[:, 1] = SEAT  # the plate seated on the pin (Newton's starting point)
+    u.x.array.reshape(-1, 2)[:, 1] = seat  # the plate seated on the pin (Newton's starting point)
 
     def figures() -> dict:
         theta, _, g, p = pressure_along_pin(contact)
         force = contact.total_force()
-        applied = float(load.value) * LOADED_FORCE
+        applied = float(load.value) * P0 * half_width  # the traction's resultant on the half model's top
         return {"contact_angle_deg": contact_angle(theta, p), "p_max": float(p.max()),
                 "p_bottom": float(p[0]),
                 "total_force_y": float(force[1]), "total_force_x": float(force[0]), "applied_force": applied,
                 "equilibrium_error": abs(force[1] + applied) / applied, "max_penetration": float(g.max()),
                 "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())), "h_contact": h}
 
-    params = {"E": E, "nu": NU, "P0": P0, "R": R, "plate": [2 * HALF_WIDTH, BELOW + ABOVE], "clearance": 0.0,
+    params = {"E": E, "nu": nu, "P0": P0, "R": R, "plate": [2 * half_width, below + above], "clearance": 0.0,
+              "seat": seat,
               "gap": gap,
               "h_contact": h, "refinement": refinement, "steps": steps, "quadrature": quadrature,
               "plane": plane, "model": f"half plate (symmetry x = 0), plane {plane}, linear elasticity"}

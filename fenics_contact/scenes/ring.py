@@ -37,7 +37,7 @@ from ..materials import PLANES, LinearElastic
 from ..meshes import RING_AXIS, RING_MID, RING_OUTER, ring_quarter
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, poisson, positive
 
 __all__ = [
     "R_OUT", "R_IN", "E", "NU", "APPROACH", "K", "PAPER_PENETRATION", "PAPER_RESIDUAL_6", "build", "VARIANTS", "BENCH"
@@ -51,25 +51,31 @@ PAPER_RESIDUAL_6 = 0.9e-10
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: int = 4, quadrilateral: bool = True,
-          comm: MPI.Comm = MPI.COMM_WORLD, plane: str = "strain") -> Setup:
-    """The quarter ring; one load step (upper plate down by ``APPROACH``); ``plane``: ``strain`` or ``stress``."""
+          comm: MPI.Comm = MPI.COMM_WORLD, R_out: float = R_OUT, R_in: float = R_IN, E: float = E, nu: float = NU,
+          approach: float = APPROACH, plane: str = "strain") -> Setup:
+    """The quarter ring (radii ``R_in < R_out``, ``E``, ``nu``); one load step (upper plate down by ``approach``);
+    ``plane``: ``strain`` or ``stress``. Defaults: the module constants, the paper's."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
-    mesh, _, facet_tags = ring_quarter(comm, R_OUT, R_IN, n_theta, n_r, quadrilateral)
+    positive(R_out=R_out, R_in=R_in, E=E, approach=approach)
+    poisson(nu=nu)
+    if not R_in < R_out:
+        raise ValueError(f"ring: R_in must be < R_out, got R_in = {R_in}, R_out = {R_out}")
+    mesh, _, facet_tags = ring_quarter(comm, R_out, R_in, n_theta, n_r, quadrilateral)
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     mid_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == RING_MID])
     axis_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == RING_AXIS])
-    dirichlet = [Dirichlet(V.sub(1), mid_y, -APPROACH / 2), Dirichlet(V.sub(0), axis_x)]
+    dirichlet = [Dirichlet(V.sub(1), mid_y, -approach / 2), Dirichlet(V.sub(0), axis_x)]
     contact = ContactSurface(u, facet_tags, RING_OUTER, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                              name="lower plate")
-    problem = ContactProblem(u, LinearElastic(E, NU, plane=plane), load, dirichlet, [contact])
+    problem = ContactProblem(u, LinearElastic(E, nu, plane=plane), load, dirichlet, [contact])
 
     def figures() -> dict:
         x, g, p = contact.surface_values()
-        order = np.argsort(np.arctan2(x[:, 1] - R_OUT, x[:, 0]))  # from the bottom (centre) outward
+        order = np.argsort(np.arctan2(x[:, 1] - R_out, x[:, 0]))  # from the bottom (centre) outward
         g = g[order]
         force = 2 * contact.total_force()[1]
         return {"penetration_centre": float(g[0]), "penetration_neighbour": float(g[1]),
@@ -77,7 +83,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: in
                 "closed_points_per_plate": int(2 * np.count_nonzero(g > 0) - (g[0] > 0)),
                 "plate_force": force, "reaction_mid": -2 * problem.reaction(mid_y)}
 
-    params = {"E": E, "nu": NU, "R_out": R_OUT, "R_in": R_IN, "approach": APPROACH, "n_theta": n_theta, "n_r": n_r,
+    params = {"E": E, "nu": nu, "R_out": R_out, "R_in": R_in, "approach": approach, "n_theta": n_theta, "n_r": n_r,
               "quadrilateral": quadrilateral, "quadrature": quadrature,
               "plane": plane, "model": "quarter ring (symmetry x = 0 and y = R_out)"}
     return Setup("ring", problem, [contact], [1.0], params, figures, [u, contact.gap_out, contact.pressure_out])

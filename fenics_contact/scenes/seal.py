@@ -68,7 +68,7 @@ from ..materials import PLANES, NeoHookean
 from ..meshes import SEAL_BOUNDARY, SEAL_SYMMETRY, seal_s_geometry, seal_s_section, seal_section, seal_wave_section
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, poisson, positive
 
 __all__ = [
     "E", "NU", "R_OUT", "R_IN", "GAP", "K_HAT", "F_HAT", "SOLVER_OPTIONS", "PREDICTOR", "SHAPES", "LOADS", "build",
@@ -87,17 +87,23 @@ LOADS = [0.5 * k for k in range(1, 12)] + [5.5 + 0.1 * k for k in range(1, 6)]
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: list[float] | None = None,
-          comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "wave", plane: str = "strain") -> Setup:
+          comm: MPI.Comm = MPI.COMM_WORLD, shape: str = "wave", E: float = E, nu: float = NU, R_out: float = R_OUT,
+          R_in: float = R_IN, plate_distance: float = GAP, plane: str = "strain") -> Setup:
     """``h``: cell size of the structured quadrilaterals (0.5: 2 cells through the thickness); ``shape``:
     ``"wave"``, ``"S"`` or ``"U"`` (module docstring). Solve with ``SOLVER_OPTIONS`` and ``PREDICTOR[shape]``.
-    ``plane``: ``strain`` (default, the figures of the module docstring) or ``stress`` (neo-Hookean with the
-    out-of-plane stretch of :class:`~fenics_contact.materials.NeoHookean`)."""
+    The section's radii ``R_in < R_out``, the plates ``plate_distance`` apart at t = 0, ``E``, ``nu``
+    (defaults: the module constants). ``plane``: ``strain`` (default, the figures of the module docstring) or
+    ``stress`` (neo-Hookean with the out-of-plane stretch of :class:`~fenics_contact.materials.NeoHookean`)."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    positive(E=E, R_out=R_out, R_in=R_in, plate_distance=plate_distance, h=h)
+    poisson(nu=nu)
+    if not R_in < R_out:
+        raise ValueError(f"seal: R_in must be < R_out, got R_in = {R_in}, R_out = {R_out}")
     if shape not in SHAPES:
         raise ValueError(f"seal shape must be one of {', '.join(map(repr, SHAPES))}, got {shape!r}")
     half = shape != "S"
-    mesh, _, facet_tags = SHAPES[shape](comm, h, R_OUT, R_IN, GAP)
+    mesh, _, facet_tags = SHAPES[shape](comm, h, R_out, R_in, plate_distance)
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
@@ -105,16 +111,17 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
         sym = fem.locate_dofs_topological(V.sub(0), 1, facet_tags.indices[facet_tags.values == SEAL_SYMMETRY])
         dirichlet = [Dirichlet(V.sub(0), sym)]
     else:  # the S: u(P0) = (0, -t/2) at the centre of symmetry
-        p0 = np.array(seal_s_geometry(R_OUT, R_IN, GAP)["P0"])
+        p0 = np.array(seal_s_geometry(R_out, R_in, plate_distance)["P0"])
         centre = dmesh.locate_entities(mesh, 0, lambda x: np.hypot(x[0] - p0[0], x[1] - p0[1]) < 1e-8)
         mesh.topology.create_connectivity(0, mesh.topology.dim)  # vertex dofs (dolfinx >= 0.6 needs it)
         cx, cy = (fem.locate_dofs_topological(V.sub(i), 0, centre) for i in (0, 1))
         dirichlet = [Dirichlet(V.sub(0), cx), Dirichlet(V.sub(1), cy, -0.5)]
     lower = ContactSurface(u, facet_tags, SEAL_BOUNDARY, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                            name="lower plate")
-    upper = ContactSurface(u, facet_tags, SEAL_BOUNDARY, HalfPlane([0.0, GAP], [0.0, -1.0], motion=[0.0, -1.0]),
-                           _copy(law), load, quadrature, name="upper plate")
-    problem = ContactProblem(u, NeoHookean(E, NU, plane=plane), load, dirichlet, [lower, upper])
+    upper = ContactSurface(u, facet_tags, SEAL_BOUNDARY,
+                           HalfPlane([0.0, plate_distance], [0.0, -1.0], motion=[0.0, -1.0]), _copy(law), load,
+                           quadrature, name="upper plate")
+    problem = ContactProblem(u, NeoHookean(E, nu, plane=plane), load, dirichlet, [lower, upper])
 
     def figures() -> dict:
         zl, zu = lower.contact_zones(), upper.contact_zones()
@@ -128,7 +135,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
                 "zones_upper_x": [[z["X_min"][0], z["X_max"][0]] for z in zu],
                 "max_penetration": max(lower.max_penetration(), upper.max_penetration())}
 
-    params = {"E": E, "nu": NU, "R_out": R_OUT, "R_in": R_IN, "plate_distance": GAP, "h": h, "shape": shape,
+    params = {"E": E, "nu": nu, "R_out": R_out, "R_in": R_in, "plate_distance": plate_distance, "h": h, "shape": shape,
               "quadrature": quadrature, "material": "neohookean", "plane": plane,
               "model": f"half of the {shape}-shaped section (symmetry x = 0)" if half else
               "whole S-shaped section, u(P0) = (0, -t/2) at its centre of symmetry"}

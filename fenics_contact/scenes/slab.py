@@ -32,20 +32,21 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..compat import function_space
 from ..condensed import step_solver_for
 from ..factory import contact_surface
 from ..laws import ContactLaw
-from ..materials import PLANES, LinearElastic
+from ..materials import MODELS, PLANES
 from ..meshes import BOTTOM, LEFT, RIGHT, rectangle
 from ..meshes import RECT_TOP as TOP
+from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, nonnegative, poisson, positive
 
 __all__ = [
     "WIDTH", "HEIGHT", "E", "NU", "TOP_PRESSURE", "SIDE_PRESSURE", "NX", "NY", "SIGMA_XX", "SIGMA_YY",
-    "UX_A_FRICTIONLESS", "TOP_LOAD", "SIDE_LOAD", "STATES", "profile", "tributary_lengths", "zones", "build", "BENCH"
+    "UX_A_FRICTIONLESS", "TOP_LOAD", "SIDE_LOAD", "STATES", "profile", "tributary_lengths", "zones", "build", "BENCH",
+    "ux_a_frictionless", "K_DEMO", "OMEGA_T", "LAM0", "SOLVER_OPTIONS"
 ]
 
 WIDTH, HEIGHT, E, NU = 40.0, 40.0, 13000.0, 0.2
@@ -56,6 +57,12 @@ UX_A_FRICTIONLESS = (1 - NU**2) / E * (SIGMA_XX - NU / (1 - NU) * SIGMA_YY) * WI
 UX_A_FRICTIONLESS_PLANE_STRESS = (SIGMA_XX - NU * SIGMA_YY) / E * WIDTH
 TOP_LOAD, SIDE_LOAD = TOP_PRESSURE * WIDTH, SIDE_PRESSURE * HEIGHT  # per unit thickness
 STATES = ("separated", "sliding", "sticking")
+# Demo defaults of the regularized friction methods (demos/slab.py; a resting body, g = 0 everywhere at t = 0):
+# the normal penalty K (BENCH's), the tangential penalty omega_t = E / h (stiffer makes Newton cycle), and the
+# initial normal multiplier lam0 (auglag; cross: F_hat) = the mean contact pressure: penalty-type laws are open at
+# g = 0 (no normal stiffness: the first Jacobian is singular), and lam0 > 0 closes them.
+K_DEMO, OMEGA_T, LAM0 = 1e5, E / (WIDTH / NX), TOP_PRESSURE
+SOLVER_OPTIONS = {"snes_linesearch_type": "bt", "snes_max_it": 200, "snes_rtol": 1e-10}  # see BENCH's note
 
 
 def profile(contact) -> dict:
@@ -76,12 +83,21 @@ def tributary_lengths(s: np.ndarray) -> np.ndarray:
     return w
 
 
-def zones(x: np.ndarray, state: np.ndarray) -> dict:
+def ux_a_frictionless(width: float = WIDTH, E: float = E, nu: float = NU, top_pressure: float = TOP_PRESSURE,
+                      side_pressure: float = SIDE_PRESSURE, plane: str = "strain") -> float:
+    """``u_x(A)`` of the frictionless slab (uniform stress ``-side_pressure``, ``-top_pressure``; plane strain or
+    stress)."""
+    if plane == "stress":
+        return (-side_pressure + nu * top_pressure) / E * width
+    return (1 - nu**2) / E * (-side_pressure + nu / (1 - nu) * top_pressure) * width
+
+
+def zones(x: np.ndarray, state: np.ndarray, width: float = WIDTH) -> dict:
     """Zone lengths from the free corner inward, boundaries (distance from A, at mid-edges) and the pattern.
 
     ``x``: base vertex coordinates sorted by ``x``; ``state``: 0 open, 1 slip, 2 stick.
     """
-    s = WIDTH - x[:, 0]  # distance from the free corner A
+    s = width - x[:, 0]  # distance from the free corner A
     order = np.argsort(s)
     s, state = s[order], np.asarray(state)[order]
     w = tributary_lengths(s)
@@ -93,9 +109,20 @@ def zones(x: np.ndarray, state: np.ndarray) -> dict:
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY, refinement: int = 0,
-          steps: int = 1, comm: MPI.Comm = MPI.COMM_WORLD, plane: str = "strain") -> Setup:
+          steps: int = 1, comm: MPI.Comm = MPI.COMM_WORLD, plane: str = "strain", width: float = WIDTH,
+          height: float = HEIGHT, E: float = E, nu: float = NU, top_pressure: float = TOP_PRESSURE,
+          side_pressure: float = SIDE_PRESSURE, model: str = "linear") -> Setup:
     """``nx`` x ``ny`` Q1 cells times ``2**refinement`` each way; ``steps`` proportional load steps; ``plane``:
-    ``strain`` (the paper's) or ``stress``."""
+    ``strain`` (the paper's) or ``stress``; the half slab ``width`` x ``height`` (``E``, ``nu``),
+    ``top_pressure`` on its top, ``side_pressure`` on its free side (defaults: the module constants, the
+    paper's); ``model``: ``linear`` (the paper's) or ``neohookean``."""
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    if model not in MODELS:
+        raise ValueError(f"slab model must be one of {sorted(MODELS)}, got {model!r}")
+    positive(width=width, height=height, E=E, top_pressure=top_pressure)
+    nonnegative(side_pressure=side_pressure)
+    poisson(nu=nu)
     if int(refinement) < 0:
         raise ValueError(f"refinement must be >= 0, got {refinement!r}")
     if int(steps) < 1:
@@ -103,51 +130,54 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     nx, ny = int(nx) * 2**refinement, int(ny) * 2**refinement
-    mesh, _, facet_tags = rectangle(comm, WIDTH, HEIGHT, nx, ny, quadrilateral=True)
-    V = function_space(mesh, "Lagrange", 1, (2,))
-    u = fem.Function(V, name="displacement")
+    mesh, _, facet_tags = rectangle(comm, width, height, nx, ny, quadrilateral=True)
+    u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     symmetry_x = Dirichlet.on_facets(V, facet_tags, LEFT, 0)
     dirichlet = [symmetry_x]
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
-    tractions = [(fem.Constant(mesh, np.array([0.0, -TOP_PRESSURE])), ds(TOP)),
-                 (fem.Constant(mesh, np.array([-SIDE_PRESSURE, 0.0])), ds(RIGHT))]
-    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature)
-    problem = ContactProblem(u, LinearElastic(E, NU, plane=plane), load, dirichlet, [contact], tractions,
-                             step_solver=step_solver_for([contact]))
-    ux_a_frictionless = UX_A_FRICTIONLESS if plane == "strain" else UX_A_FRICTIONLESS_PLANE_STRESS
+    tractions = [(fem.Constant(mesh, np.array([0.0, -top_pressure])), ds(TOP)),
+                 (fem.Constant(mesh, np.array([-side_pressure, 0.0])), ds(RIGHT))]
+    material = MODELS[model](E, nu, plane=plane)
+    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+                              material=material)
+    problem = ContactProblem(u, material, load, dirichlet, [contact], tractions, step_solver=step_solver_for([contact]))
+    top_load, side_load = top_pressure * width, side_pressure * height  # per unit thickness
+    ux_free = ux_a_frictionless(width, E, nu, top_pressure, side_pressure, plane)
 
     # The free bottom corner A: the rank owning its vertex reports it (max over ranks of a masked value).
-    corner = np.flatnonzero(np.isclose(V.tabulate_dof_coordinates()[:, 0], WIDTH)
-                            & np.isclose(V.tabulate_dof_coordinates()[:, 1], 0.0))
-    bs = V.dofmap.index_map_bs
+    disp = contact.displacement_out  # u, or its collapsed copy when u is mixed
+    X = disp.function_space.tabulate_dof_coordinates()
+    corner = np.flatnonzero(np.isclose(X[:, 0], width) & np.isclose(X[:, 1], 0.0))
+    bs = disp.function_space.dofmap.index_map_bs
 
     def figures() -> dict:
         prof = profile(contact)
         t = float(load.value)
         found = comm.allreduce(len(corner), op=MPI.MAX) > 0
-        ua = np.array([u.x.array[corner[0] * bs + i] for i in range(2)]) if len(corner) else np.full(2, -np.inf)
+        contact.update_output()
+        ua = np.array([disp.x.array[corner[0] * bs + i] for i in range(2)]) if len(corner) else np.full(2, -np.inf)
         ua = np.array([comm.allreduce(v, op=MPI.MAX) for v in ua]) if found else np.full(2, np.nan)
         w = tributary_lengths(prof["x"][:, 0])
         normal, tangential = float(np.sum(w * prof["pressure"])), float(np.sum(w * prof["traction"]))
         symmetry = problem.reaction(symmetry_x.dofs)
-        z = zones(prof["x"], prof["state"])
+        z = zones(prof["x"], prof["state"], width)
         return {"ux_A": float(ua[0]), "uy_A": float(ua[1]),
-                "ux_A_frictionless": t * ux_a_frictionless,
+                "ux_A_frictionless": t * ux_free,
                 "zones": {k: z[k] for k in STATES}, "zone_boundaries": z["boundaries"], "zone_pattern": z["pattern"],
                 "normal_force": normal, "tangential_force": tangential, "symmetry_reaction": symmetry,
-                "normal_equilibrium_error": abs(normal - t * TOP_LOAD) / TOP_LOAD,
-                "tangential_equilibrium_error": abs(tangential + symmetry - t * SIDE_LOAD) / SIDE_LOAD,
+                "normal_equilibrium_error": abs(normal - t * top_load) / top_load,
+                "tangential_equilibrium_error": abs(tangential + symmetry - t * side_load) / max(side_load, top_load),
                 "max_penetration": float(np.max(prof["gap"])), "max_pressure": float(np.max(prof["pressure"])),
                 "base": {k: np.asarray(v).tolist() for k, v in prof.items()}}
 
-    params = {"E": E, "nu": NU, "width": WIDTH, "height": HEIGHT, "top_pressure": TOP_PRESSURE,
-              "side_pressure": SIDE_PRESSURE, "nx": nx, "ny": ny, "refinement": refinement, "steps": steps,
-              "quadrature": quadrature, "plane": plane,
+    params = {"E": E, "nu": nu, "width": width, "height": height, "top_pressure": top_pressure,
+              "side_pressure": side_pressure, "nx": nx, "ny": ny, "refinement": refinement, "steps": steps,
+              "quadrature": quadrature, "plane": plane, "material": model,
               "model": f"half slab (symmetry u_x = 0 on x = 0), Q1, plane {plane}"}
     extra = [contact.traction_out] if hasattr(contact, "traction_out") else []
     return Setup("slab", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
-                 [u, contact.gap_out, contact.pressure_out, *extra])
+                 [disp, contact.gap_out, contact.pressure_out, *extra])
 
 
 # Benchmark (fenics_contact.bench): mu = 0.4; no closed form with friction, so the error is u_x(A)'s relative

@@ -14,11 +14,17 @@ Hertz (sphere on a rigid plane, load ``P``, ``E* = E/(1-nu^2)``):
 
 ``level`` scales every mesh size by ``LEVELS[level]``, chosen so that the dofs run from about
 1e4 (level 0) to about 1e6 (level 3). The iterative linear solver (``--solver iterative``) is
-meant for the finer levels.
+meant for the finer levels. ``R``, ``E``, ``nu``, ``approach`` and the refined zone
+``contact_width`` are keyword arguments of :func:`build` (defaults: the module constants).
+Force control (``load=P``, the whole sphere's force): the equator carries the
+uniform traction ``P / 4`` per the meshed equator's area downward and the octant is held only by the
+contact; from rest through the vanishing spring of :class:`~fenics_contact.scenes.Stabilised`
+(``k = stabilisation * E / R^2`` on the body, exactly 0 at the last step), as in ``hertz``.
 """
 from __future__ import annotations
 
 import numpy as np
+import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
@@ -29,13 +35,15 @@ from ..meshes import CONTACT, SYMMETRY, SYMMETRY_Y, TOP, sphere_octant
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, Stabilised, nonnegative, poisson, positive
 
 __all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "hertz3d", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
 DEFAULT_K = 1e6  # ~ 10 E / h_contact at level 0
+CONTACT_WIDTH = 0.15 * R  # the refined zone around the contact point
+STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E
 # Mesh-size factor per level: h_contact = 0.02 f, h_far = 0.15 f (dofs 11931, 68208, 230964, 1178016).
 LEVELS = (0.5, 0.25, 0.16, 0.09)
 # The benchmark's view of this scene (fenics_contact.bench): level 0 only in the quick sweep.
@@ -58,48 +66,74 @@ def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU) -> tuple[float
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int = 1,
-          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
-          size: float | None = None) -> Setup:
+          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH, R: float = R,
+          E: float = E, nu: float = NU, load: float | None = None, contact_width: float | None = None,
+          stabilisation: float = STABILISATION, size: float | None = None) -> Setup:
     """``level`` in ``0 .. len(LEVELS) - 1`` picks the mesh size (about 1e4 to 1e6 dofs); ``size``, if given,
-    is the mesh-size factor instead (``LEVELS[0] = 0.5``; e.g. 1.5 for a tiny smoke-test mesh)."""
+    is the mesh-size factor instead (``LEVELS[0] = 0.5``; e.g. 1.0 for a tiny smoke-test mesh); ``approach``
+    (displacement control) or ``load`` (force control: the sphere's total force); ``contact_width``: the
+    refined zone (default ``0.15 R``)."""
+    positive(R=R, E=E, approach=approach, load=load, contact_width=contact_width)
+    nonnegative(stabilisation=stabilisation)
+    if load is not None and int(steps) < 2:
+        raise ValueError(f"force control (load) needs steps >= 2 (the vanishing spring acts before the last), "
+                         f"got {steps!r}")
+    poisson(nu=nu)
+    if int(steps) < 1:
+        raise ValueError(f"steps must be >= 1, got {steps!r}")
+    contact_width = 0.15 * R if contact_width is None else contact_width
     if not (isinstance(level, int) and 0 <= level < len(LEVELS)):
         raise ValueError(f"sphere level must be an integer in [0, {len(LEVELS) - 1}], got {level!r}")
     if size is not None and not (np.isfinite(size) and size > 0):
         raise ValueError(f"sphere mesh size factor must be > 0, got {size!r}")
     f = LEVELS[level] if size is None else float(size)
     h = 0.02 * f * R
-    mesh, _, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=0.15 * R)
+    mesh, _, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=contact_width)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
-    load = fem.Constant(mesh, 0.0)
+    t = fem.Constant(mesh, 0.0)  # the load parameter
     fdim = mesh.topology.dim - 1
 
     def facets(tag):
         return facet_tags.indices[facet_tags.values == tag]
 
     top_z = fem.locate_dofs_topological(V.sub(2), fdim, facets(TOP))
-    dirichlet = [Dirichlet(V.sub(2), top_z, -approach),
-                 Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, facets(SYMMETRY))),
+    dirichlet = [Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, facets(SYMMETRY))),
                  Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, facets(SYMMETRY_Y)))]
-    material = MODELS[model](E, NU)
-    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, load,
+    if load is None:
+        dirichlet.insert(0, Dirichlet(V.sub(2), top_z, -approach))
+    material = MODELS[model](E, nu)
+    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, t,
                               quadrature, material=material)
-    problem = ContactProblem(u, material, load, dirichlet, [contact])
+    if load is None:
+        problem = ContactProblem(u, material, t, dirichlet, [contact])
+    else:  # a quarter of P on the octant's equator; the vanishing spring on the body
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        # per the meshed equator's area (a polygon: ~1e-3 below pi R^2 / 4), so that the octant carries P / 4
+        area = comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ds(TOP))), op=MPI.SUM)
+        traction = fem.Constant(mesh, np.array([0.0, 0.0, -load / (4 * area)]))
+        problem = Stabilised(u, material, t, dirichlet, [contact], [(traction, ds(TOP))], stabilisation * E / R**2,
+                             ufl.dx(domain=mesh))
 
     def figures() -> dict:
         x, _, p = contact.surface_values()
         P = 4 * contact.total_force()[2]
-        a_h, p0_h = hertz3d(P)
+        applied = None if load is None else float(t.value) * load  # force control: Hertz for the applied load
+        a_h, p0_h = hertz3d(P if applied is None else applied, R, E, nu)
         loaded = p > 1e-8 * max(p.max(), 1e-300)
         p0 = float(p.max())
         a = float(np.hypot(x[loaded, 0], x[loaded, 1]).max()) if loaded.any() else 0.0  # outermost loaded node
-        out = {"total_force": P, "reaction_top": -4 * problem.reaction(top_z), "p0": p0, "a": a,
-               "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h, "a_error": abs(a - a_h) / a_h,
-               "contact_nodes": int(np.count_nonzero(loaded)), "h_contact": h}
+        out = {"total_force": P, "reaction_top": -4 * problem.reaction(top_z) if applied is None else applied,
+               "p0": p0, "a": a, "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
+               "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(loaded)), "h_contact": h}
+        if applied is not None:  # the spring is off at t = 1: the contact carries the whole load
+            out["load"], out["load_error"] = applied, abs(P - applied) / applied
         if model != "linear":  # p0 is nominal (per reference area); the peak per current area too
             out["p0_nominal"], out["p0_cauchy"] = p0, float(contact.surface_values("cauchy")[2].max())
         return out
 
-    params = {"E": E, "nu": NU, "R": R, "approach": approach, "material": model, "h_contact": h, "level": level,
+    params = {"E": E, "nu": nu, "R": R, "material": model, "h_contact": h, "level": level,
+              "contact_width": contact_width,
+              **({"approach": approach} if load is None else {"load": load, "stabilisation": stabilisation}),
               "quadrature": quadrature, "model": "octant (symmetry x = 0, y = 0, z = R)"}
     return Setup("sphere", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [contact.displacement_out, contact.gap_out, contact.pressure_out])
