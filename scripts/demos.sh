@@ -12,9 +12,9 @@ MPIRUN=${MPIRUN:-mpirun -n $NP}
 if [ "$MODE" = quick ]; then
   RUNS=("block" "hertz" "slab --mu 0.4" "pin" "ring" "patch --main-only" "sphere --size 1.0"
         "compliance3d --mesh 8 4 2 --drag-steps 2" "seal" "cylinders --t-end 0.2 --h-contact 0.1"
-        "sheet --n-arc 8 --eps 1e4 --steps 2")
+        "sheet --n-arc 8 --eps 1e4 --steps 2" "rings --main-only --n 8")
 elif [ "$MODE" = all ]; then
-  RUNS=("block" "hertz" "slab" "pin" "ring" "patch" "sphere" "compliance3d" "seal" "cylinders" "sheet")
+  RUNS=("block" "hertz" "slab" "pin" "ring" "patch" "sphere" "compliance3d" "seal" "cylinders" "sheet" "rings")
 else
   echo "usage: $0 quick|all [OUT]" >&2; exit 2
 fi
