@@ -82,7 +82,7 @@ def main(argv=None) -> dict:
     summary = {"scene": "rings", "method": "compare", "ranks": comm.size, "dofs": 0, "n": args.n, "q": args.q,
                "plane": args.plane, "p_lame": p_lame, "options": rows,
                "newton_iterations": sum(r.get("newton", 0) for r in rows), "wall_time_s": 0.0,
-               "check": check("interface pressure (P2 collocated multipliers, farthest)",
+               "check": check("p_interface (P2 collocated, farthest)",
                               p_lame * (1 + best[0]["p_max_deviation"]) if best else None, p_lame, 5e-3,
                               "Lame's interface pressure")}
     write_summary(out / "summary.json", summary, comm)
