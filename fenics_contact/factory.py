@@ -7,6 +7,7 @@ modules never import each other back: :func:`contact_surface` (rigid obstacle),
 """
 from __future__ import annotations
 
+import logging
 from typing import Callable
 
 from dolfinx import fem
@@ -61,8 +62,8 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
     at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
     2D and 3D, :mod:`~fenics_contact.mortar`). Two-pass: every slave point of both passes, each at weight 1/2
-    (also where the points of the two passes coincide). ``cls``: the surface class of the pointwise
-    quadratures (default :class:`TwoBodySurface`).
+    (quadratic facets: a second-pass point that coincides with a first-pass one in the reference configuration
+    is left out). ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`).
     A combination the capability matrix refuses raises
     :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly."""
     if passes not in PASSES:
@@ -82,13 +83,19 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     kw = {"work_quadrature": work_quadrature}
     if passes == "one":
         return [cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name, **kw)]
-    # Both passes keep every slave point, each at weight 1/2: where the two meshes' nodes coincide, leaving the
-    # second-pass point out (as before) left its partner alone at weight 1/2, i.e. half the force at the doubled
-    # pressure (+62 % p0 on the axis of a two-body Hertz case; on the sheet's quadratic facets it made part of the
-    # three-point penalty's oscillation). Exact constraints (multipliers) would be duplicated there: two passes
-    # are refused for them (capabilities).
+    # Flat facets: no node-on-node exclusion. A second-pass point left out where it coincides with a first-pass
+    # point left that point alone at weight 1/2, i.e. half the force at the doubled pressure (+62 % p0 on the
+    # axis of a two-body Hertz case where both meshes have a node); both points at weight 1/2 give the one-pass
+    # force. Exact constraints (multipliers) would be duplicated there: two passes are refused for them
+    # (capabilities). Quadratic facets (the sheet) keep the exclusion: its surface-locking figures use it.
     a = cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 0.5, radius, f"{name}_a", **kw)
-    b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b", **kw)
+    b = cls(u, facet_tags, tag_b, tag_a, law_factory(), load, quadrature, 0.5, radius, f"{name}_b",
+            exclude=a.reference_points() if a.quadratic else None, **kw)
+    left_out = b.comm.allreduce(int(b._excluded.sum()))
+    if left_out and b.comm.rank == 0:  # not silent: the partner carries half the force there (see above)
+        logging.getLogger(__name__).warning(
+            "%s: %d second-pass points coincide with first-pass points on quadratic facets and are left out; "
+            "their partners carry weight 1/2 (pressure there doubled)", name, left_out)
     return [a, b]
 
 

@@ -76,9 +76,10 @@ consistent tangent (curvature and the moving projection point included;
 Points that project on a facet's end (``xi`` clipped) keep ``xi`` fixed.
 
 Two-pass: two surfaces, each side slave once, each with ``weight = 1/2``
-(forces averaged); coinciding points of the two passes both stay (each at
-weight 1/2: together the one-pass force; leaving one out doubled the other's
-pressure). Two passes of multipliers are refused
+(forces averaged); coinciding points of the two passes both stay on flat
+facets (each at weight 1/2: together the one-pass force; leaving one out
+doubled the other's pressure); quadratic facets still leave the second-pass
+point out (node-on-node). Two passes of multipliers are refused
 (:mod:`capabilities`). Flat facets: segments (2D), triangles (3D);
 quadratic: curved segments (2D).
 """
@@ -278,14 +279,17 @@ class TwoBodySurface(ContactSurface):
     all three. ``work_quadrature``: the rule of the pressure's work term, if not ``quadrature``
     (multipliers: ``simpson`` with a constraint at the end nodes). ``weight``: factor on the residual (1/2
     for each surface of a two-pass pair). ``radius``: search radius of the projection (default: 2 x the
-    longest master facet); slave points farther from the master have no pair and no force.
+    longest master facet); slave points farther from the master have no pair and no force. ``exclude``
+    (k, gdim): reference positions of slave points left without a pair (a node that coincides with a
+    node of the other pass: node-on-node, one constraint per pair of nodes).
     """
 
     ufl_coupling = True  # coupling by the compiled mirror forms and I (False: a subclass assembles it)
 
     def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
-                 radius: float | None = None, name: str = "twobody", work_quadrature: str | None = None):
+                 radius: float | None = None, name: str = "twobody", work_quadrature: str | None = None,
+                 exclude: np.ndarray | None = None):
         check(**of(law, u), kind="two-body", quadrature=work_quadrature or quadrature)  # before any assembly
         mesh = u.function_space.mesh
         if slave_tag == master_tag:
@@ -330,6 +334,11 @@ class TwoBodySurface(ContactSurface):
                                dtype=np.int32).reshape(-1, nn)
         self._sdofs = np.array([self.Ws.dofmap.cell_dofs(c)[loc] for c, loc in zip(sd.cells, sd.local)],
                                dtype=np.int32).reshape(-1, nn)
+        Xs = np.einsum("qk,fkj->fqj", self.B, sd.X)
+        self._excluded = np.zeros(Xs.shape[:2], bool)
+        if exclude is not None and len(exclude) and len(Xs):
+            dmin = np.min(np.linalg.norm(Xs[:, :, None, :] - np.asarray(exclude)[None, None], axis=3), axis=2)
+            self._excluded = dmin <= 1e-9 * max(1.0, float(np.abs(Xs).max()))
         if quadrature == "gauss" and len(np.unique(self._wdofs)) != self._wdofs.size:
             raise ValueError(f"{name}: a cell has two slave facets; Gauss quadrature needs one per cell "
                              "(refine the mesh at the corner or use quadrature 'nodal')")
@@ -417,6 +426,7 @@ class TwoBodySurface(ContactSurface):
         found = project(pts.reshape(-1, d), xm, self.radius, previous, quadratic=self.quadratic)
         facet, bary, dist = found[:3]
         facet = facet.reshape(nf, nq)
+        facet[self._excluded] = -1
         xi = found[3].reshape(nf, nq) if self.quadratic else None
         # Gap and master normal at the points, in NumPy (the same formulas as the UFL).
         ok = facet >= 0
@@ -632,6 +642,11 @@ class TwoBodySurface(ContactSurface):
         or ``cauchy``) at the slave points (:meth:`point_table` without the other position)."""
         X, x, g, p = self.point_table(kind)
         return (X if reference else x), g, p
+
+    def reference_points(self) -> np.ndarray:
+        """Reference positions of all slave points (every rank's, on every rank)."""
+        X = np.einsum("qk,fkj->fqj", self.B, self.slave_data.X).reshape(-1, self.gdim)
+        return np.concatenate(self.comm.allgather(X))
 
     def pairing(self) -> np.ndarray:
         """The pairing the residual depends on (a copy, this rank's): the master facet of each local slave

@@ -61,13 +61,9 @@ def test_three_point_penalty_locks(runs):
         assert abs(osc["mult"]) < 1e-9 * peak and abs(osc["two6"]) < 1e-9 * peak  # linear on each facet
         # total variation along the interface: the multipliers' profile is smooth (its own TV ~ 1.3 peak)
         tv = {k: sheet.total_variation(runs[k][1][t][0]["p"]) for k in ("mult", "three4", "three5")}
-        # (measured, both passes keeping every point: t = 0.5: 47 / 107 / 156, t = 1: 107 / 224 / 341; eps 1e6:
-        # 222, 411)
-        assert tv["three5"] > 1.3 * tv["three4"] and tv["three4"] > 2 * tv["mult"], (t, tv)
-        # it does not approach the multipliers as eps grows (measured 0.25 -> 0.25 at t = 0.5, 0.19 -> 0.27 at t = 1;
-        # eps 1e6: 0.59, 0.50), where the two-point penalty does (test above: below 2 % at eps 1e6)
+        assert tv["three5"] > 1.3 * tv["three4"] and tv["three4"] > 3 * tv["mult"], (t, tv)
         d = {k: difference(runs, k, t, 0) for k in ("three4", "three5")}
-        assert d["three5"] >= 0.99 * d["three4"] and d["three4"] > 0.15, (t, d)
+        assert d["three5"] > d["three4"] > 0.2, (t, d)
 
 
 def test_multipliers_independent_of_c_and_of_ranks():

@@ -57,9 +57,6 @@ paper's surface locking. The two-point penalty approaches the multipliers
 0.10 % at t = 1 for eps = 1e4 / 1e6); the three-point penalty's pressure
 oscillates node to node with the period of the two meshes' common nodes and
 moves away as eps grows (total variation along the interface 573 -> 1854
-[measured when the second pass left out the points coinciding with the first
-pass's, which doubled their partners' pressure; both passes now keep every
-point: tests/test_sheet.py has the new figures]
 against the multipliers' 82 at t = 1, difference 34 % -> 114 %). With
 a rigid cylinder (one surface, Signorini) the three-point penalty is far
 milder (5.7 % off near the peak at 1e6): the locking needs the constraints
