@@ -31,6 +31,10 @@ in this order of precedence:
 ``inverted_elements``
     (set by the solver, not by :func:`classify`) Newton converged, but to a finite-strain state with
     ``det F <= 0`` somewhere (:meth:`ContactProblem.min_jacobian`): not an answer; the step is cut back.
+``exploded_geometry``
+    (set by the solver from :meth:`Surface.take_failure`) an iterate stretched a two-body facet past
+    :data:`~fenics_contact.search.STRETCH_LIMIT` times its reference size: the surface rejected it (a
+    non-finite residual) instead of searching it; the step is cut back.
 
 PETSc's own divergence test (``DIVERGED_DTOL`` when the residual exceeds 1e4 x the first) is replaced
 in the solver by one that also asks for growth in the last two iterations: a penalty-like law's first
@@ -54,7 +58,7 @@ __all__ = [
 
 ILL_CONDITIONED = 1e12  # condition estimate above which a failed solve is blamed on the Jacobian
 KINDS = ("linear_solve", "ill_conditioning", "divergence", "cycling", "stagnation", "max_iterations",
-         "inverted_elements")
+         "inverted_elements", "exploded_geometry")
 
 # KSP reasons that mean a singular or numerically unusable operator (PETSc KSPConvergedReason).
 _ILL_CONDITIONED_KSP = {"DIVERGED_PC_FAILED", "DIVERGED_PCSETUP_FAILED", "DIVERGED_NANORINF", "DIVERGED_BREAKDOWN",

@@ -538,6 +538,7 @@ class SegmentSurface(TwoBodySurface):
         # Slave facets are local: an exploded slave facet on any rank rejects the iterate on every rank.
         local = stretch(self._slave_current(), self.slave_data.X) > STRETCH_LIMIT
         self.exploded = self.comm.allreduce(self.exploded or local, op=MPI.LOR)
+        self._exploded_seen |= self.exploded
         if self.exploded:
             return False
         xm = self._mX + self._gather_master()

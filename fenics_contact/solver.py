@@ -324,6 +324,8 @@ class Solver:
     # --- driver -----------------------------------------------------------
     def _newton(self) -> int:
         self._history, self._message, self._sets, self._closed = [], "", [], []
+        for c in self.problem.contacts:  # what a surface sees from here on belongs to this solve
+            c.take_failure()
         if self.problem.step_solver is not None:  # a strategy that solves the whole step (condensed exact contact)
             start = time.perf_counter()
             reason, self._history, self._message = self.problem.step_solver.solve_step(self.problem)
@@ -492,8 +494,12 @@ class Solver:
         condition = None
         if ksp_reason not in ("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED"):  # a failed factorization: no estimate
             condition = _failure.condition_estimate(self.A, ksp)
-        return _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
-                                 self._history, self._sets, self._closed, condition)
+        out = _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
+                                self._history, self._sets, self._closed, condition)
+        seen = [k for k in (c.take_failure() for c in self.problem.contacts) if k]
+        if seen:  # what a surface saw (the same on every rank: the surfaces decide collectively)
+            out["kind"] = seen[0]
+        return out
 
     def condition_estimate(self) -> float | None:
         """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,
@@ -577,6 +583,12 @@ class Solver:
                  "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
                  "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"],
                  "predictor_s": t["predictor_s"]}
+        # the surfaces' own work (two-body search, exchange, coupling: inside assembly_s), summed over surfaces
+        own: dict[str, float] = {}
+        for c in self.problem.contacts:
+            for k, v in c.timings().items():
+                own[k] = own.get(k, 0.0) + v
+        split.update({k: self.problem.comm.allreduce(v, op=MPI.MAX) for k, v in sorted(own.items())})
         # -fc_condition_estimate: also the condition estimate of the last Jacobian (benchmarks' stability map)
         condition = self.condition_estimate() if PETSc.Options().getBool(self._prefix + "condition_estimate",
                                                                          False) else None

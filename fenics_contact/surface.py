@@ -93,6 +93,17 @@ class Surface(abc.ABC):
         left zero); True if ``A``'s nonzero pattern changed (the solver then factors from scratch)."""
         return False
 
+    def take_failure(self) -> str | None:
+        """A failure kind this surface detected since the last call (e.g. ``"exploded_geometry"``: an iterate
+        stretched a facet past :data:`~fenics_contact.search.STRETCH_LIMIT`), or None; the call clears it. The
+        solver names a failed solve by it."""
+        return None
+
+    def timings(self) -> dict[str, float]:
+        """Seconds this rank spent in the surface's own work since it was made, by name (two-body: ``search_s``,
+        ``exchange_s``, ``coupling_s``); added to the solver's time split."""
+        return {}
+
     def closed_points(self) -> np.ndarray:
         """Flags ``g > 0`` (closed) at this rank's contact points at the current ``u`` (failure diagnosis)."""
         return np.zeros(0, dtype=bool)

@@ -85,6 +85,7 @@ quadratic: curved segments (2D).
 """
 from __future__ import annotations
 
+import time
 from typing import Sequence
 
 import dolfinx.fem.petsc as fem_petsc
@@ -365,6 +366,8 @@ class TwoBodySurface(ContactSurface):
         self.I = None
         self._pairs = None
         self.exploded = False  # the last update met a master facet stretched past search.STRETCH_LIMIT
+        self._exploded_seen = False  # ... or one since take_failure()
+        self._timings = {"search_s": 0.0, "exchange_s": 0.0, "coupling_s": 0.0}
         self.pairing_changes = 0
         self._pattern_version = 0
         self._merged_version = -1
@@ -414,12 +417,16 @@ class TwoBodySurface(ContactSurface):
     def update(self) -> bool:
         """Project the slave points on the current master surface; set the mirror fields and ``I``.
         Collective. Returns True if the pairing changed."""
+        start = time.perf_counter()
         U = self._gather_master()
+        self._timings["exchange_s"] += time.perf_counter() - start
         xm = self._mX + U
         # An exploded iterate is rejected, not searched (the gathered master surface is the same on every rank).
         self.exploded = stretch(xm, self._mX) > STRETCH_LIMIT
+        self._exploded_seen |= self.exploded
         if self.exploded:
             return False
+        start = time.perf_counter()
         pts = self.slave_points()
         nf, nq, d = pts.shape if pts.size else (0, self.B.shape[0], self.gdim)
         previous = None if self._pairs is None else self._pairs.ravel()
@@ -465,6 +472,7 @@ class TwoBodySurface(ContactSurface):
             free = ok & (xi > 1e-12) & (xi < 1 - 1e-12)
             pidx = self._sdofs[..., None] * 2 + np.arange(2)
             self.proj.x.array[pidx] = np.stack([np.where(ok, xi, 0.5), free.astype(float)], axis=-1)
+        self._timings["search_s"] += time.perf_counter() - start
         pairs = self.comm.allreduce(0 if self._pairs is not None and np.array_equal(self._pairs, facet) else 1)
         changed = pairs > 0
         if changed or self.I is None:
@@ -487,6 +495,7 @@ class TwoBodySurface(ContactSurface):
     def _build_I(self, facet: np.ndarray) -> None:
         """``I``: rows = mirror dofs of the local slave points (owned or not: PETSc moves off-process rows),
         columns = global displacement dofs of the paired master vertices (Dirichlet dofs left out)."""
+        t0 = time.perf_counter()
         d, nv, bs = self.gdim, self.nv, self.nv * self.gdim
         Wmap, Vmap = self.W.dofmap.index_map, self.V.dofmap.index_map
         Vbs = self.V.dofmap.index_map_bs
@@ -527,6 +536,14 @@ class TwoBodySurface(ContactSurface):
         if self.I is not None:
             self.I.destroy()
         self.I = I
+        self._timings["coupling_s"] += time.perf_counter() - t0
+
+    def take_failure(self) -> str | None:
+        seen, self._exploded_seen = self._exploded_seen, False
+        return "exploded_geometry" if seen else None
+
+    def timings(self) -> dict[str, float]:
+        return dict(self._timings)
 
     # --- solver hooks --------------------------------------------------------
     def bind_problem(self, problem) -> None:

@@ -111,3 +111,25 @@ def test_exploded_two_body_iterate_is_rejected():
     b.set(0.0)
     c.add_residual(b)
     assert not np.isfinite(b.norm())
+
+
+def test_exploded_iterate_is_a_failure_kind():
+    """A Newton solve that meets an exploded two-body facet fails with the failure kind ``exploded_geometry``
+    (named in the error, on every rank) instead of searching the exploded geometry; the solver's time split
+    has the surface's search, exchange and coupling seconds."""
+    from fenics_contact.solver import ConvergenceError, Solver
+
+    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature="nodal", passes="one")
+    c = setup.contacts[0]
+    p = setup.problem
+    solver = Solver(p, quiet=True, max_cutbacks=1)
+    md = c.master_data
+    comp = md.comp[..., 0]
+    p.u.x.array[comp] = 1e6 * (1 + np.arange(comp.size).reshape(comp.shape))  # every attempt starts here
+    p.u.x.scatter_forward()
+    with pytest.raises(ConvergenceError, match="exploded_geometry") as err:
+        solver.run([1.0])
+    assert err.value.failure["kind"] == "exploded_geometry"
+    assert [f["kind"] for f in solver.failures] == ["exploded_geometry"] * 2  # the step and its cut
+    split = solver.summary()["time_split"]
+    assert {"search_s", "exchange_s", "coupling_s"} <= set(split)
