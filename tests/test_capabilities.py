@@ -25,10 +25,15 @@ Covering set (why it covers the matrix). The axes act on three independent parts
    tangential law: each supported value is run with every family and kind at one structural cell, and
    friction with every law and structural variant of the rigid kind.
 
+``FC_GRID=full`` runs every supported cell of the full product instead (506 cells, minutes; run by hand).
+
 Refused cells: all cells of the full product are checked (no finite elements), and a few refusals are
 raised through the entry points on a real mesh before any form is built.
 """
 from __future__ import annotations
+
+import itertools
+import os
 
 import numpy as np
 import pytest
@@ -210,6 +215,10 @@ def covering_cells() -> list[dict]:
 
 
 COVER = covering_cells()
+# FC_GRID=full: every supported cell of the full product instead of the covering set (506 cells; minutes).
+if os.environ.get("FC_GRID") == "full":
+    COVER = [c for values in itertools.product(*cap.AXES.values())
+             if cap.supported(**(c := dict(zip(cap.AXES, values))))]
 
 
 def _id(c):
