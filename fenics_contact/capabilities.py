@@ -110,6 +110,9 @@ RULES: tuple[Rule, ...] = (
        dim=3, quadrature="simpson"),
     _r("degree 1 or quadrature 'simpson'", "segment-to-segment integration clips flat facets",
        degree=2, quadrature="segment"),
+    _r("method penalty, auglag or compliance", "the segment element's NumPy law fails on cross-constraints' open "
+       "branch (a singular first tangent: MUMPS fails at the first iterate; found by the full grid)",
+       kind="two-body", quadrature="segment", method="cross"),
     # --- linear solver
     _r("solver 'direct'", "GAMG (PETSc 3.18) cannot rebuild its hierarchy when the 3D segment coupling changes "
        "the matrix pattern (a nonconforming-sizes error on the coarse level, found by the full grid)",
