@@ -313,10 +313,8 @@ def _petsc_used(name: str) -> bool:
     """Whether PETSc read option ``name`` (no dash) from its database: ``PetscOptionsUsed``, which petsc4py 3.18
     does not wrap, called in the PETSc library petsc4py has loaded (the same database)."""
     global _LIB
-    if _LIB is None:
-        with open("/proc/self/maps") as fh:
-            paths = sorted({line.split()[-1] for line in fh if "/libpetsc" in line and ".so" in line})
-        _LIB = ctypes.CDLL(paths[0])
+    if _LIB is None:  # petsc4py's extension module: dlsym also searches its dependency, the PETSc library
+        _LIB = ctypes.CDLL(PETSc.__file__)
     used = ctypes.c_int(0)  # PetscBool is a C enum
     if _LIB.PetscOptionsUsed(None, name.encode(), ctypes.byref(used)) != 0:
         raise RuntimeError(f"PetscOptionsUsed failed for -{name}")

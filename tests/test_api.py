@@ -108,7 +108,8 @@ def test_import_does_not_load_gmsh():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env={k: v for k, v in __import__("os").environ.items()
                               if not k.startswith(("OMPI_", "PMIX_", "PMI_"))})
-    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
+    # the last line: an MPI transport may print its own noise first (UCX in the Debian 13 root)
+    assert out.returncode == 0 and out.stdout.strip().splitlines()[-1] == "ok", out.stderr
 
 
 @pytest.mark.parametrize("method", ["vi", "auglag", "lagrange", "coulomb"])

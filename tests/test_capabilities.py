@@ -128,6 +128,7 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple
         if dim == 3:  # u_y = 0 everywhere: every point slides along x (a lateral slip component, which a
             # neo-Hookean tetrahedral mesh has, makes |sum q| < sum |q| = mu N)
             Vy = V.sub(1)
+            mesh.topology.create_connectivity(dim, dim)
             dirichlet += [fc.Dirichlet(Vy, fem.locate_dofs_topological(
                 Vy, dim, np.arange(mesh.topology.index_map(dim).size_local, dtype=np.int32)))]
     else:
