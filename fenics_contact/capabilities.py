@@ -113,6 +113,9 @@ RULES: tuple[Rule, ...] = (
     _r("method penalty, auglag or compliance", "the segment element's NumPy law fails on cross-constraints' open "
        "branch (a singular first tangent: MUMPS fails at the first iterate; found by the full grid)",
        kind="two-body", quadrature="segment", method="cross"),
+    _r("degree 1, model 'linear' or another method", "Nitsche's gamma = gamma0 E / h does not grow with the degree "
+       "(coercivity needs ~p^2): on quadratic elements at finite strain gamma0 = 10 loses the solve (found by the "
+       "full grid)", method="nitsche", degree=2, model="neohookean"),
     # --- linear solver
     _r("solver 'direct'", "GAMG (PETSc 3.18) cannot rebuild its hierarchy when the 3D segment coupling changes "
        "the matrix pattern (a nonconforming-sizes error on the coarse level, found by the full grid)",
