@@ -226,10 +226,13 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         problem = ContactProblem(u, material, t, dirichlet, contacts, step_solver=step_solver_for(contacts))
     else:  # the quarter's half of P on its diameter; the vanishing spring on the disk (module docstring)
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
-        dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
         traction = fem.Constant(mesh, np.array([0.0, -load / (2 * R)]))
+        # the spring's dx as the bulk energy's (dolfinx 0.9: one subdomain data per integral type in a form):
+        # per body (cell tags) with the meshed plate, over the whole mesh (the disk) otherwise
+        dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)(DOMAIN) if plate == "meshed" else \
+            ufl.dx(domain=mesh)
         problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(TOP))], stabilisation * E / R**2,
-                             dx(DOMAIN), step_solver=step_solver_for(contacts))
+                             dx, step_solver=step_solver_for(contacts))
 
     def figures() -> dict:
         if plate == "meshed":
