@@ -96,13 +96,23 @@ def cell_sizes(mesh, dim: int, entities):
 
 def entities_to_geometry(mesh, dim: int, entities):
     """Geometry node indices (rows of ``mesh.geometry.x``) of each of the given local entities."""
+    import numpy as np
     from dolfinx import mesh as dmesh
 
-    if hasattr(dmesh, "entities_to_geometry"):  # dolfinx >= 0.6
-        return dmesh.entities_to_geometry(mesh, dim, entities, False)
-    from dolfinx import cpp
+    def call(ents):
+        if hasattr(dmesh, "entities_to_geometry"):  # dolfinx >= 0.6
+            return dmesh.entities_to_geometry(mesh, dim, ents, False)
+        from dolfinx import cpp
 
-    return cpp.mesh.entities_to_geometry(mesh._mesh, dim, entities, False)  # dolfinx 0.5: the C++ mesh
+        return cpp.mesh.entities_to_geometry(mesh._mesh, dim, ents, False)  # dolfinx 0.5: the C++ mesh
+
+    entities = np.asarray(entities, dtype=np.int32)
+    if len(entities) == 0:  # dolfinx 0.9 divides by zero (SIGFPE) on an empty list: the shape from entity 0
+        imap = mesh.topology.index_map(dim)
+        if imap is None or imap.size_local + imap.num_ghosts == 0:
+            return np.zeros((0, 0), dtype=np.int32)
+        return np.zeros((0, call(np.zeros(1, np.int32)).shape[1]), dtype=np.int32)
+    return call(entities)
 def _rcm_partition(comm, nparts: int, graph, ghosting: bool):
     """Deterministic graph partitioner (the same partition on every run, unlike PT-SCOTCH, whose threads make
     the 2-rank partition differ from run to run: measured 6 different partitions of a unit square in 6 runs,
