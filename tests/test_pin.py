@@ -101,16 +101,17 @@ def test_parallel_equals_serial():
 def test_pin_plate_mesh_tags_and_measures():
     comm = MPI.COMM_WORLD
     mesh, _, tags = meshes.pin_plate(comm, R=1.0, half_width=2.0, below=3.0, above=4.0, h_contact=0.05)
-    meshes.check_tags(tags, meshes.PIN_FACETS, comm)
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
+    assert sorted(tags.names) == ["contact", "free", "symmetry", "top"]
+    meshes.check_tags(tags, None, comm)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags.meshtags)
 
     def integral(measure):
         return comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * measure)), op=MPI.SUM)
 
-    assert abs(integral(ds(meshes.CONTACT)) - math.pi) < 1e-3  # the half hole
-    assert abs(integral(ds(meshes.SYMMETRY)) - (3.0 + 4.0 - 2.0)) < 1e-12
-    assert abs(integral(ds(meshes.TOP)) - 2.0) < 1e-12
-    assert abs(integral(ds(meshes.FREE)) - (2.0 + 7.0)) < 1e-12
+    assert abs(integral(ds(tags["contact"])) - math.pi) < 1e-3  # the half hole
+    assert abs(integral(ds(tags["symmetry"])) - (3.0 + 4.0 - 2.0)) < 1e-12
+    assert abs(integral(ds(tags["top"])) - 2.0) < 1e-12
+    assert abs(integral(ds(tags["free"])) - (2.0 + 7.0)) < 1e-12
     assert abs(integral(ufl.dx(domain=mesh)) - (2.0 * 7.0 - math.pi / 2)) < 1e-3
 
 

@@ -7,10 +7,10 @@ from typing import TYPE_CHECKING
 from mpi4py import MPI
 
 from ..compat import model_to_mesh
+from ..domain import NamedTags, physical_names
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
 __all__: list[str] = []  # plumbing of the mesh builders: nothing public
 
@@ -44,27 +44,37 @@ def _graded(h_contact: float, h_far: float) -> None:
 _GRADING = 0.25
 
 
-def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, MeshTags, MeshTags]:
-    """Run ``build()`` (adds and meshes a ``gdim``-dimensional gmsh model) on rank 0; distribute the mesh
-    and its tags.
+def _physical(dim: int, entities, name: str, tag: int) -> None:
+    """Physical group ``tag`` of the ``dim``-dimensional ``entities``, named ``name``."""
+    gmsh.model.addPhysicalGroup(dim, list(entities), tag)
+    gmsh.model.setPhysicalName(dim, tag, name)
+
+
+def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, NamedTags, NamedTags]:
+    """Run ``build()`` (adds and meshes a ``gdim``-dimensional gmsh model with named physical groups) on rank 0;
+    distribute the mesh and its tags. Returns ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
 
     Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
     """
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        error = ""
+        error, names = "", {}
         if comm.rank == 0:
             try:
                 build()
+                names = physical_names(gmsh)
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
                 error = f"gmsh failed to mesh {what}: {exc}"
         error = comm.bcast(error, root=0)
         if error:
             raise RuntimeError(error)
-        return model_to_mesh(gmsh.model, comm, 0, gdim)
+        names = comm.bcast(names, root=0)
+        mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, gdim)
     finally:
         gmsh.finalize()
+    tdim = mesh.topology.dim
+    return mesh, NamedTags(cell_tags, names.get(tdim, {})), NamedTags(facet_tags, names.get(tdim - 1, {}))
 
 
 def _grade_toward(distance: int, h_near: float, h_far: float, width: float, grading: float = _GRADING) -> None:

@@ -7,10 +7,14 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
-from .tags import CONTACT, CONTACT_UPPER, DOMAIN, PLATE, PLATE_BOTTOM, PLATE_SYMMETRY, PLATE_TOP, SYMMETRY, TOP
+    from ..domain import NamedTags
+
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _physical, _positive, gmsh
+
+# Physical group values (private: regions are referred to by name).
+CONTACT, SYMMETRY, TOP, CONTACT_UPPER, PLATE_TOP, PLATE_BOTTOM, PLATE_SYMMETRY = 1, 2, 3, 5, 6, 7, 8
+DOMAIN, PLATE = 1, 2
 
 __all__ = ["hertz_quarter_disk"]
 
@@ -24,24 +28,24 @@ def hertz_quarter_disk(
     half: bool = False,
     full: bool = False,
     plate: tuple[float, float] | None = None,
-) -> tuple[Mesh, MeshTags, MeshTags]:
+) -> tuple[Mesh, NamedTags, NamedTags]:
     """Lower-right quarter (x >= 0, y <= R) of the disk of radius R centred at (0, R).
 
     P1 triangles of size ``h_contact`` (default R/400) within distance
     ``contact_width`` (default R/5) of the contact point (0, 0); beyond, the size
-    grows linearly, by 0.25 per unit distance, up to ``h_far`` (default R/10). Facet tags:
-    CONTACT (the arc from (0, 0) to (R, R)), SYMMETRY (x = 0), TOP (y = R);
-    cell tag DOMAIN. Initialises and finalises gmsh (on every rank).
-    ``half=True``: the lower half disk ``y <= R`` instead (CONTACT: the arc from
-    (-R, R) to (R, R); no SYMMETRY facets), for the model-reduction check.
-    ``full=True``: the whole disk (CONTACT: the lower half of the circle, CONTACT_UPPER: the upper half,
-    graded toward both poles; the centre (0, R) and the poles are vertices; no SYMMETRY or TOP facets).
+    grows linearly, by 0.25 per unit distance, up to ``h_far`` (default R/10). Facets:
+    ``contact`` (the arc from (0, 0) to (R, R)), ``symmetry`` (x = 0), ``top`` (y = R);
+    cells ``disk``. Initialises and finalises gmsh (on every rank).
+    ``half=True``: the lower half disk ``y <= R`` instead (``contact``: the arc from
+    (-R, R) to (R, R); no ``symmetry`` facets), for the model-reduction check.
+    ``full=True``: the whole disk (``contact``: the lower half of the circle, ``contact_upper``: the upper half,
+    graded toward both poles; the centre (0, R) and the poles are vertices; no ``symmetry`` or ``top`` facets).
     ``plate=(width, depth)``: the quarter disk and, in the same mesh (no shared node), the plate
-    ``[0, width] x [-depth, 0]`` (cell tag PLATE, facets PLATE_TOP, PLATE_BOTTOM, PLATE_SYMMETRY at x = 0),
+    ``[0, width] x [-depth, 0]`` (cells ``plate``, facets ``plate_top``, ``plate_bottom``, ``plate_symmetry`` at x = 0),
     graded toward (0, 0) like the disk.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     h_contact = R / 400 if h_contact is None else h_contact
     h_far = R / 10 if h_far is None else h_far
@@ -73,8 +77,8 @@ def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width:
         surface = geo.addPlaneSurface([geo.addCurveLoop([*lower, *upper])])
         geo.synchronize()
         gmsh.model.mesh.embed(0, [centre], 2, surface)
-        gmsh.model.addPhysicalGroup(1, lower, CONTACT)
-        gmsh.model.addPhysicalGroup(1, upper, CONTACT_UPPER)
+        _physical(1, lower, "contact", CONTACT)
+        _physical(1, upper, "contact_upper", CONTACT_UPPER)
         poles.append(pole)
     elif half:
         left = geo.addPoint(-R, R, 0.0)
@@ -82,16 +86,16 @@ def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width:
         top = [geo.addLine(corner, centre), geo.addLine(centre, left)]
         surface = geo.addPlaneSurface([geo.addCurveLoop([*arcs, *top])])
         geo.synchronize()
-        gmsh.model.addPhysicalGroup(1, arcs, CONTACT)
-        gmsh.model.addPhysicalGroup(1, top, TOP)
+        _physical(1, arcs, "contact", CONTACT)
+        _physical(1, top, "top", TOP)
     else:
         top = geo.addLine(corner, centre)
         symmetry = geo.addLine(centre, origin)
         surface = geo.addPlaneSurface([geo.addCurveLoop([arc, top, symmetry])])
         geo.synchronize()
-        gmsh.model.addPhysicalGroup(1, [arc], CONTACT)
-        gmsh.model.addPhysicalGroup(1, [symmetry], SYMMETRY)
-        gmsh.model.addPhysicalGroup(1, [top], TOP)
+        _physical(1, [arc], "contact", CONTACT)
+        _physical(1, [symmetry], "symmetry", SYMMETRY)
+        _physical(1, [top], "top", TOP)
     if plate is not None:  # its own corner points: the plate shares no node with the disk
         width, depth = plate
         p = [geo.addPoint(0.0, 0.0, 0.0), geo.addPoint(width, 0.0, 0.0), geo.addPoint(width, -depth, 0.0),
@@ -99,12 +103,12 @@ def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width:
         lines = [geo.addLine(p[i], p[(i + 1) % 4]) for i in range(4)]  # top, right, bottom, symmetry
         block = geo.addPlaneSurface([geo.addCurveLoop(lines)])
         geo.synchronize()
-        gmsh.model.addPhysicalGroup(1, [lines[0]], PLATE_TOP)
-        gmsh.model.addPhysicalGroup(1, [lines[2]], PLATE_BOTTOM)
-        gmsh.model.addPhysicalGroup(1, [lines[3]], PLATE_SYMMETRY)
-        gmsh.model.addPhysicalGroup(2, [block], PLATE)
+        _physical(1, [lines[0]], "plate_top", PLATE_TOP)
+        _physical(1, [lines[2]], "plate_bottom", PLATE_BOTTOM)
+        _physical(1, [lines[3]], "plate_symmetry", PLATE_SYMMETRY)
+        _physical(2, [block], "plate", PLATE)
         poles.append(p[0])
-    gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
+    _physical(2, [surface], "disk", DOMAIN)
 
     distance = gmsh.model.mesh.field.add("Distance")
     gmsh.model.mesh.field.setNumbers(distance, "PointsList", poles)

@@ -7,10 +7,13 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
-from .tags import CONTACT, DOMAIN, FREE, SYMMETRY, TOP
+    from ..domain import NamedTags
+
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _physical, _positive, gmsh
+
+# Physical group values (private: regions are referred to by name).
+CONTACT, SYMMETRY, TOP, FREE, DOMAIN = 1, 2, 3, 4, 1
 
 __all__ = ["pin_plate"]
 
@@ -24,18 +27,18 @@ def pin_plate(
     h_contact: float | None = None,
     h_far: float | None = None,
     band: float | None = None,
-) -> tuple[Mesh, MeshTags, MeshTags]:
+) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right half (x >= 0) of a rectangular plate with a circular hole of radius R centred at the origin.
 
     The plate spans ``0 <= x <= half_width``, ``-below <= y <= above``. P1
     triangles of size ``h_contact`` (default R/50) within ``band`` (default
     R/10) of the hole, then growing by 0.25 per unit distance up to ``h_far``
-    (default R/2). Facet tags: CONTACT (the half hole, from (0, -R) through
-    (R, 0) to (0, R)), SYMMETRY (the two pieces of x = 0), TOP (y = above),
-    FREE (y = -below and x = half_width); cell tag DOMAIN.
+    (default R/2). Facets: ``contact`` (the half hole, from (0, -R) through
+    (R, 0) to (0, R)), ``symmetry`` (the two pieces of x = 0), ``top`` (y = above),
+    ``free`` (y = -below and x = half_width); cells ``plate``.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     h_contact = R / 50 if h_contact is None else h_contact
     h_far = R / 2 if h_far is None else h_far
@@ -69,11 +72,11 @@ def _build_pin_plate(R: float, half_width: float, below: float, above: float, h_
     loop = geo.addCurveLoop([bottom, right, top, sym_upper, *arcs, sym_lower])
     surface = geo.addPlaneSurface([loop])
     geo.synchronize()
-    gmsh.model.addPhysicalGroup(1, arcs, CONTACT)
-    gmsh.model.addPhysicalGroup(1, [sym_upper, sym_lower], SYMMETRY)
-    gmsh.model.addPhysicalGroup(1, [top], TOP)
-    gmsh.model.addPhysicalGroup(1, [bottom, right], FREE)
-    gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
+    _physical(1, arcs, "contact", CONTACT)
+    _physical(1, [sym_upper, sym_lower], "symmetry", SYMMETRY)
+    _physical(1, [top], "top", TOP)
+    _physical(1, [bottom, right], "free", FREE)
+    _physical(2, [surface], "plate", DOMAIN)
 
     # Exact distance to the hole (a gmsh Distance field samples the curve).
     distance = gmsh.model.mesh.field.add("MathEval")

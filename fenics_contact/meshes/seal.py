@@ -68,10 +68,13 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, gmsh
-from .tags import SEAL_BOUNDARY, SEAL_DOMAIN, SEAL_SYMMETRY
+    from ..domain import NamedTags
+
+from .gmshutil import _from_gmsh, _physical, gmsh
+
+# Physical group values (private: regions are referred to by name).
+SEAL_BOUNDARY, SEAL_SYMMETRY, SEAL_DOMAIN = 31, 32, 33
 
 __all__ = [
     "seal_geometry", "seal_section", "seal_s_geometry", "seal_s_section", "seal_wave_geometry", "seal_wave_section"
@@ -93,13 +96,13 @@ def seal_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> d
 
 
 def seal_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
-                 gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+                 gap: float = 7.0) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right half (x >= 0) of the U-shaped seal section (module docstring), structured quadrilaterals of size
-    about ``h`` (at least 2 through the thickness). Facet tags SEAL_BOUNDARY (outer arc, end, inner arc),
-    SEAL_SYMMETRY (x = 0); cell tag SEAL_DOMAIN.
+    about ``h`` (at least 2 through the thickness). Facets ``boundary`` (outer arc, end, inner arc),
+    ``symmetry`` (x = 0); cells ``seal``.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     return _seal_mesh(comm, h, seal_geometry(R_out, R_in, gap), _build_seal, "seal_section")
 
@@ -141,17 +144,17 @@ def seal_s_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) ->
 
 
 def seal_s_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
-                   gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+                   gap: float = 7.0) -> tuple[Mesh, NamedTags, NamedTags]:
     """The S-shaped seal section: a band of thickness R_out - R_in made of two annular sectors (arcs R_out and
     R_in) of opposite curvature joined tangentially across the segment of the line C1-C2 between radii R_in and
     R_out (|C1 C2| = R_out + R_in, so the outer arc of one continues the inner arc of the other). The top of
     the left sector's outer arc touches y = ``gap``, the bottom of the right one's touches y = 0; each sector
     spans pi - 2 beta, symmetric about its vertical, ends cut radially; point-symmetric about ``P0``, the middle
-    of the junction, where a mesh vertex sits. Structured quadrilaterals of size about ``h``. Facet tag
-    SEAL_BOUNDARY (the whole boundary), cell tag SEAL_DOMAIN.
+    of the junction, where a mesh vertex sits. Structured quadrilaterals of size about ``h``. Facets
+    ``boundary`` (the whole boundary), cells ``seal``.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     return _seal_mesh(comm, h, seal_s_geometry(R_out, R_in, gap), _build_seal_s, "seal_s_section")
 
@@ -196,15 +199,15 @@ def seal_wave_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0)
 
 
 def seal_wave_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
-                      gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+                      gap: float = 7.0) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right half (x >= 0) of the wave-shaped seal section (module docstring): the right half of the crown
     sector (centre C1 = (0, gap - R_out), from its top at x = 0 to the junction direction ``beta``) and the
     whole right hump (centre C2, |C1 C2| = R_out + R_in, spanning pi - 2 beta symmetric about its vertical,
-    bottom of the outer arc on y = 0, end cut radially). Structured quadrilaterals of size about ``h``. Facet
-    tags SEAL_BOUNDARY (arcs and end), SEAL_SYMMETRY (x = 0); cell tag SEAL_DOMAIN.
+    bottom of the outer arc on y = 0, end cut radially). Structured quadrilaterals of size about ``h``. Facets
+    ``boundary`` (arcs and end), ``symmetry`` (x = 0); cells ``seal``.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     return _seal_mesh(comm, h, seal_wave_geometry(R_out, R_in, gap), _build_seal_wave, "seal_wave_section")
 
@@ -244,20 +247,20 @@ def _two_sectors(name: str, d: dict):
 
 def _quadrilaterals(geo, surfaces: list, boundary: list, symmetry: list = ()) -> None:
     """Structured quadrilaterals on ``surfaces`` ((tag, corner points or []) pairs, transfinite curves already
-    set), the physical groups SEAL_BOUNDARY, SEAL_SYMMETRY (if any) and SEAL_DOMAIN, and the 2D mesh."""
+    set), the physical groups ``boundary``, ``symmetry`` (if any) and ``seal``, and the 2D mesh."""
     for surface, corners in surfaces:
         geo.mesh.setTransfiniteSurface(surface, cornerTags=corners)
     for surface, _ in surfaces:
         geo.mesh.setRecombine(2, surface)
     geo.synchronize()
-    gmsh.model.addPhysicalGroup(1, boundary, SEAL_BOUNDARY)
+    _physical(1, boundary, "boundary", SEAL_BOUNDARY)
     if symmetry:
-        gmsh.model.addPhysicalGroup(1, list(symmetry), SEAL_SYMMETRY)
-    gmsh.model.addPhysicalGroup(2, [surface for surface, _ in surfaces], SEAL_DOMAIN)
+        _physical(1, symmetry, "symmetry", SEAL_SYMMETRY)
+    _physical(2, [surface for surface, _ in surfaces], "seal", SEAL_DOMAIN)
     gmsh.model.mesh.generate(2)
 
 
-def _seal_mesh(comm: MPI.Comm, h: float, data: dict, build, name: str) -> tuple[Mesh, MeshTags, MeshTags]:
+def _seal_mesh(comm: MPI.Comm, h: float, data: dict, build, name: str) -> tuple[Mesh, NamedTags, NamedTags]:
     """Check ``h`` against the band's thickness, mesh ``build(data, h)`` with gmsh and name the mesh."""
     if not (math.isfinite(h) and 0 < h <= (data["R_out"] - data["R_in"]) / 2):
         raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")

@@ -7,30 +7,33 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _positive, gmsh
-from .tags import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, DOMAIN, END, SYMMETRY
+    from ..domain import NamedTags
+
+from .gmshutil import _from_gmsh, _physical, _positive, gmsh
+
+# Physical group values (private: regions are referred to by name).
+CONTACT, SYMMETRY, END, CYLINDER_SURFACE, CYLINDER_FIXED, DOMAIN, CYLINDER_DOMAIN = 1, 2, 4, 5, 6, 1, 2
 
 __all__ = ["sheet_over_cylinder"]
 
 
 def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, leg: float = 2.0,
                         n_arc: int = 24, n_thick: int = 2, n_leg: int = 8, order: int = 2,
-                        cylinder: tuple[float, int, int] | None = None) -> tuple[Mesh, MeshTags, MeshTags]:
+                        cylinder: tuple[float, int, int] | None = None) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right half of a sheet wrapped over the top of a cylinder of radius ``R`` (centre at the origin).
 
     A quarter annulus ``R <= r <= R + thickness``, ``0 <= theta <= 90 deg`` (``theta`` from the x axis),
     continued by a vertical leg ``R <= x <= R + thickness``, ``-leg <= y <= 0``. Structured
     quadrilaterals: ``n_arc`` along the arc, ``n_leg`` along the leg, ``n_thick`` through the
     thickness; geometry of ``order`` (2: 9-node quadrilaterals whose edges follow the circles
-    exactly at their three nodes). Facet tags: CONTACT (inner arc and inner side of the leg),
-    SYMMETRY (x = 0), END (y = -leg).
+    exactly at their three nodes). Facets: ``contact`` (inner arc and inner side of the leg),
+    ``symmetry`` (x = 0), ``end`` (y = -leg); cells ``sheet``.
 
     ``cylinder = (R_in, n_cyl, n_rad)``: the mesh also holds the right half of the hollow cylinder
-    ``R_in <= r <= R`` (cell tag CYLINDER_DOMAIN; the sheet's cells are DOMAIN), ``n_cyl`` elements along
-    each of its two quarter arcs, ``n_rad`` through its wall; facet tags CYLINDER_SURFACE (its outer arc
-    ``r = R``), CYLINDER_FIXED (``r = R_in``), SYMMETRY (its two segments on ``x = 0``). The two bodies
+    ``R_in <= r <= R`` (cells ``cylinder``), ``n_cyl`` elements along
+    each of its two quarter arcs, ``n_rad`` through its wall; facets ``cylinder_surface`` (its outer arc
+    ``r = R``), ``cylinder_fixed`` (``r = R_in``), ``symmetry`` (its two segments on ``x = 0``). The two bodies
     touch along ``r = R`` but share no node (``n_cyl != n_arc``: non-matching interface meshes).
     Initialises and finalises gmsh (on every rank).
     """
@@ -78,14 +81,14 @@ def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, 
             for surface in (c1, c2):
                 gmsh.model.mesh.setTransfiniteSurface(surface)
                 gmsh.model.mesh.setRecombine(2, surface)
-            gmsh.model.addPhysicalGroup(1, [out_up, out_lo], CYLINDER_SURFACE)
-            gmsh.model.addPhysicalGroup(1, [in_up, in_lo], CYLINDER_FIXED)
-            gmsh.model.addPhysicalGroup(2, [c1, c2], CYLINDER_DOMAIN)
+            _physical(1, [out_up, out_lo], "cylinder_surface", CYLINDER_SURFACE)
+            _physical(1, [in_up, in_lo], "cylinder_fixed", CYLINDER_FIXED)
+            _physical(2, [c1, c2], "cylinder", CYLINDER_DOMAIN)
             symmetry += [ax_up, ax_lo]
-        gmsh.model.addPhysicalGroup(1, [arc_in, leg_in], CONTACT)
-        gmsh.model.addPhysicalGroup(1, symmetry, SYMMETRY)
-        gmsh.model.addPhysicalGroup(1, [end], END)
-        gmsh.model.addPhysicalGroup(2, [s1, s2], DOMAIN)
+        _physical(1, [arc_in, leg_in], "contact", CONTACT)
+        _physical(1, symmetry, "symmetry", SYMMETRY)
+        _physical(1, [end], "end", END)
+        _physical(2, [s1, s2], "sheet", DOMAIN)
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(order)
 

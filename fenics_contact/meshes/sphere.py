@@ -6,26 +6,29 @@ from typing import TYPE_CHECKING
 
 from mpi4py import MPI
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
-from .tags import CONTACT, DOMAIN, SYMMETRY, SYMMETRY_Y, TOP
+from .gmshutil import _from_gmsh, _grade_toward, _graded, _physical, _positive, gmsh
+
+# Physical group values (private: regions are referred to by name).
+CONTACT, SYMMETRY, TOP, SYMMETRY_Y, DOMAIN = 1, 2, 3, 4, 1
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+    from ..domain import NamedTags
 
 __all__ = ["sphere_octant"]
 
 
 def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far: float = 0.15,
-                  contact_width: float = 0.15) -> tuple[Mesh, MeshTags, MeshTags]:
+                  contact_width: float = 0.15) -> tuple[Mesh, NamedTags, NamedTags]:
     """Octant ``x >= 0, y >= 0, z <= R`` of the ball of radius ``R`` centred at ``(0, 0, R)`` (P1 tetrahedra).
 
     Size ``h_contact`` within ``contact_width`` of the contact point (0, 0, 0), growing by 0.25 per
-    unit distance up to ``h_far``. Facet tags: CONTACT (the spherical surface), SYMMETRY (x = 0),
-    SYMMETRY_Y (y = 0), TOP (z = R); cell tag DOMAIN. gmsh meshes on rank 0.
+    unit distance up to ``h_far``. Facets: ``contact`` (the spherical surface), ``symmetry`` (x = 0),
+    ``symmetry_y`` (y = 0), ``top`` (z = R); cells ``ball``. gmsh meshes on rank 0.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     _positive(R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     _graded(h_contact, h_far)
@@ -52,9 +55,10 @@ def _build_sphere_octant(R: float, h_contact: float, h_far: float, contact_width
             tags[TOP].append(s)
         else:
             tags[CONTACT].append(s)
+    names = {CONTACT: "contact", SYMMETRY: "symmetry", SYMMETRY_Y: "symmetry_y", TOP: "top"}
     for tag, surfaces in tags.items():
-        gmsh.model.addPhysicalGroup(2, surfaces, tag)
-    gmsh.model.addPhysicalGroup(3, [ball], DOMAIN)
+        _physical(2, surfaces, names[tag], tag)
+    _physical(3, [ball], "ball", DOMAIN)
     origin = occ.addPoint(0.0, 0.0, 0.0)
     occ.synchronize()
     distance = gmsh.model.mesh.field.add("Distance")

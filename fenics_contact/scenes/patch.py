@@ -45,17 +45,7 @@ from ..compat import function_space
 from ..factory import two_body_surfaces
 from ..laws import ContactLaw
 from ..materials import MODELS, LinearElastic, Materials
-from ..meshes import (
-    BLOCK_FRONT,
-    BLOCK_LEFT,
-    LOWER,
-    LOWER_BOTTOM,
-    LOWER_TOP,
-    UPPER,
-    UPPER_BOTTOM,
-    UPPER_TOP,
-    stacked_blocks,
-)
+from ..meshes import stacked_blocks
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
 
@@ -121,33 +111,32 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
-    support = Dirichlet.on_facets(V, facet_tags, LOWER_BOTTOM, dim - 1)
-    dirichlet = [support, Dirichlet.on_facets(V, facet_tags, BLOCK_LEFT, 0)]
+    support = Dirichlet.on_facets(V, facet_tags, "lower_bottom", dim - 1)
+    dirichlet = [support, Dirichlet.on_facets(V, facet_tags, "left", 0)]
     if dim == 3:
-        dirichlet.append(Dirichlet.on_facets(V, facet_tags, BLOCK_FRONT, 1))
-    tags = (UPPER_BOTTOM, LOWER_TOP) if slave == "upper" else (LOWER_TOP, UPPER_BOTTOM)
+        dirichlet.append(Dirichlet.on_facets(V, facet_tags, "front", 1))
+    tags = ("upper_bottom", "lower_top") if slave == "upper" else ("lower_top", "upper_bottom")
     contacts = two_body_surfaces(u, facet_tags, *tags, law_factory, load, quadrature, passes, name="interface")
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=UPPER_TOP)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags, subdomain_id=facet_tags["upper_top"])
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-pressure,)), ds)
-    bulk = Materials(mesh, cell_tags, {LOWER: MODELS[material](E_lower, nu_lower),
-                                       UPPER: MODELS[material](E_upper, nu_upper)})
+    bulk = Materials(mesh, cell_tags, {"lower": MODELS[material](E_lower, nu_lower),
+                                       "upper": MODELS[material](E_upper, nu_upper)})
     problem = ContactProblem(u, bulk, load, dirichlet, contacts, [traction])
-    top_dofs = fem.locate_dofs_topological(V, fdim, facet_tags.indices[facet_tags.values == UPPER_TOP])
+    top_dofs = fem.locate_dofs_topological(V, fdim, facet_tags.find("upper_top"))
     (a_lo, c_lo), (a_up, c_up) = (uniform_stretches(pressure, material, dim, E, nu)
                                   for E, nu in ((E_lower, nu_lower), (E_upper, nu_upper)))
     u_top = c_lo + c_up - (2.0 - OVERLAP)  # exact top displacement (bottom fixed, gap 0)
-    body_dofs = {tag: np.unique(np.concatenate([V.dofmap.cell_dofs(c) for c in cell_tags.indices[cell_tags.values
-                                                                                                  == tag]]
-                                               + [np.zeros(0, np.int32)])) for tag in (LOWER, UPPER)}
-    dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
+    body_dofs = {tag: np.unique(np.concatenate([V.dofmap.cell_dofs(c) for c in cell_tags.find(tag)]
+                                               + [np.zeros(0, np.int32)])) for tag in ("lower", "upper")}
+    dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags.meshtags)
     one = fem.Constant(mesh, 1.0)
-    strain_forms = {tag: (fem.form(ufl.grad(u)[dim - 1, dim - 1] * dx(tag)), fem.form(one * dx(tag)))
-                    for tag in (LOWER, UPPER)}
+    strain_forms = {tag: (fem.form(ufl.grad(u)[dim - 1, dim - 1] * dx(cell_tags[tag])),
+                          fem.form(one * dx(cell_tags[tag]))) for tag in ("lower", "upper")}
 
-    def exact_displacement(tag: int, X: np.ndarray) -> np.ndarray:
+    def exact_displacement(tag: str, X: np.ndarray) -> np.ndarray:
         """The exact piecewise-uniform displacement at reference points ``X`` of block ``tag``."""
-        a, c = (a_lo, c_lo) if tag == LOWER else (a_up, c_up)
-        axial = (c - 1.0) * X[:, dim - 1] if tag == LOWER else c_lo + c_up * (X[:, dim - 1] - 1.0 + OVERLAP) - X[
+        a, c = (a_lo, c_lo) if tag == "lower" else (a_up, c_up)
+        axial = (c - 1.0) * X[:, dim - 1] if tag == "lower" else c_lo + c_up * (X[:, dim - 1] - 1.0 + OVERLAP) - X[
             :, dim - 1]
         return np.concatenate([(a - 1.0) * X[:, : dim - 1], axial[:, None]], 1)
 
@@ -166,14 +155,14 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
         exact = np.concatenate([(a_up - 1.0) * X[:, : dim - 1], np.full((len(X), 1), u_top)], 1)
         err = comm.allreduce(float(np.max(np.abs(U - exact))) if len(top) else 0.0, op=MPI.MAX)
         body_err, strains = 0.0, {}
-        for tag, name in ((LOWER, "lower"), (UPPER, "upper")):
+        for tag in ("lower", "upper"):
             d = body_dofs[tag][body_dofs[tag] < n_own]
             if len(d):
                 Xd = V.tabulate_dof_coordinates()[d, :dim]
                 body_err = max(body_err, float(np.max(np.abs(u.x.array.reshape(-1, dim)[d] - exact_displacement(
                     tag, Xd)))))
             integral, volume = (comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in strain_forms[tag])
-            strains[f"strain_{name}"] = integral / volume
+            strains[f"strain_{tag}"] = integral / volume
         body_err = comm.allreduce(body_err, op=MPI.MAX)
         return {"pressure_deviation": dev, "contact_force": float(np.mean(np.abs(forces))),
                 "applied_force": pressure * 1.0, "reaction_bottom": problem.reaction(support.dofs),

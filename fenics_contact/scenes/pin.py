@@ -51,7 +51,7 @@ from ..compat import function_space
 from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import PLANES, LinearElastic
-from ..meshes import CONTACT, SYMMETRY, TOP, pin_plate
+from ..meshes import pin_plate
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, poisson, positive
@@ -140,11 +140,11 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
-    dirichlet = [Dirichlet.on_facets(V, facet_tags, SYMMETRY, 0)]
+    dirichlet = [Dirichlet.on_facets(V, facet_tags, "symmetry", 0)]
     pin = Cylinder([0.0, 0.0], R, body_outside=True)
-    contact = contact_surface(u, facet_tags, CONTACT, pin, law, load, quadrature,
+    contact = contact_surface(u, facet_tags, "contact", pin, law, load, quadrature,
                               linearized=gap == "linearized")
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=TOP)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags, subdomain_id=facet_tags["top"])
     traction = ufl.as_vector([0.0, P0])
     problem = ContactProblem(u, LinearElastic(E, nu, plane=plane), load, dirichlet, [contact],
                              tractions=[(traction, ds)])

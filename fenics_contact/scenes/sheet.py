@@ -15,7 +15,7 @@ Choices (the paper's geometry figure is lost in the text):
   hollow cylinder, neo-Hookean with both Lame constants **100 x** the sheet's
   (``RATIO``: the spec's minimum, ``E = 1.33e5``), ``u = 0`` on ``r = R_in``;
   sheet and cylinder are two bodies of one mesh (two cell tags, facet tags
-  CONTACT on the sheet, CYLINDER_SURFACE on the cylinder) with non-matching
+  ``contact`` on the sheet, ``cylinder_surface`` on the cylinder) with non-matching
   interface nodes (``n_cyl = 3 n_arc / 4`` elements per quarter arc of the
   cylinder), in contact through :mod:`twobody` on quadratic (curved 3-node)
   facets. ``cylinder="rigid"``: an analytic disk of radius 3 (the ratio's
@@ -89,7 +89,7 @@ from ..contact import contact_measure
 from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import NeoHookean
-from ..meshes import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, END, SYMMETRY, sheet_over_cylinder
+from ..meshes import sheet_over_cylinder
 from ..multipliers import unknown
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
@@ -148,37 +148,37 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
                                                       cylinder=(R_IN, n_cyl, n_rad) if deformable else None)
     u, V = unknown(mesh, 2, law)
     load = fem.Constant(mesh, 0.0)
-    pull = Dirichlet.on_facets(V, facet_tags, END, 1, -1.0)  # the ends pulled down by t
-    dirichlet = [pull, Dirichlet.on_facets(V, facet_tags, SYMMETRY, 0)]
+    pull = Dirichlet.on_facets(V, facet_tags, "end", 1, -1.0)  # the ends pulled down by t
+    dirichlet = [pull, Dirichlet.on_facets(V, facet_tags, "symmetry", 0)]
     material = Scaled.from_lame(LMBDA, MU)
     fixed_y = np.zeros(0, np.int32)
     if deformable:
-        dirichlet += [Dirichlet.on_facets(V, facet_tags, CYLINDER_FIXED, i) for i in (0, 1)]
+        dirichlet += [Dirichlet.on_facets(V, facet_tags, "cylinder_fixed", i) for i in (0, 1)]
         fixed_y = dirichlet[-1].dofs
         material.factor = fem.Function(function_space(mesh, "DG", 0), name="stiffness_factor")
-        cyl = cell_tags.indices[cell_tags.values == CYLINDER_DOMAIN]
+        cyl = cell_tags.find("cylinder")
         material.factor.x.array[:] = 1.0
         material.factor.x.array[_cell_dofs(material.factor.function_space, cyl)] = ratio
         if isinstance(law, LagrangeMultiplier):  # two-point: constraint at the end nodes, p linear on the facet
             if quadrature != "simpson":
                 raise ValueError(f"method {law.name!r} on the sheet is the two-point element (Simpson's rule for "
                                  f"the work): quadrature must be 'simpson', got {quadrature!r}")
-            contacts = two_body_multipliers(u, facet_tags, CONTACT, CYLINDER_SURFACE, law, load, RADIUS, "interface",
-                                            passes=passes, work_quadrature="simpson")
+            contacts = two_body_multipliers(u, facet_tags, "contact", "cylinder_surface", law, load, RADIUS,
+                                            "interface", passes=passes, work_quadrature="simpson")
         else:  # three-point: the law at all three nodes (simpson)
-            contacts = two_body_surfaces(u, facet_tags, CONTACT, CYLINDER_SURFACE, lambda: law, load, quadrature,
+            contacts = two_body_surfaces(u, facet_tags, "contact", "cylinder_surface", lambda: law, load, quadrature,
                                          passes, RADIUS, "interface")
         for c in contacts:  # one name per field in the XDMF file
             c.gap_out.name, c.pressure_out.name = f"gap_{c.name}", f"contact_pressure_{c.name}"
     else:
-        contacts = [contact_surface(u, facet_tags, CONTACT, Cylinder([0.0, 0.0], R), law, load, quadrature)]
+        contacts = [contact_surface(u, facet_tags, "contact", Cylinder([0.0, 0.0], R), law, load, quadrature)]
     contact = contacts[0]
     problem = ContactProblem(u, material, load, dirichlet, contacts)
 
     if not deformable:
         # Pressure at every node of the quadratic contact facets (Simpson points): exact projection on P2.
         P2 = function_space(mesh, "Lagrange", 2)
-        nodes = SurfaceProjector(P2, contact_measure(mesh, facet_tags, CONTACT, "simpson"))
+        nodes = SurfaceProjector(P2, contact_measure(mesh, facet_tags, "contact", "simpson"))
         nodes_rhs = nodes.compile(contact.pressure)
         p_nodes = fem.Function(P2, name="contact_pressure")
         X2 = P2.tabulate_dof_coordinates()
@@ -204,8 +204,8 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         sd = contacts[0].slave_data
         P2 = function_space(mesh, "Lagrange", 2)
         weights = fem.Function(P2)
-        fem.petsc.assemble_vector(petsc_vec(weights), fem.form(ufl.TestFunction(P2)
-                                                               * contact_measure(mesh, facet_tags, CONTACT, "simpson")))
+        simpson = contact_measure(mesh, facet_tags, "contact", "simpson")
+        fem.petsc.assemble_vector(petsc_vec(weights), fem.form(ufl.TestFunction(P2) * simpson))
         petsc_vec(weights).ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         weights.x.scatter_forward()
         w_nodes = np.array([P2.dofmap.cell_dofs(c)[lo] for c, lo in zip(sd.cells, sd.local)],
