@@ -15,7 +15,7 @@ CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH", "
              "slab": {"width": "WIDTH", "height": "HEIGHT", "E": "E", "nu": "NU", "top_pressure": "TOP_PRESSURE",
                       "side_pressure": "SIDE_PRESSURE"},
              "pin": {"R": "R", "half_width": "HALF_WIDTH", "below": "BELOW", "above": "ABOVE", "E": "E", "nu": "NU",
-                     "P0": "P0"},
+                     "P0": "P0", "stabilisation": "STABILISATION"},
              "ring": {"R_out": "R_OUT", "R_in": "R_IN", "E": "E", "nu": "NU", "approach": "APPROACH"},
              "compliance3d": {"lx": "LX", "ly": "LY", "height": "H", "E": "E", "nu": "NU", "press": "PRESS",
                               "drag": "DRAG"},
