@@ -182,3 +182,19 @@ def test_two_body_cauchy_pressure_is_nominal_over_the_slave_stretch(quadrature):
     seg = build("patch", law_factory=lambda: make_law("auglag", K=1e6), quadrature="segment")
     with pytest.raises(ValueError, match="nominal pressure only"):
         seg.contacts[0].point_values(kind="cauchy")
+
+
+def test_patch_geometry_is_parametric():
+    """Blocks 2 wide, 0.5 and 1.5 high, E 1000 and 250 (nu = 0: equal lateral stretch), pressure 4: the
+    piecewise-uniform state is still the solution (segment integration, converged augmented Lagrangian)."""
+    setup = build("patch", law_factory=lambda: make_law("auglag", K=1e6), quadrature="segment", pressure=4.0,
+                  E_lower=1000.0, nu_lower=0.0, E_upper=250.0, nu_upper=0.0, width=2.0, h_lower=0.5, h_upper=1.5)
+    solver = Solver(setup.problem, augment_max=30, augment_tol=1e-10, quiet=True)
+    solver.run(setup.loads)
+    assert solver.records[-1].converged and solver.records[-1].augmentation_converged
+    f = setup.figures()
+    assert np.isclose(f["strain_lower"], -4.0 / 1000.0, rtol=1e-8) and np.isclose(f["strain_upper"], -4.0 / 250.0,
+                                                                                     rtol=1e-8)
+    assert np.isclose(f["top_displacement_exact"], -4.0 * (0.5 / 1000.0 + 1.5 / 250.0) + 1e-6, rtol=1e-12)
+    assert f["displacement_error"] < 1e-8 and f["pressure_deviation"] < 1e-8
+    assert np.isclose(f["applied_force"], 8.0) and np.isclose(f["reaction_bottom"], 8.0, rtol=1e-9)
