@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from mpi4py import MPI
@@ -48,6 +50,29 @@ def _physical(dim: int, entities, name: str, tag: int) -> None:
     """Physical group ``tag`` of the ``dim``-dimensional ``entities``, named ``name``."""
     gmsh.model.addPhysicalGroup(dim, list(entities), tag)
     gmsh.model.setPhysicalName(dim, tag, name)
+
+
+def geo_path(name: str) -> Path:
+    """The gmsh geometry source ``<name>.geo`` of a scene: in ``$FENICS_CONTACT_MESHES`` if set, else in the
+    top-level ``meshes/`` folder of the checkout next to the package. ``FileNotFoundError`` naming the path
+    if it is missing (an installed wheel has no ``meshes/``: run from a checkout, or set the variable)."""
+    folder = Path(os.environ.get("FENICS_CONTACT_MESHES") or Path(__file__).resolve().parents[2] / "meshes")
+    path = folder / f"{name}.geo"
+    if not path.is_file():
+        raise FileNotFoundError(f"gmsh geometry {str(path)!r} not found: the mesh builders read the .geo sources "
+                                "of the top-level meshes/ folder of a fenics_contact checkout (or of "
+                                "$FENICS_CONTACT_MESHES)")
+    return path
+
+
+def _load_geo(path: Path, **parameters: float) -> None:
+    """Merge the gmsh geometry ``path`` into the current model, its ``DefineConstant`` parameters (ONELAB names
+    ``Parameters/<name>``) set to ``parameters``; synchronise the built-in kernel."""
+    gmsh.onelab.clear()  # the values of an earlier .geo of this session must not leak into this one
+    for name, value in parameters.items():
+        gmsh.onelab.setNumber(f"Parameters/{name}", [float(value)])
+    gmsh.merge(str(path))
+    gmsh.model.geo.synchronize()
 
 
 def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, NamedTags, NamedTags]:
