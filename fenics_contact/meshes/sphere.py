@@ -1,15 +1,11 @@
 """Ball octant for the 3D Hertz (sphere) scene and the scaling run (gmsh, graded toward the contact)."""
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 from mpi4py import MPI
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _physical, _positive, gmsh
-
-# Physical group values (private: regions are referred to by name).
-CONTACT, SYMMETRY, TOP, SYMMETRY_Y, DOMAIN = 1, 2, 3, 4, 1
+from .gmshutil import _GRADING, _from_gmsh, _graded, _load_geo, _positive, geo_path, gmsh
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
@@ -25,13 +21,14 @@ def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far
 
     Size ``h_contact`` within ``contact_width`` of the contact point (0, 0, 0), growing by 0.25 per
     unit distance up to ``h_far``. Facets: ``contact`` (the spherical surface), ``symmetry`` (x = 0),
-    ``symmetry_y`` (y = 0), ``top`` (z = R); cells ``ball``. gmsh meshes on rank 0.
+    ``symmetry_y`` (y = 0), ``top`` (z = R); cells ``ball``. The geometry: ``meshes/sphere.geo``. gmsh meshes on rank 0.
 
     Returns:
         ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     _positive(R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     _graded(h_contact, h_far)
+    geo_path("sphere")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_sphere_octant(R, h_contact, h_far, contact_width), "the sphere octant", gdim=3)
     mesh.name = "sphere_octant"
@@ -39,30 +36,8 @@ def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far
 
 
 def _build_sphere_octant(R: float, h_contact: float, h_far: float, contact_width: float) -> None:
+    """Mesh ``meshes/sphere.geo`` in the current gmsh session."""
     gmsh.model.add("sphere_octant")
-    occ = gmsh.model.occ
-    ball = occ.addSphere(0.0, 0.0, R, R, -1, -math.pi / 2, 0.0, math.pi / 2)
-    occ.synchronize()
-    tags = {CONTACT: [], SYMMETRY: [], SYMMETRY_Y: [], TOP: []}
-    tol = 1e-6 * R
-    for dim, s in gmsh.model.getBoundary([(3, ball)], oriented=False):
-        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, s)
-        if x1 - x0 < tol:
-            tags[SYMMETRY].append(s)
-        elif y1 - y0 < tol:
-            tags[SYMMETRY_Y].append(s)
-        elif z1 - z0 < tol:
-            tags[TOP].append(s)
-        else:
-            tags[CONTACT].append(s)
-    names = {CONTACT: "contact", SYMMETRY: "symmetry", SYMMETRY_Y: "symmetry_y", TOP: "top"}
-    for tag, surfaces in tags.items():
-        _physical(2, surfaces, names[tag], tag)
-    _physical(3, [ball], "ball", DOMAIN)
-    origin = occ.addPoint(0.0, 0.0, 0.0)
-    occ.synchronize()
-    distance = gmsh.model.mesh.field.add("Distance")
-    gmsh.model.mesh.field.setNumbers(distance, "PointsList", [origin])
-    _grade_toward(distance, h_contact, h_far, contact_width)
-    gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay: the same mesh every run (HXT's varies; 1e6 dofs ~4 min)
+    _load_geo(geo_path("sphere"), R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width,
+              grading=_GRADING)
     gmsh.model.mesh.generate(3)

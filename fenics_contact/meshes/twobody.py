@@ -12,7 +12,7 @@ if TYPE_CHECKING:
 
 
 from ..domain import NamedTags
-from .gmshutil import _GRADING, _from_gmsh, _grade_toward, _physical, _positive, gmsh
+from .gmshutil import _GRADING, _from_gmsh, _load_geo, _positive, geo_path, gmsh
 
 __all__ = ["stacked_blocks", "two_half_disks"]
 
@@ -107,14 +107,6 @@ def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float,
     return msh, NamedTags(cell_tags, BODIES), NamedTags(facet_tags, STACKED_FACETS)
 
 
-# Values of the facets of ``two_half_disks`` (cells: ``lower`` / ``upper`` as for ``stacked_blocks``).
-DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP = 31, 32, 33, 34, 35
-
-
-DISKS_FACETS = {"symmetry": DISK_SYMMETRY, "lower_bottom": LOWER_ARC_BOTTOM, "lower_top": LOWER_ARC_TOP,
-                "upper_bottom": UPPER_ARC_BOTTOM, "upper_top": UPPER_ARC_TOP}
-
-
 def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: float, h_far: float,
                    contact_width: float, overlap: float = 0.0, grading: float = _GRADING, full: bool = False
                    ) -> tuple[Mesh, NamedTags, NamedTags]:
@@ -125,8 +117,9 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
     ``lower_bottom``, ``lower_top``, ``upper_bottom``, ``upper_top`` (each arc split at its widest point into a
     bottom and a top quarter); cells ``lower``, ``upper``. Collective.
     ``full=True``: the whole disks (model-reduction check): ``*_bottom`` / ``*_top`` are the lower /
-    upper half circles, no ``symmetry`` facets; the poles are vertices."""
+    upper half circles, no ``symmetry`` facets; the poles are vertices. The geometry: ``meshes/two_disks.geo``."""
     _positive(R_lower=R_lower, R_upper=R_upper, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
+    geo_path("two_disks")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading,
                                             full),
@@ -136,42 +129,8 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
 
 
 def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading, full=False):
+    """Mesh ``meshes/two_disks.geo`` in the current gmsh session."""
     gmsh.model.add("two_half_disks")
-    geo = gmsh.model.geo
-    touch = []
-    tags = {k: [] for k in DISKS_FACETS.values()}
-    surfaces = []
-    for cy, R in ((R1, R1), (2 * R1 + R2 - overlap, R2)):
-        bottom = geo.addPoint(0.0, cy - R, 0.0)
-        centre = geo.addPoint(0.0, cy, 0.0)
-        side = geo.addPoint(R, cy, 0.0)
-        top = geo.addPoint(0.0, cy + R, 0.0)
-        a1 = geo.addCircleArc(bottom, centre, side)
-        a2 = geo.addCircleArc(side, centre, top)
-        if full:  # the left half circle too: bottom arcs [a0, a1], top arcs [a2, a3]
-            left = geo.addPoint(-R, cy, 0.0)
-            a3 = geo.addCircleArc(top, centre, left)
-            a0 = geo.addCircleArc(left, centre, bottom)
-            surfaces.append(geo.addPlaneSurface([geo.addCurveLoop([a0, a1, a2, a3])]))
-            bottoms, tops = [a0, a1], [a2, a3]
-        else:
-            s1 = geo.addLine(top, centre)
-            s2 = geo.addLine(centre, bottom)
-            surfaces.append(geo.addPlaneSurface([geo.addCurveLoop([a1, a2, s1, s2])]))
-            bottoms, tops = [a1], [a2]
-            tags[DISK_SYMMETRY] += [s1, s2]
-        lower = len(surfaces) == 1
-        tags[LOWER_ARC_BOTTOM if lower else UPPER_ARC_BOTTOM] += bottoms
-        tags[LOWER_ARC_TOP if lower else UPPER_ARC_TOP] += tops
-        touch += [bottom, top]
-    geo.synchronize()
-    names = {v: k for k, v in DISKS_FACETS.items()}
-    for tag, curves in tags.items():
-        if curves:
-            _physical(1, curves, names[tag], tag)
-    _physical(2, [surfaces[0]], "lower", LOWER)
-    _physical(2, [surfaces[1]], "upper", UPPER)
-    distance = gmsh.model.mesh.field.add("Distance")
-    gmsh.model.mesh.field.setNumbers(distance, "PointsList", touch)
-    _grade_toward(distance, h_contact, h_far, width, grading)
+    _load_geo(geo_path("two_disks"), R_lower=R1, R_upper=R2, h_contact=h_contact, h_far=h_far, contact_width=width,
+              overlap=overlap, grading=grading, full=int(full))
     gmsh.model.mesh.generate(2)
