@@ -1,4 +1,4 @@
-"""gmsh plumbing shared by the mesh builders: build on rank 0, distribute, size grading."""
+"""gmsh plumbing shared by the mesh builders: the .geo sources of ``meshes/``, build on rank 0, distribute."""
 from __future__ import annotations
 
 import math
@@ -42,14 +42,8 @@ def _graded(h_contact: float, h_far: float) -> None:
         raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
 
 
-# Slope of the mesh size with distance in the graded zone (size / length).
+# Slope of the mesh size with distance in the graded zone (size / length; the .geo sources' ``grading``).
 _GRADING = 0.25
-
-
-def _physical(dim: int, entities, name: str, tag: int) -> None:
-    """Physical group ``tag`` of the ``dim``-dimensional ``entities``, named ``name``."""
-    gmsh.model.addPhysicalGroup(dim, list(entities), tag)
-    gmsh.model.setPhysicalName(dim, tag, name)
 
 
 def geo_path(name: str) -> Path:
@@ -100,18 +94,3 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, N
         gmsh.finalize()
     tdim = mesh.topology.dim
     return mesh, NamedTags(cell_tags, names.get(tdim, {})), NamedTags(facet_tags, names.get(tdim - 1, {}))
-
-
-def _grade_toward(distance: int, h_near: float, h_far: float, width: float, grading: float = _GRADING) -> None:
-    """Background size: ``h_near`` where the gmsh field ``distance`` is below ``width``, then growing
-    by ``grading`` per unit distance up to ``h_far``."""
-    field = gmsh.model.mesh.field
-    threshold = field.add("Threshold")
-    field.setNumber(threshold, "InField", distance)
-    field.setNumber(threshold, "SizeMin", h_near)
-    field.setNumber(threshold, "SizeMax", h_far)
-    field.setNumber(threshold, "DistMin", width)
-    field.setNumber(threshold, "DistMax", width + (h_far - h_near) / grading)
-    field.setAsBackgroundMesh(threshold)
-    for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
-        gmsh.option.setNumber(f"Mesh.{option}", 0)
