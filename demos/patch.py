@@ -4,7 +4,8 @@
     mpirun -n 2 python demos/patch.py --out results/patch
 
 Lower block 5 x 4 cell pairs, upper block 7 x 5 (interface nodes do not match), E = 1000, nu = 0.3,
-pressure 10 on top, frictionless. The exact contact pressure is 10 everywhere. The main run (the
+pressure 10 on top, frictionless (every constant an option: --pressure, --E-lower, --nu-upper, --width,
+--h-lower, ...). The exact contact pressure is the applied one everywhere. The main run (the
 options below; default: segment-to-segment integration, augmented Lagrangian) writes patch.xdmf and
 summary.json; then every option (one-pass with either block as slave, two-pass; nodal points, Gauss
 points or segment-to-segment integration; penalty at several K and augmented Lagrangian) is solved and
@@ -16,14 +17,15 @@ from pathlib import Path
 
 from fenics_contact import Solver, build, cli, make_law, run, write_summary
 from fenics_contact.checks import check
+from fenics_contact.scenes import add_scene_options, patch, scene_arguments
 from fenics_contact.twobody import QUADRATURES
 
 
-def patch_check(s: dict) -> dict:
-    """The pressure farthest from the exact uniform 10 (``pressure_deviation = max |p - 10| / 10``)."""
+def patch_check(s: dict, pressure: float = patch.PRESSURE) -> dict:
+    """The pressure farthest from the exact uniform ``pressure`` (``pressure_deviation = max |p - P| / P``)."""
     dev = s.get("pressure_deviation")
-    return check("contact_pressure (farthest point)", None if dev is None else 10.0 * (1.0 + dev), 10.0, 1e-6,
-                 "exact uniform pressure 10")
+    return check("contact_pressure (farthest point)", None if dev is None else pressure * (1.0 + dev), pressure,
+                 1e-6, f"exact uniform pressure {pressure:g}")
 
 
 def main(argv=None) -> dict:
@@ -33,14 +35,17 @@ def main(argv=None) -> dict:
     p.add_argument("--passes", choices=["one", "two"], default="one")
     p.add_argument("--slave", choices=["upper", "lower"], default="upper")
     p.add_argument("--main-only", action="store_true", help="only the main run (not every option)")
+    scene = add_scene_options(p, patch.build)  # --pressure, --E-lower, --E-upper, --nu-lower, ..., --overlap
     args = cli.parse(p, argv)
+    kw = scene_arguments(args, scene)
     out = Path(args.out or "results/patch")
 
     # 2. The main run: XDMF and summary.json.
     setup = build("patch", law_factory=lambda: cli.law_from_args(args), quadrature=args.quadrature,
-                  passes=args.passes, slave=args.slave)
+                  passes=args.passes, slave=args.slave, **kw)
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "passes": args.passes, "slave": args.slave},
-                  args.augment, args.augment_tol, args.quiet, check=patch_check, xdmf=not args.no_xdmf)
+                  args.augment, args.augment_tol, args.quiet, check=lambda s: patch_check(s, kw["pressure"]),
+                  xdmf=not args.no_xdmf)
     comm = setup.problem.comm
 
     if args.main_only:
@@ -52,7 +57,7 @@ def main(argv=None) -> dict:
         for passes, slave in (("one", "upper"), ("one", "lower"), ("two", "upper")):
             for method, K, aug in (("penalty", 1e2, 0), ("penalty", 1e4, 0), ("penalty", 1e6, 0), ("auglag", 1e6, 30)):
                 s = build("patch", law_factory=lambda m=method, k=K: make_law(m, K=k), quadrature=quadrature,
-                          passes=passes, slave=slave)
+                          passes=passes, slave=slave, **kw)
                 solver = Solver(s.problem, augment_max=aug, augment_tol=1e-9, quiet=True)
                 solver.run(s.loads)
                 f = s.figures()

@@ -33,12 +33,14 @@ def main(argv=None) -> dict:
     # 1. Options: formulation, parameters, mesh refinement, load steps, convergence study.
     p = cli.parser(__doc__.splitlines()[0], default_K=pin.DEFAULT_K)
     p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the mesh size at the hole this many times")
-    p.add_argument("--steps", type=cli.COUNT, default=1, help="load steps")
+    p.add_argument("--steps", type=cli.COUNT, default=2,
+                   help="load steps (>= 2: the plate starts from rest, held by a vanishing spring before the last)")
     p.add_argument("--gap", choices=pin.GAPS, default="linearized",
                    help="linearized (small displacements) or current (exact gap of the deformed position)")
     p.add_argument("--convergence", action="store_true", help="run refinements 0, 1, 2 and plot the angle against h")
     p.set_defaults(augment_tol=1e-10)
-    scene = add_scene_options(p, pin.build)  # --R, --half-width, --below, --above, --E, --nu, --P0, --h-contact, --seat
+    # --R, --half-width, --below, --above, --E, --nu, --P0, --h-contact, --stabilisation
+    scene = add_scene_options(p, pin.build)
     args = cli.parse(p, argv)
     out = Path(args.out or "results/pin")
     comm = MPI.COMM_WORLD

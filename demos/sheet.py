@@ -22,7 +22,7 @@ from mpi4py import MPI
 
 from fenics_contact import LagrangeMultiplier, Penalty, PenaltyMultiplier, build, cli, run, write_summary
 from fenics_contact.checks import check, log_check
-from fenics_contact.scenes import sheet
+from fenics_contact.scenes import add_scene_options, scene_arguments, sheet
 
 TIMES = (0.5, 1.0)
 
@@ -46,6 +46,7 @@ def main(argv=None) -> dict:
     p.add_argument("--c", type=cli.POSITIVE, default=1e3, help="multipliers: complementarity parameter, ~E/h")
     p.add_argument("--eps", type=cli.POSITIVE, nargs="+", default=[1e4, 1e6], help="penalty parameters")
     cli.output_options(p, out="results/sheet")
+    scene = add_scene_options(p, sheet.build)  # --R, --thickness, --leg, --R-in, --lmbda, --mu, --radius
     args = cli.parse(p, argv)
     if args.steps % 2:
         raise cli.UsageError(f"argument --steps: must be even (t = 0.5 must be a load step), got {args.steps}")
@@ -58,7 +59,7 @@ def main(argv=None) -> dict:
     profiles, summaries = {}, {}
     for name, eps, law in variants:
         setup = build("sheet", law=law, quadrature="simpson", n_arc=args.n_arc, n_leg=max(args.n_arc // 3, 1),
-                      steps=args.steps, cylinder=args.cylinder, ratio=args.ratio)
+                      steps=args.steps, cylinder=args.cylinder, ratio=args.ratio, **scene_arguments(args, scene))
         kept = {}
 
         def after_step(t, setup=setup, kept=kept):

@@ -66,6 +66,20 @@ def tag_value(tags, tag: int | str) -> tuple[object, int]:
     return tags, int(tag)
 
 
+def physical_names(gmsh) -> dict[int, dict[str, int]]:
+    """``{dim: {name: value}}`` of the physical groups of the current gmsh model, for its top dimension and the
+    one below (an unnamed group is named by its value). Raises ``ValueError`` if the model has none."""
+    groups = gmsh.model.getPhysicalGroups()
+    tdim = max((d for d, _ in groups), default=-1)
+    if tdim < 1:
+        raise ValueError("the gmsh model has no physical groups (name the regions to read)")
+    names: dict[int, dict[str, int]] = {}
+    for d, t in groups:
+        if d in (tdim, tdim - 1):
+            names.setdefault(d, {})[gmsh.model.getPhysicalName(d, t) or str(t)] = t
+    return names
+
+
 def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: int = 3):
     """Mesh and named cell and facet tags from a gmsh ``.msh``/``.geo`` file or (``source=None``) the gmsh model
     of this process (rank 0's). Returns ``(mesh, cells, facets)`` (:class:`NamedTags`). ``gdim``: the geometric
@@ -97,12 +111,7 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
                     if path.suffix == ".geo":
                         gmsh.model.geo.synchronize()
                         gmsh.model.mesh.generate(gdim)
-                tdim = max(d for d, _ in gmsh.model.getPhysicalGroups()) if gmsh.model.getPhysicalGroups() else -1
-                if tdim < 1:
-                    raise ValueError("the gmsh model has no physical groups (name the regions to read)")
-                for d, t in gmsh.model.getPhysicalGroups():
-                    if d in (tdim, tdim - 1):
-                        names.setdefault(d, {})[gmsh.model.getPhysicalName(d, t) or str(t)] = t
+                names = physical_names(gmsh)
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
                 error = f"read_gmsh: {exc}"
         error = comm.bcast(error, root=0)

@@ -150,7 +150,7 @@ def test_coulomb_without_its_step_solver_is_refused():
     mesh, _, tags = fc.meshes.rectangle(MPI.COMM_WORLD, 1.0, 1.0, 2, 2)
     u = fem.Function(fc.function_space(mesh, "Lagrange", 1, (2,)))
     load = fem.Constant(mesh, 0.0)
-    contact = fc.contact_surface(u, tags, fc.meshes.BOTTOM, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), fc.Coulomb(0.3),
+    contact = fc.contact_surface(u, tags, "bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), fc.Coulomb(0.3),
                                  load)
     with pytest.raises(ValueError, match="step_solver"):
         fc.ContactProblem(u, fc.LinearElastic(1.0, 0.3), load, [], [contact])

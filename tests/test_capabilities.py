@@ -45,19 +45,7 @@ from scipy.optimize import brentq
 
 import fenics_contact as fc
 from fenics_contact import capabilities as cap
-from fenics_contact.meshes import (
-    BLOCK_FRONT,
-    BLOCK_LEFT,
-    BOTTOM,
-    LEFT,
-    LOWER_BOTTOM,
-    LOWER_TOP,
-    RECT_TOP,
-    UPPER_BOTTOM,
-    UPPER_TOP,
-    rectangle,
-    stacked_blocks,
-)
+from fenics_contact.meshes import rectangle, stacked_blocks
 from fenics_contact.meshes.rectangle import tag_boundary
 from fenics_contact.scenes.patch import uniform_stretches
 
@@ -67,7 +55,6 @@ D = {"linear": 0.01, "neohookean": 0.15}  # rigid: top displacement (neo-Hookean
 P = {"linear": 10.0, "neohookean": 100.0}  # two-body: pressure on the top
 # friction: sideways top motion, beyond the stick limit mu p / omega_t, the elastic shear and the lateral expansion
 SLIDE = {"linear": 0.05, "neohookean": 0.3}
-FRONT, BACK = 7, 8  # 3D rigid block: the y = 0 and y = 1 faces
 EXACT = ("auglag", "vi", "lagrange", "nitsche", "coulomb")
 
 
@@ -102,9 +89,9 @@ def rigid_mesh(dim: int):
         return rectangle(MPI.COMM_WORLD, 1.0, H, 2, 2)[::2]
     mesh = dmesh.create_box(MPI.COMM_WORLD, [np.zeros(3), np.array([1.0, 1.0, H])], [2, 2, 2],
                             dmesh.CellType.tetrahedron)
-    sides = ((BOTTOM, lambda x: np.isclose(x[2], 0.0)), (RECT_TOP, lambda x: np.isclose(x[2], H)),
-             (LEFT, lambda x: np.isclose(x[0], 0.0)), (FRONT, lambda x: np.isclose(x[1], 0.0)),
-             (BACK, lambda x: np.isclose(x[1], 1.0)))
+    sides = (("bottom", lambda x: np.isclose(x[2], 0.0)), ("top", lambda x: np.isclose(x[2], H)),
+             ("left", lambda x: np.isclose(x[0], 0.0)), ("front", lambda x: np.isclose(x[1], 0.0)),
+             ("back", lambda x: np.isclose(x[1], 1.0)))
     return mesh, tag_boundary(mesh, sides)
 
 
@@ -122,9 +109,9 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple
     load = fem.Constant(mesh, 0.0)
     material = fc.MODELS[model](E, NU)
     v = dim - 1
-    dirichlet = [fc.Dirichlet.on_facets(V, ft, RECT_TOP, v, -D[model])]
+    dirichlet = [fc.Dirichlet.on_facets(V, ft, "top", v, -D[model])]
     if friction:
-        dirichlet += [fc.Dirichlet.on_facets(V, ft, RECT_TOP, 0, SLIDE[model])]
+        dirichlet += [fc.Dirichlet.on_facets(V, ft, "top", 0, SLIDE[model])]
         if dim == 3:  # u_y = 0 everywhere: every point slides along x (a lateral slip component, which a
             # neo-Hookean tetrahedral mesh has, makes |sum q| < sum |q| = mu N)
             Vy = V.sub(1)
@@ -132,10 +119,10 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple
             dirichlet += [fc.Dirichlet(Vy, fem.locate_dofs_topological(
                 Vy, dim, np.arange(mesh.topology.index_map(dim).size_local, dtype=np.int32)))]
     else:
-        dirichlet += [fc.Dirichlet.on_facets(V, ft, LEFT, 0)]
-        dirichlet += [fc.Dirichlet.on_facets(V, ft, FRONT, 1)] if dim == 3 else []
+        dirichlet += [fc.Dirichlet.on_facets(V, ft, "left", 0)]
+        dirichlet += [fc.Dirichlet.on_facets(V, ft, "front", 1)] if dim == 3 else []
     plane = fc.HalfPlane(np.zeros(dim), np.eye(dim)[v])
-    contact = fc.contact_surface(u, ft, BOTTOM, plane, law, load, quadrature, material=material)
+    contact = fc.contact_surface(u, ft, "bottom", plane, law, load, quadrature, material=material)
     problem = fc.ContactProblem(u, material, load, dirichlet, [contact], step_solver=fc.step_solver_for([contact]))
     solve(problem, method, solver, augment=30 if method == "auglag" else 0,
           steps=4 if friction and model == "neohookean" else 1)
@@ -158,16 +145,16 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver) -> tupl
     mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, n, n, 1e-6)
     u, V = fc.unknown(mesh, degree, law)
     load = fem.Constant(mesh, 0.0)
-    dirichlet = [fc.Dirichlet.on_facets(V, ft, LOWER_BOTTOM, dim - 1), fc.Dirichlet.on_facets(V, ft, BLOCK_LEFT, 0)]
+    dirichlet = [fc.Dirichlet.on_facets(V, ft, "lower_bottom", dim - 1), fc.Dirichlet.on_facets(V, ft, "left", 0)]
     if dim == 3:
-        dirichlet.append(fc.Dirichlet.on_facets(V, ft, BLOCK_FRONT, 1))
+        dirichlet.append(fc.Dirichlet.on_facets(V, ft, "front", 1))
     if method in cap.MULTIPLIERS:
-        contacts = fc.two_body_multipliers(u, ft, UPPER_BOTTOM, LOWER_TOP, law, load, passes=passes,
+        contacts = fc.two_body_multipliers(u, ft, "upper_bottom", "lower_top", law, load, passes=passes,
                                         work_quadrature=None if quadrature == "nodal" else quadrature)
     else:
-        contacts = fc.two_body_surfaces(u, ft, UPPER_BOTTOM, LOWER_TOP, lambda: law_for(method, False), load,
+        contacts = fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law_for(method, False), load,
                                      quadrature, passes)
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft, subdomain_id=UPPER_TOP)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft.meshtags, subdomain_id=ft["upper_top"])
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-P[model],)), ds)
     problem = fc.ContactProblem(u, fc.MODELS[model](E, NU), load, dirichlet, contacts, [traction])
     solve(problem, method, solver, augment=30 if method == "auglag" else 0)
@@ -309,7 +296,7 @@ def test_entry_points_refuse_before_assembly(kwargs, match):
         mesh, ft = rigid_mesh(2)
         u, _ = fc.unknown(mesh, c["degree"], law)
         with pytest.raises(cap.UnsupportedCombination, match=match):
-            fc.contact_surface(u, ft, BOTTOM, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, fem.Constant(mesh, 0.0),
+            fc.contact_surface(u, ft, "bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, fem.Constant(mesh, 0.0),
                             c["quadrature"], material=fc.MODELS["linear"](E, NU))
     else:
         mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (2, 2), 1e-6)
@@ -317,9 +304,9 @@ def test_entry_points_refuse_before_assembly(kwargs, match):
         call = fc.two_body_multipliers if c["method"] in cap.MULTIPLIERS else None
         with pytest.raises(cap.UnsupportedCombination, match=match):
             if call is not None:
-                call(u, ft, UPPER_BOTTOM, LOWER_TOP, law, fem.Constant(mesh, 0.0), passes=c["passes"])
+                call(u, ft, "upper_bottom", "lower_top", law, fem.Constant(mesh, 0.0), passes=c["passes"])
             else:
-                fc.two_body_surfaces(u, ft, UPPER_BOTTOM, LOWER_TOP, lambda: law, fem.Constant(mesh, 0.0),
+                fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law, fem.Constant(mesh, 0.0),
                                   c["quadrature"], c["passes"])
 
 

@@ -13,7 +13,7 @@ from fenics_contact.contact import ContactSurface
 from fenics_contact.failure import classify, find_cycle, fingerprint, stalled
 from fenics_contact.laws import Penalty
 from fenics_contact.materials import LinearElastic
-from fenics_contact.meshes import BOTTOM, RECT_TOP, rectangle
+from fenics_contact.meshes import rectangle
 from fenics_contact.obstacles import HalfPlane
 from fenics_contact.problem import ContactProblem
 from fenics_contact.run import run
@@ -73,8 +73,9 @@ def test_singular_jacobian_is_ill_conditioning():
     mesh, _, tags = rectangle(MPI.COMM_SELF, 1.0, 1.0, 2, 2)
     u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
     load = fem.Constant(mesh, 0.0)
-    contact = ContactSurface(u, tags, BOTTOM, HalfPlane([0.0, -1.0], [0.0, 1.0]), Penalty(1e5), load)
-    traction = (ufl.as_vector([0.0, -1.0]), ufl.Measure("ds", domain=mesh, subdomain_data=tags, subdomain_id=RECT_TOP))
+    contact = ContactSurface(u, tags, "bottom", HalfPlane([0.0, -1.0], [0.0, 1.0]), Penalty(1e5), load)
+    ds_top = ufl.Measure("ds", domain=mesh, subdomain_data=tags.meshtags, subdomain_id=tags["top"])
+    traction = (ufl.as_vector([0.0, -1.0]), ds_top)
     problem = ContactProblem(u, LinearElastic(1000.0, 0.3), load, [], [contact], [traction])
     solver = Solver(problem, quiet=True, max_cutbacks=0, prefix="fc_singular_",
                     options={"pc_factor_mat_solver_type": "petsc"})

@@ -12,7 +12,7 @@ from fenics_contact.factory import contact_surface
 from fenics_contact.friction import OPEN, SLIP, STICK, Friction
 from fenics_contact.laws import CrossConstraints, Exact, NormalCompliance, Penalty, ufl_ops
 from fenics_contact.materials import LinearElastic
-from fenics_contact.meshes import BOTTOM, RECT_TOP, rectangle
+from fenics_contact.meshes import rectangle
 from fenics_contact.obstacles import HalfPlane
 from fenics_contact.problem import ContactProblem, Dirichlet
 from fenics_contact.scenes import build
@@ -96,7 +96,7 @@ def _tiny_problem(d, law, quadrature="nodal"):
     comm = MPI.COMM_SELF
     if d == 2:
         msh, _, tags = rectangle(comm, 1.0, 0.5, 6, 2)
-        base, normal = BOTTOM, [0.0, 1.0]
+        base, normal = "bottom", [0.0, 1.0]
     else:
         msh = mesh.create_box(comm, [np.zeros(3), np.array([1.0, 1.0, 0.5])], [3, 3, 1], mesh.CellType.tetrahedron)
         facets = mesh.locate_entities_boundary(msh, 2, lambda x: np.isclose(x[2], 0.0))
@@ -177,12 +177,12 @@ def test_dissipation_over_a_closed_cycle():
     V = function_space(msh, "Lagrange", 1, (2,))
     u = fem.Function(V)
     load = fem.Constant(msh, 0.0)
-    top = tags.indices[tags.values == RECT_TOP]
+    top = tags.find("top")
     dofs = [fem.locate_dofs_topological(V.sub(i), 1, top) for i in (0, 1)]
     ts = [0, 1, 2, 3, 4]
     bcs = [Dirichlet(V.sub(0), dofs[0], 1.0, (ts, [0, 0, 0.02, 0.0, 0.0])),
            Dirichlet(V.sub(1), dofs[1], 1.0, (ts, [0, -0.01, -0.01, -0.01, 0.001]))]
-    c = contact_surface(u, tags, BOTTOM, HalfPlane([0, 0], [0, 1]),
+    c = contact_surface(u, tags, "bottom", HalfPlane([0, 0], [0, 1]),
                         Friction(NormalCompliance(1e5, 1.0), mu=0.5, omega_t=1e4), load)
     problem = ContactProblem(u, LinearElastic(1000, 0.3), load, bcs, [c])
     solver = Solver(problem, quiet=True)

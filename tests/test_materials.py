@@ -20,7 +20,7 @@ from fenics_contact import (
     function_space,
     make_law,
 )
-from fenics_contact.meshes import LOWER, UPPER, stacked_blocks
+from fenics_contact.meshes import stacked_blocks
 from fenics_contact.scenes import block, slab
 from fenics_contact.scenes.patch import uniform_stretches
 
@@ -67,11 +67,12 @@ def test_one_material_per_tag_equals_one_material():
     u = fem.Function(V)
     u.interpolate(lambda x: np.stack([0.1 * x[0] * x[1], -0.05 * x[1] ** 2]))
     m = NeoHookean(1000.0, 0.3)
-    both = Materials(mesh, cell_tags, {LOWER: m, UPPER: m})
-    named = Materials(mesh, NamedTags(cell_tags, {"lower": LOWER, "upper": UPPER}), {"lower": m, "upper": m})
+    lower, upper = cell_tags["lower"], cell_tags["upper"]
+    both = Materials(mesh, cell_tags.meshtags, {lower: m, upper: m})
+    named = Materials(mesh, NamedTags(cell_tags.meshtags, {"lower": lower, "upper": upper}), {"lower": m, "upper": m})
     assert named.by_tag.keys() == both.by_tag.keys()
     with pytest.raises(ValueError, match="no region named 'top'"):
-        Materials(mesh, NamedTags(cell_tags, {"lower": LOWER, "upper": UPPER}), {"lower": m, "top": m})
+        Materials(mesh, cell_tags, {"lower": m, "top": m})
     values = [mesh.comm.allreduce(fem.assemble_scalar(fem.form(e)), op=MPI.SUM)
               for e in (m.energy_form(u), both.energy_form(u), both.energy(u) * ufl.dx,
                         ufl.inner(both.piola(u), both.piola(u)) * ufl.dx,
@@ -98,9 +99,9 @@ def test_bad_input():
     with pytest.raises(ValueError, match="plane must be one of"):
         LinearElastic(1000.0, 0.3, plane="strian")
     with pytest.raises(ValueError, match="cells carry none of the tags"):
-        Materials(mesh, cell_tags, {LOWER: LinearElastic(1000.0, 0.3)})
+        Materials(mesh, cell_tags, {"lower": LinearElastic(1000.0, 0.3)})
     with pytest.raises(ValueError, match="not a Material"):
-        Materials(mesh, cell_tags, {LOWER: LinearElastic(1000.0, 0.3), UPPER: 1000.0})
+        Materials(mesh, cell_tags, {"lower": LinearElastic(1000.0, 0.3), "upper": 1000.0})
     with pytest.raises(ValueError, match="at least one"):
         Materials(mesh, cell_tags, {})
     cube = dmesh.create_unit_cube(MPI.COMM_WORLD, 1, 1, 1)
@@ -181,3 +182,19 @@ def test_two_body_cauchy_pressure_is_nominal_over_the_slave_stretch(quadrature):
     seg = build("patch", law_factory=lambda: make_law("auglag", K=1e6), quadrature="segment")
     with pytest.raises(ValueError, match="nominal pressure only"):
         seg.contacts[0].point_values(kind="cauchy")
+
+
+def test_patch_geometry_is_parametric():
+    """Blocks 2 wide, 0.5 and 1.5 high, E 1000 and 250 (nu = 0: equal lateral stretch), pressure 4: the
+    piecewise-uniform state is still the solution (segment integration, converged augmented Lagrangian)."""
+    setup = build("patch", law_factory=lambda: make_law("auglag", K=1e6), quadrature="segment", pressure=4.0,
+                  E_lower=1000.0, nu_lower=0.0, E_upper=250.0, nu_upper=0.0, width=2.0, h_lower=0.5, h_upper=1.5)
+    solver = Solver(setup.problem, augment_max=30, augment_tol=1e-10, quiet=True)
+    solver.run(setup.loads)
+    assert solver.records[-1].converged and solver.records[-1].augmentation_converged
+    f = setup.figures()
+    assert np.isclose(f["strain_lower"], -4.0 / 1000.0, rtol=1e-8) and np.isclose(f["strain_upper"], -4.0 / 250.0,
+                                                                                     rtol=1e-8)
+    assert np.isclose(f["top_displacement_exact"], -4.0 * (0.5 / 1000.0 + 1.5 / 250.0) + 1e-6, rtol=1e-12)
+    assert f["displacement_error"] < 1e-8 and f["pressure_deviation"] < 1e-8
+    assert np.isclose(f["applied_force"], 8.0) and np.isclose(f["reaction_bottom"], 8.0, rtol=1e-9)

@@ -31,14 +31,15 @@ def _integral(mesh, measure) -> float:
 
 def test_hertz_tags_and_measures(hertz):
     mesh, cell_tags, facet_tags = hertz
-    for tag in (meshes.CONTACT, meshes.SYMMETRY, meshes.TOP):
-        assert _total(int(np.count_nonzero(facet_tags.values == tag))) > 0
-    assert _total(int(np.count_nonzero(cell_tags.values == meshes.DOMAIN))) > 0
-    meshes.check_tags(facet_tags, meshes.HERTZ_FACETS, comm)
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
-    assert abs(_integral(mesh, ds(meshes.CONTACT)) - math.pi / 2) < 1e-3
-    assert abs(_integral(mesh, ds(meshes.SYMMETRY)) - 1.0) < 1e-12
-    assert abs(_integral(mesh, ds(meshes.TOP)) - 1.0) < 1e-12
+    assert sorted(facet_tags.names) == ["contact", "symmetry", "top"] and list(cell_tags.names) == ["disk"]
+    for name in ("contact", "symmetry", "top"):
+        assert _total(len(facet_tags.find(name))) > 0
+    assert _total(len(cell_tags.find("disk"))) > 0
+    meshes.check_tags(facet_tags, None, comm)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)
+    assert abs(_integral(mesh, ds(facet_tags["contact"])) - math.pi / 2) < 1e-3
+    assert abs(_integral(mesh, ds(facet_tags["symmetry"])) - 1.0) < 1e-12
+    assert abs(_integral(mesh, ds(facet_tags["top"])) - 1.0) < 1e-12
     assert abs(_integral(mesh, ufl.dx(domain=mesh)) - math.pi / 4) < 1e-3
 
 
@@ -60,14 +61,17 @@ def test_rectangle_tags():
     for quadrilateral in (False, True):
         mesh, cell_tags, facet_tags = meshes.rectangle(comm, 2.0, 0.5, 8, 4, quadrilateral)
         assert cell_tags is None
-        meshes.check_tags(facet_tags, meshes.RECTANGLE_FACETS, comm)
-        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
-        lengths = {meshes.BOTTOM: 2.0, meshes.RIGHT: 0.5, meshes.RECT_TOP: 2.0, meshes.LEFT: 0.5}
-        for tag, length in lengths.items():
-            assert abs(_integral(mesh, ds(tag)) - length) < 1e-12
+        meshes.check_tags(facet_tags, None, comm)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)
+        lengths = {"bottom": 2.0, "right": 0.5, "top": 2.0, "left": 0.5}
+        assert sorted(facet_tags.names) == sorted(lengths)
+        for name, length in lengths.items():
+            assert abs(_integral(mesh, ds(facet_tags[name])) - length) < 1e-12
 
 
 def test_check_tags_names_missing_tag():
     _, _, facet_tags = meshes.rectangle(comm, 1.0, 1.0, 2, 2)
-    with pytest.raises(ValueError, match=r"facet tag 'contact'=7 is absent .*\[11, 12, 13, 14\]"):
-        meshes.check_tags(facet_tags, {"bottom": meshes.BOTTOM, "contact": 7}, comm)
+    with pytest.raises(ValueError, match=r"facet tag 'contact'=7 is absent .*\[1, 2, 3, 4\]"):
+        meshes.check_tags(facet_tags, {"bottom": facet_tags["bottom"], "contact": 7}, comm)
+    with pytest.raises(ValueError, match=r"no region named 'contact'; the mesh has \['bottom', 'left', "):
+        facet_tags["contact"]

@@ -60,7 +60,7 @@ def test_3d_box_on_a_plane_gauss_and_augmentation():
         V = function_space(msh, "Lagrange", 1, (3,))
         u = fem.Function(V)
         load = fem.Constant(msh, 0.0)
-        bcs = [Dirichlet(V.sub(i), fem.locate_dofs_topological(V.sub(i), fdim, tags.indices[tags.values == t]), a)
+        bcs = [Dirichlet(V.sub(i), fem.locate_dofs_topological(V.sub(i), fdim, tags.find(t)), a)
                for i, t, a in [(2, 2, -d), (0, 3, 0.0), (1, 4, 0.0)]]
         c = ContactSurface(u, tags, 1, HalfPlane([0, 0, 0], [0, 0, 1]), law, load, quadrature="gauss")
         s = Solver(ContactProblem(u, LinearElastic(E, nu), load, bcs, [c]), augment_max=aug, quiet=True)
@@ -89,22 +89,22 @@ def test_neohookean_block_tends_to_linear_at_small_strain():
 @pytest.mark.parametrize("law", [Penalty(1e5), CrossConstraints(1e5, 0.0)], ids=["penalty", "cross"])
 def test_moving_rigid_cylinder_indents_a_block(law):
     """A rigid disk (R = 1) moved 0.02 into an elastic block: curved gap of x + u, equilibrium, Newton rate."""
-    from fenics_contact.meshes import BOTTOM, LEFT, RECT_TOP, rectangle
+    from fenics_contact.meshes import rectangle
 
     comm = MPI.COMM_WORLD
     msh, _, tags = rectangle(comm, 1.0, 1.0, 20, 20)
     V = function_space(msh, "Lagrange", 1, (2,))
     u = fem.Function(V)
     load = fem.Constant(msh, 0.0)
-    dofs = lambda i, t: fem.locate_dofs_topological(V.sub(i), 1, tags.indices[tags.values == t])  # noqa: E731
-    bcs = [Dirichlet(V.sub(1), dofs(1, BOTTOM)), Dirichlet(V.sub(0), dofs(0, LEFT))]
+    dofs = lambda i, t: fem.locate_dofs_topological(V.sub(i), 1, tags.find(t))  # noqa: E731
+    bcs = [Dirichlet(V.sub(1), dofs(1, "bottom")), Dirichlet(V.sub(0), dofs(0, "left"))]
     disk = Cylinder([0.0, 2.0], 1.0, motion=[0.0, -0.02])
-    c = ContactSurface(u, tags, RECT_TOP, disk, law, load)
+    c = ContactSurface(u, tags, "top", disk, law, load)
     problem = ContactProblem(u, LinearElastic(1000.0, 0.3), load, bcs, [c])
     solver = Solver(problem, quiet=True)
     solver.run([0.5, 1.0])
     force = c.total_force()
-    reaction = problem.reaction(dofs(1, BOTTOM))
+    reaction = problem.reaction(dofs(1, "bottom"))
     assert force[1] < 0 and np.isclose(-force[1], reaction, rtol=1e-8)  # obstacle pushes down, base pushes up
     x, g, p = c.surface_values()
     assert p[0] == p.max() and p[-1] == 0.0  # loaded under the disk's axis, free at the far edge

@@ -147,3 +147,17 @@ def test_bad_input():
         build("sheet", law=LagrangeMultiplier(), ratio=0.5, **MESH)
     with pytest.raises(ValueError, match="quadrature"):
         build("sheet", law=LagrangeMultiplier(), quadrature="gauss", **MESH)
+
+
+def test_similarity_in_the_geometry_and_the_moduli():
+    """Every length (radii, thickness, legs, the pull, the search radius) x 2 and both Lame constants x 3: the same
+    deformation scaled, so the pressures x 3 and the end force (per unit thickness: stress x length) x 6."""
+    law = LagrangeMultiplier(1e3)
+    base, _ = solve(law)
+    s, m = 2.0, 3.0
+    scaled, _ = solve(LagrangeMultiplier(1e3 * m / s), R=s * sheet.R, thickness=s * sheet.THICKNESS,
+                      leg=s * sheet.LEG, R_in=s * sheet.R_IN, pull=s * sheet.PULL, radius=s * sheet.RADIUS,
+                      lmbda=m * sheet.LMBDA, mu=m * sheet.MU)
+    assert np.isclose(scaled["end_force"], s * m * base["end_force"], rtol=1e-8)
+    assert np.isclose(scaled["p_max"], m * base["p_max"], rtol=1e-8)
+    assert np.isclose(scaled["belt_T_over_R"], m * base["belt_T_over_R"], rtol=1e-8)

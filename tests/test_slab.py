@@ -7,7 +7,7 @@ from mpi4py import MPI
 from fenics_contact.compat import function_space
 from fenics_contact.factory import contact_surface
 from fenics_contact.laws import Coulomb, Exact, make_law
-from fenics_contact.meshes import BOTTOM, rectangle
+from fenics_contact.meshes import rectangle
 from fenics_contact.obstacles import Cylinder, HalfPlane
 from fenics_contact.scenes import block, build, slab
 from fenics_contact.solver import ConvergenceError, Solver
@@ -133,9 +133,9 @@ def test_bad_input():
     u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
     load = fem.Constant(mesh, 0.0)
     with pytest.raises(ValueError, match="flat rigid obstacle"):
-        contact_surface(u, tags, BOTTOM, Cylinder([0.5, -1.0], 1.0), Coulomb(0.3), load)
+        contact_surface(u, tags, "bottom", Cylinder([0.5, -1.0], 1.0), Coulomb(0.3), load)
     with pytest.raises(ValueError, match="nodal"):
-        contact_surface(u, tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), Coulomb(0.3), load, quadrature="gauss")
+        contact_surface(u, tags, "bottom", HalfPlane([0.0, 0.0], [0.0, 1.0]), Coulomb(0.3), load, quadrature="gauss")
     with pytest.raises(ValueError, match="linear"):  # refused by the capability matrix, before any assembly
         setup = build("block", law=Coulomb(0.3), model="neohookean")
         Solver(setup.problem, quiet=True).run(setup.loads)

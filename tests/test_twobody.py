@@ -9,7 +9,7 @@ from mpi4py import MPI
 from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.factory import two_body_surfaces
 from fenics_contact.laws import make_law
-from fenics_contact.meshes import LOWER_TOP, UPPER_BOTTOM, stacked_blocks
+from fenics_contact.meshes import stacked_blocks
 from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
 from fenics_contact.twobody import TwoBodySurface
@@ -134,22 +134,22 @@ def test_bad_input():
     load = fem.Constant(mesh, 0.0)
     law = make_law("penalty", K=1.0)
     with pytest.raises(ValueError, match="slave_tag and master_tag must differ"):
-        TwoBodySurface(u, ft, LOWER_TOP, LOWER_TOP, law, load)
+        TwoBodySurface(u, ft, "lower_top", "lower_top", law, load)
     with pytest.raises(ValueError, match="absent from the mesh"):
-        TwoBodySurface(u, ft, 99, LOWER_TOP, law, load)
+        TwoBodySurface(u, ft.meshtags, 99, ft["lower_top"], law, load)
     with pytest.raises(ValueError, match="absent from the mesh"):
-        TwoBodySurface(u, ft, UPPER_BOTTOM, 98, law, load)
+        TwoBodySurface(u, ft.meshtags, ft["upper_bottom"], 98, law, load)
     from dolfinx import mesh as dmesh
 
     empty = dmesh.meshtags(mesh, 1, np.zeros(0, np.int32), np.zeros(0, np.int32))
     with pytest.raises(ValueError, match="absent from the mesh"):
-        TwoBodySurface(u, empty, UPPER_BOTTOM, LOWER_TOP, law, load)
+        TwoBodySurface(u, empty, ft["upper_bottom"], ft["lower_top"], law, load)
     with pytest.raises(ValueError, match="quadrature"):
-        TwoBodySurface(u, ft, UPPER_BOTTOM, LOWER_TOP, law, load, quadrature="simpson")
+        TwoBodySurface(u, ft, "upper_bottom", "lower_top", law, load, quadrature="simpson")
     with pytest.raises(ValueError, match="passes"):
         build("patch", law_factory=lambda: law, passes="three")
     with pytest.raises(ValueError, match="unsupported combination simpson quadrature, P1"):  # capabilities
-        two_body_surfaces(u, ft, UPPER_BOTTOM, LOWER_TOP, lambda: law, load, quadrature="simpson")
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law, load, quadrature="simpson")
 
 
 

@@ -1,16 +1,18 @@
-"""gmsh plumbing shared by the mesh builders: build on rank 0, distribute, size grading."""
+"""gmsh plumbing shared by the mesh builders: the .geo sources of ``meshes/``, build on rank 0, distribute."""
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from mpi4py import MPI
 
 from ..compat import model_to_mesh
+from ..domain import NamedTags, physical_names
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
 __all__: list[str] = []  # plumbing of the mesh builders: nothing public
 
@@ -40,43 +42,55 @@ def _graded(h_contact: float, h_far: float) -> None:
         raise ValueError(f"h_far={h_far} must be >= h_contact={h_contact}")
 
 
-# Slope of the mesh size with distance in the graded zone (size / length).
+# Slope of the mesh size with distance in the graded zone (size / length; the .geo sources' ``grading``).
 _GRADING = 0.25
 
 
-def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, MeshTags, MeshTags]:
-    """Run ``build()`` (adds and meshes a ``gdim``-dimensional gmsh model) on rank 0; distribute the mesh
-    and its tags.
+def geo_path(name: str) -> Path:
+    """The gmsh geometry source ``<name>.geo`` of a scene: in ``$FENICS_CONTACT_MESHES`` if set, else in the
+    top-level ``meshes/`` folder of the checkout next to the package. ``FileNotFoundError`` naming the path
+    if it is missing (an installed wheel has no ``meshes/``: run from a checkout, or set the variable)."""
+    folder = Path(os.environ.get("FENICS_CONTACT_MESHES") or Path(__file__).resolve().parents[2] / "meshes")
+    path = folder / f"{name}.geo"
+    if not path.is_file():
+        raise FileNotFoundError(f"gmsh geometry {str(path)!r} not found: the mesh builders read the .geo sources "
+                                "of the top-level meshes/ folder of a fenics_contact checkout (or of "
+                                "$FENICS_CONTACT_MESHES)")
+    return path
+
+
+def _load_geo(path: Path, **parameters: float) -> None:
+    """Merge the gmsh geometry ``path`` into the current model, its ``DefineConstant`` parameters (ONELAB names
+    ``Parameters/<name>``) set to ``parameters``; synchronise the built-in kernel."""
+    gmsh.onelab.clear()  # the values of an earlier .geo of this session must not leak into this one
+    for name, value in parameters.items():
+        gmsh.onelab.setNumber(f"Parameters/{name}", [float(value)])
+    gmsh.merge(str(path))
+    gmsh.model.geo.synchronize()
+
+
+def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2) -> tuple[Mesh, NamedTags, NamedTags]:
+    """Run ``build()`` (adds and meshes a ``gdim``-dimensional gmsh model with named physical groups) on rank 0;
+    distribute the mesh and its tags. Returns ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
 
     Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
     """
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        error = ""
+        error, names = "", {}
         if comm.rank == 0:
             try:
                 build()
+                names = physical_names(gmsh)
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
                 error = f"gmsh failed to mesh {what}: {exc}"
         error = comm.bcast(error, root=0)
         if error:
             raise RuntimeError(error)
-        return model_to_mesh(gmsh.model, comm, 0, gdim)
+        names = comm.bcast(names, root=0)
+        mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, gdim)
     finally:
         gmsh.finalize()
-
-
-def _grade_toward(distance: int, h_near: float, h_far: float, width: float, grading: float = _GRADING) -> None:
-    """Background size: ``h_near`` where the gmsh field ``distance`` is below ``width``, then growing
-    by ``grading`` per unit distance up to ``h_far``."""
-    field = gmsh.model.mesh.field
-    threshold = field.add("Threshold")
-    field.setNumber(threshold, "InField", distance)
-    field.setNumber(threshold, "SizeMin", h_near)
-    field.setNumber(threshold, "SizeMax", h_far)
-    field.setNumber(threshold, "DistMin", width)
-    field.setNumber(threshold, "DistMax", width + (h_far - h_near) / grading)
-    field.setAsBackgroundMesh(threshold)
-    for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
-        gmsh.option.setNumber(f"Mesh.{option}", 0)
+    tdim = mesh.topology.dim
+    return mesh, NamedTags(cell_tags, names.get(tdim, {})), NamedTags(facet_tags, names.get(tdim - 1, {}))

@@ -7,10 +7,10 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
-from .tags import CONTACT, DOMAIN, FREE, SYMMETRY, TOP
+    from ..domain import NamedTags
+
+from .gmshutil import _GRADING, _from_gmsh, _graded, _load_geo, _positive, geo_path, gmsh
 
 __all__ = ["pin_plate"]
 
@@ -24,18 +24,18 @@ def pin_plate(
     h_contact: float | None = None,
     h_far: float | None = None,
     band: float | None = None,
-) -> tuple[Mesh, MeshTags, MeshTags]:
+) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right half (x >= 0) of a rectangular plate with a circular hole of radius R centred at the origin.
 
     The plate spans ``0 <= x <= half_width``, ``-below <= y <= above``. P1
     triangles of size ``h_contact`` (default R/50) within ``band`` (default
     R/10) of the hole, then growing by 0.25 per unit distance up to ``h_far``
-    (default R/2). Facet tags: CONTACT (the half hole, from (0, -R) through
-    (R, 0) to (0, R)), SYMMETRY (the two pieces of x = 0), TOP (y = above),
-    FREE (y = -below and x = half_width); cell tag DOMAIN.
+    (default R/2). Facets: ``contact`` (the half hole, from (0, -R) through
+    (R, 0) to (0, R)), ``symmetry`` (the two pieces of x = 0), ``top`` (y = above),
+    ``free`` (y = -below and x = half_width); cells ``plate``. The geometry: ``meshes/pin.geo``.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     h_contact = R / 50 if h_contact is None else h_contact
     h_far = R / 2 if h_far is None else h_far
@@ -45,6 +45,7 @@ def pin_plate(
         raise ValueError(f"the plate (half_width={half_width}, below={below}, above={above}) must extend "
                          f"beyond the hole radius R={R} on every side")
     _graded(h_contact, h_far)
+    geo_path("pin")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_pin_plate(R, half_width, below, above, h_contact, h_far, band), "the pin plate")
     mesh.name = "pin_plate"
@@ -53,30 +54,8 @@ def pin_plate(
 
 def _build_pin_plate(R: float, half_width: float, below: float, above: float, h_contact: float,
                      h_far: float, band: float) -> None:
-    """Build and mesh the half plate with a hole in the current gmsh session."""
+    """Mesh ``meshes/pin.geo`` (the half plate with a hole) in the current gmsh session."""
     gmsh.model.add("pin_plate")
-    geo = gmsh.model.geo
-    centre = geo.addPoint(0.0, 0.0, 0.0)
-    corners = [geo.addPoint(x, y, 0.0) for x, y in
-               ((0.0, -below), (half_width, -below), (half_width, above), (0.0, above))]
-    hole_top, hole_side, hole_bottom = (geo.addPoint(x, y, 0.0) for x, y in ((0.0, R), (R, 0.0), (0.0, -R)))
-    bottom = geo.addLine(corners[0], corners[1])
-    right = geo.addLine(corners[1], corners[2])
-    top = geo.addLine(corners[2], corners[3])
-    sym_upper = geo.addLine(corners[3], hole_top)
-    arcs = [geo.addCircleArc(hole_top, centre, hole_side), geo.addCircleArc(hole_side, centre, hole_bottom)]
-    sym_lower = geo.addLine(hole_bottom, corners[0])
-    loop = geo.addCurveLoop([bottom, right, top, sym_upper, *arcs, sym_lower])
-    surface = geo.addPlaneSurface([loop])
-    geo.synchronize()
-    gmsh.model.addPhysicalGroup(1, arcs, CONTACT)
-    gmsh.model.addPhysicalGroup(1, [sym_upper, sym_lower], SYMMETRY)
-    gmsh.model.addPhysicalGroup(1, [top], TOP)
-    gmsh.model.addPhysicalGroup(1, [bottom, right], FREE)
-    gmsh.model.addPhysicalGroup(2, [surface], DOMAIN)
-
-    # Exact distance to the hole (a gmsh Distance field samples the curve).
-    distance = gmsh.model.mesh.field.add("MathEval")
-    gmsh.model.mesh.field.setString(distance, "F", f"Sqrt(x*x + y*y) - {R!r}")
-    _grade_toward(distance, h_contact, h_far, band)
+    _load_geo(geo_path("pin"), R=R, half_width=half_width, below=below, above=above, h_contact=h_contact,
+              h_far=h_far, band=band, grading=_GRADING)
     gmsh.model.mesh.generate(2)

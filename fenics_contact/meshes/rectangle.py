@@ -13,7 +13,7 @@ if TYPE_CHECKING:
     from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
 from ..compat import cell_partitioner
-from .tags import BOTTOM, LEFT, RECT_TOP, RIGHT
+from ..domain import NamedTags
 
 __all__ = ["rectangle", "tag_boundary", "check_tags"]
 
@@ -25,31 +25,32 @@ def rectangle(
     nx: int,
     ny: int,
     quadrilateral: bool = False,
-) -> tuple[Mesh, None, MeshTags]:
+) -> tuple[Mesh, None, NamedTags]:
     """Rectangle [0, width] x [0, height] with nx x ny cells (triangles or quadrilaterals).
 
-    Facet tags: BOTTOM (y = 0), RIGHT (x = width), RECT_TOP (y = height), LEFT (x = 0).
+    Facets: ``bottom`` (y = 0), ``right`` (x = width), ``top`` (y = height), ``left`` (x = 0).
 
     Returns:
-        ``(mesh, None, facet_tags)``.
+        ``(mesh, None, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     cell_type = dmesh.CellType.quadrilateral if quadrilateral else dmesh.CellType.triangle
     msh = dmesh.create_rectangle(
         comm, [np.array([0.0, 0.0]), np.array([width, height])], [nx, ny], cell_type,
         partitioner=cell_partitioner())
     tol = 1e-10 * max(width, height)
-    sides = ((BOTTOM, lambda x: np.abs(x[1]) < tol), (RIGHT, lambda x: np.abs(x[0] - width) < tol),
-             (RECT_TOP, lambda x: np.abs(x[1] - height) < tol), (LEFT, lambda x: np.abs(x[0]) < tol))
-    facet_tags = tag_boundary(msh, sides)
-    return msh, None, facet_tags
+    sides = (("bottom", lambda x: np.abs(x[1]) < tol), ("right", lambda x: np.abs(x[0] - width) < tol),
+             ("top", lambda x: np.abs(x[1] - height) < tol), ("left", lambda x: np.abs(x[0]) < tol))
+    return msh, None, tag_boundary(msh, sides)
 
 
-def tag_boundary(msh: Mesh, sides: Sequence[tuple[int, Callable[[np.ndarray], np.ndarray]]]) -> MeshTags:
-    """Facet tags of the boundary facets: ``(tag, where)`` pairs, ``where(x)`` true on the facet's vertices
+def tag_boundary(msh: Mesh, sides: Sequence[tuple[str, Callable[[np.ndarray], np.ndarray]]]) -> NamedTags:
+    """Named tags of the boundary facets: ``(name, where)`` pairs, ``where(x)`` true on the facet's vertices
     (``x`` of shape (3, n)); a facet matched by several pairs is tagged once per pair."""
     fdim = msh.topology.dim - 1
     indices, values = [], []
-    for tag, where in sides:
+    names = {name: i + 1 for i, (name, _) in enumerate(sides)}
+    for name, where in sides:
+        tag = names[name]
         facets = dmesh.locate_entities_boundary(msh, fdim, where)
         indices.append(facets)
         values.append(np.full(len(facets), tag, dtype=np.int32))
@@ -57,12 +58,15 @@ def tag_boundary(msh: Mesh, sides: Sequence[tuple[int, Callable[[np.ndarray], np
     order = np.argsort(index)
     facet_tags = dmesh.meshtags(msh, fdim, index[order], np.concatenate(values)[order])
     facet_tags.name = "facet_tags"
-    return facet_tags
+    return NamedTags(facet_tags, names)
 
 
-def check_tags(facet_tags: MeshTags, tags: Mapping[str, int],
+def check_tags(facet_tags: MeshTags | NamedTags, tags: Mapping[str, int] | None,
                comm: MPI.Comm) -> None:
-    """Raise ValueError if a tag of ``tags`` (name -> value) marks no facet on any rank."""
+    """Raise ValueError if a tag of ``tags`` (name -> value; default: every name of :class:`NamedTags`) marks
+    no facet on any rank."""
+    if tags is None:
+        tags = facet_tags.names
     local = np.asarray(facet_tags.values)
     present = sorted(set().union(*comm.allgather(set(np.unique(local).tolist()))))
     for name, value in tags.items():

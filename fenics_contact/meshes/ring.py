@@ -8,24 +8,24 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+    from ..domain import NamedTags
 
 from .rectangle import rectangle, tag_boundary
-from .tags import RING_AXIS, RING_INNER, RING_MID, RING_OUTER
 
 __all__ = ["ring_quarter"]
 
 
 def ring_quarter(comm: MPI.Comm, R_out: float, R_in: float, n_theta: int, n_r: int,
-                 quadrilateral: bool = True) -> tuple[Mesh, None, MeshTags]:
+                 quadrilateral: bool = True) -> tuple[Mesh, None, NamedTags]:
     """Lower-right quarter (x >= 0, y <= R_out) of the ring R_in <= r <= R_out centred at (0, R_out).
 
     Structured polar mesh: ``n_theta`` cells along the quarter circle (equal angles), ``n_r``
     through the thickness; quadrilaterals (default) or triangles. The ring touches y = 0 at (0, 0).
-    Facet tags: RING_OUTER, RING_INNER (arcs), RING_AXIS (x = 0), RING_MID (y = R_out).
+    Facets: ``outer``, ``inner`` (arcs), ``axis`` (x = 0), ``mid`` (y = R_out).
 
     Returns:
-        ``(mesh, None, facet_tags)``.
+        ``(mesh, None, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     for name, value in (("n_theta", n_theta), ("n_r", n_r)):
         if int(value) != value or value < 1:
@@ -39,9 +39,9 @@ def ring_quarter(comm: MPI.Comm, R_out: float, R_in: float, n_theta: int, n_r: i
     x[np.abs(x[:, 0]) < 1e-12 * R_out, 0] = 0.0  # exact zeros on the axis
     tol = 1e-8 * R_out
     radius = lambda p: np.hypot(p[0], p[1] - R_out)  # noqa: E731
-    facet_tags = tag_boundary(msh, ((RING_OUTER, lambda p: np.abs(radius(p) - R_out) < tol),
-                                    (RING_INNER, lambda p: np.abs(radius(p) - R_in) < tol),
-                                    (RING_AXIS, lambda p: np.abs(p[0]) < tol),
-                                    (RING_MID, lambda p: np.abs(p[1] - R_out) < tol)))
+    facet_tags = tag_boundary(msh, (("outer", lambda p: np.abs(radius(p) - R_out) < tol),
+                                    ("inner", lambda p: np.abs(radius(p) - R_in) < tol),
+                                    ("axis", lambda p: np.abs(p[0]) < tol),
+                                    ("mid", lambda p: np.abs(p[1] - R_out) < tol)))
     msh.name = "ring_quarter"
     return msh, None, facet_tags

@@ -68,10 +68,10 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, gmsh
-from .tags import SEAL_BOUNDARY, SEAL_DOMAIN, SEAL_SYMMETRY
+    from ..domain import NamedTags
+
+from .gmshutil import _from_gmsh, _load_geo, geo_path, gmsh
 
 __all__ = [
     "seal_geometry", "seal_section", "seal_s_geometry", "seal_s_section", "seal_wave_geometry", "seal_wave_section"
@@ -93,36 +93,15 @@ def seal_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> d
 
 
 def seal_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
-                 gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+                 gap: float = 7.0) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right half (x >= 0) of the U-shaped seal section (module docstring), structured quadrilaterals of size
-    about ``h`` (at least 2 through the thickness). Facet tags SEAL_BOUNDARY (outer arc, end, inner arc),
-    SEAL_SYMMETRY (x = 0); cell tag SEAL_DOMAIN.
+    about ``h`` (at least 2 through the thickness). Facets ``boundary`` (outer arc, end, inner arc),
+    ``symmetry`` (x = 0); cells ``seal``.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
-    return _seal_mesh(comm, h, seal_geometry(R_out, R_in, gap), _build_seal, "seal_section")
-
-
-def _build_seal(d: dict, h: float) -> None:
-    gmsh.model.add("seal")
-    geo = gmsh.model.geo
-    Ro, Ri, phi = d["R_out"], d["R_in"], d["phi"]
-    C = geo.addPoint(*d["C"], 0.0)
-    bottom_out, bottom_in = geo.addPoint(0.0, d["C"][1] - Ro, 0.0), geo.addPoint(0.0, d["C"][1] - Ri, 0.0)
-    end_out, end_in = geo.addPoint(*d["corner_out"], 0.0), geo.addPoint(*d["corner_in"], 0.0)
-    outer = geo.addCircleArc(bottom_out, C, end_out)
-    end = geo.addLine(end_out, end_in)
-    inner = geo.addCircleArc(end_in, C, bottom_in)
-    symmetry = geo.addLine(bottom_in, bottom_out)
-    surface = geo.addPlaneSurface([geo.addCurveLoop([outer, end, inner, symmetry])])
-    n_t = max(2, round((Ro - Ri) / h))
-    n_l = max(4, round(0.5 * (Ro + Ri) * phi / h))
-    for c in (outer, inner):
-        geo.mesh.setTransfiniteCurve(c, n_l + 1)
-    for c in (end, symmetry):
-        geo.mesh.setTransfiniteCurve(c, n_t + 1)
-    _quadrilaterals(geo, [(surface, [])], [outer, end, inner], [symmetry])
+    return _seal_mesh(comm, h, seal_geometry(R_out, R_in, gap), 0, "seal_section")
 
 
 def seal_s_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
@@ -141,44 +120,19 @@ def seal_s_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) ->
 
 
 def seal_s_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
-                   gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+                   gap: float = 7.0) -> tuple[Mesh, NamedTags, NamedTags]:
     """The S-shaped seal section: a band of thickness R_out - R_in made of two annular sectors (arcs R_out and
     R_in) of opposite curvature joined tangentially across the segment of the line C1-C2 between radii R_in and
     R_out (|C1 C2| = R_out + R_in, so the outer arc of one continues the inner arc of the other). The top of
     the left sector's outer arc touches y = ``gap``, the bottom of the right one's touches y = 0; each sector
     spans pi - 2 beta, symmetric about its vertical, ends cut radially; point-symmetric about ``P0``, the middle
-    of the junction, where a mesh vertex sits. Structured quadrilaterals of size about ``h``. Facet tag
-    SEAL_BOUNDARY (the whole boundary), cell tag SEAL_DOMAIN.
+    of the junction, where a mesh vertex sits. Structured quadrilaterals of size about ``h``. Facets
+    ``boundary`` (the whole boundary), cells ``seal``.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
-    return _seal_mesh(comm, h, seal_s_geometry(R_out, R_in, gap), _build_seal_s, "seal_s_section")
-
-
-def _build_seal_s(d: dict, h: float) -> None:
-    geo, polar, C1, C2 = _two_sectors("seal_s", d)
-    (c1x, c1y), (c2x, c2y), beta, end = d["C1"], d["C2"], d["beta"], d["end"]
-    Ro, Ri = d["R_out"], d["R_in"]
-    j_up, j_low = polar(c1x, c1y, Ro, beta), polar(c1x, c1y, Ri, beta)
-    p0 = geo.addPoint(*d["P0"], 0.0)
-    l_out, l_in = polar(c1x, c1y, Ro, end), polar(c1x, c1y, Ri, end)
-    r_out, r_in = polar(c2x, c2y, Ro, end + math.pi), polar(c2x, c2y, Ri, end + math.pi)
-    n_t = max(2, 2 * round((Ro - Ri) / h / 2))
-    n_l = max(4, round(0.5 * (Ro + Ri) * (end - beta) / h))
-    a1, e1, b1 = geo.addCircleArc(j_up, C1, l_out), geo.addLine(l_out, l_in), geo.addCircleArc(l_in, C1, j_low)
-    m1, m2 = geo.addLine(j_low, p0), geo.addLine(p0, j_up)
-    a2, e2, b2 = geo.addCircleArc(j_low, C2, r_out), geo.addLine(r_out, r_in), geo.addCircleArc(r_in, C2, j_up)
-    s1 = geo.addPlaneSurface([geo.addCurveLoop([a1, e1, b1, m1, m2])])
-    s2 = geo.addPlaneSurface([geo.addCurveLoop([a2, e2, b2, -m2, -m1])])
-    for c in (a1, b1, a2, b2):
-        geo.mesh.setTransfiniteCurve(c, n_l + 1)
-    for c in (e1, e2):
-        geo.mesh.setTransfiniteCurve(c, n_t + 1)
-    for c in (m1, m2):
-        geo.mesh.setTransfiniteCurve(c, n_t // 2 + 1)
-    _quadrilaterals(geo, [(s1, [j_up, l_out, l_in, j_low]), (s2, [j_low, r_out, r_in, j_up])],
-                    [a1, e1, b1, a2, e2, b2])
+    return _seal_mesh(comm, h, seal_s_geometry(R_out, R_in, gap), 1, "seal_s_section")
 
 
 def seal_wave_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0) -> dict:
@@ -196,71 +150,31 @@ def seal_wave_geometry(R_out: float = 10.0, R_in: float = 9.0, gap: float = 7.0)
 
 
 def seal_wave_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in: float = 9.0,
-                      gap: float = 7.0) -> tuple[Mesh, MeshTags, MeshTags]:
+                      gap: float = 7.0) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right half (x >= 0) of the wave-shaped seal section (module docstring): the right half of the crown
     sector (centre C1 = (0, gap - R_out), from its top at x = 0 to the junction direction ``beta``) and the
     whole right hump (centre C2, |C1 C2| = R_out + R_in, spanning pi - 2 beta symmetric about its vertical,
-    bottom of the outer arc on y = 0, end cut radially). Structured quadrilaterals of size about ``h``. Facet
-    tags SEAL_BOUNDARY (arcs and end), SEAL_SYMMETRY (x = 0); cell tag SEAL_DOMAIN.
+    bottom of the outer arc on y = 0, end cut radially). Structured quadrilaterals of size about ``h``. Facets
+    ``boundary`` (arcs and end), ``symmetry`` (x = 0); cells ``seal``.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
-    return _seal_mesh(comm, h, seal_wave_geometry(R_out, R_in, gap), _build_seal_wave, "seal_wave_section")
+    return _seal_mesh(comm, h, seal_wave_geometry(R_out, R_in, gap), 2, "seal_wave_section")
 
 
-def _build_seal_wave(d: dict, h: float) -> None:
-    geo, polar, C1, C2 = _two_sectors("seal_wave", d)
-    (c1x, c1y), (c2x, c2y), beta, end = d["C1"], d["C2"], d["beta"], d["end"]
-    Ro, Ri = d["R_out"], d["R_in"]
-    top_out, top_in = polar(c1x, c1y, Ro, math.pi / 2), polar(c1x, c1y, Ri, math.pi / 2)
-    j_up, j_low = polar(c1x, c1y, Ro, beta), polar(c1x, c1y, Ri, beta)
-    r_out, r_in = polar(c2x, c2y, Ro, end), polar(c2x, c2y, Ri, end)
-    n_t = max(2, round((Ro - Ri) / h))
-    n_1 = max(2, round(0.5 * (Ro + Ri) * (math.pi / 2 - beta) / h))
-    n_2 = max(4, 2 * round(0.25 * (Ro + Ri) * (math.pi - 2 * beta) / h))  # even: a vertex at the hump's bottom
-    sym, a1, b1 = geo.addLine(top_in, top_out), geo.addCircleArc(top_out, C1, j_up), geo.addCircleArc(j_low, C1, top_in)
-    m = geo.addLine(j_up, j_low)
-    a2, e2, b2 = geo.addCircleArc(j_low, C2, r_out), geo.addLine(r_out, r_in), geo.addCircleArc(r_in, C2, j_up)
-    s1 = geo.addPlaneSurface([geo.addCurveLoop([sym, a1, m, b1])])
-    s2 = geo.addPlaneSurface([geo.addCurveLoop([a2, e2, b2, m])])
-    for c, n in ((a1, n_1), (b1, n_1), (a2, n_2), (b2, n_2), (sym, n_t), (m, n_t), (e2, n_t)):
-        geo.mesh.setTransfiniteCurve(c, n + 1)
-    _quadrilaterals(geo, [(s1, [top_in, top_out, j_up, j_low]), (s2, [j_low, r_out, r_in, j_up])],
-                    [a1, b1, a2, e2, b2], [sym])
-
-
-def _two_sectors(name: str, d: dict):
-    """Start the gmsh model ``name`` of a two-sector section: its ``geo`` kernel, ``polar(cx, cy, r, a)`` (a point
-    at radius ``r``, angle ``a`` about ``(cx, cy)``) and the centre points of ``d["C1"]``, ``d["C2"]``."""
-    gmsh.model.add(name)
-    geo = gmsh.model.geo
-
-    def polar(cx, cy, r, a):
-        return geo.addPoint(cx + r * math.cos(a), cy + r * math.sin(a), 0.0)
-
-    return geo, polar, geo.addPoint(*d["C1"], 0.0), geo.addPoint(*d["C2"], 0.0)
-
-
-def _quadrilaterals(geo, surfaces: list, boundary: list, symmetry: list = ()) -> None:
-    """Structured quadrilaterals on ``surfaces`` ((tag, corner points or []) pairs, transfinite curves already
-    set), the physical groups SEAL_BOUNDARY, SEAL_SYMMETRY (if any) and SEAL_DOMAIN, and the 2D mesh."""
-    for surface, corners in surfaces:
-        geo.mesh.setTransfiniteSurface(surface, cornerTags=corners)
-    for surface, _ in surfaces:
-        geo.mesh.setRecombine(2, surface)
-    geo.synchronize()
-    gmsh.model.addPhysicalGroup(1, boundary, SEAL_BOUNDARY)
-    if symmetry:
-        gmsh.model.addPhysicalGroup(1, list(symmetry), SEAL_SYMMETRY)
-    gmsh.model.addPhysicalGroup(2, [surface for surface, _ in surfaces], SEAL_DOMAIN)
-    gmsh.model.mesh.generate(2)
-
-
-def _seal_mesh(comm: MPI.Comm, h: float, data: dict, build, name: str) -> tuple[Mesh, MeshTags, MeshTags]:
-    """Check ``h`` against the band's thickness, mesh ``build(data, h)`` with gmsh and name the mesh."""
+def _seal_mesh(comm: MPI.Comm, h: float, data: dict, shape: int, name: str) -> tuple[Mesh, NamedTags, NamedTags]:
+    """Check ``h`` against the band's thickness, mesh ``meshes/seal.geo`` (``shape`` 0: U, 1: S, 2: wave; ``data``
+    the checked geometry) with gmsh and name the mesh."""
     if not (math.isfinite(h) and 0 < h <= (data["R_out"] - data["R_in"]) / 2):
         raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")
-    mesh, cell_tags, facet_tags = _from_gmsh(comm, lambda: build(data, h), "the seal")
+    path = geo_path("seal")  # a missing source: a clear error on every rank
+
+    def build() -> None:
+        gmsh.model.add(name)
+        _load_geo(path, shape=shape, R_out=data["R_out"], R_in=data["R_in"], gap=data["gap"], h=h)
+        gmsh.model.mesh.generate(2)
+
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, build, "the seal")
     mesh.name = name
     return mesh, cell_tags, facet_tags

@@ -7,32 +7,32 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _from_gmsh, _positive, gmsh
-from .tags import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, DOMAIN, END, SYMMETRY
+    from ..domain import NamedTags
+
+from .gmshutil import _from_gmsh, _load_geo, _positive, geo_path, gmsh
 
 __all__ = ["sheet_over_cylinder"]
 
 
 def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, leg: float = 2.0,
                         n_arc: int = 24, n_thick: int = 2, n_leg: int = 8, order: int = 2,
-                        cylinder: tuple[float, int, int] | None = None) -> tuple[Mesh, MeshTags, MeshTags]:
+                        cylinder: tuple[float, int, int] | None = None) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right half of a sheet wrapped over the top of a cylinder of radius ``R`` (centre at the origin).
 
     A quarter annulus ``R <= r <= R + thickness``, ``0 <= theta <= 90 deg`` (``theta`` from the x axis),
     continued by a vertical leg ``R <= x <= R + thickness``, ``-leg <= y <= 0``. Structured
     quadrilaterals: ``n_arc`` along the arc, ``n_leg`` along the leg, ``n_thick`` through the
     thickness; geometry of ``order`` (2: 9-node quadrilaterals whose edges follow the circles
-    exactly at their three nodes). Facet tags: CONTACT (inner arc and inner side of the leg),
-    SYMMETRY (x = 0), END (y = -leg).
+    exactly at their three nodes). Facets: ``contact`` (inner arc and inner side of the leg),
+    ``symmetry`` (x = 0), ``end`` (y = -leg); cells ``sheet``.
 
     ``cylinder = (R_in, n_cyl, n_rad)``: the mesh also holds the right half of the hollow cylinder
-    ``R_in <= r <= R`` (cell tag CYLINDER_DOMAIN; the sheet's cells are DOMAIN), ``n_cyl`` elements along
-    each of its two quarter arcs, ``n_rad`` through its wall; facet tags CYLINDER_SURFACE (its outer arc
-    ``r = R``), CYLINDER_FIXED (``r = R_in``), SYMMETRY (its two segments on ``x = 0``). The two bodies
+    ``R_in <= r <= R`` (cells ``cylinder``), ``n_cyl`` elements along
+    each of its two quarter arcs, ``n_rad`` through its wall; facets ``cylinder_surface`` (its outer arc
+    ``r = R``), ``cylinder_fixed`` (``r = R_in``), ``symmetry`` (its two segments on ``x = 0``). The two bodies
     touch along ``r = R`` but share no node (``n_cyl != n_arc``: non-matching interface meshes).
-    Initialises and finalises gmsh (on every rank).
+    The geometry: ``meshes/sheet.geo``. Initialises and finalises gmsh (on every rank).
     """
     _positive(R=R, thickness=thickness, leg=leg)
     for name, value in (("n_arc", n_arc), ("n_thick", n_thick), ("n_leg", n_leg)):
@@ -42,50 +42,14 @@ def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, 
         raise ValueError(f"cylinder must be (R_in in (0, R), n_cyl >= 1, n_rad >= 1), got {cylinder!r}")
     if order not in (1, 2):
         raise ValueError(f"order must be 1 or 2, got {order!r}")
+    path = geo_path("sheet")  # a missing source: a clear error on every rank
+
     def build() -> None:
         gmsh.model.add("sheet")
-        gmsh.option.setNumber("Geometry.AutoCoherence", 0)  # the two bodies touch: keep their points apart
-        geo = gmsh.model.geo
-        Ro = R + thickness
-        c, a, b, a2, b2 = (geo.addPoint(*xy, 0.0) for xy in ((0, 0), (0, R), (R, 0), (0, Ro), (Ro, 0)))
-        e, e2 = geo.addPoint(R, -leg, 0.0), geo.addPoint(Ro, -leg, 0.0)
-        arc_in, arc_out = geo.addCircleArc(a, c, b), geo.addCircleArc(a2, c, b2)
-        sym, mid, end = geo.addLine(a, a2), geo.addLine(b, b2), geo.addLine(e, e2)
-        leg_in, leg_out = geo.addLine(b, e), geo.addLine(b2, e2)
-        s1 = geo.addPlaneSurface([geo.addCurveLoop([arc_in, mid, -arc_out, -sym])])
-        s2 = geo.addPlaneSurface([geo.addCurveLoop([leg_in, end, -leg_out, -mid])])
-        if cylinder is not None:
-            Ri, n_cyl, n_rad = cylinder
-            i_top, i_r, i_bot = geo.addPoint(0, Ri, 0.0), geo.addPoint(Ri, 0, 0.0), geo.addPoint(0, -Ri, 0.0)
-            o_top, o_r, o_bot = geo.addPoint(0, R, 0.0), geo.addPoint(R, 0, 0.0), geo.addPoint(0, -R, 0.0)
-            in_up, in_lo = geo.addCircleArc(i_top, c, i_r), geo.addCircleArc(i_r, c, i_bot)
-            out_up, out_lo = geo.addCircleArc(o_top, c, o_r), geo.addCircleArc(o_r, c, o_bot)
-            ax_up, ax_lo, eq = geo.addLine(i_top, o_top), geo.addLine(i_bot, o_bot), geo.addLine(i_r, o_r)
-            c1 = geo.addPlaneSurface([geo.addCurveLoop([in_up, eq, -out_up, -ax_up])])
-            c2 = geo.addPlaneSurface([geo.addCurveLoop([in_lo, ax_lo, -out_lo, -eq])])
-        geo.synchronize()
-        for curves, n in (((arc_in, arc_out), n_arc), ((sym, mid, end), n_thick), ((leg_in, leg_out), n_leg)):
-            for curve in curves:
-                gmsh.model.mesh.setTransfiniteCurve(curve, int(n) + 1)
-        for surface in (s1, s2):
-            gmsh.model.mesh.setTransfiniteSurface(surface)
-            gmsh.model.mesh.setRecombine(2, surface)
-        symmetry = [sym]
-        if cylinder is not None:
-            for curve, n in ((in_up, n_cyl), (in_lo, n_cyl), (out_up, n_cyl), (out_lo, n_cyl), (ax_up, n_rad),
-                             (ax_lo, n_rad), (eq, n_rad)):
-                gmsh.model.mesh.setTransfiniteCurve(curve, int(n) + 1)
-            for surface in (c1, c2):
-                gmsh.model.mesh.setTransfiniteSurface(surface)
-                gmsh.model.mesh.setRecombine(2, surface)
-            gmsh.model.addPhysicalGroup(1, [out_up, out_lo], CYLINDER_SURFACE)
-            gmsh.model.addPhysicalGroup(1, [in_up, in_lo], CYLINDER_FIXED)
-            gmsh.model.addPhysicalGroup(2, [c1, c2], CYLINDER_DOMAIN)
-            symmetry += [ax_up, ax_lo]
-        gmsh.model.addPhysicalGroup(1, [arc_in, leg_in], CONTACT)
-        gmsh.model.addPhysicalGroup(1, symmetry, SYMMETRY)
-        gmsh.model.addPhysicalGroup(1, [end], END)
-        gmsh.model.addPhysicalGroup(2, [s1, s2], DOMAIN)
+        R_in, n_cyl, n_rad = cylinder if cylinder is not None else (R / 3, 18, 3)
+        _load_geo(path, R=R, thickness=thickness, leg=leg, n_arc=int(n_arc), n_thick=int(n_thick), n_leg=int(n_leg),
+                  cylinder=int(cylinder is not None), R_in=R_in, n_cyl=int(n_cyl), n_rad=int(n_rad))
+        gmsh.option.setNumber("Mesh.ElementOrder", 1)  # the geometry order set below, as for the other builders
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(order)
 

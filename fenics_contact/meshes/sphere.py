@@ -1,34 +1,34 @@
 """Ball octant for the 3D Hertz (sphere) scene and the scaling run (gmsh, graded toward the contact)."""
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 from mpi4py import MPI
 
-from .gmshutil import _from_gmsh, _grade_toward, _graded, _positive, gmsh
-from .tags import CONTACT, DOMAIN, SYMMETRY, SYMMETRY_Y, TOP
+from .gmshutil import _GRADING, _from_gmsh, _graded, _load_geo, _positive, geo_path, gmsh
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
+
+    from ..domain import NamedTags
 
 __all__ = ["sphere_octant"]
 
 
 def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far: float = 0.15,
-                  contact_width: float = 0.15) -> tuple[Mesh, MeshTags, MeshTags]:
+                  contact_width: float = 0.15) -> tuple[Mesh, NamedTags, NamedTags]:
     """Octant ``x >= 0, y >= 0, z <= R`` of the ball of radius ``R`` centred at ``(0, 0, R)`` (P1 tetrahedra).
 
     Size ``h_contact`` within ``contact_width`` of the contact point (0, 0, 0), growing by 0.25 per
-    unit distance up to ``h_far``. Facet tags: CONTACT (the spherical surface), SYMMETRY (x = 0),
-    SYMMETRY_Y (y = 0), TOP (z = R); cell tag DOMAIN. gmsh meshes on rank 0.
+    unit distance up to ``h_far``. Facets: ``contact`` (the spherical surface), ``symmetry`` (x = 0),
+    ``symmetry_y`` (y = 0), ``top`` (z = R); cells ``ball``. The geometry: ``meshes/sphere.geo``. gmsh meshes on rank 0.
 
     Returns:
-        ``(mesh, cell_tags, facet_tags)``.
+        ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     """
     _positive(R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     _graded(h_contact, h_far)
+    geo_path("sphere")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_sphere_octant(R, h_contact, h_far, contact_width), "the sphere octant", gdim=3)
     mesh.name = "sphere_octant"
@@ -36,29 +36,8 @@ def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far
 
 
 def _build_sphere_octant(R: float, h_contact: float, h_far: float, contact_width: float) -> None:
+    """Mesh ``meshes/sphere.geo`` in the current gmsh session."""
     gmsh.model.add("sphere_octant")
-    occ = gmsh.model.occ
-    ball = occ.addSphere(0.0, 0.0, R, R, -1, -math.pi / 2, 0.0, math.pi / 2)
-    occ.synchronize()
-    tags = {CONTACT: [], SYMMETRY: [], SYMMETRY_Y: [], TOP: []}
-    tol = 1e-6 * R
-    for dim, s in gmsh.model.getBoundary([(3, ball)], oriented=False):
-        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, s)
-        if x1 - x0 < tol:
-            tags[SYMMETRY].append(s)
-        elif y1 - y0 < tol:
-            tags[SYMMETRY_Y].append(s)
-        elif z1 - z0 < tol:
-            tags[TOP].append(s)
-        else:
-            tags[CONTACT].append(s)
-    for tag, surfaces in tags.items():
-        gmsh.model.addPhysicalGroup(2, surfaces, tag)
-    gmsh.model.addPhysicalGroup(3, [ball], DOMAIN)
-    origin = occ.addPoint(0.0, 0.0, 0.0)
-    occ.synchronize()
-    distance = gmsh.model.mesh.field.add("Distance")
-    gmsh.model.mesh.field.setNumbers(distance, "PointsList", [origin])
-    _grade_toward(distance, h_contact, h_far, contact_width)
-    gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay: the same mesh every run (HXT's varies; 1e6 dofs ~4 min)
+    _load_geo(geo_path("sphere"), R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width,
+              grading=_GRADING)
     gmsh.model.mesh.generate(3)

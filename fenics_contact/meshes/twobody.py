@@ -9,18 +9,17 @@ from mpi4py import MPI
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
-    from dolfinx.mesh import MeshTagsMetaClass as MeshTags
 
-from .gmshutil import _GRADING, _from_gmsh, _grade_toward, _positive, gmsh
 
-__all__ = [
-    "LOWER", "UPPER", "LOWER_BOTTOM", "LOWER_TOP", "UPPER_BOTTOM", "UPPER_TOP", "BLOCK_LEFT", "BLOCK_FRONT",
-    "STACKED_FACETS", "stacked_blocks", "DISK_SYMMETRY", "LOWER_ARC_BOTTOM", "LOWER_ARC_TOP", "UPPER_ARC_BOTTOM",
-    "UPPER_ARC_TOP", "DISKS_FACETS", "two_half_disks"
-]
+from ..domain import NamedTags
+from .gmshutil import _GRADING, _from_gmsh, _load_geo, _positive, geo_path, gmsh
 
-# Tags of ``stacked_blocks``: cells of the lower and the upper block, and facets.
+__all__ = ["stacked_blocks", "two_half_disks"]
+
+# Values of the regions (private: regions are referred to by name). ``stacked_blocks``: cells of the lower and
+# the upper block, and facets.
 LOWER, UPPER = 1, 2
+BODIES = {"lower": LOWER, "upper": UPPER}
 
 
 LOWER_BOTTOM, LOWER_TOP, UPPER_BOTTOM, UPPER_TOP, BLOCK_LEFT, BLOCK_FRONT = 21, 22, 23, 24, 25, 26
@@ -32,14 +31,16 @@ STACKED_FACETS = {"lower_bottom": LOWER_BOTTOM, "lower_top": LOWER_TOP, "upper_b
 
 def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float, n_lower: tuple[int, ...],
                    n_upper: tuple[int, ...], overlap: float = 0.0, by_body: bool = False
-                   ) -> tuple[Mesh, MeshTags, MeshTags]:
+                   ) -> tuple[Mesh, NamedTags, NamedTags]:
     """Two blocks in one mesh, not sharing nodes: ``[0, width] x [0, h_lower]`` with ``n_lower = (nx, ny)``
     triangles pairs, and ``[0, width] x [h_lower - overlap, h_lower - overlap + h_upper]`` with ``n_upper``.
     Three counts ``(nx, ny, nz)`` give boxes ``[0, width]^2 x [..]`` of tetrahedra (6 per hexahedron), the
     height along z. Different ``nx`` give non-matching interfaces. ``by_body``: the lower block on rank 0,
     the upper on rank 1 (with 2 or more ranks; the test of a slave/master pair on different ranks).
 
-    Returns ``(mesh, cell_tags LOWER/UPPER, facet_tags STACKED_FACETS)`` (``front``: y = 0, in 3D only)."""
+    Returns ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`): cells ``lower``, ``upper``;
+    facets ``lower_bottom``, ``lower_top``, ``upper_bottom``, ``upper_top``, ``left`` (x = 0), ``front`` (y = 0,
+    in 3D only)."""
     from ..compat import create_mesh
 
     _positive(width=width, h_lower=h_lower, h_upper=h_upper)
@@ -103,28 +104,22 @@ def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float,
     keep = values > 0
     facet_tags = dmesh.meshtags(msh, fdim, facets[keep].astype(np.int32), values[keep])
     facet_tags.name = "facet_tags"
-    return msh, cell_tags, facet_tags
-
-
-# Tags of ``two_half_disks`` (cells: LOWER / UPPER as for ``stacked_blocks``).
-DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP = 31, 32, 33, 34, 35
-
-
-DISKS_FACETS = {"symmetry": DISK_SYMMETRY, "lower_bottom": LOWER_ARC_BOTTOM, "lower_top": LOWER_ARC_TOP,
-                "upper_bottom": UPPER_ARC_BOTTOM, "upper_top": UPPER_ARC_TOP}
+    return msh, NamedTags(cell_tags, BODIES), NamedTags(facet_tags, STACKED_FACETS)
 
 
 def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: float, h_far: float,
                    contact_width: float, overlap: float = 0.0, grading: float = _GRADING, full: bool = False
-                   ) -> tuple[Mesh, MeshTags, MeshTags]:
+                   ) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right halves (x >= 0) of two disks stacked on the y axis, in one mesh without shared nodes: the lower
     disk centred at ``(0, R_lower)``, the upper at ``(0, 2 R_lower + R_upper - overlap)``. P1 triangles of
     size ``h_contact`` within ``contact_width`` of the four points on the y axis where the disks touch each
-    other and the plates, growing by ``grading`` per unit distance up to ``h_far``. Facet tags: DISKS_FACETS
-    (each arc split at its widest point into a bottom and a top quarter). Collective.
-    ``full=True``: the whole disks (model-reduction check): ``*_ARC_BOTTOM`` / ``*_ARC_TOP`` are the lower /
-    upper half circles, no DISK_SYMMETRY facets; the poles are vertices."""
+    other and the plates, growing by ``grading`` per unit distance up to ``h_far``. Facets ``symmetry`` (x = 0),
+    ``lower_bottom``, ``lower_top``, ``upper_bottom``, ``upper_top`` (each arc split at its widest point into a
+    bottom and a top quarter); cells ``lower``, ``upper``. Collective.
+    ``full=True``: the whole disks (model-reduction check): ``*_bottom`` / ``*_top`` are the lower /
+    upper half circles, no ``symmetry`` facets; the poles are vertices. The geometry: ``meshes/two_disks.geo``."""
     _positive(R_lower=R_lower, R_upper=R_upper, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
+    geo_path("two_disks")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading,
                                             full),
@@ -134,41 +129,8 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
 
 
 def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading, full=False):
+    """Mesh ``meshes/two_disks.geo`` in the current gmsh session."""
     gmsh.model.add("two_half_disks")
-    geo = gmsh.model.geo
-    touch = []
-    tags = {k: [] for k in DISKS_FACETS.values()}
-    surfaces = []
-    for cy, R in ((R1, R1), (2 * R1 + R2 - overlap, R2)):
-        bottom = geo.addPoint(0.0, cy - R, 0.0)
-        centre = geo.addPoint(0.0, cy, 0.0)
-        side = geo.addPoint(R, cy, 0.0)
-        top = geo.addPoint(0.0, cy + R, 0.0)
-        a1 = geo.addCircleArc(bottom, centre, side)
-        a2 = geo.addCircleArc(side, centre, top)
-        if full:  # the left half circle too: bottom arcs [a0, a1], top arcs [a2, a3]
-            left = geo.addPoint(-R, cy, 0.0)
-            a3 = geo.addCircleArc(top, centre, left)
-            a0 = geo.addCircleArc(left, centre, bottom)
-            surfaces.append(geo.addPlaneSurface([geo.addCurveLoop([a0, a1, a2, a3])]))
-            bottoms, tops = [a0, a1], [a2, a3]
-        else:
-            s1 = geo.addLine(top, centre)
-            s2 = geo.addLine(centre, bottom)
-            surfaces.append(geo.addPlaneSurface([geo.addCurveLoop([a1, a2, s1, s2])]))
-            bottoms, tops = [a1], [a2]
-            tags[DISK_SYMMETRY] += [s1, s2]
-        lower = len(surfaces) == 1
-        tags[LOWER_ARC_BOTTOM if lower else UPPER_ARC_BOTTOM] += bottoms
-        tags[LOWER_ARC_TOP if lower else UPPER_ARC_TOP] += tops
-        touch += [bottom, top]
-    geo.synchronize()
-    for tag, curves in tags.items():
-        if curves:
-            gmsh.model.addPhysicalGroup(1, curves, tag)
-    gmsh.model.addPhysicalGroup(2, [surfaces[0]], LOWER)
-    gmsh.model.addPhysicalGroup(2, [surfaces[1]], UPPER)
-    distance = gmsh.model.mesh.field.add("Distance")
-    gmsh.model.mesh.field.setNumbers(distance, "PointsList", touch)
-    _grade_toward(distance, h_contact, h_far, width, grading)
+    _load_geo(geo_path("two_disks"), R_lower=R1, R_upper=R2, h_contact=h_contact, h_far=h_far, contact_width=width,
+              overlap=overlap, grading=grading, full=int(full))
     gmsh.model.mesh.generate(2)

@@ -25,8 +25,7 @@ from ..condensed import step_solver_for
 from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import MODELS, PLANES, lame
-from ..meshes import BOTTOM, LEFT, rectangle
-from ..meshes import RECT_TOP as TOP
+from ..meshes import rectangle
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
@@ -92,14 +91,14 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
-    top = facet_tags.indices[facet_tags.values == TOP]
-    left = facet_tags.indices[facet_tags.values == LEFT]
+    top = facet_tags.find("top")
+    left = facet_tags.find("left")
     top_y = fem.locate_dofs_topological(V.sub(1), fdim, top)
     dirichlet = [Dirichlet(V.sub(1), top_y, -displacement),
                  Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, left))]
     material = MODELS[model](E, nu, plane=plane)
     exact = homogeneous_state(model, plane, E, nu, displacement / height)
-    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+    contact = contact_surface(u, facet_tags, "bottom", HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                               material=material)
     problem = ContactProblem(u, material, load, dirichlet, [contact], step_solver=step_solver_for([contact]))
 

@@ -26,6 +26,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ..compat import cell_partitioner, function_space
+from ..domain import NamedTags
 from ..factory import contact_surface
 from ..friction import Friction, FrictionalContact
 from ..laws import ContactLaw, NormalCompliance
@@ -35,14 +36,13 @@ from ..problem import ContactProblem, Dirichlet
 from . import Setup, nonnegative, poisson, positive
 
 __all__ = [
-    "LX", "LY", "H", "E", "NU", "PRESS", "DRAG", "C_N", "M_N", "MU", "OMEGA_T", "BASE", "TOP", "SYMMETRY",
+    "LX", "LY", "H", "E", "NU", "PRESS", "DRAG", "C_N", "M_N", "MU", "OMEGA_T",
     "default_law", "half_box", "build"
 ]
 
 LX, LY, H, E, NU = 1.0, 1.0, 0.5, 1000.0, 0.3
 PRESS, DRAG = 0.01, 0.006
 C_N, M_N, MU, OMEGA_T = 5e5, 1.5, 0.3, 1e5
-BASE, TOP, SYMMETRY = 1, 2, 3
 
 
 def default_law(c_n: float = C_N, m_n: float = M_N, mu: float = MU, omega_t: float = OMEGA_T) -> Friction:
@@ -51,17 +51,17 @@ def default_law(c_n: float = C_N, m_n: float = M_N, mu: float = MU, omega_t: flo
 
 
 def half_box(comm: MPI.Comm, nx: int, ny: int, nz: int, lx: float = LX, ly: float = LY, height: float = H):
-    """Tetrahedral box [0, lx] x [0, ly/2] x [0, height]; facet tags BASE (z = 0), TOP (z = height), SYMMETRY
-    (y = 0)."""
+    """Tetrahedral box [0, lx] x [0, ly/2] x [0, height] and its named facets
+    (:class:`~fenics_contact.domain.NamedTags`) ``base`` (z = 0), ``top`` (z = height), ``symmetry`` (y = 0)."""
     msh = dmesh.create_box(comm, [np.zeros(3), np.array([lx, ly / 2, height])], [nx, ny, nz],
                            dmesh.CellType.tetrahedron, partitioner=cell_partitioner())
     fdim = 2
     found = [(tag, dmesh.locate_entities_boundary(msh, fdim, lambda x, a=a, c=c: np.isclose(x[a], c)))
-             for tag, a, c in ((BASE, 2, 0.0), (TOP, 2, height), (SYMMETRY, 1, 0.0))]
+             for tag, a, c in ((1, 2, 0.0), (2, 2, height), (3, 1, 0.0))]
     idx = np.concatenate([f for _, f in found]).astype(np.int32)
     val = np.concatenate([np.full(len(f), t, dtype=np.int32) for t, f in found])
     idx, first = np.unique(idx, return_index=True)  # an edge facet keeps its first tag (base, top before symmetry)
-    return msh, dmesh.meshtags(msh, fdim, idx, val[first])
+    return msh, NamedTags(dmesh.meshtags(msh, fdim, idx, val[first]), {"base": 1, "top": 2, "symmetry": 3})
 
 
 def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16, ny: int = 8, nz: int = 4,
@@ -84,13 +84,13 @@ def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16
     V = function_space(msh, "Lagrange", 1, (3,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(msh, 0.0)
-    dofs = {(i, t): fem.locate_dofs_topological(V.sub(i), 2, tags.indices[tags.values == t])
-            for i, t in ((0, TOP), (1, TOP), (2, TOP), (1, SYMMETRY))}
+    dofs = {(i, t): fem.locate_dofs_topological(V.sub(i), 2, tags.find(t))
+            for i, t in ((0, "top"), (1, "top"), (2, "top"), (1, "symmetry"))}
     path = [0.0, 1.0, 2.0]
-    dirichlet = [Dirichlet(V.sub(2), dofs[2, TOP], -press, (path, [0.0, 1.0, 1.0])),
-                 Dirichlet(V.sub(0), dofs[0, TOP], drag, (path, [0.0, 0.0, 1.0])),
-                 Dirichlet(V.sub(1), dofs[1, TOP]), Dirichlet(V.sub(1), dofs[1, SYMMETRY])]
-    contact: FrictionalContact = contact_surface(u, tags, BASE, HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+    dirichlet = [Dirichlet(V.sub(2), dofs[2, "top"], -press, (path, [0.0, 1.0, 1.0])),
+                 Dirichlet(V.sub(0), dofs[0, "top"], drag, (path, [0.0, 0.0, 1.0])),
+                 Dirichlet(V.sub(1), dofs[1, "top"]), Dirichlet(V.sub(1), dofs[1, "symmetry"])]
+    contact: FrictionalContact = contact_surface(u, tags, "base", HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
                                                  law, load, quadrature)
     problem = ContactProblem(u, LinearElastic(E, nu), load, dirichlet, [contact])
 
@@ -98,7 +98,7 @@ def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16
         Fn = 2 * contact.total_force()[2]
         Ft = 2 * contact.tangential_force()  # its y component is the half's only: the mirror cancels it
         capacity = 2 * contact.capacity()
-        R = [2 * problem.reaction(dofs[i, TOP]) for i in (0, 2)]  # platen on the body, x and z
+        R = [2 * problem.reaction(dofs[i, "top"]) for i in (0, 2)]  # platen on the body, x and z
         areas = {k: 2 * v for k, v in contact.state_areas().items()}
         total = lx * ly
         c = {k: float(v.value) for k, v in contact.constants.items()}

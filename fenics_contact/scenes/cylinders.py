@@ -46,7 +46,7 @@ from ..condensed import step_solver_for
 from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import PLANES, LinearElastic, Material, NeoHookean
-from ..meshes import DISK_SYMMETRY, LOWER_ARC_BOTTOM, LOWER_ARC_TOP, UPPER_ARC_BOTTOM, UPPER_ARC_TOP, two_half_disks
+from ..meshes import two_half_disks
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
@@ -112,7 +112,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     if symmetry == "half":
-        sym = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == DISK_SYMMETRY])
+        sym = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.find("symmetry"))
     else:  # the four poles, on the axis x = 0
         mesh.topology.create_connectivity(fdim, mesh.topology.dim)  # for the boundary search
         sym = fem.locate_dofs_topological(V.sub(0), 0, dmesh.locate_entities_boundary(
@@ -120,9 +120,9 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     dirichlet = [Dirichlet(V.sub(0), sym)]
     top = 2 * R_lower + 2 * R_upper - OVERLAP
     plate_quadrature = "gauss" if quadrature == "segment" else quadrature  # segment: two-body integration only
-    lower_plate = contact_surface(u, facet_tags, LOWER_ARC_BOTTOM, HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
+    lower_plate = contact_surface(u, facet_tags, "lower_bottom", HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
                                  law_factory(), load, plate_quadrature, name="lower_plate")
-    upper_plate = contact_surface(u, facet_tags, UPPER_ARC_TOP,
+    upper_plate = contact_surface(u, facet_tags, "upper_top",
                                  HalfPlane([0.0, top - OVERLAP], [0.0, -1.0], motion=[0.0, -1.0]),
                                  law_factory(), load, plate_quadrature, name="upper_plate")
     if isinstance(law_factory(), LagrangeMultiplier):  # one pass: the upper surface's vertices are constrained
@@ -130,10 +130,10 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
             raise ValueError(f"method 'lagrange' on the cylinders is one-pass at the vertices: use passes 'one' and "
                              f"quadrature 'nodal' (got {passes!r}, {quadrature!r}); two passes over-constrain "
                              "P1 surfaces (surface locking)")
-        pair = two_body_multipliers(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory(), load,
+        pair = two_body_multipliers(u, facet_tags, "upper_bottom", "lower_top", law_factory(), load,
                                     radius=max(2.0, 4 * h_far), name="cylinders")
     else:
-        pair = two_body_surfaces(u, facet_tags, UPPER_ARC_BOTTOM, LOWER_ARC_TOP, law_factory, load, quadrature,
+        pair = two_body_surfaces(u, facet_tags, "upper_bottom", "lower_top", law_factory, load, quadrature,
                                  passes, radius=max(2.0, 4 * h_far), name="cylinders")
     contacts = [lower_plate, upper_plate, *pair]
     Model = NeoHookean if model == "neohookean" else LinearElastic

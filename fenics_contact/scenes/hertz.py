@@ -52,18 +52,7 @@ from ..condensed import step_solver_for
 from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import MODELS, PLANES, Materials
-from ..meshes import (
-    CONTACT,
-    CONTACT_UPPER,
-    DOMAIN,
-    PLATE,
-    PLATE_BOTTOM,
-    PLATE_SYMMETRY,
-    PLATE_TOP,
-    SYMMETRY,
-    TOP,
-    hertz_quarter_disk,
-)
+from ..meshes import hertz_quarter_disk
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
@@ -183,10 +172,10 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     t = fem.Constant(mesh, 0.0)  # the load parameter
     fdim = mesh.topology.dim - 1
-    top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == TOP])
+    top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.find("top"))
     copies = 1
     if symmetry == "quarter":
-        fix_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == SYMMETRY])
+        fix_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.find("symmetry"))
         copies = 2  # the figures are for the whole contact: the quarter carries half of it
     else:  # the centre (0, R) keeps the half disk from sliding sideways
         mesh.topology.create_connectivity(0, mesh.topology.dim)
@@ -201,37 +190,38 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         top_y = fem.locate_dofs_topological(V.sub(1), 0, centre)  # its reaction: the imbalance of the contacts
         dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), fix_x),
                      Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), 0, pole))]
-        contacts.append(contact_surface(u, facet_tags, CONTACT_UPPER,
+        contacts.append(contact_surface(u, facet_tags, "contact_upper",
                                         HalfPlane([0.0, 2 * R], [0.0, -1.0], motion=[0.0, -2 * approach]), law_twin(
                                             law), t, quadrature, material=material, name="upper_plate"))
     if plate == "meshed":
         # per-body materials: the plate's E and nu (same model)
-        material = Materials(mesh, cell_tags, {DOMAIN: material,
-                                               PLATE: MODELS[model](plate_E, plate_nu, plane=plane)})
-        bottom = facet_tags.indices[facet_tags.values == PLATE_BOTTOM]
-        side = facet_tags.indices[facet_tags.values == PLATE_SYMMETRY]
+        material = Materials(mesh, cell_tags, {"disk": material,
+                                               "plate": MODELS[model](plate_E, plate_nu, plane=plane)})
+        bottom = facet_tags.find("plate_bottom")
+        side = facet_tags.find("plate_symmetry")
         dirichlet += [Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, bottom)),
                       Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, np.concatenate([bottom, side])))]
         if isinstance(law, LagrangeMultiplier):  # the slave pressure an unknown (P1: quadrature 'nodal')
-            contact = two_body_multipliers(u, facet_tags, CONTACT, PLATE_TOP, law, t, radius=0.1 * R,
+            contact = two_body_multipliers(u, facet_tags, "contact", "plate_top", law, t, radius=0.1 * R,
                                            name="plate", work_quadrature=quadrature)[0]
         else:
-            contact = two_body_surfaces(u, facet_tags, CONTACT, PLATE_TOP, lambda: law, t, quadrature,
+            contact = two_body_surfaces(u, facet_tags, "contact", "plate_top", lambda: law, t, quadrature,
                                         radius=0.1 * R, name="plate")[0]
     else:
-        contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, t, quadrature,
+        contact = contact_surface(u, facet_tags, "contact", HalfPlane([0.0, 0.0], [0.0, 1.0]), law, t, quadrature,
                                   material=material)
     contacts.insert(0, contact)
     if load is None:
         problem = ContactProblem(u, material, t, dirichlet, contacts, step_solver=step_solver_for(contacts))
     else:  # the quarter's half of P on its diameter; the vanishing spring on the disk (module docstring)
-        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)
         traction = fem.Constant(mesh, np.array([0.0, -load / (2 * R)]))
         # the spring's dx as the bulk energy's (dolfinx 0.9: one subdomain data per integral type in a form):
         # per body (cell tags) with the meshed plate, over the whole mesh (the disk) otherwise
-        dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)(DOMAIN) if plate == "meshed" else \
-            ufl.dx(domain=mesh)
-        problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(TOP))], stabilisation * E / R**2,
+        dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags.meshtags)(cell_tags["disk"]) \
+            if plate == "meshed" else ufl.dx(domain=mesh)
+        problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(facet_tags["top"]))],
+                             stabilisation * E / R**2,
                              dx, step_solver=step_solver_for(contacts))
 
     def figures() -> dict:

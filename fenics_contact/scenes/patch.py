@@ -45,23 +45,15 @@ from ..compat import function_space
 from ..factory import two_body_surfaces
 from ..laws import ContactLaw
 from ..materials import MODELS, LinearElastic, Materials
-from ..meshes import (
-    BLOCK_FRONT,
-    BLOCK_LEFT,
-    LOWER,
-    LOWER_BOTTOM,
-    LOWER_TOP,
-    UPPER,
-    UPPER_BOTTOM,
-    UPPER_TOP,
-    stacked_blocks,
-)
+from ..meshes import stacked_blocks
 from ..problem import ContactProblem, Dirichlet
-from . import Setup
+from . import Setup, poisson, positive
 
-__all__ = ["E_LOWER", "E_UPPER", "NU", "PRESSURE", "OVERLAP", "uniform_stretches", "build"]
+__all__ = ["E_LOWER", "E_UPPER", "NU", "PRESSURE", "OVERLAP", "WIDTH", "H_LOWER", "H_UPPER", "uniform_stretches",
+           "build"]
 
 E_LOWER, E_UPPER, NU, PRESSURE, OVERLAP = 1000.0, 1000.0, 0.3, 10.0, 1e-6
+WIDTH, H_LOWER, H_UPPER = 1.0, 1.0, 1.0  # the blocks' width (and depth in 3D) and heights
 
 
 def uniform_stretches(pressure: float, material: str, dim: int, E: float = E_LOWER,
@@ -97,58 +89,64 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
           slave: str = "upper", n_lower: tuple[int, ...] = (5, 4), n_upper: tuple[int, ...] = (7, 5),
           by_body: bool = False, material: str = "linear", pressure: float = PRESSURE,
           comm: MPI.Comm = MPI.COMM_WORLD, E_lower: float = E_LOWER, E_upper: float = E_UPPER,
-          nu_lower: float = NU, nu_upper: float = NU) -> Setup:
+          nu_lower: float = NU, nu_upper: float = NU, width: float = WIDTH, h_lower: float = H_LOWER,
+          h_upper: float = H_UPPER, overlap: float = OVERLAP) -> Setup:
     """``slave``: ``upper`` or ``lower`` block's interface is the slave surface (one-pass).
     ``law_factory()`` (or ``law`` for one pass) gives the contact law. Three cell counts make the 3D
     version (unit cubes of tetrahedra stacked along z, rollers also on y = 0). ``material``: ``linear``
     or ``neohookean`` (finite strain for a large ``pressure``, a dead load), with ``E`` and ``nu`` per block
-    (:class:`~fenics_contact.materials.Materials`)."""
+    (:class:`~fenics_contact.materials.Materials`). The blocks ``width`` wide (and deep in 3D), ``h_lower`` and
+    ``h_upper`` high, the upper one starting ``overlap`` into the lower one (module docstring); defaults: the
+    module constants."""
     if slave not in ("upper", "lower"):
         raise ValueError(f"slave must be 'upper' or 'lower', got {slave!r}")
     if material not in ("linear", "neohookean"):
         raise ValueError(f"material must be 'linear' or 'neohookean', got {material!r}")
-    if not (np.isfinite(pressure) and pressure > 0):
-        raise ValueError(f"pressure must be a finite number > 0, got {pressure!r}")
+    positive(pressure=pressure, E_lower=E_lower, E_upper=E_upper, width=width, h_lower=h_lower, h_upper=h_upper,
+             overlap=overlap)
+    poisson(nu_lower=nu_lower, nu_upper=nu_upper)
+    if not overlap < 0.1 * min(h_lower, h_upper):
+        raise ValueError(f"overlap must be < 0.1 min(h_lower, h_upper) = {0.1 * min(h_lower, h_upper)!r} (a start "
+                         f"that gives the penalty-type laws stiffness, not a geometry), got {overlap!r}")
     if law_factory is None:
         if law is None:
             raise ValueError("give law or law_factory")
         if passes == "two":
             raise ValueError("two-pass needs law_factory (one law per surface)")
         law_factory = lambda: law  # noqa: E731
-    mesh, cell_tags, facet_tags = stacked_blocks(comm, 1.0, 1.0, 1.0, n_lower, n_upper, OVERLAP, by_body)
+    mesh, cell_tags, facet_tags = stacked_blocks(comm, width, h_lower, h_upper, n_lower, n_upper, overlap, by_body)
     dim = len(n_lower)
     V = function_space(mesh, "Lagrange", 1, (dim,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
-    support = Dirichlet.on_facets(V, facet_tags, LOWER_BOTTOM, dim - 1)
-    dirichlet = [support, Dirichlet.on_facets(V, facet_tags, BLOCK_LEFT, 0)]
+    support = Dirichlet.on_facets(V, facet_tags, "lower_bottom", dim - 1)
+    dirichlet = [support, Dirichlet.on_facets(V, facet_tags, "left", 0)]
     if dim == 3:
-        dirichlet.append(Dirichlet.on_facets(V, facet_tags, BLOCK_FRONT, 1))
-    tags = (UPPER_BOTTOM, LOWER_TOP) if slave == "upper" else (LOWER_TOP, UPPER_BOTTOM)
+        dirichlet.append(Dirichlet.on_facets(V, facet_tags, "front", 1))
+    tags = ("upper_bottom", "lower_top") if slave == "upper" else ("lower_top", "upper_bottom")
     contacts = two_body_surfaces(u, facet_tags, *tags, law_factory, load, quadrature, passes, name="interface")
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=UPPER_TOP)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags, subdomain_id=facet_tags["upper_top"])
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-pressure,)), ds)
-    bulk = Materials(mesh, cell_tags, {LOWER: MODELS[material](E_lower, nu_lower),
-                                       UPPER: MODELS[material](E_upper, nu_upper)})
+    bulk = Materials(mesh, cell_tags, {"lower": MODELS[material](E_lower, nu_lower),
+                                       "upper": MODELS[material](E_upper, nu_upper)})
     problem = ContactProblem(u, bulk, load, dirichlet, contacts, [traction])
-    top_dofs = fem.locate_dofs_topological(V, fdim, facet_tags.indices[facet_tags.values == UPPER_TOP])
+    top_dofs = fem.locate_dofs_topological(V, fdim, facet_tags.find("upper_top"))
     (a_lo, c_lo), (a_up, c_up) = (uniform_stretches(pressure, material, dim, E, nu)
                                   for E, nu in ((E_lower, nu_lower), (E_upper, nu_upper)))
-    u_top = c_lo + c_up - (2.0 - OVERLAP)  # exact top displacement (bottom fixed, gap 0)
-    body_dofs = {tag: np.unique(np.concatenate([V.dofmap.cell_dofs(c) for c in cell_tags.indices[cell_tags.values
-                                                                                                  == tag]]
-                                               + [np.zeros(0, np.int32)])) for tag in (LOWER, UPPER)}
-    dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags)
+    u_top = c_lo * h_lower + c_up * h_upper - (h_lower - overlap + h_upper)  # exact (bottom fixed, gap 0)
+    body_dofs = {tag: np.unique(np.concatenate([V.dofmap.cell_dofs(c) for c in cell_tags.find(tag)]
+                                               + [np.zeros(0, np.int32)])) for tag in ("lower", "upper")}
+    dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags.meshtags)
     one = fem.Constant(mesh, 1.0)
-    strain_forms = {tag: (fem.form(ufl.grad(u)[dim - 1, dim - 1] * dx(tag)), fem.form(one * dx(tag)))
-                    for tag in (LOWER, UPPER)}
+    strain_forms = {tag: (fem.form(ufl.grad(u)[dim - 1, dim - 1] * dx(cell_tags[tag])),
+                          fem.form(one * dx(cell_tags[tag]))) for tag in ("lower", "upper")}
 
-    def exact_displacement(tag: int, X: np.ndarray) -> np.ndarray:
+    def exact_displacement(tag: str, X: np.ndarray) -> np.ndarray:
         """The exact piecewise-uniform displacement at reference points ``X`` of block ``tag``."""
-        a, c = (a_lo, c_lo) if tag == LOWER else (a_up, c_up)
-        axial = (c - 1.0) * X[:, dim - 1] if tag == LOWER else c_lo + c_up * (X[:, dim - 1] - 1.0 + OVERLAP) - X[
-            :, dim - 1]
+        a, c = (a_lo, c_lo) if tag == "lower" else (a_up, c_up)
+        Y = X[:, dim - 1]
+        axial = (c - 1.0) * Y if tag == "lower" else c_lo * h_lower + c_up * (Y - h_lower + overlap) - Y
         return np.concatenate([(a - 1.0) * X[:, : dim - 1], axial[:, None]], 1)
 
     def figures() -> dict:
@@ -166,27 +164,28 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
         exact = np.concatenate([(a_up - 1.0) * X[:, : dim - 1], np.full((len(X), 1), u_top)], 1)
         err = comm.allreduce(float(np.max(np.abs(U - exact))) if len(top) else 0.0, op=MPI.MAX)
         body_err, strains = 0.0, {}
-        for tag, name in ((LOWER, "lower"), (UPPER, "upper")):
+        for tag in ("lower", "upper"):
             d = body_dofs[tag][body_dofs[tag] < n_own]
             if len(d):
                 Xd = V.tabulate_dof_coordinates()[d, :dim]
                 body_err = max(body_err, float(np.max(np.abs(u.x.array.reshape(-1, dim)[d] - exact_displacement(
                     tag, Xd)))))
             integral, volume = (comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in strain_forms[tag])
-            strains[f"strain_{name}"] = integral / volume
+            strains[f"strain_{tag}"] = integral / volume
         body_err = comm.allreduce(body_err, op=MPI.MAX)
         return {"pressure_deviation": dev, "contact_force": float(np.mean(np.abs(forces))),
-                "applied_force": pressure * 1.0, "reaction_bottom": problem.reaction(support.dofs),
+                "applied_force": pressure * width ** (dim - 1), "reaction_bottom": problem.reaction(support.dofs),
                 "top_displacement_exact": u_top, "top_displacement_error": err / abs(u_top),
                 "displacement_error": body_err / abs(u_top), **strains, "lateral_mismatch": abs(a_lo - a_up),
                 "strain_lower_exact": c_lo - 1.0, "strain_upper_exact": c_up - 1.0}
 
     for c in contacts:  # one name per field in the XDMF file
         c.gap_out.name, c.pressure_out.name = f"gap_{c.name}", f"contact_pressure_{c.name}"
-    params = {"E_lower": E_lower, "E_upper": E_upper, "nu": NU, "nu_lower": nu_lower, "nu_upper": nu_upper,
+    params = {"E_lower": E_lower, "E_upper": E_upper, "nu_lower": nu_lower, "nu_upper": nu_upper,
+              "width": width, "h_lower": h_lower, "h_upper": h_upper,
               "pressure": pressure, "material": material,
               "n_lower": list(n_lower), "n_upper": list(n_upper), "quadrature": quadrature, "passes": passes,
               "slave": slave,
-              "overlap": OVERLAP, "model": f"two blocks, rollers, {'plane strain' if dim == 2 else '3D'}, {material}"}
+              "overlap": overlap, "model": f"two blocks, rollers, {'plane strain' if dim == 2 else '3D'}, {material}"}
     return Setup("patch", problem, contacts, [1.0], params, figures, [u] + [f for c in contacts
                                                                          for f in (c.gap_out, c.pressure_out)])

@@ -25,10 +25,16 @@ geometry) is missing from our copy, so we choose, and say so:
   which removes the horizontal translation and the rotation;
 - the vertical translation is held by the pin alone: with a neat fit the
   gap is exactly 0 at ``u = 0``, where the penalty-type laws have no stiffness
-  and the first Newton matrix would be singular. The Newton iteration
-  therefore starts from the plate seated on the pin: the rigid translation
-  ``u = (0, SEAT)`` with ``SEAT = 1e-4 R``, which closes the lower half of the
-  hole (any law; cross-constraints with ``F^ > 0`` would not need it).
+  and the first Newton matrix from rest would be singular. The plate converges
+  from rest without a hand-made initial guess by load stepping with a vanishing
+  stabilisation (as the Hertz disk under force control): a spring
+  ``k (1 - t) u`` on the plate's cells, ``k = stabilisation * E / R^2``,
+  carries part of the load at the steps ``t < 1`` (the first iterate moves the
+  plate toward the load by about ``P0 / E``, so the lower half of the hole
+  presses on the pin and the solver finds the contact) and is exactly zero at
+  the last step ``t = 1``: the figures have no stabilisation in them (the
+  force balance ``equilibrium_error`` is the check). Hence ``steps >= 2``;
+  the figures of the neat fit at a load ``P0`` are those of ``t = 1``.
 
 Contact angle: the hole bears on the pin's bottom, the point ``(0, -R)``
 facing away from the loaded edge. Reference polar angle of a hole point,
@@ -51,20 +57,20 @@ from ..compat import function_space
 from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import PLANES, LinearElastic
-from ..meshes import CONTACT, SYMMETRY, TOP, pin_plate
+from ..meshes import pin_plate
 from ..obstacles import Cylinder
-from ..problem import ContactProblem, Dirichlet
-from . import Setup, poisson, positive
+from ..problem import Dirichlet
+from . import Setup, Stabilised, nonnegative, poisson, positive
 
 __all__ = [
-    "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "SEAT", "DEFAULT_K", "LOADED_FORCE",
+    "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "STABILISATION", "DEFAULT_K", "LOADED_FORCE",
     "pressure_along_pin", "contact_angle", "GAPS", "build", "BENCH"
 ]
 
 R, HALF_WIDTH, BELOW, ABOVE = 1.0, 5.0, 5.0, 5.0
 E, NU, P0 = 1000.0, 0.3, 10.0
 H_CONTACT = R / 50  # mesh size at the hole, refinement 0
-SEAT = 1e-4 * R  # initial rigid translation toward the load (see the module docstring)
+STABILISATION = 1.0  # the vanishing spring's k R^2 / E (module docstring)
 DEFAULT_K = 1e6  # penalty scale ~ 20 E / h_contact
 LOADED_FORCE = P0 * HALF_WIDTH  # resultant of the traction on the half model's top edge (per unit thickness)
 
@@ -109,30 +115,32 @@ GAPS = ("linearized", "current")
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_contact: float | None = None,
-          steps: int = 1, gap: str = "linearized", comm: MPI.Comm = MPI.COMM_WORLD, R: float = R,
+          steps: int = 2, gap: str = "linearized", comm: MPI.Comm = MPI.COMM_WORLD, R: float = R,
           half_width: float = HALF_WIDTH, below: float = BELOW, above: float = ABOVE, E: float = E, nu: float = NU,
-          P0: float = P0, seat: float | None = None, plane: str = "strain") -> Setup:
+          P0: float = P0, stabilisation: float = STABILISATION, plane: str = "strain") -> Setup:
     """``refinement`` halves the mesh size at the hole (``h_contact``, default ``R/50``) that many times; ``steps``
-    load steps; ``gap``: ``linearized`` (small displacements, default) or ``current`` (exact gap of the deformed
-    position). The plate ``2 half_width`` wide, from ``below`` under to ``above`` over the pin's centre, the hole
-    of radius ``R``, ``E``, ``nu``, the traction ``P0`` on its top; ``seat``: the initial translation toward the
-    load (default ``1e-4 R``; module docstring). Defaults: the module constants. ``plane``: ``strain`` (the
+    load steps (>= 2: the vanishing spring acts before the last); ``gap``: ``linearized`` (small displacements,
+    default) or ``current`` (exact gap of the deformed position). The plate ``2 half_width`` wide, from ``below``
+    under to ``above`` over the pin's centre, the hole
+    of radius ``R``, ``E``, ``nu``, the traction ``P0`` on its top; ``stabilisation``: the vanishing spring's
+    ``k R^2 / E`` (module docstring). Defaults: the module constants. ``plane``: ``strain`` (the
     paper's, default; its figures are plane strain) or ``stress``."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
-    positive(R=R, half_width=half_width, below=below, above=above, E=E, P0=P0, h_contact=h_contact, seat=seat)
+    positive(R=R, half_width=half_width, below=below, above=above, E=E, P0=P0, h_contact=h_contact)
+    nonnegative(stabilisation=stabilisation)
     poisson(nu=nu)
     if not (R < half_width and R < below and R < above):
         raise ValueError(f"pin: the hole (R = {R}) must lie inside the plate (half_width {half_width}, below {below}, "
                          f"above {above})")
     h_contact = R / 50 if h_contact is None else h_contact
-    seat = 1e-4 * R if seat is None else seat
     if gap not in GAPS:
         raise ValueError(f"pin: gap must be one of {GAPS}, got {gap!r}")
     if not (isinstance(refinement, (int, np.integer)) and refinement >= 0):
         raise ValueError(f"pin: refinement must be an integer >= 0, got {refinement!r}")
-    if not (isinstance(steps, (int, np.integer)) and steps >= 1):
-        raise ValueError(f"pin: steps must be an integer >= 1, got {steps!r}")
+    if not (isinstance(steps, (int, np.integer)) and steps >= 2):
+        raise ValueError(f"pin: steps must be an integer >= 2 (the vanishing spring acts before the last step), "
+                         f"got {steps!r}")
     if not (0 < h_contact <= R / 4):
         raise ValueError(f"pin: h_contact must be in (0, R/4 = {R / 4}], got {h_contact!r}")
     h = h_contact / 2**refinement
@@ -140,15 +148,15 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
-    dirichlet = [Dirichlet.on_facets(V, facet_tags, SYMMETRY, 0)]
+    dirichlet = [Dirichlet.on_facets(V, facet_tags, "symmetry", 0)]
     pin = Cylinder([0.0, 0.0], R, body_outside=True)
-    contact = contact_surface(u, facet_tags, CONTACT, pin, law, load, quadrature,
+    contact = contact_surface(u, facet_tags, "contact", pin, law, load, quadrature,
                               linearized=gap == "linearized")
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags, subdomain_id=TOP)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags, subdomain_id=facet_tags["top"])
     traction = ufl.as_vector([0.0, P0])
-    problem = ContactProblem(u, LinearElastic(E, nu, plane=plane), load, dirichlet, [contact],
-                             tractions=[(traction, ds)])
-    u.x.array.reshape(-1, 2)[:, 1] = seat  # the plate seated on the pin (Newton's starting point)
+    # from rest: the vanishing spring on the plate (module docstring)
+    problem = Stabilised(u, LinearElastic(E, nu, plane=plane), load, dirichlet, [contact], [(traction, ds)],
+                         stabilisation * E / R**2, ufl.dx(domain=mesh))
 
     def figures() -> dict:
         theta, _, g, p = pressure_along_pin(contact)
@@ -161,7 +169,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
                 "contact_nodes": int(np.count_nonzero(p > 1e-8 * p.max())), "h_contact": h}
 
     params = {"E": E, "nu": nu, "P0": P0, "R": R, "plate": [2 * half_width, below + above], "clearance": 0.0,
-              "seat": seat,
+              "stabilisation": stabilisation,
               "gap": gap,
               "h_contact": h, "refinement": refinement, "steps": steps, "quadrature": quadrature,
               "plane": plane, "model": f"half plate (symmetry x = 0), plane {plane}, linear elasticity"}

@@ -34,7 +34,7 @@ from ..compat import function_space
 from ..contact import ContactSurface
 from ..laws import ContactLaw
 from ..materials import PLANES, LinearElastic
-from ..meshes import RING_AXIS, RING_MID, RING_OUTER, ring_quarter
+from ..meshes import ring_quarter
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, poisson, positive
@@ -66,10 +66,10 @@ def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: in
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
-    mid_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.indices[facet_tags.values == RING_MID])
-    axis_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.indices[facet_tags.values == RING_AXIS])
+    mid_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.find("mid"))
+    axis_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.find("axis"))
     dirichlet = [Dirichlet(V.sub(1), mid_y, -approach / 2), Dirichlet(V.sub(0), axis_x)]
-    contact = ContactSurface(u, facet_tags, RING_OUTER, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+    contact = ContactSurface(u, facet_tags, "outer", HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                              name="lower plate")
     problem = ContactProblem(u, LinearElastic(E, nu, plane=plane), load, dirichlet, [contact])
 

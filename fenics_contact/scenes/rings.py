@@ -104,19 +104,7 @@ from ..contact import is_mixed
 from ..factory import two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import LinearElastic
-from ..meshes.rings import (
-    INNER_RING,
-    OUTER_RING,
-    RINGS_INNER_FREE,
-    RINGS_INNER_SURFACE,
-    RINGS_LOADED,
-    RINGS_OUTER_SURFACE,
-    RINGS_X0_INNER,
-    RINGS_X0_OUTER,
-    RINGS_Y0_INNER,
-    RINGS_Y0_OUTER,
-    concentric_rings,
-)
+from ..meshes.rings import concentric_rings
 from ..multipliers import unknown
 from ..problem import ContactProblem, Dirichlet
 from . import Setup
@@ -166,11 +154,11 @@ class RingsElastic(LinearElastic):
         self.plane = plane
         Q = function_space(mesh, "DG", 0)
         self.lmbda_field, self.mu_field = fem.Function(Q, name="lambda"), fem.Function(Q, name="mu")
-        for tag, Ei, nui in ((INNER_RING, E[0], nu[0]), (OUTER_RING, E[1], nu[1])):
+        for ring, Ei, nui in (("inner_ring", E[0], nu[0]), ("outer_ring", E[1], nu[1])):
             lm, mu = LinearElastic(Ei, nui).lmbda, LinearElastic(Ei, nui).mu
             if plane == "stress":
                 lm = 2 * lm * mu / (lm + 2 * mu)
-            cells = cell_tags.indices[cell_tags.values == tag]
+            cells = cell_tags.find(ring)
             dofs = np.array([Q.dofmap.cell_dofs(k)[0] for k in cells], dtype=np.int32)
             self.lmbda_field.x.array[dofs], self.mu_field.x.array[dofs] = lm, mu
         self.rings = {"E": tuple(E), "nu": tuple(nu), "plane": plane}
@@ -219,29 +207,29 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     material = RingsElastic(mesh, cell_tags, E, nu, plane)  # validates E and nu
     load = fem.Constant(mesh, 0.0)
     rollers = [Dirichlet.on_facets(V, facet_tags, tag, comp) for tag, comp in
-               ((RINGS_X0_INNER, 0), (RINGS_Y0_INNER, 1), (RINGS_X0_OUTER, 0), (RINGS_Y0_OUTER, 1))]
+               (("x0_inner", 0), ("y0_inner", 1), ("x0_outer", 0), ("y0_outer", 1))]
     if quadrature == "collocated":
         if degree != 2 or not multipliers:
             raise ValueError("quadrature 'collocated' (Papadopoulos & Solberg's element) needs degree 2 and method "
                              f"'lagrange' or 'penalty_multiplier', got degree {degree!r}, method {first.name!r}")
         from ..collocation import collocated_surfaces
 
-        contacts = collocated_surfaces(u, facet_tags, RINGS_INNER_SURFACE, RINGS_OUTER_SURFACE, first, load, RADIUS,
+        contacts = collocated_surfaces(u, facet_tags, "inner_surface", "outer_surface", first, load, RADIUS,
                                        "interface")
     elif multipliers:
         if quadrature not in (("nodal",) if degree == 1 else ("nodal", "simpson")):
             raise ValueError(f"method {first.name!r} on degree-{degree} facets: quadrature must be 'nodal'"
                              f"{'' if degree == 1 else ' or simpson'}, got {quadrature!r}")
-        contacts = two_body_multipliers(u, facet_tags, RINGS_INNER_SURFACE, RINGS_OUTER_SURFACE, first, load,
+        contacts = two_body_multipliers(u, facet_tags, "inner_surface", "outer_surface", first, load,
                                         RADIUS, "interface", passes=passes, work_quadrature=quadrature)
     else:
-        contacts = two_body_surfaces(u, facet_tags, RINGS_INNER_SURFACE, RINGS_OUTER_SURFACE, law_factory, load,
+        contacts = two_body_surfaces(u, facet_tags, "inner_surface", "outer_surface", law_factory, load,
                                      quadrature, passes, RADIUS, "interface")
     for cs in contacts:  # one name per field in the XDMF file
         cs.gap_out.name, cs.pressure_out.name = f"gap_{cs.name}", f"contact_pressure_{cs.name}"
     n_ref = ufl.FacetNormal(mesh)
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
-    problem = ContactProblem(u, material, load, rollers, contacts, tractions=[(-q * n_ref, ds(RINGS_LOADED))])
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)
+    problem = ContactProblem(u, material, load, rollers, contacts, tractions=[(-q * n_ref, ds(facet_tags["loaded"]))])
 
     p_lame = lame_pressure(q, E[0], nu[0], E[1], nu[1], plane)
     ua_lame, uc_lame = lame_displacements(q, E[0], nu[0], E[1], nu[1], plane)
@@ -255,8 +243,8 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     Xd = Vd.tabulate_dof_coordinates()[:, :2]
     n_own = Vd.dofmap.index_map.size_local
     rim = {}
-    for key, tag in (("a", RINGS_INNER_FREE), ("c", RINGS_LOADED)):
-        d = fem.locate_dofs_topological(Vd, fdim, facet_tags.indices[facet_tags.values == tag])
+    for key, region in (("a", "inner_free"), ("c", "loaded")):
+        d = fem.locate_dofs_topological(Vd, fdim, facet_tags.find(region))
         rim[key] = d[d < n_own]
 
     def radial(key: str) -> np.ndarray:

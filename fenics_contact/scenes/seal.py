@@ -65,7 +65,7 @@ from ..compat import function_space
 from ..contact import ContactSurface
 from ..laws import ContactLaw
 from ..materials import PLANES, NeoHookean
-from ..meshes import SEAL_BOUNDARY, SEAL_SYMMETRY, seal_s_geometry, seal_s_section, seal_section, seal_wave_section
+from ..meshes import seal_s_geometry, seal_s_section, seal_section, seal_wave_section
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, poisson, positive
@@ -108,7 +108,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
     u = fem.Function(V, name="displacement")
     load = fem.Constant(mesh, 0.0)
     if half:
-        sym = fem.locate_dofs_topological(V.sub(0), 1, facet_tags.indices[facet_tags.values == SEAL_SYMMETRY])
+        sym = fem.locate_dofs_topological(V.sub(0), 1, facet_tags.find("symmetry"))
         dirichlet = [Dirichlet(V.sub(0), sym)]
     else:  # the S: u(P0) = (0, -t/2) at the centre of symmetry
         p0 = np.array(seal_s_geometry(R_out, R_in, plate_distance)["P0"])
@@ -116,9 +116,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
         mesh.topology.create_connectivity(0, mesh.topology.dim)  # vertex dofs (dolfinx >= 0.6 needs it)
         cx, cy = (fem.locate_dofs_topological(V.sub(i), 0, centre) for i in (0, 1))
         dirichlet = [Dirichlet(V.sub(0), cx), Dirichlet(V.sub(1), cy, -0.5)]
-    lower = ContactSurface(u, facet_tags, SEAL_BOUNDARY, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+    lower = ContactSurface(u, facet_tags, "boundary", HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                            name="lower plate")
-    upper = ContactSurface(u, facet_tags, SEAL_BOUNDARY,
+    upper = ContactSurface(u, facet_tags, "boundary",
                            HalfPlane([0.0, plate_distance], [0.0, -1.0], motion=[0.0, -1.0]), _copy(law), load,
                            quadrature, name="upper plate")
     problem = ContactProblem(u, NeoHookean(E, nu, plane=plane), load, dirichlet, [lower, upper])

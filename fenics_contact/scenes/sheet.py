@@ -15,7 +15,7 @@ Choices (the paper's geometry figure is lost in the text):
   hollow cylinder, neo-Hookean with both Lame constants **100 x** the sheet's
   (``RATIO``: the spec's minimum, ``E = 1.33e5``), ``u = 0`` on ``r = R_in``;
   sheet and cylinder are two bodies of one mesh (two cell tags, facet tags
-  CONTACT on the sheet, CYLINDER_SURFACE on the cylinder) with non-matching
+  ``contact`` on the sheet, ``cylinder_surface`` on the cylinder) with non-matching
   interface nodes (``n_cyl = 3 n_arc / 4`` elements per quarter arc of the
   cylinder), in contact through :mod:`twobody` on quadratic (curved 3-node)
   facets. ``cylinder="rigid"``: an analytic disk of radius 3 (the ratio's
@@ -89,26 +89,27 @@ from ..contact import contact_measure
 from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..materials import NeoHookean
-from ..meshes import CONTACT, CYLINDER_DOMAIN, CYLINDER_FIXED, CYLINDER_SURFACE, END, SYMMETRY, sheet_over_cylinder
+from ..meshes import sheet_over_cylinder
 from ..multipliers import unknown
 from ..obstacles import Cylinder
 from ..problem import ContactProblem, Dirichlet
 from ..projection import SurfaceProjector
-from . import Setup
+from . import Setup, positive
 
 __all__ = [
-    "R", "THICKNESS", "LMBDA", "MU", "LEG", "R_IN", "RATIO", "RADIUS", "CYLINDERS", "arc_length", "total_variation",
-    "oscillation", "build", "Scaled"
+    "R", "THICKNESS", "LMBDA", "MU", "LEG", "PULL", "R_IN", "RATIO", "RADIUS", "CYLINDERS", "arc_length",
+    "total_variation", "oscillation", "build", "Scaled"
 ]
 
 R, THICKNESS, LMBDA, MU, LEG = 3.0, 1.0, 1e3, 5e2, 2.0
+PULL = 1.0  # the ends' downward displacement at t = 1
 R_IN = 1.0  # the fixed inner radius of the cylinder (no role with a rigid cylinder)
 RATIO = 100.0  # cylinder's Lame constants / sheet's (the spec: "much stiffer", at least 100)
 RADIUS = 0.5  # two-body search radius (a few element sizes; the interface slides little)
 CYLINDERS = ("deformable", "rigid")
 
 
-def arc_length(x: np.ndarray) -> np.ndarray:
+def arc_length(x: np.ndarray, R: float = R) -> np.ndarray:
     """Reference arc length along the inner surface from the top (0, R): ``R theta`` on the arc, then down the leg."""
     theta = np.arctan2(x[:, 0], x[:, 1])
     return np.where(x[:, 1] >= 0, R * np.clip(theta, 0, np.pi / 2), R * np.pi / 2 - x[:, 1])
@@ -128,57 +129,65 @@ def oscillation(p: np.ndarray) -> float:
 
 def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick: int = 2, n_leg: int = 8,
           steps: int = 4, cylinder: str = "deformable", ratio: float = RATIO, n_cyl: int | None = None,
-          n_rad: int = 3, passes: str | None = None, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+          n_rad: int = 3, passes: str | None = None, comm: MPI.Comm = MPI.COMM_WORLD, R: float = R,
+          thickness: float = THICKNESS, leg: float = LEG, R_in: float = R_IN, lmbda: float = LMBDA, mu: float = MU,
+          radius: float = RADIUS, pull: float = PULL) -> Setup:
     """Loads ``t = 1/steps, ..., 1`` (include 0.5 for the paper's first profile: even ``steps``).
     ``cylinder``: ``deformable`` (the paper's: neo-Hookean, Lame constants ``ratio`` x the sheet's, two-body
     contact through :mod:`twobody`, ``n_cyl`` elements along each quarter of its outer arc, default
     ``3 n_arc / 4``: non-matching with the sheet, ``n_rad`` through its wall) or ``rigid`` (an analytic disk:
-    the limit ``ratio -> infinity``, Signorini; the model-reduction comparison)."""
+    the limit ``ratio -> infinity``, Signorini; the model-reduction comparison). The cylinder of radius ``R``
+    (its fixed inner radius ``R_in``), the sheet ``thickness`` thick with legs ``leg`` long, the sheet's Lame
+    constants ``lmbda``, ``mu`` (the cylinder's ``ratio`` x these), the two-body search ``radius``, the ends pulled
+    down by ``t pull``; defaults: the module constants."""
     if cylinder not in CYLINDERS:
         raise ValueError(f"cylinder must be one of {CYLINDERS}, got {cylinder!r}")
     if not (np.isfinite(ratio) and ratio >= 1):
         raise ValueError(f"stiffness ratio must be a finite number >= 1, got {ratio!r}")
+    positive(R=R, thickness=thickness, leg=leg, R_in=R_in, lmbda=lmbda, mu=mu, radius=radius, pull=pull)
+    if not R_in < R:
+        raise ValueError(f"R_in must be < R = {R!r}, got {R_in!r}")
     deformable = cylinder == "deformable"
     two_point = isinstance(law, LagrangeMultiplier)
     if passes is None:
         passes = "one" if two_point else "two"
     if n_cyl is None:
         n_cyl = max(3 * int(n_arc) // 4, 1)
-    mesh, cell_tags, facet_tags = sheet_over_cylinder(comm, R, THICKNESS, LEG, n_arc, n_thick, n_leg, order=2,
-                                                      cylinder=(R_IN, n_cyl, n_rad) if deformable else None)
+    mesh, cell_tags, facet_tags = sheet_over_cylinder(comm, R, thickness, leg, n_arc, n_thick, n_leg, order=2,
+                                                      cylinder=(R_in, n_cyl, n_rad) if deformable else None)
     u, V = unknown(mesh, 2, law)
     load = fem.Constant(mesh, 0.0)
-    pull = Dirichlet.on_facets(V, facet_tags, END, 1, -1.0)  # the ends pulled down by t
-    dirichlet = [pull, Dirichlet.on_facets(V, facet_tags, SYMMETRY, 0)]
-    material = Scaled.from_lame(LMBDA, MU)
+    pull = Dirichlet.on_facets(V, facet_tags, "end", 1, -pull)  # the ends pulled down by t pull
+    dirichlet = [pull, Dirichlet.on_facets(V, facet_tags, "symmetry", 0)]
+    material = Scaled.from_lame(lmbda, mu)
     fixed_y = np.zeros(0, np.int32)
     if deformable:
-        dirichlet += [Dirichlet.on_facets(V, facet_tags, CYLINDER_FIXED, i) for i in (0, 1)]
+        dirichlet += [Dirichlet.on_facets(V, facet_tags, "cylinder_fixed", i) for i in (0, 1)]
         fixed_y = dirichlet[-1].dofs
         material.factor = fem.Function(function_space(mesh, "DG", 0), name="stiffness_factor")
-        cyl = cell_tags.indices[cell_tags.values == CYLINDER_DOMAIN]
+        cyl = cell_tags.find("cylinder")
         material.factor.x.array[:] = 1.0
         material.factor.x.array[_cell_dofs(material.factor.function_space, cyl)] = ratio
         if isinstance(law, LagrangeMultiplier):  # two-point: constraint at the end nodes, p linear on the facet
             if quadrature != "simpson":
                 raise ValueError(f"method {law.name!r} on the sheet is the two-point element (Simpson's rule for "
                                  f"the work): quadrature must be 'simpson', got {quadrature!r}")
-            contacts = two_body_multipliers(u, facet_tags, CONTACT, CYLINDER_SURFACE, law, load, RADIUS, "interface",
-                                            passes=passes, work_quadrature="simpson")
+            contacts = two_body_multipliers(u, facet_tags, "contact", "cylinder_surface", law, load, radius,
+                                            "interface", passes=passes, work_quadrature="simpson")
         else:  # three-point: the law at all three nodes (simpson)
-            contacts = two_body_surfaces(u, facet_tags, CONTACT, CYLINDER_SURFACE, lambda: law, load, quadrature,
-                                         passes, RADIUS, "interface")
+            contacts = two_body_surfaces(u, facet_tags, "contact", "cylinder_surface", lambda: law, load, quadrature,
+                                         passes, radius, "interface")
         for c in contacts:  # one name per field in the XDMF file
             c.gap_out.name, c.pressure_out.name = f"gap_{c.name}", f"contact_pressure_{c.name}"
     else:
-        contacts = [contact_surface(u, facet_tags, CONTACT, Cylinder([0.0, 0.0], R), law, load, quadrature)]
+        contacts = [contact_surface(u, facet_tags, "contact", Cylinder([0.0, 0.0], R), law, load, quadrature)]
     contact = contacts[0]
     problem = ContactProblem(u, material, load, dirichlet, contacts)
 
     if not deformable:
         # Pressure at every node of the quadratic contact facets (Simpson points): exact projection on P2.
         P2 = function_space(mesh, "Lagrange", 2)
-        nodes = SurfaceProjector(P2, contact_measure(mesh, facet_tags, CONTACT, "simpson"))
+        nodes = SurfaceProjector(P2, contact_measure(mesh, facet_tags, "contact", "simpson"))
         nodes_rhs = nodes.compile(contact.pressure)
         p_nodes = fem.Function(P2, name="contact_pressure")
         X2 = P2.tabulate_dof_coordinates()
@@ -189,13 +198,13 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         on every rank."""
         if deformable:
             X, x, _, p = contacts[surface].point_table()
-            s = arc_length(X) if surface == 0 else R * np.arctan2(X[:, 0], X[:, 1])
+            s = arc_length(X, R) if surface == 0 else R * np.arctan2(X[:, 0], X[:, 1])
         else:
             nodes.project(nodes_rhs, p_nodes)
             dofs = nodes.surface_dofs
             X = np.concatenate(comm.allgather(X2[dofs, :2]))
             p = np.concatenate(comm.allgather(p_nodes.x.array[dofs]))
-            s = arc_length(X)
+            s = arc_length(X, R)
         order = np.argsort(s)
         return {"s": s[order], "x": X[order, 0], "y": X[order, 1], "p": p[order]}
 
@@ -204,8 +213,8 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         sd = contacts[0].slave_data
         P2 = function_space(mesh, "Lagrange", 2)
         weights = fem.Function(P2)
-        fem.petsc.assemble_vector(petsc_vec(weights), fem.form(ufl.TestFunction(P2)
-                                                               * contact_measure(mesh, facet_tags, CONTACT, "simpson")))
+        simpson = contact_measure(mesh, facet_tags, "contact", "simpson")
+        fem.petsc.assemble_vector(petsc_vec(weights), fem.form(ufl.TestFunction(P2) * simpson))
         petsc_vec(weights).ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         weights.x.scatter_forward()
         w_nodes = np.array([P2.dofmap.cell_dofs(c)[lo] for c, lo in zip(sd.cells, sd.local)],
@@ -232,7 +241,7 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         Xr = np.round(data[0], 12)
         _, first = np.unique(Xr, axis=0, return_index=True)
         Xn, pn = data[0][first], data[1][first]
-        s = arc_length(Xn)
+        s = arc_length(Xn, R)
         order = np.argsort(s)
         return {"s": s[order], "x": Xn[order, 0], "y": Xn[order, 1], "p": pn[order]}
 
@@ -253,12 +262,12 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
                 "p_mean_arc": float(np.mean(prof["p"][on_arc])), "belt_T_over_R": T / R,
                 "total_variation": total_variation(prof["p"]), "oscillation": oscillation(prof["p"]), **extra}
 
-    params = {"lambda": LMBDA, "mu": MU, "thickness": THICKNESS, "R_out": R, "R_in": R_IN, "leg": LEG,
+    params = {"lambda": lmbda, "mu": mu, "thickness": thickness, "R_out": R, "R_in": R_in, "leg": leg, "pull": pull,
               "n_arc": n_arc, "n_thick": n_thick, "n_leg": n_leg, "quadrature": quadrature, "material": "neohookean",
               "elements": "9-node quadrilaterals, quadratic geometry", "cylinder": cylinder,
               "model": "right half (symmetry x = 0)"}
     if deformable:
-        params.update({"stiffness_ratio": ratio, "lambda_cylinder": ratio * LMBDA, "mu_cylinder": ratio * MU,
+        params.update({"stiffness_ratio": ratio, "lambda_cylinder": ratio * lmbda, "mu_cylinder": ratio * mu,
                        "n_cyl": n_cyl, "n_rad": n_rad, "passes": passes})
     setup = Setup("sheet", problem, contacts, [(i + 1) / steps for i in range(steps)], params, figures,
                   [contact.displacement_out])  # XDMF needs the mesh's degree (2): the pressure goes to CSV

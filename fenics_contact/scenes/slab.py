@@ -37,8 +37,7 @@ from ..factory import contact_surface
 from ..friction import FrictionalContact
 from ..laws import ContactLaw
 from ..materials import MODELS, PLANES
-from ..meshes import BOTTOM, LEFT, RIGHT, rectangle
-from ..meshes import RECT_TOP as TOP
+from ..meshes import rectangle
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
@@ -134,13 +133,13 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     mesh, _, facet_tags = rectangle(comm, width, height, nx, ny, quadrilateral=True)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
-    symmetry_x = Dirichlet.on_facets(V, facet_tags, LEFT, 0)
+    symmetry_x = Dirichlet.on_facets(V, facet_tags, "left", 0)
     dirichlet = [symmetry_x]
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
-    tractions = [(fem.Constant(mesh, np.array([0.0, -top_pressure])), ds(TOP)),
-                 (fem.Constant(mesh, np.array([-side_pressure, 0.0])), ds(RIGHT))]
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)
+    tractions = [(fem.Constant(mesh, np.array([0.0, -top_pressure])), ds(facet_tags["top"])),
+                 (fem.Constant(mesh, np.array([-side_pressure, 0.0])), ds(facet_tags["right"]))]
     material = MODELS[model](E, nu, plane=plane)
-    contact = contact_surface(u, facet_tags, BOTTOM, HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
+    contact = contact_surface(u, facet_tags, "bottom", HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                               material=material)
     problem = ContactProblem(u, material, load, dirichlet, [contact], tractions, step_solver=step_solver_for([contact]))
     top_load, side_load = top_pressure * width, side_pressure * height  # per unit thickness

@@ -31,7 +31,7 @@ from mpi4py import MPI
 from ..factory import contact_surface
 from ..laws import ContactLaw
 from ..materials import MODELS
-from ..meshes import CONTACT, SYMMETRY, SYMMETRY_Y, TOP, sphere_octant
+from ..meshes import sphere_octant
 from ..multipliers import unknown
 from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
@@ -93,25 +93,22 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     t = fem.Constant(mesh, 0.0)  # the load parameter
     fdim = mesh.topology.dim - 1
 
-    def facets(tag):
-        return facet_tags.indices[facet_tags.values == tag]
-
-    top_z = fem.locate_dofs_topological(V.sub(2), fdim, facets(TOP))
-    dirichlet = [Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, facets(SYMMETRY))),
-                 Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, facets(SYMMETRY_Y)))]
+    top_z = fem.locate_dofs_topological(V.sub(2), fdim, facet_tags.find("top"))
+    dirichlet = [Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.find("symmetry"))),
+                 Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.find("symmetry_y")))]
     if load is None:
         dirichlet.insert(0, Dirichlet(V.sub(2), top_z, -approach))
     material = MODELS[model](E, nu)
-    contact = contact_surface(u, facet_tags, CONTACT, HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, t,
+    contact = contact_surface(u, facet_tags, "contact", HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, t,
                               quadrature, material=material)
     if load is None:
         problem = ContactProblem(u, material, t, dirichlet, [contact])
     else:  # a quarter of P on the octant's equator; the vanishing spring on the body
-        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags)
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)(facet_tags["top"])
         # per the meshed equator's area (a polygon: ~1e-3 below pi R^2 / 4), so that the octant carries P / 4
-        area = comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ds(TOP))), op=MPI.SUM)
+        area = comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ds)), op=MPI.SUM)
         traction = fem.Constant(mesh, np.array([0.0, 0.0, -load / (4 * area)]))
-        problem = Stabilised(u, material, t, dirichlet, [contact], [(traction, ds(TOP))], stabilisation * E / R**2,
+        problem = Stabilised(u, material, t, dirichlet, [contact], [(traction, ds)], stabilisation * E / R**2,
                              ufl.dx(domain=mesh))
 
     def figures() -> dict:
