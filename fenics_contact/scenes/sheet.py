@@ -157,8 +157,8 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
                                                       cylinder=(R_in, n_cyl, n_rad) if deformable else None)
     u, V = unknown(mesh, 2, law)
     load = fem.Constant(mesh, 0.0)
-    pull = Dirichlet.on_facets(V, facet_tags, "end", 1, -pull)  # the ends pulled down by t pull
-    dirichlet = [pull, Dirichlet.on_facets(V, facet_tags, "symmetry", 0)]
+    end = Dirichlet.on_facets(V, facet_tags, "end", 1, -pull)  # the ends pulled down by t pull
+    dirichlet = [end, Dirichlet.on_facets(V, facet_tags, "symmetry", 0)]
     material = Scaled.from_lame(lmbda, mu)
     fixed_y = np.zeros(0, np.int32)
     if deformable:
@@ -248,7 +248,7 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
     def figures() -> dict:
         prof = traction()
         on_arc = prof["y"] > 0
-        T = -problem.reaction(pull.dofs)  # vertical force pulling the end down (per unit thickness)
+        T = -problem.reaction(end.dofs)  # vertical force pulling the end down (per unit thickness)
         if deformable:  # the force the fixed inner surface takes
             support = problem.reaction(fixed_y)
             # the constrained points: the end nodes (two-point) or all three nodes (three-point) of each facet
