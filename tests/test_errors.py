@@ -41,7 +41,7 @@ def test_unknown_quadrature(comm):
     u, tags = _u(comm)
     load = fem.Constant(u.function_space.mesh, 0.0)
     with pytest.raises(ValueError, match="contact quadrature"):
-        ContactSurface(u, tags, 11, HalfPlane([0, 0], [0, 1]), Penalty(1e5), load, quadrature="lobatto")
+        ContactSurface(u, tags, "bottom", HalfPlane([0, 0], [0, 1]), Penalty(1e5), load, quadrature="lobatto")
 
 
 @pytest.mark.parametrize("E,nu,name", [(-1.0, 0.3, "Young's modulus"), (1.0, 0.5, "Poisson's ratio")])

@@ -172,7 +172,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     t = fem.Constant(mesh, 0.0)  # the load parameter
     fdim = mesh.topology.dim - 1
-    top_y = fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.find("top"))
+    # the full disk has no top side (its u_y is held at the centre, below)
+    top = facet_tags.find("top") if symmetry != "full" else np.empty(0, np.int32)
+    top_y = fem.locate_dofs_topological(V.sub(1), fdim, top)
     copies = 1
     if symmetry == "quarter":
         fix_x = fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.find("symmetry"))
