@@ -257,9 +257,14 @@ class FrictionHistory:
         new = [self.projector.project(rhs, fem.Function(self.S)) for rhs in self._history_rhs]
         for f, n in zip(self.history, new):
             f.x.array[:] = n.x.array
+        self._commit_more()
         self.log.append({"load": float(self._load.value), "normal_force": self.total_force().tolist(),
                          "tangential_force": self.tangential_force().tolist(), "capacity": self.capacity(),
                          "dissipated": self.dissipated, **self.state_areas()})
+
+    def _commit_more(self) -> None:
+        """Advance history kept outside ``history`` (before the committed step's figures are logged)."""
+        return None  # rigid obstacles: nothing more
 
     def state(self) -> dict:
         return {**super().state(), "history": [f.x.array.copy() for f in self.history],

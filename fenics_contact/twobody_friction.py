@@ -130,9 +130,8 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
         idx = self._wdofs[..., None] * bs + np.arange(bs)
         self.w_old.x.array[idx] = np.einsum("aq,fqb->fab", self.Binv, Uq)
 
-    def commit(self) -> None:
-        """Accept the current (converged) state: friction history (:class:`FrictionHistory`), then ``u_old``."""
-        super().commit()
+    def _commit_more(self) -> None:
+        """``u_old <- u`` (and the mirror ``w_old``): after a commit the slip increment is 0."""
         self.u_old.x.array[:] = self.u.x.array
         if getattr(self, "projection", None) is not None:
             self._fill_w_old()
