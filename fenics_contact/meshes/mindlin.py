@@ -9,7 +9,7 @@ from scipy.optimize import brentq
 
 from ..domain import NamedTags
 
-__all__ = ["CELLS", "FACETS", "graded_axis", "disk_on_block"]
+__all__ = ["CELLS", "FACETS", "graded_axis", "disk_on_block", "WEDGE_CELLS", "WEDGE_FACETS", "block_on_incline"]
 
 CELLS = {"lower": 1, "upper": 2}
 FACETS = {"lower_bottom": 1, "lower_top": 2, "upper_bottom": 3, "upper_top": 4}
@@ -96,3 +96,57 @@ def disk_on_block(comm: MPI.Comm, R: float, L: float, H: float, D: float, h: flo
     facet_tags = dmesh.meshtags(msh, fdim, facets[keep].astype(np.int32), values[keep])
     facet_tags.name = "facet_tags"
     return msh, NamedTags(cell_tags, CELLS), NamedTags(facet_tags, FACETS)
+
+
+WEDGE_CELLS = {"wedge": 1, "block": 2}
+WEDGE_FACETS = {"wedge_bottom": 1, "wedge_top": 2, "block_bottom": 3, "block_top": 4, "block_left": 5}
+
+
+def block_on_incline(comm: MPI.Comm, alpha: float, L: float, D: float, b: float, h: float, n_wedge: tuple[int, int],
+                     n_block: tuple[int, int], overlap: float = 0.0) -> tuple[dmesh.Mesh, NamedTags, NamedTags]:
+    """The rectangle ``[-L, L] x [-D, 0]`` (the wedge's incline is its top) and the block ``[-b, b] x [-overlap,
+    h - overlap]`` on it, both turned by ``alpha`` (radians) about the origin: the incline rises toward +x at the
+    angle ``alpha``. Structured triangles ``n_wedge``, ``n_block`` = (nx, ny); no shared node. Cells ``wedge``,
+    ``block``; facets ``wedge_bottom``, ``wedge_top``, ``block_bottom``, ``block_top``, ``block_left`` (named, in
+    the turned frame). Collective."""
+    from ..compat import create_mesh
+
+    if not (0 <= alpha < np.pi / 2 and 0 < b < L and D > 0 and h > 0):
+        raise ValueError(f"block_on_incline needs 0 <= alpha < pi/2, 0 < b < L, D > 0, h > 0, got alpha={alpha}, "
+                         f"L={L}, b={b}, D={D}, h={h}")
+    xs, cs, offset = [], [], 0
+    for (x0, x1, y0, y1), (nx, ny) in (((-L, L, -D, 0.0), n_wedge), ((-b, b, -overlap, h - overlap), n_block)):
+        X, Y = np.meshgrid(np.linspace(x0, x1, nx + 1), np.linspace(y0, y1, ny + 1), indexing="ij")
+        xs.append(np.stack([X.ravel(), Y.ravel()], axis=1))
+        idx = np.arange(X.size).reshape(X.shape) + offset
+        p, q, r, s = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+        cs.append(np.concatenate([np.stack([p, q, r], 1), np.stack([p, r, s], 1)]))
+        offset += X.size
+    rot = np.array([[np.cos(alpha), -np.sin(alpha)], [np.sin(alpha), np.cos(alpha)]])
+    x, cells = np.concatenate(xs) @ rot.T, np.concatenate(cs)
+    if comm.rank != 0:
+        x, cells = np.zeros((0, 2)), np.zeros((0, 3), np.int64)
+    msh = create_mesh(comm, cells, x, "triangle")
+    msh.name = "block_on_incline"
+    msh.topology.create_connectivity(2, 0)
+    ncell = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
+    local = dmesh.compute_midpoints(msh, 2, np.arange(ncell, dtype=np.int32))[:, :2] @ rot  # the unturned frame
+    block = local[:, 1] > 0.0
+    cell_tags = dmesh.meshtags(msh, 2, np.arange(ncell, dtype=np.int32),
+                               np.where(block, WEDGE_CELLS["block"], WEDGE_CELLS["wedge"]).astype(np.int32))
+    msh.topology.create_connectivity(1, 2)
+    facets = dmesh.exterior_facet_indices(msh.topology)
+    f2c = msh.topology.connectivity(1, 2)
+    fl = dmesh.compute_midpoints(msh, 1, facets)[:, :2] @ rot
+    fb = np.array([block[f2c.links(f)[0]] for f in facets], dtype=bool)
+    tol = 1e-9 * L
+    values = np.zeros(len(facets), np.int32)
+    values[(np.abs(fl[:, 1] + D) < tol) & ~fb] = WEDGE_FACETS["wedge_bottom"]
+    values[(np.abs(fl[:, 1]) < tol) & ~fb] = WEDGE_FACETS["wedge_top"]
+    values[(np.abs(fl[:, 1] + overlap) < tol) & fb] = WEDGE_FACETS["block_bottom"]
+    values[(np.abs(fl[:, 1] - h + overlap) < tol) & fb] = WEDGE_FACETS["block_top"]
+    values[(np.abs(fl[:, 0] + b) < tol) & fb] = WEDGE_FACETS["block_left"]
+    keep = values > 0
+    facet_tags = dmesh.meshtags(msh, 1, facets[keep].astype(np.int32), values[keep])
+    facet_tags.name = "facet_tags"
+    return msh, NamedTags(cell_tags, WEDGE_CELLS), NamedTags(facet_tags, WEDGE_FACETS)
