@@ -237,3 +237,20 @@ def test_dissipation_over_a_closed_cycle():
     assert slid and D > 0 and np.all(steps >= -1e-15 * D)
     assert np.allclose(c.tangential_force(), 0, atol=1e-12) and np.allclose(c.total_force(), 0, atol=1e-12)
     assert work > 0 and abs(work - D) < 0.03 * D, (work, D)
+
+
+def test_tresca_from_the_command_line():
+    """``--tresca s`` gives the Tresca law; a negative bound, or two bounds at once, are one-line errors."""
+    from fenics_contact import cli
+
+    def law(argv):
+        return cli.law_from_args(cli.parse(cli.parser("x", 1e5), argv))
+
+    f = law(["--method", "penalty", "--tresca", "1.5"])
+    assert isinstance(f, fc.Friction) and f.scalars["tresca"] == 1.5 and "mu" not in f.scalars
+    with pytest.raises(ValueError, match="--tresca: must be"):
+        law(["--method", "penalty", "--tresca", "-1"])
+    with pytest.raises(ValueError, match="give one of --mu"):
+        law(["--method", "penalty", "--tresca", "1", "--mu", "0.3"])
+    with pytest.raises(ValueError, match="--tresca: method 'coulomb'"):
+        law(["--method", "coulomb", "--tresca", "1"])
