@@ -57,6 +57,7 @@ from .scenes import Setup, build, scene_names
 from .solver import LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
 from .surface import StepSolver, Surface
 from .twobody import TwoBodySurface
+from .twobody_friction import FrictionalTwoBodySurface
 
 __all__ = [
     # materials
@@ -70,7 +71,7 @@ __all__ = [
     "Surface", "StepSolver", "contact_surface", "two_body_surfaces", "two_body_multipliers", "unknown",
     "step_solver_for", "contact_measure", "ContactSurface", "FrictionalContact", "BoundContact", "NitscheContact",
     "MultiplierContact", "CondensedContact", "CondensedCoulomb", "TwoBodySurface", "SegmentSurface",
-    "TwoBodyMultiplier",
+    "TwoBodyMultiplier", "FrictionalTwoBodySurface",
     # your own mesh: gmsh physical names
     "read_gmsh", "NamedTags",
     # problem, boundary conditions, solver

@@ -69,9 +69,11 @@ RULES: tuple[Rule, ...] = (
     _r("method penalty, cross, auglag, compliance, lagrange or penalty_multiplier",
        "vi bounds one displacement component against a flat obstacle; coulomb condenses onto a rigid "
        "plane; nitsche needs the obstacle's stress-free side", kind="two-body", method=("vi", "coulomb", "nitsche")),
-    _r("mu 0 (two-body contact is frictionless) or a rigid obstacle",
-       "the two-body surfaces have no tangential law (a friction law would act as its normal law alone)",
-       kind="two-body", friction=True),
+    _r("quadrature 'nodal' or 'gauss' (pointwise two-body friction) or mu 0",
+       "the segment-to-segment element has no tangential law", kind="two-body", friction=True,
+       quadrature="segment"),
+    _r("degree 1 (flat facets) or mu 0", "two-body friction projects the slip on flat master facets",
+       kind="two-body", friction=True, degree=2),
     # --- friction
     _r("a method with friction (penalty, cross, auglag, compliance, coulomb) or mu 0",
        "these methods have no tangential law", friction=True, method=("vi", "nitsche") + MULTIPLIERS),

@@ -128,6 +128,8 @@ def parser(description: str, default_K: float, quadratures: Sequence[str] = QUAD
     p.add_argument("--c-t", type=POSITIVE, default=None,
                    help="friction bound c_t <g>^m_t instead of mu F(g) (normal compliance friction)")
     p.add_argument("--m-t", type=EXPONENT, default=None, help="exponent m_t >= 1 of the bound (default: m_n)")
+    p.add_argument("--tresca", type=NONNEGATIVE, default=None,
+                   help="Tresca friction: the fixed bound (traction) on the closed points instead of mu F(g)")
     p.add_argument("--omega-t", type=POSITIVE, default=None, help="tangential penalty of stick (default: --K)")
     p.add_argument("--quadrature", choices=list(quadratures), default="nodal", help="contact quadrature")
     p.add_argument("--gamma0", type=POSITIVE, default=10.0, help="nitsche: gamma = gamma0 E / h (dimensionless)")
@@ -245,8 +247,9 @@ def say(*parts: object) -> None:
 
 
 def has_friction(args: argparse.Namespace) -> bool:
-    """Friction is on when ``--mu`` is not 0 or ``--c-t`` is given (a negative mu is an error, not off)."""
-    return args.mu != 0.0 or args.c_t is not None
+    """Friction is on when ``--mu`` is not 0 or ``--c-t`` or ``--tresca`` is given (a negative mu is an error, not
+    off)."""
+    return args.mu != 0.0 or args.c_t is not None or getattr(args, "tresca", None) is not None
 
 
 def _is_number(s: str) -> bool:
@@ -272,6 +275,8 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
     elif args.method == "compliance":
         law = make_law("compliance", c_n=args.c_n, m_n=args.m_n)
     elif args.method == "coulomb":
+        if getattr(args, "tresca", None) is not None:
+            raise ValueError("--tresca: method 'coulomb' has Coulomb friction only (use --mu, or another method)")
         return make_law("coulomb", mu=args.mu)  # exact Coulomb: mu is the law's own parameter
     elif args.method == "lagrange":
         law = make_law("lagrange", c=args.K)
@@ -283,9 +288,13 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
         return law
     if args.method in ("vi", "lagrange", "penalty_multiplier", "nitsche"):
         raise ValueError(f"method {args.method!r} has no friction: use --mu 0 (or another method)")
-    if args.c_t is not None and args.mu != 0.0:
-        raise ValueError(f"give either --mu ({args.mu}) or --c-t ({args.c_t}), not both")
+    tresca = getattr(args, "tresca", None)
+    if sum((args.mu != 0.0, args.c_t is not None, tresca is not None)) > 1:
+        raise ValueError(f"give one of --mu ({args.mu}), --c-t ({args.c_t}) and --tresca ({tresca}), not several")
     from .friction import Friction
+
+    if tresca is not None:
+        return Friction(law, tresca=tresca, omega_t=args.omega_t)
 
     if args.c_t is not None:
         return Friction(law, c_t=args.c_t, m_t=args.m_t, omega_t=args.omega_t)
@@ -297,7 +306,8 @@ def method_parameters(args: argparse.Namespace) -> dict:
             "compliance": ["c_n", "m_n"], "coulomb": ["mu"], "lagrange": ["K"],
             "penalty_multiplier": ["K"], "nitsche": ["gamma0"]}[args.method]
     if has_friction(args) and args.method != "coulomb":
-        keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["mu"]) + ["omega_t"]
+        keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["tresca"] if getattr(args, "tresca", None)
+                       is not None else ["mu"]) + ["omega_t"]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
             "quadrature": args.quadrature, "solver": getattr(args, "solver", "direct")}
 

@@ -24,6 +24,7 @@ from .multipliers import MultiplierContact, TwoBodyMultiplier
 from .nitsche import NitscheContact
 from .obstacles import Obstacle
 from .twobody import PASSES, QUADRATURES, TwoBodySurface
+from .twobody_friction import FrictionalTwoBodySurface
 
 __all__ = ["contact_surface", "two_body_surfaces", "two_body_multipliers"]
 
@@ -63,7 +64,8 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
     2D and 3D, :mod:`~fenics_contact.mortar`). Two-pass: every slave point of both passes, each at weight 1/2
     (quadratic facets: a second-pass point that coincides with a first-pass one in the reference configuration
-    is left out). ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`).
+    is left out). ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`, or
+    :class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface` for a law with friction).
     A combination the capability matrix refuses raises
     :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly."""
     if passes not in PASSES:
@@ -71,7 +73,8 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     if quadrature not in QUADRATURES + ("simpson",):
         raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
     # The capability matrix (multipliers: the rule of the work term is the option; the constraint is nodal).
-    check(**of(law_factory(), u), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes)
+    probe = law_factory()
+    check(**of(probe, u), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes)
     if quadrature == "segment":
         if cls is not None or work_quadrature is not None:
             raise ValueError("quadrature 'segment' takes neither cls nor work_quadrature")
@@ -79,7 +82,7 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
             return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 1.0, radius, name)]
         return [SegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 0.5, radius, f"{name}_a"),
                 SegmentSurface(u, facet_tags, tag_b, tag_a, law_factory(), load, 0.5, radius, f"{name}_b")]
-    cls = cls or TwoBodySurface
+    cls = cls or (FrictionalTwoBodySurface if isinstance(probe, Friction) else TwoBodySurface)
     kw = {"work_quadrature": work_quadrature}
     if passes == "one":
         return [cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name, **kw)]

@@ -6,7 +6,8 @@ Perturbed Lagrangian with tangential penalty ``omega_t``, per contact quadrature
     slip increment     ds   = P_T (r - r_old),   r = x - o(t): position relative to the obstacle
     trial (stick)      q_tr = P_T q_old - omega_t ds
     friction bound     b(g) = mu <F(g)>          (Coulomb on any normal law), or
-                       b(g) = c_t <g>^m_t        (normal compliance friction; m_t = m_n, c_t = mu c_n is Coulomb)
+                       b(g) = c_t <g>^m_t        (normal compliance friction; m_t = m_n, c_t = mu c_n is Coulomb), or
+                       b(g) = s  where F(g) > 0  (Tresca: a fixed bound on the closed points, 0 on the open ones)
     return mapping     q    = q_tr               if |q_tr| < b    (stick)
                        q    = b q_tr / |q_tr|    otherwise         (slip, opposite to the slip increment)
 
@@ -35,7 +36,7 @@ from .compat import function_space, interpolate_expression
 from .contact import ContactSurface
 from .laws import NUMPY, ContactLaw, Coulomb, Exact, NormalCompliance, _check_exponent, ufl_ops
 
-__all__ = ["OPEN", "SLIP", "STICK", "friction_ops", "Friction", "FrictionalContact"]
+__all__ = ["OPEN", "SLIP", "STICK", "friction_ops", "Friction", "FrictionHistory", "FrictionalContact"]
 
 OPEN, SLIP, STICK = 0, 1, 2
 _TINY = 1e-300  # |q| = sqrt(q.q + tiny): finite derivative at q = 0 (the stick branch never uses it)
@@ -61,8 +62,9 @@ def friction_ops(ops: Any) -> Any:
 class Friction(ContactLaw):
     """A normal law (any :class:`ContactLaw` but ``vi``) with friction.
 
-    Give either ``mu >= 0`` (Coulomb bound ``mu <F(g)>``) or ``c_t > 0`` with ``m_t >= 1``
-    (normal compliance bound ``c_t <g>^m_t``; ``m_t`` defaults to the normal law's ``m_n``).
+    Give exactly one of ``mu >= 0`` (Coulomb bound ``mu <F(g)>``), ``c_t > 0`` with ``m_t >= 1``
+    (normal compliance bound ``c_t <g>^m_t``; ``m_t`` defaults to the normal law's ``m_n``) and
+    ``tresca >= 0`` (Tresca: the fixed bound ``tresca`` where the normal force is positive).
     ``omega_t > 0``: tangential penalty (traction per unit slip) of the stick state.
     Pressures in the units of the normal law; the normal part (force, augmentation) is the normal law's.
     """
@@ -70,11 +72,12 @@ class Friction(ContactLaw):
     name = "friction"
 
     def __init__(self, normal: ContactLaw, mu: float | None = None, omega_t: float = 1.0,
-                 c_t: float | None = None, m_t: float | None = None):
+                 c_t: float | None = None, m_t: float | None = None, tresca: float | None = None):
         if isinstance(normal, (Exact, Coulomb, Friction)) or not isinstance(normal, ContactLaw):
             raise ValueError(f"friction needs a normal law (penalty, cross, auglag, compliance), got {normal!r}")
-        if (mu is None) == (c_t is None):
-            raise ValueError("friction: give exactly one of mu (Coulomb) and c_t (normal compliance bound)")
+        if sum(x is not None for x in (mu, c_t, tresca)) != 1:
+            raise ValueError("friction: give exactly one of mu (Coulomb), c_t (normal compliance bound) and tresca "
+                             "(Tresca bound)")
         self.normal = normal
         omega_t = float(omega_t)
         if not (math.isfinite(omega_t) and omega_t > 0):
@@ -85,6 +88,12 @@ class Friction(ContactLaw):
             if not (math.isfinite(mu) and mu >= 0):
                 raise ValueError(f"friction coefficient mu must be a finite number >= 0, got {mu!r}")
             tangential["mu"] = mu
+            self.m_t = None
+        elif tresca is not None:
+            tresca = float(tresca)
+            if not (math.isfinite(tresca) and tresca >= 0):
+                raise ValueError(f"Tresca friction bound tresca must be a finite number >= 0, got {tresca!r}")
+            tangential["tresca"] = tresca
             self.m_t = None
         else:
             c_t = float(c_t)
@@ -120,9 +129,11 @@ class Friction(ContactLaw):
 
     # --- tangential part -------------------------------------------------------
     def bound(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
-        """Friction bound ``b(g) >= 0``: ``mu <F(g)>`` or ``c_t <g>^m_t`` (0 when open)."""
+        """Friction bound ``b(g) >= 0``: ``mu <F(g)>``, ``c_t <g>^m_t`` or Tresca's ``s`` (0 when open)."""
         if "mu" in c:
             return c["mu"] * ops.max(self.normal.force(g, c, ops), 0.0)
+        if "tresca" in c:
+            return friction_ops(ops).select(0.0, self.normal.force(g, c, ops), c["tresca"], 0.0)
         gp = ops.max(g, 0.0)
         return c["c_t"] * (gp if self.m_t == 1.0 else gp**self.m_t)
 
@@ -163,30 +174,31 @@ class Friction(ContactLaw):
         return f.select(0.0, self.normal.force(g, c, ops), stick_or_slip, float(OPEN))
 
 
-class FrictionalContact(ContactSurface):
-    """A :class:`ContactSurface` with friction: ``law`` is a :class:`Friction`.
+class FrictionHistory:
+    """The friction state of a contact surface, written once for rigid and two-body contact (a mixin before
+    the surface class: ``class X(FrictionHistory, SomeContactSurface)``).
 
-    History (traction ``q_old`` and relative position ``r_old`` at the last converged step, one
-    scalar Function per global component) lives in the law's state space ``S`` (exact values at the
-    contact quadrature points). ``dissipated`` is the friction work dissipated up to the last
-    committed step (energy per unit thickness in 2D); ``log`` has the forces, capacity, dissipation
-    and state areas of every committed step.
+    :meth:`_init_friction` takes the slip increment ``ds`` since the last accepted step and the tracked position
+    ``r`` (UFL); ``r_old`` (one Function of the law's state space ``S`` per global component) is ``r`` at the last
+    accepted step, ``q_old`` the traction there. ``factor`` multiplies the return-mapped traction (two-body: 1 on
+    paired points, 0 on the others). ``dissipated`` is the friction work dissipated up to the last committed step
+    (energy per unit thickness in 2D); ``log`` has the forces, capacity, dissipation and state areas of every
+    committed step.
     """
 
-    def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle, law: Friction,
-                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
+    def _init_friction(self, law: Friction, load: fem.Constant, r, ds_of_r_old, factor=None) -> None:
         if not isinstance(law, Friction):
-            raise ValueError("FrictionalContact needs a Friction law")
-        super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized)
-        mesh = u.function_space.mesh
+            raise ValueError(f"{type(self).__name__} needs a Friction law")
+        mesh = self.u.function_space.mesh
         self.gdim = gdim = mesh.geometry.dim
         self.q_old = [fem.Function(self.S, name=f"q_old_{i}") for i in range(gdim)]
         self.r_old = [fem.Function(self.S, name=f"r_old_{i}") for i in range(gdim)]
-        r = ufl.SpatialCoordinate(mesh) + u - obstacle.origin()
-        args = (self.gap, ufl.as_vector(self.q_old), r - ufl.as_vector(self.r_old), self.normal, self.params, ufl_ops())
-        self.traction = law.traction(*args)
+        args = (self.gap, ufl.as_vector(self.q_old), ds_of_r_old(ufl.as_vector(self.r_old)), self.normal, self.params,
+                ufl_ops())
+        self.traction = law.traction(*args) if factor is None else factor * law.traction(*args)
         self.slip_state_expr = law.slip_state(*args)  # UFL: 0 open, 1 slip, 2 stick at the current u
-        self._dissipation_form = fem.form(law.dissipation(*args) * self.ds)
+        dissipation = law.dissipation(*args) if factor is None else factor * law.dissipation(*args)
+        self._dissipation_form = fem.form(dissipation * self.ds)
         self._tangential_forms = [fem.form(self.traction[i] * self.ds) for i in range(gdim)]
         self._capacity_form = fem.form(law.bound(self.gap, self.params, ufl_ops()) * self.ds)
         # The state of the last accepted step, kept at commit: after a commit the next trial starts at
@@ -209,10 +221,6 @@ class FrictionalContact(ContactSurface):
         self.traction_out = fem.Function(function_space(mesh, "Lagrange", 1, (gdim,)), name="tangential_traction")
         self._out_rhs += [(self._out.compile(self.slip_state), self.state_out)]
         self._out_rhs += [(self._out.compile(self.traction[i]), f) for i, f in enumerate(self._traction_out)]
-
-    def residual(self, v: ufl.Argument) -> ufl.Form:
-        """``F(g) dg[v] ds - q . v ds``."""
-        return super().residual(v) - ufl.dot(self.traction, v) * self.ds
 
     # --- augmentation (Uzawa on the tangential multiplier, with the normal law's own) ----------
     def augment(self) -> None:
@@ -249,9 +257,14 @@ class FrictionalContact(ContactSurface):
         new = [self.projector.project(rhs, fem.Function(self.S)) for rhs in self._history_rhs]
         for f, n in zip(self.history, new):
             f.x.array[:] = n.x.array
+        self._commit_more()
         self.log.append({"load": float(self._load.value), "normal_force": self.total_force().tolist(),
                          "tangential_force": self.tangential_force().tolist(), "capacity": self.capacity(),
                          "dissipated": self.dissipated, **self.state_areas()})
+
+    def _commit_more(self) -> None:
+        """Advance history kept outside ``history`` (before the committed step's figures are logged)."""
+        return None  # rigid obstacles: nothing more
 
     def state(self) -> dict:
         return {**super().state(), "history": [f.x.array.copy() for f in self.history],
@@ -263,9 +276,8 @@ class FrictionalContact(ContactSurface):
             f.x.array[:] = a
         self.dissipated = state["dissipated"]
 
-    # --- figures ---------------------------------------------------------------
     def tangential_force(self) -> np.ndarray:
-        """Tangential force of the obstacle on the body, ``int q ds`` (global components)."""
+        """Tangential force of the other side on the body, ``int q ds`` (global components)."""
         return np.array([self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in self._tangential_forms])
 
     def update_output(self) -> None:
@@ -276,7 +288,7 @@ class FrictionalContact(ContactSurface):
         """Vertex values on the contact surface, gathered on every rank and sorted by position.
 
         ``x`` (n, gdim), ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction``
-        (tangential traction of the obstacle on the body: 2D scalar along the tangent ``(n_y, -n_x)``,
+        (tangential traction of the other side on the body: 2D scalar along the tangent ``(n_y, -n_x)``,
         which is +x for the plane y = 0; 3D vector (n, 3)) and ``state`` (0 open, 1 slip, 2 stick) of the
         last committed step (``gauss`` quadrature: the state field's vertex value, rounded).
         """
@@ -285,22 +297,14 @@ class FrictionalContact(ContactSurface):
         dofs = self._out.surface_dofs
         x = V.tabulate_dof_coordinates()[dofs][:, :self.gdim]
         q = np.stack([f.x.array[dofs] for f in self._traction_out], axis=1)
+        if self.gdim == 2:
+            n = self._normal_at(x)  # at this rank's vertices (two-body: the master normal's vertex values)
+            q = q[:, 0] * n[:, 1] - q[:, 1] * n[:, 0]
         local = (x, self.gap_out.x.array[dofs], self.pressure_out.x.array[dofs], q, self.state_out.x.array[dofs])
         x, g, p, q, s = (np.concatenate(a) for a in zip(*self.comm.allgather(local)))
         order = np.lexsort(x.T[::-1])
-        if self.gdim == 2:
-            n = self._normal_at(x)
-            q = q[:, 0] * n[:, 1] - q[:, 1] * n[:, 0]
         return {"x": x[order], "gap": g[order], "pressure": p[order], "traction": q[order],
                 "state": np.clip(np.rint(s[order]), OPEN, STICK).astype(int)}
-
-    def _normal_at(self, x: np.ndarray) -> np.ndarray:
-        """Obstacle normal at the vertices (half-planes: constant; else the reference direction)."""
-        n = getattr(self.obstacle, "n", None)
-        if n is not None:
-            return np.tile(n, (len(x), 1))
-        d = x - self.obstacle.point
-        return self.obstacle.sign * d / np.linalg.norm(d, axis=1, keepdims=True)
 
     def capacity(self) -> float:
         """``int b(g) ds``: the largest tangential force the surface can carry at the current gap."""
@@ -309,3 +313,32 @@ class FrictionalContact(ContactSurface):
     def state_areas(self) -> dict[str, float]:
         """Area (length in 2D) of the contact surface in each state, by the contact quadrature rule."""
         return {k: self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for k, f in self._state_area_forms.items()}
+
+
+class FrictionalContact(FrictionHistory, ContactSurface):
+    """A :class:`ContactSurface` with friction against a rigid obstacle: ``law`` is a :class:`Friction`.
+
+    History (traction ``q_old`` and relative position ``r_old = x - o(t)`` at the last converged step, one
+    scalar Function per global component) lives in the law's state space ``S`` (exact values at the
+    contact quadrature points); see :class:`FrictionHistory`.
+    """
+
+    def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle, law: Friction,
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
+        if not isinstance(law, Friction):
+            raise ValueError("FrictionalContact needs a Friction law")
+        super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized)
+        r = ufl.SpatialCoordinate(u.function_space.mesh) + u - obstacle.origin()
+        self._init_friction(law, load, r, lambda r_old: r - r_old)
+
+    def residual(self, v: ufl.Argument) -> ufl.Form:
+        """``F(g) dg[v] ds - q . v ds``."""
+        return super().residual(v) - ufl.dot(self.traction, v) * self.ds
+
+    def _normal_at(self, x: np.ndarray) -> np.ndarray:
+        """Obstacle normal at the vertices (half-planes: constant; else the reference direction)."""
+        n = getattr(self.obstacle, "n", None)
+        if n is not None:
+            return np.tile(n, (len(x), 1))
+        d = x - self.obstacle.point
+        return self.obstacle.sign * d / np.linalg.norm(d, axis=1, keepdims=True)

@@ -386,7 +386,7 @@ class TwoBodySurface(ContactSurface):
         v, vw = ufl.TestFunction(V), ufl.TestFunction(self.W)
         du, dw = ufl.TrialFunction(V), ufl.TrialFunction(self.W)
         r_u = self.residual(v)  # slave rows (and, for multipliers, the constraint rows)
-        r_w = self.weight * self.pressure * ufl.derivative(self.gap, self.w, vw) * self.ds_work
+        r_w = self.master_residual(vw)
         self._r_w = fem.form(r_w)
         self._a_uw = fem.form(ufl.derivative(r_u, self.w, dw))
         self._a_wu = fem.form(ufl.derivative(r_w, u, du))
@@ -395,6 +395,11 @@ class TwoBodySurface(ContactSurface):
 
     def _pressure(self):
         return self.obstacle.active * super()._pressure()
+
+    def master_residual(self, vw: ufl.Argument) -> ufl.Form:
+        """Master part on the mirror test function ``vw``: ``weight F(g) dg/dw[vw] ds`` (mapped to the master
+        dofs by ``I^T``)."""
+        return self.weight * self.pressure * ufl.derivative(self.gap, self.w, vw) * self.ds_work
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Slave part ``weight F(g) dg/du[v] ds``; the master part is :meth:`add_residual`."""

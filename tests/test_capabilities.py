@@ -138,9 +138,10 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple
     return contact.mean_pressure(), rigid_reference(method, model, dim)
 
 
-def run_two_body(method, quadrature, passes, dim, degree, model, solver) -> tuple[float, float]:
-    """(largest |p - P| / P over the slave points of every surface, 0)."""
-    law = law_for(method, False)
+def run_two_body(method, quadrature, passes, dim, degree, model, solver, friction=False) -> tuple[float, float]:
+    """(largest |p - P| / P over the slave points of every surface, 0). With friction: the same (the two blocks
+    expand alike under P, nothing slides) and no tangential force."""
+    law = law_for(method, friction)
     n = (2, 2) if dim == 2 else (2, 2, 1)
     mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, n, n, 1e-6)
     u, V = fc.unknown(mesh, degree, law)
@@ -152,13 +153,15 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver) -> tupl
         contacts = fc.two_body_multipliers(u, ft, "upper_bottom", "lower_top", law, load, passes=passes,
                                         work_quadrature=None if quadrature == "nodal" else quadrature)
     else:
-        contacts = fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law_for(method, False), load,
+        contacts = fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law_for(method, friction), load,
                                      quadrature, passes)
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft.meshtags, subdomain_id=ft["upper_top"])
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-P[model],)), ds)
     problem = fc.ContactProblem(u, fc.MODELS[model](E, NU), load, dirichlet, contacts, [traction])
     solve(problem, method, solver, augment=30 if method == "auglag" else 0)
     dev = max(float(np.max(np.abs(c.point_values()[2] - P[model]))) for c in contacts) / P[model]
+    if friction:
+        dev = max(dev, *(float(np.max(np.abs(c.tangential_force()))) / P[model] for c in contacts))
     return dev, 0.0
 
 
@@ -201,6 +204,9 @@ def covering_cells() -> list[dict]:
         cells.append(_first_supported(method=method, friction=True))
     cells += [c for s in _structural("rigid") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
     cells.append(_first_supported(method="penalty", friction=True, model="neohookean"))
+    for method in cap.LAWS:  # two-body friction: every law; structural variants with penalty
+        cells.append(_first_supported(method=method, kind="two-body", friction=True))
+    cells += [c for s in _structural("two-body") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
     unique = {tuple(c.items()): c for c in cells if c is not None}
     return list(unique.values())
 
@@ -225,7 +231,7 @@ def test_supported_cell_solves_to_its_closed_form(cell):
         assert abs(got - ref) <= 1e-6 * abs(ref), (got, ref)
     else:
         dev, _ = run_two_body(c["method"], c["quadrature"], c["passes"], c["dim"], c["degree"], c["model"],
-                              c["solver"])
+                              c["solver"], c["friction"])
         assert dev <= 1e-6, dev
 
 
@@ -285,7 +291,8 @@ def test_unknown_axis_value_is_a_plain_value_error():
     ({"kind": "rigid", "method": "lagrange", "quadrature": "gauss"}, "lagrange"),
     ({"kind": "rigid", "method": "penalty", "degree": 2, "quadrature": "nodal"}, "P2"),
     ({"kind": "two-body", "method": "lagrange", "passes": "two"}, "two-pass"),
-    ({"kind": "two-body", "method": "penalty", "friction": True}, "friction"),
+    ({"kind": "two-body", "method": "penalty", "friction": True, "quadrature": "segment"}, "friction"),
+    ({"kind": "two-body", "method": "penalty", "friction": True, "degree": 2, "quadrature": "simpson"}, "friction"),
     ({"kind": "two-body", "method": "penalty", "degree": 2, "quadrature": "nodal"}, "P2"),
 ])
 def test_entry_points_refuse_before_assembly(kwargs, match):

@@ -13,7 +13,8 @@ TINY = {"block": [], "hertz": [], "slab": ["--mu", "0.4"], "pin": [], "ring": []
         "patch": ["--main-only"], "sphere": ["--size", "1.0"],
         "compliance3d": ["--mesh", "8", "4", "2", "--drag-steps", "2"], "seal": [],
         "cylinders": ["--t-end", "0.2", "--h-contact", "0.1"],
-        "sheet": ["--n-arc", "8", "--eps", "1e4", "--steps", "2"], "rings": ["--main-only", "--n", "8"]}
+        "sheet": ["--n-arc", "8", "--eps", "1e4", "--steps", "2"], "rings": ["--main-only", "--n", "8"],
+        "mindlin": ["--ratios", "0.5", "--press-steps", "2"], "wedges": []}
 SCRIPTS = sorted(p.stem for p in DEMOS.glob("*.py") if p.stem not in ("bench", "scaling", "table"))  # not drivers
 
 
