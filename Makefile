@@ -1,6 +1,7 @@
 # make demo: set up (apt packages, venv), run every scene's demo at a small size under mpirun -n 2 into results/
 #            and print one table of their checks (figure, reference, error, passed); make demo-all: default sizes
-# make test: set up and run ruff and the tests, serial and under mpirun -n 2, then the Debian 13 lane
+# make test: set up and run ruff and the tests, serial and under mpirun -n 2, then the Debian 13 lane (mpirun -n 2;
+#            make test-debian13: serial too)
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 NP     ?= 2
@@ -46,7 +47,7 @@ test-debian13: setup
 	bash scripts/debian13.sh
 
 test: lint test-serial test-mpi
-	@OPTIONAL=1 bash scripts/debian13.sh
+	@OPTIONAL=1 SERIAL=0 bash scripts/debian13.sh
 
 clean:
 	rm -rf results .pytest_cache
