@@ -30,7 +30,8 @@ def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far
     _positive(R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     _graded(h_contact, h_far)
     mesh, cell_tags, facet_tags = _from_gmsh(
-        comm, lambda: _build_sphere_octant(R, h_contact, h_far, contact_width), "the sphere octant", gdim=3)
+        comm, lambda: _build_sphere_octant(R, h_contact, h_far, contact_width), "the sphere octant", gdim=3,
+        isolate=True, key=repr((R, h_contact, h_far, contact_width)))
     mesh.name = "sphere_octant"
     return mesh, cell_tags, facet_tags
 
