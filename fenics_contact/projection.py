@@ -21,8 +21,6 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
-from .compat import petsc_vec
-
 __all__ = ["SurfaceProjector"]
 
 

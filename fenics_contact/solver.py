@@ -72,6 +72,9 @@ LINEAR_SOLVERS = {
 }
 
 
+MULTIGRID = ("gamg", "ml", "hypre")  # preconditioners that take the rigid-body modes as near-nullspace
+
+
 def rigid_body_modes(V) -> PETSc.NullSpace:
     """The rigid-body modes of the vector P1 space ``V`` (3 in 2D, 6 in 3D), orthonormalised, as a
     PETSc near-nullspace for algebraic multigrid."""
@@ -206,7 +209,7 @@ class Solver:
             if not opts.hasName(prefix + "snes_convergence_test"):
                 self.snes.setConvergenceTest(self._convergence_test)
             self._split_fields()
-            if self.snes.getKSP().getPC().getType() in ("gamg", "ml", "hypre"):
+            if self.snes.getKSP().getPC().getType() in MULTIGRID:
                 for c in problem.contacts:  # the capability matrix, before any assembly
                     check(**of(c.law, u), solver="iterative")
                 self.A.setNearNullSpace(rigid_body_modes(u.function_space))
@@ -237,7 +240,17 @@ class Solver:
     def _jacobian(self, snes, x, A, P):
         start = time.perf_counter()
         if self.problem.J(x, A):  # a contact's pairing changed A's pattern: factor from scratch
-            self.snes.getKSP().getPC().reset()
+            ksp = self.snes.getKSP()
+            if ksp.getPC().getType() in MULTIGRID:
+                # PETSc 3.18's GAMG keeps its levels' solvers across a reset, and their old coarse sizes fail
+                # ("Cannot change local size of Amat after use"): a new preconditioner of the same options
+                pc = PETSc.PC().create(self.problem.comm)
+                pc.setOptionsPrefix(ksp.getPC().getOptionsPrefix())
+                with self._wanted_options():
+                    pc.setFromOptions()
+                ksp.setPC(pc)
+            else:
+                ksp.getPC().reset()
             self._split_fields()  # a reset field split has forgotten its index sets
         self.timings["assembly_s"] += time.perf_counter() - start
 
