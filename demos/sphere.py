@@ -37,7 +37,8 @@ def main(argv=None) -> dict:
     if args.steps is None:
         args.steps = 1 if args.load is None else 2
     out = Path(args.out or "results/sphere")
-    cli.check(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=3, degree=1, model=args.model)  # refused combinations: one line, before any work
+    # refused combinations: one line, before any work
+    cli.check(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=3, degree=1, model=args.model)
 
     # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane.
     setup = build("sphere", law=cli.law_from_args(args), quadrature=args.quadrature, level=args.level, steps=args.steps,
