@@ -126,6 +126,8 @@ def _rcm_partition(comm, nparts: int, graph, ghosting: bool):
     from scipy.sparse import csr_matrix
     from scipy.sparse.csgraph import reverse_cuthill_mckee
 
+    if nparts == 1:  # everything stays: no gathered graph, no ordering (~0.3 GB of temporaries at 2e6 cells)
+        return cpp.graph.AdjacencyList_int32(np.zeros(len(graph.offsets) - 1, np.int32))
     offsets, links = np.asarray(graph.offsets, dtype=np.int64), np.asarray(graph.array, dtype=np.int64)
     parts = comm.gather((offsets, links), root=0)
     if comm.rank == 0:
