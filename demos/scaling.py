@@ -4,8 +4,9 @@ mpirun -n 2.
     python demos/scaling.py --out results/scaling                     # both scenes, levels 0-3, 1 and 2 ranks
     python demos/scaling.py --scenes rigid --levels 0 1 --ranks 1     # a quick look
 
-Each run is ``demos/sphere.py --method penalty --solver iterative --level L`` (``--plate meshed --steps 2``
-for the two-body scene ``block``: the octant on a block of its own material, one-pass two-body contact) in a
+Each run is ``demos/sphere.py --method penalty --solver iterative --level L`` (``--plate meshed --steps 2
+--size BLOCK_SIZES[L]`` for the two-body scene ``block``: the octant on a block of its own material, one-pass
+two-body contact) in a
 fresh process (``mpirun -n 2`` for two ranks), the mesh built once per level and kept in ``--out/meshes``
 (``$FC_MESH_CACHE``). Per run: the time per Newton iteration, (assembly + linear solves) / Newton iterations
 (failed attempts included, their time is in the sums too), the Krylov iterations per Newton iteration
@@ -14,8 +15,8 @@ peak memory (the largest rank's peak resident set, ``ru_maxrss``). The log-log s
 iteration against the dofs is fitted per scene and rank count (1 = linear cost, the ideal for AMG), the
 2-rank speed-up at each scene's largest size is the ratio of the times per Newton iteration. Writes
 ``scaling.json`` (``rows``: scene, dofs, ranks, peak_memory_gb, time_per_newton_s and the details;
-``slopes``; ``speedups``), scaling.csv and scaling.png to --out. Heavy: the 1e6-dof rigid run takes about
-3 GB and 10 minutes serial on a quiet machine (4 minutes of them gmsh, once per level); check ``free -g``
+``slopes``; ``speedups``), scaling.csv and scaling.png to --out. Heavy: the 1.2e6-dof rigid run peaks at
+3.5 GB and took 13 minutes serial on a shared machine (4 of them gmsh, once per level); check ``free -g``
 first.
 """
 import csv
@@ -37,6 +38,9 @@ DEMO = Path(__file__).resolve().parent / "sphere.py"
 # scene name -> the sphere demo's options (the two-body case takes its approach in two steps: in one, the first
 # iterate pushes the undeformed ball 0.005 R into the undeformed block and Newton needs cutbacks)
 SCENES = {"rigid": [], "block": ["--plate", "meshed", "--steps", "2"]}
+# The block's graded zone adds ~0.8 times the octant's dofs: its mesh-size factor per level (the demo's --size
+# instead of sphere.LEVELS) keeps the largest near 1e6 dofs (about 2.1e4, 1.2e5, 4.1e5, 1.0e6).
+BLOCK_SIZES = (0.5, 0.25, 0.16, 0.115)
 
 p = cli.StrictParser(description=__doc__.splitlines()[0], epilog=None)
 p.add_argument("--scenes", nargs="+", choices=list(SCENES), default=list(SCENES), help="rigid plane, deformable block")
@@ -59,7 +63,8 @@ for scene in args.scenes:
         for n in args.ranks:
             folder = out / f"{scene}_level{level}_n{n}"
             cmd = [sys.executable, str(DEMO), "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
-                   "--method", args.method, "--solver", "iterative", "--level", str(level), *SCENES[scene]]
+                   "--method", args.method, "--solver", "iterative", "--level", str(level), *SCENES[scene],
+                   *(["--size", str(BLOCK_SIZES[level])] if scene == "block" else [])]
             env = child_env()  # a fresh job, not a member of ours; mpirun keeps the run-as-root settings
             env["FC_MESH_CACHE"] = str((out / "meshes").resolve())  # gmsh once per mesh, not per rank count
             if n > 1:
