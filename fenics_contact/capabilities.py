@@ -116,10 +116,6 @@ RULES: tuple[Rule, ...] = (
     _r("degree 1, model 'linear' or another method", "Nitsche's gamma = gamma0 E / h does not grow with the degree "
        "(coercivity needs ~p^2): on quadratic elements at finite strain gamma0 = 10 loses the solve (found by the "
        "full grid)", method="nitsche", degree=2, model="neohookean"),
-    # --- linear solver
-    _r("solver 'direct'", "GAMG (PETSc 3.18) cannot rebuild its hierarchy when the 3D segment coupling changes "
-       "the matrix pattern (a nonconforming-sizes error on the coarse level, found by the full grid)",
-       kind="two-body", quadrature="segment", dim=3, solver="iterative"),
 )
 
 

@@ -66,13 +66,13 @@ PREDICTOR_ETA = 0.05
 # rigid-body modes as near-nullspace, for 3D meshes where LU's fill-in and time grow too fast.
 # (CG would do for these symmetric Jacobians, but GAMG's Chebyshev smoothers, with eigenvalue
 # estimates from the first contact iterations, reported an indefinite preconditioner on the sphere.)
+# Preconditioners whose set-up builds a hierarchy of level solvers (renewed, not reset, on a new pattern).
+MULTIGRID = ("gamg", "ml", "hypre", "mg")
+
 LINEAR_SOLVERS = {
     "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
     "iterative": {"ksp_type": "gmres", "pc_type": "gamg", "ksp_rtol": 1e-8, "ksp_max_it": 500},
 }
-
-
-MULTIGRID = ("gamg", "ml", "hypre")  # preconditioners that take the rigid-body modes as near-nullspace
 
 
 def rigid_body_modes(V) -> PETSc.NullSpace:
@@ -240,19 +240,25 @@ class Solver:
     def _jacobian(self, snes, x, A, P):
         start = time.perf_counter()
         if self.problem.J(x, A):  # a contact's pairing changed A's pattern: factor from scratch
-            ksp = self.snes.getKSP()
-            if ksp.getPC().getType() in MULTIGRID:
-                # PETSc 3.18's GAMG keeps its levels' solvers across a reset, and their old coarse sizes fail
-                # ("Cannot change local size of Amat after use"): a new preconditioner of the same options
-                pc = PETSc.PC().create(self.problem.comm)
-                pc.setOptionsPrefix(ksp.getPC().getOptionsPrefix())
-                with self._wanted_options():
-                    pc.setFromOptions()
-                ksp.setPC(pc)
-            else:
-                ksp.getPC().reset()
-            self._split_fields()  # a reset field split has forgotten its index sets
+            self._renew_pc()
         self.timings["assembly_s"] += time.perf_counter() - start
+
+    def _renew_pc(self) -> None:
+        """Set the preconditioner up from scratch for a new matrix pattern. A factorization is reset; a
+        multigrid hierarchy is replaced by a new preconditioner: PCReset keeps GAMG's level solvers, whose
+        coarse sizes then change under it ("Cannot change local size of Amat after use", seen on 2 ranks)."""
+        ksp = self.snes.getKSP()
+        old = ksp.getPC()
+        if old.getType() in MULTIGRID:
+            pc = PETSc.PC().create(self.problem.comm)
+            pc.setOptionsPrefix(old.getOptionsPrefix())
+            with self._wanted_options():
+                pc.setFromOptions()
+            ksp.setPC(pc)
+            pc.destroy()  # the KSP holds its own reference
+        else:
+            old.reset()
+        self._split_fields()  # a reset field split has forgotten its index sets
 
     @contextmanager
     def _wanted_options(self, keep: Callable[[str], bool] = lambda k: True):

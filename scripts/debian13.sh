@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Second test lane: the suite on Debian 13's dolfinx (0.9) in a debootstrap root.
-# The root folder ($DEB13, default .debian13) is made once and reused; the
-# project is copied into it (no bind mount needed) and the tests run there
-# serially and under mpirun -n 2.
+# The root folder ($DEB13, default ~/.cache/fenics_contact/debian13: one per
+# machine, so a fresh clone reuses it) is made once and reused; the project is
+# copied into a folder of it named after the checkout (no bind mount needed)
+# and the tests run there serially and under mpirun -n 2.
 # OPTIONAL=1 (used by `make test`): skip, saying why, when this machine cannot build the lane.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-DEB13=${DEB13:-.debian13}
+DEB13=${DEB13:-${XDG_CACHE_HOME:-$HOME/.cache}/fenics_contact/debian13}
 OPTIONAL=${OPTIONAL:-0}
-PROJECT=${DEB13_PROJECT:-project}  # folder of the root the project is copied into (one per checkout sharing a root)
+# Folder of the root the project is copied into: one per checkout, so that checkouts can share the root.
+PROJECT=${DEB13_PROJECT:-project-$(pwd | md5sum | cut -c1-8)}
 PY=${PY:-.venv/bin/python}
 TESTS=${DEB13_TESTS:-tests}  # pytest arguments (a subset while developing)
 
@@ -25,7 +27,7 @@ fi
 
 if [ ! -x "$DEB13/usr/bin/apt-get" ]; then
   echo "debian13 lane: debootstrap --variant=minbase trixie $DEB13"
-  rm -rf "$DEB13"
+  rm -rf "$DEB13" && mkdir -p "$(dirname "$DEB13")"
   debootstrap --variant=minbase trixie "$DEB13" >/dev/null || skip "debootstrap failed"
   # A throwaway test root: no fsync per package, no documentation (fresh lane measured: 4 min here).
   echo force-unsafe-io > "$DEB13/etc/dpkg/dpkg.cfg.d/unsafe-io"

@@ -32,8 +32,9 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ..condensed import step_solver_for
+from ..condensed import CondensedContact, step_solver_for
 from ..factory import contact_surface
+from ..friction import FrictionalContact
 from ..laws import ContactLaw
 from ..materials import MODELS, PLANES
 from ..meshes import BOTTOM, LEFT, RIGHT, rectangle
@@ -67,7 +68,7 @@ SOLVER_OPTIONS = {"snes_linesearch_type": "bt", "snes_max_it": 200, "snes_rtol":
 
 def profile(contact) -> dict:
     """The base's profile (``x``, ``gap``, ``pressure``, ``traction``, ``state``), sorted by ``x``, on every rank."""
-    if hasattr(contact, "friction_profile"):
+    if isinstance(contact, (FrictionalContact, CondensedContact)):
         return contact.friction_profile()
     x, g, p = contact.surface_values()
     loaded = p > 1e-10 * max(float(np.max(np.abs(p))), 1e-300)
@@ -175,7 +176,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
               "side_pressure": side_pressure, "nx": nx, "ny": ny, "refinement": refinement, "steps": steps,
               "quadrature": quadrature, "plane": plane, "material": model,
               "model": f"half slab (symmetry u_x = 0 on x = 0), Q1, plane {plane}"}
-    extra = [contact.traction_out] if hasattr(contact, "traction_out") else []
+    extra = [contact.traction_out] if isinstance(contact, (FrictionalContact, CondensedContact)) else []
     return Setup("slab", problem, [contact], [(i + 1) / steps for i in range(steps)], params, figures,
                  [disp, contact.gap_out, contact.pressure_out, *extra])
 
