@@ -25,9 +25,11 @@ demo-all: setup
 bench: setup
 	$(PY) demos/bench.py --quick --out results/bench
 
-# 3D Hertz (sphere) from ~1e4 to ~1e6 dofs, serial and mpirun -n 2: time per Newton iteration, slope (heavy)
+# 3D Hertz (sphere on a rigid plane, on a deformable block) from ~1e4 to ~1e6 dofs, serial and mpirun -n 2:
+# peak memory, time per Newton iteration, slope, speed-up -> results/scaling/scaling.json (heavy: see docs/benchmarks.md)
+SCALING_ARGS ?=
 scaling: setup
-	$(PY) demos/scaling.py --out results/scaling
+	$(PY) demos/scaling.py --out results/scaling $(SCALING_ARGS)
 
 # the capability matrix, printed from its declaration (tests/test_capabilities.py checks the committed file)
 docs: setup

@@ -2,6 +2,7 @@
 
     python demos/sphere.py --method penalty --level 0
     mpirun -n 2 python demos/sphere.py --method penalty --level 2 --solver iterative
+    python demos/sphere.py --plate meshed --solver iterative      # on a deformable block (two-body contact)
 
 Octant of a ball (R = 1, E = 1000, nu = 0.3) pressed on the plane z = 0; p0
 and a are compared with Hertz for the computed load (check: p0 within 5 %). Writes sphere.xdmf,
@@ -26,6 +27,8 @@ def main(argv=None) -> dict:
     p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)), help="mesh level")
     p.add_argument("--steps", type=cli.COUNT, default=None, help="load steps (default: 1, or 2 with --load)")
     p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
+    p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
+                   help="the plane: rigid, or a meshed block of the sphere's material (two-body contact)")
     p.add_argument("--size", type=cli.POSITIVE, default=None,
                    help="mesh-size factor instead of the level's (level 0: 0.5; 1.0 is a tiny mesh, ~2800 dofs)")
     scene = add_scene_options(p, sphere.build)  # --R, --E, --nu, --approach, --load (force control), ...
@@ -34,11 +37,12 @@ def main(argv=None) -> dict:
     if args.steps is None:
         args.steps = 1 if args.load is None else 2
     out = Path(args.out or "results/sphere")
-    cli.check(args, kind="rigid", dim=3, degree=1, model=args.model)  # refused combinations: one line, before any work
+    # refused combinations: one line, before any work
+    cli.check(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=3, degree=1, model=args.model)
 
     # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane.
     setup = build("sphere", law=cli.law_from_args(args), quadrature=args.quadrature, level=args.level, steps=args.steps,
-                  size=args.size, model=args.model, **scene_arguments(args, scene))
+                  size=args.size, model=args.model, plate=args.plate, **scene_arguments(args, scene))
 
     # 3. Solve, write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
@@ -50,7 +54,8 @@ def main(argv=None) -> dict:
     if not args.no_pictures:
         from fenics_contact.plotting import plot_profile
 
-        x, g, pr = setup.contacts[0].surface_values()
+        c = setup.contacts[0]
+        x, g, pr = c.point_values(reference=True) if args.plate == "meshed" else c.surface_values()
         if setup.problem.comm.rank == 0:
             a, p0 = summary["a_hertz"], summary["p0_hertz"]
             r = np.hypot(x[:, 0], x[:, 1])

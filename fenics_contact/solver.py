@@ -576,7 +576,10 @@ class Solver:
 
     def linear_solve_time(self) -> float:
         """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
-        (factorization included): the cost floor of one linear elastic solve on this mesh (max over ranks)."""
+        (factorization included): the cost floor of one linear elastic solve on this mesh (max over ranks).
+        Frees the SNES's own factorization or multigrid hierarchy first (rebuilt if it solves again): two at
+        once would double the peak memory of a large run."""
+        self.snes.getKSP().reset()
         ksp = PETSc.KSP().create(self.problem.comm)
         # the SNES's linear-solver options (ours and the command line's), under the same prefix
         ksp.setOptionsPrefix(self.snes.getOptionsPrefix())

@@ -3,12 +3,16 @@
 // by grading per unit distance up to h_far. Open in the gmsh GUI (its parameters under "Parameters"), or mesh with
 // `gmsh -3 sphere.geo`; the builder sets the parameters.
 // Physical names: cells "ball"; facets "contact" (the spherical surface), "symmetry" (x = 0), "symmetry_y"
-// (y = 0), "top" (z = R).
+// (y = 0), "top" (z = R). plate_width > 0: also the block [0, plate_width]^2 x [-plate_depth, 0] under the ball,
+// its own entities (no node shared with the ball): cells "plate", facets "plate_top" (z = 0), "plate_bottom", its
+// faces x = 0 and y = 0 in "symmetry" and "symmetry_y" with the ball's; graded toward (0, 0, 0) too.
 DefineConstant[ R = {1.0, Name "Parameters/R"},
                 h_contact = {0.02, Name "Parameters/h_contact"},
                 h_far = {0.15, Name "Parameters/h_far"},
                 contact_width = {0.15, Name "Parameters/contact_width"},
-                grading = {0.25, Name "Parameters/grading"} ];
+                grading = {0.25, Name "Parameters/grading"},
+                plate_width = {0, Name "Parameters/plate_width"},
+                plate_depth = {0, Name "Parameters/plate_depth"} ];
 SetFactory("OpenCASCADE");
 Sphere(1) = {0, 0, R, R, -Pi / 2, 0, Pi / 2};
 t = 1e-3 * R;  // the boundary surfaces by their bounding boxes
@@ -17,6 +21,17 @@ symmetry_y[] = Surface In BoundingBox{-t, -t, -t, R + t, t, R + t};
 top[] = Surface In BoundingBox{-t, -t, R - t, R + t, R + t, R + t};
 contact[] = Abs(Boundary{Volume{1};});
 contact[] -= {symmetry[], symmetry_y[], top[]};
+If (plate_width > 0)
+  Box(2) = {0, 0, -plate_depth, plate_width, plate_width, plate_depth};
+  d = plate_depth;
+  symmetry[] += Surface In BoundingBox{-t, -t, -d - t, t, plate_width + t, t};
+  symmetry_y[] += Surface In BoundingBox{-t, -t, -d - t, plate_width + t, t, t};
+  plate_top[] = Surface In BoundingBox{-t, -t, -t, plate_width + t, plate_width + t, t};
+  plate_bottom[] = Surface In BoundingBox{-t, -t, -d - t, plate_width + t, plate_width + t, -d + t};
+  Physical Surface("plate_top", 5) = {plate_top[]};
+  Physical Surface("plate_bottom", 6) = {plate_bottom[]};
+  Physical Volume("plate", 2) = {2};
+EndIf
 Physical Surface("contact", 1) = {contact[]};
 Physical Surface("symmetry", 2) = {symmetry[]};
 Physical Surface("symmetry_y", 4) = {symmetry_y[]};

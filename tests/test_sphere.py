@@ -75,3 +75,33 @@ def test_sphere_multipliers_equal_snes_vi():
         assert np.isclose(f[k], ref[k], rtol=1e-8), (k, f[k], ref[k])
     assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
     assert f["p0_error"] < 0.05 and f["a_error"] < 0.05
+
+
+def test_sphere_on_block_two_body():
+    """The octant on a deformable block of its own material (one-pass two-body contact) with GMRES + GAMG, whose
+    hierarchy is rebuilt when the pairing widens the pattern: the contact force balances the top's reaction."""
+    setup = sphere.build(make_law("penalty", K=sphere.DEFAULT_K), size=1.0, plate="meshed", steps=2)
+    solver = Solver(setup.problem, quiet=True, options=LINEAR_SOLVERS["iterative"])
+    solver.run(setup.loads)
+    assert solver.summary()["converged"]
+    f = setup.figures()
+    assert f["total_force"] > 0 and np.isclose(f["total_force"], f["reaction_top"], rtol=1e-6)
+    with pytest.raises(ValueError, match="plate"):
+        sphere.build(make_law("penalty", K=1.0), plate="soft")
+
+
+def test_sphere_mesh_from_a_child_process_is_exact():
+    """The octant meshed in a forked child (binary .msh) is the mesh gmsh makes in this process."""
+    from fenics_contact.meshes import gmshutil
+    from fenics_contact.meshes.sphere import _build_sphere_octant
+
+    comm = MPI.COMM_WORLD
+    coords = []
+    for isolate in (False, True):
+        m, _, facets = gmshutil._from_gmsh(comm, lambda: _build_sphere_octant(1.0, 0.1, 0.3, 0.15), "octant", 3,
+                                           isolate=isolate)
+        n = m.geometry.index_map().size_local
+        x = np.concatenate(comm.allgather(m.geometry.x[:n]))
+        coords.append((x[np.lexsort(x.T[::-1])], comm.allreduce(len(facets.indices), op=MPI.SUM)))
+    assert coords[0][0].shape == coords[1][0].shape and np.array_equal(coords[0][0], coords[1][0])
+    assert coords[0][1] == coords[1][1] > 0
