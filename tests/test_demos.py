@@ -9,12 +9,9 @@ from pathlib import Path
 import pytest
 
 DEMOS = Path(__file__).resolve().parent.parent / "demos"
-TINY = {"block": [], "hertz": [], "slab": ["--mu", "0.4"], "pin": [], "ring": [],
-        "patch": ["--main-only"], "sphere": ["--size", "1.0"],
-        "compliance3d": ["--mesh", "8", "4", "2", "--drag-steps", "2"], "seal": [],
-        "cylinders": ["--t-end", "0.2", "--h-contact", "0.1"],
-        "sheet": ["--n-arc", "8", "--eps", "1e4", "--steps", "2"], "rings": ["--main-only", "--n", "8"],
-        "mindlin": ["--ratios", "0.5", "--press-steps", "2"], "wedges": []}
+# demo name -> its small-size options: demos/quick.txt, the list make demo runs
+TINY = {line.split()[0]: line.split()[1:] for line in (DEMOS / "quick.txt").read_text().splitlines()
+        if line.strip() and not line.startswith("#")}
 SCRIPTS = sorted(p.stem for p in DEMOS.glob("*.py") if p.stem not in ("bench", "scaling", "table"))  # not drivers
 
 
