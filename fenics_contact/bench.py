@@ -56,7 +56,7 @@ DEMOS = Path(__file__).resolve().parents[1] / "demos"
 COLUMNS = ["scene", "method", "K", "F_hat", "augment", "quadrature", "refinement", "steps", "dofs", "wall_time_s",
            "newton_iterations", "linear_iterations", "augmentations", "converged", "cutbacks", "snes_reason",
            "error", "limit_gap", "process_time_s", "setup_time_s", "assembly_s", "linear_solve_s", "augmentation_s",
-           "memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve"]
+           "memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve", "search_s", "exchange_s", "coupling_s"]
 AUGMENT = 10  # max augmentations per load step for the augmented variants
 ERROR_FLOOR = 1e-16  # errors are drawn at least this large on the log axis (an exact answer is 0)
 PETSC_DTOL = ["-fc_snes_convergence_test", "default", "-fc_snes_divergence_tolerance", "1e4"]  # PETSc's own test
@@ -67,23 +67,31 @@ PARAMETERLESS = ("vi", "coulomb")  # run once per mesh
 GAMMA0 = {"quick": (10.0, 100.0), "full": (3.0, 10.0, 30.0, 100.0, 1000.0)}  # nitsche: in the K column
 
 
-def spec(scene: str) -> dict:
-    """The scene's ``BENCH`` dict (``ValueError`` if the scene has none)."""
+def _benches() -> dict[str, dict]:
+    """Every benchmark by name: a scene module's ``BENCH`` under the scene's name, and each entry of its
+    ``BENCHES`` (name -> dict with ``demo``: the scene's demo it runs, e.g. a two-body variant of the scene)."""
     from .scenes import scene_names
 
-    if scene not in scene_names():
-        raise ValueError(f"unknown scene {scene!r}; accepted: {', '.join(scene_names())}")
-    module = importlib.import_module(f"fenics_contact.scenes.{scene}")
-    if not hasattr(module, "BENCH"):
-        raise ValueError(f"scene {scene!r} has no BENCH entry; benchmarked scenes: {', '.join(bench_scenes())}")
-    return module.BENCH
+    found = {}
+    for n in scene_names():
+        module = importlib.import_module(f"fenics_contact.scenes.{n}")
+        if hasattr(module, "BENCH"):
+            found[n] = module.BENCH
+        found.update(getattr(module, "BENCHES", {}))
+    return found
+
+
+def spec(scene: str) -> dict:
+    """The benchmark ``scene``'s dict (``ValueError`` naming the benchmarks if there is none)."""
+    benches = _benches()
+    if scene not in benches:
+        raise ValueError(f"unknown benchmark scene {scene!r}; accepted: {', '.join(benches)}")
+    return benches[scene]
 
 
 def bench_scenes() -> list[str]:
-    """Every scene whose module defines ``BENCH``."""
-    from .scenes import scene_names
-
-    return [n for n in scene_names() if hasattr(importlib.import_module(f"fenics_contact.scenes.{n}"), "BENCH")]
+    """Every benchmark: the scenes whose module defines ``BENCH``, and their ``BENCHES`` entries."""
+    return list(_benches())
 
 
 def run_config(method, K, augment=0, quadrature="nodal", refinement=None, F_hat=0.0, steps=None) -> dict:
@@ -120,7 +128,15 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
                      for e in q["other"]]
         # exact laws (no parameter, K = 0 in the rows): SNES VI, the exact condensed Coulomb law
         runs += [run_config(m, 0.0, 0, "nodal", level) for m in PARAMETERLESS if m in methods]
-    return runs
+    return [r for r in runs if _offered(s, r)]
+
+
+def _offered(s: dict, run: dict) -> bool:
+    """False if the capability matrix refuses the run (``BENCH``'s ``axes``: the scene's fixed axes, e.g.
+    ``kind``, ``dim``): a sweep over quadratures leaves out the method-quadrature pairs the suite refuses."""
+    from .capabilities import supported
+
+    return supported(method=run["method"], quadrature=run["quadrature"], **s.get("axes", {}))
 
 
 def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
@@ -198,7 +214,8 @@ def child_env() -> dict:
 def command(scene: str, cfg: dict, folder: Path) -> list[str]:
     """The demo command line of one run (scene options from ``BENCH``; the run's own options last, so they win)."""
     s = spec(scene)
-    script = ["-m", "fenics_contact.bench", "--run-scene", scene] if "build" in s else [str(DEMOS / f"{scene}.py")]
+    script = ["-m", "fenics_contact.bench", "--run-scene", scene] if "build" in s else \
+        [str(DEMOS / f"{s.get('demo', scene)}.py")]
     cmd = [sys.executable, *script, "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
            "--method", cfg["method"], "--augment", str(cfg["augment"]), "--quadrature", cfg["quadrature"],
            *s.get("demo_args", []), *s.get("method_args", {}).get(cfg["method"], [])]
@@ -236,7 +253,8 @@ def run_one(scene: str, cfg: dict, folder: Path, timeout: float = 1800.0) -> dic
             "snes_reason": steps[-1]["snes_reason"] if steps else 0,
             "error": s.get(b["error"], nan), "limit_gap": nan,
             "process_time_s": time.perf_counter() - start, "setup_time_s": s.get("setup_time_s", nan),
-            **{k: s.get("time_split", {}).get(k, nan) for k in ("assembly_s", "linear_solve_s", "augmentation_s")},
+            **{k: s.get("time_split", {}).get(k, nan) for k in ("assembly_s", "linear_solve_s", "augmentation_s",
+                                                                  "search_s", "exchange_s", "coupling_s")},
             **{k: s.get(k, nan) for k in ("memory_peak_mb", "linear_solve_floor_s", "ratio_to_linear_solve")},
             "condition_estimate": nan if s.get("condition_estimate") is None else s["condition_estimate"],
             "stalled_solves": s.get("stalled_solves", 0), "residual_final": s.get("residual_final") or nan,

@@ -59,8 +59,8 @@ from ..problem import ContactProblem, Dirichlet
 from . import Setup, Stabilised, nonnegative, poisson, positive
 
 __all__ = [
-    "R", "E", "NU", "APPROACH", "DEFAULT_K", "BENCH", "hertz", "contact_half_width", "PLATE_STIFFNESS", "PLATE_SIZE",
-    "build", "law_twin"
+    "R", "E", "NU", "APPROACH", "DEFAULT_K", "BENCH", "BENCHES", "TWO_BODY", "hertz", "contact_half_width",
+    "PLATE_STIFFNESS", "PLATE_SIZE", "build", "law_twin"
 ]
 
 R, E, NU = 1.0, 1000.0, 0.3
@@ -75,6 +75,17 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "
          # K up to 1e14 (LU: no failure, but the round-off floor); cross also with F^ = 1 ~ p0 / 11 (the paper's
          # advice: F^ below the true pressure); the control: penalty with PETSc's divergence test
          "quick_stability": {"variants": (("penalty", 0), ("cross", 10), ("cross", 10, 1.0), ("auglag", 10))}}
+# The two-body Hertz case of two identical bodies (the quarter disk pressed by a force on a meshed block of its own
+# material, E = 200, nu = 0.3, R = 8, load 10; block 32 x 16 = 4 R x 2 R: half-space-like, p0 within 1e-4 of
+# Hertz): every two-body method and quadrature the capability matrix offers, with the time split (search,
+# exchange, coupling, assembly, linear solve). K scale 2e5 = 20 E / h_contact, as DEFAULT_K for the rigid scene.
+TWO_BODY = ["--plate", "meshed", "--E", "200", "--nu", "0.3", "--R", "8", "--load", "10", "--plate-E", "200",
+            "--plate-width", "32", "--plate-depth", "16"]
+BENCHES = {"hertz_twobody": {
+    "demo": "hertz", "error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "total_force"],
+    "target": 0.005, "K": 2e5, "mesh": ("refinement", {"quick": [0, 1], "full": [0, 1, 2]}),
+    "methods": ["penalty", "cross", "auglag", "lagrange"], "quadratures": ["nodal", "gauss", "segment"],
+    "axes": {"kind": "two-body", "dim": 2}, "demo_args": TWO_BODY, "quick_sweep": {"penalty": (0, 1), "other": (0,)}}}
 
 
 def hertz(P: float, R: float = R, E: float = E, nu: float = NU, plane: str = "strain", E2: float = math.inf,

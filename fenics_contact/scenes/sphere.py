@@ -44,7 +44,7 @@ from ..obstacles import HalfPlane
 from ..problem import ContactProblem, Dirichlet
 from . import Setup, Stabilised, nonnegative, poisson, positive
 
-__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "hertz3d", "build"]
+__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "BENCHES", "hertz3d", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
@@ -64,6 +64,13 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], 
          # K = 1e12 fails slowly (91 Newton iterations over 4 cutbacks, 60 s): left out of the quick map
          "stability": True, "quick_stability": {"K": (0, 2, 4, 6, 8), "steps": (1,), "gamma0": (10.0, 1e3, 1e5),
                                                    "dtol": False, "skip": [("auglag", 6)]}}
+# The 3D two-body case: the octant on a deformable block of its own material (one-pass, the ball's surface the
+# slave), GMRES + GAMG; the block is finite and clamped (p0 above Hertz by a few per cent: no error target).
+BENCHES = {"sphere_block": {
+    "demo": "sphere", "error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.15,
+    "K": DEFAULT_K, "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag"],
+    "quadratures": ["nodal", "gauss"], "axes": {"kind": "two-body", "dim": 3},
+    "demo_args": ["--plate", "meshed", "--solver", "iterative"], "quick_sweep": {"penalty": (0,), "other": (0,)}}}
 
 
 def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU, plate_E: float | None = None,
