@@ -108,12 +108,18 @@ LEVEL = number(int, 0)  # refinements, augmentations: >= 0
 EXPONENT = number(float, 1.0)
 
 
-def parser(description: str, default_K: float, quadratures: Sequence[str] = QUADRATURES) -> StrictParser:
-    """The shared options; ``quadratures``: the accepted ``--quadrature`` values (two-body scenes add ``segment``)."""
+def parser(description: str, default_K: float | Callable[[argparse.Namespace], float],
+           quadratures: Sequence[str] = QUADRATURES) -> StrictParser:
+    """The shared options; ``default_K``: a number, or a function of the parsed options (a K that scales with
+    the scene's E and size); ``quadratures``: the accepted ``--quadrature`` values (two-body scenes add
+    ``segment``)."""
     p = StrictParser(description=description)
     p.add_argument("--method", choices=list(METHODS), default="cross", help="contact formulation")
-    p.add_argument("--K", type=POSITIVE, default=default_K,
-                   help="penalty K (penalty, auglag), stiffness K_hat at g = 0 (cross) or complementarity c (lagrange)")
+    derived = callable(default_K)
+    p.set_defaults(derive_K=default_K if derived else None)
+    p.add_argument("--K", type=POSITIVE, default=None if derived else default_K,
+                   help="penalty K (penalty, auglag), stiffness K_hat at g = 0 (cross) or complementarity c (lagrange)"
+                   + ("; unset: the scene's K, scaled with E / h" if derived else ""))
     p.add_argument("--F-hat", type=NONNEGATIVE, default=0.0, help="cross: target pressure at g = 0")
     p.add_argument("--a", type=number(float, 0.0, 1.0, high_open=True), default=0.0,
                    help="cross: shape parameter in [0, 1)")
@@ -173,6 +179,8 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
         _PETSC_OPTIONS.extend(petsc)
     setup_logging(verbose=getattr(args, "verbose", False), quiet=getattr(args, "quiet", False))
     if hasattr(args, "method"):
+        if getattr(args, "K", 0) is None and getattr(args, "derive_K", None) is not None:
+            args.K = float(args.derive_K(args))
         if getattr(args, "augment", 0) is None:
             args.augment = 0 if args.method in ("penalty", "vi", "compliance", "coulomb", "lagrange",
                                                     "penalty_multiplier", "nitsche") else 10
