@@ -9,7 +9,7 @@ from fenics_contact.laws import make_law
 from fenics_contact.scenes import add_scene_options, build, numeric_parameters, scene_arguments
 
 # scene -> its module constants that are now build arguments with those defaults
-CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"}  # stabilisation: None, by plate,
+CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"},  # stabilisation: None (by plate)
              "sphere": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"},
              "block": {"height": "HEIGHT", "E": "E", "nu": "NU", "displacement": "DISPLACEMENT"},
              "slab": {"width": "WIDTH", "height": "HEIGHT", "E": "E", "nu": "NU", "top_pressure": "TOP_PRESSURE",
