@@ -17,12 +17,17 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from fenics_contact import cli
+from fenics_contact import (
+    AugmentedLagrangian,
+    LagrangeMultiplier,
+    Penalty,
+    PenaltyMultiplier,
+    Solver,
+    cli,
+    write_summary,
+)
 from fenics_contact.checks import check, log_check
-from fenics_contact.laws import AugmentedLagrangian, LagrangeMultiplier, Penalty, PenaltyMultiplier
-from fenics_contact.output import write_summary
 from fenics_contact.scenes import build, rings
-from fenics_contact.solver import Solver
 from fenics_contact.tables import write_table
 
 
