@@ -1,9 +1,11 @@
 """Closest-point search of points on a facet surface: k-d tree candidates, vectorised distances.
 
-The candidates of a point are the facets whose bounding box lies within the
-search radius of it. A ``scipy.spatial.cKDTree`` of the points is queried
-with each facet's box (centre, radius + half diagonal) and the answer is
-filtered by the exact point-to-box distance. The distance to each candidate
+The candidates of a point are the facets whose bounding box lies within its
+search radius: the smaller of the given radius and its distance to the
+nearest master node (which bounds the distance to the closest facet). A
+``scipy.spatial.cKDTree`` of the facets' box centres is queried with each
+point (radius + the largest half diagonal) and the answer is filtered by
+the exact point-to-box distance. The distance to each candidate
 facet (flat segment or triangle, or quadratic segment) is evaluated for all
 pairs at once; each point keeps its nearest facet, with the rules of
 :func:`project` for ties and hysteresis.
@@ -50,29 +52,39 @@ def _chunks(counts: np.ndarray):
         start = stop
 
 
+def _ball_pairs(tree: cKDTree, centres: np.ndarray, r: np.ndarray):
+    """Chunks of (query index, tree point index) pairs: the tree's points within ``r[i]`` of ``centres[i]``,
+    counted before they are listed (at most ``PAIR_BUDGET`` pairs per chunk, one query at least)."""
+    counts = tree.query_ball_point(centres, r, return_length=True)
+    for a, b in _chunks(np.asarray(counts)):
+        lists = tree.query_ball_point(centres[a:b], r[a:b])
+        sizes = np.fromiter((len(v) for v in lists), np.int64, b - a)
+        query = np.repeat(np.arange(a, b, dtype=np.int64), sizes)
+        found = np.fromiter((j for v in lists for j in v), np.int64, int(sizes.sum()))
+        yield query, found
+
+
 def _query(tree: cKDTree, lo: np.ndarray, hi: np.ndarray, radius: float):
     """For boxes ``[lo, hi]``: chunks of (box index, tree point index) pairs with the points within the box's
     ball of radius ``radius + half diagonal`` (a superset of the points within ``radius`` of the box)."""
-    centre = 0.5 * (lo + hi)
-    r = radius + 0.5 * np.linalg.norm(hi - lo, axis=1)
-    counts = tree.query_ball_point(centre, r, return_length=True)
-    for a, b in _chunks(np.asarray(counts)):
-        lists = tree.query_ball_point(centre[a:b], r[a:b])
-        sizes = np.fromiter((len(v) for v in lists), np.int64, b - a)
-        box = np.repeat(np.arange(a, b, dtype=np.int64), sizes)
-        pts = np.fromiter((j for v in lists for j in v), np.int64, int(sizes.sum()))
-        yield box, pts
+    yield from _ball_pairs(tree, 0.5 * (lo + hi), radius + 0.5 * np.linalg.norm(hi - lo, axis=1))
 
 
-def candidates(points: np.ndarray, facets: np.ndarray, radius: float):
+def candidates(points: np.ndarray, facets: np.ndarray, radius: float | np.ndarray, quadratic: bool = False):
     """Chunks of ``(point index, facet index)`` pairs, every pair whose facet bounding box is within ``radius``
-    of the point (each pair once, in some chunk)."""
+    of the point (a number, or one per point), each pair once, in some chunk. A k-d tree of the facets' box
+    centres is queried with each point's radius plus the largest half diagonal, then filtered exactly.
+    ``quadratic`` facets (end, middle, end nodes): the box of the curve's Bezier control points, which holds the
+    whole curve (the nodes' box need not)."""
     if len(points) == 0 or len(facets) == 0:
         return
-    tree = cKDTree(points)
+    if quadratic:  # control point of the middle: 2 x_1 - (x_0 + x_2) / 2
+        facets = np.concatenate([facets, (2 * facets[:, 1] - 0.5 * (facets[:, 0] + facets[:, 2]))[:, None]], axis=1)
     lo, hi = _boxes(facets)
-    for f, p in _query(tree, lo, hi, radius):
-        keep = _box_distance(points[p], lo[f], hi[f]) <= radius
+    r = np.broadcast_to(np.asarray(radius, dtype=float), (len(points),))
+    grow = 0.5 * float(np.max(np.linalg.norm(hi - lo, axis=1)))
+    for p, f in _ball_pairs(cKDTree(0.5 * (lo + hi)), points, r + grow):
+        keep = _box_distance(points[p], lo[f], hi[f]) <= r[p]
         yield p[keep], f[keep]
 
 
@@ -248,8 +260,16 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
     bary = np.zeros((n, nv))
     dist = np.full(n, np.inf)
     xis = np.zeros(n)
-    for pi, fi in candidates(points, master, radius):
-        # Chunks hold whole facets, not whole points: the running best of a point joins as one more candidate.
+    # Each point's search radius: the distance to the nearest master node bounds the distance to the closest facet
+    # (the node lies on a facet), with the tie tolerance below; most points then have a few candidates, not every
+    # facet within ``radius`` (a graded master surface's radius is several of its largest facets).
+    if n and len(master):
+        near = cKDTree(master.reshape(-1, master.shape[-1])).query(points)[0] * (1 + 1e-9) + 1e-14 * radius
+        bound = np.where(near < radius, near, radius)
+    else:
+        bound = radius
+    for pi, fi in candidates(points, master, bound, quadratic):
+        # Chunks may split a point's candidates: the running best of a point joins as one more candidate.
         old = np.unique(pi[facet[pi] >= 0])
         if len(old):
             pi, fi = np.concatenate([pi, old]), np.concatenate([fi, facet[old]])

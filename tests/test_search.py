@@ -47,6 +47,29 @@ def test_projection_matches_brute_force_2d(budget, monkeypatch):
         assert np.all(np.isinf(dist[~ok]))
 
 
+def test_quadratic_facet_outside_its_nodes_box_is_found():
+    """A quadratic segment bulges beyond the box of its nodes (the middle node off centre: x(xi) < 0 near
+    xi = 0.19): a point 0.044 from the curve but 0.1 from that box is paired within a radius of 0.05."""
+    curve = np.array([[[0.0, 0.0], [0.1, 0.1], [1.0, 0.0]]])
+    pts = np.array([[-0.1, 0.06]])
+    facet, _, dist = project(pts, curve, 0.05, quadratic=True)[:3]
+    d_ref = closest_point_on_quadratic(pts[0], curve)[0][0]
+    assert d_ref < 0.05 and facet[0] == 0 and np.isclose(dist[0], d_ref, rtol=1e-12)
+
+
+def test_point_radius_keeps_the_nearest_facet_on_a_graded_surface():
+    """Fine facets next to coarse ones, a radius many fine facets wide: the search (each point's radius cut to
+    its nearest node's distance) still answers as the all-pairs search."""
+    rng = np.random.default_rng(5)
+    x = np.concatenate([np.linspace(-1, -0.1, 4), np.linspace(-0.1, 0.1, 201)[1:], np.linspace(0.1, 1, 4)[1:]])
+    nodes = np.stack([x, 0.02 * np.sin(7 * x)], 1)
+    segments = np.stack([nodes[:-1], nodes[1:]], 1)
+    pts = np.concatenate([rng.uniform([-1, -0.05], [1, 0.05], (300, 2)), nodes[::7] + [0.0, 0.01]])
+    facet, _, dist = project(pts, segments, 0.8)[:3]
+    f_ref, d_ref = _brute(pts, segments, 0.8)
+    assert np.array_equal(facet >= 0, f_ref >= 0) and np.allclose(dist, d_ref, rtol=1e-12, atol=1e-14)
+
+
 def test_projection_matches_brute_force_3d():
     """Triangles of a bumpy sheet, points above and below it."""
     rng = np.random.default_rng(3)
