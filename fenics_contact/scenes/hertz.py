@@ -60,7 +60,8 @@ from ..problem import ContactProblem, Dirichlet
 from . import Setup, Stabilised, nonnegative, poisson, positive
 
 __all__ = [
-    "R", "E", "NU", "APPROACH", "DEFAULT_K", "PENALTY_FACTOR", "default_K", "BENCH", "BENCHES", "TWO_BODY", "hertz", "contact_half_width",
+    "R", "E", "NU", "APPROACH", "DEFAULT_K", "PENALTY_FACTOR", "default_K", "BENCH", "BENCHES", "TWO_BODY", "hertz",
+    "contact_half_width",
     "PLATE_STIFFNESS", "PLATE_SIZE", "STABILISATION", "STABILISATION_MESHED",
     "build", "law_twin"
 ]
