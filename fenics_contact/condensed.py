@@ -606,6 +606,25 @@ class CondensedTwoBody(Surface):
         return {"x": self.X.copy(), "gap": gap.copy(), "pressure": fn / self.weight, "traction": ft / self.weight,
                 "state": state.astype(int)}
 
+    def displacement(self) -> np.ndarray:
+        """The displacement of every slave vertex (n, 2), in the order of :attr:`X`, the same on every rank."""
+        _, b, i = self._out.T
+        ua = self.u.x.array
+        out = np.zeros((len(self.X), 2))
+        for idx, v in self.comm.allgather((i, np.stack([ua[2 * b], ua[2 * b + 1]], axis=1))):
+            out[idx] = v
+        return out
+
+    def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
+                                                                                     np.ndarray]:
+        """Current position (``reference=True``: reference position), gap (> 0 penetration) and pressure of the
+        slave vertices, sorted by reference position (as the penalty two-body surfaces'; small strain: the
+        nominal and Cauchy pressures are the same)."""
+        if kind not in ("nominal", "cauchy"):
+            raise ValueError(f"kind must be 'nominal' or 'cauchy', got {kind!r}")
+        fn, _, gap, _, _ = self._need()
+        return (self.X.copy() if reference else self.X + self.displacement()), gap.copy(), fn / self.weight
+
     def total_force(self) -> np.ndarray:
         """Normal contact force of the master on the slave body, ``sum_i f_n,i n_i`` (per unit thickness)."""
         fn = self._need()[0]
@@ -659,24 +678,30 @@ class CondensedTwoBodyCoulomb(_Condensation):
         self.contact, self.mu = contact, contact.mu
 
     def _contact_dofs(self, problem) -> np.ndarray:
-        """Both components of every paired slave vertex (slave ``i`` at positions ``2i, 2i + 1``), then the free
-        components of the vertices of the master facets they are paired with (sorted by position)."""
+        """The free components of every paired slave vertex, then those of the vertices of the master facets they
+        are paired with (each sorted by position). A prescribed component (Dirichlet) is not condensed: its
+        value enters the relative displacement as data. A paired slave vertex with one prescribed component
+        (a symmetry plane across the contact surface) carries no friction force (``q = 0``: its support takes
+        the tangential force), ``p`` from its free component; two prescribed components are refused."""
         c = self.contact
         ps = np.flatnonzero(c.paired)
         if not len(ps):
             raise ValueError(f"{c.name}: no slave vertex is within the search radius {c.radius:g} of the master "
                              "surface (nothing to condense)")
+        ns = len(ps)
+        n, t, N = c.normal[ps], c.tangent[ps], c.N[ps]
         sdofs = (2 * c.slave_dofs[ps][:, None] + np.arange(2)).astype(np.int64)  # (ns, 2) global components
-        held = np.isin(sdofs, self._dir_all)
-        if held.any():
-            i = ps[np.flatnonzero(held.any(axis=1))[0]]
-            raise ValueError(f"{c.name}: slave vertex at {tuple(np.round(c.X[i], 12))} has a Dirichlet component and "
-                             "a master facet within the search radius: method 'coulomb' needs free slave vertices "
-                             "(move the condition off the slave surface, or pass a smaller radius)")
+        sfree = ~np.isin(sdofs, self._dir_all)
+        roller = sfree.sum(axis=1) == 1
+        bad = ~sfree.all(axis=1) & ~(roller & (np.abs(np.where(sfree, n, 0.0)).sum(axis=1) > 0.1))
+        if bad.any():
+            i = ps[np.flatnonzero(bad)[0]]
+            raise ValueError(f"{c.name}: slave vertex at {tuple(np.round(c.X[i], 12))} is within the search radius "
+                             "of the master and its normal motion is prescribed (Dirichlet): method 'coulomb' needs "
+                             "a free normal component at every paired slave vertex (or pass a smaller radius)")
         mverts, minv = np.unique(c.master_facets[c.facet[ps]], return_inverse=True)  # global block dofs
         minv = minv.reshape(-1, 2)
-        # Master vertex positions (for a partition-independent order).
-        pos = np.zeros((len(mverts), 2))
+        pos = np.zeros((len(mverts), 2))  # master vertex positions, for a partition-independent order
         pos[minv.ravel()] = c.master_X[c.facet[ps]].reshape(-1, 2)
         morder = np.lexsort(np.round(pos, 12).T[::-1])
         rank = np.empty(len(mverts), np.int64)
@@ -684,50 +709,56 @@ class CondensedTwoBodyCoulomb(_Condensation):
         mverts, minv = mverts[morder], rank[minv]
         mdofs = (2 * mverts[:, None] + np.arange(2)).astype(np.int64)  # (nm, 2)
         mfree = ~np.isin(mdofs, self._dir_all)
-        ns = len(ps)
-        col = np.full(mdofs.shape, -1, np.int64)  # position in u_c of each master component (-1: prescribed)
-        col[mfree] = 2 * ns + np.arange(int(mfree.sum()))
-        self._presc = mdofs[~mfree]  # prescribed master components (global), their values from u_0(t)
-        pcol = np.full(mdofs.shape, -1, np.int64)
-        pcol[~mfree] = np.arange(len(self._presc))
-        nc = 2 * ns + int(mfree.sum())
-        self._ps, self._ns, self._nc = ps, ns, nc
-        n, t, N = c.normal[ps], c.tangent[ps], c.N[ps]
-        # w_i = u_s,i - sum_k N_ik u_m(i,k) = Gw u_c + Pw u_presc  (ns, 2, nc) and (ns, 2, npresc)
-        Gw = np.zeros((ns, 2, nc))
-        Pw = np.zeros((ns, 2, len(self._presc)))
+        # Positions in u_c (-1: prescribed) and in the list of prescribed components (-1: free).
+        nsf = int(sfree.sum())
+        scol, mcol = np.full(sdofs.shape, -1, np.int64), np.full(mdofs.shape, -1, np.int64)
+        scol[sfree], mcol[mfree] = np.arange(nsf), nsf + np.arange(int(mfree.sum()))
+        nc = nsf + int(mfree.sum())
+        self._presc = np.concatenate([sdofs[~sfree], mdofs[~mfree]])  # values from the load mode u_0(t)
+        spc, mpc = np.full(sdofs.shape, -1, np.int64), np.full(mdofs.shape, -1, np.int64)
+        spc[~sfree] = np.arange(int((~sfree).sum()))
+        mpc[~mfree] = int((~sfree).sum()) + np.arange(int((~mfree).sum()))
+        self._ps, self._ns, self._nc, self._fric = ps, ns, nc, np.flatnonzero(~roller)
+        # w_i = u_s,i - sum_k N_ik u_m(i,k) = Gw u_c + Pw u_presc: (ns, 2, nc) and (ns, 2, n_presc)
+        Gw, Pw = np.zeros((ns, 2, nc)), np.zeros((ns, 2, len(self._presc)))
         rows = np.arange(ns)
         for j in range(2):
-            Gw[rows, j, 2 * rows + j] = 1.0
+            f = sfree[:, j]
+            Gw[rows[f], j, scol[f, j]] = 1.0
+            Pw[rows[~f], j, spc[~f, j]] = 1.0
             for k in range(2):
                 m = minv[:, k]
-                free = col[m, j] >= 0
-                np.add.at(Gw, (rows[free], j, col[m[free], j]), -N[free, k])
-                np.add.at(Pw, (rows[~free], j, pcol[m[~free], j]), -N[~free, k])
+                f = mfree[m, j]
+                np.add.at(Gw, (rows[f], j, mcol[m[f], j]), -N[f, k])
+                np.add.at(Pw, (rows[~f], j, mpc[m[~f], j]), -N[~f, k])
         self._Gn, self._Gt = np.einsum("ij,ijc->ic", n, Gw), np.einsum("ij,ijc->ic", t, Gw)
         self._Pn, self._Pt = np.einsum("ij,ijc->ic", n, Pw), np.einsum("ij,ijc->ic", t, Pw)
-        # p_i = n_i . R_s,i, q_i = t_i . R_s,i: rows of the force map (ns, nc)
+        # Contact forces from R: p_i = n_i . R_s,i, q_i = t_i . R_s,i; a roller: p_i = R_s,i[free] / n_i[free],
+        # q_i = 0. Rows of the maps (ns, nc).
         self._Nn, self._Nt = np.zeros((ns, nc)), np.zeros((ns, nc))
         for j in range(2):
-            self._Nn[rows, 2 * rows + j] = n[:, j]
-            self._Nt[rows, 2 * rows + j] = t[:, j]
-        # Master rows: R_m + sum_i N_im R_s,i = 0 for each free master component (action and reaction).
-        fm = np.flatnonzero(col.ravel() >= 0)
-        self._M = np.zeros((len(fm), nc))
-        self._M[np.arange(len(fm)), col.ravel()[fm]] = 1.0
-        where = {int(p): r for r, p in enumerate(col.ravel()[fm])}
+            f = sfree[:, j] & ~roller
+            self._Nn[rows[f], scol[f, j]] = n[f, j]
+            self._Nt[rows[f], scol[f, j]] = t[f, j]
+            f = sfree[:, j] & roller
+            self._Nn[rows[f], scol[f, j]] = 1.0 / n[f, j]
+        # Master rows: R_m + sum_i N_im (p_i n_i + q_i t_i) = 0 for each free master component (action and
+        # reaction); for a slave vertex without a prescribed component p_i n_i + q_i t_i = R_s,i.
+        self._M = np.zeros((int(mfree.sum()), nc))
+        self._M[np.arange(self._M.shape[0]), mcol[mfree]] = 1.0
         for k in range(2):
+            m = minv[:, k]
             for j in range(2):
-                m = minv[:, k]
-                for i in np.flatnonzero(col[m, j] >= 0):
-                    self._M[where[int(col[m[i], j])], 2 * i + j] += N[i, k]
+                f = np.flatnonzero(mfree[m, j])
+                np.add.at(self._M, mcol[m[f], j] - nsf,
+                          N[f, k, None] * (n[f, j, None] * self._Nn[f] + t[f, j, None] * self._Nt[f]))
         self._d0 = c.d0[ps]
         self._ref = np.zeros(ns)  # t . w at the last converged step
         self._w0n, self._w0t = np.zeros(ns), np.zeros(ns)
-        return np.concatenate([sdofs.ravel(), mdofs[mfree]])
+        return np.concatenate([sdofs[sfree], mdofs[mfree]])
 
     def _step_data(self) -> None:
-        """The prescribed master components' values at the step (read from the load mode ``u_0(t)``)."""
+        """The prescribed components' values at the step (read from the load mode ``u_0(t)``)."""
         lo, hi = self._A.getOwnershipRange()
         vals = np.zeros(len(self._presc))
         here = np.flatnonzero((self._presc >= lo) & (self._presc < hi))
@@ -742,7 +773,7 @@ class CondensedTwoBodyCoulomb(_Condensation):
     def _residual(self, uc: np.ndarray, t: float):
         """Alart-Curnier rows of the slave vertices (normal, tangential) and the master rows; generalized
         Jacobian; state per slave vertex (0 open, +-1 slip and its direction, 2 stick)."""
-        c, mu, ns = self.c, self.mu, self._ns
+        c, mu = self.c, self.mu
         R = self.S @ uc + self._r
         p, q = self._Nn @ R, self._Nt @ R
         d, tw = self._kinematics(uc)
@@ -759,10 +790,11 @@ class CondensedTwoBodyCoulomb(_Condensation):
         Ft = np.where(stick, c * s, q - bound * direction)
         slip_J = PtS - (mu * direction * active)[:, None] * (PnS - c * self._Gn)
         Jt = np.where(stick[:, None], c * self._Gt, slip_J)
-        F = np.concatenate([Fn, Ft, self._M @ R])
-        J = np.vstack([Jn, Jt, self._M @ self.S])
-        state = np.where(active, np.where(stick, 2, np.where(direction < 0, -1, 1)), 0)
-        assert len(F) == ns * 2 + self._M.shape[0]
+        fr = self._fric  # the vertices with a tangential row (not the rollers: q = 0 there)
+        F = np.concatenate([Fn, Ft[fr], self._M @ R])
+        J = np.vstack([Jn, Jt[fr], self._M @ self.S])
+        state = active.astype(np.int64)
+        state[fr] = np.where(active[fr], np.where(stick[fr], 2, np.where(direction[fr] < 0, -1, 1)), 0)
         return F, J, state, R
 
     def _set_output(self, uc: np.ndarray, t: float) -> None:
