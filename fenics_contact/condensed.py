@@ -522,6 +522,8 @@ class CondensedTwoBody(Surface):
         self.mu = float(law.mu)
         comm = self.comm
         sd, md = FacetData(V, slave), FacetData(V, master)
+        # This rank's (owned and ghost) vertex block dofs of the slave and of the master surface.
+        self.local_dofs = (np.unique(sd.dofs), np.unique(md.dofs))
 
         # Slave vertices (every rank's, on every rank): global block dof, reference position, weight int phi ds.
         own = sd.owned
