@@ -33,6 +33,9 @@ small sliding (:class:`CondensedTwoBody`, below):
    Jacobian or ``max_it`` iterations end the step with a message.
 3. Recovery: one solve of ``K_D u = ...`` with ``u_c`` prescribed.
 
+``K`` is re-assembled at every step and compared with the condensed one: a stiffness that changes with the load
+(the vanishing spring of a force-controlled scene) is condensed again for that step (exact at every step).
+
 Two bodies (:class:`CondensedTwoBody`, :class:`CondensedTwoBodyCoulomb`; 2D, P1, nodal, one pass, linear
 elasticity). Small sliding: each slave vertex ``i`` is paired once, in the reference configuration, with its
 closest point on the master surface (:func:`~fenics_contact.search.project`): master facet, shape-function
@@ -199,7 +202,8 @@ class _Condensation(StepSolver):
         comm = self.comm
         V = problem.u.function_space
         n_owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
-        # K (no boundary conditions; constant: linear elasticity) and a vector for the load.
+        # K (no boundary conditions; linear elasticity: constant unless a load-scaled term such as a vanishing
+        # spring changes it, re-checked at every step by _stiffness_changed) and a vector for the load.
         self._A = fem_petsc.assemble_matrix(problem.a)
         self._A.assemble()
         self._f = fem_petsc.create_vector(problem.L)
@@ -212,11 +216,23 @@ class _Condensation(StepSolver):
         self._dir_idx = np.concatenate([i for _, i in self._dirichlet] + [np.empty(0, PETSc.IntType)])
         self._dir_all = np.unique(np.concatenate(comm.allgather(self._dir_idx))).astype(np.int64)  # every rank's
         self._cidx = np.asarray(self._contact_dofs(problem), dtype=PETSc.IntType)
-        nc = len(self._cidx)
-
-        # K_D: K with the rows and columns of the contact and Dirichlet dofs replaced by the identity.
+        self._cmine = np.flatnonzero((self._cidx >= lo) & (self._cidx < hi))
         fixed = np.unique(np.concatenate([self._dir_idx, self._cidx]))
         self._fixed = fixed[(fixed >= lo) & (fixed < hi)].astype(PETSc.IntType)
+        self._x, self._b, self._y = self._f.duplicate(), self._f.duplicate(), self._f.duplicate()
+        self._ksp = None
+        self._factor()
+        self._uc = np.zeros(len(self._cidx))  # last solution
+        self._ready = True
+        self.timings["condense_s"] += comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+
+    def _factor(self) -> None:
+        """Factor ``K_D`` (``K`` with the rows and columns of the contact and Dirichlet dofs replaced by the
+        identity) and form the dense Schur complement ``S`` (every rank)."""
+        comm, nc = self.comm, len(self._cidx)
+        if self._ksp is not None:
+            self._ksp.destroy()
+            self._KD.destroy()
         KD = self._A.duplicate(copy=True)
         KD.zeroRowsColumns(self._fixed, diag=1.0)
         self._ksp = PETSc.KSP().create(comm)
@@ -227,12 +243,9 @@ class _Condensation(StepSolver):
         self._ksp.setFromOptions()
         self._ksp.setOperators(KD)
         self._KD = KD
-        self._x, self._b, self._y = self._f.duplicate(), self._f.duplicate(), self._f.duplicate()
-
         # Columns of S from multi-right-hand-side solves (blocks of CHUNK dofs); each rank keeps its owned
         # contact rows, one allgather gives the dense S to every rank.
         self._ksp.setUp()
-        self._cmine = np.flatnonzero((self._cidx >= lo) & (self._cidx < hi))
         cols = np.zeros((len(self._cmine), nc))
         for first in range(0, nc, CHUNK):
             block = np.arange(first, min(first + CHUNK, nc))
@@ -242,9 +255,23 @@ class _Condensation(StepSolver):
             S[idx] = c
         self.S = 0.5 * (S + S.T)
         self._diag = float(np.mean(np.abs(np.diag(self.S)))) if nc else 1.0
-        self._uc = np.zeros(nc)  # last solution
-        self._ready = True
-        self.timings["condense_s"] += comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+
+    def _stiffness_changed(self, problem) -> bool:
+        """Re-assemble ``K`` at the step; True (and ``K`` replaced) if it differs from the condensed one beyond
+        round-off (a load-dependent stiffness, e.g. the vanishing spring of :class:`~fenics_contact.scenes.
+        Stabilised`): the condensation is then redone for the step."""
+        A = fem_petsc.assemble_matrix(problem.a)
+        A.assemble()
+        ref = self._A.norm(PETSc.NormType.FROBENIUS)
+        A.axpy(-1.0, self._A, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        changed = A.norm(PETSc.NormType.FROBENIUS) > 1e-13 * ref
+        if changed:
+            A.axpy(1.0, self._A, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+            self._A.destroy()
+            self._A = A
+        else:
+            A.destroy()
+        return changed
 
     def _contact_dofs(self, problem) -> np.ndarray:
         """The global numbers of the condensed dofs (the same order on every rank); ``self._dir_all`` is known."""
@@ -369,6 +396,10 @@ class _Condensation(StepSolver):
         ``reason`` > 0 converged (SNES's CONVERGED_FNORM_ABS), < 0 failed (DIVERGED_MAX_IT)."""
         if not self._ready:
             self._condense(problem)
+        elif self._stiffness_changed(problem):
+            start = time.perf_counter()
+            self._factor()
+            self.timings["condense_s"] += self.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
         t = float(problem.load.value)
         self._r = self._loads(problem)
         self._step_data()
