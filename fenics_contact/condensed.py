@@ -620,6 +620,7 @@ class CondensedTwoBody(Surface):
         pairs = {(int(a), int(b)): where[int(c)] for a, b, c in zip(sd1.dofs.ravel(), sd.dofs.ravel(),
                                                                    sd.global_dofs.ravel())}
         self._out = np.array([(a, b, i) for (a, b), i in pairs.items()], dtype=np.int64).reshape(-1, 3)
+        self.displacement_out = u  # the displacement for output (as every surface's)
         self.gap_out = fem.Function(P1, name="gap")
         self.pressure_out = fem.Function(P1, name="pressure")
         self.state_out = fem.Function(P1, name="slip_state")

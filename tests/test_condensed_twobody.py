@@ -126,6 +126,41 @@ def test_block_sheared_past_the_coulomb_limit():
     assert abs(Ry) == pytest.approx(np.linalg.norm(N), rel=1e-8)
 
 
+def test_two_identical_bodies_hertz_force_controlled():
+    """The two-body Hertz case (quarter disk R = 8 on a block of its own material, E = 200, nu = 0.3, load 10,
+    frictionless): force control from rest through a spring that vanishes at t = 1 (the stiffness changes with t:
+    condensed again), slave and master vertices on the symmetry axis with u_x = 0 (no friction force there).
+    The contact force is the load (1e-10: the spring is gone at t = 1) and p0, a are Hertz's with
+    E* = E / (2 (1 - nu^2)) (as the multipliers: p0 within 0.5 %, a within 1 %)."""
+    from fenics_contact.scenes import hertz
+
+    kw = dict(plate="meshed", E=200.0, nu=0.3, R=8.0, load=10.0, plate_E=200.0, plate_width=16.0, plate_depth=16.0)
+    setup = hertz.build(fc.make_law("coulomb", mu=0.0), **kw)
+    solver = fc.Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    f = setup.figures()
+    print(f"two-body Hertz, coulomb: p0 error {f['p0_error']:.2e}, a error {f['a_error']:.2e}")
+    assert f["load_error"] < 1e-10
+    assert f["p0_error"] < 5e-3 and f["a_error"] < 1e-2
+    c = setup.contacts[0]
+    roller = np.isclose(c.X[:, 0], 0.0)  # the slave vertex on the axis: u_x held, q = 0
+    assert np.count_nonzero(roller) == 1 and c.friction_profile()["pressure"][roller][0] > 0
+
+
+def test_rigid_force_controlled_is_condensed_at_each_stiffness():
+    """The shared condensation, rigid obstacle: Hertz force-controlled from rest (the vanishing spring changes
+    the stiffness between steps). The contact force is the load (1e-10) and p0 Hertz's (0.5 %); a stiffness
+    condensed once, at the first step, missed the load by 80 %."""
+    from fenics_contact.scenes import hertz
+
+    setup = hertz.build(fc.make_law("coulomb", mu=0.0), load=10.0, E=200.0, R=8.0)
+    solver = fc.Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    f = setup.figures()
+    assert f["load_error"] < 1e-10 and f["p0_error"] < 5e-3, (f["load_error"], f["p0_error"])
+
+
 def test_refusals():
     """One-line errors before any solve: two passes, Gauss quadrature, 3D (capability matrix); a paired slave
     vertex whose normal motion is prescribed; the wrong law or surface for the classes."""
