@@ -77,6 +77,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .bounds import BoundContact
+from .capabilities import check, of
 from .compat import bc_dofs, function_space, petsc_vec
 from .contact import check_facet_tag
 from .laws import ContactLaw, Coulomb
@@ -560,6 +561,7 @@ class CondensedTwoBody(Surface):
                  radius: float | None = None, name: str = "twobody"):
         if not isinstance(law, Coulomb):
             raise ValueError(f"CondensedTwoBody needs the Coulomb law of method 'coulomb', got {law!r}")
+        check(**of(law, u), kind="two-body", quadrature="nodal", passes="one")  # before any assembly
         V = u.function_space
         mesh = V.mesh
         if mesh.geometry.dim != 2 or V.num_sub_spaces != 2 or V.sub(0).num_sub_spaces != 0:
@@ -816,13 +818,16 @@ class CondensedTwoBodyCoulomb(_Condensation):
         return np.concatenate([sdofs[sfree], mdofs[mfree]])
 
     def _step_data(self) -> None:
-        """The prescribed components' values at the step (read from the load mode ``u_0(t)``)."""
+        """The prescribed components' values at the step (read from the load mode ``u_0(t)``), the Jacobian's
+        fixed blocks."""
         lo, hi = self._A.getOwnershipRange()
         vals = np.zeros(len(self._presc))
         here = np.flatnonzero((self._presc >= lo) & (self._presc < hi))
         for idx, v in self.comm.allgather((here, self._x.array[self._presc[here] - lo])):
             vals[idx] = v
         self._w0n, self._w0t = self._Pn @ vals, self._Pt @ vals
+        # The Jacobian's fixed blocks (S may have been condensed again for this step).
+        self._PnS, self._PtS, self._MS = self._Nn @ self.S, self._Nt @ self.S, self._M @ self.S
 
     def _kinematics(self, uc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Distance ``d`` (> 0 open) and ``t . w`` of every paired slave vertex at ``uc``."""
@@ -836,7 +841,7 @@ class CondensedTwoBodyCoulomb(_Condensation):
         p, q = self._Nn @ R, self._Nt @ R
         d, tw = self._kinematics(uc)
         s = tw - self._ref
-        PnS, PtS = self._Nn @ self.S, self._Nt @ self.S
+        PnS, PtS = self._PnS, self._PtS
         lam = p - c * d
         active = lam > 0
         bound = mu * np.maximum(lam, 0.0)
@@ -850,7 +855,7 @@ class CondensedTwoBodyCoulomb(_Condensation):
         Jt = np.where(stick[:, None], c * self._Gt, slip_J)
         fr = self._fric  # the vertices with a tangential row (not the rollers: q = 0 there)
         F = np.concatenate([Fn, Ft[fr], self._M @ R])
-        J = np.vstack([Jn, Jt[fr], self._M @ self.S])
+        J = np.vstack([Jn, Jt[fr], self._MS])
         state = active.astype(np.int64)
         state[fr] = np.where(active[fr], np.where(stick[fr], 2, np.where(direction[fr] < 0, -1, 1)), 0)
         return F, J, state, R
