@@ -28,7 +28,7 @@ def _run(comm=MPI.COMM_WORLD):
     key = comm.size
     if key not in _RUNS:
         setup = fc.build("ironing", law=_law(), comm=comm, **SHORT)
-        solver = fc.Solver(setup.problem, quiet=True)
+        solver = fc.Solver(setup.problem, quiet=True, predictor=ironing.PREDICTOR)
         solver.run(setup.loads)
         _RUNS[key] = (setup, solver, setup.figures())
     return _RUNS[key]
