@@ -24,7 +24,7 @@ TOLERANCE = 0.02  # the issue's acceptance: the steady-sliding ratio within 2 % 
 
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction mu = 0.3 on a penalty normal law unless told otherwise.
-    p = cli.parser(__doc__.splitlines()[0], default_K=ironing.DEFAULT_K, quadratures=("nodal",))
+    p = cli.parser(__doc__.splitlines()[0], default_K=ironing.DEFAULT_K, quadratures=("nodal", "gauss"))
     p.add_argument("--steps", type=cli.COUNT, default=70, help="load steps of the drag")
     p.add_argument("--press-steps", type=cli.COUNT, default=4, help="load steps of the pressing")
     p.set_defaults(method="penalty", mu=0.3, omega_t=ironing.DEFAULT_OMEGA_T)
@@ -37,7 +37,7 @@ def main(argv=None) -> dict:
 
     # 2. The scene: block and punch in one mesh, the punch's top pressed down, then dragged along +x.
     setup = build("ironing", law=cli.law_from_args(args), drag_steps=args.steps, press_steps=args.press_steps,
-                  **scene_arguments(args, scene))
+                  quadrature=args.quadrature, **scene_arguments(args, scene))
 
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
     def figures_check(s: dict) -> dict:
