@@ -81,7 +81,7 @@ def plot_history(summary: dict, path: Path) -> None:
     ax2.axhline(mu, color="k", lw=0.8, label="mu")
     ax2.axhspan(0.98 * mu, 1.02 * mu, color="0.85", label="mu +- 2 %")
     ax2.axvline(summary.get("window_from", x[-1]), color="0.5", ls=":", label="steady window")
-    ax2.set(xlabel="drag (punch travel)", ylabel="force ratio", ylim=(0.8 * mu, 1.1 * mu))
+    ax2.set(xlabel="drag (punch travel)", ylabel="force ratio", ylim=(0.94 * mu, 1.06 * mu))
     ax2.legend(fontsize=8)
     ax2.grid(alpha=0.3)
     fig.tight_layout()

@@ -36,7 +36,8 @@ def _run(comm=MPI.COMM_WORLD):
 
 def test_drag_converges_and_the_steady_force_ratio_is_mu():
     """No cutback, every step within 15 Newton iterations; in the steady window every step's tangential over normal
-    force on the punch (its frame) is within 2 % of mu, and every closed point slides."""
+    force on the punch (its frame) is within 2 % of mu, every closed point slides, and the ratio is the pressure
+    resultant's tilt psi turned by Coulomb's angle, (mu + tan psi) / (1 - mu tan psi), to round-off."""
     setup, solver, f = _run()
     its = [r.newton_iterations for r in solver.records]
     print(f"ironing: Newton iterations per step {its}; window ratio mean {f['ratio_mean']:.6f}, peak to peak "
@@ -46,6 +47,7 @@ def test_drag_converges_and_the_steady_force_ratio_is_mu():
     assert f["window_steps"] >= 4
     assert f["ratio_max_error"] <= 0.02, f
     assert f["slip_fraction"] == 1.0
+    assert f["coulomb_identity_error"] <= 1e-10, f
     assert f["face_angle_max"] < 1e-3  # the punch's frame is (nearly) the global one: the 100x stiffer punch
     assert abs(f["ratio_global_mean"] - f["ratio_mean"]) <= 0.01 * MU
     assert f["min_jacobian"] < 0.9  # finite strain: the block's volume changes by more than 10 % somewhere

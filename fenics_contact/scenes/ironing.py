@@ -28,8 +28,13 @@ Force ratio. ``F`` the contact force on the punch (minus the force on the block:
 the current flat face, the mean of its facets' directions, ``e_n`` its normal, into the punch) give
 ``ratio = -F . e_t / F . e_n``: the tangential over normal force on the punch, friction opposing the drag. The
 fillets' pressure has a horizontal part (the pile-up ahead of the punch, the lighter contact behind): the ratio's
-departure from ``mu``. Reported over the steady window (the drag from ``steady_from`` on): mean, peak to peak and
-largest relative distance from ``mu``; also in the global frame (``-F_x / F_y``).
+departure from ``mu``. Where every closed point slides with ``|q| = mu p`` against the drag, the force on the punch
+is the pressure's resultant turned by ``atan mu``, so ``ratio = (mu + tan psi) / (1 - mu tan psi)`` exactly, with
+``psi`` the tilt of the pressure's resultant (``P``, the ``F n`` part alone) from the punch's normal (the wedges
+formula): ``ratio - mu`` is the contact zone's shape, the rest is Coulomb's law. Reported over the steady window
+(the drag from ``steady_from`` on): the mean, peak to peak and largest relative distance from ``mu`` (the issue's
+2 % is measured on every step of the window), the mean ``psi`` and the identity's error; also in the global frame
+(``-F_x / F_y``).
 """
 from __future__ import annotations
 
@@ -151,16 +156,21 @@ def build(law: ContactLaw, E: float = E, nu: float = NU, stiffness: float = STIF
 
     def history() -> list[dict]:
         """Per committed step: the load, the punch's travel, the contact force on the punch (global), its
-        tangential and normal components in the punch's frame, both ratios and the dissipated work."""
+        tangential and normal components in the punch's frame, both ratios, the tilt of the pressure's resultant
+        from the punch's normal (``tilt``, rad) and the ratio it implies with Coulomb at every point
+        (``ratio_coulomb``), and the dissipated work."""
         rows = []
         for e in contact.log:
             F = -(np.asarray(e["normal_force"]) + np.asarray(e["tangential_force"]))  # on the punch
             phi = e.get("face_angle", 0.0)
             et, en = np.array([math.cos(phi), math.sin(phi)]), np.array([-math.sin(phi), math.cos(phi)])
             Ft, Fn = float(F @ et), float(F @ en)
+            P = -np.asarray(e["normal_force"])  # the pressure's part alone, on the punch
+            tilt = math.atan2(-float(P @ et), float(P @ en))  # > 0: it leans against the drag (pile-up ahead)
             rows.append({"load": e["load"], "travel": max(e["load"] - 1.0, 0.0) * drag, "Fx": float(F[0]),
                          "Fy": float(F[1]), "Ft": Ft, "Fn": Fn, "ratio": -Ft / Fn if Fn > 0 else float("nan"),
                          "ratio_global": -float(F[0]) / float(F[1]) if F[1] > 0 else float("nan"),
+                         "tilt": tilt, "ratio_coulomb": (mu + math.tan(tilt)) / (1 - mu * math.tan(tilt)),
                          "face_angle": phi, "dissipated": e["dissipated"], "slip": e["slip"], "stick": e["stick"]})
         return rows
 
@@ -178,6 +188,8 @@ def build(law: ContactLaw, E: float = E, nu: float = NU, stiffness: float = STIF
                         "ratio_global_mean": float(glob.mean()),
                         "ratio_global_peak_to_peak": float(glob.max() - glob.min()),
                         "window_steps": len(window), "window_from": steady,
+                        "tilt_mean": float(np.mean([r["tilt"] for r in window])),
+                        "coulomb_identity_error": max(abs(r["ratio"] - r["ratio_coulomb"]) for r in window) / mu,
                         "Fn_mean": float(np.mean([r["Fn"] for r in window])),
                         "face_angle_max": float(np.max(np.abs([r["face_angle"] for r in window])))})
         if rows:
