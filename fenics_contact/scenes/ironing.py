@@ -58,12 +58,13 @@ __all__ = ["E", "NU", "STIFFNESS", "DEFAULT_K", "DEFAULT_OMEGA_T", "PREDICTOR", 
 
 E, NU = 1000.0, 0.3  # the block; the punch is STIFFNESS times stiffer
 STIFFNESS = 100.0
-DEFAULT_K = 1e5  # normal penalty ~ 5 E / h: the penetration p / K ~ 1.5e-3; 1e6 and more: Newton up to 27 iterations
+DEFAULT_K = 1e5  # normal penalty 5 E / h: the penetration p / K ~ 1.5e-3 (1.5 % of the depth); 1e6: up to 27 Newton
+# iterations in a step (h = 0.1, no predictor)
 # Each step starts from the linear extrapolation of the last two converged states (the solver's secant predictor):
 # in steady sliding the punch and the contact zone move on by the step, and Newton starts with nearly the pairing it
-# ends with (3-7 iterations per drag step instead of 7-13 from the last state).
+# ends with (4-10 iterations per drag step of the demo instead of 6-13 from the last state).
 PREDICTOR = "secant"
-DEFAULT_OMEGA_T = 1e4  # tangential penalty ~ E / h: the elastic slip mu p / omega_t ~ 0.01 is 1/5 of a drag step
+DEFAULT_OMEGA_T = 1e4  # tangential penalty ~ E / (2 h): the elastic slip mu p / omega_t ~ 4e-3 is 1/10 of a drag step
 
 
 class IroningSurface(FrictionalTwoBodySurface):
