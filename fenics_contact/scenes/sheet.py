@@ -84,6 +84,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from ..collocation import collocated_surfaces
 from ..compat import function_space, petsc_vec
 from ..contact import contact_measure
 from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
@@ -142,14 +143,21 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
     down by ``t pull``; defaults: the module constants."""
     if cylinder not in CYLINDERS:
         raise ValueError(f"cylinder must be one of {CYLINDERS}, got {cylinder!r}")
+    collocated = quadrature == "collocated"
+    if collocated and (cylinder != "deformable" or not isinstance(law, LagrangeMultiplier)):
+        raise ValueError("quadrature 'collocated' (Papadopoulos & Solberg's two-body element) needs cylinder "
+                         f"'deformable' and method 'lagrange' or 'penalty_multiplier', got cylinder {cylinder!r}, "
+                         f"method {law.name!r}")
     if not (np.isfinite(ratio) and ratio >= 1):
         raise ValueError(f"stiffness ratio must be a finite number >= 1, got {ratio!r}")
     positive(R=R, thickness=thickness, leg=leg, R_in=R_in, lmbda=lmbda, mu=mu, radius=radius, pull=pull)
     if not R_in < R:
         raise ValueError(f"R_in must be < R = {R!r}, got {R_in!r}")
     deformable = cylinder == "deformable"
-    two_point = isinstance(law, LagrangeMultiplier)
-    if passes is None:
+    two_point = isinstance(law, LagrangeMultiplier) and not collocated
+    if collocated:
+        passes = "both"  # both surfaces carry a pressure (not a two-body "passes" option)
+    elif passes is None:
         passes = "one" if two_point else "two"
     if n_cyl is None:
         n_cyl = max(3 * int(n_arc) // 4, 1)
@@ -168,7 +176,10 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         cyl = cell_tags.find("cylinder")
         material.factor.x.array[:] = 1.0
         material.factor.x.array[_cell_dofs(material.factor.function_space, cyl)] = ratio
-        if isinstance(law, LagrangeMultiplier):  # two-point: constraint at the end nodes, p linear on the facet
+        if collocated:  # the gap at the vertices of both surfaces, each body loaded by its own pressure
+            contacts = collocated_surfaces(u, facet_tags, "contact", "cylinder_surface", law, load, radius,
+                                           "interface")
+        elif isinstance(law, LagrangeMultiplier):  # two-point: constraint at the end nodes, p linear on the facet
             if quadrature != "simpson":
                 raise ValueError(f"method {law.name!r} on the sheet is the two-point element (Simpson's rule for "
                                  f"the work): quadrature must be 'simpson', got {quadrature!r}")
@@ -252,7 +263,9 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         if deformable:  # the force the fixed inner surface takes
             support = problem.reaction(fixed_y)
             # the constrained points: the end nodes (two-point) or all three nodes (three-point) of each facet
-            gaps = [c.projection["gap"][:, [0, 2]] if two_point else c.projection["gap"] for c in contacts]
+            # (collocated: the vertices of both surfaces)
+            gaps = [c.point_table()[2] if collocated else c.projection["gap"][:, [0, 2]] if two_point
+                    else c.projection["gap"] for c in contacts]
             pen = comm.allreduce(float(max(np.max(g[np.isfinite(g)], initial=-np.inf) for g in gaps)), op=MPI.MAX)
             extra = {"cylinder_support_y": support, "max_penetration": pen,
                      "pairing_changes": int(sum(c.pairing_changes for c in contacts))}
