@@ -192,6 +192,14 @@ class Solver:
         if wanted.get("pc_type") == "lu":  # a direct solve: a formulation may split off trivial blocks
             for c in problem.contacts:
                 wanted.update(c.direct_solver_options)
+        elif wanted.get("pc_type") in MULTIGRID:  # the iterative solve: a formulation may need its own (Schur)
+            for c in problem.contacts:  # the capability matrix, before any assembly
+                check(**of(c.law, u=problem.u), solver="iterative")
+            for c in problem.contacts:
+                if c.iterative_solver_options:  # the caller's own options for its blocks still win
+                    wanted.update({**c.iterative_solver_options,
+                                   **{k: v for k, v in (options or {}).items() if k.startswith("fieldsplit_")}})
+                    break
         self._wanted, self._prefix = wanted, prefix
         u = problem.u
         self.b = problem.create_vector()  # the residual vector of the SNES (dolfinx_mpc style: public)
@@ -290,6 +298,13 @@ class Solver:
                 with self._wanted_options(lambda k: k.startswith("fieldsplit_")):
                     for ksp in pc.getFieldSplitSubKSP():
                         ksp.setFromOptions()
+                    inner = pc.getFieldSplitSubKSP()[0].getPC()  # the first block split again (Schur)
+                    split = c.schur_split() if inner.getType() == "fieldsplit" else None
+                    if split is not None:
+                        (name, first), second = split[0]
+                        if split[1] is not None:  # the first field's sub-matrix takes it (PCFIELDSPLIT's query)
+                            first.compose("nearnullspace", split[1])
+                        inner.setFieldSplitIS((name, first), second)  # its KSPs: made and set up in the solve
                 return
         pc.setType("lu")
         pc.setFactorSolverType("mumps")
@@ -352,7 +367,9 @@ class Solver:
             return reason
         petsc_vec(self.problem.u).copy(self._x)
         start = time.perf_counter()
-        self.snes.solve(None, self._x)
+        # a nested split's blocks (the Schur complement's KSP) are made, and read their options, at set-up
+        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):
+            self.snes.solve(None, self._x)
         self.timings["snes_s"] += time.perf_counter() - start
         self.linear_iterations += self.snes.getLinearSolveIterations()
         self._set_u(self._x)
