@@ -196,9 +196,10 @@ class Solver:
             for c in problem.contacts:  # the capability matrix, before any assembly
                 check(**of(c.law, u=problem.u), solver="iterative")
             for c in problem.contacts:
-                if c.iterative_solver_options:  # the caller's own options for its blocks still win
-                    wanted.update({**c.iterative_solver_options,
-                                   **{k: v for k, v in (options or {}).items() if k.startswith("fieldsplit_")}})
+                if c.iterative_solver_options:  # the caller's own options (not those of the generic GAMG) win
+                    generic = LINEAR_SOLVERS["iterative"]
+                    own = {k: v for k, v in (options or {}).items() if k not in generic or generic[k] != v}
+                    wanted.update({**c.iterative_solver_options, **own})
                     break
         self._wanted, self._prefix = wanted, prefix
         u = problem.u

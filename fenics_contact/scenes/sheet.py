@@ -205,10 +205,12 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
 
     def profile(surface: int = 0) -> dict:
         """Pressure at the contact nodes (vertices and midpoints) of the sheet (``surface`` 0) or of the
-        cylinder (1, deformable only), ordered along the interface by reference arc length from the top,
-        on every rank."""
+        cylinder (1, deformable cylinder with two passes or the collocated element), ordered along the interface
+        by reference arc length from the top, on every rank; deformable cylinder: also ``gap`` (penetration
+        positive; ``-inf`` where not constrained, e.g. the collocated element's middle nodes)."""
+        g = None
         if deformable:
-            X, x, _, p = contacts[surface].point_table()
+            X, x, g, p = contacts[surface].point_table()
             s = arc_length(X, R) if surface == 0 else R * np.arctan2(X[:, 0], X[:, 1])
         else:
             nodes.project(nodes_rhs, p_nodes)
@@ -217,7 +219,10 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
             p = np.concatenate(comm.allgather(p_nodes.x.array[dofs]))
             s = arc_length(X, R)
         order = np.argsort(s)
-        return {"s": s[order], "x": X[order, 0], "y": X[order, 1], "p": p[order]}
+        out = {"s": s[order], "x": X[order, 0], "y": X[order, 1], "p": p[order]}
+        if g is not None:  # the gap at the constrained points (-inf elsewhere: collocated middle nodes, unpaired)
+            out["gap"] = g[order]
+        return out
 
     if deformable:
         # Simpson weight of every node of the sheet's contact surface (int phi_i ds, reference configuration).
