@@ -66,6 +66,8 @@ PREDICTOR_ETA = 0.05
 # rigid-body modes as near-nullspace, for 3D meshes where LU's fill-in and time grow too fast.
 # (CG would do for these symmetric Jacobians, but GAMG's Chebyshev smoothers, with eigenvalue
 # estimates from the first contact iterations, reported an indefinite preconditioner on the sphere.)
+# Multipliers (a saddle point): "iterative" becomes their own FGMRES + Schur complement field split
+# (multipliers.PressureUnknown.iterative_solver_options; options of the caller's own still win).
 # Preconditioners whose set-up builds a hierarchy of level solvers (renewed, not reset, on a new pattern).
 MULTIGRID = ("gamg", "ml", "hypre", "mg")
 
