@@ -24,56 +24,79 @@ Choices (the paper's geometry figure is lost in the text):
   the leg, ``n_thick`` through the thickness), quadratic geometry so that
   all three nodes of a contact facet start exactly on the circle.
 
-Methods (``quadrature="simpson"``: the pressure's work integrated with
-Simpson's rule over each quadratic facet):
+Methods:
 
-- ``lagrange`` and ``penalty_multiplier`` (``p = eps <g>``): the "two-point"
-  element, the gap enforced at the two end nodes of each contact facet of
-  the sheet against the cylinder's current (curved) surface, the pressure an
-  unknown, linear on the facet (its middle value the mean of the ends: the
-  paper's choice when no node of the opposite surface projects into the
-  facet). One pass (the sheet is the slave, the cylinder takes the reaction
+- ``quadrature="collocated"`` with ``lagrange`` or ``penalty_multiplier``
+  (deformable cylinder only): Papadopoulos & Solberg's element
+  (:mod:`~fenics_contact.collocation`): a pressure on both surfaces (an unknown
+  at each vertex of each), the gap enforced at the vertices of both against the
+  other's current curved facets, the middle pressure of a facet collocated from
+  the opposite surface's vertex that projects nearest its middle (else the
+  mean of the ends), each body loaded by its own surface's pressure (Simpson's
+  rule); a vertex pair that coincides (along the surface, in the current
+  configuration) has one constraint. ``penalty_multiplier`` is the paper's
+  "two-point penalty" (``p = eps <g>`` at the vertices, the middle value
+  collocated). Per current length (Cauchy); the figures use the nominal value.
+- ``quadrature="simpson"``, ``lagrange`` and ``penalty_multiplier``: the one-pass
+  two-point element, the gap enforced at the two end nodes of each contact
+  facet of the sheet against the cylinder's current (curved) surface, the
+  pressure an unknown, linear on the facet (its middle value the mean of the
+  ends). One pass (the sheet is the slave, the cylinder takes the reaction
   through the coupling ``I``; default ``passes`` for these laws).
 - ``penalty``: the "three-point" penalty, ``p = eps <g>`` at all three nodes
   of the facets of **both** surfaces (two passes, each surface slave once,
   weight 1/2; a node of one surface that coincides with one of the other,
   here at the top and at ``(3, 0)``, is constrained once).
 
-Not the paper's element: its two-pass two-point element collocates the
-middle pressure of a facet from the opposite surface (``p(1) = p(2)`` at
-projected points) and loads each body with its own surface's pressure only.
-We tried the two-pass two-point multipliers without that collocation
-(``passes="two"``, both passes weight 1/2): where a vertex of the sheet and
-one of the cylinder nearly coincide their two constraints are nearly the
-same, and the multipliers split the traction arbitrarily between the two
-passes (n_arc = 12, t = 1: one surface's pressure 0 where the other's is
-twice the traction; the nodal traction ragged). The collocation is what
-makes the paper's two-pass element well posed; we did not build it, so the
-two-point reference here is the one-pass element.
+Two-pass two-point multipliers without the collocation (``passes="two"``,
+both passes weight 1/2) are refused: where a vertex of the sheet and one of
+the cylinder nearly coincide their two constraints are nearly the same, and
+the multipliers split the traction arbitrarily between the two passes
+(n_arc = 12, t = 1: one surface's pressure 0 where the other's is twice the
+traction). The collocated element is the paper's cure.
 
-What it shows (``demos/sheet.py``, n_arc = 24, 1919 dofs, 2 ranks): the
-paper's surface locking. The two-point penalty approaches the multipliers
-(max difference over the multipliers' peak 20 % / 0.35 % at t = 0.5, 6.7 % /
-0.10 % at t = 1 for eps = 1e4 / 1e6); the three-point penalty's pressure
+What it shows (``demos/sheet.py``, n_arc = 24, 1742 dofs, serial): the
+paper's Figure 9. The collocated multipliers: the ends' pull 164.23 against
+the fixed inner surface's reaction 164.28 (0.03 %), zero gap at the
+constrained vertices, peak 35.9 / 72.0 at t = 0.5 / 1. Their two-point
+penalty approaches them (max difference over the peak 31 % / 0.064 % at
+t = 0.5, 25 % / 0.043 % at t = 1 for eps = 1e4 / 1e6; 1e6 needs the tangent
+predictor and cutbacks: 27 load steps); the three-point penalty's pressure
 oscillates node to node with the period of the two meshes' common nodes and
 moves away as eps grows (total variation along the interface 573 -> 1854
-against the multipliers' 82 at t = 1, difference 34 % -> 114 %). With
-a rigid cylinder (one surface, Signorini) the three-point penalty is far
-milder (5.7 % off near the peak at 1e6): the locking needs the constraints
-of both surfaces.
+against the multipliers' 84 at t = 1, difference 34 % -> 114 %). The one-pass
+two-point multipliers (the cylinder's vertices unconstrained) are 11 % / 16 %
+off at t = 0.5 / 1, at the edge of the contact. With a rigid cylinder (one
+surface, Signorini) the three-point penalty is far milder (5.7 % off near the
+peak at 1e6): the locking needs the constraints of both surfaces.
+
+Linear solver: ``Solver(..., options=LINEAR_SOLVERS["iterative"])`` (demo
+``--solver iterative``) solves the multipliers' saddle point by FGMRES with
+the Schur complement field split (:mod:`~fenics_contact.multipliers`): the
+same figures as MUMPS to 1e-12 and the same Newton iterations; collocated
+multipliers, 4 load steps, serial (Krylov iterations per Newton iteration;
+wall time direct / iterative, a loaded machine): n_arc = 24 (1742 dofs, 20
+Newton iterations) 70, 2.5 / 4.0 s; 48 (3458, 27) 180, 5.9 / 24.5 s; 96
+(6890, 28) over the 500 cap at the first step (3000 allowed: ~1000, 23 /
+255 s). GAMG on the displacement block of the thin sheet is what does not
+scale; with that block by LU (``-fc_fieldsplit_free_fieldsplit_u_pc_type
+lu``) the Schur split takes 16, 26, 37 per Newton iteration at the MUMPS
+time. 2 ranks, n_arc = 48: 264 per Newton iteration, 166 s against 39 s.
 
 Figures: ``profile(0)`` is the pressure field on the sheet's contact nodes
 (vertices and midpoints, by reference arc length from the top; for the
 three-point penalty ``eps <g>`` of the sheet's pass), ``profile(1)`` the
-cylinder's (two passes only); ``traction()`` the nodal traction on the sheet:
+cylinder's (two passes or the collocated element); ``traction()`` the nodal traction on the sheet:
 its contact nodal force (minus the internal force, radial component)
 divided by the node's Simpson weight ``int phi_i ds``, independent of how a
 formulation splits its pressure.
 
 Equilibrium: the end's vertical reaction ``T`` (the sheet's tension at the
 end, per unit thickness) equals the vertical contact force and the reaction
-of the cylinder's fixed inner surface; on the arc the belt formula gives
-``p ~ T/R`` (frictionless, thin sheet).
+of the cylinder's fixed inner surface (exactly for the one-surface
+elements; for the collocated element, which loads each body by its own
+pressure, to its consistency: 0.31, 0.16, 0.03, 0.02 % at n_arc = 8, 12, 24,
+48); on the arc the belt formula gives ``p ~ T/R`` (frictionless, thin sheet).
 """
 from __future__ import annotations
 
