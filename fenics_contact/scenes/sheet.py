@@ -77,8 +77,8 @@ same figures as MUMPS to 1e-12 and the same Newton iterations; collocated
 multipliers, 4 load steps, serial (Krylov iterations per Newton iteration;
 wall time direct / iterative, a loaded machine): n_arc = 24 (1742 dofs, 20
 Newton iterations) 70, 2.5 / 4.0 s; 48 (3458, 27) 180, 5.9 / 24.5 s; 96
-(6890, 28) over the 500 cap at the first step (3000 allowed: ~1000, 23 /
-255 s). GAMG on the displacement block of the thin sheet is what does not
+(6890, 28) over the 500 cap at the first step (cap 3000, 2 load steps:
+1150, 255 s; direct 4 steps 23 s). GAMG on the displacement block of the thin sheet is what does not
 scale; with that block by LU (``-fc_fieldsplit_free_fieldsplit_u_pc_type
 lu``) the Schur split takes 16, 26, 37 per Newton iteration at the MUMPS
 time. 2 ranks, n_arc = 48: 264 per Newton iteration, 166 s against 39 s.
