@@ -82,7 +82,7 @@ class CollocatedSurface(TwoBodyMultiplier):
     def _pair(self, other, first: bool) -> None:
         self.other, self.first = other, first
         # Node on node (the second surface ties its pressure to the first's): decided in the current
-        # configuration (_ties), within XI_MIN of the first surface's shortest facet at the node.
+        # configuration (_ties), within TIE x the first surface's shortest facet at the node.
         oo = other._static
         h = np.linalg.norm(oo["X"][:, 2] - oo["X"][:, 0], axis=1)
         self._h_other = np.full(len(oo["VX"]), np.inf)

@@ -491,7 +491,8 @@ class Solver:
         r1.scale(-(t - t0) / eps)
         ksp = self.snes.getKSP()
         ksp.setOperators(self.A)
-        ksp.solve(r1, du)
+        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):  # a nested split's blocks: see _newton
+            ksp.solve(r1, du)
         p.set_load(t)
         if ksp.getConvergedReason() < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
             self._set_u(x)
@@ -610,7 +611,8 @@ class Solver:
         start = time.perf_counter()
         self._jacobian(self.snes, self._x, self.A, self.A)
         ksp.setOperators(self.A)
-        ksp.solve(self.b, x)
+        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):  # a nested split's blocks: see _newton
+            ksp.solve(self.b, x)
         elapsed = time.perf_counter() - start
         ksp.destroy()
         x.destroy()
