@@ -25,7 +25,7 @@ TOLERANCE = 2e-2  # p0 of the nodal maximum on the default mesh (README: within 
 
 def main(argv=None) -> dict:
     # 1. Options: formulation, parameters, mesh refinement, load steps.
-    p = cli.parser(__doc__.splitlines()[0], default_K=lambda a: hertz.default_K(a.E, a.R),
+    p = cli.parser(__doc__.splitlines()[0], default_K=lambda a: hertz.default_K(a.E, a.R, a.method, a.plate),
                    quadratures=("nodal", "gauss", "simpson", "segment"))  # segment: the meshed plate
     p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the contact mesh size this many times")
     p.add_argument("--steps", type=cli.COUNT, default=2, help="load steps")

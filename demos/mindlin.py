@@ -3,12 +3,14 @@
     python demos/mindlin.py
     mpirun -n 2 python demos/mindlin.py --method auglag --augment 10 --ratios 0.5
     python demos/mindlin.py --refinement 1 --mu 0.5
+    python demos/mindlin.py --method coulomb           # exact Signorini-Coulomb, condensed (small sliding)
 
 A disk segment (circular bottom R = 1) on a block, both E = 1000, nu = 0.3 (plane strain), node-to-segment
-Coulomb friction (penalty K = 1e7, omega_t = 1e6, mu = 0.3). The top moves down (force P measured), then
-carries the tangential force Q = r mu P for each r of --ratios. The stick-zone half-width c is compared with
-Cattaneo-Mindlin c = a sqrt(1 - Q/(mu P)) (a: Hertz for P, E* = E / (2 (1 - nu^2))). Writes mindlin.xdmf,
-summary.json and mindlin_traction.png (the tangential traction against Cattaneo-Mindlin) to --out.
+Coulomb friction (penalty K = 1e7, omega_t = 1e6, mu = 0.3; or exact with --method coulomb). The top moves down
+(force P measured), then carries the tangential force Q = r mu P for each r of --ratios. The stick-zone
+half-width c is compared with Cattaneo-Mindlin c = a sqrt(1 - Q/(mu P)) (a: Hertz for P, E* = E / (2 (1 -
+nu^2))). Writes mindlin.xdmf, summary.json and mindlin_traction.png (the tangential traction against
+Cattaneo-Mindlin) to --out.
 """
 from pathlib import Path
 

@@ -26,7 +26,7 @@ from . import bench, capabilities, checks, cli, compat, domain, failure, meshes,
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
 from .compat import function_space, interpolate_expression
-from .condensed import CondensedContact, CondensedCoulomb, step_solver_for
+from .condensed import CondensedContact, CondensedCoulomb, CondensedTwoBody, CondensedTwoBodyCoulomb, step_solver_for
 from .contact import ContactSurface, contact_measure
 from .domain import NamedTags, read_gmsh
 from .factory import contact_surface, two_body_multipliers, two_body_surfaces
@@ -70,7 +70,8 @@ __all__ = [
     # contact surfaces: the interface, the constructors, the enforcements
     "Surface", "StepSolver", "contact_surface", "two_body_surfaces", "two_body_multipliers", "unknown",
     "step_solver_for", "contact_measure", "ContactSurface", "FrictionalContact", "BoundContact", "NitscheContact",
-    "MultiplierContact", "CondensedContact", "CondensedCoulomb", "TwoBodySurface", "SegmentSurface",
+    "MultiplierContact", "CondensedContact", "CondensedCoulomb", "CondensedTwoBody",
+    "CondensedTwoBodyCoulomb", "TwoBodySurface", "SegmentSurface",
     "TwoBodyMultiplier", "FrictionalTwoBodySurface",
     # your own mesh: gmsh physical names
     "read_gmsh", "NamedTags",

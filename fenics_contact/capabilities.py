@@ -66,9 +66,11 @@ RULES: tuple[Rule, ...] = (
        kind="rigid", passes="two"),
     _r("quadrature 'nodal' or 'gauss'", "segment-to-segment integration pairs two meshed surfaces",
        kind="rigid", quadrature="segment"),
-    _r("method penalty, cross, auglag, compliance, lagrange or penalty_multiplier",
-       "vi bounds one displacement component against a flat obstacle; coulomb condenses onto a rigid "
-       "plane; nitsche needs the obstacle's stress-free side", kind="two-body", method=("vi", "coulomb", "nitsche")),
+    _r("method penalty, cross, auglag, compliance, coulomb, lagrange or penalty_multiplier",
+       "vi bounds one displacement component against a flat obstacle; nitsche needs the obstacle's stress-free "
+       "side", kind="two-body", method=("vi", "nitsche")),
+    _r("passes 'one'", "coulomb pairs each slave vertex once with the master surface (two passes would "
+       "constrain each pair twice)", kind="two-body", method="coulomb", passes="two"),
     _r("quadrature 'nodal' or 'gauss' (pointwise two-body friction) or mu 0",
        "the segment-to-segment element has no tangential law", kind="two-body", friction=True,
        quadrature="segment"),
@@ -86,7 +88,7 @@ RULES: tuple[Rule, ...] = (
        method="vi", solver="iterative"),
     _r("quadrature 'nodal'", "coulomb is nodal contact on the condensed stiffness", method="coulomb",
        quadrature=("gauss", "segment", "simpson")),
-    _r("degree 1", "coulomb condenses onto the base vertices", method="coulomb", degree=2),
+    _r("degree 1", "coulomb condenses onto the contact vertices", method="coulomb", degree=2),
     _r("dim 2", "coulomb has one tangential direction", method="coulomb", dim=3),
     _r("model 'linear'", "coulomb condenses a constant stiffness", method="coulomb", model="neohookean"),
     _r("solver 'direct'", "coulomb factors the stiffness itself (MUMPS)", method="coulomb", solver="iterative"),

@@ -14,7 +14,7 @@ from dolfinx import fem
 
 from .bounds import BoundContact
 from .capabilities import check, of
-from .condensed import CondensedContact
+from .condensed import CondensedContact, CondensedTwoBody
 from .contact import ContactSurface
 from .friction import Friction, FrictionalContact
 from .laws import ContactLaw, Coulomb, Exact, LagrangeMultiplier, NitscheLaw
@@ -62,9 +62,12 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
     ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
     at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
-    2D and 3D, :mod:`~fenics_contact.mortar`). Two-pass: every slave point of both passes, each at weight 1/2
-    (quadratic facets: a second-pass point that coincides with a first-pass one in the reference configuration
-    is left out). ``cls``: the surface class of the pointwise quadratures (default :class:`TwoBodySurface`, or
+    2D and 3D, :mod:`~fenics_contact.mortar`); method ``coulomb`` (a :class:`~fenics_contact.laws.Coulomb` law):
+    one :class:`~fenics_contact.condensed.CondensedTwoBody` (2D, P1, nodal, one pass; its steps are solved by the
+    step solver of :func:`~fenics_contact.condensed.step_solver_for`, given to the problem). Two-pass: every slave
+    point of both passes, each at weight 1/2 (quadratic facets: a second-pass point that coincides with a
+    first-pass one in the reference configuration is left out). ``cls``: the surface class of the pointwise
+    quadratures (default :class:`TwoBodySurface`, or
     :class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface` for a law with friction).
     A combination the capability matrix refuses raises
     :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly."""
@@ -75,6 +78,10 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     # The capability matrix (multipliers: the rule of the work term is the option; the constraint is nodal).
     probe = law_factory()
     check(**of(probe, u), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes)
+    if isinstance(probe, Coulomb):  # exact Coulomb on the condensed system (2D, P1, nodal, one pass)
+        if cls is not None or work_quadrature is not None:
+            raise ValueError("method 'coulomb' takes neither cls nor work_quadrature")
+        return [CondensedTwoBody(u, facet_tags, tag_a, tag_b, law_factory(), load, radius, name)]
     if quadrature == "segment":
         if cls is not None or work_quadrature is not None:
             raise ValueError("quadrature 'segment' takes neither cls nor work_quadrature")

@@ -271,7 +271,8 @@ def _check_exponent(name: str, value: float) -> float:
 class Coulomb(ContactLaw):
     """No law: exact Signorini contact with Coulomb friction (coefficient ``mu >= 0``), solved on the
     stiffness condensed onto the contact dofs (:mod:`fenics_contact.condensed`, method ``coulomb``).
-    Linear elasticity, flat rigid obstacle, nodal contact. No penalty parameter."""
+    Linear elasticity, nodal contact, 2D: a flat rigid obstacle, or two bodies in small sliding. No penalty
+    parameter."""
 
     name = "coulomb"
 

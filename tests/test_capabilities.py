@@ -157,7 +157,8 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
                                      quadrature, passes)
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft.meshtags, subdomain_id=ft["upper_top"])
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-P[model],)), ds)
-    problem = fc.ContactProblem(u, fc.MODELS[model](E, NU), load, dirichlet, contacts, [traction])
+    problem = fc.ContactProblem(u, fc.MODELS[model](E, NU), load, dirichlet, contacts, [traction],
+                                step_solver=fc.step_solver_for(contacts))
     solve(problem, method, solver, augment=30 if method == "auglag" else 0)
     dev = max(float(np.max(np.abs(c.point_values()[2] - P[model]))) for c in contacts) / P[model]
     if friction:
@@ -204,7 +205,7 @@ def covering_cells() -> list[dict]:
         cells.append(_first_supported(method=method, friction=True))
     cells += [c for s in _structural("rigid") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
     cells.append(_first_supported(method="penalty", friction=True, model="neohookean"))
-    for method in cap.LAWS:  # two-body friction: every law; structural variants with penalty
+    for method in cap.LAWS + ("coulomb",):  # two-body friction: every law; structural variants with penalty
         cells.append(_first_supported(method=method, kind="two-body", friction=True))
     cells += [c for s in _structural("two-body") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
     unique = {tuple(c.items()): c for c in cells if c is not None}

@@ -48,3 +48,12 @@ def test_table_needs_a_passed_check_in_every_row():
     failed = {**ok_row, "check": {**ok_row["check"], "value": None, "rel_error": None, "passed": False}}
     assert not table.table([ok_row, failed])[1]
     assert not table.table([ok_row, {k: v for k, v in ok_row.items() if k != "check"}])[1]  # no check: a failure
+
+
+@pytest.mark.parametrize("method", ["penalty", "nitsche"])
+def test_hertz_demo_at_its_defaults_passes_its_check(method, tmp_path_factory, comm):
+    """The demo's default K (penalty: 10 x the augmented methods' scale on the rigid plate, where p / K is the
+    whole error: p0 2.1 % low at 1e6) and gamma0 meet its own 2 % check on the default mesh."""
+    out = comm.bcast(str(tmp_path_factory.mktemp(method)) if comm.rank == 0 else None)
+    summary = load("hertz").main(["--method", method, "--out", out, "--no-pictures", "--no-xdmf", "--quiet"])
+    assert summary["check"]["passed"], summary["check"]

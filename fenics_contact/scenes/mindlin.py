@@ -4,7 +4,8 @@ A body with a circular bottom of radius ``R`` (the lower part of a disk, cut fla
 on a block ``[-L, L] x [-D, 0]`` fixed at its base; both ``E``, ``nu``: Dundurs' ``beta = 0``, so the normal and
 tangential problems uncouple and the pressure stays Hertz's while the tangential load grows. Two-body contact,
 one pass, the arc the slave (node-to-segment, nodal quadrature), Coulomb friction ``mu`` on a penalty-type normal
-law (:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`).
+law (:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`), or exact Signorini-Coulomb on the
+condensed system (method ``coulomb``: :class:`~fenics_contact.condensed.CondensedTwoBody`, small sliding).
 
 Loading. ``t`` in (0, 1]: the top moves down by ``t * approach`` (displacement control; ``u_x`` free), pressing
 the bodies together with the force ``P`` (measured: the contact force at ``t = 1``). Then ``t = 1 + r`` for each
@@ -32,9 +33,10 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
+from ..condensed import step_solver_for
 from ..factory import two_body_surfaces
 from ..friction import Friction
-from ..laws import ContactLaw
+from ..laws import ContactLaw, Coulomb
 from ..materials import LinearElastic
 from ..meshes.mindlin import disk_on_block
 from ..problem import ContactProblem, Dirichlet
@@ -88,14 +90,16 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
           R: float = R, E: float = E, nu: float = NU, approach: float = APPROACH, press_steps: int = 4,
           width: float | None = None, height: float | None = None, depth: float | None = None,
           h_contact: float | None = None) -> Setup:
-    """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``). ``ratios``: the
+    """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``), or the exact
+    :class:`~fenics_contact.laws.Coulomb` (method ``coulomb``, ``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` halves the contact mesh size (default
     ``h_contact = R / 600``) that many times; ``press_steps`` load steps for the pressing. Bodies: ``width``
     ``2 L`` (default ``R``), the upper body's ``height`` (default ``R / 2``), the block's ``depth`` (default
     ``R / 2``)."""
     positive(R=R, E=E, approach=approach, width=width, height=height, depth=depth, h_contact=h_contact)
     poisson(nu=nu)
-    if not isinstance(law, Friction) or "mu" not in law.scalars or not law.scalars["mu"] > 0:
+    exact = isinstance(law, Coulomb)  # method coulomb: exact Coulomb on the condensed system
+    if not (exact and law.mu > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
         raise ValueError(f"mindlin needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
     ratios = tuple(float(r) for r in ratios)
     if not ratios or any(not 0 < r < 1 for r in ratios) or list(ratios) != sorted(set(ratios)):
@@ -104,7 +108,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
         raise ValueError(f"refinement must be >= 0, got {refinement!r}")
     if int(press_steps) < 1:
         raise ValueError(f"press_steps must be >= 1, got {press_steps!r}")
-    mu = float(law.scalars["mu"])
+    mu = float(law.mu if exact else law.scalars["mu"])
     L = 0.5 * (R if width is None else width)
     H = 0.5 * R if height is None else height
     D = 0.5 * R if depth is None else depth
@@ -124,7 +128,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     # ContactProblem scales tractions by t: this vector times t is (r mu P / (2 L), 0) at t = 1 + r.
     traction = ufl.as_vector((amplitude * ufl.max_value(t - 1.0, 0.0) / t, 0.0))
     problem = _Problem(u, material, t, dirichlet, [contact], [(traction, ds(facets["upper_top"]))],
-                       amplitude=amplitude, mu=mu, width=2 * L)
+                       amplitude=amplitude, mu=mu, width=2 * L, step_solver=step_solver_for([contact]))
     Es = E / (2 * (1 - nu**2))
     loads = [(i + 1) / press_steps for i in range(press_steps)] + [1.0 + r for r in ratios]
 
