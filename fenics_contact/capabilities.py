@@ -99,8 +99,6 @@ RULES: tuple[Rule, ...] = (
        "quadratic facets without the pressure's work", method=MULTIPLIERS, degree=2, quadrature="nodal"),
     _r("passes 'one'", "two passes of exact constraints over-constrain the surface (surface locking, "
        "a pressure split arbitrarily between the passes)", method=MULTIPLIERS, passes="two"),
-    _r("solver 'direct'", "GAMG has no option for the saddle point of the mixed (displacement, pressure) space",
-       method=MULTIPLIERS, solver="iterative"),
     # --- quadrature and degree
     _r("degree 1 (or 2D)", "quadratic master facets are curved segments: 2D only", kind="two-body", degree=2, dim=3),
     _r("quadrature 'simpson'", "a quadratic two-body surface works at the three nodes of its facets (the vertex "

@@ -140,7 +140,8 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
     p.add_argument("--quadrature", choices=list(quadratures), default="nodal", help="contact quadrature")
     p.add_argument("--gamma0", type=POSITIVE, default=10.0, help="nitsche: gamma = gamma0 E / h (dimensionless)")
     p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
-                   help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D)")
+                   help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D; "
+                        "multipliers: FGMRES + Schur complement field split)")
     output_options(p)
     return p
 

@@ -15,8 +15,13 @@ surface: among the vertices of ``beta`` whose closest point on the facet lies in
 vertices of both surfaces against the opposite surface's current curved facets (the closest point of
 :mod:`search`), by the complementarity rows of the law: ``C(p, g)/(-c)`` (:class:`LagrangeMultiplier`,
 exact) or ``p = eps <g>`` (:class:`PenaltyMultiplier`). A vertex of the second surface that coincides with
-one of the first in the reference configuration (to 1e-6 of a facet's length: node on node) gets
-``p^2 = p^1`` instead of a second gap constraint (one independent constraint per pair).
+one of the first in the current configuration (node on node: closer than ``TIE`` times the first
+surface's shortest facet at that vertex, the same margin that keeps a vertex out of the collocation)
+gets ``p^2 = p^1`` instead of a second gap constraint (one independent constraint per pair). Current,
+not reference: on the sheet (surfaces that slide) the pairs that coincide at rest separate; tied by
+their reference positions, the second surface's vertex loses its gap constraint for good and
+penetrates (n_arc = 8, t = 1: 6.4e-4, the penalty's Newton diverging at t = 0.53). "Coincide" is
+measured along the surface (the offset along the normal is the gap, which Newton's iterates open).
 
 Residual and tangent are assembled in NumPy from the two surfaces gathered on every rank (their
 facets in a partition-independent order): every rank computes the same numbers and adds the rows it
@@ -29,14 +34,16 @@ from __future__ import annotations
 import numpy as np
 from dolfinx import fem
 from petsc4py import PETSc
+from scipy.spatial import cKDTree
 
 from .laws import LagrangeMultiplier, PenaltyMultiplier
 from .multipliers import TwoBodyMultiplier
 from .search import project, quadratic_normals, quadratic_shape
 
-__all__ = ["XI_MIN", "collocated_surfaces", "CollocatedSurface"]
+__all__ = ["XI_MIN", "TIE", "collocated_surfaces", "CollocatedSurface"]
 
 XI_MIN = 0.05  # collocation points closer than this (in xi) to a facet's end are not used
+TIE = XI_MIN  # vertices of the two surfaces closer than this x the facet length coincide (node on node)
 _W = np.array([1.0, 4.0, 1.0]) / 6.0  # Simpson
 _XI = np.array([0.0, 0.5, 1.0])
 _ROT = np.array([[0.0, 1.0], [-1.0, 0.0]])  # (t_x, t_y) -> (t_y, -t_x)
@@ -74,15 +81,37 @@ class CollocatedSurface(TwoBodyMultiplier):
 
     def _pair(self, other, first: bool) -> None:
         self.other, self.first = other, first
-        so, oo = self._static, other._static
-        # Node on node (reference configuration): the second surface ties its pressure to the first's.
-        self._tie = np.full(len(so["VX"]), -1)
-        if not first and len(so["VX"]) and len(oo["VX"]):
-            d = np.linalg.norm(so["VX"][:, None] - oo["VX"][None], axis=2)
-            j = np.argmin(d, axis=1)
-            h = np.linalg.norm(so["X"][:, 2] - so["X"][:, 0], axis=1).min()
-            near = d[np.arange(len(j)), j] <= 1e-6 * h  # gmsh places "common" nodes to ~1e-9 only
-            self._tie[near] = j[near]
+        # Node on node (the second surface ties its pressure to the first's): decided in the current
+        # configuration (_ties), within TIE x the first surface's shortest facet at the node.
+        oo = other._static
+        h = np.linalg.norm(oo["X"][:, 2] - oo["X"][:, 0], axis=1)
+        self._h_other = np.full(len(oo["VX"]), np.inf)
+        np.minimum.at(self._h_other, oo["ends"][:, 0], h)
+        np.minimum.at(self._h_other, oo["ends"][:, 1], h)
+        self._tie = np.full(len(self._static["VX"]), -1)
+
+    def _ties(self, xv: np.ndarray, xo: np.ndarray, facets: np.ndarray) -> np.ndarray:
+        """For each vertex of this (second) surface at current positions ``xv``, the vertex of the first surface
+        (current positions ``xo``, facet nodes ``facets`` (nf, 3, 2)) it coincides with along the surface: the
+        nearest one, if their offset along its tangent is at most ``TIE`` x its shortest facet (the offset along
+        the normal is the gap, which the iterates open and close), else -1. The first surface ties nothing.
+        Current, not reference, positions: the sheet's surfaces slide along each other, and a pair that coincided
+        at rest separates (on the rings nothing slides: the same pairs)."""
+        tie = np.full(len(xv), -1)
+        if self.first or not len(xv) or not len(xo):
+            return tie
+        ends = self.other._static["ends"]
+        dN = quadratic_shape(_XI)[1]
+        tangent = np.zeros_like(xo)  # at each vertex: the sum of its facets' unit tangents
+        for k, m in ((0, 0), (1, 2)):
+            t = np.einsum("m,emj->ej", dN[m], facets)
+            np.add.at(tangent, ends[:, k], t / np.linalg.norm(t, axis=1, keepdims=True))
+        tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+        d, j = cKDTree(xo).query(xv)
+        along = np.abs(np.einsum("ij,ij->i", xv - xo[j], tangent[j]))
+        near = (along <= TIE * self._h_other[j]) & (d <= self.radius)
+        tie[near] = j[near]
+        return tie
 
     def residual(self, v):
         return None  # add_residual / add_jacobian
@@ -138,6 +167,9 @@ class CollocatedSurface(TwoBodyMultiplier):
         vcomp = np.zeros((len(s["VX"]), 2), np.int64)
         vcomp[s["ends"][:, 0]], vcomp[s["ends"][:, 1]] = s["G"][:, 0], s["G"][:, 2]
         facet, N, _, xi = project(xv, xb, self.radius, None, quadratic=True)
+        xo = np.zeros((len(o["VX"]), 2))
+        xo[o["ends"][:, 0]], xo[o["ends"][:, 1]] = xb[:, 0], xb[:, 2]
+        self._tie = self._ties(xv, xo, xb)
         self._vertex_gap = np.full(len(xv), -np.inf)
         for i in range(len(xv)):
             row = s["VP"][i]
@@ -171,8 +203,6 @@ class CollocatedSurface(TwoBodyMultiplier):
                     for m in range(3):
                         jr.append(row), jc.append(o["G"][f, m, k]), jv.append(dg * N[i, m] * n[k])
         # 2. Collocation of the middle pressures: the other surface's vertices projected on this surface.
-        xo = np.zeros((len(o["VX"]), 2))
-        xo[o["ends"][:, 0]], xo[o["ends"][:, 1]] = xb[:, 0], xb[:, 2]
         fo, _, _, xio = project(xo, xa, self.radius, None, quadratic=True)
         best = np.full(len(xa), -1)
         for j in np.flatnonzero(fo >= 0):

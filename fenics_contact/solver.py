@@ -66,6 +66,8 @@ PREDICTOR_ETA = 0.05
 # rigid-body modes as near-nullspace, for 3D meshes where LU's fill-in and time grow too fast.
 # (CG would do for these symmetric Jacobians, but GAMG's Chebyshev smoothers, with eigenvalue
 # estimates from the first contact iterations, reported an indefinite preconditioner on the sphere.)
+# Multipliers (a saddle point): "iterative" becomes their own FGMRES + Schur complement field split
+# (multipliers.PressureUnknown.iterative_solver_options; options of the caller's own still win).
 # Preconditioners whose set-up builds a hierarchy of level solvers (renewed, not reset, on a new pattern).
 MULTIGRID = ("gamg", "ml", "hypre", "mg")
 
@@ -192,6 +194,15 @@ class Solver:
         if wanted.get("pc_type") == "lu":  # a direct solve: a formulation may split off trivial blocks
             for c in problem.contacts:
                 wanted.update(c.direct_solver_options)
+        elif wanted.get("pc_type") in MULTIGRID:  # the iterative solve: a formulation may need its own (Schur)
+            for c in problem.contacts:  # the capability matrix, before any assembly
+                check(**of(c.law, u=problem.u), solver="iterative")
+            for c in problem.contacts:
+                if c.iterative_solver_options:  # the caller's own options (not those of the generic GAMG) win
+                    generic = LINEAR_SOLVERS["iterative"]
+                    own = {k: v for k, v in (options or {}).items() if k not in generic or generic[k] != v}
+                    wanted.update({**c.iterative_solver_options, **own})
+                    break
         self._wanted, self._prefix = wanted, prefix
         u = problem.u
         self.b = problem.create_vector()  # the residual vector of the SNES (dolfinx_mpc style: public)
@@ -290,6 +301,13 @@ class Solver:
                 with self._wanted_options(lambda k: k.startswith("fieldsplit_")):
                     for ksp in pc.getFieldSplitSubKSP():
                         ksp.setFromOptions()
+                    inner = pc.getFieldSplitSubKSP()[0].getPC()  # the first block split again (Schur)
+                    split = c.schur_split() if inner.getType() == "fieldsplit" else None
+                    if split is not None:
+                        (name, first), second = split[0]
+                        if split[1] is not None:  # the first field's sub-matrix takes it (PCFIELDSPLIT's query)
+                            first.compose("nearnullspace", split[1])
+                        inner.setFieldSplitIS((name, first), second)  # its KSPs: made and set up in the solve
                 return
         pc.setType("lu")
         pc.setFactorSolverType("mumps")
@@ -352,7 +370,9 @@ class Solver:
             return reason
         petsc_vec(self.problem.u).copy(self._x)
         start = time.perf_counter()
-        self.snes.solve(None, self._x)
+        # a nested split's blocks (the Schur complement's KSP) are made, and read their options, at set-up
+        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):
+            self.snes.solve(None, self._x)
         self.timings["snes_s"] += time.perf_counter() - start
         self.linear_iterations += self.snes.getLinearSolveIterations()
         self._set_u(self._x)
@@ -471,7 +491,8 @@ class Solver:
         r1.scale(-(t - t0) / eps)
         ksp = self.snes.getKSP()
         ksp.setOperators(self.A)
-        ksp.solve(r1, du)
+        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):  # a nested split's blocks: see _newton
+            ksp.solve(r1, du)
         p.set_load(t)
         if ksp.getConvergedReason() < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
             self._set_u(x)
@@ -590,7 +611,8 @@ class Solver:
         start = time.perf_counter()
         self._jacobian(self.snes, self._x, self.A, self.A)
         ksp.setOperators(self.A)
-        ksp.solve(self.b, x)
+        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):  # a nested split's blocks: see _newton
+            ksp.solve(self.b, x)
         elapsed = time.perf_counter() - start
         ksp.destroy()
         x.destroy()

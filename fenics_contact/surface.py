@@ -35,8 +35,10 @@ class Surface(abc.ABC):
     Class attributes (override as needed): ``bcs`` the Dirichlet conditions the surface adds to the problem
     (multipliers: ``p = 0`` off the surface); ``solver_options`` PETSc defaults the formulation needs (the
     user's options still win); ``direct_solver_options`` what replaces them when the linear solver is a direct
-    LU (multipliers: the exact additive field split); ``pinned_dofs`` global number of unknowns fixed by
-    ``bcs`` that are not real unknowns (not counted in reported sizes); ``bounded`` True when the surface is
+    LU (multipliers: the exact additive field split); ``iterative_solver_options`` what replaces them when the
+    linear solver is the iterative one (multipliers: the Schur complement field split); ``pinned_dofs`` global
+    number of unknowns fixed by ``bcs`` that are not real unknowns (not counted in reported sizes); ``bounded``
+    True when the surface is
     enforced by variable bounds (SNES VI) instead of a residual term; ``requires_step_solver`` True when its
     steps must be solved by a :class:`StepSolver` given to the problem (no residual term, no bounds).
     """
@@ -45,6 +47,7 @@ class Surface(abc.ABC):
     bcs: tuple = ()
     solver_options: dict = {}
     direct_solver_options: dict = {}
+    iterative_solver_options: dict = {}
     pinned_dofs: int = 0
     bounded: bool = False
     requires_step_solver: bool = False
@@ -70,6 +73,11 @@ class Surface(abc.ABC):
     # --- linear solver ------------------------------------------------------------
     def field_split(self) -> list[tuple[str, PETSc.IS]] | None:
         """Named global index sets of a ``fieldsplit`` preconditioner, or None (the solver then uses LU)."""
+        return None
+
+    def schur_split(self) -> tuple[list[tuple[str, PETSc.IS]], PETSc.NullSpace | None] | None:
+        """The two fields of a Schur complement split of the first block of :meth:`field_split`, as index sets in
+        that block's own numbering, and the first field's near-nullspace (or None); None when there is none."""
         return None
 
     # --- SNES VI --------------------------------------------------------------------

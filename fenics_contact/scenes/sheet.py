@@ -24,56 +24,79 @@ Choices (the paper's geometry figure is lost in the text):
   the leg, ``n_thick`` through the thickness), quadratic geometry so that
   all three nodes of a contact facet start exactly on the circle.
 
-Methods (``quadrature="simpson"``: the pressure's work integrated with
-Simpson's rule over each quadratic facet):
+Methods:
 
-- ``lagrange`` and ``penalty_multiplier`` (``p = eps <g>``): the "two-point"
-  element, the gap enforced at the two end nodes of each contact facet of
-  the sheet against the cylinder's current (curved) surface, the pressure an
-  unknown, linear on the facet (its middle value the mean of the ends: the
-  paper's choice when no node of the opposite surface projects into the
-  facet). One pass (the sheet is the slave, the cylinder takes the reaction
+- ``quadrature="collocated"`` with ``lagrange`` or ``penalty_multiplier``
+  (deformable cylinder only): Papadopoulos & Solberg's element
+  (:mod:`~fenics_contact.collocation`): a pressure on both surfaces (an unknown
+  at each vertex of each), the gap enforced at the vertices of both against the
+  other's current curved facets, the middle pressure of a facet collocated from
+  the opposite surface's vertex that projects nearest its middle (else the
+  mean of the ends), each body loaded by its own surface's pressure (Simpson's
+  rule); a vertex pair that coincides (along the surface, in the current
+  configuration) has one constraint. ``penalty_multiplier`` is the paper's
+  "two-point penalty" (``p = eps <g>`` at the vertices, the middle value
+  collocated). Per current length (Cauchy); the figures use the nominal value.
+- ``quadrature="simpson"``, ``lagrange`` and ``penalty_multiplier``: the one-pass
+  two-point element, the gap enforced at the two end nodes of each contact
+  facet of the sheet against the cylinder's current (curved) surface, the
+  pressure an unknown, linear on the facet (its middle value the mean of the
+  ends). One pass (the sheet is the slave, the cylinder takes the reaction
   through the coupling ``I``; default ``passes`` for these laws).
 - ``penalty``: the "three-point" penalty, ``p = eps <g>`` at all three nodes
   of the facets of **both** surfaces (two passes, each surface slave once,
   weight 1/2; a node of one surface that coincides with one of the other,
   here at the top and at ``(3, 0)``, is constrained once).
 
-Not the paper's element: its two-pass two-point element collocates the
-middle pressure of a facet from the opposite surface (``p(1) = p(2)`` at
-projected points) and loads each body with its own surface's pressure only.
-We tried the two-pass two-point multipliers without that collocation
-(``passes="two"``, both passes weight 1/2): where a vertex of the sheet and
-one of the cylinder nearly coincide their two constraints are nearly the
-same, and the multipliers split the traction arbitrarily between the two
-passes (n_arc = 12, t = 1: one surface's pressure 0 where the other's is
-twice the traction; the nodal traction ragged). The collocation is what
-makes the paper's two-pass element well posed; we did not build it, so the
-two-point reference here is the one-pass element.
+Two-pass two-point multipliers without the collocation (``passes="two"``,
+both passes weight 1/2) are refused: where a vertex of the sheet and one of
+the cylinder nearly coincide their two constraints are nearly the same, and
+the multipliers split the traction arbitrarily between the two passes
+(n_arc = 12, t = 1: one surface's pressure 0 where the other's is twice the
+traction). The collocated element is the paper's cure.
 
-What it shows (``demos/sheet.py``, n_arc = 24, 1919 dofs, 2 ranks): the
-paper's surface locking. The two-point penalty approaches the multipliers
-(max difference over the multipliers' peak 20 % / 0.35 % at t = 0.5, 6.7 % /
-0.10 % at t = 1 for eps = 1e4 / 1e6); the three-point penalty's pressure
+What it shows (``demos/sheet.py``, n_arc = 24, 1742 dofs, serial): the
+paper's Figure 9. The collocated multipliers: the ends' pull 164.23 against
+the fixed inner surface's reaction 164.28 (0.03 %), zero gap at the
+constrained vertices, peak 35.9 / 72.0 at t = 0.5 / 1. Their two-point
+penalty approaches them (max difference over the peak 31 % / 0.064 % at
+t = 0.5, 25 % / 0.043 % at t = 1 for eps = 1e4 / 1e6; 1e6 needs the tangent
+predictor and cutbacks: 27 load steps); the three-point penalty's pressure
 oscillates node to node with the period of the two meshes' common nodes and
 moves away as eps grows (total variation along the interface 573 -> 1854
-against the multipliers' 82 at t = 1, difference 34 % -> 114 %). With
-a rigid cylinder (one surface, Signorini) the three-point penalty is far
-milder (5.7 % off near the peak at 1e6): the locking needs the constraints
-of both surfaces.
+against the multipliers' 84 at t = 1, difference 34 % -> 114 %). The one-pass
+two-point multipliers (the cylinder's vertices unconstrained) are 11 % / 16 %
+off at t = 0.5 / 1, at the edge of the contact. With a rigid cylinder (one
+surface, Signorini) the three-point penalty is far milder (5.7 % off near the
+peak at 1e6): the locking needs the constraints of both surfaces.
+
+Linear solver: ``Solver(..., options=LINEAR_SOLVERS["iterative"])`` (demo
+``--solver iterative``) solves the multipliers' saddle point by FGMRES with
+the Schur complement field split (:mod:`~fenics_contact.multipliers`): the
+same figures as MUMPS to 1e-12 and the same Newton iterations; collocated
+multipliers, 4 load steps, serial (Krylov iterations per Newton iteration;
+wall time direct / iterative, a loaded machine): n_arc = 24 (1742 dofs, 20
+Newton iterations) 70, 2.5 / 4.0 s; 48 (3458, 27) 180, 5.9 / 24.5 s; 96
+(6890, 28) over the 500 cap at the first step (cap 3000, 2 load steps:
+1150, 255 s; direct 4 steps 23 s). GAMG on the displacement block of the thin sheet is what does not
+scale; with that block by LU (``-fc_fieldsplit_free_fieldsplit_u_pc_type
+lu``) the Schur split takes 16, 26, 37 per Newton iteration at the MUMPS
+time. 2 ranks, n_arc = 48: 264 per Newton iteration, 166 s against 39 s.
 
 Figures: ``profile(0)`` is the pressure field on the sheet's contact nodes
 (vertices and midpoints, by reference arc length from the top; for the
 three-point penalty ``eps <g>`` of the sheet's pass), ``profile(1)`` the
-cylinder's (two passes only); ``traction()`` the nodal traction on the sheet:
+cylinder's (two passes or the collocated element); ``traction()`` the nodal traction on the sheet:
 its contact nodal force (minus the internal force, radial component)
 divided by the node's Simpson weight ``int phi_i ds``, independent of how a
 formulation splits its pressure.
 
 Equilibrium: the end's vertical reaction ``T`` (the sheet's tension at the
 end, per unit thickness) equals the vertical contact force and the reaction
-of the cylinder's fixed inner surface; on the arc the belt formula gives
-``p ~ T/R`` (frictionless, thin sheet).
+of the cylinder's fixed inner surface (exactly for the one-surface
+elements; for the collocated element, which loads each body by its own
+pressure, to its consistency: 0.31, 0.16, 0.03, 0.02 % at n_arc = 8, 12, 24,
+48); on the arc the belt formula gives ``p ~ T/R`` (frictionless, thin sheet).
 """
 from __future__ import annotations
 
@@ -84,6 +107,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from ..collocation import collocated_surfaces
 from ..compat import function_space, petsc_vec
 from ..contact import contact_measure
 from ..factory import contact_surface, two_body_multipliers, two_body_surfaces
@@ -142,14 +166,21 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
     down by ``t pull``; defaults: the module constants."""
     if cylinder not in CYLINDERS:
         raise ValueError(f"cylinder must be one of {CYLINDERS}, got {cylinder!r}")
+    collocated = quadrature == "collocated"
+    if collocated and (cylinder != "deformable" or not isinstance(law, LagrangeMultiplier)):
+        raise ValueError("quadrature 'collocated' (Papadopoulos & Solberg's two-body element) needs cylinder "
+                         f"'deformable' and method 'lagrange' or 'penalty_multiplier', got cylinder {cylinder!r}, "
+                         f"method {law.name!r}")
     if not (np.isfinite(ratio) and ratio >= 1):
         raise ValueError(f"stiffness ratio must be a finite number >= 1, got {ratio!r}")
     positive(R=R, thickness=thickness, leg=leg, R_in=R_in, lmbda=lmbda, mu=mu, radius=radius, pull=pull)
     if not R_in < R:
         raise ValueError(f"R_in must be < R = {R!r}, got {R_in!r}")
     deformable = cylinder == "deformable"
-    two_point = isinstance(law, LagrangeMultiplier)
-    if passes is None:
+    two_point = isinstance(law, LagrangeMultiplier) and not collocated
+    if collocated:
+        passes = "both"  # both surfaces carry a pressure (not a two-body "passes" option)
+    elif passes is None:
         passes = "one" if two_point else "two"
     if n_cyl is None:
         n_cyl = max(3 * int(n_arc) // 4, 1)
@@ -168,7 +199,10 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         cyl = cell_tags.find("cylinder")
         material.factor.x.array[:] = 1.0
         material.factor.x.array[_cell_dofs(material.factor.function_space, cyl)] = ratio
-        if isinstance(law, LagrangeMultiplier):  # two-point: constraint at the end nodes, p linear on the facet
+        if collocated:  # the gap at the vertices of both surfaces, each body loaded by its own pressure
+            contacts = collocated_surfaces(u, facet_tags, "contact", "cylinder_surface", law, load, radius,
+                                           "interface")
+        elif isinstance(law, LagrangeMultiplier):  # two-point: constraint at the end nodes, p linear on the facet
             if quadrature != "simpson":
                 raise ValueError(f"method {law.name!r} on the sheet is the two-point element (Simpson's rule for "
                                  f"the work): quadrature must be 'simpson', got {quadrature!r}")
@@ -194,10 +228,12 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
 
     def profile(surface: int = 0) -> dict:
         """Pressure at the contact nodes (vertices and midpoints) of the sheet (``surface`` 0) or of the
-        cylinder (1, deformable only), ordered along the interface by reference arc length from the top,
-        on every rank."""
+        cylinder (1, deformable cylinder with two passes or the collocated element), ordered along the interface
+        by reference arc length from the top, on every rank; deformable cylinder: also ``gap`` (penetration
+        positive; ``-inf`` where not constrained, e.g. the collocated element's middle nodes)."""
+        g = None
         if deformable:
-            X, x, _, p = contacts[surface].point_table()
+            X, x, g, p = contacts[surface].point_table()
             s = arc_length(X, R) if surface == 0 else R * np.arctan2(X[:, 0], X[:, 1])
         else:
             nodes.project(nodes_rhs, p_nodes)
@@ -206,7 +242,10 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
             p = np.concatenate(comm.allgather(p_nodes.x.array[dofs]))
             s = arc_length(X, R)
         order = np.argsort(s)
-        return {"s": s[order], "x": X[order, 0], "y": X[order, 1], "p": p[order]}
+        out = {"s": s[order], "x": X[order, 0], "y": X[order, 1], "p": p[order]}
+        if g is not None:  # the gap at the constrained points (-inf elsewhere: collocated middle nodes, unpaired)
+            out["gap"] = g[order]
+        return out
 
     if deformable:
         # Simpson weight of every node of the sheet's contact surface (int phi_i ds, reference configuration).
@@ -252,7 +291,9 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         if deformable:  # the force the fixed inner surface takes
             support = problem.reaction(fixed_y)
             # the constrained points: the end nodes (two-point) or all three nodes (three-point) of each facet
-            gaps = [c.projection["gap"][:, [0, 2]] if two_point else c.projection["gap"] for c in contacts]
+            # (collocated: the vertices of both surfaces)
+            gaps = [c.point_table()[2] if collocated else c.projection["gap"][:, [0, 2]] if two_point
+                    else c.projection["gap"] for c in contacts]
             pen = comm.allreduce(float(max(np.max(g[np.isfinite(g)], initial=-np.inf) for g in gaps)), op=MPI.MAX)
             extra = {"cylinder_support_y": support, "max_penetration": pen,
                      "pairing_changes": int(sum(c.pairing_changes for c in contacts))}
