@@ -58,9 +58,11 @@ linearly at the sub-segment points; augmentation uses the nodal gaps
 (closest point of each slave vertex). For a uniform state this changes
 nothing: the patch test holds after every augmentation.
 
-Parallel: each rank integrates its *owned* slave facets (each facet once);
-the master surface is the gathered one of :class:`twobody.TwoBodySurface`
-(global dof numbers), so a master facet on another rank is just a column;
+Parallel: each rank integrates its *owned* slave facets (each facet once)
+against the master facets near its slave facets, which
+:class:`twobody.MasterExchange` brings (global dof numbers; every master
+facet within the search radius of a local slave facet's box is among them),
+so a master facet on another rank is just a column;
 residual and tangent entries go to PETSc with global indices
 (``VecSetValues``/``MatSetValues`` with ``ADD``; off-process entries are
 moved by the assembly).
@@ -502,7 +504,7 @@ def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nd
 # --------------------------------------------------------------------------------------------
 class SegmentSurface(TwoBodySurface):
     """Two-body contact with segment-to-segment integration (``quadrature="segment"``, 2D and 3D): the same
-    projection, gathered master surface, nodal state, augmentation and outputs as
+    projection, master exchange, nodal state, augmentation and outputs as
     :class:`twobody.TwoBodySurface` with nodal points, but the contact residual and tangent on slave and
     master dofs come from :func:`segment_element`, assembled in NumPy and added by the solver hooks."""
 
@@ -513,7 +515,8 @@ class SegmentSurface(TwoBodySurface):
         if u.function_space.num_sub_spaces > 0 and u.function_space.sub(0).num_sub_spaces > 0:
             raise ValueError("contact quadrature 'segment' needs a displacement unknown (not a mixed space)")
         self._segments = None
-        self._segment_pairs = None
+        self._segment_pairs = None  # (owned slave facet, index into the received master facets)
+        self._segment_ids = None  # the same with global master facet numbers (the pairing state)
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, "nodal", weight, radius, name)
         self.quadrature = "segment"
         sd = self.slave_data
@@ -541,15 +544,16 @@ class SegmentSurface(TwoBodySurface):
         self._exploded_seen |= self.exploded
         if self.exploded:
             return False
-        xm = self._mX + self._gather_master()
+        xm = self._master["x"]
         own = np.flatnonzero(self.slave_data.owned)
         pair = pair_segments if self.gdim == 2 else pair_triangles
         fs, ms = pair(self._slave_current()[own], xm, self.radius)
         pairs = np.stack([own[fs], ms], axis=1)
-        same = self._segment_pairs is not None and np.array_equal(self._segment_pairs, pairs)
+        ids = np.stack([own[fs], self._master["ids"][ms]], axis=1)  # the state: global master facet numbers
+        same = self._segment_ids is not None and np.array_equal(self._segment_ids, ids)
         seg_changed = self.comm.allreduce(0 if same else 1) > 0
+        self._segment_pairs, self._segment_ids = pairs, ids
         if seg_changed:
-            self._segment_pairs = pairs
             self._pattern_version += 1
         self._xm = xm
         return changed or seg_changed
@@ -557,7 +561,7 @@ class SegmentSurface(TwoBodySurface):
     def pairing(self) -> np.ndarray:
         """The point pairs (:meth:`TwoBodySurface.pairing`) followed by the (slave facet, master facet) pairs of
         the sub-segments, flattened."""
-        return np.concatenate([super().pairing(), self._segment_pairs.ravel()])
+        return np.concatenate([super().pairing(), self._segment_ids.ravel()])
 
     def _elements(self, points: bool = False):
         """Element residuals, tangents and global dof indices (n, 8) of the current sub-segments."""
@@ -568,7 +572,8 @@ class SegmentSurface(TwoBodySurface):
         element = segment_element if self.gdim == 2 else triangle_element
         out = element(x, self._J[f], self.law, scalars, fields, float(self.weight.value), points=points)
         k = self.nv * self.gdim
-        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self._mG[m].reshape(-1, k)], axis=1)
+        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self._master["G"][m].reshape(-1, k)],
+                              axis=1)
         return out, dofs
 
     # --- solver hooks ----------------------------------------------------------
