@@ -80,7 +80,8 @@ from .twobody import TwoBodySurface
 
 __all__ = [
     "SEGMENT_RULE", "Dual", "dual_max", "dual_min", "dual_exp", "dual_sqrt", "DUAL_OPS", "segment_element",
-    "clip_polygons", "polygon_area", "triangle_element", "overlap", "pair_segments", "pair_triangles", "SegmentSurface"
+    "clip_arrays", "clip_polygons", "polygon_area", "polygon_areas", "triangle_element", "overlap", "pair_segments",
+    "pair_triangles", "SegmentSurface"
 ]
 
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
@@ -300,33 +301,73 @@ def _cross(a, b):
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
-def clip_polygons(alpha: np.ndarray, beta: np.ndarray, tol: float = 1e-12) -> list[list[tuple[int, int]]]:
-    """Sutherland-Hodgman clipping (values) of the slave reference triangle by the master lines, per pair:
-    the polygon as a list of vertices ``(line in, line out)`` (counter-clockwise in xi). ``alpha`` (n, 3),
-    ``beta`` (n, 3, 2) of the master lines. A vertex within ``tol`` of a line counts as inside, so a slave
-    edge on a master edge (matching meshes, block boundaries) is never intersected with its own line."""
-    out = []
-    for a, b in zip(alpha, beta):
-        A = np.concatenate([_SLAVE_LINES[0], a])
-        B = np.concatenate([_SLAVE_LINES[1], b])
-        poly = [(2, 0), (0, 1), (1, 2)]
-        for k in (3, 4, 5):
-            if not poly:
+def _lines(alpha: np.ndarray, beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """All six lines of each pair: ``A`` (n, 6), ``B`` (n, 6, 2) (slave edges, then the master lines)."""
+    n = len(alpha)
+    A = np.concatenate([np.broadcast_to(_SLAVE_LINES[0], (n, 3)), alpha], axis=1)
+    B = np.concatenate([np.broadcast_to(_SLAVE_LINES[1], (n, 3, 2)), beta], axis=1)
+    return A, B
+
+
+def _vertices(A: np.ndarray, B: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """``xi`` (n, m, 2) of polygon vertices ``poly`` (n, m, 2): the intersections of their two lines (values;
+    non-finite where the lines are parallel, e.g. unused slots)."""
+    rows = np.arange(len(A))[:, None]
+    a, b = poly[..., 0], poly[..., 1]
+    Aa, Ab, Ba, Bb = A[rows, a], A[rows, b], B[rows, a], B[rows, b]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        det = Ba[..., 0] * Bb[..., 1] - Ba[..., 1] * Bb[..., 0]
+        return np.stack([(-Aa * Bb[..., 1] + Ab * Ba[..., 1]) / det, (-Ab * Ba[..., 0] + Aa * Bb[..., 0]) / det],
+                        axis=-1)
+
+
+_MAX_VERTICES = 6  # a triangle clipped by three half-planes
+
+
+def clip_arrays(alpha: np.ndarray, beta: np.ndarray, tol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:
+    """Sutherland-Hodgman clipping (values) of the slave reference triangle by the master lines of every pair
+    at once: the polygons ``poly`` (n, 6, 2), vertex ``j < count[i]`` of pair ``i`` being ``(line in, line out)``
+    (counter-clockwise in xi), and ``count`` (n,) (0: no overlap). ``alpha`` (n, 3), ``beta`` (n, 3, 2) of
+    the master lines. A vertex within ``tol`` of a line counts as inside, so a slave edge on a master edge
+    (matching meshes, block boundaries) is never intersected with its own line. Vectorised over pairs: one
+    NumPy pass per master line and polygon vertex slot."""
+    n = len(alpha)
+    A, B = _lines(np.asarray(alpha, float), np.asarray(beta, float))
+    poly = np.zeros((n, _MAX_VERTICES + 1, 2), np.int64)
+    poly[:, :3] = [(2, 0), (0, 1), (1, 2)]
+    count = np.full(n, 3, np.int64)
+    rows = np.arange(n)
+    for k in (3, 4, 5):
+        xi = _vertices(A, B, poly)
+        with np.errstate(invalid="ignore"):
+            inside = A[:, k, None] + (B[:, k, None, 0] * xi[..., 0] + B[:, k, None, 1] * xi[..., 1]) >= -tol
+        new = np.zeros_like(poly)
+        size = np.zeros(n, np.int64)
+        for i in range(_MAX_VERTICES):
+            on = i < count
+            if not on.any():
                 break
-            val = [A[k] + B[k] @ _intersect_values(A, B, *v) for v in poly]
-            new = []
-            for i, q in enumerate(poly):
-                p = poly[i - 1]
-                vp, vq = val[i - 1], val[i]
-                if vq >= -tol:
-                    if vp < -tol:
-                        new.append((k, p[1]))  # entering: the edge p -> q lies on p's out line
-                    new.append(q)
-                elif vp >= -tol:
-                    new.append((p[1], k))
-            poly = new
-        out.append(poly if len(poly) >= 3 else [])
-    return out
+            ip = np.where(i == 0, count - 1, i - 1)  # the previous vertex (cyclic)
+            p_out = poly[rows, np.maximum(ip, 0), 1]
+            q_in, p_in = inside[:, i], inside[rows, np.maximum(ip, 0)]
+            m = on & q_in & ~p_in  # entering: the edge p -> q lies on p's out line
+            new[m, size[m]] = np.stack([np.full(m.sum(), k), p_out[m]], axis=1)
+            size += m
+            m = on & q_in
+            new[m, size[m]] = poly[m, i]
+            size += m
+            m = on & ~q_in & p_in  # leaving
+            new[m, size[m]] = np.stack([p_out[m], np.full(m.sum(), k)], axis=1)
+            size += m
+        poly, count = new, size
+    count = np.where(count >= 3, count, 0)
+    return poly[:, :_MAX_VERTICES], count
+
+
+def clip_polygons(alpha: np.ndarray, beta: np.ndarray, tol: float = 1e-12) -> list[list[tuple[int, int]]]:
+    """:func:`clip_arrays` as one list of vertices ``(line in, line out)`` per pair (empty: no overlap)."""
+    poly, count = clip_arrays(alpha, beta, tol)
+    return [[(int(a), int(b)) for a, b in p[:c]] for p, c in zip(poly, count)]
 
 
 def _intersect_values(A, B, a, b):
@@ -344,6 +385,21 @@ def polygon_area(alpha, beta, poly) -> float:
     return 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
 
 
+def polygon_areas(alpha: np.ndarray, beta: np.ndarray, poly: np.ndarray, count: np.ndarray) -> tuple[np.ndarray,
+                                                                                                     np.ndarray]:
+    """Areas (n,) and vertex means (n, 2) in xi of the polygons of :func:`clip_arrays` (0 without a polygon)."""
+    A, B = _lines(np.asarray(alpha, float), np.asarray(beta, float))
+    P = _vertices(A, B, poly)
+    used = np.arange(poly.shape[1])[None, :] < count[:, None]
+    P = np.where(used[..., None], P, 0.0)
+    nxt = np.where(np.arange(poly.shape[1])[None, :] + 1 < count[:, None], np.arange(1, poly.shape[1] + 1) %
+                   poly.shape[1], 0)
+    Pn = np.take_along_axis(P, nxt[..., None], axis=1)
+    area = 0.5 * np.sum(np.where(used, P[..., 0] * Pn[..., 1] - Pn[..., 0] * P[..., 1], 0.0), axis=1)
+    centre = P.sum(axis=1) / np.maximum(count, 1)[:, None]
+    return area, centre
+
+
 def triangle_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: dict, weight: float = 1.0,
                      points: bool = False):
     """3D analogue of :func:`segment_element` for triangle facets: residual (n, 18) and tangent (n, 18, 18)
@@ -354,22 +410,21 @@ def triangle_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: d
     n, nd = len(x), 18
     X = [[Dual.seed(x[:, a, i], 3 * a + i, nd) for i in range(3)] for a in range(6)]
     alpha, beta = _master_lines(X)
-    polys = clip_polygons(np.stack([a.v for a in alpha], 1),
-                          np.array([[beta[k][j].v for j in range(2)] for k in range(3)]).transpose(2, 0, 1))
-    # Sub-triangles (pair, three polygon vertices) of the fans.
-    tri_pair, corners = [], []
-    for p, poly in enumerate(polys):
-        for i in range(1, len(poly) - 1):
-            tri_pair.append(p)
-            corners.append((poly[0], poly[i], poly[i + 1]))
+    poly, count = clip_arrays(np.stack([a.v for a in alpha], 1),
+                              np.array([[beta[k][j].v for j in range(2)] for k in range(3)]).transpose(2, 0, 1))
+    # Sub-triangles of the fans (pair, polygon vertices 0, i, i + 1), pair by pair.
+    pi = [np.flatnonzero(i < count - 1) for i in range(1, _MAX_VERTICES - 1)]
+    fan = np.concatenate([np.full(len(p), i + 1) for i, p in enumerate(pi)]).astype(np.int64)
+    tp = np.concatenate(pi).astype(np.int64)
+    order = np.lexsort((fan, tp))
+    tp, fan = tp[order], fan[order]
     r = np.zeros((n, nd))
     K = np.zeros((n, nd, nd))
     out = {"pair": [], "N": [], "weight": [], "gap": [], "pressure": [], "normal": []}
-    if not tri_pair:
+    if not len(tp):
         return (r, K, {k: np.zeros((0,) + ((3,) if k in ("N", "normal") else ())) for k in out}) if points else (r, K)
-    tp = np.array(tri_pair)
-    lines_a = np.array([[c[0] for c in cs] for cs in corners])  # (nt, 3)
-    lines_b = np.array([[c[1] for c in cs] for cs in corners])
+    corners = np.stack([poly[tp, 0], poly[tp, fan], poly[tp, fan + 1]], axis=1)  # (nt, 3 corners, 2 lines)
+    lines_a, lines_b = corners[..., 0], corners[..., 1]
 
     def take(d, idx):
         return Dual(d.v[idx], d.d[idx]) if isinstance(d, Dual) else np.asarray(d)[idx]
@@ -484,17 +539,13 @@ def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nd
     alpha, beta = _master_lines([[x[:, a, i] for i in range(3)] for a in range(6)])
     alpha = np.stack(alpha, 1)
     beta = np.array(beta).transpose(2, 0, 1)
-    polys = clip_polygons(alpha, beta)
-    keep = np.array([polygon_area(a, b, p) > 0.5e-10 for a, b, p in zip(alpha, beta, polys)], dtype=bool)
-    cen = np.zeros((len(fs), 2))
-    for i in np.flatnonzero(keep):
-        A = np.concatenate([_SLAVE_LINES[0], alpha[i]])
-        B = np.concatenate([_SLAVE_LINES[1], beta[i]])
-        cen[i] = np.mean([_intersect_values(A, B, *v) for v in polys[i]], axis=0)
+    poly, count = clip_arrays(alpha, beta)
+    area, cen = polygon_areas(alpha, beta, poly, count)
+    keep = area > 0.5e-10
     fs, ms, cen, x = fs[keep], ms[keep], cen[keep], x[keep]
     p = x[:, 0] + cen[:, :1] * (x[:, 1] - x[:, 0]) + cen[:, 1:] * (x[:, 2] - x[:, 0])
     best, _, dist = project(p, xm, radius)
-    own = np.array([closest_point_on_facets(q, xm[m][None])[0][0] for q, m in zip(p, ms)]) if len(p) else dist
+    own = closest_point_on_facets(p, xm[ms])[0] if len(p) else dist
     keep = (best == ms) | ((best >= 0) & (own <= dist * (1 + 1e-9) + 1e-14 * radius))
     return fs[keep], ms[keep]
 
