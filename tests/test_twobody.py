@@ -216,3 +216,41 @@ def test_3d_neo_hookean_blocks(quadrature):
         for key in ("contact_force", "reaction_bottom", "pressure_deviation", "top_displacement_exact"):
             assert abs(f[key] - fs[key]) <= 1e-8 * max(abs(fs[key]), 1.0), (key, f[key], fs[key])
         assert abs(f["top_displacement_error"] - fs["top_displacement_error"]) <= 1e-8
+
+
+def test_master_exchange_sends_only_the_facets_near_the_slave():
+    """Box exchange of the master surface (two-body Hertz: a quarter disk on a block 4 R wide): at a deformed
+    state each rank receives exactly the master facets whose current box overlaps its slave facets' box grown
+    by the search radius (none without slave facets), fewer than the whole surface; the projection (pairs as
+    global facet numbers, gaps) equals the one on the whole master surface (``exchange = "allgather"``)."""
+    comm = MPI.COMM_WORLD
+    setup = build("hertz", law=make_law("penalty", K=2.5e4), plate="meshed", E=200.0, nu=0.3, R=8.0, load=10.0,
+                  plate_E=200.0, plate_width=32.0, plate_depth=16.0)
+    c = setup.contacts[0]
+    u = c.u
+    x = u.function_space.tabulate_dof_coordinates()[:, :2]
+    u.x.array[:] = (0.05 * np.sin(x / 3.0) - [0.0, 0.2]).ravel()  # a smooth motion, bodies pressed together
+    u.x.scatter_forward()
+    got = {}
+    for mode in ("allgather", "boxes"):
+        c.exchange = mode
+        c.update()
+        got[mode] = (c.pairing(), c.projection["gap"].copy(), c._master["ids"].copy())
+    assert np.array_equal(got["boxes"][0], got["allgather"][0])
+    assert np.array_equal(got["boxes"][1], got["allgather"][1])
+    assert comm.allreduce(int(np.count_nonzero(got["boxes"][0] >= 0))) > 10  # points in contact
+    # The facets a rank must receive, from the whole surface's current boxes.
+    md, sd = c.master_data, c.slave_data
+    xm = md.X[md.owned] + u.x.array[md.comp[md.owned]]
+    ids = c._exchange.ids
+    xm, ids = np.concatenate(comm.allgather(xm)), np.concatenate(comm.allgather(ids))
+    xs = sd.X + u.x.array[sd.comp]
+    if len(xs):
+        lo, hi = xs.min(axis=(0, 1)) - c.radius, xs.max(axis=(0, 1)) + c.radius
+        near = np.all(xm.min(axis=1) <= hi, axis=1) & np.all(xm.max(axis=1) >= lo, axis=1)
+    else:
+        near = np.zeros(len(xm), bool)
+    assert np.array_equal(np.sort(got["boxes"][2]), np.sort(ids[near]))
+    assert len(got["allgather"][2]) == len(xm) and np.count_nonzero(near) < 0.8 * len(xm)
+    stats = c.exchange_stats()
+    assert stats["updates"] == 3 and stats["facets_received"] <= 2 * len(xm)
