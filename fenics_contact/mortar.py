@@ -553,6 +553,14 @@ def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nd
 # --------------------------------------------------------------------------------------------
 # The surface
 # --------------------------------------------------------------------------------------------
+def _same(a: tuple, b: tuple) -> bool:
+    """Whether two element inputs ``(x, scalars, fields, weight, dofs)`` are equal (arrays exactly)."""
+    xa, sa, fa, wa, da = a
+    xb, sb, fb, wb, db = b
+    return (wa == wb and sa == sb and xa.shape == xb.shape and np.array_equal(xa, xb) and np.array_equal(da, db)
+            and fa.keys() == fb.keys() and all(np.array_equal(fa[k], fb[k]) for k in fa))
+
+
 class SegmentSurface(TwoBodySurface):
     """Two-body contact with segment-to-segment integration (``quadrature="segment"``, 2D and 3D): the same
     projection, master exchange, nodal state, augmentation and outputs as
@@ -568,6 +576,7 @@ class SegmentSurface(TwoBodySurface):
         self._segments = None
         self._segment_pairs = None  # (owned slave facet, index into the received master facets)
         self._segment_ids = None  # the same with global master facet numbers (the pairing state)
+        self._element_cache = None  # (inputs, (residuals, tangents)) of the last element evaluation
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, "nodal", weight, radius, name)
         self.quadrature = "segment"
         sd = self.slave_data
@@ -620,11 +629,19 @@ class SegmentSurface(TwoBodySurface):
         x = np.concatenate([self._slave_current()[f], self._xm[m]], axis=1)
         scalars = {k: float(c.value) for k, c in self.constants.items()}
         fields = {k: fn.x.array[self._sdofs[f]] for k, fn in self.fields.items()}
-        element = segment_element if self.gdim == 2 else triangle_element
-        out = element(x, self._J[f], self.law, scalars, fields, float(self.weight.value), points=points)
+        weight = float(self.weight.value)
         k = self.nv * self.gdim
         dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self._master["G"][m].reshape(-1, k)],
                               axis=1)
+        # The residual and the Jacobian of one state (a Newton iteration's F then J) share one evaluation: the
+        # element routine gives both; it is reused while its inputs are unchanged (compared, not assumed).
+        inputs = (x, scalars, fields, weight, dofs)
+        if not points and self._element_cache is not None and _same(self._element_cache[0], inputs):
+            return self._element_cache[1], dofs
+        element = segment_element if self.gdim == 2 else triangle_element
+        out = element(x, self._J[f], self.law, scalars, fields, weight, points=points)
+        if not points:
+            self._element_cache = (inputs, out)
         return out, dofs
 
     # --- solver hooks ----------------------------------------------------------
