@@ -46,19 +46,22 @@ slave or master facets. Each rank projects its own slave points (owned and
 ghost) with a k-d tree (:mod:`search`: memory bounded by the surfaces' size
 whatever the iterate; no all-pairs loop) on the master facets that can be
 within the search radius of them, which their owners send it
-(:class:`MasterExchange`). At each update: every rank boxes its current
-slave facets and grows the box by the search radius; the boxes (and the
-owned master facets' largest stretch, :data:`search.STRETCH_LIMIT`) are
-all-gathered, ``2 gdim + 1`` numbers per rank; each owned master facet whose
-current box (quadratic: with the curve's Bezier control point) overlaps a
-rank's grown box goes to that rank: its global facet number and current
+(:class:`MasterExchange`). At each update: every rank bounds its current
+slave facets by :data:`LEAVES` boxes (:func:`leaf_boxes`: the facets halved
+at the median of their widest spread, recursively; one box per rank sent
+the whole master surface to a rank holding a ball's surface) grown by the
+search radius; the boxes (and the owned master facets' largest stretch,
+:data:`search.STRETCH_LIMIT`) are all-gathered, ``2 gdim LEAVES + 1`` numbers
+per rank; each owned master facet whose current box (quadratic: with the
+curve's Bezier control point) overlaps one of a rank's boxes goes to that
+rank: its global facet number and current
 displacements, ``1 + nv gdim`` numbers, and the first time it goes there its
 reference coordinates, global dof numbers and ordering key,
 ``nv gdim + nv gdim + gdim`` more (the receiver caches them; the cache only
 grows, up to the master facets that ever came near). Counts go by one
 ``MPI_Alltoall`` (2 integers per rank pair), data by one integer and one
 floating-point ``MPI_Alltoallv``. Every master facet within the radius of a
-slave point (or of a slave facet's box: segment pairing) overlaps the grown
+slave point (or of a slave facet's box: segment pairing) overlaps a grown
 box, so the search sees the same candidates as on the whole surface; the
 received facets are sorted by their reference centroid (rounded to 1e-12,
 then the global facet number), a partition-independent order, so ties go the
@@ -127,9 +130,11 @@ from .search import (
     stretch,
 )
 
-__all__ = ["PASSES", "QUADRATURES", "FacetData", "ufl_normal", "MasterExchange", "MirrorObstacle", "TwoBodySurface"]
+__all__ = ["LEAVES", "PASSES", "QUADRATURES", "FacetData", "ufl_normal", "MasterExchange", "leaf_boxes",
+           "MirrorObstacle", "TwoBodySurface"]
 
 PASSES = ("one", "two")
+LEAVES = 16  # boxes per rank bounding its slave facets in the master exchange (a power of 2)
 QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
 
 # Barycentric coordinates of the slave points on a facet (rows: points, columns: facet vertices).
@@ -267,26 +272,36 @@ class MasterExchange:
 
     def exchange(self, U: np.ndarray, lo: np.ndarray, hi: np.ndarray, stretch_local: float,
                  everywhere: bool = False) -> tuple[float, dict | None]:
-        """Send the owned master facets with current displacements ``U`` (n, nv, gdim) to the ranks whose box
-        ``[lo, hi]`` (this rank's: its slave facets grown by the search radius; empty: ``lo > hi``) their
-        current box overlaps (``everywhere``: to every rank). Returns the largest ``stretch_local`` of all ranks
-        and, unless it exceeds :data:`search.STRETCH_LIMIT` (nothing is sent then), the received facets in the
-        partition-independent order: ``{"X", "G", "U", "ids"}``."""
+        """Send the owned master facets with current displacements ``U`` (n, nv, gdim) to the ranks one of whose
+        boxes ``[lo, hi]`` (this rank's: (LEAVES, gdim) each, its slave facets' boxes grown by the search radius,
+        :func:`leaf_boxes`; an empty box has ``lo > hi``) their current box overlaps (``everywhere``: to every
+        rank). Returns the largest ``stretch_local`` of all ranks and, unless it exceeds
+        :data:`search.STRETCH_LIMIT` (nothing is sent then), the received facets in the partition-independent
+        order: ``{"X", "G", "U", "ids"}``."""
         t0 = time.perf_counter()
         comm, size, d, k = self.comm, self.comm.size, self.gdim, self.nv * self.gdim
-        mine = np.concatenate([lo, hi, [stretch_local]]).astype(float)
-        boxes = np.empty((size, 2 * d + 1))
-        comm.Allgather(mine, boxes)
-        smax = float(boxes[:, -1].max())
+        nb = LEAVES * d
+        mine = np.concatenate([np.ravel(lo), np.ravel(hi), [stretch_local]]).astype(float)
+        gathered = np.empty((size, 2 * nb + 1))
+        comm.Allgather(mine, gathered)
+        smax = float(gathered[:, -1].max())
         if smax > STRETCH_LIMIT:
             return smax, None
+        blo = gathered[:, :nb].reshape(size * LEAVES, d)  # every rank's boxes, rank by rank
+        bhi = gathered[:, nb:2 * nb].reshape(size * LEAVES, d)
         n = len(self.X)
         flo, fhi = self.boxes(self.X + U) if n else (np.zeros((0, d)), np.zeros((0, d)))
         if everywhere:
             hit = np.ones((n, size), bool)
         else:
-            hit = np.all(flo[:, None, :] <= boxes[None, :, d:2 * d], axis=2) & \
-                np.all(fhi[:, None, :] >= boxes[None, :, :d], axis=2)
+            hit = np.zeros((n, size), bool)
+            live = np.flatnonzero(np.all(blo <= bhi, axis=1))  # non-empty boxes
+            step = max(1, (1 << 22) // max(len(live), 1))  # bounded work arrays
+            for a in range(0, n, step):
+                over = np.all(flo[a:a + step, None, :] <= bhi[None, live], axis=2) & \
+                    np.all(fhi[a:a + step, None, :] >= blo[None, live], axis=2)
+                for r in np.unique(live // LEAVES):
+                    hit[a:a + step, r] = over[:, live // LEAVES == r].any(axis=1)
         counts = np.zeros((size, 2), np.int64)  # per destination: facets, of which new (first ones)
         order, ibuf, fbuf = [], [], []
         for r in np.flatnonzero(hit.any(axis=0)):
@@ -337,7 +352,7 @@ class MasterExchange:
         me = comm.rank
         st = self.stats
         st["updates"] += 1
-        st["bytes_received"] += 8 * (int(ri.sum() - ri[me] + rf.sum() - rf[me]) + (size - 1) * (2 * d + 3))
+        st["bytes_received"] += 8 * (int(ri.sum() - ri[me] + rf.sum() - rf[me]) + (size - 1) * (2 * nb + 3))
         st["facets_received"] += int(rcounts[:, 0].sum() - rcounts[me, 0])
         st["allgather_bytes"] += self._allgather_update
         st["seconds"] += time.perf_counter() - t0
@@ -354,6 +369,30 @@ class MasterExchange:
                              MPI.DOUBLE], [out, (rc * k, _displs(rc * k)), MPI.DOUBLE])
         self.stats["seconds"] += time.perf_counter() - t0
         return out.reshape(-1, self.nv, self.gdim)[perm]
+
+
+def leaf_boxes(lo: np.ndarray, hi: np.ndarray, grow: float, leaves: int | None = None) -> tuple[np.ndarray,
+                                                                                                 np.ndarray]:
+    """At most ``leaves`` (default :data:`LEAVES`, a power of 2) boxes covering the boxes ``[lo, hi]`` (n, gdim),
+    grown by ``grow``: the boxes' centres are halved at the median of their widest spread, recursively, and each
+    part's boxes are merged. Returns ``(lo, hi)`` (leaves, gdim); unused leaves are empty (``lo = inf > hi``)."""
+    leaves = leaves or LEAVES
+    d = lo.shape[1]
+    out_lo, out_hi = np.full((leaves, d), np.inf), np.full((leaves, d), -np.inf)
+    parts = [np.arange(len(lo))] if len(lo) else []
+    for _ in range(int(np.log2(leaves))):  # each round halves every part of two boxes or more
+        split = []
+        for p in parts:
+            if len(p) < 2:
+                split.append(p)
+                continue
+            c = 0.5 * (lo[p] + hi[p])
+            order = p[np.argsort(c[:, int(np.argmax(np.ptp(c, axis=0)))], kind="stable")]
+            split += [order[: len(p) // 2], order[len(p) // 2:]]
+        parts = split
+    for i, p in enumerate(parts):
+        out_lo[i], out_hi[i] = lo[p].min(axis=0) - grow, hi[p].max(axis=0) + grow
+    return out_lo, out_hi
 
 
 def _displs(counts: np.ndarray) -> np.ndarray:
@@ -575,11 +614,8 @@ class TwoBodySurface(ContactSurface):
         X = md.X[md.owned]
         U = self.u.x.array[md.comp[md.owned]]
         xs = sd.X + self.u.x.array[sd.comp]
-        if len(xs):
-            lo, hi = self._exchange.boxes(xs)
-            lo, hi = lo.min(axis=0) - self.radius, hi.max(axis=0) + self.radius
-        else:
-            lo, hi = np.full(self.gdim, np.inf), np.full(self.gdim, -np.inf)
+        lo, hi = leaf_boxes(*self._exchange.boxes(xs), self.radius) if len(xs) else \
+            (np.full((LEAVES, self.gdim), np.inf), np.full((LEAVES, self.gdim), -np.inf))
         smax, master = self._exchange.exchange(U, lo, hi, stretch(X + U, X), self.exchange == "allgather")
         if master is not None:
             master["x"] = master["X"] + master["U"]
