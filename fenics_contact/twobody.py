@@ -135,6 +135,7 @@ __all__ = ["LEAVES", "PASSES", "QUADRATURES", "FacetData", "ufl_normal", "Master
 
 PASSES = ("one", "two")
 LEAVES = 16  # boxes per rank bounding its slave facets in the master exchange (a power of 2)
+MARGIN = 0.5  # the exchange's routes hold while nothing moved by MARGIN / 2 x the search radius
 QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
 
 # Barycentric coordinates of the slave points on a facet (rows: points, columns: facet vertices).
@@ -261,7 +262,8 @@ class MasterExchange:
         # Bytes the former all-gather moved into this rank: reference data and dof numbers once, then U per update.
         self._allgather_once = 16 * k * (n_total - n)
         self._allgather_update = 8 * k * (n_total - n)
-        self.stats = {"updates": 0, "bytes_received": 0, "facets_received": 0, "seconds": 0.0,
+        self._sub = self._U_in = self._xs0 = self._U0 = self._everywhere = None  # the last routes' data
+        self.stats = {"updates": 0, "reroutes": 0, "bytes_received": 0, "facets_received": 0, "seconds": 0.0,
                       "allgather_bytes": self._allgather_once}
 
     def boxes(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -270,25 +272,51 @@ class MasterExchange:
             x = np.concatenate([x, (2 * x[:, 1] - 0.5 * (x[:, 0] + x[:, 2]))[:, None]], axis=1)
         return x.min(axis=1), x.max(axis=1)
 
-    def exchange(self, U: np.ndarray, lo: np.ndarray, hi: np.ndarray, stretch_local: float,
+    def exchange(self, U: np.ndarray, xs: np.ndarray, radius: float, stretch_local: float,
                  everywhere: bool = False) -> tuple[float, dict | None]:
-        """Send the owned master facets with current displacements ``U`` (n, nv, gdim) to the ranks one of whose
-        boxes ``[lo, hi]`` (this rank's: (LEAVES, gdim) each, its slave facets' boxes grown by the search radius,
-        :func:`leaf_boxes`; an empty box has ``lo > hi``) their current box overlaps (``everywhere``: to every
-        rank). Returns the largest ``stretch_local`` of all ranks and, unless it exceeds
-        :data:`search.STRETCH_LIMIT` (nothing is sent then), the received facets in the partition-independent
-        order: ``{"X", "G", "U", "ids"}``."""
+        """The master facets within ``radius`` of this rank's current slave facets ``xs`` (nf, nv, gdim), with
+        their current displacements, from the owned ones' displacements ``U`` (n, nv, gdim). Returns the largest
+        ``stretch_local`` of all ranks and, unless it exceeds :data:`search.STRETCH_LIMIT` (nothing is sent
+        then), the received facets in the partition-independent order: ``{"X", "G", "U", "ids"}``.
+
+        The facets go to the ranks whose slave boxes (:func:`leaf_boxes`) grown by ``radius + margin``
+        (``margin = MARGIN radius``) their box overlaps; while no slave or owned master vertex has moved by
+        ``margin / 2`` (a quadratic facet's box: ``margin / 6``, its Bezier point moves three times as far) since,
+        those routes still hold every facet within ``radius`` and only the displacements are sent again (one
+        ``MPI_Allreduce`` of 2 numbers and one ``MPI_Alltoallv``). ``everywhere``: every facet to every rank."""
         t0 = time.perf_counter()
+        margin = MARGIN * radius
+        moved = np.inf
+        if self._route is not None and self._everywhere == everywhere:
+            moved = max(float(np.max(np.abs(xs - self._xs0), initial=0.0)),
+                        float(np.max(np.abs(U - self._U0), initial=0.0))) * (3.0 if self.quadratic else 1.0)
+        flags = np.array([stretch_local, moved])
+        self.comm.Allreduce(MPI.IN_PLACE, flags, op=MPI.MAX)
+        if flags[0] > STRETCH_LIMIT:
+            self.stats["seconds"] += time.perf_counter() - t0
+            return float(flags[0]), None
+        if flags[1] >= 0.5 * margin:
+            self._reroute(U, xs, radius + margin, everywhere)
+            U_in = self._U_in
+        else:
+            U_in = self.values(U, count=False)
+        self.stats["updates"] += 1
+        self.stats["bytes_received"] += 8 * (self.comm.size - 1) * 2
+        self.stats["allgather_bytes"] += self._allgather_update
+        self.stats["seconds"] += time.perf_counter() - t0
+        return float(flags[0]), {"X": self._sub["X"], "G": self._sub["G"], "U": U_in, "ids": self._sub["ids"]}
+
+    def _reroute(self, U: np.ndarray, xs: np.ndarray, grow: float, everywhere: bool) -> None:
+        """New routes: box all-gather, counts (``MPI_Alltoall``), facet numbers and displacements with, for
+        facets new to a rank, their reference data (two ``MPI_Alltoallv``). Collective."""
         comm, size, d, k = self.comm, self.comm.size, self.gdim, self.nv * self.gdim
         nb = LEAVES * d
-        mine = np.concatenate([np.ravel(lo), np.ravel(hi), [stretch_local]]).astype(float)
-        gathered = np.empty((size, 2 * nb + 1))
-        comm.Allgather(mine, gathered)
-        smax = float(gathered[:, -1].max())
-        if smax > STRETCH_LIMIT:
-            return smax, None
+        lo, hi = leaf_boxes(*self.boxes(xs), grow) if len(xs) else (np.full((LEAVES, d), np.inf),
+                                                                      np.full((LEAVES, d), -np.inf))
+        gathered = np.empty((size, 2 * nb))
+        comm.Allgather(np.concatenate([lo.ravel(), hi.ravel()]), gathered)
         blo = gathered[:, :nb].reshape(size * LEAVES, d)  # every rank's boxes, rank by rank
-        bhi = gathered[:, nb:2 * nb].reshape(size * LEAVES, d)
+        bhi = gathered[:, nb:].reshape(size * LEAVES, d)
         n = len(self.X)
         flo, fhi = self.boxes(self.X + U) if n else (np.zeros((0, d)), np.zeros((0, d)))
         if everywhere:
@@ -349,25 +377,29 @@ class MasterExchange:
         perm = np.lexsort((ids, *self._ckey[rows].T[::-1])) if len(ids) else np.zeros(0, np.int64)
         rows = rows[perm]
         self._route = (np.concatenate(order) if order else np.zeros(0, np.int64), counts[:, 0], rcounts[:, 0], perm)
+        self._sub = {"X": self._cX[rows], "G": self._cG[rows], "ids": ids[perm]}
+        self._U_in = U_in[perm]
+        self._xs0, self._U0, self._everywhere = xs.copy(), U.copy(), everywhere
         me = comm.rank
         st = self.stats
-        st["updates"] += 1
-        st["bytes_received"] += 8 * (int(ri.sum() - ri[me] + rf.sum() - rf[me]) + (size - 1) * (2 * nb + 3))
+        st["reroutes"] += 1
+        st["bytes_received"] += 8 * (int(ri.sum() - ri[me] + rf.sum() - rf[me]) + (size - 1) * (2 * nb + 2))
         st["facets_received"] += int(rcounts[:, 0].sum() - rcounts[me, 0])
-        st["allgather_bytes"] += self._allgather_update
-        st["seconds"] += time.perf_counter() - t0
-        return smax, {"X": self._cX[rows], "G": self._cG[rows], "U": U_in[perm], "ids": ids[perm]}
 
-    def values(self, a: np.ndarray) -> np.ndarray:
+    def values(self, a: np.ndarray, count: bool = True) -> np.ndarray:
         """Values ``a`` (n, nv, gdim) of the owned master facets on the facets this rank received at the last
-        :meth:`exchange`, in its order (e.g. the last accepted displacement). Collective."""
+        :meth:`exchange`, in its order (e.g. the last accepted displacement): one ``MPI_Alltoallv``. Collective."""
         t0 = time.perf_counter()
         idx, sc, rc, perm = self._route
         k = self.nv * self.gdim
         out = np.empty(int(rc.sum()) * k)
         self.comm.Alltoallv([np.ascontiguousarray(a[idx], dtype=float).ravel(), (sc * k, _displs(sc * k)),
                              MPI.DOUBLE], [out, (rc * k, _displs(rc * k)), MPI.DOUBLE])
-        self.stats["seconds"] += time.perf_counter() - t0
+        me = self.comm.rank
+        self.stats["bytes_received"] += 8 * k * int(rc.sum() - rc[me])
+        self.stats["facets_received"] += int(rc.sum() - rc[me])
+        if count:
+            self.stats["seconds"] += time.perf_counter() - t0
         return out.reshape(-1, self.nv, self.gdim)[perm]
 
 
@@ -614,9 +646,7 @@ class TwoBodySurface(ContactSurface):
         X = md.X[md.owned]
         U = self.u.x.array[md.comp[md.owned]]
         xs = sd.X + self.u.x.array[sd.comp]
-        lo, hi = leaf_boxes(*self._exchange.boxes(xs), self.radius) if len(xs) else \
-            (np.full((LEAVES, self.gdim), np.inf), np.full((LEAVES, self.gdim), -np.inf))
-        smax, master = self._exchange.exchange(U, lo, hi, stretch(X + U, X), self.exchange == "allgather")
+        smax, master = self._exchange.exchange(U, xs, self.radius, stretch(X + U, X), self.exchange == "allgather")
         if master is not None:
             master["x"] = master["X"] + master["U"]
         return master
