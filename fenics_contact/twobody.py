@@ -46,35 +46,47 @@ slave or master facets. Each rank projects its own slave points (owned and
 ghost) with a k-d tree (:mod:`search`: memory bounded by the surfaces' size
 whatever the iterate; no all-pairs loop) on the master facets that can be
 within the search radius of them, which their owners send it
-(:class:`MasterExchange`). At each update: every rank bounds its current
-slave facets by :data:`LEAVES` boxes (:func:`leaf_boxes`: the facets halved
-at the median of their widest spread, recursively; one box per rank sent
-the whole master surface to a rank holding a ball's surface) grown by the
-search radius; the boxes (and the owned master facets' largest stretch,
-:data:`search.STRETCH_LIMIT`) are all-gathered, ``2 gdim LEAVES + 1`` numbers
-per rank; each owned master facet whose current box (quadratic: with the
-curve's Bezier control point) overlaps one of a rank's boxes goes to that
-rank: its global facet number and current
-displacements, ``1 + nv gdim`` numbers, and the first time it goes there its
-reference coordinates, global dof numbers and ordering key,
-``nv gdim + nv gdim + gdim`` more (the receiver caches them; the cache only
-grows, up to the master facets that ever came near). Counts go by one
-``MPI_Alltoall`` (2 integers per rank pair), data by one integer and one
-floating-point ``MPI_Alltoallv``. Every master facet within the radius of a
-slave point (or of a slave facet's box: segment pairing) overlaps a grown
-box, so the search sees the same candidates as on the whole surface; the
-received facets are sorted by their reference centroid (rounded to 1e-12,
-then the global facet number), a partition-independent order, so ties go the
-same way on any partition, and the pairing state (hysteresis, pairing
-changes) is kept in global facet numbers (:meth:`TwoBodySurface.pairing`).
-Cost per update: ``O(P)`` numbers all-gathered (P ranks) and, per rank,
-``O(N_near)`` numbers received, ``N_near`` the master facets near its slave
-facets (all-gathering the master surface was ``O(N_master)`` to every rank);
-a master facet owned by another rank is then just a column of ``I`` with a
-global index, PETSc moves the values. ``TwoBodySurface.exchange =
-"allgather"`` sends every master facet to every rank (the former scheme's
-traffic, for comparison; same answers). The bytes and seconds are in
-``exchange_stats()``; ``docs/benchmarks.md`` has the measured figures.
+(:class:`MasterExchange`):
+
+- *Routes* (the first update, and when something moved too far): every
+  rank bounds its current slave facets by :data:`LEAVES` boxes
+  (:func:`leaf_boxes`: the facets halved at the median of their widest
+  spread, recursively) grown by the search radius plus a margin
+  (:data:`MARGIN` x radius); the boxes and the owned master facets' largest
+  stretch (:data:`search.STRETCH_LIMIT`) are all-gathered, ``2 gdim LEAVES +
+  1`` numbers per rank; each owned master facet whose current box
+  (quadratic: with the Bezier control point) overlaps one of a rank's boxes
+  goes to that rank: global facet number and current displacements, ``1 +
+  nv gdim`` numbers, and the first time it goes there its reference
+  coordinates, global dof numbers and ordering key, ``2 nv gdim + gdim``
+  more (the receiver caches them; the cache only grows, up to the master
+  facets that ever came near). Counts by one ``MPI_Alltoall`` (2 integers
+  per rank pair), data by one integer and one floating-point
+  ``MPI_Alltoallv``.
+- *Every other update*: the owners send the current displacements along the
+  routes (``nv gdim`` numbers per routed facet) in one ``MPI_Alltoallv``
+  that also carries every rank's largest stretch and largest motion since
+  the routes (2 numbers to every rank: one message per update, as the
+  former all-gather). If a slave or owned master vertex moved by half the
+  margin (quadratic: a sixth), the routes are made again in that update:
+  until then the routed boxes still hold every facet within the radius.
+
+Every master facet within the radius of a slave point (or of a slave facet's
+box: segment pairing) overlaps a routed box, so the search sees the same
+candidates as on the whole surface; the received facets are sorted by their
+reference centroid (rounded to 1e-12, then the global facet number), a
+partition-independent order, so ties go the same way on any partition, and
+the pairing state (hysteresis, pairing changes) is kept in global facet
+numbers (:meth:`TwoBodySurface.pairing`). Cost per update: ``O(P)`` numbers
+(P ranks) and ``O(N_near)`` per rank, ``N_near`` the master facets near its
+slave facets, where all-gathering the master surface was ``O(N_master)`` to
+every rank; a master facet owned by another rank is then just a column of
+``I`` with a global index, PETSc moves the values. Where the whole master
+surface is within the radius of a rank's slave facets (the sphere on its
+block) nothing is saved. ``TwoBodySurface.exchange = "allgather"`` routes
+every master facet to every rank (the former scheme's traffic, for
+comparison; same answers); bytes and seconds: ``exchange_stats()``, the
+measured figures: ``docs/benchmarks.md``.
 
 Quadratic facets (2D, a degree-2 displacement on triangles or 9-node
 quadrilaterals with curved facets): the master facet is the curve
@@ -282,41 +294,64 @@ class MasterExchange:
         The facets go to the ranks whose slave boxes (:func:`leaf_boxes`) grown by ``radius + margin``
         (``margin = MARGIN radius``) their box overlaps; while no slave or owned master vertex has moved by
         ``margin / 2`` (a quadratic facet's box: ``margin / 6``, its Bezier point moves three times as far) since,
-        those routes still hold every facet within ``radius`` and only the displacements are sent again (one
-        ``MPI_Allreduce`` of 2 numbers and one ``MPI_Alltoallv``). ``everywhere``: every facet to every rank."""
+        those routes still hold every facet within ``radius`` and only the displacements are sent again, in one
+        ``MPI_Alltoallv`` that also takes every rank's stretch and motion (2 numbers) to every rank: the same
+        message count as the former all-gather. ``everywhere``: every facet to every rank."""
         t0 = time.perf_counter()
         margin = MARGIN * radius
-        moved = np.inf
-        if self._route is not None and self._everywhere == everywhere:
-            moved = max(float(np.max(np.abs(xs - self._xs0), initial=0.0)),
-                        float(np.max(np.abs(U - self._U0), initial=0.0))) * (3.0 if self.quadratic else 1.0)
-        flags = np.array([stretch_local, moved])
-        self.comm.Allreduce(MPI.IN_PLACE, flags, op=MPI.MAX)
-        if flags[0] > STRETCH_LIMIT:
-            self.stats["seconds"] += time.perf_counter() - t0
-            return float(flags[0]), None
-        if flags[1] >= 0.5 * margin:
-            self._reroute(U, xs, radius + margin, everywhere)
+        if self._route is None or self._everywhere != everywhere:  # the first call (on every rank): routes
+            smax = self._reroute(U, xs, radius + margin, everywhere, stretch_local)
             U_in = self._U_in
         else:
-            U_in = self.values(U, count=False)
+            moved = max(float(np.max(np.abs(xs - self._xs0), initial=0.0)),
+                        float(np.max(np.abs(U - self._U0), initial=0.0))) * (3.0 if self.quadratic else 1.0)
+            U_in, flags = self._along_routes(U, np.array([stretch_local, moved]))
+            smax = float(flags[:, 0].max())
+            if smax <= STRETCH_LIMIT and flags[:, 1].max() >= 0.5 * margin:
+                smax = self._reroute(U, xs, radius + margin, everywhere, stretch_local)
+                U_in = self._U_in
+        if smax > STRETCH_LIMIT:
+            self.stats["seconds"] += time.perf_counter() - t0
+            return smax, None
         self.stats["updates"] += 1
-        self.stats["bytes_received"] += 8 * (self.comm.size - 1) * 2
         self.stats["allgather_bytes"] += self._allgather_update
         self.stats["seconds"] += time.perf_counter() - t0
-        return float(flags[0]), {"X": self._sub["X"], "G": self._sub["G"], "U": U_in, "ids": self._sub["ids"]}
+        return smax, {"X": self._sub["X"], "G": self._sub["G"], "U": U_in, "ids": self._sub["ids"]}
 
-    def _reroute(self, U: np.ndarray, xs: np.ndarray, grow: float, everywhere: bool) -> None:
-        """New routes: box all-gather, counts (``MPI_Alltoall``), facet numbers and displacements with, for
-        facets new to a rank, their reference data (two ``MPI_Alltoallv``). Collective."""
+    def _along_routes(self, a: np.ndarray, header: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Values ``a`` (n, nv, gdim) of the owned facets along the last routes, and ``header`` (h numbers) from
+        every rank to every rank: one ``MPI_Alltoallv``. Returns the received values in the received facets'
+        order and the headers (P, h)."""
+        idx, sc, rc, perm = self._route
+        k, h = self.nv * self.gdim, len(header)
+        parts = np.split(np.ascontiguousarray(a[idx], dtype=float).reshape(-1, k), np.cumsum(sc)[:-1])
+        sb = np.concatenate([np.concatenate([header, p.ravel()]) for p in parts])
+        scount, rcount = h + sc * k, h + rc * k
+        rb = np.empty(int(rcount.sum()))
+        self.comm.Alltoallv([sb, (scount, _displs(scount)), MPI.DOUBLE], [rb, (rcount, _displs(rcount)), MPI.DOUBLE])
+        start = _displs(rcount)
+        heads = np.stack([rb[b:b + h] for b in start])
+        data = np.concatenate([rb[b + h:b + c] for b, c in zip(start, rcount)])
+        me = self.comm.rank
+        self.stats["bytes_received"] += 8 * int(rcount.sum() - rcount[me])
+        self.stats["facets_received"] += int(rc.sum() - rc[me])
+        return data.reshape(-1, self.nv, self.gdim)[perm], heads
+
+    def _reroute(self, U: np.ndarray, xs: np.ndarray, grow: float, everywhere: bool, stretch_local: float) -> float:
+        """New routes: box (and stretch) all-gather, counts (``MPI_Alltoall``), facet numbers and displacements
+        with, for facets new to a rank, their reference data (two ``MPI_Alltoallv``). Returns the largest stretch
+        (above :data:`search.STRETCH_LIMIT`: nothing else is done). Collective."""
         comm, size, d, k = self.comm, self.comm.size, self.gdim, self.nv * self.gdim
         nb = LEAVES * d
         lo, hi = leaf_boxes(*self.boxes(xs), grow) if len(xs) else (np.full((LEAVES, d), np.inf),
                                                                       np.full((LEAVES, d), -np.inf))
-        gathered = np.empty((size, 2 * nb))
-        comm.Allgather(np.concatenate([lo.ravel(), hi.ravel()]), gathered)
+        gathered = np.empty((size, 2 * nb + 1))
+        comm.Allgather(np.concatenate([lo.ravel(), hi.ravel(), [stretch_local]]), gathered)
+        smax = float(gathered[:, -1].max())
+        if smax > STRETCH_LIMIT:
+            return smax
         blo = gathered[:, :nb].reshape(size * LEAVES, d)  # every rank's boxes, rank by rank
-        bhi = gathered[:, nb:].reshape(size * LEAVES, d)
+        bhi = gathered[:, nb:2 * nb].reshape(size * LEAVES, d)
         n = len(self.X)
         flo, fhi = self.boxes(self.X + U) if n else (np.zeros((0, d)), np.zeros((0, d)))
         if everywhere:
@@ -383,24 +418,17 @@ class MasterExchange:
         me = comm.rank
         st = self.stats
         st["reroutes"] += 1
-        st["bytes_received"] += 8 * (int(ri.sum() - ri[me] + rf.sum() - rf[me]) + (size - 1) * (2 * nb + 2))
+        st["bytes_received"] += 8 * (int(ri.sum() - ri[me] + rf.sum() - rf[me]) + (size - 1) * (2 * nb + 3))
         st["facets_received"] += int(rcounts[:, 0].sum() - rcounts[me, 0])
+        return smax
 
-    def values(self, a: np.ndarray, count: bool = True) -> np.ndarray:
+    def values(self, a: np.ndarray) -> np.ndarray:
         """Values ``a`` (n, nv, gdim) of the owned master facets on the facets this rank received at the last
         :meth:`exchange`, in its order (e.g. the last accepted displacement): one ``MPI_Alltoallv``. Collective."""
         t0 = time.perf_counter()
-        idx, sc, rc, perm = self._route
-        k = self.nv * self.gdim
-        out = np.empty(int(rc.sum()) * k)
-        self.comm.Alltoallv([np.ascontiguousarray(a[idx], dtype=float).ravel(), (sc * k, _displs(sc * k)),
-                             MPI.DOUBLE], [out, (rc * k, _displs(rc * k)), MPI.DOUBLE])
-        me = self.comm.rank
-        self.stats["bytes_received"] += 8 * k * int(rc.sum() - rc[me])
-        self.stats["facets_received"] += int(rc.sum() - rc[me])
-        if count:
-            self.stats["seconds"] += time.perf_counter() - t0
-        return out.reshape(-1, self.nv, self.gdim)[perm]
+        out = self._along_routes(a, np.zeros(0))[0]
+        self.stats["seconds"] += time.perf_counter() - t0
+        return out
 
 
 def leaf_boxes(lo: np.ndarray, hi: np.ndarray, grow: float, leaves: int | None = None) -> tuple[np.ndarray,
