@@ -41,7 +41,7 @@ def measure(name: str, mode: str, level: int, quadrature: str) -> dict:
     stats = [c.exchange_stats() for c in setup.contacts]
     total = {k: sum(s[k] for s in stats) for k in stats[0]}
     return {"dofs": setup.dofs, "newton": summary["newton_iterations"], "p0": summary["p0"],
-            "updates": total["updates"],
+            "updates": total["updates"], "reroutes": total.get("reroutes", 0),
             "bytes": comm.allreduce(total["bytes_received"], op=MPI.MAX),
             "allgather_bytes": comm.allreduce(total["allgather_bytes"], op=MPI.MAX),
             "facets_per_update": comm.allreduce(total["facets_received"], op=MPI.MAX) / max(total["updates"], 1),
@@ -65,7 +65,7 @@ def main() -> None:
             print(f"{name} ({a['dofs']} dofs, {comm.size} ranks, {args.quadrature}): largest pressure difference "
                   f"between the modes {diff:.2e}, p0 {a['p0']:.10g} / {b['p0']:.10g}")
             for mode, r in rows.items():
-                print(f"  {mode:9s} updates {r['updates']:3d}  received {r['bytes'] / 1e3:9.1f} kB (all-gather "
+                print(f"  {mode:9s} updates {r['updates']:3d} (routes {r['reroutes']})  received {r['bytes'] / 1e3:9.1f} kB (all-gather "
                       f"would: {r['allgather_bytes'] / 1e3:9.1f} kB)  master facets per update "
                       f"{r['facets_per_update']:8.1f}  exchange {r['exchange_s']:.4f} s  Newton {r['newton']}")
 
