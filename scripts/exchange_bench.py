@@ -65,7 +65,8 @@ def main() -> None:
             print(f"{name} ({a['dofs']} dofs, {comm.size} ranks, {args.quadrature}): largest pressure difference "
                   f"between the modes {diff:.2e}, p0 {a['p0']:.10g} / {b['p0']:.10g}")
             for mode, r in rows.items():
-                print(f"  {mode:9s} updates {r['updates']:3d} (routes {r['reroutes']})  received {r['bytes'] / 1e3:9.1f} kB (all-gather "
+                print(f"  {mode:9s} updates {r['updates']:3d} (routes {r['reroutes']})  received "
+                      f"{r['bytes'] / 1e3:9.1f} kB (all-gather "
                       f"would: {r['allgather_bytes'] / 1e3:9.1f} kB)  master facets per update "
                       f"{r['facets_per_update']:8.1f}  exchange {r['exchange_s']:.4f} s  Newton {r['newton']}")
 
