@@ -14,6 +14,7 @@ import argparse
 import tempfile
 import time
 
+import numpy as np
 from mpi4py import MPI
 
 import fenics_contact as fc
@@ -41,6 +42,8 @@ def main() -> None:
     p.add_argument("scenes", nargs="*", default=list(SCENES), choices=list(SCENES))
     p.add_argument("--level", type=int, default=0, help="refinement (hertz) or level (sphere)")
     p.add_argument("--repeat", type=int, default=3)
+    p.add_argument("--pressed", type=float, default=None,
+                   help="no solve: the upper body (reference height above 0) moved down by this much instead")
     args = p.parse_args()
     comm = MPI.COMM_WORLD
     for name in args.scenes:
@@ -53,11 +56,20 @@ def measure(name: str, args, comm) -> None:
     K = K or module.DEFAULT_K
     size_kw = {"refinement": args.level} if scene == "hertz" else {"level": args.level}
     setup = fc.build(scene, law=fc.make_law("penalty", K=K), quadrature="segment", **size_kw, **kw)
-    with tempfile.TemporaryDirectory() as out:
-        summary = fc.run(setup, out, "penalty", {"K": K}, quiet=True, options=dict(LINEAR_SOLVERS[solver]),
-                         xdmf=False)
     problem = setup.problem
     c = setup.contacts[0]
+    if args.pressed is None:
+        with tempfile.TemporaryDirectory() as out:
+            summary = fc.run(setup, out, "penalty", {"K": K}, quiet=True, options=dict(LINEAR_SOLVERS[solver]),
+                             xdmf=False)
+    else:  # a rigid motion of the upper body into the lower one: contact pairs without a solve
+        V = problem.u.function_space
+        d = V.mesh.geometry.dim
+        x = V.tabulate_dof_coordinates()[:, :d]
+        u = problem.u.x.array.reshape(-1, d)
+        u[:, d - 1] = np.where(x[:, d - 1] > 1e-9, -args.pressed, 0.0)
+        problem.u.x.scatter_forward()
+        summary = {"newton_iterations": 0, "p0": float("nan")}
     b = problem.create_vector()
     t_update = best(lambda: c.update(), args.repeat, comm)
 
