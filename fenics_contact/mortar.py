@@ -539,6 +539,11 @@ def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nd
     alpha, beta = _master_lines([[x[:, a, i] for i in range(3)] for a in range(6)])
     alpha = np.stack(alpha, 1)
     beta = np.array(beta).transpose(2, 0, 1)
+    # A slave triangle whose three vertices are all outside one master line has no overlap (what the clipping,
+    # with its tolerance, would find): most candidates, left out before clipping.
+    lam = np.stack([alpha, alpha + beta[..., 0], alpha + beta[..., 1]], axis=2)
+    inside = ~np.any(np.all(lam < -1e-12, axis=2), axis=1)
+    fs, ms, x, alpha, beta = fs[inside], ms[inside], x[inside], alpha[inside], beta[inside]
     poly, count = clip_arrays(alpha, beta)
     area, cen = polygon_areas(alpha, beta, poly, count)
     keep = area > 0.5e-10
