@@ -885,7 +885,12 @@ class TwoBodySurface(ContactSurface):
         rebuild = self._merged_version != self._pattern_version
         structure = PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN if rebuild else \
             PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN
+        # MatAXPY with a new pattern replaces A's header and drops its near-nullspace (GAMG's rigid-body modes):
+        # put it back, else AMG runs without it from the first pairing change on.
+        near = A.getNearNullSpace() if rebuild else None
         A.axpy(1.0, C, structure=structure)
+        if near is not None and near.handle:
+            A.setNearNullSpace(near)
         self._merged_version = self._pattern_version
         C.destroy()
         return rebuild
