@@ -267,3 +267,20 @@ def test_master_exchange_sends_only_the_facets_near_the_slave():
     c.exchange = "allgather"
     c.update()
     assert np.array_equal(small[0], c.pairing()) and np.array_equal(small[1], c.projection["gap"])
+
+
+def test_new_coupling_pattern_keeps_the_near_nullspace():
+    """GAMG's rigid-body near-nullspace survives a Jacobian whose coupling pattern changed (MatAXPY with a new
+    pattern replaces the matrix header, which dropped it: the two-body block's Krylov counts then grew)."""
+    from fenics_contact.cli import LINEAR_SOLVERS
+
+    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature="nodal", passes="one")
+    p, c = setup.problem, setup.contacts[0]
+    solver = Solver(p, quiet=True, options=dict(LINEAR_SOLVERS["iterative"]))
+    x = p.create_vector()
+    p.F(x, p.create_vector())
+    for _ in range(2):
+        c._pattern_version += 1  # as after a pairing change
+        assert p.J(x, solver.A)
+        near = solver.A.getNearNullSpace()
+        assert near.handle and len(near.getVecs()) == 3
