@@ -39,9 +39,12 @@ differences.
 ``lambda_k`` of the projection of a slave point ``x_s(xi_1, xi_2)`` on the
 master plane are affine in ``xi``; the overlap is the slave reference
 triangle clipped by the three lines ``lambda_k(xi) = 0`` (Sutherland-Hodgman
-on values; each polygon vertex is the intersection of two of the six lines,
-which is then evaluated in dual numbers), fanned into triangles with a
-3-point rule each (exact to degree 2). The gap is the distance to the master
+on values, all pairs at once: :func:`clip_arrays`; each polygon vertex is the
+intersection of two of the six lines, which is then evaluated in dual
+numbers), fanned into triangles with a 3-point rule each (exact to degree 2).
+Nothing loops over pairs in Python; the residual and the tangent of one state
+come from one evaluation, and the tangent goes to PETSc summed per (row,
+column) with an exact preallocation. The gap is the distance to the master
 plane, ``dg/dx`` includes the rotation of ``n_m = (e_1 x e_2)/|e_1 x e_2|``.
 
 Pairing: candidate master facets whose bounding box is within the search radius
