@@ -39,9 +39,12 @@ differences.
 ``lambda_k`` of the projection of a slave point ``x_s(xi_1, xi_2)`` on the
 master plane are affine in ``xi``; the overlap is the slave reference
 triangle clipped by the three lines ``lambda_k(xi) = 0`` (Sutherland-Hodgman
-on values; each polygon vertex is the intersection of two of the six lines,
-which is then evaluated in dual numbers), fanned into triangles with a
-3-point rule each (exact to degree 2). The gap is the distance to the master
+on values, all pairs at once: :func:`clip_arrays`; each polygon vertex is the
+intersection of two of the six lines, which is then evaluated in dual
+numbers), fanned into triangles with a 3-point rule each (exact to degree 2).
+Nothing loops over pairs in Python; the residual and the tangent of one state
+come from one evaluation, and the tangent goes to PETSc summed per (row,
+column) with an exact preallocation. The gap is the distance to the master
 plane, ``dg/dx`` includes the rotation of ``n_m = (e_1 x e_2)/|e_1 x e_2|``.
 
 Pairing: candidate master facets whose bounding box is within the search radius
@@ -58,9 +61,11 @@ linearly at the sub-segment points; augmentation uses the nodal gaps
 (closest point of each slave vertex). For a uniform state this changes
 nothing: the patch test holds after every augmentation.
 
-Parallel: each rank integrates its *owned* slave facets (each facet once);
-the master surface is the gathered one of :class:`twobody.TwoBodySurface`
-(global dof numbers), so a master facet on another rank is just a column;
+Parallel: each rank integrates its *owned* slave facets (each facet once)
+against the master facets near its slave facets, which
+:class:`twobody.MasterExchange` brings (global dof numbers; every master
+facet within the search radius of a local slave facet's box is among them),
+so a master facet on another rank is just a column;
 residual and tangent entries go to PETSc with global indices
 (``VecSetValues``/``MatSetValues`` with ``ADD``; off-process entries are
 moved by the assembly).
@@ -78,7 +83,8 @@ from .twobody import TwoBodySurface
 
 __all__ = [
     "SEGMENT_RULE", "Dual", "dual_max", "dual_min", "dual_exp", "dual_sqrt", "DUAL_OPS", "segment_element",
-    "clip_polygons", "polygon_area", "triangle_element", "overlap", "pair_segments", "pair_triangles", "SegmentSurface"
+    "clip_arrays", "clip_polygons", "polygon_area", "polygon_areas", "triangle_element", "overlap", "pair_segments",
+    "pair_triangles", "SegmentSurface"
 ]
 
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
@@ -298,33 +304,73 @@ def _cross(a, b):
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
-def clip_polygons(alpha: np.ndarray, beta: np.ndarray, tol: float = 1e-12) -> list[list[tuple[int, int]]]:
-    """Sutherland-Hodgman clipping (values) of the slave reference triangle by the master lines, per pair:
-    the polygon as a list of vertices ``(line in, line out)`` (counter-clockwise in xi). ``alpha`` (n, 3),
-    ``beta`` (n, 3, 2) of the master lines. A vertex within ``tol`` of a line counts as inside, so a slave
-    edge on a master edge (matching meshes, block boundaries) is never intersected with its own line."""
-    out = []
-    for a, b in zip(alpha, beta):
-        A = np.concatenate([_SLAVE_LINES[0], a])
-        B = np.concatenate([_SLAVE_LINES[1], b])
-        poly = [(2, 0), (0, 1), (1, 2)]
-        for k in (3, 4, 5):
-            if not poly:
+def _lines(alpha: np.ndarray, beta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """All six lines of each pair: ``A`` (n, 6), ``B`` (n, 6, 2) (slave edges, then the master lines)."""
+    n = len(alpha)
+    A = np.concatenate([np.broadcast_to(_SLAVE_LINES[0], (n, 3)), alpha], axis=1)
+    B = np.concatenate([np.broadcast_to(_SLAVE_LINES[1], (n, 3, 2)), beta], axis=1)
+    return A, B
+
+
+def _vertices(A: np.ndarray, B: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """``xi`` (n, m, 2) of polygon vertices ``poly`` (n, m, 2): the intersections of their two lines (values;
+    non-finite where the lines are parallel, e.g. unused slots)."""
+    rows = np.arange(len(A))[:, None]
+    a, b = poly[..., 0], poly[..., 1]
+    Aa, Ab, Ba, Bb = A[rows, a], A[rows, b], B[rows, a], B[rows, b]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        det = Ba[..., 0] * Bb[..., 1] - Ba[..., 1] * Bb[..., 0]
+        return np.stack([(-Aa * Bb[..., 1] + Ab * Ba[..., 1]) / det, (-Ab * Ba[..., 0] + Aa * Bb[..., 0]) / det],
+                        axis=-1)
+
+
+_MAX_VERTICES = 6  # a triangle clipped by three half-planes
+
+
+def clip_arrays(alpha: np.ndarray, beta: np.ndarray, tol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:
+    """Sutherland-Hodgman clipping (values) of the slave reference triangle by the master lines of every pair
+    at once: the polygons ``poly`` (n, 6, 2), vertex ``j < count[i]`` of pair ``i`` being ``(line in, line out)``
+    (counter-clockwise in xi), and ``count`` (n,) (0: no overlap). ``alpha`` (n, 3), ``beta`` (n, 3, 2) of
+    the master lines. A vertex within ``tol`` of a line counts as inside, so a slave edge on a master edge
+    (matching meshes, block boundaries) is never intersected with its own line. Vectorised over pairs: one
+    NumPy pass per master line and polygon vertex slot."""
+    n = len(alpha)
+    A, B = _lines(np.asarray(alpha, float), np.asarray(beta, float))
+    poly = np.zeros((n, _MAX_VERTICES + 1, 2), np.int64)
+    poly[:, :3] = [(2, 0), (0, 1), (1, 2)]
+    count = np.full(n, 3, np.int64)
+    rows = np.arange(n)
+    for k in (3, 4, 5):
+        xi = _vertices(A, B, poly)
+        with np.errstate(invalid="ignore"):
+            inside = A[:, k, None] + (B[:, k, None, 0] * xi[..., 0] + B[:, k, None, 1] * xi[..., 1]) >= -tol
+        new = np.zeros_like(poly)
+        size = np.zeros(n, np.int64)
+        for i in range(_MAX_VERTICES):
+            on = i < count
+            if not on.any():
                 break
-            val = [A[k] + B[k] @ _intersect_values(A, B, *v) for v in poly]
-            new = []
-            for i, q in enumerate(poly):
-                p = poly[i - 1]
-                vp, vq = val[i - 1], val[i]
-                if vq >= -tol:
-                    if vp < -tol:
-                        new.append((k, p[1]))  # entering: the edge p -> q lies on p's out line
-                    new.append(q)
-                elif vp >= -tol:
-                    new.append((p[1], k))
-            poly = new
-        out.append(poly if len(poly) >= 3 else [])
-    return out
+            ip = np.where(i == 0, count - 1, i - 1)  # the previous vertex (cyclic)
+            p_out = poly[rows, np.maximum(ip, 0), 1]
+            q_in, p_in = inside[:, i], inside[rows, np.maximum(ip, 0)]
+            m = on & q_in & ~p_in  # entering: the edge p -> q lies on p's out line
+            new[m, size[m]] = np.stack([np.full(m.sum(), k), p_out[m]], axis=1)
+            size += m
+            m = on & q_in
+            new[m, size[m]] = poly[m, i]
+            size += m
+            m = on & ~q_in & p_in  # leaving
+            new[m, size[m]] = np.stack([p_out[m], np.full(m.sum(), k)], axis=1)
+            size += m
+        poly, count = new, size
+    count = np.where(count >= 3, count, 0)
+    return poly[:, :_MAX_VERTICES], count
+
+
+def clip_polygons(alpha: np.ndarray, beta: np.ndarray, tol: float = 1e-12) -> list[list[tuple[int, int]]]:
+    """:func:`clip_arrays` as one list of vertices ``(line in, line out)`` per pair (empty: no overlap)."""
+    poly, count = clip_arrays(alpha, beta, tol)
+    return [[(int(a), int(b)) for a, b in p[:c]] for p, c in zip(poly, count)]
 
 
 def _intersect_values(A, B, a, b):
@@ -342,6 +388,21 @@ def polygon_area(alpha, beta, poly) -> float:
     return 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
 
 
+def polygon_areas(alpha: np.ndarray, beta: np.ndarray, poly: np.ndarray, count: np.ndarray) -> tuple[np.ndarray,
+                                                                                                     np.ndarray]:
+    """Areas (n,) and vertex means (n, 2) in xi of the polygons of :func:`clip_arrays` (0 without a polygon)."""
+    A, B = _lines(np.asarray(alpha, float), np.asarray(beta, float))
+    P = _vertices(A, B, poly)
+    used = np.arange(poly.shape[1])[None, :] < count[:, None]
+    P = np.where(used[..., None], P, 0.0)
+    nxt = np.where(np.arange(poly.shape[1])[None, :] + 1 < count[:, None], np.arange(1, poly.shape[1] + 1) %
+                   poly.shape[1], 0)
+    Pn = np.take_along_axis(P, nxt[..., None], axis=1)
+    area = 0.5 * np.sum(np.where(used, P[..., 0] * Pn[..., 1] - Pn[..., 0] * P[..., 1], 0.0), axis=1)
+    centre = P.sum(axis=1) / np.maximum(count, 1)[:, None]
+    return area, centre
+
+
 def triangle_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: dict, weight: float = 1.0,
                      points: bool = False):
     """3D analogue of :func:`segment_element` for triangle facets: residual (n, 18) and tangent (n, 18, 18)
@@ -352,22 +413,21 @@ def triangle_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: d
     n, nd = len(x), 18
     X = [[Dual.seed(x[:, a, i], 3 * a + i, nd) for i in range(3)] for a in range(6)]
     alpha, beta = _master_lines(X)
-    polys = clip_polygons(np.stack([a.v for a in alpha], 1),
-                          np.array([[beta[k][j].v for j in range(2)] for k in range(3)]).transpose(2, 0, 1))
-    # Sub-triangles (pair, three polygon vertices) of the fans.
-    tri_pair, corners = [], []
-    for p, poly in enumerate(polys):
-        for i in range(1, len(poly) - 1):
-            tri_pair.append(p)
-            corners.append((poly[0], poly[i], poly[i + 1]))
+    poly, count = clip_arrays(np.stack([a.v for a in alpha], 1),
+                              np.array([[beta[k][j].v for j in range(2)] for k in range(3)]).transpose(2, 0, 1))
+    # Sub-triangles of the fans (pair, polygon vertices 0, i, i + 1), pair by pair.
+    pi = [np.flatnonzero(i < count - 1) for i in range(1, _MAX_VERTICES - 1)]
+    fan = np.concatenate([np.full(len(p), i + 1) for i, p in enumerate(pi)]).astype(np.int64)
+    tp = np.concatenate(pi).astype(np.int64)
+    order = np.lexsort((fan, tp))
+    tp, fan = tp[order], fan[order]
     r = np.zeros((n, nd))
     K = np.zeros((n, nd, nd))
     out = {"pair": [], "N": [], "weight": [], "gap": [], "pressure": [], "normal": []}
-    if not tri_pair:
+    if not len(tp):
         return (r, K, {k: np.zeros((0,) + ((3,) if k in ("N", "normal") else ())) for k in out}) if points else (r, K)
-    tp = np.array(tri_pair)
-    lines_a = np.array([[c[0] for c in cs] for cs in corners])  # (nt, 3)
-    lines_b = np.array([[c[1] for c in cs] for cs in corners])
+    corners = np.stack([poly[tp, 0], poly[tp, fan], poly[tp, fan + 1]], axis=1)  # (nt, 3 corners, 2 lines)
+    lines_a, lines_b = corners[..., 0], corners[..., 1]
 
     def take(d, idx):
         return Dual(d.v[idx], d.d[idx]) if isinstance(d, Dual) else np.asarray(d)[idx]
@@ -482,17 +542,18 @@ def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nd
     alpha, beta = _master_lines([[x[:, a, i] for i in range(3)] for a in range(6)])
     alpha = np.stack(alpha, 1)
     beta = np.array(beta).transpose(2, 0, 1)
-    polys = clip_polygons(alpha, beta)
-    keep = np.array([polygon_area(a, b, p) > 0.5e-10 for a, b, p in zip(alpha, beta, polys)], dtype=bool)
-    cen = np.zeros((len(fs), 2))
-    for i in np.flatnonzero(keep):
-        A = np.concatenate([_SLAVE_LINES[0], alpha[i]])
-        B = np.concatenate([_SLAVE_LINES[1], beta[i]])
-        cen[i] = np.mean([_intersect_values(A, B, *v) for v in polys[i]], axis=0)
+    # A slave triangle whose three vertices are all outside one master line has no overlap (what the clipping,
+    # with its tolerance, would find): most candidates, left out before clipping.
+    lam = np.stack([alpha, alpha + beta[..., 0], alpha + beta[..., 1]], axis=2)
+    inside = ~np.any(np.all(lam < -1e-12, axis=2), axis=1)
+    fs, ms, x, alpha, beta = fs[inside], ms[inside], x[inside], alpha[inside], beta[inside]
+    poly, count = clip_arrays(alpha, beta)
+    area, cen = polygon_areas(alpha, beta, poly, count)
+    keep = area > 0.5e-10
     fs, ms, cen, x = fs[keep], ms[keep], cen[keep], x[keep]
     p = x[:, 0] + cen[:, :1] * (x[:, 1] - x[:, 0]) + cen[:, 1:] * (x[:, 2] - x[:, 0])
     best, _, dist = project(p, xm, radius)
-    own = np.array([closest_point_on_facets(q, xm[m][None])[0][0] for q, m in zip(p, ms)]) if len(p) else dist
+    own = closest_point_on_facets(p, xm[ms])[0] if len(p) else dist
     keep = (best == ms) | ((best >= 0) & (own <= dist * (1 + 1e-9) + 1e-14 * radius))
     return fs[keep], ms[keep]
 
@@ -500,9 +561,17 @@ def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nd
 # --------------------------------------------------------------------------------------------
 # The surface
 # --------------------------------------------------------------------------------------------
+def _same(a: tuple, b: tuple) -> bool:
+    """Whether two element inputs ``(x, scalars, fields, weight, dofs)`` are equal (arrays exactly)."""
+    xa, sa, fa, wa, da = a
+    xb, sb, fb, wb, db = b
+    return (wa == wb and sa == sb and xa.shape == xb.shape and np.array_equal(xa, xb) and np.array_equal(da, db)
+            and fa.keys() == fb.keys() and all(np.array_equal(fa[k], fb[k]) for k in fa))
+
+
 class SegmentSurface(TwoBodySurface):
     """Two-body contact with segment-to-segment integration (``quadrature="segment"``, 2D and 3D): the same
-    projection, gathered master surface, nodal state, augmentation and outputs as
+    projection, master exchange, nodal state, augmentation and outputs as
     :class:`twobody.TwoBodySurface` with nodal points, but the contact residual and tangent on slave and
     master dofs come from :func:`segment_element`, assembled in NumPy and added by the solver hooks."""
 
@@ -513,7 +582,9 @@ class SegmentSurface(TwoBodySurface):
         if u.function_space.num_sub_spaces > 0 and u.function_space.sub(0).num_sub_spaces > 0:
             raise ValueError("contact quadrature 'segment' needs a displacement unknown (not a mixed space)")
         self._segments = None
-        self._segment_pairs = None
+        self._segment_pairs = None  # (owned slave facet, index into the received master facets)
+        self._segment_ids = None  # the same with global master facet numbers (the pairing state)
+        self._element_cache = None  # (inputs, (residuals, tangents)) of the last element evaluation
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, "nodal", weight, radius, name)
         self.quadrature = "segment"
         sd = self.slave_data
@@ -541,15 +612,16 @@ class SegmentSurface(TwoBodySurface):
         self._exploded_seen |= self.exploded
         if self.exploded:
             return False
-        xm = self._mX + self._gather_master()
+        xm = self._master["x"]
         own = np.flatnonzero(self.slave_data.owned)
         pair = pair_segments if self.gdim == 2 else pair_triangles
         fs, ms = pair(self._slave_current()[own], xm, self.radius)
         pairs = np.stack([own[fs], ms], axis=1)
-        same = self._segment_pairs is not None and np.array_equal(self._segment_pairs, pairs)
+        ids = np.stack([own[fs], self._master["ids"][ms]], axis=1)  # the state: global master facet numbers
+        same = self._segment_ids is not None and np.array_equal(self._segment_ids, ids)
         seg_changed = self.comm.allreduce(0 if same else 1) > 0
+        self._segment_pairs, self._segment_ids = pairs, ids
         if seg_changed:
-            self._segment_pairs = pairs
             self._pattern_version += 1
         self._xm = xm
         return changed or seg_changed
@@ -557,7 +629,7 @@ class SegmentSurface(TwoBodySurface):
     def pairing(self) -> np.ndarray:
         """The point pairs (:meth:`TwoBodySurface.pairing`) followed by the (slave facet, master facet) pairs of
         the sub-segments, flattened."""
-        return np.concatenate([super().pairing(), self._segment_pairs.ravel()])
+        return np.concatenate([super().pairing(), self._segment_ids.ravel()])
 
     def _elements(self, points: bool = False):
         """Element residuals, tangents and global dof indices (n, 8) of the current sub-segments."""
@@ -565,10 +637,19 @@ class SegmentSurface(TwoBodySurface):
         x = np.concatenate([self._slave_current()[f], self._xm[m]], axis=1)
         scalars = {k: float(c.value) for k, c in self.constants.items()}
         fields = {k: fn.x.array[self._sdofs[f]] for k, fn in self.fields.items()}
-        element = segment_element if self.gdim == 2 else triangle_element
-        out = element(x, self._J[f], self.law, scalars, fields, float(self.weight.value), points=points)
+        weight = float(self.weight.value)
         k = self.nv * self.gdim
-        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self._mG[m].reshape(-1, k)], axis=1)
+        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self._master["G"][m].reshape(-1, k)],
+                              axis=1)
+        # The residual and the Jacobian of one state (a Newton iteration's F then J) share one evaluation: the
+        # element routine gives both; it is reused while its inputs are unchanged (compared, not assumed).
+        inputs = (x, scalars, fields, weight, dofs)
+        if not points and self._element_cache is not None and _same(self._element_cache[0], inputs):
+            return self._element_cache[1], dofs
+        element = segment_element if self.gdim == 2 else triangle_element
+        out = element(x, self._J[f], self.law, scalars, fields, weight, points=points)
+        if not points:
+            self._element_cache = (inputs, out)
         return out, dofs
 
     # --- solver hooks ----------------------------------------------------------
@@ -586,16 +667,40 @@ class SegmentSurface(TwoBodySurface):
         """The whole contact tangent (slave and master rows and columns; Dirichlet rows and columns zero)."""
         (_, K), dofs = self._elements()
         Vmap, bs = self.V.dofmap.index_map, self.V.dofmap.index_map_bs
-        sizes = ((Vmap.size_local * bs, Vmap.size_global * bs),) * 2
-        C = PETSc.Mat().createAIJ(sizes, comm=self.comm)
-        C.setPreallocationNNZ((24, 24))
+        n_local, N = Vmap.size_local * bs, Vmap.size_global * bs
+        first = Vmap.local_range[0] * bs
+        C = PETSc.Mat().createAIJ(((n_local, N),) * 2, comm=self.comm)
+        # The element entries summed per (row, column) here (Dirichlet rows and columns left out), and the rows'
+        # exact preallocation: their owners add up every rank's counts (a Vec), so PETSc never reallocates (it
+        # did, for 3D pairs: 90 % of the Jacobian's time).
+        if len(K):
+            idx = np.where(np.isin(dofs, self._bc_array), -1, dofs).astype(np.int64)
+            m = idx.shape[1]
+            rows, cols = np.repeat(idx, m, axis=1).ravel(), np.tile(idx, (1, m)).ravel()
+            keep = (rows >= 0) & (cols >= 0)
+            key, inverse = np.unique(rows[keep] * N + cols[keep], return_inverse=True)
+            vals = np.bincount(inverse.ravel(), weights=K.ravel()[keep], minlength=len(key))
+            rows, cols = key // N, key % N
+            urows, start = np.unique(rows, return_index=True)
+            diag = ((cols >= first) & (cols < first + n_local)).astype(float)
+            nd = np.add.reduceat(diag, start) if len(start) else np.zeros(0)
+            no = np.diff(np.append(start, len(rows))) - nd
+        else:
+            rows = cols = urows = start = np.zeros(0, np.int64)
+            vals = nd = no = np.zeros(0)
+        counts = []
+        for c in (nd, no):
+            v = PETSc.Vec().createMPI((n_local, N), comm=self.comm)
+            v.setValues(urows.astype(PETSc.IntType), c, addv=PETSc.InsertMode.ADD_VALUES)
+            v.assemble()
+            counts.append(v.array.round().astype(PETSc.IntType))
+            v.destroy()
+        C.setPreallocationNNZ((np.minimum(counts[0], n_local), np.minimum(counts[1], N - n_local)))
         C.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        if len(K):  # one CSR row per element row; Dirichlet rows and columns as -1 (ignored by MatSetValues)
-            idx = np.where(np.isin(dofs, self._bc_array), -1, dofs).astype(PETSc.IntType)
-            n, m = idx.shape
-            cols = np.repeat(idx, m, axis=0).ravel()
-            indptr = np.arange(n * m + 1, dtype=PETSc.IntType) * m
-            C.setValuesIJV(indptr, cols, K.reshape(-1), addv=PETSc.InsertMode.ADD_VALUES, rowmap=idx.ravel())
+        if len(rows):
+            indptr = np.append(start, len(rows)).astype(PETSc.IntType)
+            C.setValuesIJV(indptr, cols.astype(PETSc.IntType), vals, addv=PETSc.InsertMode.ADD_VALUES,
+                           rowmap=urows.astype(PETSc.IntType))
         C.assemble()
         return C
 

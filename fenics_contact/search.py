@@ -21,6 +21,8 @@ reject such an iterate outright (:data:`STRETCH_LIMIT`).
 """
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -60,7 +62,7 @@ def _ball_pairs(tree: cKDTree, centres: np.ndarray, r: np.ndarray):
         lists = tree.query_ball_point(centres[a:b], r[a:b])
         sizes = np.fromiter((len(v) for v in lists), np.int64, b - a)
         query = np.repeat(np.arange(a, b, dtype=np.int64), sizes)
-        found = np.fromiter((j for v in lists for j in v), np.int64, int(sizes.sum()))
+        found = np.fromiter(itertools.chain.from_iterable(lists), np.int64, int(sizes.sum()))
         yield query, found
 
 

@@ -42,18 +42,51 @@ changed since the last Jacobian (the pattern then only grows; the solver
 resets its factorization); otherwise the pattern is reused.
 
 Parallel. Every rank takes part in every collective call, with or without
-slave or master facets. At each update the owned master facets (global dof
-numbers, reference coordinates, current displacements; ``nv * (1 + 2 gdim)``
-numbers per facet) are all-gathered, so each rank holds the whole current
-master surface and projects its own slave points (owned and ghost) with a
-k-d tree (:mod:`search`: memory bounded by the surfaces' size whatever
-the iterate; no all-pairs loop). Cost per update: one ``MPI_Allgather`` of the master
-surface (``O(N_master)`` numbers to every rank) and ``O(N_slave_local)``
-local searches; a master facet owned by another rank is then just a column
-of ``I`` with a global index, PETSc moves the values. This is the right
-trade for contact surfaces (a small fraction of the mesh); for very large
-surfaces a bounding-box exchange limited to overlapping ranks would be the
-next step.
+slave or master facets. Each rank projects its own slave points (owned and
+ghost) with a k-d tree (:mod:`search`: memory bounded by the surfaces' size
+whatever the iterate; no all-pairs loop) on the master facets that can be
+within the search radius of them, which their owners send it
+(:class:`MasterExchange`):
+
+- *Routes* (the first update, and when something moved too far): every
+  rank bounds its current slave facets by :data:`LEAVES` boxes
+  (:func:`leaf_boxes`: the facets halved at the median of their widest
+  spread, recursively) grown by the search radius plus a margin
+  (:data:`MARGIN` x radius); the boxes and the owned master facets' largest
+  stretch (:data:`search.STRETCH_LIMIT`) are all-gathered, ``2 gdim LEAVES +
+  1`` numbers per rank; each owned master facet whose current box
+  (quadratic: with the Bezier control point) overlaps one of a rank's boxes
+  goes to that rank: global facet number and current displacements, ``1 +
+  nv gdim`` numbers, and the first time it goes there its reference
+  coordinates, global dof numbers and ordering key, ``2 nv gdim + gdim``
+  more (the receiver caches them; the cache only grows, up to the master
+  facets that ever came near). Counts by one ``MPI_Alltoall`` (2 integers
+  per rank pair), data by one integer and one floating-point
+  ``MPI_Alltoallv``.
+- *Every other update*: the owners send the current displacements along the
+  routes (``nv gdim`` numbers per routed facet) in one ``MPI_Alltoallv``
+  that also carries every rank's largest stretch and largest motion since
+  the routes (2 numbers to every rank: one message per update, as the
+  former all-gather). If a slave or owned master vertex moved by half the
+  margin (quadratic: a sixth), the routes are made again in that update:
+  until then the routed boxes still hold every facet within the radius.
+
+Every master facet within the radius of a slave point (or of a slave facet's
+box: segment pairing) overlaps a routed box, so the search sees the same
+candidates as on the whole surface; the received facets are sorted by their
+reference centroid (rounded to 1e-12, then the global facet number), a
+partition-independent order, so ties go the same way on any partition, and
+the pairing state (hysteresis, pairing changes) is kept in global facet
+numbers (:meth:`TwoBodySurface.pairing`). Cost per update: ``O(P)`` numbers
+(P ranks) and ``O(N_near)`` per rank, ``N_near`` the master facets near its
+slave facets, where all-gathering the master surface was ``O(N_master)`` to
+every rank; a master facet owned by another rank is then just a column of
+``I`` with a global index, PETSc moves the values. Where the whole master
+surface is within the radius of a rank's slave facets (the sphere on its
+block) nothing is saved. ``TwoBodySurface.exchange = "allgather"`` routes
+every master facet to every rank (the former scheme's traffic, for
+comparison; same answers); bytes and seconds: ``exchange_stats()``, the
+measured figures: ``docs/benchmarks.md``.
 
 Quadratic facets (2D, a degree-2 displacement on triangles or 9-node
 quadrilaterals with curved facets): the master facet is the curve
@@ -92,6 +125,7 @@ import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import ufl
 from dolfinx import fem
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from .capabilities import check, of
@@ -108,9 +142,12 @@ from .search import (
     stretch,
 )
 
-__all__ = ["PASSES", "QUADRATURES", "FacetData", "ufl_normal", "MirrorObstacle", "TwoBodySurface"]
+__all__ = ["LEAVES", "PASSES", "QUADRATURES", "FacetData", "ufl_normal", "MasterExchange", "leaf_boxes",
+           "MirrorObstacle", "TwoBodySurface"]
 
 PASSES = ("one", "two")
+LEAVES = 16  # boxes per rank bounding its slave facets in the master exchange (a power of 2)
+MARGIN = 0.5  # the exchange's routes hold while nothing moved by MARGIN / 2 x the search radius
 QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
 
 # Barycentric coordinates of the slave points on a facet (rows: points, columns: facet vertices).
@@ -184,6 +221,7 @@ class FacetData:
                     loc, vloc, fd = loc[::-1], vloc[::-1], fd[::-1]
             self.cells[i], self.local[i], self.vertex_local[i], dofs[i] = c, loc, vloc, fd
         self.dofs = dofs
+        self.facets = np.asarray(facets, dtype=np.int32)
         self.X = coords[dofs][..., :gdim] if nf else np.zeros((0, nv, gdim))
         imap = mesh.topology.index_map(tdim - 1)
         self.owned = np.asarray(facets) < imap.size_local
@@ -208,6 +246,217 @@ def ufl_normal(xs: Sequence[ufl.core.expr.Expr]) -> ufl.core.expr.Expr:
     else:
         n = ufl.cross(xs[1] - xs[0], xs[2] - xs[0])
     return n / ufl.sqrt(ufl.dot(n, n))
+
+
+# --------------------------------------------------------------------------------------------
+# Parallel exchange of the master facets each rank needs
+# --------------------------------------------------------------------------------------------
+class MasterExchange:
+    """The master facets near this rank's slave facets, sent by their owners (module docstring, Parallel).
+
+    ``X`` (n, nv, gdim): reference coordinates of the owned master facets; ``G`` (n, nv, gdim): global numbers of
+    their displacement components; ``ids`` (n,): their global facet numbers; ``quadratic``: quadratic facets (end,
+    middle, end; boxed with the middle Bezier control point). Collective construction and calls."""
+
+    def __init__(self, comm, X: np.ndarray, G: np.ndarray, ids: np.ndarray, quadratic: bool):
+        self.comm, self.quadratic = comm, quadratic
+        n, nv, d = X.shape
+        self.nv, self.gdim = nv, d
+        self.X, self.G, self.ids = X, np.asarray(G, np.int64).reshape(n, nv, d), np.asarray(ids, np.int64)
+        self.key = np.round(X.mean(axis=1), 12) if n else np.zeros((0, d))
+        self._sent: dict[int, np.ndarray] = {}  # destination -> facets whose reference data it holds
+        # Received reference data (cache): coordinates, dof numbers, keys, global facet numbers (and their argsort).
+        self._cX, self._cG = np.zeros((0, nv, d)), np.zeros((0, nv, d), np.int64)
+        self._ckey, self._cid, self._csort = np.zeros((0, d)), np.zeros(0, np.int64), np.zeros(0, np.int64)
+        self._route = None  # (facets sent, facet counts sent, facet counts received, receive permutation)
+        n_total = comm.allreduce(n)
+        k = nv * d
+        # Bytes the former all-gather moved into this rank: reference data and dof numbers once, then U per update.
+        self._allgather_once = 16 * k * (n_total - n)
+        self._allgather_update = 8 * k * (n_total - n)
+        self._sub = self._U_in = self._xs0 = self._U0 = self._everywhere = None  # the last routes' data
+        self.stats = {"updates": 0, "reroutes": 0, "bytes_received": 0, "facets_received": 0, "seconds": 0.0,
+                      "allgather_bytes": self._allgather_once}
+
+    def boxes(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Bounding boxes ``(lo, hi)`` of facets ``x`` (n, nv, gdim) (quadratic: the Bezier control points')."""
+        if self.quadratic and len(x):
+            x = np.concatenate([x, (2 * x[:, 1] - 0.5 * (x[:, 0] + x[:, 2]))[:, None]], axis=1)
+        return x.min(axis=1), x.max(axis=1)
+
+    def exchange(self, U: np.ndarray, xs: np.ndarray, radius: float, stretch_local: float,
+                 everywhere: bool = False) -> tuple[float, dict | None]:
+        """The master facets within ``radius`` of this rank's current slave facets ``xs`` (nf, nv, gdim), with
+        their current displacements, from the owned ones' displacements ``U`` (n, nv, gdim). Returns the largest
+        ``stretch_local`` of all ranks and, unless it exceeds :data:`search.STRETCH_LIMIT` (nothing is sent
+        then), the received facets in the partition-independent order: ``{"X", "G", "U", "ids"}``.
+
+        The facets go to the ranks whose slave boxes (:func:`leaf_boxes`) grown by ``radius + margin``
+        (``margin = MARGIN radius``) their box overlaps; while no slave or owned master vertex has moved by
+        ``margin / 2`` (a quadratic facet's box: ``margin / 6``, its Bezier point moves three times as far) since,
+        those routes still hold every facet within ``radius`` and only the displacements are sent again, in one
+        ``MPI_Alltoallv`` that also takes every rank's stretch and motion (2 numbers) to every rank: the same
+        message count as the former all-gather. ``everywhere``: every facet to every rank."""
+        t0 = time.perf_counter()
+        margin = MARGIN * radius
+        if self._route is None or self._everywhere != everywhere:  # the first call (on every rank): routes
+            smax = self._reroute(U, xs, radius + margin, everywhere, stretch_local)
+            U_in = self._U_in
+        else:
+            moved = max(float(np.max(np.abs(xs - self._xs0), initial=0.0)),
+                        float(np.max(np.abs(U - self._U0), initial=0.0))) * (3.0 if self.quadratic else 1.0)
+            U_in, flags = self._along_routes(U, np.array([stretch_local, moved]))
+            smax = float(flags[:, 0].max())
+            if smax <= STRETCH_LIMIT and flags[:, 1].max() >= 0.5 * margin:
+                smax = self._reroute(U, xs, radius + margin, everywhere, stretch_local)
+                U_in = self._U_in
+        if smax > STRETCH_LIMIT:
+            self.stats["seconds"] += time.perf_counter() - t0
+            return smax, None
+        self.stats["updates"] += 1
+        self.stats["allgather_bytes"] += self._allgather_update
+        self.stats["seconds"] += time.perf_counter() - t0
+        return smax, {"X": self._sub["X"], "G": self._sub["G"], "U": U_in, "ids": self._sub["ids"]}
+
+    def _along_routes(self, a: np.ndarray, header: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Values ``a`` (n, nv, gdim) of the owned facets along the last routes, and ``header`` (h numbers) from
+        every rank to every rank: one ``MPI_Alltoallv``. Returns the received values in the received facets'
+        order and the headers (P, h)."""
+        idx, sc, rc, perm = self._route
+        k, h = self.nv * self.gdim, len(header)
+        parts = np.split(np.ascontiguousarray(a[idx], dtype=float).reshape(-1, k), np.cumsum(sc)[:-1])
+        sb = np.concatenate([np.concatenate([header, p.ravel()]) for p in parts])
+        scount, rcount = h + sc * k, h + rc * k
+        rb = np.empty(int(rcount.sum()))
+        self.comm.Alltoallv([sb, (scount, _displs(scount)), MPI.DOUBLE], [rb, (rcount, _displs(rcount)), MPI.DOUBLE])
+        start = _displs(rcount)
+        heads = np.stack([rb[b:b + h] for b in start])
+        data = np.concatenate([rb[b + h:b + c] for b, c in zip(start, rcount)])
+        me = self.comm.rank
+        self.stats["bytes_received"] += 8 * int(rcount.sum() - rcount[me])
+        self.stats["facets_received"] += int(rc.sum() - rc[me])
+        return data.reshape(-1, self.nv, self.gdim)[perm], heads
+
+    def _reroute(self, U: np.ndarray, xs: np.ndarray, grow: float, everywhere: bool, stretch_local: float) -> float:
+        """New routes: box (and stretch) all-gather, counts (``MPI_Alltoall``), facet numbers and displacements
+        with, for facets new to a rank, their reference data (two ``MPI_Alltoallv``). Returns the largest stretch
+        (above :data:`search.STRETCH_LIMIT`: nothing else is done). Collective."""
+        comm, size, d, k = self.comm, self.comm.size, self.gdim, self.nv * self.gdim
+        nb = LEAVES * d
+        lo, hi = leaf_boxes(*self.boxes(xs), grow) if len(xs) else (np.full((LEAVES, d), np.inf),
+                                                                      np.full((LEAVES, d), -np.inf))
+        gathered = np.empty((size, 2 * nb + 1))
+        comm.Allgather(np.concatenate([lo.ravel(), hi.ravel(), [stretch_local]]), gathered)
+        smax = float(gathered[:, -1].max())
+        if smax > STRETCH_LIMIT:
+            return smax
+        blo = gathered[:, :nb].reshape(size * LEAVES, d)  # every rank's boxes, rank by rank
+        bhi = gathered[:, nb:2 * nb].reshape(size * LEAVES, d)
+        n = len(self.X)
+        flo, fhi = self.boxes(self.X + U) if n else (np.zeros((0, d)), np.zeros((0, d)))
+        if everywhere:
+            hit = np.ones((n, size), bool)
+        else:
+            hit = np.zeros((n, size), bool)
+            live = np.flatnonzero(np.all(blo <= bhi, axis=1))  # non-empty boxes
+            step = max(1, (1 << 22) // max(len(live), 1))  # bounded work arrays
+            for a in range(0, n, step):
+                over = np.all(flo[a:a + step, None, :] <= bhi[None, live], axis=2) & \
+                    np.all(fhi[a:a + step, None, :] >= blo[None, live], axis=2)
+                for r in np.unique(live // LEAVES):
+                    hit[a:a + step, r] = over[:, live // LEAVES == r].any(axis=1)
+        counts = np.zeros((size, 2), np.int64)  # per destination: facets, of which new (first ones)
+        order, ibuf, fbuf = [], [], []
+        for r in np.flatnonzero(hit.any(axis=0)):
+            idx = np.flatnonzero(hit[:, r])
+            sent = self._sent.setdefault(int(r), np.zeros(n, bool))
+            new, old = idx[~sent[idx]], idx[sent[idx]]
+            sent[new] = True
+            idx = np.concatenate([new, old])
+            counts[r] = len(idx), len(new)
+            order.append(idx)
+            ibuf += [self.ids[idx], self.G[new].ravel()]
+            fbuf += [U[idx].ravel(), self.X[new].ravel(), self.key[new].ravel()]
+        rcounts = np.empty_like(counts)
+        comm.Alltoall(counts, rcounts)
+        si = counts[:, 0] + counts[:, 1] * k
+        sf = counts[:, 0] * k + counts[:, 1] * (k + d)
+        ri = rcounts[:, 0] + rcounts[:, 1] * k
+        rf = rcounts[:, 0] * k + rcounts[:, 1] * (k + d)
+        ib = np.concatenate(ibuf).astype(np.int64) if ibuf else np.zeros(0, np.int64)
+        fb = np.concatenate(fbuf).astype(float) if fbuf else np.zeros(0)
+        rib, rfb = np.empty(int(ri.sum()), np.int64), np.empty(int(rf.sum()))
+        comm.Alltoallv([ib, (si, _displs(si)), MPI.INT64_T], [rib, (ri, _displs(ri)), MPI.INT64_T])
+        comm.Alltoallv([fb, (sf, _displs(sf)), MPI.DOUBLE], [rfb, (rf, _displs(rf)), MPI.DOUBLE])
+        # Unpack per source: facet numbers (new ones first), new dof numbers; U, new coordinates, new keys.
+        ids, Us, nid, nG, nX, nK = [], [], [], [], [], []
+        io = fo = 0
+        for r in np.flatnonzero(rcounts[:, 0]):
+            m, q = rcounts[r]
+            ids.append(rib[io:io + m])
+            nid.append(rib[io:io + q])
+            nG.append(rib[io + m:io + m + q * k])
+            Us.append(rfb[fo:fo + m * k])
+            nX.append(rfb[fo + m * k:fo + (m + q) * k])
+            nK.append(rfb[fo + (m + q) * k:fo + (m + q) * k + q * d])
+            io, fo = io + m + q * k, fo + (m + q) * k + q * d
+        ids = np.concatenate(ids) if ids else np.zeros(0, np.int64)
+        U_in = np.concatenate(Us).reshape(-1, self.nv, d) if Us else np.zeros((0, self.nv, d))
+        if rcounts[:, 1].any():
+            self._cid = np.concatenate([self._cid, *nid])
+            self._cG = np.concatenate([self._cG, np.concatenate(nG).reshape(-1, self.nv, d)])
+            self._cX = np.concatenate([self._cX, np.concatenate(nX).reshape(-1, self.nv, d)])
+            self._ckey = np.concatenate([self._ckey, np.concatenate(nK).reshape(-1, d)])
+            self._csort = np.argsort(self._cid, kind="stable")
+        rows = self._csort[np.searchsorted(self._cid[self._csort], ids)] if len(ids) else np.zeros(0, np.int64)
+        perm = np.lexsort((ids, *self._ckey[rows].T[::-1])) if len(ids) else np.zeros(0, np.int64)
+        rows = rows[perm]
+        self._route = (np.concatenate(order) if order else np.zeros(0, np.int64), counts[:, 0], rcounts[:, 0], perm)
+        self._sub = {"X": self._cX[rows], "G": self._cG[rows], "ids": ids[perm]}
+        self._U_in = U_in[perm]
+        self._xs0, self._U0, self._everywhere = xs.copy(), U.copy(), everywhere
+        me = comm.rank
+        st = self.stats
+        st["reroutes"] += 1
+        st["bytes_received"] += 8 * (int(ri.sum() - ri[me] + rf.sum() - rf[me]) + (size - 1) * (2 * nb + 3))
+        st["facets_received"] += int(rcounts[:, 0].sum() - rcounts[me, 0])
+        return smax
+
+    def values(self, a: np.ndarray) -> np.ndarray:
+        """Values ``a`` (n, nv, gdim) of the owned master facets on the facets this rank received at the last
+        :meth:`exchange`, in its order (e.g. the last accepted displacement): one ``MPI_Alltoallv``. Collective."""
+        t0 = time.perf_counter()
+        out = self._along_routes(a, np.zeros(0))[0]
+        self.stats["seconds"] += time.perf_counter() - t0
+        return out
+
+
+def leaf_boxes(lo: np.ndarray, hi: np.ndarray, grow: float, leaves: int | None = None) -> tuple[np.ndarray,
+                                                                                                 np.ndarray]:
+    """At most ``leaves`` (default :data:`LEAVES`, a power of 2) boxes covering the boxes ``[lo, hi]`` (n, gdim),
+    grown by ``grow``: the boxes' centres are halved at the median of their widest spread, recursively, and each
+    part's boxes are merged. Returns ``(lo, hi)`` (leaves, gdim); unused leaves are empty (``lo = inf > hi``)."""
+    leaves = leaves or LEAVES
+    d = lo.shape[1]
+    out_lo, out_hi = np.full((leaves, d), np.inf), np.full((leaves, d), -np.inf)
+    parts = [np.arange(len(lo))] if len(lo) else []
+    for _ in range(int(np.log2(leaves))):  # each round halves every part of two boxes or more
+        split = []
+        for p in parts:
+            if len(p) < 2:
+                split.append(p)
+                continue
+            c = 0.5 * (lo[p] + hi[p])
+            order = p[np.argsort(c[:, int(np.argmax(np.ptp(c, axis=0)))], kind="stable")]
+            split += [order[: len(p) // 2], order[len(p) // 2:]]
+        parts = split
+    for i, p in enumerate(parts):
+        out_lo[i], out_hi[i] = lo[p].min(axis=0) - grow, hi[p].max(axis=0) + grow
+    return out_lo, out_hi
+
+
+def _displs(counts: np.ndarray) -> np.ndarray:
+    return np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
 
 
 # --------------------------------------------------------------------------------------------
@@ -286,6 +535,7 @@ class TwoBodySurface(ContactSurface):
     """
 
     ufl_coupling = True  # coupling by the compiled mirror forms and I (False: a subclass assembles it)
+    exchange = "boxes"  # master facets sent to the ranks whose grown slave box they overlap; "allgather": to all
 
     def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
@@ -347,16 +597,19 @@ class TwoBodySurface(ContactSurface):
         self._wglobal = Wmap.local_to_global(self._wdofs.ravel()).reshape(self._wdofs.shape) if len(slave) else \
             np.zeros((0, nn), np.int64)
 
-        # Master surface: gathered once (reference data), its displacements at every update.
+        # Master surface: each rank's owned facets, sent to the ranks whose slave facets are near (MasterExchange).
         md = self.master_data
         own = md.owned
-        X = np.concatenate(self.comm.allgather(md.X[own]))
-        G = np.concatenate(self.comm.allgather(md.global_comp[own]))
-        key = np.lexsort(np.round(X.mean(axis=1), 12).T[::-1])  # partition-independent order
-        self._mX, self._mG, self._mkey = X[key], G[key], key
+        fmap = mesh.topology.index_map(tdim - 1)
+        ids = fmap.local_to_global(md.facets[own]) if np.any(own) else np.zeros(0, np.int64)
+        self._exchange = MasterExchange(self.comm, md.X[own], md.global_comp[own], ids, self.quadratic)
+        self._master = None  # the facets received at the last update: X, G, U, ids (partition-independent order)
         if radius is None:
-            sides = (self._mX[:, -1:] - self._mX[:, :1]) if self.quadratic else np.diff(self._mX, axis=1)
-            radius = 2.0 * float(np.max(np.linalg.norm(sides, axis=2))) if len(X) else 1.0
+            Xo = md.X[own]
+            sides = (Xo[:, -1:] - Xo[:, :1]) if self.quadratic else np.diff(Xo, axis=1)
+            longest = self.comm.allreduce(float(np.max(np.linalg.norm(sides, axis=2))) if len(Xo) else 0.0,
+                                          op=MPI.MAX)
+            radius = 2.0 * longest if longest > 0 else 1.0
         if not (np.isfinite(radius) and radius > 0):
             raise ValueError(f"search radius must be a finite number > 0, got {radius!r}")
         self.radius = float(radius)
@@ -364,7 +617,8 @@ class TwoBodySurface(ContactSurface):
         self._bc_array = np.zeros(0, np.int64)
         self._problem = None  # the problem bound by bind_problem
         self.I = None
-        self._pairs = None
+        self._pairs = None  # master facet of each local slave point: index into self._master (-1: none)
+        self._pair_ids = None  # the same as global facet numbers (the pairing state between updates)
         self.exploded = False  # the last update met a master facet stretched past search.STRETCH_LIMIT
         self._exploded_seen = False  # ... or one since take_failure()
         self._timings = {"search_s": 0.0, "exchange_s": 0.0, "coupling_s": 0.0}
@@ -413,28 +667,40 @@ class TwoBodySurface(ContactSurface):
         x = sd.X + ua[sd.comp]
         return np.einsum("qk,fkj->fqj", self.B, x)
 
-    def _gather_master(self) -> np.ndarray:
-        md = self.master_data
-        uloc = self.u.x.array[md.comp[md.owned]]
-        U = np.concatenate(self.comm.allgather(uloc))[self._mkey]
-        return U
+    def _route_master(self) -> dict | None:
+        """Receive the master facets near this rank's slave facets (:class:`MasterExchange`), or None (on every
+        rank) if a master facet exploded (:data:`search.STRETCH_LIMIT`). Collective."""
+        md, sd = self.master_data, self.slave_data
+        X = md.X[md.owned]
+        U = self.u.x.array[md.comp[md.owned]]
+        xs = sd.X + self.u.x.array[sd.comp]
+        smax, master = self._exchange.exchange(U, xs, self.radius, stretch(X + U, X), self.exchange == "allgather")
+        if master is not None:
+            master["x"] = master["X"] + master["U"]
+        return master
+
+    def exchange_stats(self) -> dict:
+        """This rank's master exchange: updates, bytes and master facets received from other ranks, seconds,
+        and the bytes the former all-gather of the whole master surface would have received."""
+        return dict(self._exchange.stats)
 
     def update(self) -> bool:
         """Project the slave points on the current master surface; set the mirror fields and ``I``.
         Collective. Returns True if the pairing changed."""
         start = time.perf_counter()
-        U = self._gather_master()
+        master = self._route_master()
         self._timings["exchange_s"] += time.perf_counter() - start
-        xm = self._mX + U
-        # An exploded iterate is rejected, not searched (the gathered master surface is the same on every rank).
-        self.exploded = stretch(xm, self._mX) > STRETCH_LIMIT
+        # An exploded iterate is rejected, not searched (every rank sees the largest stretch).
+        self.exploded = master is None
         self._exploded_seen |= self.exploded
         if self.exploded:
             return False
+        self._master = master
+        xm, U, mX = master["x"], master["U"], master["X"]
         start = time.perf_counter()
         pts = self.slave_points()
         nf, nq, d = pts.shape if pts.size else (0, self.B.shape[0], self.gdim)
-        previous = None if self._pairs is None else self._pairs.ravel()
+        previous = None if self._pair_ids is None else self._local_facets(self._pair_ids.ravel())
         found = project(pts.reshape(-1, d), xm, self.radius, previous, quadratic=self.quadratic)
         facet, bary, dist = found[:3]
         facet = facet.reshape(nf, nq)
@@ -462,7 +728,7 @@ class TwoBodySurface(ContactSurface):
         Uq = np.zeros((nf, nq, bs))
         Aq = (facet >= 0).astype(float)
         ok = facet >= 0
-        Xq[ok] = self._mX[facet[ok]].reshape(-1, bs)
+        Xq[ok] = mX[facet[ok]].reshape(-1, bs)
         Uq[ok] = U[facet[ok]].reshape(-1, bs)
         dummy = self._dummy_vertices().ravel()
         Xq[~ok] = dummy
@@ -478,14 +744,27 @@ class TwoBodySurface(ContactSurface):
             pidx = self._sdofs[..., None] * 2 + np.arange(2)
             self.proj.x.array[pidx] = np.stack([np.where(ok, xi, 0.5), free.astype(float)], axis=-1)
         self._timings["search_s"] += time.perf_counter() - start
-        pairs = self.comm.allreduce(0 if self._pairs is not None and np.array_equal(self._pairs, facet) else 1)
-        changed = pairs > 0
+        ids = np.full(facet.shape, -1, np.int64)
+        ids[ok] = master["ids"][facet[ok]]
+        same = self._pair_ids is not None and np.array_equal(self._pair_ids, ids)
+        changed = self.comm.allreduce(0 if same else 1) > 0
+        self._pairs, self._pair_ids = facet.copy(), ids
         if changed or self.I is None:
-            self._pairs = facet.copy()
             self._build_I(facet)
             self.pairing_changes += 1
             self._pattern_version += 1
         return changed
+
+    def _local_facets(self, ids: np.ndarray) -> np.ndarray:
+        """Indices into the facets of the last update of global facet numbers ``ids`` (-1: none, or not received,
+        i.e. beyond the search radius of every local slave facet)."""
+        mid = self._master["ids"]
+        order = np.argsort(mid)
+        pos = np.minimum(np.searchsorted(mid[order], ids), max(len(mid) - 1, 0))
+        found = (ids >= 0) & (len(mid) > 0)
+        if len(mid):
+            found &= mid[order][pos] == ids
+        return np.where(found, order[pos] if len(mid) else -1, -1)
 
     def _dummy_vertices(self) -> np.ndarray:
         """A unit facet far from nothing in particular: keeps the UFL normal finite where ``active = 0``."""
@@ -519,7 +798,7 @@ class TwoBodySurface(ContactSurface):
         f, a, m, w = f[keep], a[keep], m[keep], w[keep]
         local = (np.arange(nv)[:, None] * d + np.arange(d)).ravel()
         rows = (self._wglobal[f, a].astype(np.int64) * bs)[:, None] + local
-        cols = self._mG[m].reshape(len(m), nv * d).astype(np.int64)
+        cols = self._master["G"][m].reshape(len(m), nv * d).astype(np.int64)
         vals = np.broadcast_to(w[:, None], rows.shape)
         fac = np.broadcast_to(f[:, None], rows.shape)
         rows, cols, vals, fac = rows.ravel(), cols.ravel(), vals.ravel(), fac.ravel()
@@ -606,7 +885,12 @@ class TwoBodySurface(ContactSurface):
         rebuild = self._merged_version != self._pattern_version
         structure = PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN if rebuild else \
             PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN
+        # MatAXPY with a new pattern replaces A's header and drops its near-nullspace (GAMG's rigid-body modes):
+        # put it back, else AMG runs without it from the first pairing change on.
+        near = A.getNearNullSpace() if rebuild else None
         A.axpy(1.0, C, structure=structure)
+        if near is not None and near.handle:
+            A.setNearNullSpace(near)
         self._merged_version = self._pattern_version
         C.destroy()
         return rebuild
@@ -671,6 +955,6 @@ class TwoBodySurface(ContactSurface):
         return np.concatenate(self.comm.allgather(X))
 
     def pairing(self) -> np.ndarray:
-        """The pairing the residual depends on (a copy, this rank's): the master facet of each local slave
-        point (-1: none), flattened."""
-        return self._pairs.ravel().copy()
+        """The pairing the residual depends on (a copy, this rank's): the global facet number of the master facet
+        of each local slave point (-1: none), flattened."""
+        return self._pair_ids.ravel().copy()

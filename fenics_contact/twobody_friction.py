@@ -119,8 +119,8 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
 
     def _fill_w_old(self) -> None:
         md = self.master_data
-        # The same gather and ordering as the current master displacement (TwoBodySurface._gather_master).
-        U = np.concatenate(self.comm.allgather(self.u_old.x.array[md.comp[md.owned]]))[self._mkey]
+        # The master facets of the last update, in its order (TwoBodySurface._route_master). Collective.
+        U = self._exchange.values(self.u_old.x.array[md.comp[md.owned]])
         facet = self.projection["facet"]
         nf, nq = facet.shape
         bs = self.nv * self.gdim

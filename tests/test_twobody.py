@@ -12,7 +12,7 @@ from fenics_contact.laws import make_law
 from fenics_contact.meshes import stacked_blocks
 from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
-from fenics_contact.twobody import TwoBodySurface
+from fenics_contact.twobody import MARGIN, TwoBodySurface, leaf_boxes
 
 
 @pytest.mark.parametrize("quadrature,passes,dim", [("nodal", "one", 2), ("gauss", "one", 2), ("gauss", "two", 2),
@@ -216,3 +216,71 @@ def test_3d_neo_hookean_blocks(quadrature):
         for key in ("contact_force", "reaction_bottom", "pressure_deviation", "top_displacement_exact"):
             assert abs(f[key] - fs[key]) <= 1e-8 * max(abs(fs[key]), 1.0), (key, f[key], fs[key])
         assert abs(f["top_displacement_error"] - fs["top_displacement_error"]) <= 1e-8
+
+
+def test_master_exchange_sends_only_the_facets_near_the_slave():
+    """Box exchange of the master surface (two-body Hertz: a quarter disk on a block 4 R wide): at a deformed
+    state each rank receives exactly the master facets whose current box overlaps one of the boxes bounding its
+    slave facets, grown by the search radius and the routes' margin (none without slave facets), fewer than
+    the whole surface; the projection (pairs as global facet numbers, gaps) equals the one on the whole master
+    surface (``exchange = "allgather"``), also after a small motion that keeps the routes."""
+    comm = MPI.COMM_WORLD
+    setup = build("hertz", law=make_law("penalty", K=2.5e4), plate="meshed", E=200.0, nu=0.3, R=8.0, load=10.0,
+                  plate_E=200.0, plate_width=32.0, plate_depth=16.0)
+    c = setup.contacts[0]
+    u = c.u
+    x = u.function_space.tabulate_dof_coordinates()[:, :2]
+    u.x.array[:] = (0.05 * np.sin(x / 3.0) - [0.0, 0.2]).ravel()  # a smooth motion, bodies pressed together
+    u.x.scatter_forward()
+    got = {}
+    for mode in ("allgather", "boxes"):
+        c.exchange = mode
+        c.update()
+        got[mode] = (c.pairing(), c.projection["gap"].copy(), c._master["ids"].copy())
+    assert np.array_equal(got["boxes"][0], got["allgather"][0])
+    assert np.array_equal(got["boxes"][1], got["allgather"][1])
+    assert comm.allreduce(int(np.count_nonzero(got["boxes"][0] >= 0))) > 10  # points in contact
+    # The facets a rank must receive, from the whole surface's current boxes.
+    md, sd = c.master_data, c.slave_data
+    xm = md.X[md.owned] + u.x.array[md.comp[md.owned]]
+    ids = c._exchange.ids
+    xm, ids = np.concatenate(comm.allgather(xm)), np.concatenate(comm.allgather(ids))
+    xs = sd.X + u.x.array[sd.comp]
+    near = np.zeros(len(xm), bool)
+    if len(xs):
+        lo, hi = leaf_boxes(xs.min(axis=1), xs.max(axis=1), c.radius * (1 + MARGIN))
+        assert np.all(np.any(np.all((lo[None] <= xs.min(axis=1)[:, None]) & (xs.max(axis=1)[:, None] <= hi[None]),
+                                    axis=2), axis=1))  # every slave facet is in a box
+        for a, b in zip(lo, hi):
+            near |= np.all(xm.min(axis=1) <= b, axis=1) & np.all(xm.max(axis=1) >= a, axis=1)
+    assert np.array_equal(np.sort(got["boxes"][2]), np.sort(ids[near]))
+    assert len(got["allgather"][2]) == len(xm) and np.count_nonzero(near) < 0.8 * len(xm)
+    stats = c.exchange_stats()
+    assert stats["updates"] == 3 and stats["reroutes"] == 3
+    # A small motion (below the margin): the routes hold, only displacements move; the same projection.
+    u.x.array[:] += 1e-3 * c.radius * np.cos(np.arange(len(u.x.array)))
+    u.x.scatter_forward()
+    c.exchange = "boxes"
+    c.update()
+    assert c.exchange_stats()["reroutes"] == 3
+    small = (c.pairing(), c.projection["gap"].copy())
+    c.exchange = "allgather"
+    c.update()
+    assert np.array_equal(small[0], c.pairing()) and np.array_equal(small[1], c.projection["gap"])
+
+
+def test_new_coupling_pattern_keeps_the_near_nullspace():
+    """GAMG's rigid-body near-nullspace survives a Jacobian whose coupling pattern changed (MatAXPY with a new
+    pattern replaces the matrix header, which dropped it: the two-body block's Krylov counts then grew)."""
+    from fenics_contact.cli import LINEAR_SOLVERS
+
+    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature="nodal", passes="one")
+    p, c = setup.problem, setup.contacts[0]
+    solver = Solver(p, quiet=True, options=dict(LINEAR_SOLVERS["iterative"]))
+    x = p.create_vector()
+    p.F(x, p.create_vector())
+    for _ in range(2):
+        c._pattern_version += 1  # as after a pairing change
+        assert p.J(x, solver.A)
+        near = solver.A.getNearNullSpace()
+        assert near.handle and len(near.getVecs()) == 3
