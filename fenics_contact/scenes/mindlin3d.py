@@ -7,12 +7,15 @@ bodies (``u_y = 0``; the tangential load is along ``x``). Two-body contact, one 
 slave (node-to-triangle, nodal quadrature), Coulomb friction ``mu`` on a penalty-type normal law
 (:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`).
 
-Loading. ``t`` in (0, 1]: the cap's top moves down by ``t * approach`` (displacement control; ``u_x`` free),
-pressing the bodies together with the force ``P`` (the whole sphere's: twice the half model's contact force at
-``t = 1``). Then ``t = 1 + r`` for each ratio ``r`` of ``ratios`` (increasing): the tangential force
-``Q = r mu P`` along ``+x`` on the top (a uniform traction, force control: the cap's position along ``x`` is held
-by friction alone). The cap is placed ``overlap`` (``1e-9 R``) into the block, so that its pole sticks at the
-first iterate (an open point has no friction capacity, and the cap would have no stiffness along ``x``).
+Loading. ``t`` in (0, ``T_PRESS``]: the cap's top moves down by ``t / T_PRESS * approach`` (displacement
+control; ``u_x`` free) without friction (``mu = 0``; a weak spring ``k u_x``, ``k = PRESS_SPRING E / R^2``, on the
+cap holds its free motion along ``x``). At ``t = 1`` (the top held) friction comes on and the spring goes: for
+``beta = 0`` the pressing carries no tangential traction, so pressing with or without friction is the same problem
+(Mindlin's), and frictionless pressing avoids Newton cycling at the contact edge, where tiny tractions under
+tiny pressures turn the 3D slip direction at every iterate. The force ``P`` is the whole sphere's (twice the half
+model's contact force at ``t = 1``). Then ``t = 1 + r`` for each ratio ``r`` of ``ratios`` (increasing): the
+tangential force ``Q = r mu P`` along ``+x`` on the top (a uniform traction, force control: the cap's position
+along ``x`` is held by friction alone). The cap is placed ``overlap`` (``1e-9 R``) into the block.
 
 Reference (two identical bodies: ``1/E* = 2 (1 - nu^2) / E``): Hertz ``a^3 = 3 P R / (4 E*)``,
 ``p0 = 3 P / (2 pi a^2)``; Cattaneo-Mindlin: the stick zone ``r < c`` with ``c = a (1 - Q / (mu P))^(1/3)`` and
@@ -60,6 +63,10 @@ REFINE = 2 ** 0.5  # each refinement divides the contact mesh size by this (3D: 
 DEFAULT_K = 2e6
 # Tangential penalty at refinement 0: the interface layer E* / omega_t ~ 5.5e-4 R is 5.5 % of h_contact.
 DEFAULT_OMEGA_T = 1e6
+T_PRESS = 0.9  # the pressing ends at this load; friction comes on at t = 1
+# k R^2 / E of the spring on the cap's u_x during the frictionless pressing: stiff enough to fix the cap's
+# position (1e-2 let the contact set wander); its force k u_x ~ 1e-3 E / R is antisymmetric in x (no net force).
+PRESS_SPRING = 1.0
 
 
 def contact_size(refinement: int = 0, h_contact: float | None = None, R: float = R) -> float:
@@ -119,9 +126,11 @@ class _Problem(ContactProblem):
     step ``t = 1`` when the first step beyond it starts (force control of ``Q / (mu P)``); each step's start
     records the stick radii of the step accepted before it (``radii[t]``)."""
 
-    def __init__(self, *args, amplitude: fem.Constant, mu: float, area: float, measure, **kw):
+    def __init__(self, *args, amplitude: fem.Constant, mu: float, area: float, measure, spring: fem.Constant,
+                 k: float, **kw):
         super().__init__(*args, **kw)
         self._amplitude, self._mu, self._area, self._measure = amplitude, mu, area, measure
+        self._spring, self._k = spring, k
         self.P_half, self.radii = None, {}
 
     def record(self) -> None:
@@ -139,6 +148,9 @@ class _Problem(ContactProblem):
                 raise RuntimeError("mindlin3d: the tangential load needs the accepted step t = 1 first")
             self.P_half = entry[-1]["normal_force"][2] + entry[-1]["tangential_force"][2]
             self._amplitude.value = self._mu * self.P_half / self._area
+        # Frictionless pressing held along x by the spring (its term is scaled by t: k / t); then Coulomb.
+        self.contacts[0].constants["mu"].value = self._mu if t >= 1.0 else 0.0
+        self._spring.value = self._k / t if 0.0 < t < 1.0 else 0.0
         super().set_load(t)
 
 
@@ -148,7 +160,8 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
           h_contact: float | None = None, contact_width: float | None = None, h_far: float | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` divides the contact mesh size (default
-    ``h_contact = 0.01 R``) by ``REFINE = sqrt(2)`` that many times; ``press_steps`` load steps for the pressing.
+    ``h_contact = 0.01 R``) by ``REFINE = sqrt(2)`` that many times; ``press_steps`` load steps for the
+    (frictionless) pressing.
     Bodies: the cap's height ``cap_height`` (default ``R / 2``), the block's half ``width`` ``L`` (default
     ``R``; it spans ``y`` in ``[0, L]``) and ``depth`` (default ``R / 2``); the mesh: size ``h_contact`` within
     ``contact_width`` (default ``0.1 R``) of the contact point, growing to ``h_far`` (default ``0.1 R``)."""
@@ -183,7 +196,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     dirichlet = [Dirichlet.on_facets(V, facets, "block_bottom", i) for i in range(3)]
     dirichlet += [Dirichlet.on_facets(V, facets, "symmetry", 1),
                   Dirichlet(V.sub(2), fem.locate_dofs_topological(V.sub(2), fdim, facets.find("cap_top")), 1.0,
-                            ([0.0, 1.0], [0.0, -approach]))]
+                            ([0.0, T_PRESS], [0.0, -approach]))]
     contact = two_body_surfaces(u, facets, "cap_surface", "block_top", lambda: law, t, "nodal", radius=0.1 * R,
                                 name="interface")[0]
     material = LinearElastic(E, nu)
@@ -203,9 +216,13 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
         return {"area": math.sqrt(2 * area_stick / math.pi),
                 **stick_radii(prof["x"], prof["state"], 1e-9 * R)}
 
-    problem = _Problem(u, material, t, dirichlet, [contact], [(traction, ds(facets["cap_top"]))],
-                       amplitude=amplitude, mu=mu, area=area, measure=measure)
-    loads = [(i + 1) / press_steps for i in range(press_steps)] + [1.0 + r for r in ratios]
+    spring = fem.Constant(mesh, 0.0)
+    dx_cap = ufl.Measure("dx", domain=mesh, subdomain_data=cells.meshtags)(cells["cap"])
+    problem = _Problem(u, material, t, dirichlet, [contact],
+                       [(traction, ds(facets["cap_top"])), (ufl.as_vector((-spring * u[0], 0.0, 0.0)), dx_cap)],
+                       amplitude=amplitude, mu=mu, area=area, measure=measure, spring=spring,
+                       k=PRESS_SPRING * E / R**2)
+    loads = [T_PRESS * (i + 1) / press_steps for i in range(press_steps)] + [1.0] + [1.0 + r for r in ratios]
 
     def figures() -> dict:
         problem.record()
