@@ -8,7 +8,7 @@ slave (node-to-triangle, nodal quadrature), Coulomb friction ``mu`` on a penalty
 (:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`).
 
 Loading. ``t`` in (0, ``T_PRESS``]: the cap's top moves down by ``t / T_PRESS * approach`` (displacement
-control; ``u_x`` free) without friction (``mu = 0``; a weak spring ``k u_x``, ``k = PRESS_SPRING E / R^2``, on the
+control; ``u_x`` free) without friction (``mu = 0``; a spring ``k u_x``, ``k = PRESS_SPRING E / R^2``, on the
 cap holds its free motion along ``x``). At ``t = 1`` (the top held) friction comes on and the spring goes: for
 ``beta = 0`` the pressing carries no tangential traction, so pressing with or without friction is the same problem
 (Mindlin's), and frictionless pressing avoids Newton cycling at the contact edge, where tiny tractions under
