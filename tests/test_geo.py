@@ -11,7 +11,7 @@ from fenics_contact import meshes
 from fenics_contact.meshes.gmshutil import geo_path
 
 comm = MPI.COMM_WORLD
-SOURCES = ("hertz", "pin", "sheet", "rings", "two_disks", "sphere", "seal", "half_disk")
+SOURCES = ("hertz", "pin", "sheet", "rings", "two_disks", "sphere", "seal", "half_disk", "mindlin3d")
 
 
 def _length(mesh, facets, name):

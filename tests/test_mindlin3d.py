@@ -1,0 +1,102 @@
+"""mindlin3d: a sphere pressed on a block of its own material, then sheared below sliding (Cattaneo-Mindlin partial
+slip in 3D), node-to-triangle Coulomb friction between the two deformable bodies; a coarse mesh, one ratio."""
+import dolfinx.fem.petsc as fem_petsc
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import fenics_contact as fc
+from fenics_contact.friction import SLIP, STICK
+from fenics_contact.scenes import mindlin3d
+
+H = 0.015  # coarse: about 4.5 contact elements across a
+RATIO = 0.5
+_RUNS = {}
+
+
+def _run(comm=MPI.COMM_WORLD):
+    """The coarse scene at Q / (mu P) = 0.5, solved once per communicator size in this module."""
+    key = comm.size
+    if key not in _RUNS:
+        law = fc.Friction(fc.make_law("penalty", K=mindlin3d.DEFAULT_K), mu=0.3,
+                          omega_t=mindlin3d.default_omega_t(0, H))
+        setup = fc.build("mindlin3d", law=law, ratios=(RATIO,), h_contact=H, comm=comm)
+        solver = fc.Solver(setup.problem, quiet=True)
+        solver.run(setup.loads)
+        assert all(r.converged for r in solver.records)
+        _RUNS[key] = (setup, setup.figures())
+    return _RUNS[key]
+
+
+def test_stick_radius_against_cattaneo_mindlin():
+    """The stick radius (from the stick area, and along each of the +x, -x, +y rays) is within one contact
+    element of c = a (1 - Q / (mu P))^(1/3) (a: Hertz for the measured P, two identical bodies)."""
+    setup, f = _run()
+    h, r = f["h_contact"], RATIO
+    ref = f[f"c_ref_{r:g}"]
+    assert ref == pytest.approx(f["a_hertz"] * 0.5 ** (1 / 3), rel=1e-12)
+    for key in ("c", "c_+x", "c_-x", "c_+y"):
+        c = f[f"{key}_{r:g}"]
+        print(f"mindlin3d {key}: {c:.6g}, Cattaneo-Mindlin {ref:.6g}, {abs(c - ref) / h:.2f} elements")
+        assert abs(c - ref) <= h, (key, c, ref, h)
+    assert abs(f["a"] - f["a_hertz"]) <= 1.5 * h  # the outermost loaded vertex: Hertz's a within the element
+
+
+def test_equilibrium_of_both_bodies_and_coulomb_at_the_slip_points():
+    """The contact force on the cap balances the applied Q = r mu P (1e-8); the contact forces on the two bodies
+    are equal and opposite along x and z (the contact residual over both bodies sums to zero, 1e-8 of P; along y
+    the master's share on the symmetry plane's constrained dofs is left out of the coupling by design, a
+    reaction); at the sliding vertices |q| = mu p (Coulomb, 1e-8), at the sticking ones |q| < mu p."""
+    setup, f = _run()
+    P, mu = f["P"], f["mu"]
+    assert f[f"Q_{RATIO:g}"] == pytest.approx(RATIO * mu * P, rel=1e-8)
+    c = setup.contacts[0]
+    u = setup.problem.u
+    b = fem_petsc.assemble_vector(fem.form(c.residual(ufl.TestFunction(u.function_space))))
+    b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    c.add_residual(b)
+    total = [MPI.COMM_WORLD.allreduce(float(np.sum(b.array[i::3]))) for i in (0, 2)]
+    assert max(abs(v) for v in total) <= 1e-8 * P, total
+    assert MPI.COMM_WORLD.allreduce(float(np.sum(np.abs(b.array[0::3])))) > 1e-3 * P  # the x forces are not all 0
+    prof = setup.profile()
+    q, p, s = np.linalg.norm(prof["traction"], axis=1), prof["pressure"], prof["state"]
+    assert np.any(s == SLIP) and np.any(s == STICK)
+    assert np.allclose(q[s == SLIP], mu * p[s == SLIP], rtol=1e-8, atol=1e-12 * mu * p.max())
+    assert np.all(q[s == STICK] < mu * p[s == STICK])
+
+
+def test_stick_radii_on_rays():
+    """stick_radii: half-way between the last sticking vertex and the next one on each ray; 0 if the first
+    vertex of a ray slips."""
+    x = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0], [-1, 0, 0], [-2, 0, 0], [0, 1, 0], [0, 2, 0]], float)
+    s = np.array([STICK, STICK, SLIP, SLIP, STICK, STICK, SLIP, SLIP])
+    out = mindlin3d.stick_radii(x, s, 1e-9)
+    assert out == {"+x": 1.5, "-x": 2.0, "+y": 0.5}
+    assert mindlin3d.stick_radii(x, np.full(8, SLIP), 1e-9)["+x"] == 0.0
+
+
+def test_bad_input_is_refused():
+    law = fc.Friction(fc.make_law("penalty", K=1e6), mu=0.3, omega_t=1e6)
+    with pytest.raises(ValueError, match="ratios"):
+        fc.build("mindlin3d", law=law, ratios=(0.5, 0.2))
+    with pytest.raises(ValueError, match="cap_height"):
+        fc.build("mindlin3d", law=law, cap_height=1.5)
+    with pytest.raises(ValueError, match="mu > 0"):
+        fc.build("mindlin3d", law=fc.make_law("penalty", K=1e6))
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="compares a parallel run with the serial one")
+@pytest.mark.xfail(strict=True, reason="known: under mpirun -n 2 P differs from the serial run by 4e-7 (relative), "
+                   "from the frictionless pressing's third step on (same Newton iterations; the x contact force by "
+                   "1e-4 of itself): a partition-dependent two-body pairing is suspected (twobody.py's master "
+                   "exchange, being reworked); strict: passes again -> remove this mark")
+def test_parallel_equals_serial():
+    """Under mpirun -n 2: the figures equal the serial ones (each rank also solves alone) to 1e-8."""
+    _, parallel = _run(MPI.COMM_WORLD)
+    _, serial = _run(MPI.COMM_SELF)
+    for k, v in serial.items():
+        if isinstance(v, float):
+            assert abs(parallel[k] - v) <= 1e-8 * max(abs(v), 1e-6), (k, parallel[k], v)
