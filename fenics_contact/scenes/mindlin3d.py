@@ -217,9 +217,14 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
                 **stick_radii(prof["x"], prof["state"], 1e-9 * R)}
 
     spring = fem.Constant(mesh, 0.0)
-    dx_cap = ufl.Measure("dx", domain=mesh, subdomain_data=cells.meshtags)(cells["cap"])
+    # The spring acts on the cap only: a DG0 indicator on the plain dx (dolfinx 0.9 wants every dx integral of a form
+    # to share one subdomain_data, and the bulk's dx has none).
+    cap = fem.Function(function_space(mesh, "DG", 0), name="cap_indicator")
+    cap.x.array[[cap.function_space.dofmap.cell_dofs(c)[0] for c in cells.find("cap")]] = 1.0
+    cap.x.scatter_forward()
     problem = _Problem(u, material, t, dirichlet, [contact],
-                       [(traction, ds(facets["cap_top"])), (ufl.as_vector((-spring * u[0], 0.0, 0.0)), dx_cap)],
+                       [(traction, ds(facets["cap_top"])),
+                        (ufl.as_vector((-spring * cap * u[0], 0.0, 0.0)), ufl.dx(domain=mesh))],
                        amplitude=amplitude, mu=mu, area=area, measure=measure, spring=spring,
                        k=PRESS_SPRING * E / R**2)
     loads = [T_PRESS * (i + 1) / press_steps for i in range(press_steps)] + [1.0] + [1.0 + r for r in ratios]
