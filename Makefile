@@ -8,6 +8,11 @@ NP     ?= 2
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
+# one BLAS/OpenMP thread per rank: on 2 cores, threads x ranks oversubscribe and crawl
+export OPENBLAS_NUM_THREADS=1
+export OMP_NUM_THREADS=1
+# each process's address space is capped (KiB): a run that grows is stopped with a MemoryError, not by the kernel
+MEM_CAP_KB ?= 4000000
 MPIRUN := mpirun -n $(NP)
 
 .PHONY: setup demo demo-all bench scaling docs test lint test-serial test-mpi test-debian13 clean
@@ -39,10 +44,10 @@ lint: setup
 	$(VENV)/bin/ruff check fenics_contact demos tests
 
 test-serial: setup
-	$(PY) -m pytest -q tests
+	ulimit -v $(MEM_CAP_KB) && $(PY) -m pytest -q tests
 
 test-mpi: setup
-	$(MPIRUN) $(PY) -m pytest -q -p no:cacheprovider tests
+	ulimit -v $(MEM_CAP_KB) && $(MPIRUN) $(PY) -m pytest -q -p no:cacheprovider tests
 
 # Debian 13 (dolfinx 0.9) lane in a debootstrap root; `make test` skips it, saying so, where it cannot run.
 test-debian13: setup
