@@ -33,6 +33,8 @@ PAIR_BUDGET = 1 << 20  # (point, facet) pairs held at once: ~100 MB of work arra
 # A facet whose extent grew beyond this factor of its reference extent within one iterate is an exploded
 # iterate, not a deformation: the two-body surfaces reject it (non-finite residual: a failed solve, cut step).
 STRETCH_LIMIT = 10.0
+# Relative tolerance of the closest-facet comparisons: values this close are ties (decided by the facet order).
+TIE = 1e-9
 
 
 def _boxes(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -266,7 +268,7 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
     # (the node lies on a facet), with the tie tolerance below; most points then have a few candidates, not every
     # facet within ``radius`` (a graded master surface's radius is several of its largest facets).
     if n and len(master):
-        near = cKDTree(master.reshape(-1, master.shape[-1])).query(points)[0] * (1 + 1e-9) + 1e-14 * radius
+        near = cKDTree(master.reshape(-1, master.shape[-1])).query(points)[0] * (1 + TIE) + 1e-14 * radius
         bound = np.where(near < radius, near, radius)
     else:
         bound = radius
@@ -285,11 +287,17 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
             d, b = closest_point_on_facets(p, mf)
             xi = np.zeros(len(pi))
             line = np.abs(_dot(p - mf[:, 0], facet_normals(mf)))
-        # Nearest distance per point; among the (near-)tied facets the farthest plane, then the lowest index.
+        # Nearest distance per point; among the (near-)tied facets the (near-)farthest plane, then the lowest index.
+        # Both comparisons carry the same tolerance: a point on the bisector of two facets' planes (over their
+        # shared edge, e.g. on a symmetry plane) is equally far from both up to round-off, and round-off that
+        # differs between runs (another partition, another solver) must not pick the facet (its normal).
         dmin = np.full(n, np.inf)
         np.minimum.at(dmin, pi, d)
-        k = np.flatnonzero(d <= dmin[pi] * (1 + 1e-9) + 1e-14 * radius)
-        best = k[_first_per_group(pi[k], (-line[k], fi[k]))]
+        k = np.flatnonzero(d <= dmin[pi] * (1 + TIE) + 1e-14 * radius)
+        lmax = np.full(n, -np.inf)
+        np.maximum.at(lmax, pi[k], line[k])
+        k = k[line[k] >= lmax[pi[k]] * (1 - TIE) - 1e-14 * radius]
+        best = k[_first_per_group(pi[k], (fi[k],))]
         i = pi[best]
         facet[i], bary[i], dist[i], xis[i] = fi[best], b[best], d[best], xi[best]
     if previous is not None:  # hysteresis: keep the previous facet (a candidate) if it is nearly as close

@@ -1,6 +1,5 @@
 """mindlin3d: a sphere pressed on a block of its own material, then sheared below sliding (Cattaneo-Mindlin partial
 slip in 3D), node-to-triangle Coulomb friction between the two deformable bodies; a coarse mesh, one ratio."""
-import dolfinx
 import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import pytest
@@ -90,10 +89,6 @@ def test_bad_input_is_refused():
 
 
 @pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="compares a parallel run with the serial one")
-@pytest.mark.xfail(dolfinx.__version__.startswith("0.5"), strict=True,
-                   reason="known on dolfinx 0.5 only (0.9: 2 ranks = serial to 1e-8): P differs from the serial run "
-                   "by 4e-7 (relative) from the frictionless pressing's third step on (same Newton iterations; the "
-                   "x contact force by 1e-4 of itself); strict: passes again -> remove this mark")
 def test_parallel_equals_serial():
     """Under mpirun -n 2: the figures equal the serial ones (each rank also solves alone) to 1e-8."""
     _, parallel = _run(MPI.COMM_WORLD)

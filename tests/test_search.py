@@ -88,6 +88,21 @@ def test_projection_matches_brute_force_3d():
     assert np.allclose(np.linalg.norm(q - pts[ok], axis=1), dist[ok], rtol=1e-12, atol=1e-14)
 
 
+def test_round_off_does_not_pick_the_facet_at_a_ridge():
+    """Two triangles meeting at a ridge along x = 0 (slopes +-0.01), points below the ridge (penetrating, the
+    contact edge of a symmetric body) moved across it by round-off (|x| <= 1e-16): every point takes the same
+    facet, the first in the given order, whichever side of the bisector round-off puts it (the serial and the
+    parallel run of a symmetric scene differ by such round-off: the facet decides the normal)."""
+    a, b, c, d = [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.5, -0.01], [-1.0, 0.5, -0.01]
+    tris = np.array([[a, b, c], [b, a, d]])
+    for order in ((0, 1), (1, 0)):
+        pts = np.array([[s * 1e-16, 0.5, -1e-5] for s in (-1.0, -0.3, 0.0, 0.4, 1.0)])
+        facet = project(pts, tris[list(order)], 0.1)[0]
+        assert np.all(facet == 0), (order, facet)
+    off = np.array([[1e-7, 0.5, -1e-5], [-1e-7, 0.5, -1e-5]])  # beyond round-off: the geometry decides
+    assert list(project(off, tris, 0.1)[0]) == [0, 1]
+
+
 def test_closest_point_on_triangle_brute_force():
     rng = np.random.default_rng(2)
     tri = rng.standard_normal((1, 3, 3))
