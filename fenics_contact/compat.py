@@ -16,7 +16,7 @@ if typing.TYPE_CHECKING:
 
 __all__ = [
     "function_space", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "interpolate_expression", "cell_sizes",
-    "entities_to_geometry", "cell_partitioner", "model_to_mesh", "create_mesh"
+    "entities_to_geometry", "cell_dofs", "cell_partitioner", "model_to_mesh", "create_mesh"
 ]
 
 
@@ -83,6 +83,16 @@ def interpolate_expression(f: fem.Function, expr) -> fem.Function:
     f.interpolate(fem.Expression(expr, pts() if callable(pts) else pts))
     f.x.scatter_forward()
     return f
+
+
+def cell_dofs(V) -> typing.Any:
+    """The dofmap as an array (local cells, dofs per cell) of local (block) dof numbers."""
+    import numpy as np
+
+    dofs = V.dofmap.list
+    if hasattr(dofs, "offsets"):  # dolfinx 0.5: an AdjacencyList
+        return np.asarray(dofs.array).reshape(len(dofs.offsets) - 1, -1)
+    return np.asarray(dofs)
 
 
 def cell_sizes(mesh, dim: int, entities):

@@ -25,10 +25,11 @@ from petsc4py import PETSc
 from . import failure as _failure
 from .capabilities import check, of
 from .compat import petsc_vec
+from .nullspace import rigid_body_modes
 from .problem import ContactProblem
 
 __all__ = [
-    "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "LINEAR_SOLVERS", "rigid_body_modes",
+    "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "LINEAR_SOLVERS",
     "ConvergenceError", "StepRecord", "Solver"
 ]
 
@@ -75,33 +76,6 @@ LINEAR_SOLVERS = {
     "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
     "iterative": {"ksp_type": "gmres", "pc_type": "gamg", "ksp_rtol": 1e-8, "ksp_max_it": 500},
 }
-
-
-def rigid_body_modes(V) -> PETSc.NullSpace:
-    """The rigid-body modes of the vector P1 space ``V`` (3 in 2D, 6 in 3D), orthonormalised, as a
-    PETSc near-nullspace for algebraic multigrid."""
-    from dolfinx import fem
-
-    x = V.tabulate_dof_coordinates()
-    gdim = V.mesh.geometry.dim
-    x = x[:, :gdim]
-    n_local = V.dofmap.index_map.size_local
-    funcs = [fem.Function(V) for _ in range(3 if gdim == 2 else 6)]
-    arrays = [f.x.array.reshape(-1, gdim) for f in funcs]
-    for i in range(gdim):  # translations
-        arrays[i][:, i] = 1.0
-    rotations = [(0, 1)] if gdim == 2 else [(0, 1), (1, 2), (2, 0)]
-    for k, (i, j) in enumerate(rotations):  # rotation in the (i, j) plane
-        arrays[gdim + k][:, i] = -x[:, j]
-        arrays[gdim + k][:, j] = x[:, i]
-    vecs = []
-    for f in funcs:  # Gram-Schmidt on the owned entries (PETSc vectors of the owned dofs)
-        v = PETSc.Vec().createWithArray(f.x.array[: n_local * gdim].copy(), comm=V.mesh.comm)
-        for w in vecs:
-            v.axpy(-v.dot(w), w)
-        v.normalize()
-        vecs.append(v)
-    return PETSc.NullSpace().create(vectors=vecs, comm=V.mesh.comm)
 
 
 class ConvergenceError(RuntimeError):

@@ -1,4 +1,6 @@
 """3D: sphere on a rigid plane against Hertz with the iterative solver; rigid-body near-nullspace."""
+import itertools
+
 import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import pytest
@@ -6,11 +8,12 @@ import ufl
 from dolfinx import fem, mesh
 from mpi4py import MPI
 
-from fenics_contact.compat import function_space
+from fenics_contact.compat import create_mesh, entities_to_geometry, function_space
 from fenics_contact.laws import make_law
 from fenics_contact.materials import LinearElastic
+from fenics_contact.nullspace import cell_bodies, rigid_body_modes
 from fenics_contact.scenes import sphere
-from fenics_contact.solver import LINEAR_SOLVERS, Solver, rigid_body_modes
+from fenics_contact.solver import LINEAR_SOLVERS, Solver
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -28,6 +31,53 @@ def test_rigid_body_modes_are_the_kernel_of_the_stiffness(dim):
     assert ns.test(A)  # A m = 0 for every mode
     gram = np.array([[a.dot(b) for b in modes] for a in modes])
     assert np.allclose(gram, np.eye(len(modes)), atol=1e-12)
+
+
+def _kuhn_box(n: int, dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices and simplices (Kuhn's: 2 triangles or 6 tetrahedra per cube) of the unit box, n cells a side."""
+    grid = np.stack(np.meshgrid(*[np.arange(n + 1)] * dim, indexing="ij"), -1).reshape(-1, dim)
+    index = {tuple(p): k for k, p in enumerate(grid)}
+    cells = []
+    for corner in np.stack(np.meshgrid(*[np.arange(n)] * dim, indexing="ij"), -1).reshape(-1, dim):
+        for perm in itertools.permutations(range(dim)):
+            path = [corner.copy()]
+            for axis in perm:
+                path.append(path[-1] + np.eye(dim, dtype=int)[axis])
+            cells.append([index[tuple(p)] for p in path])
+    return grid / n, np.array(cells)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_rigid_body_modes_of_two_bodies(dim):
+    """Two unit boxes 0.5 apart, without shared vertices (a two-body contact mesh): two bodies whatever the
+    partition, numbered by their lowest vertex (lexicographic); 2 x (3 or 6) orthonormal modes in the kernel of
+    the stiffness, each zero on one of the bodies; one set of modes with ``per_body=False``."""
+    comm = MPI.COMM_WORLD
+    x, cells = _kuhn_box(3, dim)
+    shift = np.eye(dim)[0] * 1.5
+    X = np.concatenate([x, x + shift]) if comm.rank == 0 else np.zeros((0, dim))
+    C = np.concatenate([cells, cells + len(x)]) if comm.rank == 0 else np.zeros((0, dim + 1), np.int64)
+    m = create_mesh(comm, C, X, "triangle" if dim == 2 else "tetrahedron")
+    labels, n = cell_bodies(m)
+    assert n == 2
+    geo = entities_to_geometry(m, dim, np.arange(len(labels), dtype=np.int32))
+    assert np.array_equal(labels, (m.geometry.x[geo, 0].mean(axis=1) > 1.25).astype(int))
+    V = function_space(m, "Lagrange", 1, (dim,))
+    u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+    A = fem_petsc.assemble_matrix(fem.form(ufl.inner(LinearElastic(1000.0, 0.3).stress(u), ufl.sym(ufl.grad(v)))
+                                           * ufl.dx))
+    A.assemble()
+    ns = rigid_body_modes(V)
+    modes = ns.getVecs()
+    k = 3 if dim == 2 else 6
+    assert len(modes) == 2 * k and ns.test(A)
+    assert np.allclose([[a.dot(b) for b in modes] for a in modes], np.eye(2 * k), atol=1e-12)
+    dof_x = V.tabulate_dof_coordinates()[: V.dofmap.index_map.size_local, 0]
+    for i, mode in enumerate(modes):
+        other = dof_x > 1.25 if i < k else dof_x < 1.25
+        assert np.all(mode.getArray().reshape(-1, dim)[other] == 0.0)
+        assert comm.allreduce(float(np.abs(mode.getArray()).sum())) > 0
+    assert len(rigid_body_modes(V, per_body=False).getVecs()) == k
 
 
 def test_sphere_hertz_3d_iterative():
