@@ -2,9 +2,9 @@
 
     python scripts/gamg_bodies.py --level 0 --modes union bodies [--threshold 0.01] [--options k=v ...]
 
-For each near-nullspace (``union``: the 6 rigid-body modes of the whole mesh, what the solver sets; ``bodies``:
-6 per body, each zero on the other body, 12 in all) solves the scene (penalty, its K, GMRES + GAMG) and prints
-Newton iterations, Krylov iterations per Newton iteration and the time per Newton iteration
+For each near-nullspace (``union``: the 6 rigid-body modes of the whole mesh; ``bodies``: 6 per body, each zero
+on the other body, 12 in all, what the solver sets: ``fenics_contact.nullspace``) solves the scene (penalty, its
+K, GMRES + GAMG) and prints Newton iterations, Krylov iterations per Newton iteration and the time per Newton iteration
 ((assembly + linear solves) / Newton iterations, as ``demos/scaling.py``).
 """
 from __future__ import annotations
@@ -12,56 +12,13 @@ from __future__ import annotations
 import argparse
 import time
 
-import numpy as np
 from mpi4py import MPI
-from petsc4py import PETSc
 
 import fenics_contact as fc
 from fenics_contact.cli import LINEAR_SOLVERS
+from fenics_contact.nullspace import rigid_body_modes
 from fenics_contact.scenes import sphere
 from fenics_contact.solver import Solver
-
-
-def body_modes(V, body_of_dof: np.ndarray) -> PETSc.NullSpace:
-    """6 rigid-body modes per body (translations, rotations about the body's centroid), each zero off its body,
-    orthonormalised (Gram-Schmidt on the owned entries)."""
-    x = V.tabulate_dof_coordinates()[:, :3]
-    n_local = V.dofmap.index_map.size_local
-    comm = V.mesh.comm
-    vecs = []
-    for b in np.unique(np.concatenate(comm.allgather(np.unique(body_of_dof[:n_local])))):
-        on = body_of_dof == b
-        centre = np.array(comm.allreduce(x[:n_local][on[:n_local]].sum(axis=0))) / comm.allreduce(
-            int(on[:n_local].sum()))
-        xc = x - centre
-        for k in range(6):
-            a = np.zeros((len(x), 3))
-            if k < 3:
-                a[:, k] = 1.0
-            else:
-                i, j = [(0, 1), (1, 2), (2, 0)][k - 3]
-                a[:, i], a[:, j] = -xc[:, j], xc[:, i]
-            a[~on] = 0.0
-            v = PETSc.Vec().createWithArray(a[:n_local].ravel().copy(), comm=comm)
-            for w in vecs:
-                v.axpy(-v.dot(w), w)
-            v.normalize()
-            vecs.append(v)
-    return PETSc.NullSpace().create(vectors=vecs, comm=comm)
-
-
-def bodies(V) -> np.ndarray:
-    """Body of each local dof (block index): 1 for the block's cells (centroid below z = 0), 0 for the ball's."""
-    mesh = V.mesh
-    tdim = mesh.topology.dim
-    n_cells = mesh.topology.index_map(tdim).size_local + mesh.topology.index_map(tdim).num_ghosts
-    x = mesh.geometry.x
-    geo = mesh.geometry.dofmap
-    body = np.full(V.dofmap.index_map.size_local + V.dofmap.index_map.num_ghosts, -1)
-    for c in range(n_cells):
-        z = x[geo.links(c), 2].mean()
-        body[V.dofmap.cell_dofs(c)] = 1 if z < 0 else 0
-    return body
 
 
 def main() -> None:
@@ -77,9 +34,8 @@ def main() -> None:
         setup = fc.build("sphere", law=fc.make_law("penalty", K=sphere.DEFAULT_K), plate="meshed", level=args.level,
                          size=args.size)
         solver = Solver(setup.problem, quiet=True, options={**LINEAR_SOLVERS["iterative"], **extra})
-        if modes == "bodies":
-            V = setup.problem.u.function_space
-            solver.A.setNearNullSpace(body_modes(V, bodies(V)))
+        if modes == "union":  # the solver sets the per-body modes
+            solver.A.setNearNullSpace(rigid_body_modes(setup.problem.u.function_space, per_body=False))
         t0 = time.perf_counter()
         solver.run(setup.loads)
         wall = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
