@@ -26,7 +26,9 @@ across ``a``.
 """
 from __future__ import annotations
 
+import argparse
 import math
+from typing import Callable
 
 import numpy as np
 import ufl
@@ -44,7 +46,8 @@ from . import Setup, poisson, positive
 from .hertz import contact_half_width
 
 __all__ = ["build", "mindlin_c", "mindlin_traction", "check_loading", "stick_figures", "worst_ratio",
-           "ShearProblem", "DEFAULT_K", "DEFAULT_OMEGA_T", "BENCH"]
+           "add_shear_options", "check_ratios_option", "worst_ratio_check", "ShearProblem", "DEFAULT_K",
+           "DEFAULT_OMEGA_T", "BENCH"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 3.5e-3  # gives a ~ 0.047 R with the default bodies
@@ -97,6 +100,35 @@ def worst_ratio(out: dict, errors: list[tuple[float, float]]) -> None:
     if errors:
         out["c_error_max"], worst = max(errors)
         out["ratio_worst"], out["c_worst"] = worst, out[f"c_{worst:g}"]
+
+
+def add_shear_options(parser: argparse.ArgumentParser, ratios: tuple, refinement_help: str) -> None:
+    """The Mindlin demos' loading options: ``--ratios`` (default ``ratios``), ``--refinement`` (``refinement_help``)
+    and ``--press-steps`` (before :func:`~fenics_contact.scenes.add_scene_options`, which then skips them)."""
+    from ..cli import COUNT, LEVEL
+
+    parser.add_argument("--ratios", type=float, nargs="+", default=list(ratios), metavar="R",
+                        help="Q / (mu P) of the tangential load steps, increasing in (0, 1)")
+    parser.add_argument("--refinement", type=LEVEL, default=0, help=refinement_help)
+    parser.add_argument("--press-steps", type=COUNT, default=4, help="load steps of the pressing")
+
+
+def check_ratios_option(ratios: list) -> None:
+    """``ValueError`` naming ``--ratios`` unless its values increase in (0, 1) (the demos, before any work)."""
+    if not all(0 < r < 1 for r in ratios) or ratios != sorted(set(ratios)):
+        raise ValueError(f"--ratios: must be increasing values in (0, 1), got {ratios}")
+
+
+def worst_ratio_check(ratios: list, tolerance: float, source: str) -> Callable[[dict], dict]:
+    """The demos' self-check of a summary: the stick size ``c_<r>`` at the ratio with the largest ``c_error_<r>``
+    (a ratio without one counts as the worst) against ``c_ref_<r>`` within ``tolerance`` (relative)."""
+    from ..checks import check
+
+    def self_check(s: dict) -> dict:
+        worst = max(ratios, key=lambda r: s.get(f"c_error_{r:g}", np.inf))
+        return check(f"c_{worst:g}", s.get(f"c_{worst:g}"), s.get(f"c_ref_{worst:g}"), tolerance, source)
+
+    return self_check
 
 
 class ShearProblem(ContactProblem):
