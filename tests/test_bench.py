@@ -87,6 +87,10 @@ def test_friction_scene_specs(tmp_path):
     assert "coulomb" not in bench.spec("mindlin3d")["methods"]  # coulomb: one tangential direction (2D)
     (exact,) = [r for r in bench.sweep("mindlin", quick=True) if r["method"] == "coulomb"]
     assert "--K" not in bench.command("mindlin", exact, tmp_path)
+    # mindlin3d's quick sweep: plain runs only (a 3D run costs a minute and more); the full sweep augments too
+    quick, full = bench.sweep("mindlin3d", quick=True), bench.sweep("mindlin3d")
+    assert len(quick) == 5 and {r["augment"] for r in quick} == {0}
+    assert {r["augment"] for r in full} == {0, bench.AUGMENT}
     cmd = bench.command("mindlin3d", bench.run_config("penalty", mindlin3d.DEFAULT_K, refinement=0), tmp_path)
     assert cmd[cmd.index("--h-contact") + 1] == "0.015" and cmd[cmd.index("--ratios") + 1:][:2] == ["0.5", "--K"]
 
