@@ -17,7 +17,6 @@ from pathlib import Path
 import numpy as np
 
 from fenics_contact import build, cli, run
-from fenics_contact.checks import check
 from fenics_contact.scenes import add_scene_options, mindlin, scene_arguments
 
 TOLERANCE = 0.05  # the stick-zone half-width at every ratio (the acceptance)
@@ -26,15 +25,11 @@ TOLERANCE = 0.05  # the stick-zone half-width at every ratio (the issue's accept
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction mu = 0.3 on a penalty normal law unless told otherwise.
     p = cli.parser(__doc__.splitlines()[0], default_K=mindlin.DEFAULT_K, quadratures=("nodal",))
-    p.add_argument("--ratios", type=float, nargs="+", default=list(mindlin.RATIOS), metavar="R",
-                   help="Q / (mu P) of the tangential load steps, increasing in (0, 1)")
-    p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the contact mesh size this many times")
-    p.add_argument("--press-steps", type=cli.COUNT, default=4, help="load steps of the pressing")
+    mindlin.add_shear_options(p, mindlin.RATIOS, "halve the contact mesh size this many times")
     p.set_defaults(method="penalty", mu=0.3, omega_t=mindlin.DEFAULT_OMEGA_T)
     scene = add_scene_options(p, mindlin.build)  # --R, --E, --nu, --approach, --width, --height, --depth, ...
     args = cli.parse(p, argv)
-    if not all(0 < r < 1 for r in args.ratios) or args.ratios != sorted(set(args.ratios)):
-        raise ValueError(f"--ratios: must be increasing values in (0, 1), got {args.ratios}")
+    mindlin.check_ratios_option(args.ratios)
     if args.c_t is not None or args.mu <= 0:
         raise ValueError(f"--mu: mindlin needs Coulomb friction with mu > 0 (no --c-t), got mu={args.mu}")
     out = Path(args.out or "results/mindlin")
@@ -49,10 +44,8 @@ def main(argv=None) -> dict:
         if t > 1.0:
             profiles.append((t - 1.0, setup.profile()))
 
-    def self_check(s: dict) -> dict:
-        worst = max(args.ratios, key=lambda r: s.get(f"c_error_{r:g}", np.inf))
-        return check(f"c_{worst:g}", s.get(f"c_{worst:g}"), s.get(f"c_ref_{worst:g}"), TOLERANCE,
-                     "Cattaneo-Mindlin c = a sqrt(1 - Q/(mu P)) at the worst ratio")
+    self_check = mindlin.worst_ratio_check(args.ratios, TOLERANCE,
+                                           "Cattaneo-Mindlin c = a sqrt(1 - Q/(mu P)) at the worst ratio")
 
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,

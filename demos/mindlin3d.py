@@ -17,8 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from fenics_contact import build, cli, run
-from fenics_contact.checks import check
-from fenics_contact.scenes import add_scene_options, mindlin3d, scene_arguments
+from fenics_contact.scenes import add_scene_options, mindlin, mindlin3d, scene_arguments
 
 TOLERANCE = 0.05  # the stick radius at every ratio (the acceptance)
 
@@ -26,16 +25,11 @@ TOLERANCE = 0.05  # the stick radius at every ratio (the issue's acceptance)
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction mu = 0.3 on a penalty normal law unless told otherwise.
     p = cli.parser(__doc__.splitlines()[0], default_K=mindlin3d.DEFAULT_K, quadratures=("nodal",))
-    p.add_argument("--ratios", type=float, nargs="+", default=list(mindlin3d.RATIOS), metavar="R",
-                   help="Q / (mu P) of the tangential load steps, increasing in (0, 1)")
-    p.add_argument("--refinement", type=cli.LEVEL, default=0,
-                   help="divide the contact mesh size by sqrt(2) this many times")
-    p.add_argument("--press-steps", type=cli.COUNT, default=4, help="load steps of the pressing")
+    mindlin.add_shear_options(p, mindlin3d.RATIOS, "divide the contact mesh size by sqrt(2) this many times")
     p.set_defaults(method="penalty", mu=0.3)
     scene = add_scene_options(p, mindlin3d.build)  # --R, --E, --nu, --approach, --width, --h-contact, ...
     args = cli.parse(p, argv)
-    if not all(0 < r < 1 for r in args.ratios) or args.ratios != sorted(set(args.ratios)):
-        raise ValueError(f"--ratios: must be increasing values in (0, 1), got {args.ratios}")
+    mindlin.check_ratios_option(args.ratios)
     if args.c_t is not None or args.tresca is not None or args.mu <= 0:
         raise ValueError(f"--mu: mindlin3d needs Coulomb friction with mu > 0 (no --c-t, --tresca), got mu={args.mu}")
     if args.omega_t is None:  # the interface layer E* / omega_t a fixed fraction of the contact element
@@ -52,10 +46,8 @@ def main(argv=None) -> dict:
         if t > 1.0:
             profiles[:] = [(t - 1.0, setup.profile())]
 
-    def self_check(s: dict) -> dict:
-        worst = max(args.ratios, key=lambda r: s.get(f"c_error_{r:g}", np.inf))
-        return check(f"c_{worst:g}", s.get(f"c_{worst:g}"), s.get(f"c_ref_{worst:g}"), TOLERANCE,
-                     "Cattaneo-Mindlin c = a (1 - Q/(mu P))^(1/3) at the worst ratio (stick area's radius)")
+    self_check = mindlin.worst_ratio_check(args.ratios, TOLERANCE, "Cattaneo-Mindlin c = a (1 - Q/(mu P))^(1/3) at "
+                                           "the worst ratio (stick area's radius)")
 
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,

@@ -104,14 +104,18 @@ def run_config(method, K, augment=0, quadrature="nodal", refinement=None, F_hat=
 def sweep(scene: str, quick: bool = False) -> list[dict]:
     """The runs for ``scene``: penalty over a log range of K (no augmentation); cross and auglag, each with
     and without augmentation, over a smaller K range; nitsche over ``gamma0`` (in the K column); SNES VI
-    once per mesh level. Quick: nodal quadrature, the quick mesh levels; full: nodal and Gauss."""
+    once per mesh level. Quick: nodal quadrature, the quick mesh levels; full: nodal and Gauss. ``BENCH``'s
+    ``quick_sweep`` may set the quick exponents (``penalty``, ``other``), ``gamma0`` and ``augment`` (the
+    augmentation counts of cross and auglag, e.g. ``(0,)``: plain only)."""
     s = spec(scene)
     K0, mode, methods, F = s["K"], "quick" if quick else "full", s["methods"], s.get("F_hat", 0.0)
     if quick:
-        q = {"penalty": (-1, 0, 1, 2), "other": (0, 1), "gamma0": GAMMA0["quick"], **s.get("quick_sweep", {})}
+        q = {"penalty": (-1, 0, 1, 2), "other": (0, 1), "gamma0": GAMMA0["quick"], "augment": (0, AUGMENT),
+             **s.get("quick_sweep", {})}
         quadratures = s.get("quadratures", ["nodal"])
     else:
-        q = {"penalty": tuple(np.arange(-3, 3.01, 0.5)), "other": tuple(range(-2, 3)), "gamma0": GAMMA0["full"]}
+        q = {"penalty": tuple(np.arange(-3, 3.01, 0.5)), "other": tuple(range(-2, 3)), "gamma0": GAMMA0["full"],
+             "augment": (0, AUGMENT)}
         quadratures = s.get("quadratures", ["nodal", "gauss"])
     levels = [None] if s.get("mesh") is None else s["mesh"][1][mode]
     runs = []
@@ -120,7 +124,7 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
             if "penalty" in methods:
                 runs += [run_config("penalty", K0 * 10.0**e, 0, quad, level) for e in q["penalty"]]
             runs += [run_config(m, K0 * 10.0**e, aug, quad, level, F if m == "cross" else 0.0)
-                     for m in ("cross", "auglag") if m in methods for aug in (0, AUGMENT) for e in q["other"]]
+                     for m in ("cross", "auglag") if m in methods for aug in q["augment"] for e in q["other"]]
             if "nitsche" in methods:
                 runs += [run_config("nitsche", g, 0, quad, level) for g in q["gamma0"]]
             # further laws of the scene: with a parameter (K / c_n) over the small range, else once

@@ -69,6 +69,32 @@ def test_scene_specs_and_commands(tmp_path):
         bench.spec("nosuchscene")
 
 
+def test_friction_scene_specs(tmp_path):
+    """The two-body friction scenes (issue #17) declare an entry: the friction-capable laws the capability matrix
+    offers on their axes, a K sweep around the scene's default; mindlin3d on the tests' coarse contact mesh, one
+    ratio; mindlin with the exact condensed Coulomb law once (no --K)."""
+    from fenics_contact.capabilities import supported
+    from fenics_contact.scenes import ironing, mindlin, mindlin3d
+
+    assert {"ironing", "mindlin", "mindlin3d"} <= set(bench.bench_scenes())
+    for scene, module in (("ironing", ironing), ("mindlin", mindlin), ("mindlin3d", mindlin3d)):
+        s = bench.spec(scene)
+        assert s["axes"]["friction"] and s["axes"]["kind"] == "two-body"
+        assert all(supported(method=m, quadrature="nodal", **s["axes"]) for m in s["methods"])
+        Ks = sorted({r["K"] for r in bench.sweep(scene, quick=True) if r["method"] == "penalty"})
+        assert Ks[0] < module.DEFAULT_K < Ks[-1] and module.DEFAULT_K in Ks
+    assert bench.spec("mindlin")["error"] == bench.spec("mindlin3d")["error"] == "c_error_max"
+    assert "coulomb" not in bench.spec("mindlin3d")["methods"]  # coulomb: one tangential direction (2D)
+    (exact,) = [r for r in bench.sweep("mindlin", quick=True) if r["method"] == "coulomb"]
+    assert "--K" not in bench.command("mindlin", exact, tmp_path)
+    # mindlin3d's quick sweep: plain runs only (a 3D run costs a minute and more); the full sweep augments too
+    quick, full = bench.sweep("mindlin3d", quick=True), bench.sweep("mindlin3d")
+    assert len(quick) == 5 and {r["augment"] for r in quick} == {0}
+    assert {r["augment"] for r in full} == {0, bench.AUGMENT}
+    cmd = bench.command("mindlin3d", bench.run_config("penalty", mindlin3d.DEFAULT_K, refinement=0), tmp_path)
+    assert cmd[cmd.index("--h-contact") + 1] == "0.015" and cmd[cmd.index("--ratios") + 1:][:2] == ["0.5", "--K"]
+
+
 def _row(method, K, error, time_s, augment=0, refinement=0, **kw):
     return {"scene": "hertz", "method": method, "K": K, "F_hat": 0.0, "augment": augment, "quadrature": "nodal",
             "refinement": refinement, "steps": kw.get("steps"), "dofs": 100, "wall_time_s": time_s,

@@ -7,6 +7,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ..domain import NamedTags
+from .structured import facet_tags, grid, layer_fractions, two_bodies
 
 __all__ = ["CELLS", "FACETS", "punch_profile", "punch_on_block"]
 
@@ -28,15 +29,6 @@ def punch_profile(a: float, r: float, theta: float, h_flat: float, h_arc: float)
     return np.stack([x, y], axis=1)
 
 
-def _grid(bottom: np.ndarray, top: np.ndarray, s: np.ndarray, offset: int) -> tuple[np.ndarray, np.ndarray]:
-    """Nodes between the curves ``bottom`` and ``top`` (same number of points, joined column by column) at the
-    fractions ``s`` (0 at the bottom), and the triangles of the structured grid (global numbers from ``offset``)."""
-    x = bottom[:, None, :] + (top - bottom)[:, None, :] * s[None, :, None]
-    idx = np.arange(x.shape[0] * x.shape[1]).reshape(x.shape[:2]) + offset
-    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
-    return x.reshape(-1, 2), np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
-
-
 def punch_on_block(comm: MPI.Comm, x0: float, x1: float, H: float, h: float, ny: int, a: float, r: float,
                    theta: float, height: float, h_flat: float, h_arc: float, ny_punch: int, centre: float = 0.0,
                    overlap: float = 0.0) -> tuple[dmesh.Mesh, NamedTags, NamedTags]:
@@ -45,8 +37,6 @@ def punch_on_block(comm: MPI.Comm, x0: float, x1: float, H: float, h: float, ny:
     centre``, its flat face at ``y = -overlap``, its top at ``y = height`` (``ny_punch`` layers graded toward the
     face). Cells ``block``, ``punch``; facets ``block_bottom``, ``block_top``, ``punch_face`` (the flat and the two
     fillets), ``punch_top``. Collective (made on rank 0 and distributed)."""
-    from ..compat import create_mesh
-
     if not (x0 < centre - a - r < centre + a + r < x1 and H > 0 and 0 < theta <= np.pi / 2
             and height > r * (1 - np.cos(theta)) and min(h, h_flat, h_arc) > 0 and ny >= 1 and ny_punch >= 1):
         raise ValueError(f"punch_on_block needs the punch within the block, H > 0, 0 < theta <= pi/2, the top above "
@@ -54,31 +44,15 @@ def punch_on_block(comm: MPI.Comm, x0: float, x1: float, H: float, h: float, ny:
                          f"theta={theta}, height={height}")
     nx = max(2, int(round((x1 - x0) / h)))
     xb = np.linspace(x0, x1, nx + 1)
-    p = max(1.0, np.log(H / h) / np.log(ny))
-    s = (np.arange(ny + 1) / ny) ** p  # 0 at the block's top
-    xs_block, cells_block = _grid(np.stack([xb, np.zeros_like(xb)], 1), np.stack([xb, np.full_like(xb, -H)], 1), s,
-                                  0)
+    s = layer_fractions(H, h, ny)  # 0 at the block's top
+    xs_block, cells_block = grid(np.stack([xb, np.zeros_like(xb)], 1), np.stack([xb, np.full_like(xb, -H)], 1), s, 0)
     face = punch_profile(a, r, theta, h_flat, h_arc) + np.array([centre, -overlap])
     top = np.stack([face[:, 0], np.full(len(face), height - overlap)], 1)
-    q = max(1.0, np.log(height / min(h_flat, h_arc)) / np.log(ny_punch))
-    xs_punch, cells_punch = _grid(face, top, (np.arange(ny_punch + 1) / ny_punch) ** q, len(xs_block))
-    x, cells = np.concatenate([xs_block, xs_punch]), np.concatenate([cells_block, cells_punch])
-    if comm.rank != 0:
-        x, cells = np.zeros((0, 2)), np.zeros((0, 3), np.int64)
-    msh = create_mesh(comm, cells, x, "triangle")
-    msh.name = "punch_on_block"
-    tdim, fdim = 2, 1
-    msh.topology.create_connectivity(tdim, 0)
-    ncell = msh.topology.index_map(tdim).size_local + msh.topology.index_map(tdim).num_ghosts
-    mid = dmesh.compute_midpoints(msh, tdim, np.arange(ncell, dtype=np.int32))
-    punch = mid[:, 1] > -overlap  # the punch lies above its face (y >= -overlap), the block below 0
-    cell_tags = dmesh.meshtags(msh, tdim, np.arange(ncell, dtype=np.int32),
-                               np.where(punch, CELLS["punch"], CELLS["block"]).astype(np.int32))
-    msh.topology.create_connectivity(fdim, tdim)
-    facets = dmesh.exterior_facet_indices(msh.topology)
-    f2c = msh.topology.connectivity(fdim, tdim)
-    fmid = dmesh.compute_midpoints(msh, fdim, facets)
-    pf = np.array([punch[f2c.links(f)[0]] for f in facets], dtype=bool)
+    xs_punch, cells_punch = grid(face, top, layer_fractions(height, min(h_flat, h_arc), ny_punch), len(xs_block))
+    # the punch lies above its face (y >= -overlap), the block below 0
+    msh, cell_tags, facets, fmid, pf = two_bodies(comm, np.concatenate([xs_block, xs_punch]),
+                                                  np.concatenate([cells_block, cells_punch]), "punch_on_block",
+                                                  lambda mid: mid[:, 1] > -overlap, ("block", "punch"), CELLS)
     tol = 1e-9 * H
     wall = np.abs(np.abs(fmid[:, 0] - centre) - (a + r * np.sin(theta))) < tol
     ends = (np.abs(fmid[:, 0] - x0) < tol) | (np.abs(fmid[:, 0] - x1) < tol)
@@ -88,7 +62,4 @@ def punch_on_block(comm: MPI.Comm, x0: float, x1: float, H: float, h: float, ny:
     on_top = np.abs(fmid[:, 1] - (height - overlap)) < tol
     values[pf & on_top] = FACETS["punch_top"]
     values[pf & ~on_top & ~wall] = FACETS["punch_face"]
-    keep = values > 0
-    facet_tags = dmesh.meshtags(msh, fdim, facets[keep].astype(np.int32), values[keep])
-    facet_tags.name = "facet_tags"
-    return msh, NamedTags(cell_tags, CELLS), NamedTags(facet_tags, FACETS)
+    return msh, cell_tags, facet_tags(msh, facets, values, FACETS)

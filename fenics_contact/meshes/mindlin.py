@@ -8,6 +8,7 @@ from mpi4py import MPI
 from scipy.optimize import brentq
 
 from ..domain import NamedTags
+from .structured import facet_tags, grid_triangles, layer_fractions, two_bodies
 
 __all__ = ["CELLS", "FACETS", "graded_axis", "disk_on_block", "WEDGE_CELLS", "WEDGE_FACETS", "block_on_incline"]
 
@@ -44,18 +45,14 @@ def disk_on_block(comm: MPI.Comm, R: float, L: float, H: float, D: float, h: flo
     graded beyond; ``ny`` layers per body, graded so that the first one at the interface is about ``h`` thick.
     Cells ``lower``, ``upper``; facets ``lower_bottom``, ``lower_top``, ``upper_bottom`` (the arc),
     ``upper_top``. Collective (the mesh is made on rank 0 and distributed)."""
-    from ..compat import create_mesh
-
     if not (0 < L < R and H > R - np.sqrt(R**2 - L**2) and D > 0):
         raise ValueError(f"disk_on_block needs 0 < L < R, H above the arc's ends and D > 0, got R={R}, L={L}, H={H}, "
                          f"D={D}")
-    xs, cs, body = [], [], []
+    xs, cs = [], []
     offset = 0
     for b, hb in ((0, h * lower_coarsening), (1, h)):
         xa = graded_axis(L, w, hb, n_coarse)
-        depth = D if b == 0 else H
-        p = max(1.0, np.log(depth / hb) / np.log(ny))
-        s = (np.arange(ny + 1) / ny) ** p  # 0 at the interface
+        s = layer_fractions(D if b == 0 else H, hb, ny)  # 0 at the interface
         X, S = np.meshgrid(xa, s, indexing="ij")
         if b == 0:
             Y = -D * S
@@ -63,28 +60,11 @@ def disk_on_block(comm: MPI.Comm, R: float, L: float, H: float, D: float, h: flo
             f = R - np.sqrt(R**2 - X**2) - overlap
             Y = f + (H - f) * S
         xs.append(np.stack([X.ravel(), Y.ravel()], axis=1))
-        idx = np.arange(X.size).reshape(X.shape) + offset
-        a, bb, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
-        cs.append(np.concatenate([np.stack([a, bb, c], 1), np.stack([a, c, d], 1)]))
-        body.append(np.full(len(cs[-1]), b))
+        cs.append(grid_triangles(np.arange(X.size).reshape(X.shape) + offset))
         offset += X.size
-    x, cells = np.concatenate(xs), np.concatenate(cs)
-    if comm.rank != 0:
-        x, cells = np.zeros((0, 2)), np.zeros((0, 3), np.int64)
-    msh = create_mesh(comm, cells, x, "triangle")
-    msh.name = "disk_on_block"
-    tdim, fdim = 2, 1
-    msh.topology.create_connectivity(tdim, 0)
-    ncell = msh.topology.index_map(tdim).size_local + msh.topology.index_map(tdim).num_ghosts
-    mid = dmesh.compute_midpoints(msh, tdim, np.arange(ncell, dtype=np.int32))
-    upper = mid[:, 1] > 0.0  # the upper body lies above its arc (>= -overlap), the block below 0
-    cell_tags = dmesh.meshtags(msh, tdim, np.arange(ncell, dtype=np.int32),
-                               np.where(upper, CELLS["upper"], CELLS["lower"]).astype(np.int32))
-    msh.topology.create_connectivity(fdim, tdim)
-    facets = dmesh.exterior_facet_indices(msh.topology)
-    f2c = msh.topology.connectivity(fdim, tdim)
-    fmid = dmesh.compute_midpoints(msh, fdim, facets)
-    ub = np.array([upper[f2c.links(f)[0]] for f in facets], dtype=bool)
+    # the upper body lies above its arc (>= -overlap), the block below 0
+    msh, cell_tags, facets, fmid, ub = two_bodies(comm, np.concatenate(xs), np.concatenate(cs), "disk_on_block",
+                                                  lambda mid: mid[:, 1] > 0.0, ("lower", "upper"), CELLS)
     tol = 1e-9 * R
     sides = np.abs(np.abs(fmid[:, 0]) - L) < tol
     values = np.zeros(len(facets), np.int32)
@@ -92,10 +72,7 @@ def disk_on_block(comm: MPI.Comm, R: float, L: float, H: float, D: float, h: flo
     values[(np.abs(fmid[:, 1]) < tol) & ~ub & ~sides] = FACETS["lower_top"]
     values[(fmid[:, 1] < 0.5 * H) & ub & ~sides] = FACETS["upper_bottom"]
     values[(np.abs(fmid[:, 1] - H) < tol) & ub] = FACETS["upper_top"]
-    keep = values > 0
-    facet_tags = dmesh.meshtags(msh, fdim, facets[keep].astype(np.int32), values[keep])
-    facet_tags.name = "facet_tags"
-    return msh, NamedTags(cell_tags, CELLS), NamedTags(facet_tags, FACETS)
+    return msh, cell_tags, facet_tags(msh, facets, values, FACETS)
 
 
 WEDGE_CELLS = {"wedge": 1, "block": 2}
@@ -109,8 +86,6 @@ def block_on_incline(comm: MPI.Comm, alpha: float, L: float, D: float, b: float,
     angle ``alpha``. Structured triangles ``n_wedge``, ``n_block`` = (nx, ny); no shared node. Cells ``wedge``,
     ``block``; facets ``wedge_bottom``, ``wedge_top``, ``block_bottom``, ``block_top``, ``block_left`` (named, in
     the turned frame). Collective."""
-    from ..compat import create_mesh
-
     if not (0 <= alpha < np.pi / 2 and 0 < b < L and D > 0 and h > 0):
         raise ValueError(f"block_on_incline needs 0 <= alpha < pi/2, 0 < b < L, D > 0, h > 0, got alpha={alpha}, "
                          f"L={L}, b={b}, D={D}, h={h}")
@@ -118,27 +93,14 @@ def block_on_incline(comm: MPI.Comm, alpha: float, L: float, D: float, b: float,
     for (x0, x1, y0, y1), (nx, ny) in (((-L, L, -D, 0.0), n_wedge), ((-b, b, -overlap, h - overlap), n_block)):
         X, Y = np.meshgrid(np.linspace(x0, x1, nx + 1), np.linspace(y0, y1, ny + 1), indexing="ij")
         xs.append(np.stack([X.ravel(), Y.ravel()], axis=1))
-        idx = np.arange(X.size).reshape(X.shape) + offset
-        p, q, r, s = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
-        cs.append(np.concatenate([np.stack([p, q, r], 1), np.stack([p, r, s], 1)]))
+        cs.append(grid_triangles(np.arange(X.size).reshape(X.shape) + offset))
         offset += X.size
     rot = np.array([[np.cos(alpha), -np.sin(alpha)], [np.sin(alpha), np.cos(alpha)]])
-    x, cells = np.concatenate(xs) @ rot.T, np.concatenate(cs)
-    if comm.rank != 0:
-        x, cells = np.zeros((0, 2)), np.zeros((0, 3), np.int64)
-    msh = create_mesh(comm, cells, x, "triangle")
-    msh.name = "block_on_incline"
-    msh.topology.create_connectivity(2, 0)
-    ncell = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
-    local = dmesh.compute_midpoints(msh, 2, np.arange(ncell, dtype=np.int32))[:, :2] @ rot  # the unturned frame
-    block = local[:, 1] > 0.0
-    cell_tags = dmesh.meshtags(msh, 2, np.arange(ncell, dtype=np.int32),
-                               np.where(block, WEDGE_CELLS["block"], WEDGE_CELLS["wedge"]).astype(np.int32))
-    msh.topology.create_connectivity(1, 2)
-    facets = dmesh.exterior_facet_indices(msh.topology)
-    f2c = msh.topology.connectivity(1, 2)
-    fl = dmesh.compute_midpoints(msh, 1, facets)[:, :2] @ rot
-    fb = np.array([block[f2c.links(f)[0]] for f in facets], dtype=bool)
+    # the block lies above the incline in the unturned frame
+    msh, cell_tags, facets, fmid, fb = two_bodies(comm, np.concatenate(xs) @ rot.T, np.concatenate(cs),
+                                                  "block_on_incline", lambda mid: (mid[:, :2] @ rot)[:, 1] > 0.0,
+                                                  ("wedge", "block"), WEDGE_CELLS)
+    fl = fmid[:, :2] @ rot
     tol = 1e-9 * L
     values = np.zeros(len(facets), np.int32)
     values[(np.abs(fl[:, 1] + D) < tol) & ~fb] = WEDGE_FACETS["wedge_bottom"]
@@ -146,7 +108,4 @@ def block_on_incline(comm: MPI.Comm, alpha: float, L: float, D: float, b: float,
     values[(np.abs(fl[:, 1] + overlap) < tol) & fb] = WEDGE_FACETS["block_bottom"]
     values[(np.abs(fl[:, 1] - h + overlap) < tol) & fb] = WEDGE_FACETS["block_top"]
     values[(np.abs(fl[:, 0] + b) < tol) & fb] = WEDGE_FACETS["block_left"]
-    keep = values > 0
-    facet_tags = dmesh.meshtags(msh, 1, facets[keep].astype(np.int32), values[keep])
-    facet_tags.name = "facet_tags"
-    return msh, NamedTags(cell_tags, WEDGE_CELLS), NamedTags(facet_tags, WEDGE_FACETS)
+    return msh, cell_tags, facet_tags(msh, facets, values, WEDGE_FACETS)

@@ -26,7 +26,9 @@ across ``a``.
 """
 from __future__ import annotations
 
+import argparse
 import math
+from typing import Callable
 
 import numpy as np
 import ufl
@@ -43,7 +45,9 @@ from ..problem import ContactProblem, Dirichlet
 from . import Setup, poisson, positive
 from .hertz import contact_half_width
 
-__all__ = ["build", "mindlin_c", "mindlin_traction"]
+__all__ = ["build", "mindlin_c", "mindlin_traction", "check_loading", "stick_figures", "worst_ratio",
+           "add_shear_options", "check_ratios_option", "worst_ratio_check", "ShearProblem", "DEFAULT_K",
+           "DEFAULT_OMEGA_T", "BENCH"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 3.5e-3  # gives a ~ 0.047 R with the default bodies
@@ -67,22 +71,86 @@ def mindlin_traction(x: np.ndarray, a: float, c: float, mu: float, p0: float) ->
     return mu * p0 * q
 
 
-class _Problem(ContactProblem):
-    """The tangential traction's amplitude ``mu P / (2 L)`` is fixed from the contact force of the accepted step
-    ``t = 1`` when the first step beyond it starts (force control of ``Q / (mu P)``)."""
+def check_loading(ratios: tuple, refinement: int, press_steps: int) -> tuple[float, ...]:
+    """The ratios ``Q / (mu P)`` as floats; ``ValueError`` unless they increase in (0, 1), ``refinement >= 0`` and
+    ``press_steps >= 1``."""
+    ratios = tuple(float(r) for r in ratios)
+    if not ratios or any(not 0 < r < 1 for r in ratios) or list(ratios) != sorted(set(ratios)):
+        raise ValueError(f"ratios (Q / (mu P)) must be increasing values in (0, 1), got {ratios!r}")
+    if int(refinement) < 0:
+        raise ValueError(f"refinement must be >= 0, got {refinement!r}")
+    if int(press_steps) < 1:
+        raise ValueError(f"press_steps must be >= 1, got {press_steps!r}")
+    return ratios
 
-    def __init__(self, *args, amplitude: fem.Constant, mu: float, width: float, **kw):
+
+def stick_figures(out: dict, ratio: float, c: float, c_ref: float, h: float) -> float:
+    """Write the measured stick size ``c``, Cattaneo-Mindlin's ``c_ref``, the relative error and the error in
+    contact elements ``h`` at ``ratio`` into ``out`` (keys ``c_<r>``, ``c_ref_<r>``, ``c_error_<r>``,
+    ``c_error_elements_<r>``); return the relative error."""
+    out[f"c_{ratio:g}"], out[f"c_ref_{ratio:g}"] = c, c_ref
+    out[f"c_error_{ratio:g}"] = abs(c - c_ref) / c_ref
+    out[f"c_error_elements_{ratio:g}"] = abs(c - c_ref) / h
+    return out[f"c_error_{ratio:g}"]
+
+
+def worst_ratio(out: dict, errors: list[tuple[float, float]]) -> None:
+    """From ``(error, ratio)`` pairs: ``c_error_max``, the ratio that has it (``ratio_worst``) and its stick size
+    (``c_worst``) into ``out`` (nothing without a pair)."""
+    if errors:
+        out["c_error_max"], worst = max(errors)
+        out["ratio_worst"], out["c_worst"] = worst, out[f"c_{worst:g}"]
+
+
+def add_shear_options(parser: argparse.ArgumentParser, ratios: tuple, refinement_help: str) -> None:
+    """The Mindlin demos' loading options: ``--ratios`` (default ``ratios``), ``--refinement`` (``refinement_help``)
+    and ``--press-steps`` (before :func:`~fenics_contact.scenes.add_scene_options`, which then skips them)."""
+    from ..cli import COUNT, LEVEL
+
+    parser.add_argument("--ratios", type=float, nargs="+", default=list(ratios), metavar="R",
+                        help="Q / (mu P) of the tangential load steps, increasing in (0, 1)")
+    parser.add_argument("--refinement", type=LEVEL, default=0, help=refinement_help)
+    parser.add_argument("--press-steps", type=COUNT, default=4, help="load steps of the pressing")
+
+
+def check_ratios_option(ratios: list) -> None:
+    """``ValueError`` naming ``--ratios`` unless its values increase in (0, 1) (the demos, before any work)."""
+    if not all(0 < r < 1 for r in ratios) or ratios != sorted(set(ratios)):
+        raise ValueError(f"--ratios: must be increasing values in (0, 1), got {ratios}")
+
+
+def worst_ratio_check(ratios: list, tolerance: float, source: str) -> Callable[[dict], dict]:
+    """The demos' self-check of a summary: the stick size ``c_<r>`` at the ratio with the largest ``c_error_<r>``
+    (a ratio without one counts as the worst) against ``c_ref_<r>`` within ``tolerance`` (relative)."""
+    from ..checks import check
+
+    def self_check(s: dict) -> dict:
+        worst = max(ratios, key=lambda r: s.get(f"c_error_{r:g}", np.inf))
+        return check(f"c_{worst:g}", s.get(f"c_{worst:g}"), s.get(f"c_ref_{worst:g}"), tolerance, source)
+
+    return self_check
+
+
+class ShearProblem(ContactProblem):
+    """Force control of ``Q / (mu P)``: the tangential traction's amplitude ``mu P / area`` is fixed from the
+    contact force ``P`` along ``axis`` (the pressing direction; the model's force, e.g. a half model's) of the
+    accepted step ``t = 1`` when the first step beyond it starts. ``area``: the loaded face's measure (a length
+    in 2D)."""
+
+    scene = "mindlin"  # the error's prefix
+
+    def __init__(self, *args, amplitude: fem.Constant, mu: float, area: float, axis: int, **kw):
         super().__init__(*args, **kw)
-        self._amplitude, self._mu, self._width, self.P = amplitude, mu, width, None
+        self._amplitude, self._mu, self._area, self._axis, self.P = amplitude, mu, area, axis, None
 
     def set_load(self, t: float) -> None:
         if t > 1.0 and self.P is None:
             c = self.contacts[0]
             entry = [e for e in c.log if abs(e["load"] - 1.0) < 1e-12]
             if not entry:
-                raise RuntimeError("mindlin: the tangential load needs the accepted step t = 1 first")
-            self.P = entry[-1]["normal_force"][1] + entry[-1]["tangential_force"][1]
-            self._amplitude.value = self._mu * self.P / self._width
+                raise RuntimeError(f"{self.scene}: the tangential load needs the accepted step t = 1 first")
+            self.P = entry[-1]["normal_force"][self._axis] + entry[-1]["tangential_force"][self._axis]
+            self._amplitude.value = self._mu * self.P / self._area
         super().set_load(t)
 
 
@@ -101,13 +169,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     exact = isinstance(law, Coulomb)  # method coulomb: exact Coulomb on the condensed system
     if not (exact and law.mu > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
         raise ValueError(f"mindlin needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
-    ratios = tuple(float(r) for r in ratios)
-    if not ratios or any(not 0 < r < 1 for r in ratios) or list(ratios) != sorted(set(ratios)):
-        raise ValueError(f"ratios (Q / (mu P)) must be increasing values in (0, 1), got {ratios!r}")
-    if int(refinement) < 0:
-        raise ValueError(f"refinement must be >= 0, got {refinement!r}")
-    if int(press_steps) < 1:
-        raise ValueError(f"press_steps must be >= 1, got {press_steps!r}")
+    ratios = check_loading(ratios, refinement, press_steps)
     mu = float(law.mu if exact else law.scalars["mu"])
     L = 0.5 * (R if width is None else width)
     H = 0.5 * R if height is None else height
@@ -127,8 +189,8 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     amplitude = fem.Constant(mesh, 0.0)
     # ContactProblem scales tractions by t: this vector times t is (r mu P / (2 L), 0) at t = 1 + r.
     traction = ufl.as_vector((amplitude * ufl.max_value(t - 1.0, 0.0) / t, 0.0))
-    problem = _Problem(u, material, t, dirichlet, [contact], [(traction, ds(facets["upper_top"]))],
-                       amplitude=amplitude, mu=mu, width=2 * L, step_solver=step_solver_for([contact]))
+    problem = ShearProblem(u, material, t, dirichlet, [contact], [(traction, ds(facets["upper_top"]))],
+                           amplitude=amplitude, mu=mu, area=2 * L, axis=1, step_solver=step_solver_for([contact]))
     Es = E / (2 * (1 - nu**2))
     loads = [(i + 1) / press_steps for i in range(press_steps)] + [1.0 + r for r in ratios]
 
@@ -150,15 +212,9 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
             entry = [e for e in contact.log if abs(e["load"] - (1.0 + r)) < 1e-12]
             if not entry:
                 continue
-            c_ref = mindlin_c(a_h, r)
-            c = 0.5 * entry[-1]["stick"]
-            out[f"c_{r:g}"], out[f"c_ref_{r:g}"] = c, c_ref
-            out[f"c_error_{r:g}"] = abs(c - c_ref) / c_ref
-            out[f"c_error_elements_{r:g}"] = abs(c - c_ref) / h
+            errors.append((stick_figures(out, r, 0.5 * entry[-1]["stick"], mindlin_c(a_h, r), h), r))
             out[f"Q_{r:g}"] = -(entry[-1]["tangential_force"][0] + entry[-1]["normal_force"][0])
-            errors.append(out[f"c_error_{r:g}"])
-        if errors:
-            out["c_error_max"] = max(errors)
+        worst_ratio(out, errors)  # the benchmark's error and value
         # The last step's traction profile against Cattaneo-Mindlin over |x| < a: RMS and largest difference per
         # mu p0, the largest away from the reference's two kinks (more than 1.5 elements from |x| = c and = a).
         if ratios and problem.P is not None and float(t.value) > 1.0:
@@ -185,3 +241,12 @@ def _space(mesh):
     from ..compat import function_space
 
     return function_space(mesh, "Lagrange", 1, (2,))
+
+
+# Speed against accuracy (fenics_contact.bench): the stick half-width at the worst ratio against Cattaneo-Mindlin;
+# the exact condensed Coulomb law (method coulomb, no K) once per mesh. The error is a mesh figure (the edge of the
+# discrete stick zone is known to half a contact element): the sweep shows how little the normal K moves it.
+BENCH = {"error": "c_error_max", "value": "c_worst", "figures": ["ratio_worst", "a_error", "traction_rms_error", "P"],
+         "target": 0.05, "K": DEFAULT_K, "mesh": ("refinement", {"quick": [0], "full": [0, 1]}),
+         "methods": ["penalty", "cross", "auglag", "coulomb"], "axes": {"kind": "two-body", "dim": 2, "friction": True},
+         "demo_args": [], "quick_sweep": {"penalty": (-2, -1, 0, 1), "other": (-1, 0)}, "quadratures": ["nodal"]}
