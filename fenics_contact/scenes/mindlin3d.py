@@ -57,13 +57,15 @@ __all__ = ["build", "hertz_a", "mindlin_c", "mindlin_traction", "stick_radii", "
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 5e-3  # gives a ~ 0.068 R with the default bodies
 RATIOS = (0.2, 0.5, 0.8)
-H_CONTACT = 0.01  # the contact mesh size at refinement 0 (in units of R): about 7 elements across a
+# The contact mesh size at refinement 0 (in units of R): about 10 elements across a. R/100 (7 across a) gave the
+# stick radius at Q/(mu P) = 0.8 6.5 % below Cattaneo-Mindlin (0.28 elements): within one element, not within 5 %.
+H_CONTACT = 0.007
 REFINE = 2 ** 0.5  # each refinement divides the contact mesh size by this (3D: about 2.8 times the vertices)
 # Normal penalty ~ 20 E / h_contact: p0 / K ~ 1.2e-5, 0.2 % of the approach; 1e7 (100 E / h) made Newton
 # cycle between two contact sets at the contact edge in the pressing.
 DEFAULT_K = 2e6
-# Tangential penalty at refinement 0: the interface layer E* / omega_t ~ 5.5e-4 R is 5.5 % of h_contact.
-DEFAULT_OMEGA_T = 1e6
+# Tangential penalty at refinement 0: the interface layer E* / omega_t ~ 3.8e-4 R is 5.5 % of h_contact.
+DEFAULT_OMEGA_T = 1e4 / H_CONTACT
 T_PRESS = 0.9  # the pressing ends at this load; friction comes on at t = 1
 # k R^2 / E of the spring on the cap's u_x during the frictionless pressing: stiff enough to fix the cap's
 # position (1e-2 let the contact set wander); its force k u_x ~ 1e-3 E / R is antisymmetric in x (no net force).
@@ -156,7 +158,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
           h_contact: float | None = None, contact_width: float | None = None, h_far: float | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` divides the contact mesh size (default
-    ``h_contact = 0.01 R``) by ``REFINE = sqrt(2)`` that many times; ``press_steps`` load steps for the
+    ``h_contact = H_CONTACT R``) by ``REFINE = sqrt(2)`` that many times; ``press_steps`` load steps for the
     (frictionless) pressing.
     Bodies: the cap's height ``cap_height`` (default ``R / 2``), the block's half ``width`` ``L`` (default
     ``R``; it spans ``y`` in ``[0, L]``) and ``depth`` (default ``R / 2``); the mesh: size ``h_contact`` within
