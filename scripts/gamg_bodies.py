@@ -2,8 +2,8 @@
 
     python scripts/gamg_bodies.py --level 0 --modes union bodies [--threshold 0.01] [--options k=v ...]
 
-For each near-nullspace (``union``: the 6 rigid-body modes of the whole mesh; ``bodies``: 6 per body, each zero
-on the other body, 12 in all, what the solver sets: ``fenics_contact.nullspace``) solves the scene (penalty, its
+For each near-nullspace (``union``: the 6 rigid-body modes of the whole mesh, what the solver sets; ``bodies``: 6 per
+body, each zero on the other body, 12 in all: ``fenics_contact.nullspace``) solves the scene (penalty, its
 K, GMRES + GAMG) and prints Newton iterations, Krylov iterations per Newton iteration and the time per Newton iteration
 ((assembly + linear solves) / Newton iterations, as ``demos/scaling.py``).
 """
@@ -34,8 +34,8 @@ def main() -> None:
         setup = fc.build("sphere", law=fc.make_law("penalty", K=sphere.DEFAULT_K), plate="meshed", level=args.level,
                          size=args.size)
         solver = Solver(setup.problem, quiet=True, options={**LINEAR_SOLVERS["iterative"], **extra})
-        if modes == "union":  # the solver sets the per-body modes
-            solver.A.setNearNullSpace(rigid_body_modes(setup.problem.u.function_space, per_body=False))
+        if modes == "bodies":  # the solver sets the union's modes
+            solver.A.setNearNullSpace(rigid_body_modes(setup.problem.u.function_space, per_body=True))
         t0 = time.perf_counter()
         solver.run(setup.loads)
         wall = comm.allreduce(time.perf_counter() - t0, op=MPI.MAX)
