@@ -37,6 +37,7 @@ def cell_bodies(mesh) -> tuple[np.ndarray, int]:
     comm = mesh.comm
     tdim = mesh.topology.dim
     mesh.topology.create_connectivity(tdim, 0)
+    mesh.topology.create_connectivity(0, tdim)  # the vertices' geometry nodes (dolfinx 0.9 wants it)
     c2v = mesh.topology.connectivity(tdim, 0)
     cmap, vmap = mesh.topology.index_map(tdim), mesh.topology.index_map(0)
     n_cells = cmap.size_local + cmap.num_ghosts
