@@ -45,6 +45,24 @@ def tangent_check():
     return check
 
 
+@pytest.fixture
+def contact_tangent_error(tangent_check):
+    """``error(solver, x, d, pairing, A_bulk, master_rows) -> (relative error, master share)`` of the contact part
+    of the tangent along ``d``: ``J d`` and the central difference (``tangent_check``, eps 1e-6) less the bulk
+    stiffness ``A_bulk d``; relative error ``|fd - J d| / |J d|``; master share: the norm of that ``J d`` on this
+    rank's ``master_rows`` (a mask of the local rows), over all ranks, over ``|J d|``."""
+    def error(solver, x, d, pairing, A_bulk, master_rows):
+        Jd, fd = tangent_check(solver, x, d, 1e-6, pairing)
+        Bd = x.duplicate()
+        A_bulk.mult(d, Bd)
+        Jd.axpy(-1.0, Bd)
+        fd.axpy(-1.0, Bd)
+        master = np.sqrt(MPI.COMM_WORLD.allreduce(float(np.sum(Jd.array[master_rows] ** 2))))
+        fd.axpy(-1.0, Jd)
+        return fd.norm() / Jd.norm(), master / Jd.norm()
+    return error
+
+
 def pytest_configure(config):
     # Under mpirun every rank runs pytest: give each its own base temporary folder, or the
     # ranks clean up each other's folders. Tests that write from all ranks broadcast rank 0's path.

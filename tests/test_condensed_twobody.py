@@ -15,22 +15,22 @@ from fenics_contact.condensed import OPEN, SLIP, STICK
 from fenics_contact.meshes import stacked_blocks
 from fenics_contact.scenes import mindlin
 
+from solved import solved
+
 MU = 0.3
-_RUNS = {}
+
+
+def _build(comm):
+    setup = fc.build("mindlin", law=fc.make_law("coulomb", mu=MU), comm=comm)
+    assert isinstance(setup.contacts[0], fc.CondensedTwoBody)
+    assert isinstance(setup.problem.step_solver, fc.CondensedTwoBodyCoulomb)
+    return setup
 
 
 def _run(comm=MPI.COMM_WORLD):
-    """The default mindlin scene solved exactly (once per communicator size in this module)."""
-    key = comm.size
-    if key not in _RUNS:
-        setup = fc.build("mindlin", law=fc.make_law("coulomb", mu=MU), comm=comm)
-        assert isinstance(setup.contacts[0], fc.CondensedTwoBody)
-        assert isinstance(setup.problem.step_solver, fc.CondensedTwoBodyCoulomb)
-        solver = fc.Solver(setup.problem, quiet=True)
-        solver.run(setup.loads)
-        assert all(r.converged for r in solver.records)
-        _RUNS[key] = (setup, setup.figures(), solver)
-    return _RUNS[key]
+    """The default mindlin scene solved exactly (once per communicator size): setup, figures, solver."""
+    setup, solver, figures = solved("mindlin coulomb", _build, comm)
+    return setup, figures, solver
 
 
 def test_stick_zone_against_cattaneo_mindlin():

@@ -13,11 +13,12 @@ from petsc4py import PETSc
 import fenics_contact as fc
 from fenics_contact.scenes import ironing
 
+from solved import solved
+
 MU = 0.3
 # A drag of 0.35 in 8 steps of 0.044 (0.875 h: the punch takes 8 positions between two slave nodes), the window
 # from 0.15 on (after the first two steps the whole contact slides), the block 0.5 beyond the punch at both ends.
 SHORT = {"drag": 0.35, "drag_steps": 8, "steady_from": 0.15, "margin": 0.5}
-_RUNS = {}
 
 
 def _law():
@@ -25,14 +26,9 @@ def _law():
 
 
 def _run(comm=MPI.COMM_WORLD):
-    """The short drag solved (once per communicator size in this module): setup, solver, figures."""
-    key = comm.size
-    if key not in _RUNS:
-        setup = fc.build("ironing", law=_law(), comm=comm, **SHORT)
-        solver = fc.Solver(setup.problem, quiet=True, predictor=ironing.PREDICTOR)
-        solver.run(setup.loads)
-        _RUNS[key] = (setup, solver, setup.figures())
-    return _RUNS[key]
+    """The short drag solved (once per communicator size): setup, solver, figures (convergence is a test)."""
+    return solved("ironing short drag", lambda c: fc.build("ironing", law=_law(), comm=c, **SHORT), comm,
+                  converged=False, predictor=ironing.PREDICTOR)
 
 
 def test_drag_converges_and_the_steady_force_ratio_is_mu():

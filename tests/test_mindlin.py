@@ -12,20 +12,18 @@ import fenics_contact as fc
 from fenics_contact.friction import SLIP, STICK
 from fenics_contact.scenes import mindlin
 
-_RUNS = {}
+from solved import solved
+
+
+def _build(comm):
+    law = fc.Friction(fc.make_law("penalty", K=mindlin.DEFAULT_K), mu=0.3, omega_t=mindlin.DEFAULT_OMEGA_T)
+    return fc.build("mindlin", law=law, comm=comm)
 
 
 def _run(comm=MPI.COMM_WORLD):
-    """The default scene solved (once per communicator size in this module)."""
-    key = comm.size
-    if key not in _RUNS:
-        law = fc.Friction(fc.make_law("penalty", K=mindlin.DEFAULT_K), mu=0.3, omega_t=mindlin.DEFAULT_OMEGA_T)
-        setup = fc.build("mindlin", law=law, comm=comm)
-        solver = fc.Solver(setup.problem, quiet=True)
-        solver.run(setup.loads)
-        assert all(r.converged for r in solver.records)
-        _RUNS[key] = (setup, setup.figures())
-    return _RUNS[key]
+    """The default scene solved (once per communicator size): setup, figures."""
+    setup, _, figures = solved("mindlin penalty", _build, comm)
+    return setup, figures
 
 
 def test_stick_zone_against_cattaneo_mindlin():

@@ -12,23 +12,21 @@ import fenics_contact as fc
 from fenics_contact.friction import SLIP, STICK
 from fenics_contact.scenes import mindlin3d
 
+from solved import solved
+
 H = 0.015  # coarse: about 4.5 contact elements across a
 RATIO = 0.5
-_RUNS = {}
+
+
+def _build(comm):
+    law = fc.Friction(fc.make_law("penalty", K=mindlin3d.DEFAULT_K), mu=0.3, omega_t=mindlin3d.default_omega_t(0, H))
+    return fc.build("mindlin3d", law=law, ratios=(RATIO,), h_contact=H, comm=comm)
 
 
 def _run(comm=MPI.COMM_WORLD):
-    """The coarse scene at Q / (mu P) = 0.5, solved once per communicator size in this module."""
-    key = comm.size
-    if key not in _RUNS:
-        law = fc.Friction(fc.make_law("penalty", K=mindlin3d.DEFAULT_K), mu=0.3,
-                          omega_t=mindlin3d.default_omega_t(0, H))
-        setup = fc.build("mindlin3d", law=law, ratios=(RATIO,), h_contact=H, comm=comm)
-        solver = fc.Solver(setup.problem, quiet=True)
-        solver.run(setup.loads)
-        assert all(r.converged for r in solver.records)
-        _RUNS[key] = (setup, setup.figures())
-    return _RUNS[key]
+    """The coarse scene at Q / (mu P) = 0.5, solved once per communicator size: setup, figures."""
+    setup, _, figures = solved("mindlin3d coarse", _build, comm)
+    return setup, figures
 
 
 def test_stick_radius_against_cattaneo_mindlin():
