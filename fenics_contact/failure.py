@@ -13,6 +13,10 @@ in this order of precedence:
     (singular or near-singular Jacobian), any other KSP failure ``linear_solve``.
     Also ``ill_conditioning``: a condition estimate of the last Jacobian
     (:func:`condition_estimate`, direct solvers only) above ``ILL_CONDITIONED``.
+    A failed MUMPS factorization is named by MUMPS's ``INFOG(1)`` (``mumps_infog`` in the record): a work
+    array too small for the pivots delayed at factorization (:data:`MUMPS_WORKSPACE`, e.g. ``-9``) is
+    ``linear_solve`` (the Jacobian is fine; the solver grows ``ICNTL(14)`` and retries the step), ``-10``
+    (numerically singular) ``ill_conditioning``.
 ``divergence``
     a non-finite residual, SNES ``DIVERGED_DTOL``/``DIVERGED_FNORM_NAN``, or a
     final residual above ``1e4`` times the first.
@@ -51,11 +55,17 @@ from typing import Hashable, Sequence
 
 import numpy as np
 from mpi4py import MPI
+from petsc4py import PETSc
 
 __all__ = [
-    "ILL_CONDITIONED", "KINDS", "fingerprint", "find_cycle", "condition_estimate", "classify", "stalled", "reason_name"
+    "ILL_CONDITIONED", "KINDS", "MUMPS_WORKSPACE", "mumps_factors", "mumps_error", "fingerprint", "find_cycle",
+    "condition_estimate", "classify", "stalled", "reason_name"
 ]
 
+# MUMPS INFOG(1) values meaning a work array sized at analysis (plus ICNTL(14) percent) was too small: pivots
+# delayed by the numerical pivoting of the factorization need more room than the analysis estimated (Jacobians
+# of unsymmetric friction tangents with penalty entries ~1e6 x the elastic ones). Cure: a larger ICNTL(14).
+MUMPS_WORKSPACE = (-8, -9, -11, -12, -14, -15, -17, -20)
 ILL_CONDITIONED = 1e12  # condition estimate above which a failed solve is blamed on the Jacobian
 KINDS = ("linear_solve", "ill_conditioning", "divergence", "cycling", "stagnation", "max_iterations",
          "inverted_elements", "exploded_geometry")
@@ -123,13 +133,42 @@ def condition_estimate(A, ksp, iterations: int = 15) -> float | None:
     return float(cond) if np.isfinite(cond) else float("inf")
 
 
+def mumps_factors(ksp) -> list:
+    """The MUMPS factor matrices of ``ksp``'s preconditioner: its own (LU or Cholesky) or those of its field
+    split's blocks, if set up (none before the first solve). Collective over the KSP's communicator."""
+    pc = ksp.getPC()
+    if pc.getType() == "fieldsplit":
+        try:
+            subs = pc.getFieldSplitSubKSP()
+        except PETSc.Error:  # not set up yet
+            return []
+        return [F for sub in subs for F in mumps_factors(sub)]
+    if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
+        return []
+    try:
+        return [pc.getFactorMatrix()]
+    except PETSc.Error:  # no factorization yet
+        return []
+
+
+def mumps_error(ksp) -> tuple[int, int] | None:
+    """``(INFOG(1), INFOG(2))`` of the first MUMPS factorization of ``ksp`` that failed (INFOG(1) < 0; the
+    same on every rank), else None."""
+    for F in mumps_factors(ksp):
+        info = F.getMumpsInfog(1)
+        if info < 0:
+            return int(info), int(F.getMumpsInfog(2))
+    return None
+
+
 def classify(snes_reason: str, ksp_reason: str, residuals: Sequence[float], sets: Sequence[Hashable],
-             closed: Sequence[int], condition: float | None = None) -> dict:
+             closed: Sequence[int], condition: float | None = None, mumps: tuple[int, int] | None = None) -> dict:
     """Name the failure of one Newton solve (see the module docstring).
 
     ``snes_reason``/``ksp_reason``: PETSc reason names; ``residuals``: residual norm per iterate (iterate 0
     first); ``sets``: active-set fingerprints per iterate (may be empty: no law-based contact);
-    ``closed``: closed points per iterate; ``condition``: condition estimate of the last Jacobian (or None).
+    ``closed``: closed points per iterate; ``condition``: condition estimate of the last Jacobian (or None);
+    ``mumps``: ``(INFOG(1), INFOG(2))`` of a failed MUMPS factorization (:func:`mumps_error`), or None.
     Returns ``{"kind", "iterations", ...}`` with the reasons, the first and last residual and the estimate.
     """
     r = np.asarray(residuals, dtype=float)
@@ -137,6 +176,10 @@ def classify(snes_reason: str, ksp_reason: str, residuals: Sequence[float], sets
     out = {"iterations": its, "snes_reason": snes_reason, "ksp_reason": ksp_reason,
            "residual_first": float(r[0]) if len(r) else None, "residual_last": float(r[-1]) if len(r) else None,
            "condition_estimate": condition}
+    if mumps is not None:
+        out["mumps_infog"] = list(mumps)
+        if mumps[0] in MUMPS_WORKSPACE:
+            return {"kind": "linear_solve", **out}
     if snes_reason == "DIVERGED_LINEAR_SOLVE" and ksp_reason not in _ILL_CONDITIONED_KSP and not (
             condition is not None and condition > ILL_CONDITIONED):
         return {"kind": "linear_solve", **out}

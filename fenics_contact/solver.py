@@ -55,6 +55,11 @@ DEFAULT_OPTIONS = {
     "pc_factor_mat_solver_type": "mumps",
 }
 
+# MUMPS's work arrays: ICNTL(14), percent over the analysis' estimate. MUMPS's default; the most the solver grows
+# it to after a failed factorization (Solver._grow_mumps_workspace: 20 -> 40 -> ... -> 640, then a cutback).
+MUMPS_WORKSPACE_DEFAULT = 20
+MUMPS_WORKSPACE_MAX = 640
+
 PREDICTORS = (False, True, "secant", "tangent")  # Solver(predictor=...)
 PREDICTOR_FD = 1e-6  # forward-difference step of dR/dt in the tangent predictor, relative to the load step
 # Line-search tolerance of the tangent predictor: |slope| <= PREDICTOR_ETA |slope at 0|. Near-exact (0.01 to 0.1
@@ -76,6 +81,15 @@ LINEAR_SOLVERS = {
     "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
     "iterative": {"ksp_type": "gmres", "pc_type": "gamg", "ksp_rtol": 1e-8, "ksp_max_it": 500},
 }
+
+
+
+
+def _read_at_setup(name: str) -> bool:
+    """Options read when the linear solver is set up inside a solve, not by ``setFromOptions``: a nested split's
+    blocks (the Schur complement's KSP) are made then, and MUMPS reads its ``mat_mumps_*`` options at each
+    symbolic factorization (a new factor on every new sparsity pattern)."""
+    return name.startswith(("fieldsplit_", "mat_mumps_")) or "_mat_mumps_" in name
 
 
 class ConvergenceError(RuntimeError):
@@ -344,8 +358,7 @@ class Solver:
             return reason
         petsc_vec(self.problem.u).copy(self._x)
         start = time.perf_counter()
-        # a nested split's blocks (the Schur complement's KSP) are made, and read their options, at set-up
-        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):
+        with self._wanted_options(_read_at_setup):
             self.snes.solve(None, self._x)
         self.timings["snes_s"] += time.perf_counter() - start
         self.linear_iterations += self.snes.getLinearSolveIterations()
@@ -465,7 +478,7 @@ class Solver:
         r1.scale(-(t - t0) / eps)
         ksp = self.snes.getKSP()
         ksp.setOperators(self.A)
-        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):  # a nested split's blocks: see _newton
+        with self._wanted_options(_read_at_setup):
             ksp.solve(r1, du)
         p.set_load(t)
         if ksp.getConvergedReason() < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
@@ -509,7 +522,7 @@ class Solver:
         if ksp_reason not in ("DIVERGED_PCSETUP_FAILED", "DIVERGED_PC_FAILED"):  # a failed factorization: no estimate
             condition = _failure.condition_estimate(self.A, ksp)
         out = _failure.classify(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), ksp_reason,
-                                self._history, self._sets, self._closed, condition)
+                                self._history, self._sets, self._closed, condition, _failure.mumps_error(ksp))
         seen = [k for k in (c.take_failure() for c in self.problem.contacts) if k]
         if seen:  # what a surface saw (the same on every rank: the surfaces decide collectively)
             out["kind"] = seen[0]
@@ -546,6 +559,8 @@ class Solver:
                 self._rollback(snap)
                 self.failures.append(rec.failure)
                 self._progress(rec, failed=True)
+                if self._grow_mumps_workspace(rec.failure):
+                    continue  # the same step again, with more room for MUMPS: not a cutback
                 cuts += 1
                 if cuts > self.max_cutbacks:
                     self.records.append(rec)
@@ -555,6 +570,27 @@ class Solver:
                         f"{rec.message or 'SNES reason ' + _reason(rec.reason)}; "
                         f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
         return self.records
+
+    def _grow_mumps_workspace(self, failure: dict | None) -> bool:
+        """After a MUMPS factorization that ran out of a work array (:data:`failure.MUMPS_WORKSPACE`), double
+        ``mat_mumps_icntl_14`` (the percent of room over the analysis' estimate; MUMPS's default 20) up to
+        ``MUMPS_WORKSPACE_MAX`` and say so: True if the step should be retried. Not if the option was given on
+        the command line (the user's value stands; the failure then names it)."""
+        info = (failure or {}).get("mumps_infog")
+        key = self._prefix + "mat_mumps_icntl_14"
+        if not info or info[0] not in _failure.MUMPS_WORKSPACE or PETSc.Options().hasName(key):
+            return False
+        now = int(self._wanted.get("mat_mumps_icntl_14", MUMPS_WORKSPACE_DEFAULT))
+        if now >= MUMPS_WORKSPACE_MAX:
+            return False
+        grown = min(max(2 * now, 2 * MUMPS_WORKSPACE_DEFAULT), MUMPS_WORKSPACE_MAX)
+        self._wanted["mat_mumps_icntl_14"] = grown
+        for F in _failure.mumps_factors(self.snes.getKSP()):  # a refactorization of the same pattern keeps F
+            F.setMumpsIcntl(14, grown)
+        failure["message"] = f"MUMPS INFOG(1) = {info[0]}: work array too small; ICNTL(14) {now} -> {grown}"
+        if self.problem.comm.rank == 0:
+            logger.warning("%s, retrying the step", failure["message"])
+        return True
 
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
         """One progress line per load step (and per failed attempt) on rank 0, through ``logging`` (INFO;

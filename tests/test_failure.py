@@ -1,5 +1,5 @@
 """Failure diagnosis: synthetic histories, then real failed solves (KSP failure, singular Jacobian, cycling in
-summary.json)."""
+summary.json), and MUMPS's work arrays grown after a factorization that ran out of them."""
 import json
 
 import numpy as np
@@ -10,7 +10,7 @@ from mpi4py import MPI
 
 from fenics_contact.compat import function_space
 from fenics_contact.contact import ContactSurface
-from fenics_contact.failure import classify, find_cycle, fingerprint, stalled
+from fenics_contact.failure import MUMPS_WORKSPACE, classify, find_cycle, fingerprint, mumps_factors, stalled
 from fenics_contact.laws import Penalty
 from fenics_contact.materials import LinearElastic
 from fenics_contact.meshes import rectangle
@@ -40,6 +40,11 @@ def test_classify_synthetic_histories():
     assert c["kind"] == "cycling" and c["period"] == 2 and c["closed_points_in_cycle"] == [2, 1]
     assert classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_ITS", [1.0], [], [])["kind"] == "linear_solve"
     assert classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_PCSETUP_FAILED", [1.0], [], [])["kind"] == "ill_conditioning"
+    # a failed MUMPS factorization: out of a work array is the linear solver's resources, a zero pivot the Jacobian
+    room = classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_PC_FAILED", [1.0], [], [], None, (-9, 1234))
+    assert room["kind"] == "linear_solve" and room["mumps_infog"] == [-9, 1234]
+    assert classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_PC_FAILED", [1.0], [], [], None, (-10, 3))["kind"] == \
+        "ill_conditioning"
 
 
 def test_stalled_at_the_round_off_floor():
@@ -94,3 +99,29 @@ def test_cycling_is_in_summary_json(tmp_path_factory, comm):
     assert s["converged"] is False and s["failure"]["kind"] == "cycling"
     assert s["failure"]["step"] == 1 and s["failure"]["iterations"] == 30 and s["failure"]["augmentation"] == 1
     assert s["steps"][-1]["failure"] == s["failure"]
+
+
+def test_mumps_options_reach_the_factorization(comm):
+    """``mat_mumps_*`` options of ``Solver(options=...)`` are read by MUMPS at factorization, inside the solve."""
+    setup = block.build(Penalty(1e5), comm=comm)
+    solver = Solver(setup.problem, quiet=True, prefix="fc_mumps_options_", options={"mat_mumps_icntl_14": 57})
+    solver.run(setup.loads)
+    (F,) = mumps_factors(solver.snes.getKSP())
+    assert F.getMumpsIcntl(14) == 57 and F.getMumpsInfog(1) == 0
+
+
+def test_mumps_out_of_workspace_grows_icntl14_and_retries(comm):
+    """After INFOG(1) in MUMPS_WORKSPACE the solver doubles ICNTL(14) (on the factor and for the next one) up to
+    MUMPS_WORKSPACE_MAX, and the step goes on with it; a zero pivot (-10) is not retried that way."""
+    setup = block.build(Penalty(1e5), comm=comm)
+    solver = Solver(setup.problem, quiet=True, prefix="fc_mumps_grow_")
+    solver.run(setup.loads[:1])
+    (F,) = mumps_factors(solver.snes.getKSP())
+    assert F.getMumpsIcntl(14) == 20 and -9 in MUMPS_WORKSPACE
+    grown, failure = [], {"mumps_infog": [-9, 5000]}
+    while solver._grow_mumps_workspace(failure):
+        grown.append(F.getMumpsIcntl(14))
+    assert grown == [40, 80, 160, 320, 640] and "ICNTL(14) 320 -> 640" in failure["message"]
+    assert not solver._grow_mumps_workspace({"mumps_infog": [-10, 0]})
+    solver.run(setup.loads[1:])
+    assert solver.records[-1].converged and mumps_factors(solver.snes.getKSP())[0].getMumpsIcntl(14) == 640
