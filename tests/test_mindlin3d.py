@@ -26,7 +26,7 @@ def _build(comm):
 def _run(comm=MPI.COMM_WORLD):
     """The coarse scene at Q / (mu P) = 0.5, solved once per communicator size: setup, figures."""
     # the demo's default linear solver (GMRES + GAMG with the rigid-body modes)
-    setup, _, figures = solved("mindlin3d coarse", _build, comm, options=fc.LINEAR_SOLVERS["iterative"])
+    setup, _, figures = solved("mindlin3d coarse", _build, comm, options=mindlin3d.ITERATIVE)
     return setup, figures
 
 
