@@ -92,7 +92,8 @@ def test_friction_scene_specs(tmp_path):
     assert len(quick) == 5 and {r["augment"] for r in quick} == {0}
     assert {r["augment"] for r in full} == {0, bench.AUGMENT}
     cmd = bench.command("mindlin3d", bench.run_config("penalty", mindlin3d.DEFAULT_K, refinement=0), tmp_path)
-    assert cmd[cmd.index("--h-contact") + 1] == "0.015" and cmd[cmd.index("--ratios") + 1:][:2] == ["0.5", "--K"]
+    assert cmd[cmd.index("--h-contact") + 1] == "0.015" and cmd[cmd.index("--ratios") + 1:][:2] == ["0.5", "--solver"]
+    assert cmd[cmd.index("--solver") + 1] == "direct"  # the documented rows' LU (the demo defaults to GAMG)
 
 
 def _row(method, K, error, time_s, augment=0, refinement=0, **kw):
