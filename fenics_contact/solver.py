@@ -83,13 +83,11 @@ LINEAR_SOLVERS = {
 }
 
 
-
-
 def _read_at_setup(name: str) -> bool:
     """Options read when the linear solver is set up inside a solve, not by ``setFromOptions``: a nested split's
     blocks (the Schur complement's KSP) are made then, and MUMPS reads its ``mat_mumps_*`` options at each
     symbolic factorization (a new factor on every new sparsity pattern)."""
-    return name.startswith(("fieldsplit_", "mat_mumps_")) or "_mat_mumps_" in name
+    return name.startswith(("fieldsplit_", "mat_mumps_"))  # a split's own MUMPS options start with fieldsplit_
 
 
 class ConvergenceError(RuntimeError):
