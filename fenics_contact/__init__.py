@@ -54,7 +54,7 @@ from .output import XDMFWriter, write_summary
 from .problem import ContactProblem, Dirichlet
 from .run import run
 from .scenes import Setup, build, scene_names
-from .solver import LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
+from .solver import INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
 from .surface import StepSolver, Surface
 from .twobody import TwoBodySurface
 from .twobody_friction import FrictionalTwoBodySurface
@@ -77,6 +77,7 @@ __all__ = [
     "read_gmsh", "NamedTags",
     # problem, boundary conditions, solver
     "ContactProblem", "Dirichlet", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
+    "INEXACT_NEWTON",
     # spaces (the same call on every supported dolfinx)
     "function_space", "interpolate_expression",
     # output and runs

@@ -27,7 +27,7 @@ from petsc4py import PETSc
 
 from .contact import QUADRATURES
 from .laws import METHODS, ContactLaw, make_law
-from .solver import DEFAULT_OPTIONS, LINEAR_SOLVERS, ConvergenceError
+from .solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
 
 logger = logging.getLogger(__name__)
 
@@ -142,6 +142,9 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
     p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
                    help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D; "
                         "multipliers: FGMRES + Schur complement field split)")
+    p.add_argument("--inexact", action="store_true",
+                   help="with --solver iterative: inexact Newton, the Krylov tolerance following the residual "
+                        "(Eisenstat-Walker, at most 1e-2)")
     output_options(p)
     return p
 
@@ -179,6 +182,8 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
         PETSc.Options().insertString(" ".join(f"-{k} {v}" for k, v in petsc))
         _PETSC_OPTIONS.extend(petsc)
     setup_logging(verbose=getattr(args, "verbose", False), quiet=getattr(args, "quiet", False))
+    if getattr(args, "inexact", False) and getattr(args, "solver", None) != "iterative":
+        raise UsageError(f"--inexact needs --solver iterative, got --solver {getattr(args, 'solver', None)}")
     if hasattr(args, "method"):
         if getattr(args, "K", 0) is None and getattr(args, "derive_K", None) is not None:
             args.K = float(args.derive_K(args))
@@ -322,8 +327,9 @@ def method_parameters(args: argparse.Namespace) -> dict:
 
 
 def solver_options(args: argparse.Namespace) -> dict:
-    """PETSc options (prefix ``fc_``) of ``--solver``; options on the command line still win."""
-    return dict(LINEAR_SOLVERS[getattr(args, "solver", "direct")])
+    """PETSc options (prefix ``fc_``) of ``--solver`` (and ``--inexact``); options on the command line still win."""
+    return {**LINEAR_SOLVERS[getattr(args, "solver", "direct")],
+            **(INEXACT_NEWTON if getattr(args, "inexact", False) else {})}
 
 
 # --- PETSc options and the demos' entry ------------------------------------------------------------------
@@ -347,7 +353,7 @@ def unused_petsc_options(later: Sequence[str] = ()) -> list[str]:
     """The command line's PETSc options that PETSc never read, each with the closest known option if any; those
     ending in one of ``later`` (read after the point of the check) are not reported."""
     known = [f"-fc_{k}" for k in dict.fromkeys([*DEFAULT_OPTIONS, *(k for s in LINEAR_SOLVERS.values() for k in s),
-                                                *_COMMON_PETSC])]
+                                                *INEXACT_NEWTON, *_COMMON_PETSC])]
     return [f"-{name}{_did_you_mean('-' + name, known)}" for name, _ in dict.fromkeys(_PETSC_OPTIONS)
             if not name.endswith(tuple(later)) and not _petsc_used(name)]
 

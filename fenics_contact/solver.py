@@ -29,7 +29,7 @@ from .nullspace import rigid_body_modes
 from .problem import ContactProblem
 
 __all__ = [
-    "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "LINEAR_SOLVERS",
+    "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "LINEAR_SOLVERS", "INEXACT_NEWTON",
     "ConvergenceError", "StepRecord", "Solver"
 ]
 
@@ -74,6 +74,16 @@ PREDICTOR_ETA = 0.05
 # estimates from the first contact iterations, reported an indefinite preconditioner on the sphere.)
 # Multipliers (a saddle point): "iterative" becomes their own FGMRES + Schur complement field split
 # (multipliers.PressureUnknown.iterative_solver_options; options of the caller's own still win).
+# Inexact Newton (Eisenstat-Walker, PETSc's -snes_ksp_ew; demos' --inexact): each Krylov tolerance follows the
+# nonlinear residual's decrease, at most EW_RTOL_MAX (ksp_rtol is then unused). An early two-body iterate pushes
+# the undeformed bodies through each other: its Jacobian (large pressures times the master normal's variation)
+# took GAMG-GMRES 53 / 145 / over 1000 iterations to 1e-8 at 5e3 / 1e4 / 2e4 dofs (sphere on block), a failed
+# solve and a cutback each time; to 1e-2 it takes 9-89, and the Newton iterations fall too (23 -> 15 at 2e4
+# dofs). EW's default cap 0.9 doubles the Newton iterations. Not the default: the path of the Newton iterates
+# then depends on the partition (GAMG), and with it the pairing that the search's hysteresis keeps (a nodal
+# pressure 1e-3 apart between 1 and 2 ranks at 1.2e5 dofs); with ksp_rtol 1e-8 the paths agree.
+EW_RTOL_MAX = 1e-2
+INEXACT_NEWTON = {"snes_ksp_ew": True, "snes_ksp_ew_rtol0": EW_RTOL_MAX, "snes_ksp_ew_rtolmax": EW_RTOL_MAX}
 # Preconditioners whose set-up builds a hierarchy of level solvers (renewed, not reset, on a new pattern).
 MULTIGRID = ("gamg", "ml", "hypre", "mg")
 
@@ -85,9 +95,11 @@ LINEAR_SOLVERS = {
 
 def _read_at_setup(name: str) -> bool:
     """Options read when the linear solver is set up inside a solve, not by ``setFromOptions``: a nested split's
-    blocks (the Schur complement's KSP) are made then, and MUMPS reads its ``mat_mumps_*`` options at each
-    symbolic factorization (a new factor on every new sparsity pattern)."""
-    return name.startswith(("fieldsplit_", "mat_mumps_"))  # a split's own MUMPS options start with fieldsplit_
+    blocks (the Schur complement's KSP) and a multigrid's level smoothers and coarse solver are made then, and
+    MUMPS reads its ``mat_mumps_*`` options at each symbolic factorization (a new factor on every new sparsity
+    pattern)."""
+    # A split's own MUMPS or multigrid options start with fieldsplit_.
+    return name.startswith(("fieldsplit_", "mat_mumps_", "mg_levels_", "mg_coarse_"))
 
 
 class ConvergenceError(RuntimeError):

@@ -90,6 +90,15 @@ def test_failed_run_is_one_line_with_the_iterations_spent(tmp_path):
     assert summary["check"]["passed"] is False and summary["check"]["value"] is None
 
 
+def test_inexact_needs_the_iterative_solver():
+    p = cli.parser("test", default_K=1.0)
+    with pytest.raises(cli.UsageError, match="--inexact needs --solver iterative, got --solver direct"):
+        cli.parse(p, ["--inexact"])
+    args = cli.parse(p, ["--inexact", "--solver", "iterative"])
+    assert cli.solver_options(args)["snes_ksp_ew"] is True and "snes_ksp_ew" not in cli.solver_options(
+        cli.parse(p, ["--solver", "iterative"]))
+
+
 def test_number_ranges():
     steps = cli.number(int, 1)
     assert steps("3") == 3

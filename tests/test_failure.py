@@ -18,7 +18,7 @@ from fenics_contact.obstacles import HalfPlane
 from fenics_contact.problem import ContactProblem
 from fenics_contact.run import run
 from fenics_contact.scenes import block, build, ring
-from fenics_contact.solver import ConvergenceError, Solver
+from fenics_contact.solver import LINEAR_SOLVERS, ConvergenceError, Solver
 
 
 def test_find_cycle():
@@ -108,6 +108,19 @@ def test_mumps_options_reach_the_factorization(comm):
     solver.run(setup.loads)
     (F,) = mumps_factors(solver.snes.getKSP())
     assert F.getMumpsIcntl(14) == 57 and F.getMumpsInfog(1) == 0
+
+
+def test_multigrid_level_options_reach_the_smoothers(comm):
+    """``mg_levels_*`` options of ``Solver(options=...)`` reach GAMG's level smoothers, which are made at set-up
+    inside the solve (they were silently ignored)."""
+    setup = block.build(Penalty(1e5), comm=comm)
+    solver = Solver(setup.problem, quiet=True, prefix="fc_mg_options_",
+                    options={**LINEAR_SOLVERS["iterative"], "mg_levels_ksp_max_it": 5, "mg_levels_pc_type": "sor"})
+    solver.run(setup.loads)
+    pc = solver.snes.getKSP().getPC()
+    assert pc.getType() == "gamg" and pc.getMGLevels() > 1
+    smoother = pc.getMGSmoother(1)
+    assert smoother.getTolerances()[3] == 5 and smoother.getPC().getType() == "sor"
 
 
 def test_mumps_out_of_workspace_grows_icntl14_and_retries(comm):
