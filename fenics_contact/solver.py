@@ -81,7 +81,7 @@ PREDICTOR_ETA = 0.05
 # solve and a cutback each time; to 1e-2 it takes 9-89, and the Newton iterations fall too (23 -> 15 at 2e4
 # dofs). EW's default cap 0.9 doubles the Newton iterations. Not the default: the path of the Newton iterates
 # then depends on the partition (GAMG), and with it the pairing that the search's hysteresis keeps (a nodal
-# pressure 1e-3 apart between 1 and 2 ranks at 1.2e5 dofs); with ksp_rtol 1e-8 the paths agree.
+# pressure 1e-3 / 7e-3 apart between 1 and 2 ranks at 1.2e5 / 4e5 dofs); with ksp_rtol 1e-8 they agree closely.
 EW_RTOL_MAX = 1e-2
 INEXACT_NEWTON = {"snes_ksp_ew": True, "snes_ksp_ew_rtol0": EW_RTOL_MAX, "snes_ksp_ew_rtolmax": EW_RTOL_MAX}
 # Preconditioners whose set-up builds a hierarchy of level solvers (renewed, not reset, on a new pattern).
