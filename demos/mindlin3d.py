@@ -53,7 +53,7 @@ def main(argv=None) -> dict:
                                            "the worst ratio (stick area's radius)")
 
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
-    options = mindlin3d.ITERATIVE if args.solver == "iterative" else cli.solver_options(args)
+    options = {**cli.solver_options(args), **(mindlin3d.ITERATIVE if args.solver == "iterative" else {})}
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,
                   args.augment_tol, args.quiet, options=options, on_step=on_step,
                   xdmf=not args.no_xdmf, check=self_check)

@@ -60,7 +60,8 @@ def main(argv=None) -> dict:
     args = cli.parse(p, argv)
     out = Path(args.out or "results/ring")
     comm = MPI.COMM_WORLD
-    OPTIONS = {"snes_linesearch_type": "basic"}  # plain Newton as in the paper; -fc_snes_linesearch_type wins
+    # --solver, and plain Newton as in the paper; -fc_snes_linesearch_type wins
+    OPTIONS = {**cli.solver_options(args), "snes_linesearch_type": "basic"}
 
     METHODS = {"penalty": ("penalty + augmentation", lambda: Penalty(args.K, augmented=True)),
                "cross": ("cross-constraints", lambda: CrossConstraints(args.K, 0.0)),

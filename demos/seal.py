@@ -69,8 +69,9 @@ def main(argv=None) -> dict:
 
 
     # 3. Solve every load step (cross-constraints), write XDMF, summary.json and the tables.
+    options = {**cli.solver_options(args), **seal.SOLVER_OPTIONS}  # --solver; full Newton steps
     summary = run(setup, out, args.method if args.method == "cross" else "cross", cli.method_parameters(args), 0,
-                  quiet=args.quiet, options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], on_step=on_step,
+                  quiet=args.quiet, options=options, predictor=seal.PREDICTOR[args.shape], on_step=on_step,
                   check=lambda s: check("plate_force_upper", s.get("plate_force_upper"), s.get("plate_force_lower"),
                                         1e-6, "equilibrium: the lower plate's force"), xdmf=not args.no_xdmf)
     if comm.rank == 0:
@@ -95,7 +96,7 @@ def main(argv=None) -> dict:
     penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape, **scene_arguments(args, scene))
     try:
         penalty_summary = run(penalty, out / "penalty", "penalty", {"K": args.K}, 0, quiet=args.quiet,
-                              options=seal.SOLVER_OPTIONS, predictor=seal.PREDICTOR[args.shape], xdmf=not args.no_xdmf)
+                              options=options, predictor=seal.PREDICTOR[args.shape], xdmf=not args.no_xdmf)
     except ConvergenceError:
         penalty_summary = json.load(open(out / "penalty" / "summary.json")) if comm.rank == 0 else None
     if comm.rank == 0:
