@@ -2,10 +2,14 @@
 
 The candidates of a point are the facets whose bounding box lies within its
 search radius: the smaller of the given radius and its distance to the
-nearest master node (which bounds the distance to the closest facet). A
-``scipy.spatial.cKDTree`` of the facets' box centres is queried with each
-point (radius + the largest half diagonal) and the answer is filtered by
-the exact point-to-box distance. The distance to each candidate
+nearest master node (which bounds the distance to the closest facet); points
+farther than the radius from the whole master surface's box are not
+queried. The facets are grouped in size classes (half box diagonals within
+a factor 2, :data:`SIZE_CLASSES` at most); a ``scipy.spatial.cKDTree`` of
+each class's box centres is queried with each point (radius + the class's
+largest half diagonal: on a graded surface the fine facets are not
+candidates of every point within a coarse facet's size) and the answer is
+filtered by the exact point-to-box distance. The distance to each candidate
 facet (flat segment or triangle, or quadratic segment) is evaluated for all
 pairs at once; each point keeps its nearest facet, with the rules of
 :func:`project` for ties and hysteresis.
@@ -26,13 +30,16 @@ import itertools
 import numpy as np
 from scipy.spatial import cKDTree
 
-__all__ = ["PAIR_BUDGET", "STRETCH_LIMIT", "candidates", "closest_point_on_facets", "closest_point_on_quadratic",
+__all__ = ["PAIR_BUDGET", "SIZE_CLASSES", "STRETCH_LIMIT", "candidates", "closest_point_on_facets",
+           "closest_point_on_quadratic",
            "facet_normals", "facet_pairs", "project", "quadratic_normals", "quadratic_shape", "stretch"]
 
 PAIR_BUDGET = 1 << 20  # (point, facet) pairs held at once: ~100 MB of work arrays at most
 # A facet whose extent grew beyond this factor of its reference extent within one iterate is an exploded
 # iterate, not a deformation: the two-body surfaces reject it (non-finite residual: a failed solve, cut step).
 STRETCH_LIMIT = 10.0
+# Facets are queried in at most this many classes of size (half bounding-box diagonal, factors of 2 below the largest).
+SIZE_CLASSES = 8
 # Relative tolerance of the closest-facet comparisons: values this close are ties (decided by the facet order).
 TIE = 1e-9
 
@@ -76,8 +83,9 @@ def _query(tree: cKDTree, lo: np.ndarray, hi: np.ndarray, radius: float):
 
 def candidates(points: np.ndarray, facets: np.ndarray, radius: float | np.ndarray, quadratic: bool = False):
     """Chunks of ``(point index, facet index)`` pairs, every pair whose facet bounding box is within ``radius``
-    of the point (a number, or one per point), each pair once, in some chunk. A k-d tree of the facets' box
-    centres is queried with each point's radius plus the largest half diagonal, then filtered exactly.
+    of the point (a number, or one per point), each pair once, in some chunk. Per size class of the facets, a k-d
+    tree of their box centres is queried with each point's radius plus the class's largest half diagonal, then
+    filtered exactly.
     ``quadratic`` facets (end, middle, end nodes): the box of the curve's Bezier control points, which holds the
     whole curve (the nodes' box need not)."""
     if len(points) == 0 or len(facets) == 0:
@@ -86,10 +94,18 @@ def candidates(points: np.ndarray, facets: np.ndarray, radius: float | np.ndarra
         facets = np.concatenate([facets, (2 * facets[:, 1] - 0.5 * (facets[:, 0] + facets[:, 2]))[:, None]], axis=1)
     lo, hi = _boxes(facets)
     r = np.broadcast_to(np.asarray(radius, dtype=float), (len(points),))
-    grow = 0.5 * float(np.max(np.linalg.norm(hi - lo, axis=1)))
-    for p, f in _ball_pairs(cKDTree(0.5 * (lo + hi)), points, r + grow):
-        keep = _box_distance(points[p], lo[f], hi[f]) <= r[p]
-        yield p[keep], f[keep]
+    half = 0.5 * np.linalg.norm(hi - lo, axis=1)
+    # One tree per size class (half diagonals within a factor 2; the smallest classes merged): each query grows by
+    # its class's largest half diagonal, not the surface's: on a graded surface the fine facets, where the contact
+    # is, are not all candidates of every point within the coarse facets' size (8x fewer pairs on the block).
+    size_class = np.minimum(np.floor(np.log2(half.max() / np.maximum(half, 1e-300 + 1e-12 * half.max()))),
+                            SIZE_CLASSES - 1)
+    for c in np.unique(size_class):
+        ids = np.flatnonzero(size_class == c)
+        for p, f in _ball_pairs(cKDTree(0.5 * (lo[ids] + hi[ids])), points, r + float(half[ids].max())):
+            f = ids[f]
+            keep = _box_distance(points[p], lo[f], hi[f]) <= r[p]
+            yield p[keep], f[keep]
 
 
 def facet_pairs(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
@@ -267,12 +283,21 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
     # Each point's search radius: the distance to the nearest master node bounds the distance to the closest facet
     # (the node lies on a facet), with the tie tolerance below; most points then have a few candidates, not every
     # facet within ``radius`` (a graded master surface's radius is several of its largest facets).
+    # Only points within ``radius`` of the master surface's box can have a facet (its curves' box: Bezier control
+    # points); the others are not queried at all (most of a body's surface, away from the contact).
+    near_box = np.zeros(0, np.int64)
     if n and len(master):
-        near = cKDTree(master.reshape(-1, master.shape[-1])).query(points)[0] * (1 + TIE) + 1e-14 * radius
+        ctrl = master if not quadratic else np.concatenate(
+            [master, (2 * master[:, 1] - 0.5 * (master[:, 0] + master[:, 2]))[:, None]], axis=1)
+        flat = ctrl.reshape(-1, ctrl.shape[-1])
+        near_box = np.flatnonzero(_box_distance(points, flat.min(axis=0), flat.max(axis=0)) <= radius)
+    if len(near_box):
+        near = cKDTree(master.reshape(-1, master.shape[-1])).query(points[near_box])[0] * (1 + TIE) + 1e-14 * radius
         bound = np.where(near < radius, near, radius)
     else:
-        bound = radius
-    for pi, fi in candidates(points, master, bound, quadratic):
+        bound = np.zeros(0)
+    for pi, fi in candidates(points[near_box], master, bound, quadratic):
+        pi = near_box[pi]
         # Chunks may split a point's candidates: the running best of a point joins as one more candidate.
         old = np.unique(pi[facet[pi] >= 0])
         if len(old):

@@ -88,6 +88,35 @@ def test_projection_matches_brute_force_3d():
     assert np.allclose(np.linalg.norm(q - pts[ok], axis=1), dist[ok], rtol=1e-12, atol=1e-14)
 
 
+def test_graded_sheet_matches_brute_force_3d():
+    """A sheet graded 1:400 (the facets fall in every size class of the search), points near it and far beyond
+    its box: the candidate pairs are exactly the pairs whose facet box is within each point's radius, and the
+    projection answers as the all-pairs search."""
+    rng = np.random.default_rng(7)
+    s = np.linspace(-1, 1, 25)
+    g = np.sign(s) * np.abs(s) ** 4  # spacing from 4e-5 at the centre to 0.15 at the edges
+    X, Y = np.meshgrid(g, g)
+    P = np.stack([X, Y, 0.03 * np.sin(5 * X) * np.cos(4 * Y)], -1)
+    n = len(g)
+    tris = np.array([t for i in range(n - 1) for j in range(n - 1)
+                     for t in ([P[i, j], P[i + 1, j], P[i, j + 1]], [P[i + 1, j], P[i + 1, j + 1], P[i, j + 1]])])
+    half = 0.5 * np.linalg.norm(tris.max(axis=1) - tris.min(axis=1), axis=1)
+    assert half.max() / half.min() > 2 ** search.SIZE_CLASSES
+    pts = np.concatenate([np.column_stack([0.01 * rng.standard_normal((300, 2)), 0.01 * rng.standard_normal(300)]),
+                          np.column_stack([rng.uniform(-1.2, 1.2, (300, 2)), 0.1 * rng.standard_normal(300)]),
+                          rng.uniform(3, 4, (50, 3))])
+    r = rng.uniform(0, 0.1, len(pts))
+    found = {(int(p), int(f)) for pi, fi in search.candidates(pts, tris, r) for p, f in zip(pi, fi)}
+    lo, hi = tris.min(axis=1), tris.max(axis=1)
+    box = np.linalg.norm(np.maximum(np.maximum(lo[None] - pts[:, None], pts[:, None] - hi[None]), 0), axis=2)
+    assert found == set(zip(*map(lambda a: a.tolist(), np.nonzero(box <= r[:, None]))))
+    facet, bary, dist = project(pts, tris, 0.1)
+    f_ref, d_ref = _brute(pts, tris, 0.1)
+    assert np.array_equal(facet >= 0, f_ref >= 0) and np.all(facet[-50:] == -1)
+    ok = f_ref >= 0
+    assert np.allclose(dist[ok], d_ref[ok], rtol=1e-12, atol=1e-14)
+
+
 def test_round_off_does_not_pick_the_facet_at_a_ridge():
     """Two triangles meeting at a ridge along x = 0 (slopes +-0.01), points below the ridge (penetrating, the
     contact edge of a symmetric body) moved across it by round-off (|x| <= 1e-16): every point takes the same
