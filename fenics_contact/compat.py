@@ -53,11 +53,13 @@ def petsc_vec(f: fem.Function) -> PETSc.Vec:
 
 
 def lift_and_set_bc(b: PETSc.Vec, a, bcs, x0: PETSc.Vec, scale: float) -> None:
-    """``b -= scale * A (g - x0)`` on free rows, ``b = scale (g - x0)`` on Dirichlet rows."""
-    try:
-        fem_petsc.apply_lifting(b, [a], bcs=[bcs], x0=[x0], scale=scale)
-    except TypeError:  # dolfinx >= 0.8 renamed ``scale`` to ``alpha``
-        fem_petsc.apply_lifting(b, [a], bcs=[bcs], x0=[x0], alpha=scale)
+    """``b -= scale * A (g - x0)`` on free rows, ``b = scale (g - x0)`` on Dirichlet rows. ``a``: the Jacobian
+    form, or a list of forms whose sum it is."""
+    for form in (a if isinstance(a, (list, tuple)) else [a]):
+        try:
+            fem_petsc.apply_lifting(b, [form], bcs=[bcs], x0=[x0], scale=scale)
+        except TypeError:  # dolfinx >= 0.8 renamed ``scale`` to ``alpha``
+            fem_petsc.apply_lifting(b, [form], bcs=[bcs], x0=[x0], alpha=scale)
     b.ghostUpdate(addv=_petsc().InsertMode.ADD, mode=_petsc().ScatterMode.REVERSE)
     try:
         fem_petsc.set_bc(b, bcs, x0, scale)
