@@ -48,6 +48,14 @@ def _boxes(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return x.min(axis=1), x.max(axis=1)
 
 
+def _control_points(facets: np.ndarray, quadratic: bool) -> np.ndarray:
+    """The facets' nodes, and for ``quadratic`` facets (end, middle, end) also the middle Bezier control point
+    ``2 x_1 - (x_0 + x_2) / 2``: their box holds the whole curve (the nodes' box need not)."""
+    if not quadratic:
+        return facets
+    return np.concatenate([facets, (2 * facets[:, 1] - 0.5 * (facets[:, 0] + facets[:, 2]))[:, None]], axis=1)
+
+
 def _box_distance(p: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return np.linalg.norm(np.maximum(np.maximum(lo - p, p - hi), 0.0), axis=1)
 
@@ -90,9 +98,7 @@ def candidates(points: np.ndarray, facets: np.ndarray, radius: float | np.ndarra
     whole curve (the nodes' box need not)."""
     if len(points) == 0 or len(facets) == 0:
         return
-    if quadratic:  # control point of the middle: 2 x_1 - (x_0 + x_2) / 2
-        facets = np.concatenate([facets, (2 * facets[:, 1] - 0.5 * (facets[:, 0] + facets[:, 2]))[:, None]], axis=1)
-    lo, hi = _boxes(facets)
+    lo, hi = _boxes(_control_points(facets, quadratic))
     r = np.broadcast_to(np.asarray(radius, dtype=float), (len(points),))
     half = 0.5 * np.linalg.norm(hi - lo, axis=1)
     # One tree per size class (half diagonals within a factor 2; the smallest classes merged): each query grows by
@@ -287,9 +293,7 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
     # points); the others are not queried at all (most of a body's surface, away from the contact).
     near_box = np.zeros(0, np.int64)
     if n and len(master):
-        ctrl = master if not quadratic else np.concatenate(
-            [master, (2 * master[:, 1] - 0.5 * (master[:, 0] + master[:, 2]))[:, None]], axis=1)
-        flat = ctrl.reshape(-1, ctrl.shape[-1])
+        flat = _control_points(master, quadratic).reshape(-1, master.shape[-1])
         near_box = np.flatnonzero(_box_distance(points, flat.min(axis=0), flat.max(axis=0)) <= radius)
     if len(near_box):
         near = cKDTree(master.reshape(-1, master.shape[-1])).query(points[near_box])[0] * (1 + TIE) + 1e-14 * radius

@@ -168,9 +168,9 @@ def test_sphere_on_block_inexact_newton():
     solves it to its looser tolerance: no failed solve, fewer Newton iterations, and the same state: each in
     equilibrium, the same contact radius, force and p0 within the pairing's hysteresis (another Newton path may
     keep another master facet for a point between two: 1e-11 apart here, 8e-8 on the Debian 13 lane's mesh; 1e-3 at
-    1.2e5 dofs). Memory: at every Newton iterate petsc4py's list of objects awaiting destruction is empty (a
-    pairing change replaces the GAMG preconditioner; left to Python, the old one stayed on that list until the end
-    of the step: +45 MB per pairing change at 1.2e5 dofs)."""
+    1.2e5 dofs). Memory: a preconditioner replaced at a pairing change is destroyed before the next Newton iterate
+    (left to Python, petsc4py queued it for a collective destruction that never came: +45 MB per pairing change at
+    1.2e5 dofs)."""
     law = make_law("penalty", K=sphere.DEFAULT_K)
     runs = {}
     for name, options in (("exact", LINEAR_SOLVERS["iterative"]),
