@@ -133,6 +133,9 @@ with open(out / "scaling.csv", "w", newline="") as f:
 machine = {"cpus": os.cpu_count(), "load_average": os.getloadavg()}  # a loaded machine's timings are noisy
 (out / "scaling.json").write_text(json.dumps({"rows": rows, "slopes": slopes, "speedups": speedups,
                                               "machine": machine}, indent=1, default=float) + "\n")
+failed = [f"{r['scene']} level {r['level']} ranks {r['ranks']}" for r in rows if not r["converged"]]
+if len(failed) == len(rows):  # nothing to chart (a log axis of no data fails)
+    sys.exit(f"scaling.py: no run converged ({', '.join(failed)}): see each run's log.txt under {out}")
 fig, ax = figure()
 for scene in args.scenes:
     for n in args.ranks:

@@ -39,6 +39,7 @@ from scipy.spatial import cKDTree
 from .laws import LagrangeMultiplier, PenaltyMultiplier
 from .multipliers import TwoBodyMultiplier
 from .search import project, quadratic_normals, quadratic_shape
+from .sparse import aij_matrix
 
 __all__ = ["XI_MIN", "TIE", "collocated_surfaces", "CollocatedSurface"]
 
@@ -267,19 +268,12 @@ class CollocatedSurface(TwoBodyMultiplier):
         rows, cols, vals = (np.asarray(a) for a in self._entries[1])
         Wmap = self.u.function_space.dofmap.index_map
         sizes = ((Wmap.size_local, Wmap.size_global),) * 2
-        C = PETSc.Mat().createAIJ(sizes, comm=self.comm)
-        C.setPreallocationNNZ((40, 40))
-        C.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         keep = self._owned_rows(rows) & ~np.isin(rows, self._bc_array) & ~np.isin(cols, self._bc_array)
         rows, cols, vals = rows[keep], cols[keep], vals[keep]
-        if len(rows):
-            order = np.argsort(rows, kind="stable")
-            rows, cols, vals = rows[order], cols[order], vals[order]
-            urows, start = np.unique(rows, return_index=True)
-            indptr = np.append(start, len(rows)).astype(PETSc.IntType)
-            C.setValuesIJV(indptr, cols.astype(PETSc.IntType), vals, addv=PETSc.InsertMode.ADD_VALUES,
-                           rowmap=urows.astype(PETSc.IntType))
-        C.assemble()
+        # one entry per (row, column): the collocated entries summed
+        key, inverse = np.unique(rows.astype(np.int64) * sizes[1][1] + cols.astype(np.int64), return_inverse=True)
+        vals = np.bincount(inverse.ravel(), weights=vals, minlength=len(key))
+        C = aij_matrix(self.comm, sizes, key // sizes[1][1], key % sizes[1][1], vals)
         self._pattern_version += 1  # the collocation may change from one iterate to the next
         return C
 

@@ -150,6 +150,10 @@ class ContactProblem:
         # PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change: report it.
         return any([c.add_jacobian(A, self.bcs) for c in self.contacts])
 
+    def pattern_changes(self) -> bool:
+        """True when the next :meth:`J` will change ``A``'s nonzero pattern (a contact's pairing changed)."""
+        return any([c.pattern_changes() for c in self.contacts])
+
     def create_vector(self) -> PETSc.Vec:
         """A vector for :meth:`F` (the residual's layout)."""
         return fem_petsc.create_vector(self._L_parts[0])

@@ -24,7 +24,7 @@ from petsc4py import PETSc
 
 from . import failure as _failure
 from .capabilities import check, of
-from .compat import petsc_vec
+from .compat import petsc_vec, release_free_memory
 from .nullspace import rigid_body_modes
 from .problem import ContactProblem
 
@@ -244,12 +244,19 @@ class Solver:
     def _residual(self, snes, x, b):
         start = time.perf_counter()
         self.problem.F(x, b)
+        release_free_memory()  # the assembly's and the search's temporaries (see compat.release_free_memory)
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _jacobian(self, snes, x, A, P):
         start = time.perf_counter()
-        if self.problem.J(x, A):  # a contact's pairing changed A's pattern: factor from scratch
+        # A contact's pairing changes A's pattern: factor from scratch. The old hierarchy or factorization is
+        # freed first, not kept alongside the rebuilt matrix (the peak memory of a large two-body run).
+        renewed = self.problem.pattern_changes()
+        if renewed:
             self._renew_pc()
+        if self.problem.J(x, A) and not renewed:  # a pattern known only on assembly (collocated element)
+            self._renew_pc()
+        release_free_memory()  # before the preconditioner's set-up and the Krylov vectors
         self.timings["assembly_s"] += time.perf_counter() - start
 
     def _renew_pc(self) -> None:
@@ -559,6 +566,7 @@ class Solver:
                 # petsc4py (>= 3.18) defers destroying objects whose last Python reference is dropped to a
                 # per-communicator garbage list (destruction is collective): free it here, where every rank is.
                 PETSc.garbage_cleanup(self.problem.comm)
+                release_free_memory()
                 self.newton_spent += rec.newton_iterations
                 if rec.converged:
                     for c in self._stateful():

@@ -8,8 +8,9 @@ a surface that needs nothing at that point. Order of the calls in a load step (s
 1. ``bounds(t, like)`` on the ``bounded`` surfaces (SNES VI), ``forget_gap()`` on the ``augmentable`` ones.
 2. Every residual evaluation :meth:`ContactProblem.F <fenics_contact.problem.ContactProblem.F>`: ``prepare(problem)``
    with ``u`` at the iterate, the forms (with ``residual(v)`` compiled in once), then ``add_residual(b)``; every
-   Jacobian :meth:`ContactProblem.J <fenics_contact.problem.ContactProblem.J>`: the forms, then
-   ``add_jacobian(A, bcs)``. After every Newton iterate ``closed_points()`` (not ``bounded``: failure diagnosis).
+   Jacobian: ``pattern_changes()``, then :meth:`ContactProblem.J <fenics_contact.problem.ContactProblem.J>`:
+   the forms, then ``add_jacobian(A, bcs)``. After every Newton iterate ``closed_points()`` (not ``bounded``:
+   failure diagnosis).
 3. After a converged solve ``after_solve(problem)``; then, while augmenting, ``constraint_change()`` and
    ``augment()``.
 4. An accepted step: ``commit()``; a failed one: ``restore(state())`` of the snapshot taken before it.
@@ -95,6 +96,11 @@ class Surface(abc.ABC):
         """Add terms outside the problem's forms to the assembled residual ``b`` (owned entries, before the
         Dirichlet rows are set)."""
         return None  # a no-op unless a surface needs it
+
+    def pattern_changes(self) -> bool:
+        """True when the next :meth:`add_jacobian` will change ``A``'s nonzero pattern (known after
+        :meth:`prepare`): the solver then frees its preconditioner before the larger matrix is allocated."""
+        return False
 
     def add_jacobian(self, A: PETSc.Mat, bcs: list) -> bool:
         """Add blocks outside the problem's forms to the assembled Jacobian ``A`` (Dirichlet rows and columns
