@@ -25,6 +25,7 @@ from typing import Callable, Sequence
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .compat import petsc_library
 from .contact import QUADRATURES
 from .laws import METHODS, ContactLaw, make_law
 from .solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
@@ -337,16 +338,10 @@ def solver_options(args: argparse.Namespace) -> dict:
 def _petsc_used(name: str) -> bool:
     """Whether PETSc read option ``name`` (no dash) from its database: ``PetscOptionsUsed``, which petsc4py 3.18
     does not wrap, called in the PETSc library petsc4py has loaded (the same database)."""
-    global _LIB
-    if _LIB is None:  # petsc4py's extension module: dlsym also searches its dependency, the PETSc library
-        _LIB = ctypes.CDLL(PETSc.__file__)
     used = ctypes.c_int(0)  # PetscBool is a C enum
-    if _LIB.PetscOptionsUsed(None, name.encode(), ctypes.byref(used)) != 0:
+    if petsc_library().PetscOptionsUsed(None, name.encode(), ctypes.byref(used)) != 0:
         raise RuntimeError(f"PetscOptionsUsed failed for -{name}")
     return bool(used.value)
-
-
-_LIB = None
 
 
 def unused_petsc_options(later: Sequence[str] = ()) -> list[str]:

@@ -2,7 +2,8 @@
 
 Chosen by feature checks (does the attribute exist), never by version
 strings. Other modules import dolfinx only for calls that are the same in
-all supported versions. One C library call too (:func:`release_free_memory`).
+all supported versions. C library calls too: glibc's (:func:`release_free_memory`) and the PETSc ones that
+petsc4py 3.18 does not wrap (:func:`schur_complement`, :func:`petsc_library`).
 """
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import ctypes.util
 import typing
 
 import dolfinx.fem.petsc as fem_petsc
+import numpy as np
 from dolfinx import fem
 
 if typing.TYPE_CHECKING:
@@ -19,7 +21,7 @@ if typing.TYPE_CHECKING:
 __all__ = [
     "function_space", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "interpolate_expression", "cell_sizes",
     "entities_to_geometry", "cell_dofs", "cell_partitioner", "model_to_mesh", "create_mesh",
-    "release_free_memory"
+    "release_free_memory", "schur_complement", "petsc_library"
 ]
 
 
@@ -260,3 +262,75 @@ def release_free_memory() -> None:
     every residual and Jacobian, it took that run's peak from 1.76 to 1.54 GB (a few ms per call)."""
     if _MALLOC_TRIM is not None:
         _MALLOC_TRIM(0)
+
+
+def schur_complement(A: PETSc.Mat, rows: np.ndarray) -> np.ndarray:
+    """The dense Schur complement ``A_cc - A_ci A_ii^-1 A_ic`` onto the global rows and columns ``rows`` (in that
+    order), on every process, from one MUMPS factorization that eliminates every other dof (ICNTL(19)): about the
+    cost of one factorization, where one solve per row costs ``len(rows)`` triangular solves. PETSc does not hand
+    out MUMPS's distributed Schur complement: on more than one process the matrix is gathered on rank 0 (its
+    ``nnz`` entries once; a 2D stiffness of 1e5 dofs is ~25 MB), factored there and ``S`` broadcast.
+    ``MatFactorSetSchurIS`` and ``MatFactorCreateSchurComplement`` are called in the PETSc library that petsc4py
+    has loaded (petsc4py 3.18 does not wrap them)."""
+    from petsc4py import PETSc as _PETSc
+
+    comm = A.getComm()
+    if comm.getSize() == 1:
+        return _serial_schur(A, rows)
+    n = A.getSize()[0] if comm.getRank() == 0 else 0
+    whole = _PETSc.IS().createStride(n, 0, 1, comm=_PETSc.COMM_SELF)
+    (local,) = A.createSubMatrices(whole, whole)  # collective: the whole matrix on rank 0, nothing elsewhere
+    S = _serial_schur(local, rows) if comm.getRank() == 0 else None
+    local.destroy()
+    whole.destroy()
+    return comm.tompi4py().bcast(S, root=0)
+
+
+def _serial_schur(A: PETSc.Mat, rows: np.ndarray) -> np.ndarray:
+    """:func:`schur_complement` of a matrix on one process."""
+    from petsc4py import PETSc as _PETSc
+
+    lib = petsc_library()
+    n = len(rows)
+    pc = _PETSc.PC().create(_PETSc.COMM_SELF)
+    pc.setType("lu")
+    pc.setFactorSolverType("mumps")
+    pc.setOperators(A)
+    pc.setFactorSetUpSolverType()  # the factor matrix exists from here on, before its factorization
+    index = _PETSc.IS().createGeneral(np.asarray(rows, dtype=_PETSc.IntType), comm=_PETSc.COMM_SELF)
+    S, status = ctypes.c_void_p(), ctypes.c_int()
+    data = ctypes.POINTER(ctypes.c_double)()
+    try:
+        _check(lib.MatFactorSetSchurIS(ctypes.c_void_p(pc.getFactorMatrix().handle), ctypes.c_void_p(index.handle)),
+               "MatFactorSetSchurIS")
+        pc.setUp()
+        _check(lib.MatFactorCreateSchurComplement(ctypes.c_void_p(pc.getFactorMatrix().handle), ctypes.byref(S),
+                                                  ctypes.byref(status)), "MatFactorCreateSchurComplement")
+        _check(lib.MatDenseGetArrayRead(S, ctypes.byref(data)), "MatDenseGetArrayRead")
+        out = np.ctypeslib.as_array(data, shape=(n * n,)).reshape(n, n, order="F").copy() if n else np.zeros((0, 0))
+        _check(lib.MatDenseRestoreArrayRead(S, ctypes.byref(data)), "MatDenseRestoreArrayRead")
+    finally:
+        if S.value:
+            lib.MatDestroy(ctypes.byref(S))
+        index.destroy()
+        pc.destroy()
+    return out
+
+
+_PETSC_LIBRARY = None
+
+
+def petsc_library():
+    """petsc4py's extension module as a C library (for the few PETSc calls petsc4py 3.18 does not wrap): dlsym
+    also searches its dependency, the PETSc library."""
+    global _PETSC_LIBRARY
+    if _PETSC_LIBRARY is None:
+        from petsc4py import PETSc as _PETSc
+
+        _PETSC_LIBRARY = ctypes.CDLL(_PETSc.__file__)
+    return _PETSC_LIBRARY
+
+
+def _check(code: int, name: str) -> None:
+    if code != 0:
+        raise RuntimeError(f"PETSc {name} failed with error code {code}")

@@ -225,6 +225,7 @@ class Solver:
         self.records: list[StepRecord] = []
         self.failures: list[dict] = []  # every failed solve, also those rescued by a cutback
         self._history: list[float] = []
+        self._reference: float | None = None  # the rtol reference after a predictor (_convergence_test)
         self._sets: list = []  # active-set fingerprint per iterate of the current solve
         self._closed: list[int] = []
         self.t = 0.0
@@ -321,9 +322,11 @@ class Solver:
         pc.setFactorSolverType("mumps")
 
     def _convergence_test(self, snes: PETSc.SNES, it: int, norms: tuple[float, float, float]) -> int:
-        """PETSc's default test (``SNESConvergedDefault``: NaN, atol, rtol, stol) with one change: divergence is
+        """PETSc's default test (``SNESConvergedDefault``: NaN, atol, rtol, stol) with two changes: divergence is
         the residual above ``snes_divergence_tolerance`` times the first one *and* grown in each of the last two
-        iterations (see ``DEFAULT_OPTIONS``)."""
+        iterations (see ``DEFAULT_OPTIONS``); after a predictor, ``rtol`` is relative to the smaller of the first
+        residual and the out-of-balance of the last converged state at the new load (a predicted state far off,
+        residual 3e11, would otherwise pass at 3)."""
         xnorm, ynorm, fnorm = norms
         R = PETSc.SNES.ConvergedReason
         rtol, atol, stol, _ = snes.getTolerances()
@@ -338,7 +341,7 @@ class Solver:
         if it == 0:
             return R.CONVERGED_ITERATING
         r = self._norms
-        if fnorm <= rtol * r[0]:
+        if fnorm <= rtol * (r[0] if self._reference is None else min(r[0], self._reference)):
             return R.CONVERGED_FNORM_RELATIVE
         if ynorm < stol * xnorm:
             return R.CONVERGED_SNORM_RELATIVE
@@ -418,9 +421,17 @@ class Solver:
         augmentable = [c for c in self.problem.contacts if c.augmentable]
         for c in augmentable:
             c.forget_gap()
-        if self.predictor == "tangent" and not self._bounded and t != self.t:
+        tangent = self.predictor == "tangent" and not self._bounded and t != self.t
+        secant = self.predictor == "secant" and len(self._converged) == 2
+        self._reference = None
+        if tangent or secant:  # the relative tolerance refers to the out-of-balance of u_n at t (_convergence_test)
+            x = petsc_vec(self.problem.u).copy()
+            self._residual(self.snes, x, self.b)
+            self._reference = self.b.norm()
+            x.destroy()
+        if tangent:
             rec.predictor_scale = self._tangent_predictor(t)
-        elif self.predictor == "secant" and len(self._converged) == 2:
+        elif secant:
             (t0, u0), (t1, u1) = self._converged
             self.problem.u.x.array[:] = u1 + (t - t1) / (t1 - t0) * (u1 - u0)
         while True:
@@ -508,17 +519,21 @@ class Solver:
             return 0.0
 
         def slope(s: float) -> float:
+            """The energy's derivative along ``du`` at ``u_n + s du``; +inf where it has none (a non-finite
+            residual: an exploded two-body geometry), i.e. beyond the stationary point."""
             x.copy(r0)
             r0.axpy(s, du)
             self._residual(self.snes, r0, r1)
-            return r1.dot(du)
+            f = r1.dot(du)
+            return f if np.isfinite(f) else np.inf
 
         s, f0, f1 = 1.0, slope(0.0), slope(1.0)
         tol = PREDICTOR_ETA * abs(f0)
         if f0 < 0 < f1 and f1 > tol:  # the energy has a minimum inside: find it (bracket [a, b])
             a, fa, b, fb, side = 0.0, f0, 1.0, f1, 0
             for _ in range(30):
-                s = (a * fb - b * fa) / (fb - fa)
+                # an end beyond the geometry (an exploded two-body state: no slope) is halved towards
+                s = (a * fb - b * fa) / (fb - fa) if np.isfinite(fb) else (a + b) / 2
                 f = slope(s)
                 if abs(f) <= tol:
                     break

@@ -146,6 +146,41 @@ def test_two_identical_bodies_hertz_force_controlled():
     c = setup.contacts[0]
     roller = np.isclose(c.X[:, 0], 0.0)  # the slave vertex on the axis: u_x held, q = 0
     assert np.count_nonzero(roller) == 1 and c.friction_profile()["pressure"][roller][0] > 0
+    # The whole load in one step, without the spring (the vertex touching at rest holds the disk from the first
+    # iterate): frictionless exact contact has no path, so the same answer as the two steps.
+    one = hertz.build(fc.make_law("coulomb", mu=0.0), steps=1, **kw)
+    fc.Solver(one.problem, quiet=True).run(one.loads)
+    g = one.figures()
+    for k in ("total_force", "p0", "a"):
+        assert g[k] == pytest.approx(f[k], rel=1e-8), (k, g[k], f[k])
+    with pytest.raises(ValueError, match="steps >= 2"):  # a spring-held method cannot start without it
+        hertz.build(fc.make_law("penalty", K=2.5e4), steps=1, **kw)
+
+
+def test_schur_complement_is_the_dense_one():
+    """compat.schur_complement (MUMPS's partial factorization) against A_cc - A_ci A_ii^-1 A_ic in dense
+    algebra, rows in the order asked for (not sorted), on one process and, under mpirun, on a matrix distributed
+    over all (gathered on rank 0: the same S on every rank)."""
+    from petsc4py import PETSc
+
+    from fenics_contact.compat import schur_complement
+
+    n, rows = 40, np.array([31, 3, 17, 8])
+    rng = np.random.default_rng(0)
+    B = np.where(rng.random((n, n)) < 0.1, rng.random((n, n)), 0.0)
+    D = B @ B.T + n * np.eye(n)  # sparse-ish, symmetric positive definite
+    inner = np.setdiff1d(np.arange(n), rows)
+    expected = D[np.ix_(rows, rows)] - D[np.ix_(rows, inner)] @ np.linalg.solve(D[np.ix_(inner, inner)],
+                                                                                 D[np.ix_(inner, rows)])
+    for comm in (MPI.COMM_SELF, MPI.COMM_WORLD):
+        A = PETSc.Mat().createAIJ((n, n), comm=comm)
+        A.setUp()
+        lo, hi = A.getOwnershipRange()
+        A.setValues(range(lo, hi), range(n), D[lo:hi])
+        A.assemble()
+        S = schur_complement(A, rows)
+        A.destroy()
+        assert np.allclose(S, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max()), comm.size
 
 
 def test_rigid_force_controlled_is_condensed_at_each_stiffness():

@@ -59,3 +59,16 @@ def test_hertz_demo_at_its_defaults_passes_its_check(method, tmp_path_factory, c
     out = comm.bcast(str(tmp_path_factory.mktemp(method)) if comm.rank == 0 else None)
     summary = load("hertz").main(["--method", method, "--out", out, "--no-pictures", "--no-xdmf", "--quiet"])
     assert summary["check"]["passed"], summary["check"]
+
+
+def test_hertz_two_body_exact_in_one_step_from_the_demo(tmp_path_factory, comm):
+    """The two-body Hertz case of two identical bodies (the benchmark's options, hertz.TWO_BODY: force 10 from
+    rest) by the exact condensed method in one load step (no vanishing spring): p0 within 0.5 % of Hertz, the load
+    carried by the contact alone."""
+    from fenics_contact.scenes.hertz import TWO_BODY
+
+    out = comm.bcast(str(tmp_path_factory.mktemp("hertz_twobody")) if comm.rank == 0 else None)
+    summary = load("hertz").main([*TWO_BODY, "--method", "coulomb", "--steps", "1", "--out", out, "--no-pictures",
+                                  "--no-xdmf", "--quiet"])
+    assert summary["converged"] and summary["load_steps"] == 1
+    assert summary["p0_error"] < 5e-3 and summary["load_error"] < 1e-10, (summary["p0_error"], summary["load_error"])
