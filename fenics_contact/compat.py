@@ -275,6 +275,8 @@ def schur_complement(A: PETSc.Mat, rows: np.ndarray) -> np.ndarray:
     from petsc4py import PETSc as _PETSc
 
     comm = A.getComm()
+    if len(rows) == 0:  # nothing to condense onto (no contact dof)
+        return np.zeros((0, 0))
     if comm.getSize() == 1:
         return _serial_schur(A, rows)
     n = A.getSize()[0] if comm.getRank() == 0 else 0
@@ -307,7 +309,7 @@ def _serial_schur(A: PETSc.Mat, rows: np.ndarray) -> np.ndarray:
         _check(lib.MatFactorCreateSchurComplement(ctypes.c_void_p(pc.getFactorMatrix().handle), ctypes.byref(S),
                                                   ctypes.byref(status)), "MatFactorCreateSchurComplement")
         _check(lib.MatDenseGetArrayRead(S, ctypes.byref(data)), "MatDenseGetArrayRead")
-        out = np.ctypeslib.as_array(data, shape=(n * n,)).reshape(n, n, order="F").copy() if n else np.zeros((0, 0))
+        out = np.ctypeslib.as_array(data, shape=(n * n,)).reshape(n, n, order="F").copy()
         _check(lib.MatDenseRestoreArrayRead(S, ctypes.byref(data)), "MatDenseRestoreArrayRead")
     finally:
         if S.value:

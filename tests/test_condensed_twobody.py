@@ -179,8 +179,9 @@ def test_schur_complement_is_the_dense_one():
         A.setValues(range(lo, hi), range(n), D[lo:hi])
         A.assemble()
         S = schur_complement(A, rows)
-        A.destroy()
         assert np.allclose(S, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max()), comm.size
+        assert schur_complement(A, np.zeros(0, np.int64)).shape == (0, 0)  # no contact dof: nothing to factor
+        A.destroy()
 
 
 def test_rigid_force_controlled_is_condensed_at_each_stiffness():
