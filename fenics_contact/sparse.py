@@ -24,9 +24,13 @@ def aij_matrix(comm: MPI.Comm, sizes: tuple[tuple[int, int], tuple[int, int]], r
     rows, cols = np.asarray(rows, np.int64), np.asarray(cols, np.int64)
     order = np.lexsort((cols, rows))
     rows, cols, vals = rows[order], cols[order], np.asarray(vals, dtype=PETSc.ScalarType)[order]
-    first = comm.exscan(m_local) or 0  # this rank's first column of the diagonal block
+    # An entry is in its row owner's diagonal block when its column is in the owner's column range (rows of any
+    # rank: not this rank's range, which undercounted the owner's diagonal block and made it reallocate).
+    row_start = np.concatenate([[0], np.cumsum(comm.allgather(n_local))])
+    col_start = np.concatenate([[0], np.cumsum(comm.allgather(m_local))])
     urows, start, count = np.unique(rows, return_index=True, return_counts=True)
-    diag = ((cols >= first) & (cols < first + m_local)).astype(np.int64)
+    owner = np.searchsorted(row_start, rows, side="right") - 1
+    diag = ((cols >= col_start[owner]) & (cols < col_start[owner + 1])).astype(np.int64)
     nd = np.add.reduceat(diag, start) if len(start) else np.zeros(0, np.int64)
     nnz = []
     for c in (nd, count - nd):

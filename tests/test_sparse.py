@@ -48,3 +48,28 @@ def test_no_entries():
     A = aij_matrix(comm, ((4, 4 * comm.size), (3, 3 * comm.size)), np.zeros(0), np.zeros(0), np.zeros(0))
     assert A.getSize() == (4 * comm.size, 3 * comm.size) and A.norm() == 0.0
     A.destroy()
+
+
+def test_entries_given_only_by_other_ranks():
+    """Each rank gives only entries of rows another rank owns (as a slave facet's rows owned elsewhere): the owner
+    splits them into its diagonal and off-diagonal blocks by its own column range, not the giver's (the giver's
+    range undercounted the owner's diagonal block: a reallocation, an error in a two-body Jacobian on 2 ranks)."""
+    comm = MPI.COMM_WORLD
+    n_local, m_local = 6 + comm.rank, 4 + 3 * comm.rank
+    N, M = comm.allreduce(n_local), comm.allreduce(m_local)
+    first = comm.exscan(n_local) or 0
+    target = (comm.rank + 1) % comm.size  # the rank whose rows this rank fills
+    starts = np.concatenate([[0], np.cumsum(comm.allgather(n_local))])
+    rng = np.random.default_rng(11 + comm.rank)
+    rows = np.repeat(np.arange(starts[target], starts[target + 1]), M)
+    cols = np.tile(np.arange(M), starts[target + 1] - starts[target])  # every column: both blocks full
+    vals = 1.0 + rng.random(len(rows))
+    A = aij_matrix(comm, ((n_local, N), (m_local, M)), rows, cols, vals)
+    mine = A.getValues(range(first, first + n_local), range(M))
+    given = comm.allgather((rows, cols, vals))
+    dense = np.zeros((N, M))
+    for r, c, v in given:
+        np.add.at(dense, (r, c), v)
+    assert np.allclose(mine, dense[first:first + n_local])
+    assert A.getInfo()["mallocs"] == 0
+    A.destroy()
