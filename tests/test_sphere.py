@@ -165,12 +165,15 @@ def _probe_replaced_preconditioners(solver: Solver) -> dict:
 def test_sphere_on_block_inexact_newton():
     """The octant on the block (2e4 dofs) with GMRES + GAMG. To 1e-8, the iterate that pushes the undeformed ball
     through the block stops GMRES at 500 iterations (a failed solve, a cutback); inexact Newton (``INEXACT_NEWTON``)
-    solves it to its looser tolerance: no failed solve, fewer Newton iterations, and the same state: each in
-    equilibrium, the same contact radius, force and p0 within the pairing's hysteresis (another Newton path may
-    keep another master facet for a point between two: 1e-11 apart here, 8e-8 on the Debian 13 lane's mesh; 1e-3 at
-    1.2e5 dofs). Memory: a preconditioner replaced at a pairing change is destroyed before the next Newton iterate
-    (left to Python, petsc4py queued it for a collective destruction that never came: +45 MB per pairing change at
-    1.2e5 dofs)."""
+    solves it to its looser tolerance at a fraction of the Krylov iterations (241 against 1412 here; 1.5 to 11
+    times fewer on this scene's meshes at size 0.49 to 0.51 and approach +-1 %). Both end in equilibrium at the
+    same contact radius. Another Newton path may keep another master facet for a point between two (the pairing's
+    hysteresis): with the same pairing the two states are one to 1e-8; with another, measured on those meshes,
+    at most 3e-6 apart in force and 5.4e-4 in p0 (the mesh's p0 error against Hertz is 11 %). Whether the inexact
+    path needs no cutback at all depends on the rounding of the first iterates (a CI machine's run needed two):
+    not asserted. Memory: a preconditioner replaced at a pairing change is destroyed before the next Newton
+    iterate (left to Python, petsc4py queued it for a collective destruction that never came: +45 MB per pairing
+    change at 1.2e5 dofs)."""
     law = make_law("penalty", K=sphere.DEFAULT_K)
     runs = {}
     for name, options in (("exact", LINEAR_SOLVERS["iterative"]),
@@ -182,13 +185,15 @@ def test_sphere_on_block_inexact_newton():
         assert len(probes["replaced"]) >= 2 and not probes["alive"], (name, probes)
         f = setup.figures()
         assert solver.summary()["converged"] and np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
-        runs[name] = (f, [x["kind"] for x in solver.failures], solver.summary()["newton_iterations_spent"])
-    (exact, exact_failed, exact_newton), (inexact, inexact_failed, inexact_newton) = runs["exact"], runs["inexact"]
-    assert exact_failed and set(exact_failed) == {"linear_solve"} and inexact_failed == []
-    assert inexact_newton < exact_newton
+        runs[name] = (f, [x["kind"] for x in solver.failures], solver.linear_iterations, setup.contacts[0].pairing())
+    (exact, exact_failed, exact_krylov, exact_pairs), (inexact, _, inexact_krylov, inexact_pairs) = runs.values()
+    assert "linear_solve" in exact_failed
+    assert inexact_krylov < exact_krylov, (inexact_krylov, exact_krylov)
     assert inexact["a"] == exact["a"]
-    for k in ("total_force", "p0"):
-        assert np.isclose(inexact[k], exact[k], rtol=1e-6, atol=0), (k, inexact[k], exact[k])
+    repaired = MPI.COMM_WORLD.allreduce(int(np.count_nonzero(exact_pairs != inexact_pairs)))
+    tolerances = {"total_force": 1e-8, "p0": 1e-8} if repaired == 0 else {"total_force": 1e-5, "p0": 1e-3}
+    for k, rtol in tolerances.items():
+        assert np.isclose(inexact[k], exact[k], rtol=rtol, atol=0), (k, inexact[k], exact[k], repaired)
 
 
 def test_sphere_mesh_from_a_child_process_is_exact():
