@@ -41,6 +41,9 @@ def aij_matrix(comm: MPI.Comm, sizes: tuple[tuple[int, int], tuple[int, int]], r
         v.destroy()
     A = PETSc.Mat().createAIJ(sizes, comm=comm)
     A.setPreallocationNNZ((np.minimum(nnz[0], m_local), np.minimum(nnz[1], m_global - m_local)))
+    # PETSc forbids a new nonzero only where the count array is not empty; a rank without rows kept it allowed
+    # and took another collective than the others in MatAssemblyEnd (a deadlock): the same option on every rank.
+    A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
     if len(rows):
         indptr = np.append(start, len(rows)).astype(PETSc.IntType)
         A.setValuesIJV(indptr, cols.astype(PETSc.IntType), vals, addv=addv, rowmap=urows.astype(PETSc.IntType))

@@ -73,3 +73,22 @@ def test_entries_given_only_by_other_ranks():
     assert np.allclose(mine, dense[first:first + n_local])
     assert A.getInfo()["mallocs"] == 0
     A.destroy()
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.size < 2, reason="needs a rank without rows beside ranks with rows")
+def test_a_rank_without_rows():
+    """The last rank owns no row and no column (a partition that puts every body on other ranks, as the two-body
+    tests' ``by_body`` on 3 ranks): the same matrix, assembled on every rank. PETSc forbids new nonzeros only on
+    the ranks whose count array is not empty; MatAssemblyEnd then took another collective on the empty rank (an
+    all-reduce against the others' all-gather: a deadlock)."""
+    comm = MPI.COMM_WORLD
+    empty = comm.rank == comm.size - 1
+    n_local, m_local = (0, 0) if empty else (5, 4)
+    N, M = comm.allreduce(n_local), comm.allreduce(m_local)
+    rows = np.repeat(np.arange(N), M)  # every rank gives the whole matrix, the empty one included
+    cols = np.tile(np.arange(M), N)
+    vals = 1.0 + rows + 0.5 * cols
+    A = aij_matrix(comm, ((n_local, N), (m_local, M)), rows, cols, vals)
+    assert np.array_equal(_dense(A), comm.size * (1.0 + np.arange(N)[:, None] + 0.5 * np.arange(M)[None, :]))
+    assert A.getInfo()["mallocs"] == 0
+    A.destroy()
