@@ -41,7 +41,7 @@ docs: setup
 	$(PY) -m fenics_contact.capabilities > docs/capabilities.md
 
 lint: setup
-	$(VENV)/bin/ruff check fenics_contact demos tests
+	$(VENV)/bin/ruff check fenics_contact tests scripts
 
 test-serial: setup
 	ulimit -v $(MEM_CAP_KB) && $(PY) -m pytest -q tests

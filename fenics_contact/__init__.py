@@ -18,11 +18,11 @@ complete, tested example)::
 Every contact enforcement implements :class:`Surface` (the hooks the solver calls, declared once);
 a :class:`StepSolver` solves whole load steps instead of SNES (method ``coulomb``). Scenes of the
 benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :func:`write_summary`,
-:func:`run`. Submodules for the command line (:mod:`~fenics_contact.cli`), plots
-(:mod:`~fenics_contact.plotting`), meshes (:mod:`~fenics_contact.meshes`, gmsh imported only by the
+:func:`run`. Submodules for the command line (:mod:`~fenics_contact.app.cli`), plots
+(:mod:`~fenics_contact.app.plotting`), meshes (:mod:`~fenics_contact.app.meshes`, gmsh imported only by the
 builders that use it) and tables are public too. Importing the package does not import gmsh.
 """
-from . import bench, capabilities, checks, cli, compat, domain, failure, meshes, plotting, scenes, search, tables
+from . import capabilities, compat, domain, failure, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
 from .compat import function_space, interpolate_expression
@@ -52,8 +52,6 @@ from .nitsche import NitscheContact
 from .obstacles import Ball, Cylinder, HalfPlane, Obstacle, Sphere
 from .output import XDMFWriter, write_summary
 from .problem import ContactProblem, Dirichlet
-from .run import run
-from .scenes import Setup, build, scene_names
 from .solver import INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
 from .surface import StepSolver, Surface
 from .twobody import TwoBodySurface
@@ -80,13 +78,10 @@ __all__ = [
     "INEXACT_NEWTON",
     # spaces (the same call on every supported dolfinx)
     "function_space", "interpolate_expression",
-    # output and runs
-    "XDMFWriter", "write_summary", "run",
-    # benchmark scenes
-    "Setup", "build", "scene_names",
+    # output
+    "XDMFWriter", "write_summary",
     # the capability matrix: a refused combination of options (capabilities.check, docs/capabilities.md)
     "UnsupportedCombination",
     # public submodules
-    "bench", "capabilities", "checks", "cli", "compat", "domain", "failure", "meshes", "plotting", "scenes", "search",
-    "tables",
+    "capabilities", "compat", "domain", "failure", "search",
 ]

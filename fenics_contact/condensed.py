@@ -259,7 +259,7 @@ class _Condensation(StepSolver):
 
     def _stiffness_changed(self, problem) -> bool:
         """Re-assemble ``K`` at the step; True (and ``K`` replaced) if it differs from the condensed one beyond
-        round-off (a load-dependent stiffness, e.g. the vanishing spring of :class:`~fenics_contact.scenes.
+        round-off (a load-dependent stiffness, e.g. the vanishing spring of :class:`~fenics_contact.app.scenes.
         Stabilised`): the condensation is then redone for the step."""
         A = fem_petsc.assemble_matrix(problem.a)
         A.assemble()

@@ -16,9 +16,8 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .compat import entities_to_geometry, function_space, petsc_vec
-from .domain import tag_value
+from .domain import check_tags, tag_value
 from .laws import ContactLaw, ufl_ops
-from .meshes.rectangle import check_tags
 from .obstacles import Obstacle
 from .projection import SurfaceProjector
 from .surface import Surface

@@ -19,7 +19,7 @@ from typing import Mapping
 import numpy as np
 from mpi4py import MPI
 
-__all__ = ["NamedTags", "read_gmsh", "tag_value"]
+__all__ = ["NamedTags", "read_gmsh", "tag_value", "check_tags"]
 
 
 class NamedTags:
@@ -124,3 +124,17 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
             gmsh.finalize()
     tdim = mesh.topology.dim
     return mesh, NamedTags(cell_tags, names.get(tdim, {})), NamedTags(facet_tags, names.get(tdim - 1, {}))
+
+
+def check_tags(facet_tags, tags: Mapping[str, int] | None,
+               comm: MPI.Comm) -> None:
+    """Raise ValueError if a tag of ``tags`` (name -> value; default: every name of :class:`NamedTags`) marks
+    no facet on any rank."""
+    if tags is None:
+        tags = facet_tags.names
+    local = np.asarray(facet_tags.values)
+    present = sorted(set().union(*comm.allgather(set(np.unique(local).tolist()))))
+    for name, value in tags.items():
+        if comm.allreduce(int(np.count_nonzero(local == value)), op=MPI.SUM) == 0:
+            raise ValueError(f"facet tag {name!r}={value} is absent from the mesh; "
+                             f"tags present: {present}")

@@ -17,7 +17,8 @@ import numpy as np
 from mpi4py import MPI
 
 import fenics_contact as fc
-from fenics_contact.cli import LINEAR_SOLVERS
+import fenics_contact.app as app
+from fenics_contact.app.cli import LINEAR_SOLVERS
 from fenics_contact.twobody import TwoBodySurface
 
 SCENES = {
@@ -29,13 +30,13 @@ SCENES = {
 
 def measure(name: str, mode: str, level: int, quadrature: str) -> dict:
     scene, kw, K, solver = SCENES[name]
-    module = __import__(f"fenics_contact.scenes.{scene}", fromlist=["DEFAULT_K"])
+    module = __import__(f"fenics_contact.app.scenes.{scene}", fromlist=["DEFAULT_K"])
     K = K or module.DEFAULT_K
     TwoBodySurface.exchange = mode
     size_kw = {"refinement": level} if scene == "hertz" else {"level": level}
-    setup = fc.build(scene, law=fc.make_law("penalty", K=K), quadrature=quadrature, **size_kw, **kw)
+    setup = app.build(scene, law=fc.make_law("penalty", K=K), quadrature=quadrature, **size_kw, **kw)
     with tempfile.TemporaryDirectory() as out:
-        summary = fc.run(setup, out, "penalty", {"K": K}, quiet=True, options=dict(LINEAR_SOLVERS[solver]),
+        summary = app.run(setup, out, "penalty", {"K": K}, quiet=True, options=dict(LINEAR_SOLVERS[solver]),
                          xdmf=False)
     comm = setup.problem.comm
     stats = [c.exchange_stats() for c in setup.contacts]

@@ -15,9 +15,10 @@ import time
 from mpi4py import MPI
 
 import fenics_contact as fc
-from fenics_contact.cli import LINEAR_SOLVERS
+import fenics_contact.app as app
+from fenics_contact.app.cli import LINEAR_SOLVERS
+from fenics_contact.app.scenes import sphere
 from fenics_contact.nullspace import rigid_body_modes
-from fenics_contact.scenes import sphere
 from fenics_contact.solver import Solver
 
 
@@ -31,7 +32,7 @@ def main() -> None:
     comm = MPI.COMM_WORLD
     extra = dict(o.split("=", 1) for o in args.options)
     for modes in args.modes:
-        setup = fc.build("sphere", law=fc.make_law("penalty", K=sphere.DEFAULT_K), plate="meshed", level=args.level,
+        setup = app.build("sphere", law=fc.make_law("penalty", K=sphere.DEFAULT_K), plate="meshed", level=args.level,
                          size=args.size)
         solver = Solver(setup.problem, quiet=True, options={**LINEAR_SOLVERS["iterative"], **extra})
         if modes == "bodies":  # the solver sets the union's modes

@@ -18,7 +18,8 @@ import numpy as np
 from mpi4py import MPI
 
 import fenics_contact as fc
-from fenics_contact.cli import LINEAR_SOLVERS
+import fenics_contact.app as app
+from fenics_contact.app.cli import LINEAR_SOLVERS
 
 SCENES = {
     "hertz_twobody": ("hertz", dict(plate="meshed", E=200.0, nu=0.3, R=8.0, load=10.0, plate_E=200.0,
@@ -52,15 +53,15 @@ def main() -> None:
 
 def measure(name: str, args, comm) -> None:
     scene, kw, K, solver = SCENES[name]
-    module = __import__(f"fenics_contact.scenes.{scene}", fromlist=["DEFAULT_K"])
+    module = __import__(f"fenics_contact.app.scenes.{scene}", fromlist=["DEFAULT_K"])
     K = K or module.DEFAULT_K
     size_kw = {"refinement": args.level} if scene == "hertz" else {"level": args.level}
-    setup = fc.build(scene, law=fc.make_law("penalty", K=K), quadrature="segment", **size_kw, **kw)
+    setup = app.build(scene, law=fc.make_law("penalty", K=K), quadrature="segment", **size_kw, **kw)
     problem = setup.problem
     c = setup.contacts[0]
     if args.pressed is None:
         with tempfile.TemporaryDirectory() as out:
-            summary = fc.run(setup, out, "penalty", {"K": K}, quiet=True, options=dict(LINEAR_SOLVERS[solver]),
+            summary = app.run(setup, out, "penalty", {"K": K}, quiet=True, options=dict(LINEAR_SOLVERS[solver]),
                              xdmf=False)
     else:  # a rigid motion of the upper body into the lower one: contact pairs without a solve
         V = problem.u.function_space

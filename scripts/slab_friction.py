@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
+from fenics_contact.app.scenes import build, slab
 from fenics_contact.friction import Friction
 from fenics_contact.laws import AugmentedLagrangian, Coulomb, NormalCompliance
-from fenics_contact.scenes import build, slab
 from fenics_contact.solver import ConvergenceError, Solver
 
 OPTIONS = {"snes_linesearch_type": "bt", "snes_max_it": 200, "snes_rtol": 1e-10}

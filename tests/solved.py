@@ -6,11 +6,12 @@ from typing import Callable
 from mpi4py import MPI
 
 import fenics_contact as fc
+import fenics_contact.app as app
 
 _CACHE: dict = {}
 
 
-def solved(name: str, build: Callable[[MPI.Comm], fc.Setup], comm: MPI.Comm = MPI.COMM_WORLD,
+def solved(name: str, build: Callable[[MPI.Comm], app.Setup], comm: MPI.Comm = MPI.COMM_WORLD,
            converged: bool = True, **solver_options) -> tuple:
     """``(setup, solver, figures)`` of ``build(comm)`` run over its loads by ``fc.Solver(problem, quiet=True,
     **solver_options)``, cached under ``(name, comm.size)``; ``converged``: assert that every step converged."""

@@ -12,6 +12,7 @@ import pytest
 from mpi4py import MPI
 
 import fenics_contact as fc
+import fenics_contact.app as app
 
 PACKAGE = Path(fc.__file__).parent
 
@@ -57,16 +58,18 @@ def test_all_names_resolve():
     missing = [n for n in fc.__all__ if not hasattr(fc, n)]
     assert not missing, missing
     for needed in ("ContactProblem", "Dirichlet", "Solver", "ConvergenceError", "make_law", "contact_surface",
-                   "two_body_surfaces", "unknown", "Surface", "StepSolver", "XDMFWriter", "write_summary", "run",
-                   "build", "scene_names", "Setup", "LinearElastic", "HalfPlane", "cli"):
+                   "two_body_surfaces", "unknown", "Surface", "StepSolver", "XDMFWriter", "write_summary",
+                   "LinearElastic", "HalfPlane"):
         assert needed in fc.__all__, needed
+    for needed in ("build", "scene_names", "Setup", "run", "cli"):  # the application's entry points
+        assert needed in app.__all__ and hasattr(app, needed), needed
 
 
 def test_every_public_module_declares_all():
     """Every module (no ``_`` in its dotted name) has ``__all__``, and its names exist."""
     for name in _modules():
-        if any(part.startswith("_") for part in name.split(".")):
-            continue
+        if any(part.startswith("_") for part in name.split(".")) or name.startswith("fenics_contact.app.demos."):
+            continue  # private, or a program (the demos)
         module = importlib.import_module(name)
         assert isinstance(getattr(module, "__all__", None), list), f"{name} has no __all__"
         missing = [n for n in module.__all__ if not hasattr(module, n)]
@@ -103,13 +106,26 @@ def test_no_import_cycle():
             visit(n, [n])
 
 
-def test_import_does_not_load_gmsh():
-    code = "import sys, fenics_contact; assert 'gmsh' not in sys.modules, 'gmsh imported'; print('ok')"
+def test_core_never_imports_the_application():
+    """No module of the library (``fenics_contact`` outside ``fenics_contact.app``) imports a module of the
+    application, anywhere in its source (top level, functions, TYPE_CHECKING)."""
+    modules = _modules()
+    core = {n: p for n, p in modules.items() if not (n + ".").startswith("fenics_contact.app.")}
+    assert "fenics_contact.solver" in core and "fenics_contact.app.bench" not in core
+    edges = [(n, m) for n, p in core.items() for m in _imports(n, p, modules)
+             if (m + ".").startswith("fenics_contact.app.")]
+    assert not edges, edges
+
+
+def test_import_loads_no_application_module():
+    """``import fenics_contact`` loads the library alone: no plotting, mesher, scene or benchmark module."""
+    code = ("import sys, fenics_contact; print(sorted(m for m in sys.modules if m.split('.')[0] in "
+            "('matplotlib', 'pyvista', 'gmsh') or '.bench' in m or '.scenes' in m or m.startswith('fenics_contact.app')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env={k: v for k, v in __import__("os").environ.items()
                               if not k.startswith(("OMPI_", "PMIX_", "PMI_"))})
     # the last line: an MPI transport may print its own noise first (UCX in the Debian 13 root)
-    assert out.returncode == 0 and out.stdout.strip().splitlines()[-1] == "ok", out.stderr
+    assert out.returncode == 0 and out.stdout.strip().splitlines()[-1] == "[]", (out.stdout, out.stderr)
 
 
 @pytest.mark.parametrize("method", ["vi", "auglag", "lagrange", "coulomb"])
@@ -147,7 +163,7 @@ def test_coulomb_without_its_step_solver_is_refused():
     """A surface that needs a step solver in a problem without one: a one-line ValueError before any solve."""
     from dolfinx import fem
 
-    mesh, _, tags = fc.meshes.rectangle(MPI.COMM_WORLD, 1.0, 1.0, 2, 2)
+    mesh, _, tags = app.meshes.rectangle(MPI.COMM_WORLD, 1.0, 1.0, 2, 2)
     u = fem.Function(fc.function_space(mesh, "Lagrange", 1, (2,)))
     load = fem.Constant(mesh, 0.0)
     contact = fc.contact_surface(u, tags, "bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), fc.Coulomb(0.3),
@@ -159,7 +175,7 @@ def test_coulomb_without_its_step_solver_is_refused():
 def test_problem_residual_and_jacobian_are_public(tangent_check):
     """``ContactProblem.F`` / ``J`` (dolfinx's NonlinearProblem signatures) at a state: the Jacobian matches a
     central difference of the residual (penalty law, closed contact)."""
-    setup = fc.build("block", law=fc.make_law("penalty", K=1e4))
+    setup = app.build("block", law=fc.make_law("penalty", K=1e4))
     problem = setup.problem
     solver = fc.Solver(problem, quiet=True)
     solver.run(setup.loads)
@@ -174,7 +190,7 @@ def test_problem_residual_and_jacobian_are_public(tangent_check):
 def test_demos_import_public_names_only():
     """Every ``from fenics_contact[.module] import name`` in the demos (anywhere in the file) names a public
     module's ``__all__`` entry or a public submodule."""
-    for path in sorted((PACKAGE.parent / "demos").glob("*.py")):
+    for path in sorted((PACKAGE / "app" / "demos").glob("*.py")):
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("fenics_contact"):
                 assert not any(p.startswith("_") for p in node.module.split(".")), (path.name, node.module)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
-from fenics_contact import bench
+from fenics_contact.app import bench
 
 
 def test_pareto_front_hand_made():
@@ -73,8 +73,8 @@ def test_friction_scene_specs(tmp_path):
     """The two-body friction scenes (issue #17) declare an entry: the friction-capable laws the capability matrix
     offers on their axes, a K sweep around the scene's default; mindlin3d on the tests' coarse contact mesh, one
     ratio; mindlin with the exact condensed Coulomb law once (no --K)."""
+    from fenics_contact.app.scenes import ironing, mindlin, mindlin3d
     from fenics_contact.capabilities import supported
-    from fenics_contact.scenes import ironing, mindlin, mindlin3d
 
     assert {"ironing", "mindlin", "mindlin3d"} <= set(bench.bench_scenes())
     for scene, module in (("ironing", ironing), ("mindlin", mindlin), ("mindlin3d", mindlin3d)):
@@ -125,7 +125,7 @@ def test_ring_through_the_scene_runner(tmp_path):
     augmentation cycles after the first augmentation, cross-constraints converges; no error figure."""
     out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
     runs = [bench.run_config("penalty", 1e5, 1), bench.run_config("cross", 1e5, 1)]
-    assert bench.command("ring", runs[0], out)[1:4] == ["-m", "fenics_contact.bench", "--run-scene"]
+    assert bench.command("ring", runs[0], out)[1:4] == ["-m", "fenics_contact.app.bench", "--run-scene"]
     penalty, cross = bench.bench("ring", out, runs, quiet=True)
     assert not penalty["converged"] and cross["converged"] and cross["augmentations"] == 1
     assert math.isnan(cross["error"]) and cross["plate_force"] > 0

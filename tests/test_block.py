@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
+from fenics_contact.app.scenes import block
 from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty, make_law
-from fenics_contact.scenes import block
 from fenics_contact.solver import Solver
 
 EXACT = block.EXACT_PRESSURE

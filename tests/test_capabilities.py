@@ -45,9 +45,9 @@ from scipy.optimize import brentq
 
 import fenics_contact as fc
 from fenics_contact import capabilities as cap
-from fenics_contact.meshes import rectangle, stacked_blocks
-from fenics_contact.meshes.rectangle import tag_boundary
-from fenics_contact.scenes.patch import uniform_stretches
+from fenics_contact.app.meshes import rectangle, stacked_blocks
+from fenics_contact.app.meshes.rectangle import tag_boundary
+from fenics_contact.app.scenes.patch import uniform_stretches
 
 E, NU, H, MU = 1000.0, 0.3, 1.0, 0.2
 K = 1e6  # penalty-type laws: the regularized closed form includes the penetration p / K
@@ -329,7 +329,7 @@ def test_two_pass_coinciding_points_carry_the_one_pass_pressure(monkeypatch):
     """Two passes whose slave points coincide (matching meshes, no initial overlap): every point of both passes
     carries the applied pressure. (With the node-on-node exclusion the first pass alone carried it at weight
     1/2: pressure 2 P, the +98 % p0 of a two-body Hertz case with a node on the axis in both meshes.)"""
-    from fenics_contact.scenes import build, patch
+    from fenics_contact.app.scenes import build, patch
 
     monkeypatch.setattr(patch, "OVERLAP", 0.0)
     for quadrature in ("nodal", "gauss"):  # compliance: stiffness at g = 0, the blocks only touch at the start
@@ -345,7 +345,7 @@ def test_solver_refuses_an_iterative_solve_it_cannot_do(method):
     """The linear solver is known only to the Solver: it refuses GAMG for SNES VI's changing reduced system, with
     the documented one-line error, before any assembly. (The multipliers' saddle point has its own iterative
     solve: the Schur complement field split, tests/test_sheet.py.)"""
-    from fenics_contact.scenes import build
+    from fenics_contact.app.scenes import build
 
     setup = build("block", law=fc.make_law(method), nx=2, ny=2)
     with pytest.raises(cap.UnsupportedCombination, match=f"{method}, iterative solver"):

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 from mpi4py import MPI
 
-from fenics_contact import cli
-from fenics_contact.checks import check
+from fenics_contact.app import cli
+from fenics_contact.app.checks import check
 
 ROOT = Path(__file__).resolve().parent.parent
 NOISE = ("hwloc/linux:", "[")  # hwloc's warning; UCX's "[<time>] [<host>] ... UCX ERROR" lines

@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+from fenics_contact.app.scenes import build
 from fenics_contact.laws import LagrangeMultiplier, Penalty, PenaltyMultiplier
-from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
 
 

@@ -11,9 +11,10 @@ from dolfinx import fem
 from mpi4py import MPI
 
 import fenics_contact as fc
+import fenics_contact.app as app
+from fenics_contact.app.meshes import stacked_blocks
+from fenics_contact.app.scenes import mindlin
 from fenics_contact.condensed import OPEN, SLIP, STICK
-from fenics_contact.meshes import stacked_blocks
-from fenics_contact.scenes import mindlin
 
 from solved import solved
 
@@ -21,7 +22,7 @@ MU = 0.3
 
 
 def _build(comm):
-    setup = fc.build("mindlin", law=fc.make_law("coulomb", mu=MU), comm=comm)
+    setup = app.build("mindlin", law=fc.make_law("coulomb", mu=MU), comm=comm)
     assert isinstance(setup.contacts[0], fc.CondensedTwoBody)
     assert isinstance(setup.problem.step_solver, fc.CondensedTwoBodyCoulomb)
     return setup
@@ -132,7 +133,7 @@ def test_two_identical_bodies_hertz_force_controlled():
     condensed again), slave and master vertices on the symmetry axis with u_x = 0 (no friction force there).
     The contact force is the load (1e-10: the spring is gone at t = 1) and p0, a are Hertz's with
     E* = E / (2 (1 - nu^2)) (as the multipliers: p0 within 0.5 %, a within 1 %)."""
-    from fenics_contact.scenes import hertz
+    from fenics_contact.app.scenes import hertz
 
     kw = dict(plate="meshed", E=200.0, nu=0.3, R=8.0, load=10.0, plate_E=200.0, plate_width=16.0, plate_depth=16.0)
     setup = hertz.build(fc.make_law("coulomb", mu=0.0), **kw)
@@ -188,7 +189,7 @@ def test_rigid_force_controlled_is_condensed_at_each_stiffness():
     """The shared condensation, rigid obstacle: Hertz force-controlled from rest (the vanishing spring changes
     the stiffness between steps). The contact force is the load (1e-10) and p0 Hertz's (0.5 %); a stiffness
     condensed once, at the first step, missed the load by 80 %."""
-    from fenics_contact.scenes import hertz
+    from fenics_contact.app.scenes import hertz
 
     setup = hertz.build(fc.make_law("coulomb", mu=0.0), load=10.0, E=200.0, R=8.0)
     solver = fc.Solver(setup.problem, quiet=True)

@@ -65,7 +65,7 @@ def test_hertz_two_body_exact_in_one_step_from_the_demo(tmp_path_factory, comm):
     """The two-body Hertz case of two identical bodies (the benchmark's options, hertz.TWO_BODY: force 10 from
     rest) by the exact condensed method in one load step (no vanishing spring): p0 within 0.5 % of Hertz, the load
     carried by the contact alone."""
-    from fenics_contact.scenes.hertz import TWO_BODY
+    from fenics_contact.app.scenes.hertz import TWO_BODY
 
     out = comm.bcast(str(tmp_path_factory.mktemp("hertz_twobody")) if comm.rank == 0 else None)
     summary = load("hertz").main([*TWO_BODY, "--method", "coulomb", "--steps", "1", "--out", out, "--no-pictures",

@@ -8,7 +8,7 @@ from mpi4py import MPI
 
 from fenics_contact.domain import read_gmsh
 
-GEO = Path(__file__).parents[1] / "meshes" / "half_disk.geo"
+GEO = Path(__file__).parents[1] / "fenics_contact" / "app" / "geo" / "half_disk.geo"
 
 
 def test_names_from_physical_groups():

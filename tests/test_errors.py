@@ -7,14 +7,14 @@ import pytest
 from dolfinx import fem
 from mpi4py import MPI
 
+from fenics_contact.app.meshes import rectangle
+from fenics_contact.app.run import run
+from fenics_contact.app.scenes import block
 from fenics_contact.compat import function_space
 from fenics_contact.contact import ContactSurface
 from fenics_contact.laws import Penalty
 from fenics_contact.materials import LinearElastic
-from fenics_contact.meshes import rectangle
 from fenics_contact.obstacles import Ball, HalfPlane
-from fenics_contact.run import run
-from fenics_contact.scenes import block
 from fenics_contact.solver import ConvergenceError
 
 

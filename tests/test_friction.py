@@ -6,16 +6,16 @@ import ufl
 from dolfinx import fem, mesh
 from mpi4py import MPI
 
-from fenics_contact import cli
+from fenics_contact.app import cli
+from fenics_contact.app.meshes import rectangle
+from fenics_contact.app.scenes import build
 from fenics_contact.compat import function_space
 from fenics_contact.factory import contact_surface
 from fenics_contact.friction import OPEN, SLIP, STICK, Friction
 from fenics_contact.laws import CrossConstraints, Exact, NormalCompliance, Penalty, ufl_ops
 from fenics_contact.materials import LinearElastic
-from fenics_contact.meshes import rectangle
 from fenics_contact.obstacles import HalfPlane
 from fenics_contact.problem import ContactProblem, Dirichlet
-from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
 
 LAWS = [Friction(NormalCompliance(5e5, 1.5), mu=0.3, omega_t=1e5),
@@ -293,7 +293,7 @@ def _slab_exact(mu):
 
 
 def _slab(law, comm=MPI.COMM_WORLD):
-    from fenics_contact.scenes import slab
+    from fenics_contact.app.scenes import slab
 
     setup = build("slab", law=law, comm=comm)
     solver = Solver(setup.problem, quiet=True, options=SLAB_OPTIONS)

@@ -7,8 +7,8 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from fenics_contact import meshes
-from fenics_contact.meshes.gmshutil import geo_path
+from fenics_contact.app import meshes
+from fenics_contact.app.meshes.gmshutil import geo_path
 
 comm = MPI.COMM_WORLD
 SOURCES = ("hertz", "pin", "sheet", "rings", "two_disks", "sphere", "seal", "half_disk", "mindlin3d")

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
+from fenics_contact.app.scenes import hertz
 from fenics_contact.laws import AugmentedLagrangian, CrossConstraints
-from fenics_contact.scenes import hertz
 from fenics_contact.solver import Solver
 
 

@@ -11,7 +11,8 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 import fenics_contact as fc
-from fenics_contact.scenes import ironing
+import fenics_contact.app as app
+from fenics_contact.app.scenes import ironing
 
 from solved import solved
 
@@ -27,7 +28,7 @@ def _law():
 
 def _run(comm=MPI.COMM_WORLD):
     """The short drag solved (once per communicator size): setup, solver, figures (convergence is a test)."""
-    return solved("ironing short drag", lambda c: fc.build("ironing", law=_law(), comm=c, **SHORT), comm,
+    return solved("ironing short drag", lambda c: app.build("ironing", law=_law(), comm=c, **SHORT), comm,
                   converged=False, predictor=ironing.PREDICTOR)
 
 
@@ -99,10 +100,10 @@ def test_parallel_equals_serial():
 
 def test_bad_input():
     with pytest.raises(ValueError, match="theta must be in"):
-        fc.build("ironing", law=_law(), theta=120.0)
+        app.build("ironing", law=_law(), theta=120.0)
     with pytest.raises(ValueError, match="depth must be below"):
-        fc.build("ironing", law=_law(), depth=0.6)
+        app.build("ironing", law=_law(), depth=0.6)
     with pytest.raises(ValueError, match="Coulomb friction law with mu > 0"):
-        fc.build("ironing", law=fc.make_law("penalty", K=1e5))
+        app.build("ironing", law=fc.make_law("penalty", K=1e5))
     with pytest.raises(ValueError, match="drag_steps must be an integer"):
-        fc.build("ironing", law=_law(), drag_steps=0)
+        app.build("ironing", law=_law(), drag_steps=0)

@@ -15,14 +15,14 @@ from fenics_contact import (
     NamedTags,
     NeoHookean,
     Solver,
-    build,
     contact_surface,
     function_space,
     make_law,
 )
-from fenics_contact.meshes import stacked_blocks
-from fenics_contact.scenes import block, slab
-from fenics_contact.scenes.patch import uniform_stretches
+from fenics_contact.app import build
+from fenics_contact.app.meshes import stacked_blocks
+from fenics_contact.app.scenes import block, slab
+from fenics_contact.app.scenes.patch import uniform_stretches
 
 # nu (1 + nu) / E equal (equal lateral stretch in linear plane strain): nu_upper for E 1000 / 200, nu_lower 0.45
 NU_MATCHED = (-1.0 + np.sqrt(1.0 + 4.0 * 0.45 * 1.45 / 5.0)) / 2.0

@@ -1,4 +1,4 @@
-"""Tests of fenics_contact.meshes (serial and under mpirun)."""
+"""Tests of fenics_contact.app.meshes (serial and under mpirun)."""
 from __future__ import annotations
 
 import math
@@ -10,7 +10,7 @@ from dolfinx import fem
 from dolfinx.mesh import compute_midpoints
 from mpi4py import MPI
 
-from fenics_contact import meshes
+from fenics_contact.app import meshes
 from fenics_contact.compat import cell_sizes
 
 comm = MPI.COMM_WORLD

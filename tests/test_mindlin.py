@@ -9,15 +9,16 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 import fenics_contact as fc
+import fenics_contact.app as app
+from fenics_contact.app.scenes import mindlin
 from fenics_contact.friction import SLIP, STICK
-from fenics_contact.scenes import mindlin
 
 from solved import solved
 
 
 def _build(comm):
     law = fc.Friction(fc.make_law("penalty", K=mindlin.DEFAULT_K), mu=0.3, omega_t=mindlin.DEFAULT_OMEGA_T)
-    return fc.build("mindlin", law=law, comm=comm)
+    return app.build("mindlin", law=law, comm=comm)
 
 
 def _run(comm=MPI.COMM_WORLD):

@@ -9,8 +9,9 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 import fenics_contact as fc
+import fenics_contact.app as app
+from fenics_contact.app.scenes import mindlin3d
 from fenics_contact.friction import SLIP, STICK
-from fenics_contact.scenes import mindlin3d
 
 from solved import solved
 
@@ -20,7 +21,7 @@ RATIO = 0.5
 
 def _build(comm):
     law = fc.Friction(fc.make_law("penalty", K=mindlin3d.DEFAULT_K), mu=0.3, omega_t=mindlin3d.default_omega_t(0, H))
-    return fc.build("mindlin3d", law=law, ratios=(RATIO,), h_contact=H, comm=comm)
+    return app.build("mindlin3d", law=law, ratios=(RATIO,), h_contact=H, comm=comm)
 
 
 def _run(comm=MPI.COMM_WORLD):
@@ -80,11 +81,11 @@ def test_stick_radii_on_rays():
 def test_bad_input_is_refused():
     law = fc.Friction(fc.make_law("penalty", K=1e6), mu=0.3, omega_t=1e6)
     with pytest.raises(ValueError, match="ratios"):
-        fc.build("mindlin3d", law=law, ratios=(0.5, 0.2))
+        app.build("mindlin3d", law=law, ratios=(0.5, 0.2))
     with pytest.raises(ValueError, match="cap_height"):
-        fc.build("mindlin3d", law=law, cap_height=1.5)
+        app.build("mindlin3d", law=law, cap_height=1.5)
     with pytest.raises(ValueError, match="mu > 0"):
-        fc.build("mindlin3d", law=fc.make_law("penalty", K=1e6))
+        app.build("mindlin3d", law=fc.make_law("penalty", K=1e6))
 
 
 @pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="compares a parallel run with the serial one")

@@ -1,8 +1,8 @@
 """Model reduction on hertz: the quarter disk and the half disk solve the same problem."""
 import numpy as np
 
+from fenics_contact.app.scenes import hertz
 from fenics_contact.laws import make_law
-from fenics_contact.scenes import hertz
 from fenics_contact.solver import Solver
 
 

@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+from fenics_contact.app.scenes import block, build
 from fenics_contact.laws import Exact, LagrangeMultiplier
-from fenics_contact.scenes import block, build
 from fenics_contact.solver import Solver
 
 
@@ -86,8 +86,8 @@ def test_bad_input():
 
 
 def solve_cylinders(method, comm=MPI.COMM_WORLD, augment_max=0, **params):
+    from fenics_contact.app.scenes import cylinders
     from fenics_contact.laws import make_law
-    from fenics_contact.scenes import cylinders
 
     setup = build("cylinders", law_factory=lambda: make_law(method, **params), quadrature="nodal", passes="one",
                   loads=[cylinders.T_HERTZ], comm=comm)

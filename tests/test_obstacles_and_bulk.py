@@ -5,13 +5,13 @@ import ufl
 from dolfinx import fem, mesh
 from mpi4py import MPI
 
+from fenics_contact.app.scenes import block
 from fenics_contact.compat import function_space
 from fenics_contact.contact import ContactSurface
 from fenics_contact.laws import CrossConstraints, Penalty
 from fenics_contact.materials import LinearElastic
 from fenics_contact.obstacles import Cylinder, HalfPlane, Sphere
 from fenics_contact.problem import ContactProblem, Dirichlet
-from fenics_contact.scenes import block
 from fenics_contact.solver import Solver
 
 
@@ -89,7 +89,7 @@ def test_neohookean_block_tends_to_linear_at_small_strain():
 @pytest.mark.parametrize("law", [Penalty(1e5), CrossConstraints(1e5, 0.0)], ids=["penalty", "cross"])
 def test_moving_rigid_cylinder_indents_a_block(law):
     """A rigid disk (R = 1) moved 0.02 into an elastic block: curved gap of x + u, equilibrium, Newton rate."""
-    from fenics_contact.meshes import rectangle
+    from fenics_contact.app.meshes import rectangle
 
     comm = MPI.COMM_WORLD
     msh, _, tags = rectangle(comm, 1.0, 1.0, 20, 20)

@@ -6,8 +6,8 @@ serially it checks that the solve is deterministic.
 import pytest
 from mpi4py import MPI
 
+from fenics_contact.app.scenes import build
 from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Exact
-from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
 
 

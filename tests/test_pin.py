@@ -11,9 +11,9 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from fenics_contact import meshes
+from fenics_contact.app import meshes
+from fenics_contact.app.scenes import pin
 from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Exact
-from fenics_contact.scenes import pin
 from fenics_contact.solver import Solver
 
 

@@ -2,8 +2,8 @@
 step; a bad predictor name is refused."""
 import pytest
 
+from fenics_contact.app.scenes import build
 from fenics_contact.laws import Penalty
-from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
 
 

@@ -3,8 +3,8 @@ cross-constraints converges."""
 import numpy as np
 import pytest
 
+from fenics_contact.app.scenes import build, ring
 from fenics_contact.laws import CrossConstraints, Penalty
-from fenics_contact.scenes import build, ring
 from fenics_contact.solver import ConvergenceError, Solver
 
 BASIC = {"snes_linesearch_type": "basic"}  # the paper's plain Newton

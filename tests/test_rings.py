@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+from fenics_contact.app.scenes import build, rings
 from fenics_contact.laws import LagrangeMultiplier, Penalty
-from fenics_contact.scenes import build, rings
 from fenics_contact.solver import Solver
 
 
@@ -119,5 +119,5 @@ def test_bad_input():
         with pytest.raises(ValueError, match=match):
             build("rings", law=law, **kw)
     with pytest.raises(ValueError, match="radii"):
-        from fenics_contact.meshes.rings import concentric_rings
+        from fenics_contact.app.meshes.rings import concentric_rings
         concentric_rings(MPI.COMM_WORLD, a=0.7)

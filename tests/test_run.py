@@ -1,9 +1,9 @@
 """The run plumbing: summary.json has the documented figures, reduced over ranks, and a sane time split."""
 import json
 
+from fenics_contact.app.run import run
+from fenics_contact.app.scenes import build
 from fenics_contact.laws import CrossConstraints
-from fenics_contact.run import run
-from fenics_contact.scenes import build
 
 
 def test_summary_has_the_documented_keys(tmp_path_factory, comm):

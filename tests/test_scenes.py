@@ -5,8 +5,8 @@ import importlib
 
 import pytest
 
+from fenics_contact.app.scenes import add_scene_options, build, numeric_parameters, scene_arguments
 from fenics_contact.laws import make_law
-from fenics_contact.scenes import add_scene_options, build, numeric_parameters, scene_arguments
 
 # scene -> its module constants that are now build arguments with those defaults
 CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"},  # stabilisation: None (by plate)
@@ -30,14 +30,14 @@ CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"}, 
 
 @pytest.mark.parametrize("scene", sorted(CONSTANTS))
 def test_constants_are_build_arguments(scene):
-    module = importlib.import_module(f"fenics_contact.scenes.{scene}")
+    module = importlib.import_module(f"fenics_contact.app.scenes.{scene}")
     params = numeric_parameters(module.build)
     for arg, constant in CONSTANTS[scene].items():
         assert params[arg] == getattr(module, constant), (scene, arg)
 
 
 def test_demo_options_from_the_builder():
-    from fenics_contact.scenes import hertz
+    from fenics_contact.app.scenes import hertz
 
     p = argparse.ArgumentParser()
     p.add_argument("--mu", type=float, default=0.0)  # a shared option of the same name is left alone
@@ -60,7 +60,7 @@ def test_demo_options_from_the_builder():
     ("sheet", {"thickness": float("nan")}, "thickness must be"), ("patch", {"width": 0.0}, "width must be"),
     ("patch", {"nu_upper": 0.5}, "nu_upper must be in"), ("patch", {"overlap": 0.5}, "overlap must be <")])
 def test_bad_parameters_are_refused_before_any_work(scene, kw, match, monkeypatch):
-    import fenics_contact.meshes as meshes
+    import fenics_contact.app.meshes as meshes
 
     def no_mesh(*a, **k):  # any mesh built means the check came too late
         raise AssertionError("a mesh was built before the parameters were checked")
@@ -68,7 +68,7 @@ def test_bad_parameters_are_refused_before_any_work(scene, kw, match, monkeypatc
     for name in ("hertz_quarter_disk", "rectangle", "pin_plate", "ring_quarter", "sphere_octant", "two_half_disks",
                  "sheet_over_cylinder", "stacked_blocks"):
         monkeypatch.setattr(meshes, name, no_mesh)
-    module = importlib.import_module(f"fenics_contact.scenes.{scene}")
+    module = importlib.import_module(f"fenics_contact.app.scenes.{scene}")
     for name in ("hertz_quarter_disk", "rectangle", "pin_plate", "ring_quarter", "sphere_octant", "two_half_disks",
                  "half_box", "sheet_over_cylinder", "stacked_blocks"):
         if hasattr(module, name):

@@ -4,9 +4,9 @@ the history; the S and U alternatives."""
 import numpy as np
 import pytest
 
+from fenics_contact.app.meshes import seal_wave_geometry
+from fenics_contact.app.scenes import build, seal
 from fenics_contact.laws import CrossConstraints
-from fenics_contact.meshes import seal_wave_geometry
-from fenics_contact.scenes import build, seal
 from fenics_contact.solver import Solver
 
 

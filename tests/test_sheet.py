@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+from fenics_contact.app.scenes import build, sheet
 from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.laws import LagrangeMultiplier, Penalty, PenaltyMultiplier
-from fenics_contact.scenes import build, sheet
 from fenics_contact.solver import LINEAR_SOLVERS, Solver
 
 MESH = {"n_arc": 8, "n_leg": 2, "steps": 2}  # loads t = 0.5, 1; the cylinder has 6 elements per quarter arc

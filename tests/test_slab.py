@@ -4,12 +4,12 @@ import pytest
 from dolfinx import fem
 from mpi4py import MPI
 
+from fenics_contact.app.meshes import rectangle
+from fenics_contact.app.scenes import block, build, slab
 from fenics_contact.compat import function_space
 from fenics_contact.factory import contact_surface
 from fenics_contact.laws import Coulomb, Exact, make_law
-from fenics_contact.meshes import rectangle
 from fenics_contact.obstacles import Cylinder, HalfPlane
-from fenics_contact.scenes import block, build, slab
 from fenics_contact.solver import ConvergenceError, Solver
 
 

@@ -9,11 +9,11 @@ from dolfinx import fem, mesh
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from fenics_contact.app.scenes import sphere
 from fenics_contact.compat import create_mesh, entities_to_geometry, function_space
 from fenics_contact.laws import make_law
 from fenics_contact.materials import LinearElastic
 from fenics_contact.nullspace import cell_bodies, rigid_body_modes
-from fenics_contact.scenes import sphere
 from fenics_contact.solver import INEXACT_NEWTON, LINEAR_SOLVERS, Solver
 
 
@@ -198,8 +198,8 @@ def test_sphere_on_block_inexact_newton():
 
 def test_sphere_mesh_from_a_child_process_is_exact():
     """The octant meshed in a forked child (binary .msh) is the mesh gmsh makes in this process."""
-    from fenics_contact.meshes import gmshutil
-    from fenics_contact.meshes.sphere import _build_sphere_octant
+    from fenics_contact.app.meshes import gmshutil
+    from fenics_contact.app.meshes.sphere import _build_sphere_octant
 
     comm = MPI.COMM_WORLD
     coords = []

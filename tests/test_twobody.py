@@ -6,11 +6,11 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
+from fenics_contact.app.meshes import stacked_blocks
+from fenics_contact.app.scenes import build
 from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.factory import two_body_surfaces
 from fenics_contact.laws import make_law
-from fenics_contact.meshes import stacked_blocks
-from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
 from fenics_contact.twobody import MARGIN, TwoBodySurface, leaf_boxes
 
@@ -194,7 +194,7 @@ def test_3d_neo_hookean_blocks(quadrature):
     assert f["top_displacement_error"] < 1e-6, f
     if quadrature == "segment":
         assert f["pressure_deviation"] < 1e-8, f
-    from fenics_contact.scenes.patch import uniform_stretches
+    from fenics_contact.app.scenes.patch import uniform_stretches
 
     linear = 2.0 * uniform_stretches(100.0, "linear", 3)[1] - 2.0
     assert abs(linear - f["top_displacement_exact"]) > 0.05 * abs(f["top_displacement_exact"])
@@ -263,7 +263,7 @@ def test_master_exchange_sends_only_the_facets_near_the_slave():
 def test_new_coupling_pattern_keeps_the_near_nullspace():
     """GAMG's rigid-body near-nullspace survives a Jacobian whose coupling pattern changed (MatAXPY with a new
     pattern replaces the matrix header, which dropped it: the two-body block's Krylov counts then grew)."""
-    from fenics_contact.cli import LINEAR_SOLVERS
+    from fenics_contact.app.cli import LINEAR_SOLVERS
 
     setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature="nodal", passes="one")
     p, c = setup.problem, setup.contacts[0]

@@ -9,11 +9,11 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 import fenics_contact as fc
+from fenics_contact.app.meshes import stacked_blocks
+from fenics_contact.app.scenes import build
 from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.friction import SLIP, STICK
 from fenics_contact.laws import make_law
-from fenics_contact.meshes import stacked_blocks
-from fenics_contact.scenes import build
 from fenics_contact.solver import Solver
 
 OMEGA_T = 30.0
@@ -231,7 +231,7 @@ def test_dissipation_over_a_closed_cycle():
 
 def test_tresca_from_the_command_line():
     """``--tresca s`` gives the Tresca law; a negative bound, or two bounds at once, are one-line errors."""
-    from fenics_contact import cli
+    from fenics_contact.app import cli
 
     def law(argv):
         return cli.law_from_args(cli.parse(cli.parser("x", 1e5), argv))

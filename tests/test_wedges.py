@@ -2,7 +2,8 @@
 import pytest
 
 import fenics_contact as fc
-from fenics_contact.scenes import wedges
+import fenics_contact.app as app
+from fenics_contact.app.scenes import wedges
 
 
 @pytest.mark.parametrize("mu,alpha", [(0.3, 20.0), (0.2, 0.0)])
@@ -10,7 +11,7 @@ def test_force_ratio_of_a_block_sliding_up_a_wedge(mu, alpha):
     """Once the whole interface slides, H / N = (mu + tan alpha) / (1 - mu tan alpha) within 1 %; the vertical
     equilibrium of the block holds to 1e-8."""
     law = fc.Friction(fc.make_law("penalty", K=wedges.DEFAULT_K), mu=mu, omega_t=wedges.DEFAULT_OMEGA_T)
-    setup = fc.build("wedges", law=law, alpha=alpha)
+    setup = app.build("wedges", law=law, alpha=alpha)
     solver = fc.Solver(setup.problem, quiet=True)
     solver.run(setup.loads)
     f = setup.figures()
@@ -24,8 +25,8 @@ def test_force_ratio_of_a_block_sliding_up_a_wedge(mu, alpha):
 def test_bad_input():
     law = fc.Friction(fc.make_law("penalty", K=1e6), mu=0.3, omega_t=1e4)
     with pytest.raises(ValueError, match="alpha must be in"):
-        fc.build("wedges", law=law, alpha=75.0)
+        app.build("wedges", law=law, alpha=75.0)
     with pytest.raises(ValueError, match="self-locking"):
-        fc.build("wedges", law=fc.Friction(fc.make_law("penalty", K=1e6), mu=2.0, omega_t=1e4), alpha=60.0)
+        app.build("wedges", law=fc.Friction(fc.make_law("penalty", K=1e6), mu=2.0, omega_t=1e4), alpha=60.0)
     with pytest.raises(ValueError, match="Coulomb friction law with mu > 0"):
-        fc.build("wedges", law=fc.make_law("penalty", K=1e6))
+        app.build("wedges", law=fc.make_law("penalty", K=1e6))

@@ -1,0 +1,411 @@
+"""Command-line options shared by the demos (and the benchmarks): method, parameters, output; the demos' entry.
+
+The command line is strict: an unknown ``--option`` is an error naming it
+(with the closest known option), every number is range-checked while
+parsing (before any work), and single-dash options go to PETSc's options
+database (``-fc_snes_monitor``, ``-fc_snes_linesearch_type basic``: ``fc_``
+is the solver's options prefix) and are checked once the solver is set up
+and has solved (after the first converged load step of :func:`run.run`, and
+again at the end of the demo): an option PETSc never read is an error
+naming it. :func:`main` runs a demo's
+``main(argv)`` and turns the expected errors (bad input, a refused
+combination, a failed solve, a PETSc value PETSc rejects) into one line on
+rank 0 and a non-zero exit, on every rank.
+"""
+from __future__ import annotations
+
+import argparse
+import ctypes
+import difflib
+import logging
+import math
+import sys
+from typing import Callable, Sequence
+
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from ..compat import petsc_library
+from ..contact import QUADRATURES
+from ..laws import METHODS, ContactLaw, make_law
+from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
+
+logger = logging.getLogger(__name__)
+
+# PETSc options given on the command line (name without the dash, value), checked by check_petsc_options
+_PETSC_OPTIONS: list[tuple[str, str]] = []
+# PETSc options a user commonly gives (without the prefix): the candidates of "did you mean" for a misspelt one
+_COMMON_PETSC = ("snes_monitor", "snes_converged_reason", "snes_view", "snes_linesearch_monitor",
+                 "snes_convergence_test", "ksp_monitor", "ksp_converged_reason", "ksp_view", "condition_estimate",
+                 "pc_factor_mat_solver_type", "mat_mumps_icntl_14", "ksp_gmres_restart", "pc_gamg_threshold")
+
+__all__ = ["parser", "parse", "check", "one_line_errors", "has_friction", "law_from_args", "method_parameters",
+           "solver_options", "StrictParser",
+           "UsageError", "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
+           "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "error_line", "main"]
+
+
+class UsageError(ValueError):
+    """A command line we refuse (unknown option, a value out of range); exit status 2 as argparse's."""
+
+
+class StrictParser(argparse.ArgumentParser):
+    """``argparse.ArgumentParser`` without abbreviations (``--refinment`` never matches ``--refinement``) whose
+    errors raise :class:`UsageError` (one line) instead of printing the usage and exiting."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)
+        kwargs.setdefault("formatter_class", argparse.ArgumentDefaultsHelpFormatter)
+        kwargs.setdefault("epilog", "Other -options go to PETSc (prefix fc_); they must be used by PETSc.")
+        super().__init__(*args, **kwargs)
+
+    def error(self, message: str):
+        raise UsageError(message)
+
+    def parse_args(self, args=None, namespace=None):
+        """All arguments must be ours (no PETSc options: :func:`parse` takes those): an unknown one is named, with
+        the closest known option."""
+        ns, rest = self.parse_known_args(args, namespace)
+        if rest:
+            name = rest[0].split("=", 1)[0]
+            if name.startswith("-") and not _is_number(name):
+                raise UsageError(f"unknown option {name}{_did_you_mean(name, self.long_options())}")
+            raise UsageError(f"unexpected argument {rest[0]!r}")
+        return ns
+
+    def long_options(self) -> list[str]:
+        return [s for a in self._actions for s in a.option_strings if s.startswith("--")]
+
+
+def number(kind: type = float, low: float | None = None, high: float | None = None, low_open: bool = False,
+           high_open: bool = False) -> Callable[[str], float]:
+    """An argparse ``type``: ``kind`` (int or float), finite, in the range given (open ends with ``*_open``)."""
+    lo = "" if low is None else f"{'>' if low_open else '>='} {low:g}"
+    hi = "" if high is None else f"{'<' if high_open else '<='} {high:g}"
+    what = ("an integer" if kind is int else "a finite number") + (
+        f" in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}" if lo and hi else
+        f" {lo or hi}" if lo or hi else "")
+
+    def convert(text: str):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}") from None
+        ok = math.isfinite(value)
+        ok = ok and (low is None or (value > low if low_open else value >= low))
+        ok = ok and (high is None or (value < high if high_open else value <= high))
+        if not ok:
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text}")
+        return value
+
+    convert.__name__ = what  # argparse names the type in its messages
+    return convert
+
+
+POSITIVE = number(float, 0.0, low_open=True)
+NONNEGATIVE = number(float, 0.0)
+COUNT = number(int, 1)  # load steps, cells: >= 1
+LEVEL = number(int, 0)  # refinements, augmentations: >= 0
+EXPONENT = number(float, 1.0)
+
+
+def parser(description: str, default_K: float | Callable[[argparse.Namespace], float],
+           quadratures: Sequence[str] = QUADRATURES) -> StrictParser:
+    """The shared options; ``default_K``: a number, or a function of the parsed options (a K that scales with
+    the scene's E and size); ``quadratures``: the accepted ``--quadrature`` values (two-body scenes add
+    ``segment``)."""
+    p = StrictParser(description=description)
+    p.add_argument("--method", choices=list(METHODS), default="cross", help="contact formulation")
+    derived = callable(default_K)
+    p.set_defaults(derive_K=default_K if derived else None)
+    p.add_argument("--K", type=POSITIVE, default=None if derived else default_K,
+                   help="penalty K (penalty, auglag), stiffness K_hat at g = 0 (cross) or complementarity c (lagrange)"
+                   + ("; unset: the scene's K, scaled with E / h" if derived else ""))
+    p.add_argument("--F-hat", type=NONNEGATIVE, default=0.0, help="cross: target pressure at g = 0")
+    p.add_argument("--a", type=number(float, 0.0, 1.0, high_open=True), default=0.0,
+                   help="cross: shape parameter in [0, 1)")
+    p.add_argument("--tau", type=EXPONENT, default=1.0, help="cross: K_hat <- tau K_hat per augmentation (>= 1)")
+    p.add_argument("--augment", type=LEVEL, default=None,
+                   help="max augmentations per load step (default: 0 for penalty, 10 otherwise)")
+    p.add_argument("--augment-tol", type=POSITIVE, default=1e-12, help="stop when ||g_new - g_old|| <= this")
+    p.add_argument("--c-n", type=POSITIVE, default=None, help="compliance: c_n in F = c_n <g>^m_n (default: --K)")
+    p.add_argument("--m-n", type=EXPONENT, default=1.0, help="compliance: exponent m_n >= 1")
+    p.add_argument("--mu", type=NONNEGATIVE, default=0.0,
+                   help="Coulomb friction coefficient (>= 0; 0: frictionless; exact with method coulomb)")
+    p.add_argument("--c-t", type=POSITIVE, default=None,
+                   help="friction bound c_t <g>^m_t instead of mu F(g) (normal compliance friction)")
+    p.add_argument("--m-t", type=EXPONENT, default=None, help="exponent m_t >= 1 of the bound (default: m_n)")
+    p.add_argument("--tresca", type=NONNEGATIVE, default=None,
+                   help="Tresca friction: the fixed bound (traction) on the closed points instead of mu F(g)")
+    p.add_argument("--omega-t", type=POSITIVE, default=None, help="tangential penalty of stick (default: --K)")
+    p.add_argument("--quadrature", choices=list(quadratures), default="nodal", help="contact quadrature")
+    p.add_argument("--gamma0", type=POSITIVE, default=10.0, help="nitsche: gamma = gamma0 E / h (dimensionless)")
+    p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
+                   help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D; "
+                        "multipliers: FGMRES + Schur complement field split)")
+    p.add_argument("--inexact", action="store_true",
+                   help="with --solver iterative: inexact Newton, the Krylov tolerance following the residual "
+                        "(Eisenstat-Walker, at most 1e-2)")
+    output_options(p)
+    return p
+
+
+def output_options(p: argparse.ArgumentParser, out: str | None = None) -> None:
+    """``--out``, ``--no-pictures``, ``--no-xdmf``, ``--quiet``, ``--verbose`` (every demo has them)."""
+    p.add_argument("--out", default=out, help="output directory (default: results/<scene>)")
+    p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
+    p.add_argument("--no-xdmf", action="store_true", help="no XDMF field output (benchmarks: solver time alone)")
+    p.add_argument("--quiet", action="store_true", help="no progress lines (warnings and errors only)")
+    p.add_argument("--verbose", action="store_true", help="debug log, with the form compiler's (FFCx, cffi) output")
+
+
+def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argparse.Namespace:
+    """Parse our options (an unknown ``--option`` is an error naming it, with the closest known one); insert the
+    single-dash ones with their values into PETSc's options (checked after the run: :func:`check_petsc_options`);
+    set up logging (``--quiet``, ``--verbose``)."""
+    one_line_errors()  # for scripts not run through main()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args, rest = p.parse_known_args(argv)
+    known = p.long_options() if isinstance(p, StrictParser) else [
+        s for a in p._actions for s in a.option_strings if s.startswith("--")]
+    petsc: list[tuple[str, str]] = []
+    for token in rest:
+        if token.startswith("--"):
+            name = token.split("=", 1)[0]
+            raise UsageError(f"unknown option {name}{_did_you_mean(name, known)}")
+        if token.startswith("-") and not _is_number(token):
+            petsc.append((token[1:], ""))
+        elif petsc and not petsc[-1][1]:
+            petsc[-1] = (petsc[-1][0], token)
+        else:
+            raise UsageError(f"unexpected argument {token!r} (not the value of an option)")
+    if petsc:
+        PETSc.Options().insertString(" ".join(f"-{k} {v}" for k, v in petsc))
+        _PETSC_OPTIONS.extend(petsc)
+    setup_logging(verbose=getattr(args, "verbose", False), quiet=getattr(args, "quiet", False))
+    if getattr(args, "inexact", False) and getattr(args, "solver", None) != "iterative":
+        raise UsageError(f"--inexact needs --solver iterative, got --solver {getattr(args, 'solver', None)}")
+    if hasattr(args, "method"):
+        if getattr(args, "K", 0) is None and getattr(args, "derive_K", None) is not None:
+            args.K = float(args.derive_K(args))
+        if getattr(args, "augment", 0) is None:
+            args.augment = 0 if args.method in ("penalty", "vi", "compliance", "coulomb", "lagrange",
+                                                    "penalty_multiplier", "nitsche") else 10
+        if getattr(args, "c_n", 0) is None:
+            args.c_n = args.K
+        if getattr(args, "omega_t", 0) is None:
+            args.omega_t = args.K
+    return args
+
+
+def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
+    """The package's log (``fenics_contact.*``) on rank 0's stdout: progress at INFO (``quiet``: warnings only),
+    DEBUG with ``verbose``, which also shows the form compiler's log and UFL's warnings (hidden otherwise)."""
+    root = logging.getLogger("fenics_contact")
+    if not any(getattr(h, "_fenics_contact", False) for h in root.handlers):
+        handler = logging.StreamHandler(sys.stdout)
+        handler.setFormatter(logging.Formatter("%(message)s"))
+        handler._fenics_contact = True
+        root.addHandler(handler)
+        root.propagate = False
+    level = logging.DEBUG if verbose else logging.WARNING if quiet else logging.INFO
+    root.setLevel(level if MPI.COMM_WORLD.rank == 0 else max(level, logging.ERROR))
+    # UFL warns about every custom quadrature rule (the nodal rule is one on purpose); FFCx logs its JIT
+    logging.getLogger("UFL").setLevel(logging.DEBUG if verbose else logging.ERROR)
+    logging.getLogger("ffcx").setLevel(logging.DEBUG if verbose else logging.WARNING)
+    # setuptools (distutils, run by cffi on a form's first JIT) logs every compiler command to the root logger at
+    # INFO and sets the root's level itself (verbose=True is hard-coded in FFCx): a filter on the root logger
+    # drops those records (a logger's filters see only the records logged to it, not its children's)
+    root_logger = logging.getLogger()
+    for f in [f for f in root_logger.filters if getattr(f, "_fenics_contact", False)]:
+        root_logger.removeFilter(f)
+    if not verbose:
+        quiet_root = logging.Filter()
+        quiet_root.filter = lambda record: record.levelno >= logging.WARNING
+        quiet_root._fenics_contact = True
+        root_logger.addFilter(quiet_root)
+
+
+def one_line_errors() -> None:
+    """Make a ``ValueError`` that ends a demo (a refused combination, a bad option value) one line on stderr
+    (``error: ...``, from rank 0) and exit status 1, without a traceback; other exceptions keep theirs."""
+    previous = sys.excepthook
+
+    def hook(kind, value, tb):
+        if not issubclass(kind, ValueError):
+            return previous(kind, value, tb)
+        from mpi4py import MPI
+
+        if MPI.COMM_WORLD.rank == 0:
+            sys.stderr.write(f"error: {str(value).splitlines()[0] if str(value) else kind.__name__}\n")
+        sys.stderr.flush()  # the interpreter then exits with status 1 (every rank raised the same error)
+
+    sys.excepthook = hook
+
+
+def check(args: argparse.Namespace, **axes) -> None:
+    """Check the demo's options against the capability matrix before any work: method, quadrature, linear
+    solver, friction and passes from ``args``, the scene's own axes (``kind``, ``dim``, ``degree``, ``model``)
+    as keywords. Raises :class:`~fenics_contact.capabilities.UnsupportedCombination`."""
+    from ..capabilities import check as check_combination
+
+    combo = {"method": args.method, "quadrature": args.quadrature, "solver": getattr(args, "solver", None),
+             "friction": has_friction(args) or (args.method == "coulomb" and args.mu > 0),
+             "passes": getattr(args, "passes", None)}
+    check_combination(**{**combo, **axes})
+
+
+def say(*parts: object) -> None:
+    """A demo's report line (tables, comparisons) through the log (``fenics_contact.demo``, INFO): shown unless
+    ``--quiet``; call on rank 0."""
+    logging.getLogger("fenics_contact.demo").info(" ".join(str(p) for p in parts))
+
+
+def has_friction(args: argparse.Namespace) -> bool:
+    """Friction is on when ``--mu`` is not 0 or ``--c-t`` or ``--tresca`` is given (a negative mu is an error, not
+    off)."""
+    return args.mu != 0.0 or args.c_t is not None or getattr(args, "tresca", None) is not None
+
+
+def _is_number(s: str) -> bool:
+    try:
+        float(s)
+        return True
+    except ValueError:
+        return False
+
+
+def _did_you_mean(name: str, candidates: Sequence[str]) -> str:
+    lower = {c.lower(): c for c in candidates}
+    close = difflib.get_close_matches(name.lower(), list(lower), n=1, cutoff=0.6)
+    return f" (did you mean {lower[close[0]]}?)" if close else ""
+
+
+def law_from_args(args: argparse.Namespace) -> ContactLaw:
+    """The contact law named by ``--method`` with its parameters, with friction if asked for."""
+    if args.method == "cross":
+        law = make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
+    elif args.method == "vi":
+        law = make_law("vi")
+    elif args.method == "compliance":
+        law = make_law("compliance", c_n=args.c_n, m_n=args.m_n)
+    elif args.method == "coulomb":
+        if getattr(args, "tresca", None) is not None:
+            raise ValueError("--tresca: method 'coulomb' has Coulomb friction only (use --mu, or another method)")
+        return make_law("coulomb", mu=args.mu)  # exact Coulomb: mu is the law's own parameter
+    elif args.method == "lagrange":
+        law = make_law("lagrange", c=args.K)
+    elif args.method == "nitsche":
+        law = make_law("nitsche", gamma0=args.gamma0)
+    else:
+        law = make_law(args.method, K=args.K)
+    if not has_friction(args):
+        return law
+    if args.method in ("vi", "lagrange", "penalty_multiplier", "nitsche"):
+        raise ValueError(f"method {args.method!r} has no friction: use --mu 0 (or another method)")
+    tresca = getattr(args, "tresca", None)
+    if sum((args.mu != 0.0, args.c_t is not None, tresca is not None)) > 1:
+        raise ValueError(f"give one of --mu ({args.mu}), --c-t ({args.c_t}) and --tresca ({tresca}), not several")
+    from ..friction import Friction
+
+    if tresca is not None:
+        return Friction(law, tresca=tresca, omega_t=args.omega_t)
+
+    if args.c_t is not None:
+        return Friction(law, c_t=args.c_t, m_t=args.m_t, omega_t=args.omega_t)
+    return Friction(law, mu=args.mu, omega_t=args.omega_t)
+
+
+def method_parameters(args: argparse.Namespace) -> dict:
+    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
+            "compliance": ["c_n", "m_n"], "coulomb": ["mu"], "lagrange": ["K"],
+            "penalty_multiplier": ["K"], "nitsche": ["gamma0"]}[args.method]
+    if has_friction(args) and args.method != "coulomb":
+        keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["tresca"] if getattr(args, "tresca", None)
+                       is not None else ["mu"]) + ["omega_t"]
+    return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,
+            "quadrature": args.quadrature, "solver": getattr(args, "solver", "direct")}
+
+
+def solver_options(args: argparse.Namespace) -> dict:
+    """PETSc options (prefix ``fc_``) of ``--solver`` (and ``--inexact``); options on the command line still win."""
+    return {**LINEAR_SOLVERS[getattr(args, "solver", "direct")],
+            **(INEXACT_NEWTON if getattr(args, "inexact", False) else {})}
+
+
+# --- PETSc options and the demos' entry ------------------------------------------------------------------
+
+def _petsc_used(name: str) -> bool:
+    """Whether PETSc read option ``name`` (no dash) from its database: ``PetscOptionsUsed``, which petsc4py 3.18
+    does not wrap, called in the PETSc library petsc4py has loaded (the same database)."""
+    used = ctypes.c_int(0)  # PetscBool is a C enum
+    if petsc_library().PetscOptionsUsed(None, name.encode(), ctypes.byref(used)) != 0:
+        raise RuntimeError(f"PetscOptionsUsed failed for -{name}")
+    return bool(used.value)
+
+
+def unused_petsc_options(later: Sequence[str] = ()) -> list[str]:
+    """The command line's PETSc options that PETSc never read, each with the closest known option if any; those
+    ending in one of ``later`` (read after the point of the check) are not reported."""
+    known = [f"-fc_{k}" for k in dict.fromkeys([*DEFAULT_OPTIONS, *(k for s in LINEAR_SOLVERS.values() for k in s),
+                                                *INEXACT_NEWTON, *_COMMON_PETSC])]
+    return [f"-{name}{_did_you_mean('-' + name, known)}" for name, _ in dict.fromkeys(_PETSC_OPTIONS)
+            if not name.endswith(tuple(later)) and not _petsc_used(name)]
+
+
+def check_petsc_options(later: Sequence[str] = ()) -> None:
+    """Raise ``UsageError`` naming every PETSc option of the command line that PETSc did not use (misspelt, or
+    without the ``fc_`` prefix); call after the solvers have been set up and run (:func:`run.run` after its
+    first converged step, ``later``: options read only afterwards; :func:`main` at the end of a demo).
+    Collective in effect: every rank has the same options and raises alike."""
+    unused = unused_petsc_options(later)
+    if unused:
+        raise UsageError(f"PETSc option{'s' * (len(unused) > 1)} not used by any solver (misspelt, or without "
+                         f"the fc_ prefix?): {', '.join(unused)}")
+
+
+def _petsc_message(exc: PETSc.Error) -> str:
+    """One line for a PETSc error: the option of the command line whose value PETSc rejected, if one is named."""
+    lines = [s.split("] ", 1)[-1].strip() for s in str(exc).splitlines() if s.strip()]
+    last = lines[-1] if lines else f"error code {exc.ierr}"
+    text = " ".join(lines)
+    bad = [f"-{k} {v}" for k, v in _PETSC_OPTIONS if v and v in text.split()]
+    return f"PETSc rejected {', '.join(bad)}: {last}" if bad else f"PETSc error {exc.ierr}: {last}"
+
+
+def error_line(exc: BaseException) -> str | None:
+    """One line for the errors a user can cause (bad input, refused combination, failed solve, rejected PETSc
+    value); None for anything else (a bug: its traceback is shown)."""
+    if isinstance(exc, PETSc.Error):
+        return _petsc_message(exc)
+    names = {c.__name__ for c in type(exc).__mro__}
+    if isinstance(exc, ConvergenceError):
+        spent = "" if exc.newton_iterations is None else f" ({exc.newton_iterations} Newton iterations spent)"
+        return f"did not converge: {exc}{spent}"
+    if isinstance(exc, ValueError) or "UnsupportedCombination" in names:
+        return str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    return None
+
+
+def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | None = None) -> None:
+    """Run ``demo(argv)`` as a program: bad input, a refused combination, a failed solve or a PETSc value PETSc
+    rejects end in one line on rank 0 (``<program>: error: ...``) and exit status 1 (2 for a bad command line)
+    on every rank, without a Python traceback; so does a PETSc option PETSc never used (checked at the end)."""
+    prog = sys.argv[0].rsplit("/", 1)[-1] if sys.argv and sys.argv[0] else "demo"
+    try:
+        demo(argv)
+        check_petsc_options()
+    except Exception as exc:  # noqa: BLE001 - only the kinds error_line knows are turned into one line
+        line = error_line(exc)
+        if line is None:
+            raise
+        try:  # a failed run may also have been given an option PETSc never read: say so too
+            unused = unused_petsc_options() if not isinstance(exc, UsageError) else []
+        except Exception:  # noqa: BLE001
+            unused = []
+        if unused:
+            line += f"; PETSc options not used: {', '.join(unused)}"
+        if MPI.COMM_WORLD.rank == 0:
+            sys.stdout.flush()
+            print(f"{prog}: error: {line}", file=sys.stderr, flush=True)
+        sys.exit(2 if isinstance(exc, UsageError) else 1)

@@ -1,0 +1,11 @@
+"""Speed against accuracy benchmark: every method over a sweep, error against wall time.
+
+    python demos/bench.py --quick                       # block and hertz, small sweep
+    python demos/bench.py --scene hertz --out results/bench
+
+Writes <out>/<scene>.csv, .json, <scene>_pareto.png and <scene>_iterations.png
+(see fenics_contact/app/bench.py).
+"""
+from fenics_contact.app.bench import main
+
+main()

@@ -1,0 +1,139 @@
+"""Benchmark scenes: data plus one builder each, shared by demos, tests and benchmarks.
+
+A builder returns a :class:`Setup`; ``figures()`` returns the scene's figures
+(reduced over all ranks) after a solve.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import inspect
+import math
+import pkgutil
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from ...contact import displacement
+from ...problem import ContactProblem
+from ...surface import Surface
+
+__all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
+           "add_scene_options", "scene_arguments"]
+
+
+@dataclass
+class Setup:
+    """What a scene builder returns."""
+
+    name: str
+    problem: ContactProblem
+    contacts: list[Surface]
+    loads: Sequence[float]
+    parameters: dict
+    figures: Callable[[], dict]
+    fields: list[fem.Function] = field(default_factory=list)
+    build_time_s: float = 0.0  # mesh, spaces and form compilation (max over ranks)
+
+    @property
+    def displacement(self) -> fem.Function:
+        """The displacement Function (``fields[0]``; a collapsed copy when the unknown is mixed)."""
+        return self.fields[0]
+
+    @property
+    def dofs(self) -> int:
+        """Global number of unknowns: with multipliers, the displacement and the pressures on the contact
+        surfaces (the pressure dofs pinned to 0 off the surfaces are not counted, see :mod:`multipliers`)."""
+        V = self.problem.u.function_space
+        pinned = sum(c.pinned_dofs for c in self.contacts)
+        return V.dofmap.index_map.size_global * V.dofmap.index_map_bs - pinned
+
+
+class Stabilised(ContactProblem):
+    """A problem with the vanishing spring ``k (1 - t) u`` on ``dx_body`` (a body held only by contact under force
+    control: the spring makes the steps before the last well posed from rest, and is exactly 0 at ``t = 1``).
+    The spring enters as a load-scaled body force (``t * spring * u``, ``spring = k (1 - t) / t``): the
+    residual terms of ContactProblem's ``tractions`` scale with ``t``."""
+
+    def __init__(self, u: fem.Function, material, load: fem.Constant, dirichlet, contacts, tractions,
+                 k: float, dx_body: ufl.Measure, step_solver=None):
+        self.spring, self.k = fem.Constant(u.function_space.mesh, 0.0), float(k)
+        super().__init__(u, material, load, dirichlet, contacts,
+                         [*tractions, (-self.spring * displacement(u), dx_body)], step_solver=step_solver)
+
+    def set_load(self, t: float) -> None:
+        super().set_load(t)
+        self.spring.value = self.k * (1.0 - t) / t if 0.0 < t < 1.0 else 0.0
+
+
+def scene_names() -> list[str]:
+    """Every scene module of this package (each defines ``build``)."""
+    return sorted(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_"))
+
+
+def build(name: str, **kwargs) -> Setup:
+    """Build scene ``name`` (see :func:`scene_names`) with keyword arguments of its builder."""
+    if name not in scene_names():
+        raise ValueError(f"unknown scene {name!r}; accepted: {', '.join(scene_names())}")
+    b = importlib.import_module(f"{__name__}.{name}").build
+    start = time.perf_counter()
+    setup = b(**kwargs)
+    comm = setup.problem.comm
+    setup.build_time_s = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+    return setup
+
+
+def positive(**values: float | None) -> None:
+    """``ValueError`` naming the first of ``values`` that is not a finite number > 0 (``None``: a default)."""
+    for name, v in values.items():
+        if v is not None and not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+
+
+def nonnegative(**values: float | None) -> None:
+    """``ValueError`` naming the first of ``values`` that is not a finite number >= 0 (``None``: a default)."""
+    for name, v in values.items():
+        if v is not None and not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+            raise ValueError(f"{name} must be a finite number >= 0, got {v!r}")
+
+
+def poisson(**values: float | None) -> None:
+    """``ValueError`` naming the first Poisson's ratio of ``values`` outside ``[0, 0.5)`` (``None``: a default)."""
+    for name, v in values.items():
+        if v is not None and not (isinstance(v, (int, float)) and 0.0 <= v < 0.5):
+            raise ValueError(f"{name} must be in [0, 0.5), got {v!r}")
+
+
+def numeric_parameters(builder: Callable) -> dict[str, float | None]:
+    """The keyword arguments of a scene builder that are physical numbers (annotated ``float``, or
+    ``float | None``: ``None`` is a default derived from the others), with their defaults."""
+    out = {}
+    for name, par in inspect.signature(builder).parameters.items():
+        note = par.annotation if isinstance(par.annotation, str) else getattr(par.annotation, "__name__", "")
+        if note in ("float", "float | None") and (par.default is None or isinstance(par.default, (int, float))):
+            out[name] = par.default
+    return out
+
+
+def add_scene_options(parser: argparse.ArgumentParser, builder: Callable) -> list[str]:
+    """One ``--name`` option (``_`` written ``-``) per numeric keyword argument of ``builder``
+    (:func:`numeric_parameters`) that ``parser`` does not have yet; returns their names. The builder
+    range-checks them before any work."""
+    names = []
+    for name, default in numeric_parameters(builder).items():
+        flag = "--" + name.replace("_", "-")
+        if flag in parser._option_string_actions:  # e.g. the shared --mu (friction) or --K
+            continue
+        parser.add_argument(flag, type=float, default=default, dest=name,
+                            help="scene parameter" + (" (default: derived from the others)" if default is None else ""))
+        names.append(name)
+    return names
+
+
+def scene_arguments(args: argparse.Namespace, names: Sequence[str]) -> dict:
+    """The values of the options :func:`add_scene_options` added, as keyword arguments of the builder."""
+    return {n: getattr(args, n) for n in names}

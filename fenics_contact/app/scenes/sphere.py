@@ -1,0 +1,178 @@
+"""``sphere``: elastic sphere on a rigid plane (3D Hertz), linear elasticity; the scaling scene.
+
+A ball of radius ``R`` pressed between two rigid plates is symmetric about
+its equatorial plane and about two vertical planes through its axis, so we
+model the octant ``x >= 0, y >= 0, z <= R``: ``u_x = 0`` on ``x = 0``,
+``u_y = 0`` on ``y = 0``, the equator ``z = R`` moves down uniformly by
+``t * approach`` (in-plane free), the plate is the rigid half-space
+``z <= 0``. Figures are for the whole sphere on one plate: the octant's
+force times 4. Linear elasticity: the approach gives ``a/R ~ 0.07`` and
+strains of a few per cent at most under the contact.
+
+Hertz (sphere on a rigid plane, load ``P``, ``E* = E/(1-nu^2)``):
+``a = (3 P R / (4 E*))^(1/3)``, ``p0 = 3 P / (2 pi a^2)``.
+
+Two deformable bodies (``plate="meshed"``, the 3D two-body case of the scaling run): the octant on the
+block ``plate_width^2 x plate_depth`` (default ``0.5 R`` each, ``plate_E = E``, ``plate_nu = nu``: two
+identical bodies), in the same mesh, the block fixed at its bottom and on the same symmetry planes; the
+ball's surface is the slave of a one-pass two-body contact (:mod:`twobody`), the block's top the master.
+Hertz with ``1/E* = (1-nu^2)/E + (1-nu_p^2)/E_p``; the block is finite and clamped, so it is stiffer than a
+half-space (a ~ 0.07 R against a depth of 7 a): ``p0`` above Hertz by a few per cent.
+
+``level`` scales every mesh size by ``LEVELS[level]``, chosen so that the dofs run from about
+1e4 (level 0) to about 1e6 (level 3). The iterative linear solver (``--solver iterative``) is
+meant for the finer levels. ``R``, ``E``, ``nu``, ``approach`` and the refined zone
+``contact_width`` are keyword arguments of :func:`build` (defaults: the module constants).
+Force control (``load=P``, the whole sphere's force): the equator carries the
+uniform traction ``P / 4`` per the meshed equator's area downward and the octant is held only by the
+contact; from rest through the vanishing spring of :class:`~fenics_contact.app.scenes.Stabilised`
+(``k = stabilisation * E / R^2`` on the body, exactly 0 at the last step), as in ``hertz``.
+"""
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from ...factory import contact_surface, two_body_surfaces
+from ...laws import ContactLaw
+from ...materials import MODELS, Materials
+from ...multipliers import unknown
+from ...obstacles import HalfPlane
+from ...problem import ContactProblem, Dirichlet
+from ..meshes import sphere_octant
+from . import Setup, Stabilised, nonnegative, poisson, positive
+
+__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "BENCHES", "hertz3d", "build"]
+
+R, E, NU = 1.0, 1000.0, 0.3
+APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
+DEFAULT_K = 1e6  # ~ 10 E / h_contact at level 0
+CONTACT_WIDTH = 0.15 * R  # the refined zone around the contact point
+STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E
+PLATE_SIZE = (0.5 * R, 0.5 * R)  # the meshed block (plate="meshed"): width (x and y), depth
+# Mesh-size factor per level: h_contact = 0.02 f, h_far = 0.15 f (dofs 11931, 68208, 230964, 1178016).
+LEVELS = (0.5, 0.25, 0.16, 0.09)
+# The benchmark's view of this scene (fenics_contact.app.bench): level 0 only in the quick sweep.
+BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.05, "K": DEFAULT_K,
+         "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag", "nitsche", "vi"],
+         "demo_args": ["--solver", "iterative"], "quick_sweep": {"penalty": (0, 1), "other": (0,), "gamma0": (10.0,)},
+         # SNES VI's reduced system changes size between iterations, which GAMG cannot follow: LU
+         "method_args": {"vi": ["--solver", "direct"]},
+         # the iterative solver shows the conditioning: Krylov iterations per Newton iteration against K; auglag at
+         # K = 1e12 fails slowly (91 Newton iterations over 4 cutbacks, 60 s): left out of the quick map
+         "stability": True, "quick_stability": {"K": (0, 2, 4, 6, 8), "steps": (1,), "gamma0": (10.0, 1e3, 1e5),
+                                                   "dtol": False, "skip": [("auglag", 6)]}}
+# The 3D two-body case: the octant on a deformable block of its own material (one-pass, the ball's surface the
+# slave), GMRES + GAMG; the block is finite and clamped (p0 above Hertz by a few per cent: no error target).
+BENCHES = {"sphere_block": {
+    "demo": "sphere", "error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.15,
+    "K": DEFAULT_K, "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag"],
+    "quadratures": ["nodal", "gauss"], "axes": {"kind": "two-body", "dim": 3},
+    "demo_args": ["--plate", "meshed", "--solver", "iterative"], "quick_sweep": {"penalty": (0,), "other": (0,)}}}
+
+
+def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU, plate_E: float | None = None,
+            plate_nu: float = NU) -> tuple[float, float]:
+    """Hertz contact radius ``a`` and peak pressure ``p0`` of a sphere on a rigid plane (``plate_E`` None) or on
+    an elastic half-space (``plate_E``, ``plate_nu``) under load ``P``."""
+    Es = E / (1 - nu**2) if plate_E is None else 1.0 / ((1 - nu**2) / E + (1 - plate_nu**2) / plate_E)
+    a = (3 * P * R / (4 * Es)) ** (1 / 3)
+    return float(a), float(3 * P / (2 * np.pi * a**2))
+
+
+def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int = 1,
+          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH, R: float = R,
+          E: float = E, nu: float = NU, load: float | None = None, contact_width: float | None = None,
+          stabilisation: float = STABILISATION, size: float | None = None, plate: str = "rigid",
+          plate_E: float | None = None, plate_nu: float | None = None, plate_width: float | None = None,
+          plate_depth: float | None = None) -> Setup:
+    """``level`` in ``0 .. len(LEVELS) - 1`` picks the mesh size (about 1e4 to 1e6 dofs); ``size``, if given,
+    is the mesh-size factor instead (``LEVELS[0] = 0.5``; e.g. 1.0 for a tiny smoke-test mesh); ``approach``
+    (displacement control) or ``load`` (force control: the sphere's total force); ``contact_width``: the
+    refined zone (default ``0.15 R``). ``plate``: ``rigid`` (the half-space z <= 0, default) or ``meshed`` (the
+    block ``plate_width^2 x plate_depth``, default ``PLATE_SIZE``, of ``plate_E``, ``plate_nu``, default ``E``,
+    ``nu``: two-body contact, displacement control only)."""
+    positive(R=R, E=E, approach=approach, load=load, contact_width=contact_width, plate_E=plate_E,
+             plate_width=plate_width, plate_depth=plate_depth)
+    if plate not in ("rigid", "meshed"):
+        raise ValueError(f"sphere plate must be 'rigid' or 'meshed', got {plate!r}")
+    if plate == "meshed" and load is not None:
+        raise ValueError("sphere plate 'meshed' takes displacement control (approach), not load")
+    nonnegative(stabilisation=stabilisation)
+    if load is not None and int(steps) < 2:
+        raise ValueError(f"force control (load) needs steps >= 2 (the vanishing spring acts before the last), "
+                         f"got {steps!r}")
+    poisson(nu=nu, plate_nu=plate_nu)
+    if int(steps) < 1:
+        raise ValueError(f"steps must be >= 1, got {steps!r}")
+    contact_width = 0.15 * R if contact_width is None else contact_width
+    if not (isinstance(level, int) and 0 <= level < len(LEVELS)):
+        raise ValueError(f"sphere level must be an integer in [0, {len(LEVELS) - 1}], got {level!r}")
+    if size is not None and not (np.isfinite(size) and size > 0):
+        raise ValueError(f"sphere mesh size factor must be > 0, got {size!r}")
+    f = LEVELS[level] if size is None else float(size)
+    h = 0.02 * f * R
+    meshed = plate == "meshed"
+    plate_E, plate_nu = (E if plate_E is None else plate_E), (nu if plate_nu is None else plate_nu)
+    plate_size = (PLATE_SIZE[0] if plate_width is None else plate_width,
+                  PLATE_SIZE[1] if plate_depth is None else plate_depth)
+    mesh, cell_tags, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=contact_width,
+                                                plate=plate_size if meshed else None)
+    u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
+    t = fem.Constant(mesh, 0.0)  # the load parameter
+    fdim = mesh.topology.dim - 1
+
+    top_z = fem.locate_dofs_topological(V.sub(2), fdim, facet_tags.find("top"))
+    dirichlet = [Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), fdim, facet_tags.find("symmetry"))),
+                 Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), fdim, facet_tags.find("symmetry_y")))]
+    if load is None:
+        dirichlet.insert(0, Dirichlet(V.sub(2), top_z, -approach))
+    material = MODELS[model](E, nu)
+    if meshed:  # per-body materials; the block clamped at its bottom (its symmetry faces are the octant's tags)
+        material = Materials(mesh, cell_tags, {"ball": material, "plate": MODELS[model](plate_E, plate_nu)})
+        dirichlet += [Dirichlet(V.sub(i), fem.locate_dofs_topological(V.sub(i), fdim, facet_tags.find("plate_bottom")))
+                      for i in range(3)]
+        contact = two_body_surfaces(u, facet_tags, "contact", "plate_top", lambda: law, t, quadrature,
+                                    radius=0.1 * R, name="plate")[0]
+    else:
+        contact = contact_surface(u, facet_tags, "contact", HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, t,
+                                  quadrature, material=material)
+    if load is None:
+        problem = ContactProblem(u, material, t, dirichlet, [contact])
+    else:  # a quarter of P on the octant's equator; the vanishing spring on the body
+        ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)(facet_tags["top"])
+        # per the meshed equator's area (a polygon: ~1e-3 below pi R^2 / 4), so that the octant carries P / 4
+        area = comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ds)), op=MPI.SUM)
+        traction = fem.Constant(mesh, np.array([0.0, 0.0, -load / (4 * area)]))
+        problem = Stabilised(u, material, t, dirichlet, [contact], [(traction, ds)], stabilisation * E / R**2,
+                             ufl.dx(domain=mesh))
+
+    def figures() -> dict:
+        # the two-body slave points at their reference positions (nodal or Gauss points)
+        x, _, p = contact.point_values(reference=True) if meshed else contact.surface_values()
+        P = 4 * contact.total_force()[2]
+        applied = None if load is None else float(t.value) * load  # force control: Hertz for the applied load
+        a_h, p0_h = hertz3d(P if applied is None else applied, R, E, nu, *((plate_E, plate_nu) if meshed else ()))
+        loaded = p > 1e-8 * max(p.max(), 1e-300)
+        p0 = float(p.max())
+        a = float(np.hypot(x[loaded, 0], x[loaded, 1]).max()) if loaded.any() else 0.0  # outermost loaded node
+        out = {"total_force": P, "reaction_top": -4 * problem.reaction(top_z) if applied is None else applied,
+               "p0": p0, "a": a, "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
+               "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(loaded)), "h_contact": h}
+        if applied is not None:  # the spring is off at t = 1: the contact carries the whole load
+            out["load"], out["load_error"] = applied, abs(P - applied) / applied
+        if model != "linear":  # p0 is nominal (per reference area); the peak per current area too
+            out["p0_nominal"], out["p0_cauchy"] = p0, float(contact.surface_values("cauchy")[2].max())
+        return out
+
+    params = {"E": E, "nu": nu, "R": R, "material": model, "h_contact": h, "level": level,
+              "contact_width": contact_width,
+              **({"approach": approach} if load is None else {"load": load, "stabilisation": stabilisation}),
+              "quadrature": quadrature, "plate": plate,
+              **({"plate_E": plate_E, "plate_nu": plate_nu, "plate_width": plate_size[0], "plate_depth": plate_size[1]}
+                 if meshed else {}),
+              "model": "octant (symmetry x = 0, y = 0, z = R)" + (f", meshed block E = {plate_E:g}" if meshed else "")}
+    return Setup("sphere", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
+                 [contact.displacement_out, contact.gap_out, contact.pressure_out])

@@ -1,0 +1,105 @@
+"""``wedges``: an elastic block pushed up an elastic incline (wedge) of angle ``alpha`` with Coulomb friction ``mu``
+(2D, plane strain, two deformable bodies, node-to-segment friction).
+
+The wedge is a rectangle ``2 L x D`` whose top, the incline, rises toward +x at the angle ``alpha`` (its bottom
+fixed); the block ``2 b x h`` rests on it (placed ``1e-9 L`` into it, so that every interface point is closed at
+the first iterate: the block is held normally by the contact alone). ``t`` in (0, 1]: the block's top carries
+the vertical force ``N`` (a uniform traction, force control); then ``t`` in (1, 2]: its left face is pushed
+horizontally by ``u_x = (t - 1) push`` (its vertical motion free) so that it slides up the incline. Once the
+whole interface slides, the block's equilibrium (normal force along the incline's normal, friction ``mu`` times
+it down the incline) gives the horizontal force
+
+    H / N = (mu + tan alpha) / (1 - mu tan alpha)
+
+(``H``: the push, from the block's equilibrium: minus the contact force's x component). The figure ``ratio`` is
+``H / N`` at the last step; ``ratio_error``
+its relative distance from the formula. The deformation turns the interface by about the elastic strain (~1e-3
+with the defaults): the formula's departure.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from ...compat import function_space
+from ...factory import two_body_surfaces
+from ...friction import SLIP, Friction
+from ...laws import ContactLaw
+from ...materials import LinearElastic
+from ...problem import ContactProblem, Dirichlet
+from ..meshes.mindlin import block_on_incline
+from . import Setup, poisson, positive
+
+__all__ = ["build", "wedge_ratio"]
+
+E, NU = 1000.0, 0.3
+ALPHA = 20.0  # degrees
+LOAD = 1.0  # the vertical traction on the block's top (N = LOAD * 2 b): strains ~1e-3
+PUSH = 0.05  # horizontal displacement of the pushed face at t = 2 (>> the elastic slip mu p / omega_t)
+DEFAULT_K = 1e6
+DEFAULT_OMEGA_T = 1e4  # ~ E / h: the elastic slip mu p / omega_t ~ 3e-5 is 1e-3 of the push
+
+
+def wedge_ratio(mu: float, alpha_deg: float) -> float:
+    """``(mu + tan alpha) / (1 - mu tan alpha)``: horizontal over vertical force to push a block up the incline."""
+    t = math.tan(math.radians(alpha_deg))
+    if mu * t >= 1.0:
+        raise ValueError(f"mu tan(alpha) must be < 1 (self-locking otherwise), got mu={mu}, alpha={alpha_deg}")
+    return (mu + t) / (1 - mu * t)
+
+
+def build(law: ContactLaw, alpha: float = ALPHA, E: float = E, nu: float = NU, load: float = LOAD,
+          push: float = PUSH, slide_steps: int = 2, comm: MPI.Comm = MPI.COMM_WORLD,
+          mesh: tuple = ((40, 8), (12, 6))) -> Setup:
+    """``law``: a Coulomb :class:`~fenics_contact.friction.Friction` (``mu > 0``); ``alpha`` in degrees, in
+    [0, 60]; ``load`` the vertical traction on the block's top; ``push`` the horizontal displacement of its left
+    face at the end; ``slide_steps`` load steps of the push; ``mesh`` the (nx, ny) of the wedge and the block."""
+    positive(E=E, load=load, push=push)
+    poisson(nu=nu)
+    alpha = float(alpha)
+    if not (math.isfinite(alpha) and 0.0 <= alpha <= 60.0):
+        raise ValueError(f"alpha must be in [0, 60] degrees, got {alpha!r}")
+    if not isinstance(law, Friction) or "mu" not in law.scalars or not law.scalars["mu"] > 0:
+        raise ValueError(f"wedges needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
+    if int(slide_steps) < 1:
+        raise ValueError(f"slide_steps must be >= 1, got {slide_steps!r}")
+    mu = float(law.scalars["mu"])
+    reference = wedge_ratio(mu, alpha)  # refuses a self-locking wedge before any work
+    L, D, b, h = 1.0, 0.4, 0.25, 0.25
+    msh, cells, facets = block_on_incline(comm, math.radians(alpha), L, D, b, h, *mesh, overlap=1e-9 * L)
+    V = function_space(msh, "Lagrange", 1, (2,))
+    u = fem.Function(V, name="displacement")
+    t = fem.Constant(msh, 0.0)
+    left = fem.locate_dofs_topological(V.sub(0), 1, facets.find("block_left"))  # pushed along x
+    dirichlet = [Dirichlet.on_facets(V, facets, "wedge_bottom", 0), Dirichlet.on_facets(V, facets, "wedge_bottom", 1),
+                 Dirichlet(V.sub(0), left, 1.0, ([0.0, 1.0, 2.0], [0.0, 0.0, push]))]
+    contact = two_body_surfaces(u, facets, "block_bottom", "wedge_top", lambda: law, t, "nodal", name="incline")[0]
+    ds = ufl.Measure("ds", domain=msh, subdomain_data=facets.meshtags)
+    # Tractions are scaled by t: this vector times t is (0, -load) from t = 1 on.
+    top = ufl.as_vector((0.0, -load * ufl.min_value(t, 1.0) / t))
+    problem = ContactProblem(u, LinearElastic(E, nu), t, dirichlet, [contact], [(top, ds(facets["block_top"]))])
+    top_length = 2 * b  # the top is turned, its length is 2 b; the traction is per unit length
+    N = load * top_length
+    loads = [1.0] + [1.0 + (i + 1) / slide_steps for i in range(slide_steps)]
+
+    def figures() -> dict:
+        prof = contact.friction_profile()
+        closed = prof["state"] > 0
+        force = contact.total_force() + contact.tangential_force()  # of the wedge on the block
+        # The push H from the block's equilibrium: the pushed face's reaction also holds the contact force of the
+        # slave vertex at its lower corner, so the contact force is the exact measure.
+        H = -float(force[0])
+        return {"N": N, "H": H, "ratio": H / N, "ratio_reference": reference,
+                "ratio_error": abs(H / N - reference) / reference,
+                "slip_fraction": float(np.mean(prof["state"][closed] == SLIP)) if closed.any() else 0.0,
+                "contact_force_y": float(force[1]), "vertical_equilibrium_error": abs(float(force[1]) - N) / N}
+
+    params = {"E": E, "nu": nu, "alpha": alpha, "mu": mu, "load": load, "push": push, "N": N,
+              "mesh": [list(m) for m in mesh], "quadrature": "nodal",
+              "model": "block pushed up an incline, two deformable bodies, node-to-segment Coulomb friction"}
+    return Setup("wedges", problem, [contact], loads, params, figures,
+                 [u, contact.gap_out, contact.pressure_out, contact.traction_out, contact.state_out])
