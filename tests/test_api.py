@@ -120,7 +120,8 @@ def test_core_never_imports_the_application():
 def test_import_loads_no_application_module():
     """``import fenics_contact`` loads the library alone: no plotting, mesher, scene or benchmark module."""
     code = ("import sys, fenics_contact; print(sorted(m for m in sys.modules if m.split('.')[0] in "
-            "('matplotlib', 'pyvista', 'gmsh') or '.bench' in m or '.scenes' in m or m.startswith('fenics_contact.app')))")
+            "('matplotlib', 'pyvista', 'gmsh') or '.bench' in m or '.scenes' in m "
+            "or m.startswith('fenics_contact.app')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env={k: v for k, v in __import__("os").environ.items()
                               if not k.startswith(("OMPI_", "PMIX_", "PMI_"))})
