@@ -15,6 +15,10 @@ a surface that needs nothing at that point. Order of the calls in a load step (s
    ``augment()``.
 4. An accepted step: ``commit()``; a failed one: ``restore(state())`` of the snapshot taken before it.
 5. Output: ``update_output()`` before every write.
+
+Results (the same calls with the same signatures on every surface; figures gathered on every rank):
+``total_force()``, ``point_values(reference, kind)``, ``surface_values(kind)``, ``friction_profile()``.
+Sign convention: the gap is positive for penetration, the pressure positive in compression.
 """
 from __future__ import annotations
 
@@ -45,6 +49,7 @@ class Surface(abc.ABC):
     """
 
     name: str = "contact"
+    law = None  # the ContactLaw the surface enforces (a method without a law of the gap: its marker law)
     bcs: tuple = ()
     solver_options: dict = {}
     direct_solver_options: dict = {}
@@ -157,6 +162,31 @@ class Surface(abc.ABC):
     def update_output(self) -> None:
         """Refresh the output Functions (gap, pressure, ...) from the current state before they are written."""
         return None  # a no-op unless a surface needs it
+
+    # --- results ----------------------------------------------------------------------------
+    def total_force(self) -> np.ndarray:
+        """Resultant contact force on this surface's body from the other side (the obstacle, or the master
+        body), global components, shape ``(gdim,)``; per unit thickness in 2D. The same on every rank."""
+        raise NotImplementedError(f"{type(self).__name__} does not report its total force")
+
+    def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
+                                                                                     np.ndarray]:
+        """Position ``x`` (n, gdim) of the contact points (current configuration; ``reference=True``: reference
+        configuration), gap ``g`` (n,) (> 0 penetration) and pressure ``p`` (n,) (> 0 compression; ``kind``
+        ``nominal``: per reference area, ``cauchy``: per current area), gathered on every rank and sorted by
+        reference position."""
+        raise NotImplementedError(f"{type(self).__name__} does not report point values")
+
+    def surface_values(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Reference position, gap and pressure along the surface: ``point_values(reference=True, kind)``."""
+        return self.point_values(reference=True, kind=kind)
+
+    def friction_profile(self) -> dict[str, np.ndarray]:
+        """Friction figures at the contact points, sorted by reference position: ``x`` (n, gdim) reference
+        position, ``gap``, ``pressure``, ``traction`` (tangential traction of the other side on the body: 2D
+        a scalar along the tangent ``(n_y, -n_x)``, 3D a vector (n, 3)) and ``state`` (0 open, 1 slip, 2
+        stick). ``ValueError`` on a frictionless surface."""
+        raise ValueError(f"{self.name}: this surface has no friction (no friction profile)")
 
 
 class StepSolver(abc.ABC):
