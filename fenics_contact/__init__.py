@@ -22,7 +22,7 @@ benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :fu
 (:mod:`~fenics_contact.app.plotting`), meshes (:mod:`~fenics_contact.app.meshes`, gmsh imported only by the
 builders that use it) and tables are public too. Importing the package does not import gmsh.
 """
-from . import capabilities, compat, domain, failure, search
+from . import capabilities, compat, domain, failure, methods, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
 from .compat import function_space, interpolate_expression
@@ -32,7 +32,6 @@ from .domain import NamedTags, read_gmsh
 from .factory import contact_surface, two_body_multipliers, two_body_surfaces
 from .friction import Friction, FrictionalContact
 from .laws import (
-    METHODS,
     AugmentedLagrangian,
     ContactLaw,
     Coulomb,
@@ -43,9 +42,9 @@ from .laws import (
     NormalCompliance,
     Penalty,
     PenaltyMultiplier,
-    make_law,
 )
 from .materials import MODELS, PLANES, LinearElastic, Material, Materials, NeoHookean, lame
+from .methods import METHODS, Method, Parameter, Sweep, make_law, register
 from .mortar import SegmentSurface
 from .multipliers import MultiplierContact, TwoBodyMultiplier, unknown
 from .nitsche import NitscheContact
@@ -62,7 +61,9 @@ __all__ = [
     "Material", "LinearElastic", "NeoHookean", "Materials", "MODELS", "PLANES", "lame",
     # contact laws (method name -> class: METHODS, make_law)
     "ContactLaw", "Penalty", "CrossConstraints", "AugmentedLagrangian", "NormalCompliance", "Exact", "Coulomb",
-    "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw", "Friction", "METHODS", "make_law",
+    "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw", "Friction",
+    # the method registry (one declaration per method: law, parameters, surfaces, capability rules, benchmark)
+    "METHODS", "make_law", "Method", "Parameter", "Sweep", "register",
     # rigid obstacles
     "Obstacle", "HalfPlane", "Ball", "Cylinder", "Sphere",
     # contact surfaces: the interface, the constructors, the enforcements
@@ -83,5 +84,5 @@ __all__ = [
     # the capability matrix: a refused combination of options (capabilities.check, docs/capabilities.md)
     "UnsupportedCombination",
     # public submodules
-    "capabilities", "compat", "domain", "failure", "search",
+    "capabilities", "compat", "domain", "failure", "methods", "search",
 ]

@@ -1,11 +1,13 @@
 """The capability matrix: which combinations of options the suite supports, declared once as data.
 
-Axes (:data:`AXES`): contact method (:data:`fenics_contact.laws.METHODS`), contact kind (a rigid obstacle
-or two deformable bodies), contact quadrature, passes (two-body), dimension, displacement degree, bulk
-model, linear solver, friction. Every combination is supported unless a rule of :data:`RULES` refuses it;
-a rule names the axis values it refuses and what to use instead. :func:`check` raises
+Axes (:func:`axes`): contact method (the registered methods of :mod:`fenics_contact.methods`), contact kind
+(a rigid obstacle or two deformable bodies), contact quadrature, passes (two-body), dimension, displacement
+degree, bulk model, linear solver, friction. Every combination is supported unless a rule of :func:`rules`
+refuses it; a rule names the axis values it refuses and what to use instead. A method's own rules are part of
+its declaration; the rules that follow from what it declares (no two-body surface, no friction) and the rules of
+no single method are here. :func:`check` raises
 :class:`UnsupportedCombination` (a ``ValueError``) with one line naming the combination; the entry points
-(:func:`fenics_contact.bounds.contact_surface`, :func:`fenics_contact.twobody.two_body_surfaces`,
+(:func:`fenics_contact.factory.contact_surface`, :func:`fenics_contact.factory.two_body_surfaces`,
 :func:`fenics_contact.multipliers.unknown`, the scenes that combine options) call it before any
 assembly. ``python -m fenics_contact.capabilities`` prints the matrix (``docs/capabilities.md``).
 
@@ -15,19 +17,15 @@ built): rules on that axis are skipped, so an entry point refuses only what it c
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
 from typing import Any, Iterator, Mapping
 
-from .laws import METHODS
+from . import methods as _methods
+from .methods.spec import Rule, rule
 
-__all__ = ["AXES", "RULES", "Rule", "UnsupportedCombination", "cells", "cells_like", "check", "describe",
-           "markdown", "of", "refusal", "supported"]
+__all__ = ["AXES", "Rule", "UnsupportedCombination", "axes", "cells", "cells_like", "check", "describe",
+           "markdown", "of", "refusal", "rules", "supported"]
 
-MULTIPLIERS = ("lagrange", "penalty_multiplier")
-LAWS = ("penalty", "cross", "auglag", "compliance")  # penalty-type laws: a pressure F(g), friction on top
-
-AXES: dict[str, tuple] = {
-    "method": tuple(METHODS),
+_FIXED_AXES: dict[str, tuple] = {
     "kind": ("rigid", "two-body"),
     "quadrature": ("nodal", "gauss", "segment", "simpson"),
     "passes": ("one", "two"),
@@ -39,86 +37,79 @@ AXES: dict[str, tuple] = {
 }
 
 
+class _Axes(Mapping):
+    """Axis name -> its values; the method axis is read from the registry when asked, so a method registered
+    later is on the grid too."""
+
+    def __getitem__(self, axis: str) -> tuple:
+        return tuple(_methods.names()) if axis == "method" else _FIXED_AXES[axis]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(("method", *_FIXED_AXES))
+
+    def __len__(self) -> int:
+        return 1 + len(_FIXED_AXES)
+
+
+AXES: Mapping[str, tuple] = _Axes()
+
+
+def axes() -> dict[str, tuple]:
+    """The axes with their values now (the registered methods included)."""
+    return dict(AXES)
+
+
 class UnsupportedCombination(ValueError):
     """A combination of options the suite refuses (one line: the combination and what to use instead)."""
 
 
-@dataclass(frozen=True)
-class Rule:
-    """Refuse every combination whose axis values are all in ``when`` (axis -> refused values); ``use``:
-    what to use instead; ``why``: the reason, for the docs."""
-
-    when: Mapping[str, tuple]
-    use: str
-    why: str
-
-
-def _r(use: str, why: str, **when: Any) -> Rule:
-    return Rule({k: tuple(v) if isinstance(v, (tuple, list)) else (v,) for k, v in when.items()}, use, why)
-
-
-NON_LAW = ("vi", "coulomb", "nitsche") + MULTIPLIERS
-# Ordered: the first matching rule gives the message (method-specific rules before the generic ones, so that
-# the advice fits the method).
-RULES: tuple[Rule, ...] = (
-    # --- kind and passes
-    _r("passes 'one'", "a rigid obstacle is never a slave: passes are a two-body option",
-       kind="rigid", passes="two"),
-    _r("quadrature 'nodal' or 'gauss'", "segment-to-segment integration pairs two meshed surfaces",
-       kind="rigid", quadrature="segment"),
-    _r("method penalty, cross, auglag, compliance, coulomb, lagrange or penalty_multiplier",
-       "vi bounds one displacement component against a flat obstacle; nitsche needs the obstacle's stress-free "
-       "side", kind="two-body", method=("vi", "nitsche")),
-    _r("passes 'one'", "coulomb pairs each slave vertex once with the master surface (two passes would "
-       "constrain each pair twice)", kind="two-body", method="coulomb", passes="two"),
-    _r("quadrature 'nodal' or 'gauss' (pointwise two-body friction) or mu 0",
-       "the segment-to-segment element has no tangential law", kind="two-body", friction=True,
-       quadrature="segment"),
-    _r("degree 1 (flat facets) or mu 0", "two-body friction projects the slip on flat master facets",
-       kind="two-body", friction=True, degree=2),
-    # --- friction
-    _r("a method with friction (penalty, cross, auglag, compliance, coulomb) or mu 0",
-       "these methods have no tangential law", friction=True, method=("vi", "nitsche") + MULTIPLIERS),
-    # --- exact methods
-    _r("quadrature 'nodal' and degree 1", "vi bounds the nodal displacement", method="vi",
-       quadrature=("gauss", "segment", "simpson")),
-    _r("degree 1", "vi's pressure is the nodal reaction over the vertex weight (0 at a mid-side node)",
-       method="vi", degree=2),
-    _r("solver 'direct'", "SNES VI's reduced system changes size between iterations: GAMG cannot follow",
-       method="vi", solver="iterative"),
-    _r("quadrature 'nodal'", "coulomb is nodal contact on the condensed stiffness", method="coulomb",
-       quadrature=("gauss", "segment", "simpson")),
-    _r("degree 1", "coulomb condenses onto the contact vertices", method="coulomb", degree=2),
-    _r("dim 2", "coulomb has one tangential direction", method="coulomb", dim=3),
-    _r("model 'linear'", "coulomb condenses a constant stiffness", method="coulomb", model="neohookean"),
-    _r("solver 'direct'", "coulomb factors the stiffness itself (MUMPS)", method="coulomb", solver="iterative"),
-    _r("quadrature 'nodal' (P1) or 'simpson' (P2)", "the multipliers' constraint sits at the vertices",
-       method=MULTIPLIERS, quadrature=("gauss", "segment")),
-    _r("degree 1", "the multipliers' quadratic (two-point) element is 2D", method=MULTIPLIERS, degree=2, dim=3),
-    _r("quadrature 'simpson' (the two-point element)", "the vertex rule alone leaves the mid-side nodes of "
-       "quadratic facets without the pressure's work", method=MULTIPLIERS, degree=2, quadrature="nodal"),
-    _r("passes 'one'", "two passes of exact constraints over-constrain the surface (surface locking, "
-       "a pressure split arbitrarily between the passes)", method=MULTIPLIERS, passes="two"),
-    # --- quadrature and degree
-    _r("degree 1 (or 2D)", "quadratic master facets are curved segments: 2D only", kind="two-body", degree=2, dim=3),
-    _r("quadrature 'simpson'", "a quadratic two-body surface works at the three nodes of its facets (the vertex "
-       "rule leaves the mid-side node without contact: the point_values IndexError)",
-       kind="two-body", degree=2, quadrature=("nodal", "gauss")),
-    _r("quadrature 'gauss' (or 'simpson' in 2D)",
-       "the vertex rule leaves the mid-side nodes of quadratic facets without contact", degree=2, quadrature="nodal"),
-    _r("quadrature 'nodal' or 'gauss'", "Simpson's rule uses the three nodes of a quadratic 2D facet",
-       degree=1, quadrature="simpson"),
-    _r("quadrature 'gauss' (3D)", "Simpson's rule uses the three nodes of a quadratic 2D facet",
-       dim=3, quadrature="simpson"),
-    _r("degree 1 or quadrature 'simpson'", "segment-to-segment integration clips flat facets",
-       degree=2, quadrature="segment"),
-    _r("method penalty, auglag or compliance", "the segment element's NumPy law fails on cross-constraints' open "
-       "branch (a singular first tangent: MUMPS fails at the first iterate; found by the full grid)",
-       kind="two-body", quadrature="segment", method="cross"),
-    _r("degree 1, model 'linear' or another method", "Nitsche's gamma = gamma0 E / h does not grow with the degree "
-       "(coercivity needs ~p^2): on quadratic elements at finite strain gamma0 = 10 loses the solve (found by the "
-       "full grid)", method="nitsche", degree=2, model="neohookean"),
+# Rules of no single method. Ordered: the first matching rule gives the message.
+_KIND = (
+    rule("passes 'one'", "a rigid obstacle is never a slave: passes are a two-body option",
+         kind="rigid", passes="two"),
+    rule("quadrature 'nodal' or 'gauss'", "segment-to-segment integration pairs two meshed surfaces",
+         kind="rigid", quadrature="segment"),
 )
+_TWO_BODY_FRICTION = (
+    rule("quadrature 'nodal' or 'gauss' (pointwise two-body friction) or mu 0",
+         "the segment-to-segment element has no tangential law", kind="two-body", friction=True,
+         quadrature="segment"),
+    rule("degree 1 (flat facets) or mu 0", "two-body friction projects the slip on flat master facets",
+         kind="two-body", friction=True, degree=2),
+)
+_QUADRATURE = (
+    rule("degree 1 (or 2D)", "quadratic master facets are curved segments: 2D only", kind="two-body", degree=2,
+         dim=3),
+    rule("quadrature 'simpson'", "a quadratic two-body surface works at the three nodes of its facets (the vertex "
+         "rule leaves the mid-side node without contact: the point_values IndexError)",
+         kind="two-body", degree=2, quadrature=("nodal", "gauss")),
+    rule("quadrature 'gauss' (or 'simpson' in 2D)",
+         "the vertex rule leaves the mid-side nodes of quadratic facets without contact", degree=2,
+         quadrature="nodal"),
+    rule("quadrature 'nodal' or 'gauss'", "Simpson's rule uses the three nodes of a quadratic 2D facet",
+         degree=1, quadrature="simpson"),
+    rule("quadrature 'gauss' (3D)", "Simpson's rule uses the three nodes of a quadratic 2D facet",
+         dim=3, quadrature="simpson"),
+    rule("degree 1 or quadrature 'simpson'", "segment-to-segment integration clips flat facets",
+         degree=2, quadrature="segment"),
+)
+
+
+def rules() -> tuple[Rule, ...]:
+    """Every rule, in the order they are tried: the kind, the methods without two-body surfaces, two-body
+    friction, the methods without friction, each method's own rules (registry order), quadrature and degree."""
+    ms = _methods.methods()
+    two_body = [m.name for m in ms if m.two_body is not None]
+    with_friction = [m.name for m in ms if m.friction != "none"]
+    no_two_body = tuple(rule(f"method {', '.join(two_body[:-1])} or {two_body[-1]}",
+                             m.no_two_body or f"{m.name} has no two-body surface", kind="two-body", method=m.name)
+                        for m in ms if m.two_body is None)
+    frictionless = tuple(m.name for m in ms if m.friction == "none")
+    no_friction = (rule(f"a method with friction ({', '.join(with_friction)}) or mu 0",
+                        "these methods have no tangential law", friction=True, method=frictionless),) if frictionless \
+        else ()
+    own = tuple(r for m in ms for r in m.rules)
+    return _KIND + no_two_body + _TWO_BODY_FRICTION + no_friction + own + _QUADRATURE
 
 
 def _fmt(axis: str, value: Any) -> str:
@@ -146,16 +137,16 @@ def _validate(combo: Mapping[str, Any]) -> None:
     for axis, value in combo.items():
         if axis not in AXES:
             raise ValueError(f"unknown capability axis {axis!r}; accepted: {', '.join(AXES)}")
-        if value is not None and value not in AXES[axis]:
-            raise ValueError(f"{axis} must be one of {AXES[axis]}, got {value!r}")
+        if value is not None and value not in axes()[axis]:
+            raise ValueError(f"{axis} must be one of {axes()[axis]}, got {value!r}")
 
 
 def refusal(**combo: Any) -> Rule | None:
     """The first rule that refuses ``combo`` (axes given as keywords; missing or ``None``: unknown), or None."""
     _validate(combo)
-    for rule in RULES:
-        if all(combo.get(a) is not None and combo[a] in vals for a, vals in rule.when.items()):
-            return rule
+    for r in rules():
+        if all(combo.get(a) is not None and combo[a] in vals for a, vals in r.when.items()):
+            return r
     return None
 
 
@@ -171,22 +162,20 @@ def check(method: str | None = None, kind: str | None = None, quadrature: str | 
     what to use instead) if a rule refuses the combination; ``None``: the axis is not known here."""
     combo = dict(method=method, kind=kind, quadrature=quadrature, passes=passes, dim=dim, degree=degree,
                  model=model, solver=solver, friction=friction)
-    rule = refusal(**combo)
-    if rule is not None:
-        refused = describe(**{a: combo[a] for a in rule.when})
-        raise UnsupportedCombination(f"unsupported combination {refused} ({describe(**combo)}): {rule.why}; "
-                                     f"use {rule.use}")
+    found = refusal(**combo)
+    if found is not None:
+        refused = describe(**{a: combo[a] for a in found.when})
+        raise UnsupportedCombination(f"unsupported combination {refused} ({describe(**combo)}): {found.why}; "
+                                     f"use {found.use}")
 
 
 def of(law, u=None, material=None) -> dict:
     """The axis values an entry point can see: ``method`` and ``friction`` from the law, ``dim`` and ``degree``
     from the unknown ``u`` (a displacement or mixed (displacement, pressure) Function), ``model`` from the
-    bulk material (``None`` where not given). A law of the user's own (a name not in ``METHODS``) has method
-    ``None``: the rules on the method are skipped for it."""
-    name = law.name
-    friction = name.endswith("+friction") or (name == "coulomb" and float(law.mu) > 0.0)
-    method = name.split("+")[0]
-    out = {"method": method if method in METHODS else None, "friction": friction}  # a user's own law: unknown
+    bulk material (``None`` where not given). A law of the user's own that no registered method declares has
+    method ``None``: the rules on the method are skipped for it."""
+    method = _methods.of_law(law)
+    out = {"method": None if method is None else method.name, "friction": bool(law.has_friction)}
     if u is not None:
         V = u.function_space
         Vd = V.sub(0) if V.num_sub_spaces > 0 and V.sub(0).num_sub_spaces > 0 else V  # mixed: the displacement
@@ -199,34 +188,36 @@ def of(law, u=None, material=None) -> dict:
 
 def cells() -> Iterator[dict]:
     """Every cell of the matrix (the product of :data:`AXES`), as keyword dictionaries."""
-    for values in itertools.product(*AXES.values()):
-        yield dict(zip(AXES, values))
+    grid = axes()
+    for values in itertools.product(*grid.values()):
+        yield dict(zip(grid, values))
 
 
 def markdown() -> str:
     """The matrix as Markdown: the axes, the refusal rules, and the supported structural combinations per
     method (kind, quadrature, passes, dimension, degree) with the models, solvers and friction they allow."""
     lines = ["# Capability matrix", "",
-             "Generated by `python -m fenics_contact.capabilities > docs/capabilities.md` from "
-             "`fenics_contact/capabilities.py` (the same declaration `check` uses); do not edit.", "",
+             "Generated by `python -m fenics_contact.capabilities > docs/capabilities.md` from the method "
+             "declarations (`fenics_contact/methods/`) and `fenics_contact/capabilities.py` (what `check` uses); "
+             "do not edit.", "",
              "Every combination of the axes is supported unless a rule below refuses it; a refused "
              "combination raises `UnsupportedCombination` (a `ValueError`) before any assembly, with one "
              "line naming it and what to use instead. `tests/test_capabilities.py` solves the supported "
              "cells on tiny meshes against closed forms and checks every refusal.", "", "## Axes", ""]
-    for axis, values in AXES.items():
+    for axis, values in axes().items():
         shown = (_fmt(axis, v) if axis in ("dim", "degree") else str(v) for v in values)
         lines.append(f"- **{axis}**: {', '.join(shown)}")
     lines += ["", "## Refused combinations", "", "| refused when | why | use instead |", "|---|---|---|"]
-    for rule in RULES:
-        when = "; ".join(f"{a} {' or '.join(str(v) for v in vals)}" for a, vals in rule.when.items())
-        lines.append(f"| {when} | {rule.why} | {rule.use} |")
+    for r in rules():
+        when = "; ".join(f"{a} {' or '.join(str(v) for v in vals)}" for a, vals in r.when.items())
+        lines.append(f"| {when} | {r.why} | {r.use} |")
     lines += ["", "## Supported combinations", "",
               "Per method and contact kind: the supported (quadrature, passes, dim, degree) cells, and for each "
               "the bulk models, linear solvers and friction settings it allows.", "",
               "| method | kind | quadrature | passes | dim | degree | models | solvers | friction |",
               "|---|---|---|---|---|---|---|---|---|"]
     structural = ("quadrature", "passes", "dim", "degree")
-    for method in AXES["method"]:
+    for method in axes()["method"]:
         for kind in AXES["kind"]:
             for values in itertools.product(*(AXES[a] for a in structural)):
                 s = dict(zip(structural, values), method=method, kind=kind)
@@ -243,8 +234,9 @@ def markdown() -> str:
 
 def cells_like(fixed: Mapping[str, Any]) -> Iterator[dict]:
     """Every cell with the axis values of ``fixed``."""
-    free = [a for a in AXES if a not in fixed]
-    for values in itertools.product(*(AXES[a] for a in free)):
+    grid = axes()
+    free = [a for a in grid if a not in fixed]
+    for values in itertools.product(*(grid[a] for a in free)):
         yield {**fixed, **dict(zip(free, values))}
 
 

@@ -106,6 +106,15 @@ class Friction(ContactLaw):
         self.fields = normal.fields
         self.name = f"{normal.name}+friction"
 
+    @property
+    def method(self) -> str:
+        """The normal law's method: friction is on top of it."""
+        return self.normal.method
+
+    @property
+    def has_friction(self) -> bool:
+        return True
+
     # --- normal part: the normal law's --------------------------------------
     def force(self, g, c, ops=NUMPY):
         return self.normal.force(g, c, ops)

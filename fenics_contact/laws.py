@@ -23,7 +23,7 @@ import numpy as np
 
 __all__ = [
     "NUMPY", "ufl_ops", "ContactLaw", "Penalty", "AugmentedLagrangian", "CrossConstraints", "NormalCompliance",
-    "Exact", "Coulomb", "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw", "METHODS", "make_law"
+    "Exact", "Coulomb", "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw"
 ]
 
 NUMPY = types.SimpleNamespace(exp=np.exp, max=np.maximum, min=np.minimum)
@@ -70,6 +70,16 @@ class ContactLaw:
 
     def stiffness(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
         raise NotImplementedError
+
+    @property
+    def method(self) -> str:
+        """The name of the method (:mod:`fenics_contact.methods`) this law belongs to."""
+        return self.name
+
+    @property
+    def has_friction(self) -> bool:
+        """True when the law has a tangential part (friction)."""
+        return False
 
     @property
     def augmentable(self) -> bool:
@@ -280,6 +290,10 @@ class Coulomb(ContactLaw):
         self.mu = _check_nonnegative("friction coefficient mu", mu)
         self.scalars, self.fields = {}, {}
 
+    @property
+    def has_friction(self) -> bool:
+        return self.mu > 0.0
+
     def force(self, g, c, ops=NUMPY):
         raise TypeError("method 'coulomb' has no contact law: its pressure is the nodal contact reaction")
 
@@ -347,15 +361,3 @@ class NitscheLaw(ContactLaw):
 def _heaviside(x, ops):
     """1 for x > 0, 0 otherwise, without division: min(max(x * huge, 0), 1)."""
     return ops.min(ops.max(x * 1e300, 0.0), 1.0)
-
-
-METHODS = {"penalty": Penalty, "cross": CrossConstraints, "auglag": AugmentedLagrangian,
-           "compliance": NormalCompliance, "vi": Exact, "coulomb": Coulomb, "lagrange": LagrangeMultiplier,
-           "penalty_multiplier": PenaltyMultiplier, "nitsche": NitscheLaw}
-
-
-def make_law(method: str, **params: float) -> ContactLaw:
-    """Build a law by method name (see ``METHODS``)."""
-    if method not in METHODS:
-        raise ValueError(f"unknown contact method {method!r}; accepted: {', '.join(METHODS)}")
-    return METHODS[method](**params)

@@ -99,13 +99,19 @@ class Ball(Obstacle):
                 "axis": None if self.axis is None else self.axis.tolist()}
 
 
-def Cylinder(center, radius, motion=None, axis=None, body_outside=True) -> Ball:
-    """A disk in 2D; in 3D a cylinder about ``axis`` (required)."""
-    if len(center) == 3 and axis is None:
-        raise ValueError("a 3D cylinder obstacle needs its axis")
-    return Ball(center, radius, motion, axis, body_outside)
+class Cylinder(Ball):
+    """A rigid disk (2D) or, in 3D, a cylinder about ``axis`` (required), of radius ``radius``."""
+
+    def __init__(self, center, radius: float, motion=None, axis=None, body_outside: bool = True):
+        if len(center) == 3 and axis is None:
+            raise ValueError("a 3D cylinder obstacle needs its axis")
+        super().__init__(center, radius, motion, axis, body_outside)
 
 
-def Sphere(center, radius, motion=None, body_outside=True) -> Ball:
-    """A rigid sphere (3D)."""
-    return Ball(center, radius, motion, None, body_outside)
+class Sphere(Ball):
+    """A rigid sphere (3D) of radius ``radius``."""
+
+    def __init__(self, center, radius: float, motion=None, body_outside: bool = True):
+        if len(center) != 3:
+            raise ValueError(f"a sphere obstacle is 3D: its center needs 3 coordinates, got {len(center)}")
+        super().__init__(center, radius, motion, None, body_outside)

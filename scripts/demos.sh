@@ -16,7 +16,7 @@ elif [ "$MODE" = all ]; then
   RUNS=()
   for f in demos/*.py; do
     name=$(basename "$f" .py)
-    case " $DRIVERS " in *" $name "*) ;; *) RUNS+=("$name") ;; esac
+    case " $DRIVERS " in *" $name "*) ;; _*) ;; *) RUNS+=("$name") ;; esac
   done
 else
   echo "usage: $0 quick|all [OUT]" >&2; exit 2

@@ -17,7 +17,7 @@ CASES = [("block", "penalty", {"K": 1e5}, 0, "nodal"),
 def compute() -> dict:
     logging.getLogger().setLevel(logging.WARNING)
     from fenics_contact.app.scenes import build
-    from fenics_contact.laws import make_law
+    from fenics_contact.methods import make_law
     from fenics_contact.solver import Solver
 
     out = {}

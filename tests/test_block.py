@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 from fenics_contact.app.scenes import block
-from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty, make_law
+from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty
+from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
 
 EXACT = block.EXACT_PRESSURE

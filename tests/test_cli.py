@@ -10,7 +10,7 @@ import pytest
 from mpi4py import MPI
 
 from fenics_contact.app import cli
-from fenics_contact.app.checks import check
+from fenics_contact.app.checks import reference_check
 
 ROOT = Path(__file__).resolve().parent.parent
 NOISE = ("hwloc/linux:", "[")  # hwloc's warning; UCX's "[<time>] [<host>] ... UCX ERROR" lines
@@ -122,13 +122,13 @@ def test_unknown_option_in_process_names_the_close_match():
 
 
 def test_check_record():
-    c = check("p", 1.01, 1.0, 2e-2, "closed form")
+    c = reference_check("p", 1.01, 1.0, 2e-2, "closed form")
     assert c["passed"] and abs(c["rel_error"] - 0.01) < 1e-12
-    assert not check("p", 1.03, 1.0, 2e-2)["passed"]
-    assert check("p", None, 1.0, 2e-2) == {"figure": "p", "value": None, "reference": 1.0, "rel_error": None,
+    assert not reference_check("p", 1.03, 1.0, 2e-2)["passed"]
+    assert reference_check("p", None, 1.0, 2e-2) == {"figure": "p", "value": None, "reference": 1.0, "rel_error": None,
                                            "tolerance": 2e-2, "passed": False, "source": ""}
     with pytest.raises(ValueError, match="tolerance"):
-        check("p", 1.0, 1.0, 0.0)
+        reference_check("p", 1.0, 1.0, 0.0)
 
 
 def test_error_line_knows_the_user_errors_only():

@@ -4,7 +4,7 @@ import pytest
 from mpi4py import MPI
 
 from fenics_contact.app.scenes import build, cylinders
-from fenics_contact.laws import make_law
+from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
 
 

@@ -8,13 +8,15 @@ from pathlib import Path
 
 import pytest
 
-DEMOS = Path(__file__).resolve().parent.parent / "demos"
+from fenics_contact.app.__main__ import DRIVERS, demo_names
+
+DEMOS = Path(__file__).resolve().parent.parent / "fenics_contact" / "app" / "demos"
 # demo name -> its small-size options: demos/quick.txt, the list make demo runs
 TINY = {line.split()[0]: line.split()[1:] for line in (DEMOS / "quick.txt").read_text().splitlines()
         if line.strip() and not line.startswith("#")}
 # Not in the smoke test: the drivers, and mindlin3d (3D two-body friction: its smallest size that meets its own
 # check takes minutes; tests/test_mindlin3d.py runs the scene on a coarse mesh).
-SCRIPTS = sorted(p.stem for p in DEMOS.glob("*.py") if p.stem not in ("bench", "scaling", "table", "mindlin3d"))
+SCRIPTS = sorted(n for n in demo_names() if n not in (*DRIVERS, "mindlin3d"))
 
 
 def load(name: str):

@@ -67,7 +67,7 @@ def test_force_control_from_rest(method):
     """A disk held only by the contact, pressed by a force (``load``), from rest: p0 and a against Hertz for the
     applied load within the displacement-controlled tolerance; the vanishing spring is 0 at the end, so the
     contact carries the whole load."""
-    from fenics_contact.laws import make_law
+    from fenics_contact.methods import make_law
 
     law = {"auglag": lambda: AugmentedLagrangian(hertz.DEFAULT_K), "lagrange": lambda: make_law("lagrange", c=1e3),
            "vi": lambda: make_law("vi")}[method]()
@@ -80,7 +80,7 @@ def test_force_control_from_rest(method):
 def test_parameters_change_the_answer_as_hertz_says():
     """E halved at the same force: a scales as 1/sqrt(E), p0 as sqrt(E) (E halved, not doubled: a
     larger contact spans more elements, whose edge estimate is then within 2 %); the parameters are recorded."""
-    from fenics_contact.laws import make_law
+    from fenics_contact.methods import make_law
 
     f1 = solve(make_law("lagrange", c=1e3), load=P_FORCE)
     setup = hertz.build(make_law("lagrange", c=1e3), load=P_FORCE, E=hertz.E / 2)
@@ -96,7 +96,7 @@ def test_two_identical_bodies_force_controlled():
     """The two-body Hertz case of two identical bodies (E = 200, nu = 0.3, R = 8, load 10): the quarter disk
     pressed by a force on a deformable block 2R x 2R of the same material, from rest, multipliers. Hertz with
     E* = E / (2 (1 - nu^2)) (both bodies deform)."""
-    from fenics_contact.laws import make_law
+    from fenics_contact.methods import make_law
 
     kw = dict(plate="meshed", E=200.0, nu=0.3, R=8.0, load=10.0, plate_E=200.0, plate_width=16.0, plate_depth=16.0)
     f = solve(make_law("lagrange", c=1e3), **kw)
@@ -121,7 +121,7 @@ def test_neohookean_inverted_state_is_rejected_and_cut_back():
     """Neo-Hookean, approach 0.01 in 2 steps with SNES VI: the first Newton solve converges to a state with
     inverted elements (min det F = -1.18 measured) whose contact force is 40 % off; the solver rejects it as
     ``inverted_elements``, cuts the step back and reaches the state of the multipliers (min det F ~ 0.96)."""
-    from fenics_contact.laws import make_law
+    from fenics_contact.methods import make_law
 
     setup = hertz.build(make_law("vi"), model="neohookean", approach=0.01, steps=2)
     solver = Solver(setup.problem, quiet=True)

@@ -5,7 +5,8 @@ import ufl
 from dolfinx import fem, mesh
 from mpi4py import MPI
 
-from fenics_contact.laws import NUMPY, AugmentedLagrangian, CrossConstraints, Penalty, make_law, ufl_ops
+from fenics_contact.laws import NUMPY, AugmentedLagrangian, CrossConstraints, Penalty, ufl_ops
+from fenics_contact.methods import make_law
 
 G = np.concatenate([-np.logspace(-6, 0, 7), [0.0], np.logspace(-6, 0, 7)]) * 1e-3
 

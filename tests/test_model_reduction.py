@@ -2,7 +2,7 @@
 import numpy as np
 
 from fenics_contact.app.scenes import hertz
-from fenics_contact.laws import make_law
+from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
 
 

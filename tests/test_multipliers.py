@@ -87,7 +87,7 @@ def test_bad_input():
 
 def solve_cylinders(method, comm=MPI.COMM_WORLD, augment_max=0, **params):
     from fenics_contact.app.scenes import cylinders
-    from fenics_contact.laws import make_law
+    from fenics_contact.methods import make_law
 
     setup = build("cylinders", law_factory=lambda: make_law(method, **params), quadrature="nodal", passes="one",
                   loads=[cylinders.T_HERTZ], comm=comm)

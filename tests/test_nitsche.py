@@ -9,7 +9,8 @@ from petsc4py import PETSc
 from fenics_contact.app.scenes import block, hertz
 from fenics_contact.compat import petsc_vec
 from fenics_contact.factory import contact_surface
-from fenics_contact.laws import NitscheLaw, make_law
+from fenics_contact.laws import NitscheLaw
+from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
 
 

@@ -35,7 +35,7 @@ def test_a_far_predicted_state_does_not_pass_the_relative_tolerance():
     through the block (residual ~3e11). Newton's relative tolerance then refers to the out-of-balance of the last
     converged state at the new load, not to the predicted one: every step ends converged in absolute terms (it
     stopped at a residual of 2.0, "converged" at 1e-11 x 3e11, before)."""
-    from fenics_contact.laws import make_law
+    from fenics_contact.methods import make_law
 
     setup = build("hertz", law=make_law("penalty", K=2.5e4), refinement=1, plate="meshed", E=200.0, nu=0.3, R=8.0,
                   load=10.0, plate_E=200.0, plate_width=32.0, plate_depth=16.0)

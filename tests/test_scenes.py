@@ -6,7 +6,7 @@ import importlib
 import pytest
 
 from fenics_contact.app.scenes import add_scene_options, build, numeric_parameters, scene_arguments
-from fenics_contact.laws import make_law
+from fenics_contact.methods import make_law
 
 # scene -> its module constants that are now build arguments with those defaults
 CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"},  # stabilisation: None (by plate)

@@ -8,7 +8,7 @@ from mpi4py import MPI
 
 from fenics_contact import search
 from fenics_contact.app.scenes import build
-from fenics_contact.laws import make_law
+from fenics_contact.methods import make_law
 from fenics_contact.search import closest_point_on_facets, closest_point_on_quadratic, project
 
 

@@ -8,7 +8,8 @@ from fenics_contact.app.meshes import rectangle
 from fenics_contact.app.scenes import block, build, slab
 from fenics_contact.compat import function_space
 from fenics_contact.factory import contact_surface
-from fenics_contact.laws import Coulomb, Exact, make_law
+from fenics_contact.laws import Coulomb, Exact
+from fenics_contact.methods import make_law
 from fenics_contact.obstacles import Cylinder, HalfPlane
 from fenics_contact.solver import ConvergenceError, Solver
 

@@ -11,8 +11,8 @@ from petsc4py import PETSc
 
 from fenics_contact.app.scenes import sphere
 from fenics_contact.compat import create_mesh, entities_to_geometry, function_space
-from fenics_contact.laws import make_law
 from fenics_contact.materials import LinearElastic
+from fenics_contact.methods import make_law
 from fenics_contact.nullspace import cell_bodies, rigid_body_modes
 from fenics_contact.solver import INEXACT_NEWTON, LINEAR_SOLVERS, Solver
 

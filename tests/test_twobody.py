@@ -10,7 +10,7 @@ from fenics_contact.app.meshes import stacked_blocks
 from fenics_contact.app.scenes import build
 from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.factory import two_body_surfaces
-from fenics_contact.laws import make_law
+from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
 from fenics_contact.twobody import MARGIN, TwoBodySurface, leaf_boxes
 

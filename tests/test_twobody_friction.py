@@ -13,7 +13,7 @@ from fenics_contact.app.meshes import stacked_blocks
 from fenics_contact.app.scenes import build
 from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.friction import SLIP, STICK
-from fenics_contact.laws import make_law
+from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
 
 OMEGA_T = 30.0

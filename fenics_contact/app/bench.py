@@ -43,12 +43,14 @@ from typing import Sequence
 
 import numpy as np
 
+from .. import methods
+
 __all__ = [
-    "DEMOS", "COLUMNS", "AUGMENT", "ERROR_FLOOR", "PETSC_DTOL", "DTOL", "REFERENCES", "BUILT_IN", "PARAMETERLESS",
+    "DEMOS", "COLUMNS", "AUGMENT", "ERROR_FLOOR", "PETSC_DTOL", "DTOL", "references", "parameter_label",
     "GAMMA0", "spec", "bench_scenes", "run_config", "sweep", "stability_sweep", "status", "run_name", "child_env",
     "command", "run_one", "run_all", "add_limit_gap", "bench", "report", "STABILITY_TITLE", "stability",
     "add_stability_limit", "stability_summary", "REDUCTIONS", "REDUCTION_HEADER", "reduction", "write_rows",
-    "read_rows", "findings", "convergence_findings", "pareto_front", "COLOURS", "MARKERS", "SIZES", "figure",
+    "read_rows", "findings", "convergence_findings", "pareto_front", "MARKERS", "figure",
     "plot_pareto", "plot_dofs", "plot_iterations", "KIND_SHORT", "plot_stability", "plot_stability_accuracy",
     "run_scene", "main"
 ]
@@ -62,10 +64,17 @@ AUGMENT = 10  # max augmentations per load step for the augmented variants
 ERROR_FLOOR = 1e-16  # errors are drawn at least this large on the log axis (an exact answer is 0)
 PETSC_DTOL = ["-fc_snes_convergence_test", "default", "-fc_snes_divergence_tolerance", "1e4"]  # PETSc's own test
 DTOL = "penalty, PETSc divergence test on"  # the stability map's control runs (dtol 1e4, PETSc's default)
-REFERENCES = ("vi", "nitsche")  # what a user would pick instead of the suite's laws
-BUILT_IN = ("penalty", "cross", "auglag", "nitsche")  # the sweep's own parameter ranges
-PARAMETERLESS = ("vi", "coulomb")  # run once per mesh
 GAMMA0 = {"quick": (10.0, 100.0), "full": (3.0, 10.0, 30.0, 100.0, 1000.0)}  # nitsche: in the K column
+
+
+def references() -> tuple[str, ...]:
+    """The methods a user would pick instead of the suite's penalty-type laws (their declarations' ``sweep``)."""
+    return tuple(m.name for m in methods.methods() if m.sweep.reference)
+
+
+def parameter_label(method: str) -> str:
+    """The name of the parameter the benchmark sweeps for ``method`` (the K column's meaning), ``-`` if none."""
+    return methods.get(method).sweep.parameter or "-"
 
 
 def _benches() -> dict[str, dict]:
@@ -109,7 +118,7 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
     ``quick_sweep`` may set the quick exponents (``penalty``, ``other``), ``gamma0`` and ``augment`` (the
     augmentation counts of cross and auglag, e.g. ``(0,)``: plain only)."""
     s = spec(scene)
-    K0, mode, methods, F = s["K"], "quick" if quick else "full", s["methods"], s.get("F_hat", 0.0)
+    K0, mode, methods_of_scene, F = s["K"], "quick" if quick else "full", s["methods"], s.get("F_hat", 0.0)
     if quick:
         q = {"penalty": (-1, 0, 1, 2), "other": (0, 1), "gamma0": GAMMA0["quick"], "augment": (0, AUGMENT),
              **s.get("quick_sweep", {})}
@@ -119,20 +128,21 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
              "augment": (0, AUGMENT)}
         quadratures = s.get("quadratures", ["nodal", "gauss"])
     levels = [None] if s.get("mesh") is None else s["mesh"][1][mode]
+    declared = {m: methods.get(m) for m in methods.names() if m in methods_of_scene}
+    by_kind = {k: [m for m, d in declared.items() if d.sweep.kind == k] for k in ("wide", "narrow", "gamma0", "once")}
+    narrow = [m for m in methods_of_scene if m in by_kind["narrow"]]  # the scene's order
     runs = []
     for level in levels:
         for quad in quadratures:
-            if "penalty" in methods:
-                runs += [run_config("penalty", K0 * 10.0**e, 0, quad, level) for e in q["penalty"]]
+            runs += [run_config(m, K0 * 10.0**e, 0, quad, level) for m in by_kind["wide"] for e in q["penalty"]]
             runs += [run_config(m, K0 * 10.0**e, aug, quad, level, F if m == "cross" else 0.0)
-                     for m in ("cross", "auglag") if m in methods for aug in q["augment"] for e in q["other"]]
-            if "nitsche" in methods:
-                runs += [run_config("nitsche", g, 0, quad, level) for g in q["gamma0"]]
-            # further laws of the scene: with a parameter (K / c_n) over the small range, else once
-            runs += [run_config(m, K0 * 10.0**e, 0, quad, level) for m in methods if m not in BUILT_IN + PARAMETERLESS
+                     for m in narrow if declared[m].sweep.augmented for aug in q["augment"] for e in q["other"]]
+            runs += [run_config(m, g, 0, quad, level) for m in by_kind["gamma0"] for g in q["gamma0"]]
+            # further laws of the scene: with a parameter (K / c_n) over the small range
+            runs += [run_config(m, K0 * 10.0**e, 0, quad, level) for m in narrow if not declared[m].sweep.augmented
                      for e in q["other"]]
-        # exact laws (no parameter, K = 0 in the rows): SNES VI, the exact condensed Coulomb law
-        runs += [run_config(m, 0.0, 0, "nodal", level) for m in PARAMETERLESS if m in methods]
+        # methods without a parameter (K = 0 in the rows): once per mesh, nodal
+        runs += [run_config(m, 0.0, 0, "nodal", level) for m in by_kind["once"]]
     return [r for r in runs if _offered(s, r)]
 
 
@@ -170,7 +180,8 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
             label = {"label": f"{method} F^ = {F_hat:g}" + (" augmented" if aug else "")} if F_hat else {}
             runs += [dict(run_config(method, K0 * 10.0**e, aug, "nodal", level, F_hat, steps=n), **label) for e in exps
                      if not quick or (method, e) not in q.get("skip", ())]
-        runs += [run_config("nitsche", g, 0, "nodal", level, steps=n) for g in gammas]
+        runs += [run_config(m, g, 0, "nodal", level, steps=n) for m in methods.names()
+                 if methods.get(m).sweep.kind == "gamma0" for g in gammas]
         # the control: penalty with PETSc's own divergence test (residual > 1e4 x the first one at any iterate stops
         # SNES; the solver's test also asks for growth), which stops every K-based method at its first iterate
         # when K is very large
@@ -224,10 +235,11 @@ def command(scene: str, cfg: dict, folder: Path) -> list[str]:
     cmd = [sys.executable, *script, "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
            "--method", cfg["method"], "--augment", str(cfg["augment"]), "--quadrature", cfg["quadrature"],
            *s.get("demo_args", []), *s.get("method_args", {}).get(cfg["method"], [])]
-    if cfg["method"] == "nitsche":
-        cmd += ["--gamma0", repr(cfg["K"])]
-    elif cfg["method"] not in ("vi", "coulomb"):  # (exact methods without a K: --K must be > 0)
-        cmd += ["--K", repr(cfg["K"]), "--F-hat", repr(cfg["F_hat"])]
+    method = methods.get(cfg["method"])
+    if method.sweep.parameter is not None:  # the swept parameter (a method without one: nothing to give)
+        cmd += [f"--{method.sweep.parameter.replace('_', '-')}", repr(cfg["K"])]
+        if any(p.option == "F_hat" for p in method.parameters):
+            cmd += ["--F-hat", repr(cfg["F_hat"])]
     if cfg.get("refinement") is not None:
         cmd += [f"--{s['mesh'][0]}", str(cfg["refinement"])]
     if cfg.get("steps") is not None:
@@ -371,7 +383,7 @@ def stability_summary(rows: Sequence[dict]) -> str:
         fewest = min(r["steps"] or 1 for r in rs)
         its = [next((r for r in rs if r["K"] == p and (r["steps"] or 1) == fewest), None) for p in params]
         lines.append(
-            f"| {variant} | {'gamma0' if variant.startswith('nitsche') else 'K'} | "
+            f"| {variant} | {parameter_label(rs[0]['method'])} | "
             f"{', '.join(f'{p:.0e}' for p in good) or '-'} | {', '.join(f'{p:.0e}' for p in ill) or '-'} | "
             f"{', '.join(f'{p:.0e} ({k})' for p, k in bad.items()) or '-'} | "
             f"{' / '.join(str(r['newton_iterations']) if r and r['converged'] else 'x' for r in its)} | "
@@ -516,8 +528,8 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
             runs = [r for r in here if _variant(r) == variant]
             within = [r for r in runs if r["error"] <= target]
             best = min(within, key=lambda r: r["wall_time_s"]) if within else min(runs, key=lambda r: r["error"])
-            par = "-" if best["method"] == "vi" else ("gamma0 " if best["method"] == "nitsche" else "K ") + \
-                f"{best['K']:.3g}"
+            label = parameter_label(best["method"])
+            par = "-" if label == "-" else f"{label} {best['K']:.3g}"
             lines.append(
                 f"| {'-' if level is None else level} | {best['dofs']} | {variant} | {par} | {best['error']:.3g}"
                 f"{'' if within else ' (target not reached)'} | {best.get('limit_gap', float('nan')):.2g} | "
@@ -525,8 +537,8 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
                 f"{best['ratio_to_linear_solve']:.1f} | "
                 f"{best['wall_time_s'] / vi['wall_time_s'] if vi else float('nan'):.2f} | "
                 f"{'yes' if id(best) in front else 'no'} |")
-        for who, keep in (("the suite's methods", lambda m: m not in REFERENCES),
-                          ("the references", REFERENCES.__contains__)):
+        for who, keep in (("the suite's methods", lambda m: m not in references()),
+                          ("the references", references().__contains__)):
             cands = [r for r in here if keep(r["method"]) and r["error"] <= target]
             if not cands:
                 headline.append(f"- mesh {'-' if level is None else level}: none of {who} reaches the target.")
@@ -535,7 +547,7 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
             vs = (f"; SNES VI {vi['wall_time_s']:.3f} s (error {vi['error']:.3g}): "
                   f"{b['wall_time_s'] / vi['wall_time_s']:.2f} x its time") if vi and b is not vi else ""
             headline.append(f"- mesh {'-' if level is None else level} ({b['dofs']} dofs): fastest of {who} within "
-                            f"the target: {_variant(b)} ({'gamma0' if b['method'] == 'nitsche' else 'K'} {b['K']:.3g}),"
+                            f"the target: {_variant(b)} ({parameter_label(b['method'])} {b['K']:.3g}),"
                             f" {b['wall_time_s']:.3f} s (+ set-up {b['setup_time_s']:.2f} s), error {b['error']:.3g} "
                             f"(gap to VI {b['limit_gap']:.2g}), {b['ratio_to_linear_solve']:.1f} x one linear solve "
                             f"({b['linear_solve_floor_s']:.3f} s){vs}.")
@@ -582,10 +594,7 @@ def pareto_front(times: Sequence[float], errors: Sequence[float]) -> np.ndarray:
 
 # ---------------------------------------------------------------------------------------------- charts
 
-COLOURS = {"penalty": "tab:blue", "cross": "tab:orange", "auglag": "tab:green", "vi": "tab:red",
-           "nitsche": "tab:purple"}
 MARKERS = {None: "o", 0: "o", 1: "^", 2: "s", 3: "D"}  # by refinement
-SIZES = {"penalty": 11.0, "cross": 8.0, "auglag": 5.0, "vi": 7.0, "nitsche": 9.0}  # coinciding stay visible
 
 
 def _variant(r: dict) -> str:
@@ -593,7 +602,12 @@ def _variant(r: dict) -> str:
 
 
 def _colour(method: str) -> str:
-    return COLOURS.get(method, "tab:gray")
+    return methods.get(method).sweep.colour if method in methods.names() else "tab:gray"
+
+
+def _size(method: str) -> float:
+    """Marker size: methods that coincide on a chart stay visible."""
+    return methods.get(method).sweep.size if method in methods.names() else 7.0
 
 
 def figure(ncols: int = 1, width: float = 7.5):
@@ -682,7 +696,7 @@ def plot_dofs(rows: Sequence[dict], path: str | Path, title: str = "") -> None:
                 best[r["dofs"]] = r
         d = sorted(best)
         m = variant.split()[0]
-        ax.plot(d, [max(best[k]["error"], ERROR_FLOOR) for k in d], color=_colour(m), marker="o", ms=SIZES.get(m, 7),
+        ax.plot(d, [max(best[k]["error"], ERROR_FLOOR) for k in d], color=_colour(m), marker="o", ms=_size(m),
                 mfc=_colour(m) if "augmented" in variant else "none", ls="-" if "augmented" in variant else "--",
                 label=variant)
     ax.set_xscale("log")
@@ -701,7 +715,7 @@ def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> 
     from matplotlib.lines import Line2D
 
     fig, ax = figure()
-    rows = [r for r in rows if r["method"] not in ("vi", "nitsche")]  # no K
+    rows = [r for r in rows if parameter_label(r["method"]) == "K"]
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
         groups.setdefault((r["method"], r["augment"] > 0, r["refinement"]), []).append(r)
@@ -710,7 +724,7 @@ def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> 
         c = _colour(method)
         ok = [r for r in rs if r["converged"]]
         ax.plot([r["K"] for r in ok], [r["newton_iterations"] for r in ok], color=c, lw=1.5,
-                ls="-" if augmented else "--", marker=MARKERS.get(refinement, "o"), ms=SIZES.get(method, 7),
+                ls="-" if augmented else "--", marker=MARKERS.get(refinement, "o"), ms=_size(method),
                 mfc=c if augmented else "none", mec=c, alpha=0.85)
         bad = [r for r in rs if not r["converged"]]
         ax.plot([r["K"] for r in bad], [r["newton_iterations"] for r in bad], ls="", marker="x", color=c, ms=9)
@@ -775,7 +789,8 @@ def plot_stability(rows: Sequence[dict], path: str | Path, title: str = "") -> N
         ax.set_xticks(range(len(params)), [f"{p:.0e}" if p >= 1e3 else f"{p:g}" for p in params], rotation=45,
                       fontsize=7)
         ax.set_yticks(range(len(steps)), [str(n) for n in steps])
-        ax.set_xlabel("gamma0 [-]" if variant.startswith("nitsche") else "K [pressure / length]")
+        ax.set_xlabel("K [pressure / length]" if parameter_label(rs[0]["method"]) == "K" else
+                      f"{parameter_label(rs[0]['method'])} [-]")
         ax.set_title(variant.replace(", ", ",\n"), fontsize=9)
     axes[0].set_ylabel("load steps")
     if image is not None:
@@ -790,7 +805,7 @@ def plot_stability_accuracy(rows: Sequence[dict], path: str | Path, title: str =
     orange ring: ill-conditioned (stalled at round-off or condition estimate > 1e12); red x at the top:
     failed. It shows which K each method needs for an accuracy, and whether it still converges there."""
     fig, ax = figure()
-    rows = [r for r in rows if r["method"] != "nitsche" and r.get("label") != DTOL]
+    rows = [r for r in rows if parameter_label(r["method"]) == "K" and r.get("label") != DTOL]
     fewest = min((r["steps"] or 1 for r in rows), default=1)
     rows = [r for r in rows if (r["steps"] or 1) == fewest]
     gaps = [r["limit_gap"] for r in rows if r["converged"] and not math.isnan(r.get("limit_gap", float("nan")))]

@@ -7,10 +7,11 @@ import math
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["check", "log_check"]
+__all__ = ["reference_check", "log_check"]
 
 
-def check(figure: str, value: float | None, reference: float | None, tolerance: float, source: str = "") -> dict:
+def reference_check(figure: str, value: float | None, reference: float | None, tolerance: float,
+                    source: str = "") -> dict:
     """``{figure, value, reference, rel_error, tolerance, passed, source}``: ``rel_error = |value - reference| /
     |reference|``, passed when it is at most ``tolerance``. ``value`` or ``reference`` None (no figure: the run
     failed before its first step; a reference computed from the run's load) fails."""

@@ -25,9 +25,10 @@ from typing import Callable, Sequence
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .. import methods
 from ..compat import petsc_library
 from ..contact import QUADRATURES
-from ..laws import METHODS, ContactLaw, make_law
+from ..laws import ContactLaw
 from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
 
 logger = logging.getLogger(__name__)
@@ -39,7 +40,9 @@ _COMMON_PETSC = ("snes_monitor", "snes_converged_reason", "snes_view", "snes_lin
                  "snes_convergence_test", "ksp_monitor", "ksp_converged_reason", "ksp_view", "condition_estimate",
                  "pc_factor_mat_solver_type", "mat_mumps_icntl_14", "ksp_gmres_restart", "pc_gamg_threshold")
 
-__all__ = ["parser", "parse", "check", "one_line_errors", "has_friction", "law_from_args", "method_parameters",
+__all__ = ["parser", "parse", "refuse_unsupported", "one_line_errors", "has_friction", "law_from_args",
+           "method_parameters",
+           "method_options", "FRICTION_OPTIONS", "RANGE_TYPES",
            "solver_options", "StrictParser",
            "UsageError", "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
            "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "error_line", "main"]
@@ -115,21 +118,23 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
     the scene's E and size); ``quadratures``: the accepted ``--quadrature`` values (two-body scenes add
     ``segment``)."""
     p = StrictParser(description=description)
-    p.add_argument("--method", choices=list(METHODS), default="cross", help="contact formulation")
+    p.add_argument("--method", choices=methods.names(), default="cross",
+                   help="contact formulation: " + "; ".join(f"{m.name}: {m.summary}" for m in methods.methods()))
     derived = callable(default_K)
     p.set_defaults(derive_K=default_K if derived else None)
-    p.add_argument("--K", type=POSITIVE, default=None if derived else default_K,
-                   help="penalty K (penalty, auglag), stiffness K_hat at g = 0 (cross) or complementarity c (lagrange)"
-                   + ("; unset: the scene's K, scaled with E / h" if derived else ""))
-    p.add_argument("--F-hat", type=NONNEGATIVE, default=0.0, help="cross: target pressure at g = 0")
-    p.add_argument("--a", type=number(float, 0.0, 1.0, high_open=True), default=0.0,
-                   help="cross: shape parameter in [0, 1)")
-    p.add_argument("--tau", type=EXPONENT, default=1.0, help="cross: K_hat <- tau K_hat per augmentation (>= 1)")
+    for option, declared in method_options().items():
+        param = declared[0][1]
+        default = (None if derived else default_K) if param.default is None else \
+            None if isinstance(param.default, str) else param.default
+        helps = "; ".join(f"{', '.join(names)}: {text}" for text, names in _grouped_help(declared))
+        if option == "K" and derived:
+            helps += "; unset: the scene's K, scaled with E / h"
+        p.add_argument(f"--{option.replace('_', '-')}", dest=option, type=RANGE_TYPES[param.range], default=default,
+                       help=helps)
     p.add_argument("--augment", type=LEVEL, default=None,
-                   help="max augmentations per load step (default: 0 for penalty, 10 otherwise)")
+                   help="max augmentations per load step (default: the method's, " + ", ".join(
+                       f"{m.name} {m.augment}" for m in methods.methods()) + ")")
     p.add_argument("--augment-tol", type=POSITIVE, default=1e-12, help="stop when ||g_new - g_old|| <= this")
-    p.add_argument("--c-n", type=POSITIVE, default=None, help="compliance: c_n in F = c_n <g>^m_n (default: --K)")
-    p.add_argument("--m-n", type=EXPONENT, default=1.0, help="compliance: exponent m_n >= 1")
     p.add_argument("--mu", type=NONNEGATIVE, default=0.0,
                    help="Coulomb friction coefficient (>= 0; 0: frictionless; exact with method coulomb)")
     p.add_argument("--c-t", type=POSITIVE, default=None,
@@ -139,7 +144,6 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
                    help="Tresca friction: the fixed bound (traction) on the closed points instead of mu F(g)")
     p.add_argument("--omega-t", type=POSITIVE, default=None, help="tangential penalty of stick (default: --K)")
     p.add_argument("--quadrature", choices=list(quadratures), default="nodal", help="contact quadrature")
-    p.add_argument("--gamma0", type=POSITIVE, default=10.0, help="nitsche: gamma = gamma0 E / h (dimensionless)")
     p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
                    help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D; "
                         "multipliers: FGMRES + Schur complement field split)")
@@ -148,6 +152,30 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
                         "(Eisenstat-Walker, at most 1e-2)")
     output_options(p)
     return p
+
+
+FRICTION_OPTIONS = ("mu", "c_t", "m_t", "tresca", "omega_t")  # options of the friction on top of a law
+RANGE_TYPES = {"positive": POSITIVE, "nonnegative": NONNEGATIVE, "exponent": EXPONENT,
+               "unit": number(float, 0.0, 1.0, high_open=True)}
+
+
+def method_options() -> dict[str, list]:
+    """Every registered method's parameter options: option -> [(method name, Parameter), ...] in registry
+    order (an option several methods share, e.g. ``K``, once), the friction options left out."""
+    out: dict[str, list] = {}
+    for m in methods.methods():
+        for param in m.parameters:
+            if param.option not in FRICTION_OPTIONS:
+                out.setdefault(param.option, []).append((m.name, param))
+    return out
+
+
+def _grouped_help(declared: list) -> list[tuple[str, list[str]]]:
+    """The help texts of one option, each with the methods that give it."""
+    groups: dict[str, list[str]] = {}
+    for name, param in declared:
+        groups.setdefault(param.help, []).append(name)
+    return list(groups.items())
 
 
 def output_options(p: argparse.ArgumentParser, out: str | None = None) -> None:
@@ -189,10 +217,11 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
         if getattr(args, "K", 0) is None and getattr(args, "derive_K", None) is not None:
             args.K = float(args.derive_K(args))
         if getattr(args, "augment", 0) is None:
-            args.augment = 0 if args.method in ("penalty", "vi", "compliance", "coulomb", "lagrange",
-                                                    "penalty_multiplier", "nitsche") else 10
-        if getattr(args, "c_n", 0) is None:
-            args.c_n = args.K
+            args.augment = methods.get(args.method).augment
+        for option, declared in method_options().items():  # a default that is another option's value
+            other = declared[0][1].default
+            if isinstance(other, str) and getattr(args, option, 0) is None:
+                setattr(args, option, getattr(args, other))
         if getattr(args, "omega_t", 0) is None:
             args.omega_t = args.K
     return args
@@ -243,14 +272,14 @@ def one_line_errors() -> None:
     sys.excepthook = hook
 
 
-def check(args: argparse.Namespace, **axes) -> None:
+def refuse_unsupported(args: argparse.Namespace, **axes) -> None:
     """Check the demo's options against the capability matrix before any work: method, quadrature, linear
     solver, friction and passes from ``args``, the scene's own axes (``kind``, ``dim``, ``degree``, ``model``)
     as keywords. Raises :class:`~fenics_contact.capabilities.UnsupportedCombination`."""
     from ..capabilities import check as check_combination
 
     combo = {"method": args.method, "quadrature": args.quadrature, "solver": getattr(args, "solver", None),
-             "friction": has_friction(args) or (args.method == "coulomb" and args.mu > 0),
+             "friction": has_friction(args),
              "passes": getattr(args, "passes", None)}
     check_combination(**{**combo, **axes})
 
@@ -282,45 +311,37 @@ def _did_you_mean(name: str, candidates: Sequence[str]) -> str:
 
 
 def law_from_args(args: argparse.Namespace) -> ContactLaw:
-    """The contact law named by ``--method`` with its parameters, with friction if asked for."""
-    if args.method == "cross":
-        law = make_law("cross", K_hat=args.K, F_hat=args.F_hat, a=args.a, tau=args.tau)
-    elif args.method == "vi":
-        law = make_law("vi")
-    elif args.method == "compliance":
-        law = make_law("compliance", c_n=args.c_n, m_n=args.m_n)
-    elif args.method == "coulomb":
-        if getattr(args, "tresca", None) is not None:
-            raise ValueError("--tresca: method 'coulomb' has Coulomb friction only (use --mu, or another method)")
-        return make_law("coulomb", mu=args.mu)  # exact Coulomb: mu is the law's own parameter
-    elif args.method == "lagrange":
-        law = make_law("lagrange", c=args.K)
-    elif args.method == "nitsche":
-        law = make_law("nitsche", gamma0=args.gamma0)
-    else:
-        law = make_law(args.method, K=args.K)
-    if not has_friction(args):
+    """The contact law named by ``--method`` with its parameters (the method's declaration), with friction if
+    asked for."""
+    method = methods.get(args.method)
+    tresca, c_t = getattr(args, "tresca", None), getattr(args, "c_t", None)
+    if method.friction == "own":
+        for option, value in (("--tresca", tresca), ("--c-t", c_t)):
+            if value is not None:
+                raise ValueError(f"{option}: method {args.method!r} has Coulomb friction only (use --mu, or another "
+                                 "method)")
+    law = method.make_law(**{p.name: getattr(args, p.option) for p in method.parameters})
+    if method.friction == "own" or not has_friction(args):
         return law
-    if args.method in ("vi", "lagrange", "penalty_multiplier", "nitsche"):
+    if method.friction == "none":
         raise ValueError(f"method {args.method!r} has no friction: use --mu 0 (or another method)")
-    tresca = getattr(args, "tresca", None)
-    if sum((args.mu != 0.0, args.c_t is not None, tresca is not None)) > 1:
-        raise ValueError(f"give one of --mu ({args.mu}), --c-t ({args.c_t}) and --tresca ({tresca}), not several")
+    if sum((args.mu != 0.0, c_t is not None, tresca is not None)) > 1:
+        raise ValueError(f"give one of --mu ({args.mu}), --c-t ({c_t}) and --tresca ({tresca}), not several")
     from ..friction import Friction
 
     if tresca is not None:
         return Friction(law, tresca=tresca, omega_t=args.omega_t)
-
-    if args.c_t is not None:
-        return Friction(law, c_t=args.c_t, m_t=args.m_t, omega_t=args.omega_t)
+    if c_t is not None:
+        return Friction(law, c_t=c_t, m_t=args.m_t, omega_t=args.omega_t)
     return Friction(law, mu=args.mu, omega_t=args.omega_t)
 
 
 def method_parameters(args: argparse.Namespace) -> dict:
-    keys = {"penalty": ["K"], "auglag": ["K"], "cross": ["K", "F_hat", "a", "tau"], "vi": [],
-            "compliance": ["c_n", "m_n"], "coulomb": ["mu"], "lagrange": ["K"],
-            "penalty_multiplier": ["K"], "nitsche": ["gamma0"]}[args.method]
-    if has_friction(args) and args.method != "coulomb":
+    """The run's method parameters by option (for the summary): the method's own, the friction's if on, the
+    augmentation, quadrature and linear solver."""
+    method = methods.get(args.method)
+    keys = [p.option for p in method.parameters]
+    if has_friction(args) and method.friction == "law":
         keys = keys + (["c_t", "m_t"] if args.c_t is not None else ["tresca"] if getattr(args, "tresca", None)
                        is not None else ["mu"]) + ["omega_t"]
     return {**{k: getattr(args, k) for k in keys}, "augment": args.augment, "augment_tol": args.augment_tol,

@@ -37,7 +37,8 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
     and ``failure`` (kind, step, iterations: :mod:`fenics_contact.failure`)
     and re-raises. ``on_iterate(it)`` is called after every Newton iterate, ``on_step(t)`` after every
     converged step (after its output); ``predictor``: see :class:`Solver`. ``check(summary)``: the demo's
-    self-check (:func:`fenics_contact.app.checks.check`), stored as ``check`` and logged (also for a failed run).
+    self-check (:func:`fenics_contact.app.checks.reference_check`), stored as ``check`` and logged (also for a
+    failed run).
     ``newton_iterations``: those of the converged steps, or for a failed run every iteration it spent
     (``newton_iterations_spent``, failed attempts included). Progress and figures go to the log (INFO on rank 0;
     ``quiet``: DEBUG).

@@ -17,7 +17,7 @@ from dolfinx import fem
 
 from fenics_contact import function_space, interpolate_expression
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import check
+from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, block, scene_arguments
 
 EXACT_METHODS = ("vi", "lagrange", "nitsche", "coulomb", "penalty_multiplier")
@@ -43,7 +43,7 @@ def main(argv=None) -> dict:
     exact_method = args.method in EXACT_METHODS or args.augment > 0
     summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
                   options=cli.solver_options(args), xdmf=not args.no_xdmf,
-                  check=lambda s: check("contact_pressure", s.get("contact_pressure"), exact,
+                  check=lambda s: reference_check("contact_pressure", s.get("contact_pressure"), exact,
                                         1e-8 if exact_method else 1e-2,
                                         f"closed form, homogeneous state ({args.model}, plane {args.plane})"))
 

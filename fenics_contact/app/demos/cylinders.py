@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import check
+from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, cylinders, scene_arguments
 from fenics_contact.twobody import QUADRATURES
 
@@ -61,7 +61,7 @@ def main(argv=None) -> dict:
 
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "passes": args.passes},
                   args.augment, args.augment_tol, args.quiet, on_step=after_step,
-                  check=lambda s: check("p0 (Hertz step)", history[0]["p0"] if history else None,
+                  check=lambda s: reference_check("p0 (Hertz step)", history[0]["p0"] if history else None,
                                         history[0]["p0_hertz"] if history else None, TOLERANCE,
                                         f"Hertz for two cylinders at t = {cylinders.T_HERTZ:g}"), xdmf=not args.no_xdmf)
 

@@ -33,7 +33,7 @@ def main(argv=None) -> dict:
     if args.c_t is not None or args.mu <= 0:
         raise ValueError(f"--mu: mindlin needs Coulomb friction with mu > 0 (no --c-t), got mu={args.mu}")
     out = Path(args.out or "results/mindlin")
-    cli.check(args, kind="two-body", dim=2, degree=1, model="linear")
+    cli.refuse_unsupported(args, kind="two-body", dim=2, degree=1, model="linear")
 
     # 2. The scene: graded two-body mesh, displacement-controlled press, force-controlled shear.
     setup = build("mindlin", law=cli.law_from_args(args), ratios=tuple(args.ratios), refinement=args.refinement,

@@ -38,7 +38,7 @@ def main(argv=None) -> dict:
     if args.omega_t is None:  # the interface layer E* / omega_t a fixed fraction of the contact element
         args.omega_t = mindlin3d.default_omega_t(args.refinement, args.h_contact, args.R)
     out = Path(args.out or "results/mindlin3d")
-    cli.check(args, kind="two-body", dim=3, degree=1, model="linear")
+    cli.refuse_unsupported(args, kind="two-body", dim=3, degree=1, model="linear")
 
     # 2. The scene: graded two-body mesh, displacement-controlled press, force-controlled shear.
     setup = build("mindlin3d", law=cli.law_from_args(args), ratios=tuple(args.ratios), refinement=args.refinement,

@@ -21,7 +21,7 @@ from mpi4py import MPI
 
 from fenics_contact import function_space, interpolate_expression
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import check
+from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, pin, scene_arguments
 
 # Contact angle of the linearized gap at refinement 3 (R/400, 140 580 dofs; refinements 1-3 within 0.03 deg); the
@@ -49,10 +49,10 @@ def main(argv=None) -> dict:
 
     def pin_check(s: dict) -> dict:
         if args.gap == "linearized":
-            return check("contact_angle_deg", s.get("contact_angle_deg"), CONVERGED_ANGLE, TOLERANCE,
+            return reference_check("contact_angle_deg", s.get("contact_angle_deg"), CONVERGED_ANGLE, TOLERANCE,
                          "converged reference, refinement 3 (R/400), linearized gap (README)")
         force = s.get("total_force_y")
-        return check("pin_force", None if force is None else -force, pin.P0 * 5.0, 1e-8,
+        return reference_check("pin_force", None if force is None else -force, pin.P0 * 5.0, 1e-8,
                      "equilibrium: traction P0 x loaded edge 5")
 
     def solve(refinement: int, folder: Path) -> dict:

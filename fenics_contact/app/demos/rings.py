@@ -26,7 +26,7 @@ from fenics_contact import (
     write_summary,
 )
 from fenics_contact.app import cli
-from fenics_contact.app.checks import check, log_check
+from fenics_contact.app.checks import log_check, reference_check
 from fenics_contact.app.scenes import build, rings
 from fenics_contact.app.tables import write_table
 
@@ -87,7 +87,7 @@ def main(argv=None) -> dict:
     summary = {"scene": "rings", "method": "compare", "ranks": comm.size, "dofs": 0, "n": args.n, "q": args.q,
                "plane": args.plane, "p_lame": p_lame, "options": rows,
                "newton_iterations": sum(r.get("newton", 0) for r in rows), "wall_time_s": 0.0,
-               "check": check("p_interface (P2 collocated, farthest)",
+               "check": reference_check("p_interface (P2 collocated, farthest)",
                               p_lame * (1 + best[0]["p_max_deviation"]) if best else None, p_lame, 5e-3,
                               "Lame's interface pressure")}
     write_summary(out / "summary.json", summary, comm)

@@ -31,7 +31,7 @@ from fenics_contact import (
     interpolate_expression,
 )
 from fenics_contact.app import build, cli, run, tables
-from fenics_contact.app.checks import check
+from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, seal
 
 
@@ -69,7 +69,8 @@ def main(argv=None) -> dict:
     options = {**cli.solver_options(args), **seal.SOLVER_OPTIONS}  # --solver; full Newton steps
     summary = run(setup, out, args.method if args.method == "cross" else "cross", cli.method_parameters(args), 0,
                   quiet=args.quiet, options=options, predictor=seal.PREDICTOR[args.shape], on_step=on_step,
-                  check=lambda s: check("plate_force_upper", s.get("plate_force_upper"), s.get("plate_force_lower"),
+                  check=lambda s: reference_check("plate_force_upper", s.get("plate_force_upper"),
+                                                  s.get("plate_force_lower"),
                                         1e-6, "equilibrium: the lower plate's force"), xdmf=not args.no_xdmf)
     if comm.rank == 0:
         cli.say(tables.residual_table(summary["steps"], out / "seal_residuals"))

@@ -18,7 +18,7 @@ from dolfinx import fem
 
 from fenics_contact import Friction, function_space, interpolate_expression, make_law
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import check
+from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, slab
 
 SWEEP = (0.0, 0.4, 0.8, 1.0, 1.3)
@@ -34,11 +34,11 @@ def slab_check(s: dict, mu: float, refinement: int, method: str, top_load: float
     # the exact method reproduces its own table to its 7 digits; a penalty-type friction law is off by its penalty
     tol = 1e-6 if method == "coulomb" else 1e-2
     if mu == 0.0:
-        return check("ux_A", s.get("ux_A"), s.get("ux_A_frictionless"), tol, "closed form, frictionless")
+        return reference_check("ux_A", s.get("ux_A"), s.get("ux_A_frictionless"), tol, "closed form, frictionless")
     if (mu, refinement) in UX_A and default_scene:
-        return check("ux_A", s.get("ux_A"), UX_A[(mu, refinement)], tol,
+        return reference_check("ux_A", s.get("ux_A"), UX_A[(mu, refinement)], tol,
                      f"exact Coulomb, mu = {mu:g}, refinement {refinement} (README)")
-    return check("normal_force", s.get("normal_force"), top_load, 1e-6, "equilibrium: the top load")
+    return reference_check("normal_force", s.get("normal_force"), top_load, 1e-6, "equilibrium: the top load")
 
 
 

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import check
+from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, wedges
 
 TOLERANCE = 0.01  # the acceptance
@@ -29,7 +29,7 @@ def main(argv=None) -> dict:
     if args.c_t is not None or args.mu <= 0:
         raise ValueError(f"--mu: wedges needs Coulomb friction with mu > 0 (no --c-t), got mu={args.mu}")
     out = Path(args.out or "results/wedges")
-    cli.check(args, kind="two-body", dim=2, degree=1, model="linear")
+    cli.refuse_unsupported(args, kind="two-body", dim=2, degree=1, model="linear")
 
     # 2. The scene: incline and block in one mesh, vertical force, then a horizontal push.
     setup = build("wedges", law=cli.law_from_args(args), slide_steps=args.slide_steps,
@@ -38,7 +38,7 @@ def main(argv=None) -> dict:
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
     summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
                   options=cli.solver_options(args), xdmf=not args.no_xdmf,
-                  check=lambda s: check("ratio", s.get("ratio"), s.get("ratio_reference"), TOLERANCE,
+                  check=lambda s: reference_check("ratio", s.get("ratio"), s.get("ratio_reference"), TOLERANCE,
                                         "(mu + tan alpha) / (1 - mu tan alpha)"))
 
     # 4. Picture: pressure and friction traction along the interface (slave side, the block's bottom).

@@ -1,0 +1,10 @@
+"""Augmented Lagrangian (Uzawa): ``F = <lam + K g>``, ``lam <- F(g)``."""
+from ..laws import AugmentedLagrangian
+from .spec import Method, Parameter, Sweep
+
+__all__ = ["METHOD"]
+
+METHOD = Method(
+    name="auglag", summary="augmented Lagrangian (Uzawa), F = <lam + K g>", law=AugmentedLagrangian,
+    parameters=(Parameter("K", "K", "penalty K (pressure per length)"),),
+    augment=10, friction="law", sweep=Sweep("narrow", "K", augmented=True, colour="tab:green", size=5.0))

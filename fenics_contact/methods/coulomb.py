@@ -1,0 +1,21 @@
+"""Exact Signorini-Coulomb on the stiffness condensed onto the contact dofs (Renaud & Feng 2003)."""
+from ..laws import Coulomb
+from .spec import Method, Parameter, Sweep, rule
+
+__all__ = ["METHOD"]
+
+METHOD = Method(
+    name="coulomb", summary="exact Signorini-Coulomb on the condensed stiffness", law=Coulomb,
+    parameters=(Parameter("mu", "mu", "Coulomb friction coefficient (0: frictionless)", "nonnegative", 0.0),),
+    rigid="fenics_contact.methods.builders:condensed_surface",
+    two_body="fenics_contact.methods.builders:condensed_two_body",
+    friction="own", sweep=Sweep("once", None),
+    rules=(rule("passes 'one'", "coulomb pairs each slave vertex once with the master surface (two passes would "
+                "constrain each pair twice)", kind="two-body", method="coulomb", passes="two"),
+           rule("quadrature 'nodal'", "coulomb is nodal contact on the condensed stiffness", method="coulomb",
+                quadrature=("gauss", "segment", "simpson")),
+           rule("degree 1", "coulomb condenses onto the contact vertices", method="coulomb", degree=2),
+           rule("dim 2", "coulomb has one tangential direction", method="coulomb", dim=3),
+           rule("model 'linear'", "coulomb condenses a constant stiffness", method="coulomb", model="neohookean"),
+           rule("solver 'direct'", "coulomb factors the stiffness itself (MUMPS)", method="coulomb",
+                solver="iterative")))

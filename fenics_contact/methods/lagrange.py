@@ -1,0 +1,25 @@
+"""Lagrange multipliers: the contact pressure an unknown, exact nodal Signorini conditions."""
+from ..laws import LagrangeMultiplier
+from .spec import Method, Parameter, Sweep, rule
+
+__all__ = ["METHOD", "multiplier_rules"]
+
+
+def multiplier_rules(method: str) -> tuple:
+    """The capability rules of a method whose pressure is an unknown (the multipliers' element)."""
+    return (rule("quadrature 'nodal' (P1) or 'simpson' (P2)", "the multipliers' constraint sits at the vertices",
+                 method=method, quadrature=("gauss", "segment")),
+            rule("degree 1", "the multipliers' quadratic (two-point) element is 2D", method=method, degree=2, dim=3),
+            rule("quadrature 'simpson' (the two-point element)", "the vertex rule alone leaves the mid-side nodes of "
+                 "quadratic facets without the pressure's work", method=method, degree=2, quadrature="nodal"),
+            rule("passes 'one'", "two passes of exact constraints over-constrain the surface (surface locking, "
+                 "a pressure split arbitrarily between the passes)", method=method, passes="two"))
+
+
+METHOD = Method(
+    name="lagrange", summary="exact nodal Signorini conditions, the pressure an unknown (semismooth Newton)",
+    law=LagrangeMultiplier,
+    parameters=(Parameter("c", "K", "complementarity parameter c (pressure per length; steers Newton only)"),),
+    rigid="fenics_contact.methods.builders:multiplier_surface",
+    two_body="fenics_contact.methods.builders:multiplier_two_body",
+    sweep=Sweep("narrow", "K"), rules=multiplier_rules("lagrange"))

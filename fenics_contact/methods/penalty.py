@@ -1,0 +1,10 @@
+"""Penalty: ``F = K <g>``."""
+from ..laws import Penalty
+from .spec import Method, Parameter, Sweep
+
+__all__ = ["METHOD"]
+
+METHOD = Method(
+    name="penalty", summary="penalty, F = K <g>", law=Penalty,
+    parameters=(Parameter("K", "K", "penalty K (pressure per length)"),),
+    friction="law", sweep=Sweep("wide", "K", colour="tab:blue", size=11.0))

@@ -1,0 +1,114 @@
+"""The method registry: a method of one's own, declared in one file and registered once, goes through the
+surface factory, the command line, the capability grid and a benchmark row without any other change.
+
+The toy method is a quadratic penalty ``F = K <g>^2``. On the block (a uniform state on a frictionless rigid
+base, plane strain) its pressure has a closed form: with ``E' = E / (1 - nu^2)``, the top moved down by ``d``
+and the penetration ``g``, equilibrium ``E' (d - g) / H = K g^2`` gives ``g`` (the positive root) and
+``p = K g^2``.
+"""
+import importlib
+import math
+import sys
+import textwrap
+
+import pytest
+from mpi4py import MPI
+
+import fenics_contact as fc
+from fenics_contact import capabilities, methods
+from fenics_contact.app import bench, build, cli
+from fenics_contact.app.scenes import block
+
+TOY = textwrap.dedent('''
+    """A quadratic penalty F = K <g>^2: a contact method of one's own, in one file."""
+    import fenics_contact as fc
+    from fenics_contact.laws import NUMPY, ContactLaw
+
+
+    class QuadraticPenalty(ContactLaw):
+        name = "quadratic"
+
+        def __init__(self, K):
+            if not K > 0:
+                raise ValueError(f"quadratic penalty K must be > 0, got {K!r}")
+            self.scalars, self.fields = {"K": float(K)}, {}
+
+        def force(self, g, c, ops=NUMPY):
+            gp = ops.max(g, 0.0)
+            return c["K"] * gp * gp
+
+        def potential(self, g, c, ops=NUMPY):
+            gp = ops.max(g, 0.0)
+            return c["K"] * gp * gp * gp / 3.0
+
+        def stiffness(self, g, c, ops=NUMPY):
+            return 2.0 * c["K"] * ops.max(g, 0.0)
+
+
+    fc.register(fc.Method(name="quadratic", summary="quadratic penalty, F = K <g>^2", law=QuadraticPenalty,
+                          parameters=(fc.Parameter("K", "K", "penalty K (pressure per length^2)"),),
+                          sweep=fc.Sweep("narrow", "K", colour="tab:brown")), replace=True)
+''')
+K = 1e7
+
+
+def closed_form(K: float) -> float:
+    """The block's pressure under the quadratic penalty (see the module docstring)."""
+    Es, d, H = block.E / (1 - block.NU**2), block.DISPLACEMENT, block.HEIGHT
+    a = Es / H
+    g = (-a + math.sqrt(a * a + 4 * K * a * d)) / (2 * K)
+    return K * g * g
+
+
+@pytest.fixture
+def toy(tmp_path, monkeypatch):
+    """The toy method's module, written to a folder on the path and registered (and, through the environment,
+    registered in child processes too); unregistered afterwards."""
+    folder = tmp_path / f"plugins{MPI.COMM_WORLD.rank}"
+    folder.mkdir()
+    (folder / "toy_quadratic.py").write_text(TOY)
+    monkeypatch.syspath_prepend(str(folder))
+    monkeypatch.setenv("PYTHONPATH", f"{folder}:" + __import__("os").environ.get("PYTHONPATH", ""))
+    monkeypatch.setenv(methods.PLUGINS, "toy_quadratic")
+    module = importlib.import_module("toy_quadratic")
+    yield module
+    methods.unregister("quadratic")
+    sys.modules.pop("toy_quadratic", None)
+
+
+def test_toy_method_through_the_factory(toy):
+    law = fc.make_law("quadratic", K=K)
+    assert isinstance(law, toy.QuadraticPenalty) and "quadratic" in fc.METHODS
+    setup = build("block", law=law)
+    assert type(setup.contacts[0]) is fc.ContactSurface  # the default surface of a law of the gap
+    fc.Solver(setup.problem, quiet=True).run(setup.loads)
+    assert setup.figures()["contact_pressure"] == pytest.approx(closed_form(K), rel=1e-9)
+
+
+def test_toy_method_through_the_command_line(toy):
+    p = cli.parser("toy", default_K=1.0)
+    args = cli.parse(p, ["--method", "quadratic", "--K", "2.5e6"])
+    law = cli.law_from_args(args)
+    assert isinstance(law, toy.QuadraticPenalty) and law.scalars["K"] == 2.5e6
+    assert cli.method_parameters(args)["K"] == 2.5e6 and args.augment == 0
+    with pytest.raises(ValueError, match="method 'quadratic' has no friction"):
+        cli.law_from_args(cli.parse(p, ["--method", "quadratic", "--mu", "0.3"]))
+    with pytest.raises(cli.UsageError, match="--K"):
+        cli.parse(p, ["--method", "quadratic", "--K", "-1"])
+
+
+def test_toy_method_on_the_capability_grid(toy):
+    assert "quadratic" in capabilities.axes()["method"]
+    assert capabilities.supported(method="quadratic", kind="two-body", quadrature="segment")
+    with pytest.raises(capabilities.UnsupportedCombination, match="no tangential law"):
+        capabilities.check(method="quadratic", friction=True)
+    assert "| quadratic | rigid | nodal |" in capabilities.markdown()
+
+
+def test_toy_method_in_a_benchmark_row(toy, tmp_path):
+    cfg = bench.run_config("quadratic", K)
+    row = bench.run_one("block", cfg, tmp_path / f"bench{MPI.COMM_WORLD.rank}")
+    assert row["converged"], (tmp_path / f"bench{MPI.COMM_WORLD.rank}" / "log.txt").read_text()
+    exact = block.EXACT_PRESSURE
+    assert row["error"] == pytest.approx(abs(closed_form(K) - exact) / exact, rel=1e-6)
+    assert bench.parameter_label("quadratic") == "K" and bench._colour("quadratic") == "tab:brown"
