@@ -1,7 +1,10 @@
 # make demo: set up (apt packages, venv), run every scene's demo at a small size under mpirun -n 2 into results/
 #            and print one table of their checks (figure, reference, error, passed); make demo-all: default sizes
-# make test: set up and run ruff and the tests, serial and under mpirun -n 2, then the Debian 13 lane (mpirun -n 2;
-#            make test-debian13: serial too)
+# make test: set up and run ruff, every test serially (two at a time), the tests that are not slow or compare ranks
+#            under mpirun -n 2, and those on Debian 13's dolfinx (mpirun -n 2); within 20 minutes on 2 cores
+# make test-fast: the library's unit and closed-form tests (not slow, no scene), under 2 minutes
+# make test-all: every test serially, under mpirun -n 2 and on Debian 13 (serial and mpirun -n 2)
+# Lanes: the markers slow, scene and mpi, given in tests/conftest.py
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 NP     ?= 2
@@ -15,7 +18,13 @@ export OMP_NUM_THREADS=1
 MEM_CAP_KB ?= 4000000
 MPIRUN := mpirun -n $(NP)
 
-.PHONY: setup demo demo-all bench scaling docs test lint test-serial test-mpi test-debian13 clean
+PYTEST := $(PY) -m pytest -q -p no:cacheprovider
+XDIST  := -n $(NP) --dist loadfile
+# in parallel, make test runs what is not a slow study, and every comparison of ranks
+PARALLEL_LANE := not slow or mpi
+
+.PHONY: setup demo demo-all bench scaling docs test test-fast test-all lint test-serial test-mpi test-mpi-all \
+        test-debian13 clean
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
@@ -43,18 +52,26 @@ docs: setup
 lint: setup
 	$(VENV)/bin/ruff check fenics_contact tests scripts
 
+test-fast: setup
+	ulimit -v $(MEM_CAP_KB) && $(PYTEST) $(XDIST) -m "not slow and not scene" tests
+
 test-serial: setup
-	ulimit -v $(MEM_CAP_KB) && $(PY) -m pytest -q tests
+	ulimit -v $(MEM_CAP_KB) && $(PYTEST) $(XDIST) tests
 
 test-mpi: setup
-	ulimit -v $(MEM_CAP_KB) && $(MPIRUN) $(PY) -m pytest -q -p no:cacheprovider tests
+	ulimit -v $(MEM_CAP_KB) && $(MPIRUN) $(PYTEST) -m "$(PARALLEL_LANE)" tests
+
+test-mpi-all: setup
+	ulimit -v $(MEM_CAP_KB) && $(MPIRUN) $(PYTEST) tests
 
 # Debian 13 (dolfinx 0.9) lane in a debootstrap root; `make test` skips it, saying so, where it cannot run.
 test-debian13: setup
 	bash scripts/debian13.sh
 
 test: lint test-serial test-mpi
-	@OPTIONAL=1 SERIAL=0 bash scripts/debian13.sh
+	@OPTIONAL=1 SERIAL=0 DEB13_MARK="$(PARALLEL_LANE)" bash scripts/debian13.sh
+
+test-all: lint test-serial test-mpi-all test-debian13
 
 clean:
 	rm -rf results .pytest_cache

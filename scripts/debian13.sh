@@ -13,6 +13,7 @@ OPTIONAL=${OPTIONAL:-0}
 PROJECT=${DEB13_PROJECT:-project-$(pwd | md5sum | cut -c1-8)}
 PY=${PY:-.venv/bin/python}
 TESTS=${DEB13_TESTS:-tests}  # pytest arguments (a subset while developing)
+MARK=${DEB13_MARK:-}  # a marker expression (make test: the parallel lane's), empty: every test
 
 skip() {
   if [ "$OPTIONAL" = 1 ]; then echo "debian13 lane: SKIPPED: $1"; exit 0; fi
@@ -55,11 +56,11 @@ start=$(date +%s)
 # SERIAL=0 (used by `make test`, to stay within its time): only the mpirun -n 2 run; the serial code paths
 # are tested by the Debian 12 lane, and the figures below are computed serially on both.
 if [ "${SERIAL:-1}" = 1 ]; then
-  run "python3 -m pytest -q -p no:cacheprovider $TESTS"
+  run "python3 -m pytest -q -p no:cacheprovider ${MARK:+-m '$MARK'} $TESTS"
 fi
 # A test still running after 300 s prints every rank's Python traceback (a hang was seen twice here in this
 # lane, at ~61 % of the tests, with both ranks' memory growing; not reproduced in 7 further runs).
-run "mpirun -n 2 python3 -m pytest -q -o faulthandler_timeout=300 -p no:cacheprovider $TESTS"
+run "mpirun -n 2 python3 -m pytest -q -o faulthandler_timeout=300 -p no:cacheprovider ${MARK:+-m '$MARK'} $TESTS"
 # Same figures on both dolfinx versions: block and hertz, 1e-8 relative.
 "$PY" scripts/lane_figures.py "$DEB13/$PROJECT/figures-debian12.json"
 run "python3 scripts/lane_figures.py figures-debian13.json"

@@ -64,6 +64,11 @@ def contact_tangent_error(tangent_check):
 
 
 def pytest_configure(config):
+    for marker, what in (("slow", "a study of more than a few seconds (not in make test-fast; serial only in make "
+                                   "test unless also mpi)"),
+                         ("scene", "a benchmark scene, its demo or the application (not in make test-fast)"),
+                         ("mpi", "compares a parallel run with the serial one (in every parallel lane)")):
+        config.addinivalue_line("markers", f"{marker}: {what}")
     # Under mpirun every rank runs pytest: give each its own base temporary folder, or the
     # ranks clean up each other's folders. Tests that write from all ranks broadcast rank 0's path.
     comm = MPI.COMM_WORLD
@@ -88,3 +93,93 @@ def _petsc_options_unchanged():
         if k not in after:
             opts.setValue(k, v)
     assert not leaked, f"options left in PETSc's database: {leaked}"
+
+
+# --- lanes --------------------------------------------------------------------------------------------------
+# Which lane runs a test (Makefile): `make test-fast` runs what is neither `slow` nor `scene` (the library's
+# unit and closed-form tests, under 2 minutes), `make test` runs everything serially and, in parallel, what is
+# not `slow` or is `mpi`; `make test-all` runs everything in parallel too. The tables below are the one place
+# that says so, by node id (file::test[parameters]; ``*`` matches anything). A pattern of a collected file that matches
+# no test is an error: a renamed test cannot silently leave its lane.
+SCENE = (  # a benchmark scene, its demo, or the application around it (harness, command line)
+    "test_block.py", "test_hertz.py", "test_sphere.py", "test_pin.py", "test_slab.py", "test_ring.py",
+    "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
+    "test_wedges.py", "test_ironing.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
+    "test_scenes.py", "test_cli.py", "test_run.py",
+)
+SLOW = (  # studies of more than a few seconds each
+    "test_bench.py::test_slab_error_from_the_exact_coulomb_reference", "test_bench.py::test_sweep_block",
+    "test_bench.py::test_stability_harness_classifies_the_ring", "test_bench.py::test_ring_through_the_scene_runner",
+    "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*two-body*]",
+    "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*-3*]",
+    "test_capabilities.py::test_two_pass_coinciding_points_carry_the_one_pass_pressure",
+    "test_collocation.py::test_collocated_multipliers_exact_on_the_curved_interface",
+    "test_cylinders.py::test_hertz_both_surfaces_and_equilibrium[segment]",
+    "test_demos.py::test_demo_passes_its_check[sheet]", "test_demos.py::test_demo_passes_its_check[ironing]",
+    "test_demos.py::test_demo_passes_its_check[mindlin]",
+    "test_friction.py::test_tangent_matches_finite_differences[2-*",
+    "test_materials.py::test_two_body_cauchy_pressure_is_nominal_over_the_slave_stretch*",
+    "test_mindlin3d.py::test_stick_radius_against_cattaneo_mindlin",
+    "test_model_reduction.py::*",
+    "test_multipliers.py::test_two_body_multipliers_equal_augmented_cross_constraints",
+    "test_multipliers.py::test_two_body_multipliers_hertz_and_equilibrium",
+    "test_nitsche.py::test_neohookean_block_nominal_pressure_is_the_closed_form[stress-100.0-1]",
+    "test_obstacles_and_bulk.py::test_moving_rigid_cylinder_indents_a_block*",
+    "test_parallel.py::test_parallel_equals_serial[hertz-cross]",
+    "test_pin.py::test_total_contact_force_is_the_applied_traction",
+    "test_pin.py::test_exact_gap_tends_to_the_linearized_gap_at_first_order",
+    "test_pin.py::test_neat_fit_is_homogeneous_in_the_load",
+    "test_predictor.py::test_a_far_predicted_state_does_not_pass_the_relative_tolerance",
+    "test_rings.py::test_p1_chord_sag_converges", "test_rings.py::test_penalty_approaches_the_multipliers",
+    "test_rings.py::test_serial_equals_ranks", "test_rings.py::test_two_point_multipliers_against_lame",
+    "test_sheet.py::*",
+    "test_slab.py::test_regularized_friction_methods_converge_over_mu*", "test_slab.py::test_refinement_convergence",
+    "test_sphere.py::*",
+    "test_twobody.py::test_consistent_tangent_with_master_dofs[nodal-two-3]",
+    "test_twobody_friction.py::test_tresca_bound_and_slip",
+    "test_wedges.py::test_force_ratio_of_a_block_sliding_up_a_wedge[0.3-20.0]",
+)
+MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel lanes even when slow
+    "test_collocation.py::test_serial_equals_ranks", "test_condensed_twobody.py::test_parallel_equals_serial",
+    "test_cylinders.py::test_ranks_agree*", "test_friction.py::test_compliance3d_parallel_equals_serial",
+    "test_friction.py::test_slab_parallel_equals_serial", "test_ironing.py::test_parallel_equals_serial",
+    "test_mindlin.py::test_parallel_equals_serial", "test_mindlin3d.py::test_parallel_equals_serial",
+    "test_multipliers.py::test_parallel_equals_serial*",
+    "test_multipliers.py::test_two_body_multipliers_parallel_equals_serial", "test_parallel.py::*",
+    "test_pin.py::test_parallel_equals_serial", "test_rings.py::test_serial_equals_ranks",
+    "test_sheet.py::test_collocated_serial_equals_ranks",
+    "test_sheet.py::test_multipliers_independent_of_c_and_of_ranks",
+    "test_sheet.py::test_three_point_penalty_independent_of_ranks", "test_slab.py::test_parallel_equals_serial",
+    "test_sparse.py::test_a_rank_without_rows",
+    "test_twobody.py::test_slave_and_master_on_different_ranks_equal_serial*",
+)
+
+
+def _lane_patterns(table: tuple) -> list[str]:
+    return [p if "::" in p else f"{p}::*" for p in table]
+
+
+def _matches(name: str, pattern: str) -> bool:
+    import re
+
+    return re.fullmatch(".*".join(re.escape(part) for part in pattern.split("*")), name) is not None
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m deselects: every collected test gets its markers
+def pytest_collection_modifyitems(config, items):
+    tables = {"scene": _lane_patterns(SCENE), "slow": _lane_patterns(SLOW), "mpi": _lane_patterns(MPI_COMPARED)}
+    used = {p: False for ps in tables.values() for p in ps}
+    for item in items:
+        name = item.nodeid.split("/")[-1]
+        for marker, patterns in tables.items():
+            hits = [p for p in patterns if _matches(name, p)]
+            for p in hits:
+                used[p] = True
+            if hits:
+                item.add_marker(getattr(pytest.mark, marker))
+    # Files collected whole (not single tests of them, no -k): each of their patterns must match a test.
+    partial = {a.split("::")[0].split("/")[-1] for a in config.args if "::" in a}
+    whole = {i.nodeid.split("/")[-1].split("::")[0] for i in items} - partial
+    stale = [p for p, hit in used.items() if not hit and p.split("::")[0] in whole]
+    if stale and not config.getoption("keyword"):
+        raise pytest.UsageError(f"lane patterns of tests/conftest.py that match no test: {stale}")
