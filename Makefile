@@ -45,9 +45,10 @@ SCALING_ARGS ?=
 scaling: setup
 	$(PY) demos/scaling.py --out results/scaling $(SCALING_ARGS)
 
-# the capability matrix, printed from its declaration (tests/test_capabilities.py checks the committed file)
+# the capability matrix and the methods page, printed from the declarations (tests check the committed files)
 docs: setup
 	$(PY) -m fenics_contact.capabilities > docs/capabilities.md
+	$(PY) -m fenics_contact.methods > docs/methods.md
 
 lint: setup
 	$(VENV)/bin/ruff check fenics_contact tests scripts

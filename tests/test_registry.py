@@ -86,3 +86,9 @@ def test_toy_method_in_a_benchmark_row(toy, tmp_path):
     exact = block.EXACT_PRESSURE
     assert row["error"] == pytest.approx(abs(closed_form(K) - exact) / exact, rel=1e-6)
     assert bench.parameter_label("quadratic") == "K" and bench._colour("quadratic") == "tab:brown"
+
+
+def test_methods_page_is_the_registry():
+    """docs/methods.md is what the declarations say (``make docs`` writes it)."""
+    page = Path(__file__).resolve().parents[1] / "docs" / "methods.md"
+    assert page.read_text() == methods.markdown()
