@@ -22,7 +22,8 @@ from .obstacles import Obstacle
 from .projection import SurfaceProjector
 from .surface import Surface
 
-__all__ = ["QUADRATURES", "contact_measure", "is_mixed", "displacement", "check_facet_tag", "ContactSurface"]
+__all__ = ["QUADRATURES", "PRESSURE_KINDS", "contact_measure", "is_mixed", "displacement", "check_facet_tag",
+           "ContactSurface"]
 
 QUADRATURES = ("nodal", "gauss", "simpson")
 PRESSURE_KINDS = ("nominal", "cauchy")  # per reference area, per current area
