@@ -154,22 +154,36 @@ class CollocatedSurface(TwoBodyMultiplier):
         return s["X"] + U, pv
 
     # --- the element ------------------------------------------------------
-    def _assemble(self) -> tuple[list, list, list, list]:
-        """Residual entries (rows, values) and tangent entries (rows, cols, values), global numbers."""
-        s, o = self._static, self.other._static
+    def _assemble(self) -> tuple[tuple[list, list], tuple[list, list, list]]:
+        """Residual entries (rows, values) and tangent entries (rows, cols, values), global numbers: the gap
+        constraints of this surface's vertices, then the Simpson work of its pressure (the order of the
+        entries fixes the order of their sums)."""
+        o = self.other._static
         xa, pa = self._current()
         xb, pb = self.other._current()
+        xo = np.zeros((len(o["VX"]), 2))  # the other surface's current vertices
+        xo[o["ends"][:, 0]], xo[o["ends"][:, 1]] = xb[:, 0], xb[:, 2]
+        res, jac = ([], []), ([], [], [])
+        self._gap_rows(xa, pa, xb, pb, xo, res, jac)
+        best, xio = self._collocate(xa, xo)
+        self._simpson_work(xa, pa, pb, best, xio, res, jac)
+        return res, jac
+
+    def _gap_rows(self, xa: np.ndarray, pa: np.ndarray, xb: np.ndarray, pb: np.ndarray, xo: np.ndarray,
+                  res: tuple[list, list], jac: tuple[list, list, list]) -> None:
+        """The constraint rows of this surface's vertices against the other's current curves ``xb`` (nodes
+        (nf, 3, 2); vertices ``xo``; pressures ``pb``), appended to ``res`` and ``jac``: the law's complementarity
+        ``-C(p, g)/c`` where paired, ``-p/c`` (open) where not, ``p_i - p_j`` node on node."""
+        s, o = self._static, self.other._static
+        rr, rv = res
+        jr, jc, jv = jac
         c = float(self.constants["c"].value)
         penalty = isinstance(self.law, PenaltyMultiplier)
-        rr, rv, jr, jc, jv = [], [], [], [], []
-        # 1. Gap constraints at this surface's vertices against the other's current curves.
         xv = np.zeros((len(s["VX"]), 2))
         xv[s["ends"][:, 0]], xv[s["ends"][:, 1]] = xa[:, 0], xa[:, 2]
         vcomp = np.zeros((len(s["VX"]), 2), np.int64)
         vcomp[s["ends"][:, 0]], vcomp[s["ends"][:, 1]] = s["G"][:, 0], s["G"][:, 2]
         facet, N, _, xi = project(xv, xb, self.radius, None, quadratic=True)
-        xo = np.zeros((len(o["VX"]), 2))
-        xo[o["ends"][:, 0]], xo[o["ends"][:, 1]] = xb[:, 0], xb[:, 2]
         self._tie = self._ties(xv, xo, xb)
         self._vertex_gap = np.full(len(xv), -np.inf)
         for i in range(len(xv)):
@@ -203,7 +217,10 @@ class CollocatedSurface(TwoBodyMultiplier):
                     jr.append(row), jc.append(vcomp[i, k]), jv.append(-dg * n[k])
                     for m in range(3):
                         jr.append(row), jc.append(o["G"][f, m, k]), jv.append(dg * N[i, m] * n[k])
-        # 2. Collocation of the middle pressures: the other surface's vertices projected on this surface.
+
+    def _collocate(self, xa: np.ndarray, xo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """For each facet of this surface (current nodes ``xa``), the vertex of the other surface (current
+        positions ``xo``) that collocates its middle pressure (-1: none), and every such vertex's ``xi*``."""
         fo, _, _, xio = project(xo, xa, self.radius, None, quadratic=True)
         best = np.full(len(xa), -1)
         for j in np.flatnonzero(fo >= 0):
@@ -211,7 +228,15 @@ class CollocatedSurface(TwoBodyMultiplier):
             if XI_MIN < t < 1 - XI_MIN and (best[e] < 0 or abs(t - 0.5) < abs(xio[best[e]] - 0.5)):
                 best[e] = j
         self._collocation = best
-        # 3. Simpson work of this surface's pressure on its own body.
+        return best, xio
+
+    def _simpson_work(self, xa: np.ndarray, pa: np.ndarray, pb: np.ndarray, best: np.ndarray, xio: np.ndarray,
+                      res: tuple[list, list], jac: tuple[list, list, list]) -> None:
+        """Simpson's rule for the work of this surface's pressure on its own body, the middle values collocated
+        (``best``, ``xio`` of :meth:`_collocate``) or the mean of the ends, appended to ``res`` and ``jac``."""
+        s, o = self._static, self.other._static
+        rr, rv = res
+        jr, jc, jv = jac
         dN = quadratic_shape(_XI)[1]  # (3 points, 3 nodes)
         self._pmid = np.zeros(len(xa))
         for e in range(len(xa)):
@@ -244,7 +269,6 @@ class CollocatedSurface(TwoBodyMultiplier):
                         for b_ in range(2):
                             if block[a_, b_]:
                                 jr.append(rows[a_]), jc.append(s["G"][e, m, b_]), jv.append(block[a_, b_])
-        return (rr, rv), (jr, jc, jv)
 
     def update(self) -> bool:
         changed = super().update()
@@ -277,7 +301,17 @@ class CollocatedSurface(TwoBodyMultiplier):
         self._pattern_version += 1  # the collocation may change from one iterate to the next
         return C
 
-    # --- figures ------------------------------------------------------------
+    # --- results ------------------------------------------------------------
+    def total_force(self) -> np.ndarray:
+        """Force of the other body on this surface's body, shape (2,) (per unit thickness): the element's
+        Simpson sum ``-sum_e sum_k w_k p_k (x'_y, -x'_x)(xi_k)`` (this surface's pressure on its own current
+        surface, the middle values of the last assembly); the same on every rank."""
+        xa, pa = self._current()
+        ends = self._static["ends"]
+        p = np.stack([pa[ends[:, 0]], self._pmid, pa[ends[:, 1]]], axis=1)  # (nf, 3)
+        nl = np.einsum("km,emj->ekj", quadratic_shape(_XI)[1], xa) @ _ROT.T  # outward normal x length element
+        return -np.einsum("k,ek,ekj->j", _W, p, nl)
+
     def point_table(self, kind: str = "nominal"):
         """Reference position, current position, gap (vertices; middle nodes: -inf, not constrained) and
         pressure (vertex unknowns; middle nodes: the collocated or mean value) at every node of this
