@@ -328,31 +328,8 @@ class ContactSurface(Surface):
         nodes = mesh.geometry.x[entities_to_geometry(mesh, fdim, self.facets)] if len(self.facets) else np.zeros(
             (0, fdim + 1, 3))
         facets = np.concatenate(self.comm.allgather(nodes))
-        x, g, p = self._vertex_table()
-        scale = 1e-9 * max(float(np.ptp(x)) if x.size else 1.0, 1.0)
-        key = lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))  # noqa: E731
-        index = {key(c): i for i, c in enumerate(x)}
-        parent = list(range(len(x)))
-
-        def root(i):
-            while parent[i] != i:
-                parent[i] = parent[parent[i]]
-                i = parent[i]
-            return i
-
-        closed = p > relative * p.max() if p.size and p.max() > 0 else np.zeros(len(p), bool)
-        for f in facets:
-            ids = [index.get(key(c)) for c in f]
-            ids = [i for i in ids if i is not None and closed[i]]
-            for a, b in zip(ids[:-1], ids[1:]):
-                parent[root(a)] = root(b)
-        groups: dict[int, list[int]] = {}
-        for i in np.flatnonzero(closed):
-            groups.setdefault(root(i), []).append(i)
-        zones = [{"points": len(ids), "X_mean": x[ids].mean(axis=0).tolist(), "X_min": x[ids].min(axis=0).tolist(),
-                  "X_max": x[ids].max(axis=0).tolist(), "pressure_max": float(p[ids].max())}
-                 for ids in groups.values()]
-        return sorted(zones, key=lambda z: z["X_mean"][0])
+        x, _, p = self._vertex_table()
+        return _loaded_zones(x, p, facets, relative)
 
     def max_penetration(self) -> float:
         """Largest gap over the contact vertices (positive = penetration, negative = open)."""
@@ -371,3 +348,33 @@ class ContactSurface(Surface):
         reference area, or ``cauchy``, ``int p dA / a``, the force per current area ``a = int (da/dA) dA``
         (the same in small strain)."""
         return self.comm.allreduce(fem.assemble_scalar(self._mean_p_form), op=MPI.SUM) / self.area(kind)
+
+
+def _loaded_zones(x: np.ndarray, p: np.ndarray, facets: np.ndarray, relative: float) -> list[dict]:
+    """Connected sets of the points ``x`` (n, 3) whose pressure ``p`` is above ``relative`` times the largest,
+    points of a common facet (``facets``: (nf, nodes, 3) coordinates) connected; see
+    :meth:`ContactSurface.contact_zones`."""
+    scale = 1e-9 * max(float(np.ptp(x)) if x.size else 1.0, 1.0)
+    key = lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))  # noqa: E731
+    index = {key(c): i for i, c in enumerate(x)}
+    parent = list(range(len(x)))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    closed = p > relative * p.max() if p.size and p.max() > 0 else np.zeros(len(p), bool)
+    for f in facets:
+        ids = [index.get(key(c)) for c in f]
+        ids = [i for i in ids if i is not None and closed[i]]
+        for a, b in zip(ids[:-1], ids[1:]):
+            parent[root(a)] = root(b)
+    groups: dict[int, list[int]] = {}
+    for i in np.flatnonzero(closed):
+        groups.setdefault(root(i), []).append(i)
+    zones = [{"points": len(ids), "X_mean": x[ids].mean(axis=0).tolist(), "X_min": x[ids].min(axis=0).tolist(),
+              "X_max": x[ids].max(axis=0).tolist(), "pressure_max": float(p[ids].max())}
+             for ids in groups.values()]
+    return sorted(zones, key=lambda z: z["X_mean"][0])
