@@ -290,7 +290,8 @@ class ContactSurface(Surface):
     def _vertex_table(self, kind: str = "nominal", current: bool = False) -> tuple[np.ndarray, ...]:
         """Reference coordinates (n, 3) as dolfinx tabulates them, gap and pressure (``kind``) at the
         contact-surface vertices and, if ``current``, the displacement (n, gdim) there, gathered on every rank
-        and sorted by reference coordinates."""
+        and sorted by reference coordinates. :meth:`contact_zones` and :meth:`max_penetration` read these vertex
+        values of the output fields on every surface, also on a two-body one whose points are its own."""
         self._check_kind(kind)
         self.update_output()
         pressure = self.pressure_out
