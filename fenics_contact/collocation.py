@@ -154,97 +154,25 @@ class CollocatedSurface(TwoBodyMultiplier):
         return s["X"] + U, pv
 
     # --- the element ------------------------------------------------------
-    def _assemble(self) -> tuple[list, list, list, list]:
-        """Residual entries (rows, values) and tangent entries (rows, cols, values), global numbers."""
+    def _assemble(self) -> tuple[tuple[list, list], tuple[list, list, list]]:
+        """Residual entries (rows, values) and tangent entries (rows, cols, values), global numbers: the gap
+        constraints of this surface's vertices, then the Simpson work of its pressure (the order of the
+        entries fixes the order of their sums)."""
         s, o = self._static, self.other._static
         xa, pa = self._current()
         xb, pb = self.other._current()
-        c = float(self.constants["c"].value)
-        penalty = isinstance(self.law, PenaltyMultiplier)
-        rr, rv, jr, jc, jv = [], [], [], [], []
-        # 1. Gap constraints at this surface's vertices against the other's current curves.
-        xv = np.zeros((len(s["VX"]), 2))
-        xv[s["ends"][:, 0]], xv[s["ends"][:, 1]] = xa[:, 0], xa[:, 2]
-        vcomp = np.zeros((len(s["VX"]), 2), np.int64)
-        vcomp[s["ends"][:, 0]], vcomp[s["ends"][:, 1]] = s["G"][:, 0], s["G"][:, 2]
-        facet, N, _, xi = project(xv, xb, self.radius, None, quadratic=True)
-        xo = np.zeros((len(o["VX"]), 2))
+        xo = np.zeros((len(o["VX"]), 2))  # the other surface's current vertices
         xo[o["ends"][:, 0]], xo[o["ends"][:, 1]] = xb[:, 0], xb[:, 2]
+        xv = np.zeros((len(s["VX"]), 2))  # this surface's
+        xv[s["ends"][:, 0]], xv[s["ends"][:, 1]] = xa[:, 0], xa[:, 2]
+        res, jac = ([], []), ([], [], [])
         self._tie = self._ties(xv, xo, xb)
-        self._vertex_gap = np.full(len(xv), -np.inf)
-        for i in range(len(xv)):
-            row = s["VP"][i]
-            f = facet[i]
-            if f >= 0:
-                n = quadratic_normals(xb[f][None], np.array([xi[i]]))[0]
-                g = -float((xv[i] - N[i] @ xb[f]) @ n)
-                self._vertex_gap[i] = g
-            if self._tie[i] >= 0:  # node on node: p_i = p_j of the first surface
-                j = self._tie[i]
-                rr.append(row), rv.append(pa[i] - pb[j])
-                jr.extend([row, row])
-                jc.extend([row, o["VP"][j]])
-                jv.extend([1.0, -1.0])
-                continue
-            if f < 0:  # no opposite facet within the radius: open
-                rr.append(row), rv.append(-pa[i] / c)
-                jr.append(row), jc.append(row), jv.append(-1.0 / c)
-                continue
-            C = float(self.law.complementarity(pa[i], g, {"c": c}))
-            rr.append(row), rv.append(-C / c)
-            if penalty:
-                dp, dg = -1.0 / c, float(g > 0)
-            else:
-                active = pa[i] + c * g >= 0
-                dp, dg = (0.0 if active else -1.0 / c), float(active)
-            jr.append(row), jc.append(row), jv.append(dp)
-            if dg:
-                for k in range(2):  # dg = -n . (dx_i - sum_m N_m dx_m)
-                    jr.append(row), jc.append(vcomp[i, k]), jv.append(-dg * n[k])
-                    for m in range(3):
-                        jr.append(row), jc.append(o["G"][f, m, k]), jv.append(dg * N[i, m] * n[k])
-        # 2. Collocation of the middle pressures: the other surface's vertices projected on this surface.
-        fo, _, _, xio = project(xo, xa, self.radius, None, quadratic=True)
-        best = np.full(len(xa), -1)
-        for j in np.flatnonzero(fo >= 0):
-            e, t = fo[j], xio[j]
-            if XI_MIN < t < 1 - XI_MIN and (best[e] < 0 or abs(t - 0.5) < abs(xio[best[e]] - 0.5)):
-                best[e] = j
+        self._vertex_gap = _gap_rows(s, o, xv, pa, xb, pb, self._tie, self.law, float(self.constants["c"].value),
+                                     self.radius, res, jac)
+        best, xio = _collocate(xa, xo, self.radius)
         self._collocation = best
-        # 3. Simpson work of this surface's pressure on its own body.
-        dN = quadratic_shape(_XI)[1]  # (3 points, 3 nodes)
-        self._pmid = np.zeros(len(xa))
-        for e in range(len(xa)):
-            i0, i2 = s["ends"][e]
-            pdofs = [s["VP"][i0], s["VP"][i2]]
-            if best[e] >= 0:
-                j = best[e]
-                L = _lagrange2(xio[j])[0]
-                pm = (pb[j] - L[0] * pa[i0] - L[2] * pa[i2]) / L[1]
-                mid = [(pdofs[0], -L[0] / L[1]), (pdofs[1], -L[2] / L[1]), (o["VP"][j], 1.0 / L[1])]
-            else:
-                pm = 0.5 * (pa[i0] + pa[i2])
-                mid = [(pdofs[0], 0.5), (pdofs[1], 0.5)]
-            self._pmid[e] = pm
-            pk = (pa[i0], pm, pa[i2])
-            dpk = ([(pdofs[0], 1.0)], mid, [(pdofs[1], 1.0)])
-            for k in range(3):
-                t = dN[k] @ xa[e]  # x'(xi_k)
-                nl = _ROT @ t
-                rows = s["G"][e, k]
-                rr.extend(rows)
-                rv.extend(_W[k] * pk[k] * nl)
-                for d, coef in dpk[k]:
-                    jr.extend(rows)
-                    jc.extend([d, d])
-                    jv.extend(_W[k] * coef * nl)
-                for m in range(3):
-                    block = _W[k] * pk[k] * dN[k, m] * _ROT
-                    for a_ in range(2):
-                        for b_ in range(2):
-                            if block[a_, b_]:
-                                jr.append(rows[a_]), jc.append(s["G"][e, m, b_]), jv.append(block[a_, b_])
-        return (rr, rv), (jr, jc, jv)
+        self._pmid = _simpson_work(s, o, xa, pa, pb, best, xio, res, jac)
+        return res, jac
 
     def update(self) -> bool:
         changed = super().update()
@@ -277,7 +205,17 @@ class CollocatedSurface(TwoBodyMultiplier):
         self._pattern_version += 1  # the collocation may change from one iterate to the next
         return C
 
-    # --- figures ------------------------------------------------------------
+    # --- results ------------------------------------------------------------
+    def total_force(self) -> np.ndarray:
+        """Force of the other body on this surface's body, shape (2,) (per unit thickness): the element's
+        Simpson sum ``-sum_e sum_k w_k p_k (x'_y, -x'_x)(xi_k)`` (this surface's pressure on its own current
+        surface, the middle values of the last assembly); the same on every rank."""
+        xa, pa = self._current()
+        ends = self._static["ends"]
+        p = np.stack([pa[ends[:, 0]], self._pmid, pa[ends[:, 1]]], axis=1)  # (nf, 3)
+        nl = np.einsum("km,emj->ekj", quadratic_shape(_XI)[1], xa) @ _ROT.T  # outward normal x length element
+        return -np.einsum("k,ek,ekj->j", _W, p, nl)
+
     def point_table(self, kind: str = "nominal"):
         """Reference position, current position, gap (vertices; middle nodes: -inf, not constrained) and
         pressure (vertex unknowns; middle nodes: the collocated or mean value) at every node of this
@@ -306,3 +244,106 @@ class CollocatedSurface(TwoBodyMultiplier):
             p = p * np.concatenate([sv, stretch[:, 1]])
         order = np.lexsort(np.round(X, 12).T[::-1])
         return X[order], x[order], g[order], p[order]
+
+
+# --- the element: residual and tangent entries, appended to res = (rows, values), jac = (rows, cols, values) ---
+def _gap_rows(s: dict, o: dict, xv: np.ndarray, pa: np.ndarray, xb: np.ndarray, pb: np.ndarray, tie: np.ndarray,
+              law: LagrangeMultiplier, c: float, radius: float, res: tuple[list, list],
+              jac: tuple[list, list, list]) -> np.ndarray:
+    """The constraint rows of one surface's vertices (``s``: its gathered data, current positions ``xv``,
+    pressures ``pa``) against the other's current curves (``o``, nodes ``xb`` (nf, 3, 2), pressures ``pb``): the
+    law's complementarity ``-C(p, g)/c`` where paired, ``-p/c`` (open) where not, ``p_i - p_j`` node on node
+    (``tie``). Returns the vertices' gaps (> 0 penetration; ``-inf`` unpaired)."""
+    rr, rv = res
+    jr, jc, jv = jac
+    penalty = isinstance(law, PenaltyMultiplier)
+    vcomp = np.zeros((len(s["VX"]), 2), np.int64)
+    vcomp[s["ends"][:, 0]], vcomp[s["ends"][:, 1]] = s["G"][:, 0], s["G"][:, 2]
+    facet, N, _, xi = project(xv, xb, radius, None, quadratic=True)
+    gap = np.full(len(xv), -np.inf)
+    for i in range(len(xv)):
+        row = s["VP"][i]
+        f = facet[i]
+        if f >= 0:
+            n = quadratic_normals(xb[f][None], np.array([xi[i]]))[0]
+            g = -float((xv[i] - N[i] @ xb[f]) @ n)
+            gap[i] = g
+        if tie[i] >= 0:  # node on node: p_i = p_j of the first surface
+            j = tie[i]
+            rr.append(row), rv.append(pa[i] - pb[j])
+            jr.extend([row, row])
+            jc.extend([row, o["VP"][j]])
+            jv.extend([1.0, -1.0])
+            continue
+        if f < 0:  # no opposite facet within the radius: open
+            rr.append(row), rv.append(-pa[i] / c)
+            jr.append(row), jc.append(row), jv.append(-1.0 / c)
+            continue
+        C = float(law.complementarity(pa[i], g, {"c": c}))
+        rr.append(row), rv.append(-C / c)
+        if penalty:
+            dp, dg = -1.0 / c, float(g > 0)
+        else:
+            active = pa[i] + c * g >= 0
+            dp, dg = (0.0 if active else -1.0 / c), float(active)
+        jr.append(row), jc.append(row), jv.append(dp)
+        if dg:
+            for k in range(2):  # dg = -n . (dx_i - sum_m N_m dx_m)
+                jr.append(row), jc.append(vcomp[i, k]), jv.append(-dg * n[k])
+                for m in range(3):
+                    jr.append(row), jc.append(o["G"][f, m, k]), jv.append(dg * N[i, m] * n[k])
+    return gap
+
+
+def _collocate(xa: np.ndarray, xo: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """For each facet of a surface (current nodes ``xa``), the vertex of the other surface (current positions
+    ``xo``) that collocates its middle pressure (-1: none), and every such vertex's ``xi*``."""
+    fo, _, _, xio = project(xo, xa, radius, None, quadratic=True)
+    best = np.full(len(xa), -1)
+    for j in np.flatnonzero(fo >= 0):
+        e, t = fo[j], xio[j]
+        if XI_MIN < t < 1 - XI_MIN and (best[e] < 0 or abs(t - 0.5) < abs(xio[best[e]] - 0.5)):
+            best[e] = j
+    return best, xio
+
+
+def _simpson_work(s: dict, o: dict, xa: np.ndarray, pa: np.ndarray, pb: np.ndarray, best: np.ndarray,
+                  xio: np.ndarray, res: tuple[list, list], jac: tuple[list, list, list]) -> np.ndarray:
+    """Simpson's rule for the work of a surface's pressure (vertex values ``pa``) on its own body (current nodes
+    ``xa``), the middle values collocated (``best``, ``xio`` of :func:`_collocate`, the other's pressures ``pb``)
+    or the mean of the ends. Returns the middle values."""
+    rr, rv = res
+    jr, jc, jv = jac
+    dN = quadratic_shape(_XI)[1]  # (3 points, 3 nodes)
+    pmid = np.zeros(len(xa))
+    for e in range(len(xa)):
+        i0, i2 = s["ends"][e]
+        pdofs = [s["VP"][i0], s["VP"][i2]]
+        if best[e] >= 0:
+            j = best[e]
+            L = _lagrange2(xio[j])[0]
+            pm = (pb[j] - L[0] * pa[i0] - L[2] * pa[i2]) / L[1]
+            mid = [(pdofs[0], -L[0] / L[1]), (pdofs[1], -L[2] / L[1]), (o["VP"][j], 1.0 / L[1])]
+        else:
+            pm = 0.5 * (pa[i0] + pa[i2])
+            mid = [(pdofs[0], 0.5), (pdofs[1], 0.5)]
+        pmid[e] = pm
+        pk = (pa[i0], pm, pa[i2])
+        dpk = ([(pdofs[0], 1.0)], mid, [(pdofs[1], 1.0)])
+        for k in range(3):
+            t = dN[k] @ xa[e]  # x'(xi_k)
+            nl = _ROT @ t
+            rows = s["G"][e, k]
+            rr.extend(rows)
+            rv.extend(_W[k] * pk[k] * nl)
+            for d, coef in dpk[k]:
+                jr.extend(rows)
+                jc.extend([d, d])
+                jv.extend(_W[k] * coef * nl)
+            for m in range(3):
+                block = _W[k] * pk[k] * dN[k, m] * _ROT
+                for a_ in range(2):
+                    for b_ in range(2):
+                        if block[a_, b_]:
+                            jr.append(rows[a_]), jc.append(s["G"][e, m, b_]), jv.append(block[a_, b_])
+    return pmid

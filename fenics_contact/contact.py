@@ -15,14 +15,15 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .compat import entities_to_geometry, function_space, petsc_vec
+from .compat import entities_to_geometry, function_space, interpolate_expression, petsc_vec
 from .domain import check_tags, tag_value
 from .laws import ContactLaw, ufl_ops
 from .obstacles import Obstacle
 from .projection import SurfaceProjector
 from .surface import Surface
 
-__all__ = ["QUADRATURES", "contact_measure", "is_mixed", "displacement", "check_facet_tag", "ContactSurface"]
+__all__ = ["QUADRATURES", "PRESSURE_KINDS", "contact_measure", "is_mixed", "displacement", "check_facet_tag",
+           "ContactSurface"]
 
 QUADRATURES = ("nodal", "gauss", "simpson")
 PRESSURE_KINDS = ("nominal", "cauchy")  # per reference area, per current area
@@ -256,9 +257,11 @@ class ContactSurface(Surface):
         dofs = self.projector.surface_dofs
         return self.S.tabulate_dof_coordinates()[dofs], self._p_now.x.array[dofs] * self._weights
 
-    # --- figures ---------------------------------------------------------
+    # --- results (see :class:`~fenics_contact.surface.Surface`) ---------------------
     def total_force(self) -> np.ndarray:
-        """Force of the obstacle on the body, ``int F n ds`` (per unit thickness in 2D)."""
+        """Force of the obstacle on the body, ``int F n ds`` (the normal contact force; a frictional surface's
+        friction force is its ``tangential_force``), shape ``(gdim,)``, per unit thickness in 2D; the same on every
+        rank."""
         return np.array([self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in self._force_forms])
 
     def update_output(self) -> None:
@@ -266,10 +269,29 @@ class ContactSurface(Surface):
         for rhs, f in self._out_rhs:
             self._out.project(rhs, f)
 
-    def surface_values(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Reference coordinates, gap and pressure at the contact-surface vertices, gathered on every rank.
-        ``kind``: ``nominal`` (per reference area, default) or ``cauchy`` (per current area: nominal
-        ``/ (da/dA)``; the same in small strain)."""
+    def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
+                                                                                     np.ndarray]:
+        """Position, gap and pressure at the contact-surface vertices, gathered on every rank and sorted by
+        reference position.
+
+        Args:
+            reference: the reference position ``X`` instead of the current one ``X + u(X)``.
+            kind: ``nominal`` (per reference area, default) or ``cauchy`` (per current area: nominal
+                ``/ (da/dA)``; the same in small strain).
+
+        Returns:
+            ``x`` (n, gdim), the gap ``g`` (n,) (> 0 penetration) and the pressure ``p`` (n,) (> 0 compression)
+            at the vertices (their nodal values; Gauss quadrature: projected on the vertices).
+        """
+        X, g, p, *u = self._vertex_table(kind, current=not reference)
+        x = X[:, :self.u.function_space.mesh.geometry.dim]
+        return (x if reference else x + u[0]), g, p
+
+    def _vertex_table(self, kind: str = "nominal", current: bool = False) -> tuple[np.ndarray, ...]:
+        """Reference coordinates (n, 3) as dolfinx tabulates them, gap and pressure (``kind``) at the
+        contact-surface vertices and, if ``current``, the displacement (n, gdim) there, gathered on every rank
+        and sorted by reference coordinates. :meth:`contact_zones` and :meth:`max_penetration` read these vertex
+        values of the output fields on every surface, also on a two-body one whose points are its own."""
         self._check_kind(kind)
         self.update_output()
         pressure = self.pressure_out
@@ -280,10 +302,20 @@ class ContactSurface(Surface):
         V = self.gap_out.function_space
         dofs = self._out.surface_dofs
         x = V.tabulate_dof_coordinates()[dofs]
-        data = [np.concatenate(a) for a in zip(*self.comm.allgather(
-            (x, self.gap_out.x.array[dofs], pressure.x.array[dofs])))]
+        local = (x, self.gap_out.x.array[dofs], pressure.x.array[dofs])
+        if current:
+            local += (self._vertex_displacement()[dofs],)
+        data = [np.concatenate(a) for a in zip(*self.comm.allgather(local))]
         order = np.lexsort(data[0].T[::-1])
-        return data[0][order], data[1][order], data[2][order]
+        return tuple(a[order] for a in data)
+
+    def _vertex_displacement(self) -> np.ndarray:
+        """The displacement at the dofs of the output space (P1: its vertex values), (n_dofs, gdim)."""
+        if not hasattr(self, "_u_vertex"):
+            gdim = self.u.function_space.mesh.geometry.dim
+            self._u_vertex = [fem.Function(self.gap_out.function_space) for _ in range(gdim)]
+        u = displacement(self.u)
+        return np.stack([interpolate_expression(f, u[i]).x.array for i, f in enumerate(self._u_vertex)], axis=1)
 
     def contact_zones(self, relative: float = 1e-3) -> list[dict]:
         """Connected sets of loaded contact vertices along the surface (vertices of a common facet are
@@ -297,35 +329,12 @@ class ContactSurface(Surface):
         nodes = mesh.geometry.x[entities_to_geometry(mesh, fdim, self.facets)] if len(self.facets) else np.zeros(
             (0, fdim + 1, 3))
         facets = np.concatenate(self.comm.allgather(nodes))
-        x, g, p = self.surface_values()
-        scale = 1e-9 * max(float(np.ptp(x)) if x.size else 1.0, 1.0)
-        key = lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))  # noqa: E731
-        index = {key(c): i for i, c in enumerate(x)}
-        parent = list(range(len(x)))
-
-        def root(i):
-            while parent[i] != i:
-                parent[i] = parent[parent[i]]
-                i = parent[i]
-            return i
-
-        closed = p > relative * p.max() if p.size and p.max() > 0 else np.zeros(len(p), bool)
-        for f in facets:
-            ids = [index.get(key(c)) for c in f]
-            ids = [i for i in ids if i is not None and closed[i]]
-            for a, b in zip(ids[:-1], ids[1:]):
-                parent[root(a)] = root(b)
-        groups: dict[int, list[int]] = {}
-        for i in np.flatnonzero(closed):
-            groups.setdefault(root(i), []).append(i)
-        zones = [{"points": len(ids), "X_mean": x[ids].mean(axis=0).tolist(), "X_min": x[ids].min(axis=0).tolist(),
-                  "X_max": x[ids].max(axis=0).tolist(), "pressure_max": float(p[ids].max())}
-                 for ids in groups.values()]
-        return sorted(zones, key=lambda z: z["X_mean"][0])
+        x, _, p = self._vertex_table()
+        return _loaded_zones(x, p, facets, relative)
 
     def max_penetration(self) -> float:
         """Largest gap over the contact vertices (positive = penetration, negative = open)."""
-        return float(np.max(self.surface_values()[1]))
+        return float(np.max(self._vertex_table()[1]))
 
     def area(self, kind: str = "nominal") -> float:
         """Area (length in 2D) of the contact surface: reference (``nominal``) or current (``cauchy``)."""
@@ -340,3 +349,33 @@ class ContactSurface(Surface):
         reference area, or ``cauchy``, ``int p dA / a``, the force per current area ``a = int (da/dA) dA``
         (the same in small strain)."""
         return self.comm.allreduce(fem.assemble_scalar(self._mean_p_form), op=MPI.SUM) / self.area(kind)
+
+
+def _loaded_zones(x: np.ndarray, p: np.ndarray, facets: np.ndarray, relative: float) -> list[dict]:
+    """Connected sets of the points ``x`` (n, 3) whose pressure ``p`` is above ``relative`` times the largest,
+    points of a common facet (``facets``: (nf, nodes, 3) coordinates) connected; see
+    :meth:`ContactSurface.contact_zones`."""
+    scale = 1e-9 * max(float(np.ptp(x)) if x.size else 1.0, 1.0)
+    key = lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))  # noqa: E731
+    index = {key(c): i for i, c in enumerate(x)}
+    parent = list(range(len(x)))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    closed = p > relative * p.max() if p.size and p.max() > 0 else np.zeros(len(p), bool)
+    for f in facets:
+        ids = [index.get(key(c)) for c in f]
+        ids = [i for i in ids if i is not None and closed[i]]
+        for a, b in zip(ids[:-1], ids[1:]):
+            parent[root(a)] = root(b)
+    groups: dict[int, list[int]] = {}
+    for i in np.flatnonzero(closed):
+        groups.setdefault(root(i), []).append(i)
+    zones = [{"points": len(ids), "X_mean": x[ids].mean(axis=0).tolist(), "X_min": x[ids].min(axis=0).tolist(),
+              "X_max": x[ids].max(axis=0).tolist(), "pressure_max": float(p[ids].max())}
+             for ids in groups.values()]
+    return sorted(zones, key=lambda z: z["X_mean"][0])

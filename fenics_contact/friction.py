@@ -294,9 +294,9 @@ class FrictionHistory:
         interpolate_expression(self.traction_out, ufl.as_vector(self._traction_out))
 
     def friction_profile(self) -> dict[str, np.ndarray]:
-        """Vertex values on the contact surface, gathered on every rank and sorted by position.
+        """Vertex values on the contact surface, gathered on every rank and sorted by reference position.
 
-        ``x`` (n, gdim), ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction``
+        ``x`` (n, gdim) reference position, ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction``
         (tangential traction of the other side on the body: 2D scalar along the tangent ``(n_y, -n_x)``,
         which is +x for the plane y = 0; 3D vector (n, 3)) and ``state`` (0 open, 1 slip, 2 stick) of the
         last committed step (``gauss`` quadrature: the state field's vertex value, rounded).
@@ -326,6 +326,8 @@ class FrictionHistory:
 
 class FrictionalContact(FrictionHistory, ContactSurface):
     """A :class:`ContactSurface` with friction against a rigid obstacle: ``law`` is a :class:`Friction`.
+    Results: :meth:`total_force` the normal force of the obstacle on the body, :meth:`tangential_force` the
+    friction force, :meth:`point_values` / :meth:`surface_values` and :meth:`friction_profile` at the vertices.
 
     History (traction ``q_old`` and relative position ``r_old = x - o(t)`` at the last converged step, one
     scalar Function per global component) lives in the law's state space ``S`` (exact values at the

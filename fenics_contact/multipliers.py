@@ -16,12 +16,12 @@ unknowns (:meth:`PressureUnknown.field_split`, set by the solver; a
 surface" is decided by ``locate_dofs_topological`` on the contact facets,
 which communicates shared dofs, so every rank agrees. Reported sizes
 (``Setup.dofs``) count only the real unknowns (displacement and surface
-pressures: ``pinned_dofs`` are subtracted). PETSc's PCREDISTRIBUTE (drops
-the rows holding only their diagonal) was tried first: it fails at the
-second Newton iteration in PETSc 3.18 ("Cannot change local size of Amat
-after use"), because the inactive pressure rows are diagonal-only too, so
-its reduced size changes with the active set; the field split's index sets
-are fixed (the surfaces are).
+pressures: ``pinned_dofs`` are subtracted). Not PETSc's PCREDISTRIBUTE
+(which drops the rows holding only their diagonal): the inactive pressure
+rows are diagonal-only too, so its reduced size changes with the active set
+and PETSc 3.18 stops at the second Newton iteration ("Cannot change local
+size of Amat after use"); the field split's index sets are fixed (the
+surfaces are).
 
 Constraint, per contact vertex (vertex quadrature ``contact_measure(...,
 "nodal")``, so the integrals are weighted nodal values): the spec's
@@ -256,7 +256,9 @@ class PressureUnknown:
 
 
 class MultiplierContact(PressureUnknown, ContactSurface):
-    """A contact surface (rigid obstacle) whose pressure is the second field of the mixed unknown ``w``."""
+    """A contact surface (rigid obstacle) whose pressure (> 0 compression) is the second field of the mixed
+    unknown ``w``; the results of :class:`~fenics_contact.contact.ContactSurface`, the force and the mean
+    pressure with the quadrature of the work term (``quadrature``: ``nodal`` or ``simpson``)."""
 
     def __init__(self, w: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: LagrangeMultiplier,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
@@ -283,8 +285,9 @@ class MultiplierContact(PressureUnknown, ContactSurface):
 
 
 class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
-    """Two-body contact (:class:`~fenics_contact.twobody.TwoBodySurface`) with the slave pressure in the mixed
-    unknown: nodal Signorini conditions of the slave vertices against the current master facets."""
+    """Two-body contact (:class:`~fenics_contact.twobody.TwoBodySurface`) with the slave pressure (> 0
+    compression) in the mixed unknown: nodal Signorini conditions of the slave vertices against the current
+    master facets; the results of the two-body surface, the pressure the unknown's."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)

@@ -30,11 +30,12 @@ The reported pressure is nominal (:meth:`ContactSurface.mean_pressure` gives
 the Cauchy one too).
 
 Measured on the neo-Hookean block (16 % compression, ``tests/test_nitsche.py``):
-the closed-form nominal pressure to 2e-14 (gamma0 = 10, 100, 1000; the former
-Cauchy-stress term penetrated by 4.6e-6 at gamma0 = 1000, 7e-4 at 10). At finite
-strain the functional is not convex for small gamma0: from rest in one load
-step gamma0 = 1 and 3 converged to a spurious state (gap -0.12 and +0.12);
-with 8 load steps gamma0 = 1 reaches the exact one.
+the closed-form nominal pressure to 2e-14 (gamma0 = 10, 100, 1000), where the
+Cauchy stress in place of ``P`` (not consistent at finite strain) penetrates by
+4.6e-6 at gamma0 = 1000, 7e-4 at 10. At finite strain the functional is not
+convex for small gamma0: from rest in one load step gamma0 = 1 and 3 converge
+to a spurious state (gap -0.12 and +0.12); with 8 load steps gamma0 = 1 reaches
+the exact one.
 """
 from __future__ import annotations
 
@@ -48,7 +49,8 @@ __all__ = ["NitscheContact"]
 
 
 class NitscheContact(ContactSurface):
-    """Contact by symmetric Nitsche; same figures, output and hooks as :class:`ContactSurface`."""
+    """Contact by symmetric Nitsche; same results, output and hooks as :class:`ContactSurface`, its pressure
+    the nominal ``<gamma g + p_s(u)>`` (> 0 compression). ``material``: the bulk material (for ``P``)."""
 
     def __init__(self, u, facet_tags, tag, obstacle, law, load, quadrature: str = "nodal", name: str = "contact",
                  material: Material | Materials | None = None):

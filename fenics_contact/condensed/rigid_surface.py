@@ -1,0 +1,102 @@
+"""The contact surface of method ``coulomb`` against a flat rigid obstacle (no residual term: a step solver)."""
+from __future__ import annotations
+
+import numpy as np
+from dolfinx import fem
+
+from ..bounds import PlaneVertices
+from ..contact import ContactSurface
+from ..laws import ContactLaw
+from ..obstacles import HalfPlane, Obstacle
+from .states import classify
+
+__all__ = ["CondensedContact"]
+
+
+class CondensedContact(ContactSurface):
+    """The contact surface of method ``coulomb`` against a half-plane whose normal is a coordinate axis (2D,
+    nodal): the contact vertices and weights ``int phi_i ds`` (:class:`~fenics_contact.bounds.PlaneVertices`,
+    ``plane``), the output fields and figures of :class:`~fenics_contact.contact.ContactSurface` with the pressure
+    a nodal field, and the tangential traction ``traction_out``. It has no residual term and no bounds: its load
+    steps are solved by a :class:`~.rigid_solver.CondensedCoulomb` given to the problem
+    (``requires_step_solver``), which writes the nodal contact forces over the vertex weights back here
+    (:meth:`set_solution`).
+
+    Results: :meth:`total_force` the normal force of the obstacle on the body, :meth:`tangential_force` the
+    friction force, :meth:`point_values` / :meth:`surface_values` at every vertex of the surface,
+    :meth:`friction_profile` at the condensed vertices (those whose normal component is free)."""
+
+    requires_step_solver = True
+
+    def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
+        if not isinstance(obstacle, HalfPlane) or np.count_nonzero(obstacle.n) != 1:
+            raise ValueError("method 'coulomb' needs a flat rigid obstacle (a half-plane with an axis-aligned "
+                             f"normal): it uses the linearized normal; got {type(obstacle).__name__}")
+        if quadrature != "nodal":
+            raise ValueError("method 'coulomb' enforces the contact at the vertices: use quadrature 'nodal'")
+        if u.function_space.mesh.geometry.dim != 2:
+            raise ValueError("method 'coulomb' is implemented in 2D only (one tangential direction)")
+        self.plane = PlaneVertices(u.function_space, obstacle)  # first: the pressure lives on its space
+        super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name)
+        self.plane.locate(self.facets, self.ds)
+        self.mu = float(law.mu)
+        self.kt = 1 - self.plane.k  # the tangential component
+        _, parent_t = u.function_space.sub(self.kt).collapse()
+        self.parent_t = np.asarray(parent_t, dtype=np.int32)  # its collapsed dofs -> the unknown's
+        self.traction_out = fem.Function(self.plane.Vk, name="tangential_traction")
+        self._solution = None  # (vx, w, pn, pt, gap) of the last step, from set_solution
+
+    def _pressure(self):
+        self._p = fem.Function(self.plane.Vk, name="nodal_reaction_pressure")
+        return self._p
+
+    def residual(self, v):
+        """None: the step solver enforces the contact."""
+        return None
+
+    def set_solution(self, vx: np.ndarray, w: np.ndarray, pn: np.ndarray, pt: np.ndarray, gap: np.ndarray,
+                     mine: list[tuple[int, int]]) -> None:
+        """A solved step at the condensed vertices (all of them, the same on every rank): positions ``vx`` (n, 2),
+        weights ``w``, pressure ``pn`` (> 0 compression), tangential traction ``pt`` (along ``+e_kt``) and gap
+        ``gap`` (> 0 penetration); ``mine``: (vertex, local dof of ``plane.Vk``) of this rank's vertices."""
+        self._solution = (vx, w, pn, pt, gap)
+        self._p.x.array[:] = 0.0
+        self.traction_out.x.array[:] = 0.0
+        for i, dof in mine:
+            self._p.x.array[dof] = pn[i]
+            self.traction_out.x.array[dof] = pt[i]
+        self._p.x.scatter_forward()
+        self.traction_out.x.scatter_forward()
+
+    def _need(self) -> tuple:
+        if self._solution is None:
+            raise RuntimeError(f"{self.name}: no step has been solved yet")
+        return self._solution
+
+    # --- results ----------------------------------------------------------------------
+    def friction_profile(self) -> dict[str, np.ndarray]:
+        """The condensed vertices sorted by reference position (the same on every rank): ``x`` (n, 2) reference
+        position, ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction`` (tangential traction of
+        the obstacle on the body, along ``+e_kt``: +x on a base facing +y), ``state`` (0 open, 1 slip, 2 stick,
+        by :func:`~.states.classify`)."""
+        vx, _, pn, pt, gap = self._need()
+        return {"x": vx.copy(), "gap": gap.copy(), "pressure": pn.copy(), "traction": pt.copy(),
+                "state": classify(pn, pt, self.mu)}
+
+    def tangential_force(self) -> np.ndarray:
+        """Tangential (friction) force of the obstacle on the body, the sum of the nodal ones, shape (2,)
+        (per unit thickness)."""
+        _, w, _, pt, _ = self._need()
+        f = np.zeros(2)
+        f[self.kt] = float(np.sum(pt * w))
+        return f
+
+    def contact_force(self) -> np.ndarray:
+        """Total force of the obstacle on the body (normal and tangential: the sum of the nodal contact forces),
+        shape (2,) (per unit thickness)."""
+        _, w, pn, pt, _ = self._need()
+        f = np.zeros(2)
+        f[self.plane.k] = self.plane.sign * float(np.sum(pn * w))
+        f[self.kt] = float(np.sum(pt * w))
+        return f
