@@ -4,7 +4,7 @@ Set up a contact problem on your own mesh with ``import fenics_contact as fc`` (
 dolfinx or :func:`read_gmsh`, facets named ``"base"``, ``"top"`` and ``"left"``; ``tests/test_api.py`` has a
 complete, tested example)::
 
-    law = fc.make_law("auglag", K=1e5)                      # or fc.Penalty(1e5), fc.Exact(), fc.Coulomb(0.3), ...
+    law = fc.make_law("auglag", K=1e5)                      # or fc.Penalty(1e5), fc.SnesVI(), fc.ExactCoulomb(0.3)
     u, V = fc.unknown(mesh, 1, law)                          # the unknown (mixed for method lagrange)
     load = dolfinx.fem.Constant(mesh, 0.0)                   # the load parameter t
     contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0, 0], [0, 1]), law, load)
@@ -22,7 +22,7 @@ benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :fu
 (:mod:`~fenics_contact.app.plotting`), meshes (:mod:`~fenics_contact.app.meshes`, gmsh imported only by the
 builders that use it) and tables are public too. Importing the package does not import gmsh.
 """
-from . import capabilities, compat, domain, failure, methods, search
+from . import capabilities, compat, domain, failure, laws, methods, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
 from .compat import function_space, interpolate_expression
@@ -34,14 +34,15 @@ from .friction import Friction, FrictionalContact
 from .laws import (
     AugmentedLagrangian,
     ContactLaw,
-    Coulomb,
     CrossConstraints,
-    Exact,
+    ExactCoulomb,
+    Formulation,
     LagrangeMultiplier,
-    NitscheLaw,
+    Nitsche,
     NormalCompliance,
     Penalty,
     PenaltyMultiplier,
+    SnesVI,
 )
 from .materials import MODELS, PLANES, LinearElastic, Material, Materials, NeoHookean, lame
 from .methods import METHODS, Method, Parameter, Sweep, make_law, register
@@ -60,8 +61,8 @@ __all__ = [
     # materials
     "Material", "LinearElastic", "NeoHookean", "Materials", "MODELS", "PLANES", "lame",
     # contact laws (method name -> class: METHODS, make_law)
-    "ContactLaw", "Penalty", "CrossConstraints", "AugmentedLagrangian", "NormalCompliance", "Exact", "Coulomb",
-    "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw", "Friction",
+    "Formulation", "ContactLaw", "Penalty", "CrossConstraints", "AugmentedLagrangian", "NormalCompliance", "SnesVI",
+    "ExactCoulomb", "LagrangeMultiplier", "PenaltyMultiplier", "Nitsche", "Friction",
     # the method registry (one declaration per method: law, parameters, surfaces, capability rules, benchmark)
     "METHODS", "make_law", "Method", "Parameter", "Sweep", "register",
     # rigid obstacles
@@ -86,3 +87,17 @@ __all__ = [
     # public submodules
     "capabilities", "compat", "domain", "failure", "methods", "search",
 ]
+
+# Former names, kept for one release: each use warns (DeprecationWarning) and gives the new object.
+_DEPRECATED = {**{old: ("laws", new) for old, new in laws.DEPRECATED.items()}}
+
+
+def __getattr__(name: str):
+    if name in _DEPRECATED:
+        import warnings
+
+        module, new = _DEPRECATED[name]
+        warnings.warn(f"fenics_contact.{name} is deprecated: use fenics_contact.{new}", DeprecationWarning,
+                      stacklevel=2)
+        return globals()[new]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -35,7 +35,7 @@ def contact_surface(u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, l
     :class:`~fenics_contact.nitsche.NitscheContact` for method ``nitsche`` (which needs the bulk ``material``).
     ``linearized``: the small-displacement gap (see :class:`ContactSurface`). A combination the capability matrix
     refuses raises :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly."""
-    check(**of(law, u, material), kind="rigid", quadrature=quadrature, passes="one")
+    check(**of(law, u, material), kind="rigid", quadrature=quadrature, passes="one", obstacle=obstacle.shape)
     method = methods.of_law(law)
     build = law_surface if method is None else method.build_rigid
     return build(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized, material)
@@ -48,7 +48,7 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
     ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
     at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
-    2D and 3D, :mod:`~fenics_contact.mortar`); method ``coulomb`` (a :class:`~fenics_contact.laws.Coulomb` law):
+    2D and 3D, :mod:`~fenics_contact.mortar`); method ``coulomb`` (a :class:`~fenics_contact.laws.ExactCoulomb` law):
     one :class:`~fenics_contact.condensed.CondensedTwoBody` (2D, P1, nodal, one pass; its steps are solved by the
     step solver of :func:`~fenics_contact.condensed.step_solver_for`, given to the problem). Two-pass: every slave
     point of both passes, each at weight 1/2 (quadratic facets: a second-pass point that coincides with a
@@ -63,7 +63,8 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
         raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
     # The capability matrix (multipliers: the rule of the work term is the option; the constraint is nodal).
     probe = law_factory()
-    check(**of(probe, u), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes)
+    check(**of(probe, u), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes,
+          obstacle="none")
     method = methods.of_law(probe)
     build = law_two_body if method is None else method.build_two_body
     return build(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name, work_quadrature,

@@ -34,7 +34,7 @@ from mpi4py import MPI
 
 from .compat import function_space, interpolate_expression
 from .contact import ContactSurface
-from .laws import NUMPY, ContactLaw, Coulomb, Exact, NormalCompliance, _check_exponent, ufl_ops
+from .laws import NUMPY, ContactLaw, NormalCompliance, _check_exponent, ufl_ops
 
 __all__ = ["OPEN", "SLIP", "STICK", "friction_ops", "Friction", "FrictionHistory", "FrictionalContact"]
 
@@ -73,7 +73,7 @@ class Friction(ContactLaw):
 
     def __init__(self, normal: ContactLaw, mu: float | None = None, omega_t: float = 1.0,
                  c_t: float | None = None, m_t: float | None = None, tresca: float | None = None):
-        if isinstance(normal, (Exact, Coulomb, Friction)) or not isinstance(normal, ContactLaw):
+        if isinstance(normal, Friction) or not isinstance(normal, ContactLaw):
             raise ValueError(f"friction needs a normal law (penalty, cross, auglag, compliance), got {normal!r}")
         if sum(x is not None for x in (mu, c_t, tresca)) != 1:
             raise ValueError("friction: give exactly one of mu (Coulomb), c_t (normal compliance bound) and tresca "

@@ -22,9 +22,22 @@ from typing import Any, Mapping
 import numpy as np
 
 __all__ = [
-    "NUMPY", "ufl_ops", "ContactLaw", "Penalty", "AugmentedLagrangian", "CrossConstraints", "NormalCompliance",
-    "Exact", "Coulomb", "LagrangeMultiplier", "PenaltyMultiplier", "NitscheLaw"
+    "NUMPY", "ufl_ops", "Formulation", "ContactLaw", "Penalty", "AugmentedLagrangian", "CrossConstraints",
+    "NormalCompliance", "SnesVI", "ExactCoulomb", "LagrangeMultiplier", "PenaltyMultiplier", "Nitsche"
 ]
+
+# Former names, kept for one release: each use warns (DeprecationWarning) and gives the new class.
+DEPRECATED = {"Exact": "SnesVI", "Coulomb": "ExactCoulomb", "NitscheLaw": "Nitsche"}
+
+
+def __getattr__(name: str):
+    if name in DEPRECATED:
+        import warnings
+
+        warnings.warn(f"fenics_contact.laws.{name} is deprecated: use {DEPRECATED[name]}", DeprecationWarning,
+                      stacklevel=2)
+        return globals()[DEPRECATED[name]]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 NUMPY = types.SimpleNamespace(exp=np.exp, max=np.maximum, min=np.minimum)
 
@@ -50,26 +63,17 @@ def _check_nonnegative(name: str, value: float) -> float:
     return value
 
 
-class ContactLaw:
-    """Base class: ``force`` (F), ``potential`` (P, dP/dg = F), ``stiffness`` (K = dF/dg).
+class Formulation:
+    """A contact method's choice and its parameters, for a method whose pressure is not a law of the gap alone
+    (bounds, an unknown, the condensed reaction, a stress term): see :class:`ContactLaw` for those that are.
 
-    ``scalars`` and ``fields`` give the initial values of the parameters;
-    ``augment`` returns the new parameter values after a converged solve
-    (``{}`` for a law without augmentation).
+    ``name``: the method's name; ``scalars`` and ``fields``: the initial values of the parameters (``scalars``
+    one value on the whole surface, ``fields`` one per contact point, updated by augmentation).
     """
 
-    name = "law"
+    name = "formulation"
     scalars: dict[str, float]
     fields: dict[str, float]
-
-    def force(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
-        raise NotImplementedError
-
-    def potential(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
-        raise NotImplementedError
-
-    def stiffness(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
-        raise NotImplementedError
 
     @property
     def method(self) -> str:
@@ -99,6 +103,26 @@ class ContactLaw:
     def values(self) -> dict[str, float]:
         """Initial parameter values as plain floats (for NumPy evaluation)."""
         return self.parameters()
+
+
+class ContactLaw(Formulation):
+    """A contact pressure as a law of the gap: ``force`` (F), ``potential`` (P, dP/dg = F), ``stiffness``
+    (K = dF/dg), each written once against ``ops`` (UFL or NumPy). ``augment_fields`` / ``augment_scalars``
+    return the new parameter values after a converged solve (``{}`` for a law without augmentation)."""
+
+    name = "law"
+
+    def force(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
+        """The contact pressure ``F(g)`` (> 0 in compression) at the gap ``g`` (> 0 penetration)."""
+        raise NotImplementedError
+
+    def potential(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
+        """The potential ``P(g)`` with ``dP/dg = F``."""
+        raise NotImplementedError
+
+    def stiffness(self, g: Any, c: Mapping[str, Any], ops: Any = NUMPY) -> Any:
+        """The stiffness ``dF/dg``."""
+        raise NotImplementedError
 
 
 class Penalty(ContactLaw):
@@ -257,8 +281,8 @@ class NormalCompliance(ContactLaw):
         return self.m * c["c_n"] * ops.max(g, 0.0) ** (self.m - 1.0)
 
 
-class Exact(ContactLaw):
-    """No law: exact nodal non-penetration (``g <= 0``) as bounds on the unknowns, solved by PETSc
+class SnesVI(Formulation):
+    """Method ``vi``: exact nodal non-penetration (``g <= 0``) as bounds on the unknowns, solved by PETSc
     SNES VI (:mod:`fenics_contact.bounds`); the pressure is the nodal reaction. Flat, axis-aligned
     rigid obstacles only. No parameter."""
 
@@ -266,9 +290,6 @@ class Exact(ContactLaw):
 
     def __init__(self):
         self.scalars, self.fields = {}, {}
-
-    def force(self, g, c, ops=NUMPY):
-        raise TypeError("method 'vi' has no contact law: its pressure is the reaction at the bounds")
 
 
 def _check_exponent(name: str, value: float) -> float:
@@ -278,11 +299,10 @@ def _check_exponent(name: str, value: float) -> float:
     return value
 
 
-class Coulomb(ContactLaw):
-    """No law: exact Signorini contact with Coulomb friction (coefficient ``mu >= 0``), solved on the
-    stiffness condensed onto the contact dofs (:mod:`fenics_contact.condensed`, method ``coulomb``).
-    Linear elasticity, nodal contact, 2D: a flat rigid obstacle, or two bodies in small sliding. No penalty
-    parameter."""
+class ExactCoulomb(Formulation):
+    """Method ``coulomb``: exact Signorini contact with Coulomb friction (coefficient ``mu >= 0``), solved on
+    the stiffness condensed onto the contact dofs (:mod:`fenics_contact.condensed`). Linear elasticity, nodal
+    contact, 2D: a flat rigid obstacle, or two bodies in small sliding. No penalty parameter."""
 
     name = "coulomb"
 
@@ -294,17 +314,14 @@ class Coulomb(ContactLaw):
     def has_friction(self) -> bool:
         return self.mu > 0.0
 
-    def force(self, g, c, ops=NUMPY):
-        raise TypeError("method 'coulomb' has no contact law: its pressure is the nodal contact reaction")
-
 
 def _heaviside_closed(x, ops):
     """1 for x >= 0, 0 otherwise (to round-off below 1e-300), without division."""
     return ops.min(ops.max(x * 1e300 + 1.0, 0.0), 1.0)
 
 
-class LagrangeMultiplier(ContactLaw):
-    """No law: the contact pressure ``p`` is an unknown (method ``lagrange``, :mod:`fenics_contact.multipliers`).
+class LagrangeMultiplier(Formulation):
+    """Method ``lagrange``: the contact pressure ``p`` is an unknown (:mod:`fenics_contact.multipliers`).
 
     Exact nodal Signorini conditions ``g <= 0, p >= 0, p g = 0`` through the
     complementarity function ``C(p, g) = p - max(0, p + c g)`` (zero iff they
@@ -323,9 +340,6 @@ class LagrangeMultiplier(ContactLaw):
         counts the tie ``p + c g = 0`` as active."""
         return p - ops.max(0.0, p + c["c"] * g)
 
-    def force(self, g, c, ops=NUMPY):
-        raise TypeError("method 'lagrange' has no contact law: its pressure is an unknown")
-
 
 class PenaltyMultiplier(LagrangeMultiplier):
     """Penalty regularization of the multipliers (Papadopoulos & Solberg's ``p = eps <g>``): the
@@ -343,19 +357,16 @@ class PenaltyMultiplier(LagrangeMultiplier):
         return p - c["c"] * ops.max(0.0, g)
 
 
-class NitscheLaw(ContactLaw):
-    """No law of the gap alone: symmetric Nitsche (:mod:`fenics_contact.nitsche`). The pressure is
-    ``<gamma g - sigma_n(u)>`` with ``gamma = gamma0 E / h``; ``gamma0`` (dimensionless, > 0) is its
-    only parameter. The surface needs the bulk material (for ``sigma_n``)."""
+class Nitsche(Formulation):
+    """Method ``nitsche``: symmetric Nitsche (:mod:`fenics_contact.nitsche`). The pressure is
+    ``<gamma g - sigma_n(u)>`` with ``gamma = gamma0 E / h``, not a law of the gap alone; ``gamma0``
+    (dimensionless, > 0) is its only parameter. The surface needs the bulk material (for ``sigma_n``)."""
 
     name = "nitsche"
 
     def __init__(self, gamma0: float = 10.0):
         self.scalars = {"gamma0": _check_positive("Nitsche gamma0", gamma0)}
         self.fields = {}
-
-    def force(self, g, c, ops=NUMPY):
-        raise TypeError("method 'nitsche' has no law of the gap alone: its pressure involves the stress")
 
 
 def _heaviside(x, ops):

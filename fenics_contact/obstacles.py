@@ -16,7 +16,11 @@ __all__ = ["Obstacle", "HalfPlane", "Ball", "Cylinder", "Sphere"]
 
 
 class Obstacle:
-    """Base class. ``bind(load)`` must be called before ``gap``/``normal``."""
+    """Base class. ``bind(load)`` must be called before ``gap``/``normal``. ``shape``: the obstacle's value on
+    the capability grid's ``obstacle`` axis (``aligned``: a half-plane with an axis-aligned normal,
+    ``plane``: another half-plane, ``curved``)."""
+
+    shape = "curved"
 
     def __init__(self, point: Sequence[float], motion: Sequence[float] | None = None):
         self.point = np.asarray(point, dtype=float)
@@ -60,6 +64,10 @@ class HalfPlane(Obstacle):
 
     def normal(self, x):
         return ufl.as_vector(list(self.n))
+
+    @property
+    def shape(self) -> str:
+        return "aligned" if np.count_nonzero(self.n) == 1 else "plane"
 
     def describe(self):
         return {**super().describe(), "normal": self.n.tolist()}

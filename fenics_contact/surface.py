@@ -17,7 +17,8 @@ a surface that needs nothing at that point. Order of the calls in a load step (s
 5. Output: ``update_output()`` before every write.
 
 Results (the same calls with the same signatures on every surface; figures gathered on every rank):
-``total_force()``, ``point_values(reference, kind)``, ``surface_values(kind)``, ``friction_profile()``.
+``total_force()``, ``tangential_force()``, ``point_values(reference, kind)``, ``surface_values(kind)``,
+``friction_profile()``.
 Sign convention: the gap is positive for penetration, the pressure positive in compression.
 """
 from __future__ import annotations
@@ -165,9 +166,15 @@ class Surface(abc.ABC):
 
     # --- results ----------------------------------------------------------------------------
     def total_force(self) -> np.ndarray:
-        """Resultant contact force on this surface's body from the other side (the obstacle, or the master
-        body), global components, shape ``(gdim,)``; per unit thickness in 2D. The same on every rank."""
+        """Resultant of the contact pressure on this surface's body from the other side (the obstacle, or the
+        master body): the normal part of the contact force, global components, shape ``(gdim,)``; per unit
+        thickness in 2D. The same on every rank. Friction's part: :meth:`tangential_force`."""
         raise NotImplementedError(f"{type(self).__name__} does not report its total force")
+
+    def tangential_force(self) -> np.ndarray:
+        """Resultant of the friction traction on this surface's body, like :meth:`total_force` (zero on a
+        frictionless surface)."""
+        return np.zeros_like(self.total_force())
 
     def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
                                                                                      np.ndarray]:

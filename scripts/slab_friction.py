@@ -20,7 +20,7 @@ from mpi4py import MPI
 
 from fenics_contact.app.scenes import build, slab
 from fenics_contact.friction import Friction
-from fenics_contact.laws import AugmentedLagrangian, Coulomb, NormalCompliance
+from fenics_contact.laws import AugmentedLagrangian, ExactCoulomb, NormalCompliance
 from fenics_contact.solver import ConvergenceError, Solver
 
 OPTIONS = {"snes_linesearch_type": "bt", "snes_max_it": 200, "snes_rtol": 1e-10}
@@ -55,7 +55,7 @@ def main() -> None:
     comm = MPI.COMM_WORLD
     rows = []
     for mu in args.mu:
-        exact, err, s = solve(Coulomb(mu))
+        exact, err, s = solve(ExactCoulomb(mu))
         if comm.rank == 0:
             print(f"mu {mu:4.2f} exact: " + (f"ux_A {exact['ux_A']:.7e} zones {exact['zones']} pattern "
                                               f"{exact['zone_pattern']}" if exact else f"FAILED ({err})"), flush=True)

@@ -167,7 +167,7 @@ def test_coulomb_without_its_step_solver_is_refused():
     mesh, _, tags = app.meshes.rectangle(MPI.COMM_WORLD, 1.0, 1.0, 2, 2)
     u = fem.Function(fc.function_space(mesh, "Lagrange", 1, (2,)))
     load = fem.Constant(mesh, 0.0)
-    contact = fc.contact_surface(u, tags, "bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), fc.Coulomb(0.3),
+    contact = fc.contact_surface(u, tags, "bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), fc.ExactCoulomb(0.3),
                                  load)
     with pytest.raises(ValueError, match="step_solver"):
         fc.ContactProblem(u, fc.LinearElastic(1.0, 0.3), load, [], [contact])
@@ -204,3 +204,22 @@ def test_demos_import_public_names_only():
             elif isinstance(node, ast.Import):
                 for a in node.names:
                     assert not any(p.startswith("_") for p in a.name.split(".")), (path.name, a.name)
+
+
+@pytest.mark.parametrize("old,new", [("Exact", "SnesVI"), ("Coulomb", "ExactCoulomb"), ("NitscheLaw", "Nitsche")])
+def test_former_names_warn_and_give_the_new_class(old, new):
+    """The renamed laws keep their former names for one release: the same class, with a DeprecationWarning."""
+    for module in (fc, fc.laws):
+        with pytest.warns(DeprecationWarning, match=new):
+            assert getattr(module, old) is getattr(fc, new)
+
+
+def test_a_method_without_a_law_of_the_gap_is_no_contact_law():
+    """vi, coulomb, the multipliers and Nitsche are formulations, not laws of the gap: friction on top of them is
+    refused, and they have no force to call."""
+    for formulation in (fc.SnesVI(), fc.ExactCoulomb(0.3), fc.LagrangeMultiplier(), fc.Nitsche()):
+        assert isinstance(formulation, fc.Formulation) and not isinstance(formulation, fc.ContactLaw)
+        assert not hasattr(formulation, "force")
+        with pytest.raises(ValueError, match="friction needs a normal law"):
+            fc.Friction(formulation, mu=0.3)
+    assert isinstance(fc.Penalty(1.0), fc.Formulation)

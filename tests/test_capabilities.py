@@ -171,7 +171,8 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
 # --- the covering set --------------------------------------------------------------------------------------
 FAMILIES = ("penalty", "lagrange", "nitsche", "vi", "coulomb")
 DEFAULT = {"method": "penalty", "kind": "rigid", "quadrature": "nodal", "passes": "one", "dim": 2, "degree": 1,
-           "model": "linear", "solver": "direct", "friction": False}
+           "model": "linear", "solver": "direct", "friction": False, "obstacle": "aligned"}
+OBSTACLE = {"rigid": "aligned", "two-body": "none"}  # the covering set's obstacle per kind (run_rigid's plane)
 
 
 def _structural(kind):
@@ -179,12 +180,15 @@ def _structural(kind):
         for passes in cap.AXES["passes"]:
             for dim in cap.AXES["dim"]:
                 for degree in cap.AXES["degree"]:
-                    yield {"kind": kind, "quadrature": q, "passes": passes, "dim": dim, "degree": degree}
+                    yield {"kind": kind, "quadrature": q, "passes": passes, "dim": dim, "degree": degree,
+                           "obstacle": OBSTACLE[kind]}
 
 
 def _first_supported(**fixed):
     """A supported cell with ``fixed`` values, the other axes as in DEFAULT where possible (or None)."""
-    for c in [{**DEFAULT, **fixed}] + [{**DEFAULT, **s, **fixed} for s in _structural(fixed.get("kind", "rigid"))]:
+    kind = fixed.get("kind", "rigid")
+    first = {**DEFAULT, "obstacle": OBSTACLE[kind], **fixed}
+    for c in [first] + [{**DEFAULT, **s, **fixed} for s in _structural(kind)]:
         if cap.supported(**c):
             return c
     return None
@@ -366,3 +370,16 @@ def test_a_users_own_law_is_not_refused_for_its_name():
     cap.check(**cap.of(Linear()), kind="rigid", quadrature="gauss", dim=3, degree=1)  # no error
     with pytest.raises(cap.UnsupportedCombination, match="segment quadrature"):
         cap.check(**cap.of(Linear()), kind="rigid", quadrature="segment")
+
+
+@pytest.mark.parametrize("method", ["vi", "coulomb"])
+def test_an_obstacle_vi_and_coulomb_cannot_do_is_refused_by_the_grid(method):
+    """vi and coulomb work on the displacement component along an axis-aligned normal: a curved or inclined
+    obstacle is refused by the capability grid's obstacle axis, before any assembly."""
+    mesh, ft = rigid_mesh(2)
+    law = fc.make_law(method)
+    u, _ = fc.unknown(mesh, 1, law)
+    for obstacle in (fc.Cylinder([0.5, -1.0], 1.0), fc.HalfPlane([0.0, 0.0], [1.0, 1.0])):
+        with pytest.raises(cap.UnsupportedCombination, match="axis-aligned"):
+            fc.contact_surface(u, ft, "bottom", obstacle, law, fem.Constant(mesh, 0.0))
+    assert fc.HalfPlane([0.0, 0.0], [0.0, 2.0]).shape == "aligned" and fc.Sphere([0, 0, 1], 1.0).shape == "curved"

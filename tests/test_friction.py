@@ -12,7 +12,7 @@ from fenics_contact.app.scenes import build
 from fenics_contact.compat import function_space
 from fenics_contact.factory import contact_surface
 from fenics_contact.friction import OPEN, SLIP, STICK, Friction
-from fenics_contact.laws import CrossConstraints, Exact, NormalCompliance, Penalty, ufl_ops
+from fenics_contact.laws import CrossConstraints, NormalCompliance, Penalty, SnesVI, ufl_ops
 from fenics_contact.materials import LinearElastic
 from fenics_contact.obstacles import HalfPlane
 from fenics_contact.problem import ContactProblem, Dirichlet
@@ -207,7 +207,7 @@ def test_dissipation_over_a_closed_cycle():
     (lambda: Friction(Penalty(1e5), c_t=-1.0), "c_t must be"),
     (lambda: Friction(Penalty(1e5), c_t=1.0, m_t=0.5), "m_t must be"),
     (lambda: Friction(Penalty(1e5), mu=0.3, c_t=1.0), "exactly one of mu"),
-    (lambda: Friction(Exact(), mu=0.3), "normal law"),
+    (lambda: Friction(SnesVI(), mu=0.3), "normal law"),
     (lambda: NormalCompliance(0.0, 1.5), "c_n must be"),
     (lambda: NormalCompliance(1e5, 0.9), "m_n must be"),
     (lambda: cli.law_from_args(cli.parse(cli.parser("x", 1e5), ["--method", "compliance", "--mu", "-0.2"])),
@@ -285,10 +285,10 @@ _EXACT = {}
 
 def _slab_exact(mu):
     """Figures of the exact condensed method on COMM_WORLD (solved once per mu in this module)."""
-    from fenics_contact.laws import Coulomb
+    from fenics_contact.laws import ExactCoulomb
 
     if mu not in _EXACT:
-        _EXACT[mu] = _slab(Coulomb(mu))[0]
+        _EXACT[mu] = _slab(ExactCoulomb(mu))[0]
     return _EXACT[mu]
 
 

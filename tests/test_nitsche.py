@@ -9,7 +9,7 @@ from petsc4py import PETSc
 from fenics_contact.app.scenes import block, hertz
 from fenics_contact.compat import petsc_vec
 from fenics_contact.factory import contact_surface
-from fenics_contact.laws import NitscheLaw
+from fenics_contact.laws import Nitsche
 from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
 
@@ -89,8 +89,8 @@ def test_hertz_p0_within_mesh_error_and_equilibrium():
 
 def test_bad_input():
     with pytest.raises(ValueError, match="gamma0"):
-        NitscheLaw(gamma0=0.0)
+        Nitsche(gamma0=0.0)
     setup = block.build(make_law("penalty", K=1.0))
     c = setup.contacts[0]
     with pytest.raises(ValueError, match="material"):
-        contact_surface(setup.problem.u, None, 0, c.obstacle, NitscheLaw(), setup.problem.load)
+        contact_surface(setup.problem.u, None, 0, c.obstacle, Nitsche(), setup.problem.load)

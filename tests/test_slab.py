@@ -8,7 +8,7 @@ from fenics_contact.app.meshes import rectangle
 from fenics_contact.app.scenes import block, build, slab
 from fenics_contact.compat import function_space
 from fenics_contact.factory import contact_surface
-from fenics_contact.laws import Coulomb, Exact
+from fenics_contact.laws import ExactCoulomb, SnesVI
 from fenics_contact.methods import make_law
 from fenics_contact.obstacles import Cylinder, HalfPlane
 from fenics_contact.solver import ConvergenceError, Solver
@@ -21,7 +21,7 @@ def solve(law, comm=MPI.COMM_WORLD, **kw):
     return setup, solver
 
 
-@pytest.mark.parametrize("law", [lambda: Coulomb(0.0), lambda: Exact(), lambda: make_law("lagrange", c=1e5)],
+@pytest.mark.parametrize("law", [lambda: ExactCoulomb(0.0), lambda: SnesVI(), lambda: make_law("lagrange", c=1e5)],
                          ids=["coulomb", "vi", "lagrange"])
 def test_frictionless_closed_form(law):
     setup, _ = solve(law())
@@ -35,7 +35,7 @@ def test_frictionless_closed_form(law):
 @pytest.mark.parametrize("mu", [0.4, 1.0])
 def test_equilibrium_and_coulomb_law(mu):
     """Total contact forces balance the loads; every base vertex satisfies Signorini and Coulomb."""
-    setup, solver = solve(Coulomb(mu))
+    setup, solver = solve(ExactCoulomb(mu))
     f = setup.figures()
     assert f["normal_equilibrium_error"] < 1e-8 and f["tangential_equilibrium_error"] < 1e-8
     assert f["normal_force"] == pytest.approx(slab.TOP_LOAD, rel=1e-8)
@@ -63,7 +63,7 @@ def test_equilibrium_and_coulomb_law(mu):
 
 def test_zones_move_with_mu():
     """More friction: more sticking, less sliding, a wider lift-off at the free corner, a smaller u_x."""
-    results = [solve(Coulomb(mu))[0].figures() for mu in (0.4, 0.8, 1.3)]
+    results = [solve(ExactCoulomb(mu))[0].figures() for mu in (0.4, 0.8, 1.3)]
     for a, b in zip(results, results[1:]):
         assert b["zones"]["sticking"] > a["zones"]["sticking"]
         assert b["zones"]["sliding"] < a["zones"]["sliding"]
@@ -76,7 +76,7 @@ def test_zones_move_with_mu():
 def test_refinement_convergence():
     """mu = 1: u_x(A) converges (differences shrink by > 2 per halving) and the zone boundaries move by less
     than half a coarse cell between the last two meshes."""
-    f = [solve(Coulomb(1.0), refinement=r)[0].figures() for r in (0, 1, 2)]
+    f = [solve(ExactCoulomb(1.0), refinement=r)[0].figures() for r in (0, 1, 2)]
     d1, d2 = abs(f[1]["ux_A"] - f[0]["ux_A"]), abs(f[2]["ux_A"] - f[1]["ux_A"])
     assert d2 < d1 / 2
     h0 = slab.WIDTH / slab.NX
@@ -87,8 +87,8 @@ def test_refinement_convergence():
 def test_proportional_loading_is_step_independent():
     """Coulomb friction with a homogeneous law: proportional loading from a touching rest state gives the same
     solution in one step or in three (each step's slip is measured from the previous converged step)."""
-    one = solve(Coulomb(1.0))[0]
-    three = solve(Coulomb(1.0), steps=3)[0]
+    one = solve(ExactCoulomb(1.0))[0]
+    three = solve(ExactCoulomb(1.0), steps=3)[0]
     # two meshes built one after the other may be partitioned differently: compare by position, not local index
     assert np.allclose(_by_position(three.problem.u), _by_position(one.problem.u), rtol=0,
                        atol=1e-10 * abs(slab.UX_A_FRICTIONLESS))
@@ -105,7 +105,7 @@ def _by_position(u):
 
 
 def test_parallel_equals_serial():
-    figs = [solve(Coulomb(1.0), comm)[0].figures() for comm in (MPI.COMM_WORLD, MPI.COMM_SELF)]
+    figs = [solve(ExactCoulomb(1.0), comm)[0].figures() for comm in (MPI.COMM_WORLD, MPI.COMM_SELF)]
     for k in ("ux_A", "uy_A", "normal_force", "tangential_force", "symmetry_reaction"):
         assert figs[0][k] == pytest.approx(figs[1][k], rel=1e-8, abs=1e-12), k
     assert figs[0]["zones"] == pytest.approx(figs[1]["zones"], abs=1e-12)
@@ -113,13 +113,13 @@ def test_parallel_equals_serial():
 
 def test_block_with_prescribed_displacement():
     """The block (top moved down, Dirichlet data scaled by the load) with mu = 0 gives the exact pressure."""
-    setup = build("block", law=Coulomb(0.0))
+    setup = build("block", law=ExactCoulomb(0.0))
     Solver(setup.problem, quiet=True).run(setup.loads)
     assert setup.contacts[0].friction_profile()["pressure"] == pytest.approx(block.EXACT_PRESSURE, rel=1e-10)
 
 
 def test_failure_names_the_step():
-    setup = build("slab", law=Coulomb(1.0))
+    setup = build("slab", law=ExactCoulomb(1.0))
     setup.problem.step_solver.max_it = 2
     with pytest.raises(ConvergenceError, match=r"load step \d+ .*coulomb.*no convergence in 2 iterations"):
         Solver(setup.problem, quiet=True, max_cutbacks=1).run(setup.loads)
@@ -134,11 +134,13 @@ def test_bad_input():
     u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
     load = fem.Constant(mesh, 0.0)
     with pytest.raises(ValueError, match="flat rigid obstacle"):
-        contact_surface(u, tags, "bottom", Cylinder([0.5, -1.0], 1.0), Coulomb(0.3), load)
+        contact_surface(u, tags, "bottom", Cylinder([0.5, -1.0], 1.0), ExactCoulomb(0.3),
+                        load)
     with pytest.raises(ValueError, match="nodal"):
-        contact_surface(u, tags, "bottom", HalfPlane([0.0, 0.0], [0.0, 1.0]), Coulomb(0.3), load, quadrature="gauss")
+        contact_surface(u, tags, "bottom", HalfPlane([0.0, 0.0], [0.0, 1.0]), ExactCoulomb(0.3), load,
+                        quadrature="gauss")
     with pytest.raises(ValueError, match="linear"):  # refused by the capability matrix, before any assembly
-        setup = build("block", law=Coulomb(0.3), model="neohookean")
+        setup = build("block", law=ExactCoulomb(0.3), model="neohookean")
         Solver(setup.problem, quiet=True).run(setup.loads)
 
 
@@ -147,7 +149,7 @@ def test_frictionless_hertz_equals_vi():
     """An independent exact method: on the Hertz scene (curved body, triangles, prescribed approach) mu = 0
     gives the figures of the SNES VI reference."""
     figs = []
-    for law in (Coulomb(0.0), Exact()):
+    for law in (ExactCoulomb(0.0), SnesVI()):
         setup = build("hertz", law=law)
         Solver(setup.problem, quiet=True).run(setup.loads)
         figs.append(setup.figures())
@@ -187,11 +189,11 @@ def test_parameters_scale_the_closed_form():
     frictionless closed form says."""
     f = {}
     for key, kw in {"ref": {}, "E": {"E": 2 * slab.E}, "side": {"side_pressure": 2 * slab.SIDE_PRESSURE}}.items():
-        setup, _ = solve(Coulomb(0.0), nx=8, ny=4, **kw)
+        setup, _ = solve(ExactCoulomb(0.0), nx=8, ny=4, **kw)
         f[key] = setup.figures()
         assert f[key]["ux_A"] == pytest.approx(slab.ux_a_frictionless(**kw), rel=1e-8), key
     assert f["E"]["ux_A"] == pytest.approx(f["ref"]["ux_A"] / 2, rel=1e-8)
     with pytest.raises(ValueError, match="nu must be in"):
-        build("slab", law=Coulomb(0.0), nu=0.5)
+        build("slab", law=ExactCoulomb(0.0), nu=0.5)
     with pytest.raises(ValueError, match="width must be"):
-        build("slab", law=Coulomb(0.0), width=-1.0)
+        build("slab", law=ExactCoulomb(0.0), width=-1.0)

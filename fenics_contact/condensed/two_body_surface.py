@@ -16,7 +16,7 @@ from dolfinx import fem
 from ..capabilities import check, of
 from ..compat import function_space
 from ..contact import PRESSURE_KINDS, check_facet_tag
-from ..laws import ContactLaw, Coulomb
+from ..laws import ContactLaw, ExactCoulomb
 from ..search import facet_normals, project
 from ..surface import Surface
 from ..twobody import FacetData
@@ -41,7 +41,7 @@ class CondensedTwoBody(Surface):
 
     def __init__(self, u: fem.Function, facet_tags, slave_tag, master_tag, law: ContactLaw, load: fem.Constant,
                  radius: float | None = None, name: str = "twobody"):
-        if not isinstance(law, Coulomb):
+        if not isinstance(law, ExactCoulomb):
             raise ValueError(f"CondensedTwoBody needs the Coulomb law of method 'coulomb', got {law!r}")
         check(**of(law, u), kind="two-body", quadrature="nodal", passes="one")  # before any assembly
         V = u.function_space

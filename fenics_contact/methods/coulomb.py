@@ -1,16 +1,19 @@
 """Exact Signorini-Coulomb on the stiffness condensed onto the contact dofs (Renaud & Feng 2003)."""
-from ..laws import Coulomb
+from ..laws import ExactCoulomb
 from .spec import Method, Parameter, Sweep, rule
 
 __all__ = ["METHOD"]
 
 METHOD = Method(
-    name="coulomb", summary="exact Signorini-Coulomb on the condensed stiffness", law=Coulomb,
+    name="coulomb", summary="exact Signorini-Coulomb on the condensed stiffness", law=ExactCoulomb,
     parameters=(Parameter("mu", "mu", "Coulomb friction coefficient (0: frictionless)", "nonnegative", 0.0),),
     rigid="fenics_contact.methods.builders:condensed_surface",
     two_body="fenics_contact.methods.builders:condensed_two_body",
     friction="own", sweep=Sweep("once", None),
-    rules=(rule("passes 'one'", "coulomb pairs each slave vertex once with the master surface (two passes would "
+    rules=(rule("an axis-aligned half-plane (or another method)",
+                "coulomb condenses the displacement component along an axis-aligned normal",
+                method="coulomb", obstacle=("plane", "curved")),
+           rule("passes 'one'", "coulomb pairs each slave vertex once with the master surface (two passes would "
                 "constrain each pair twice)", kind="two-body", method="coulomb", passes="two"),
            rule("quadrature 'nodal'", "coulomb is nodal contact on the condensed stiffness", method="coulomb",
                 quadrature=("gauss", "segment", "simpson")),

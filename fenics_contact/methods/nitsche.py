@@ -1,11 +1,11 @@
 """Symmetric Nitsche: ``p = <gamma g - P_n(u)>``, ``gamma = gamma0 E / h``."""
-from ..laws import NitscheLaw
+from ..laws import Nitsche
 from .spec import Method, Parameter, Sweep, rule
 
 __all__ = ["METHOD"]
 
 METHOD = Method(
-    name="nitsche", summary="symmetric Nitsche, gamma = gamma0 E / h", law=NitscheLaw,
+    name="nitsche", summary="symmetric Nitsche, gamma = gamma0 E / h", law=Nitsche,
     parameters=(Parameter("gamma0", "gamma0", "gamma = gamma0 E / h (dimensionless)", default=10.0),),
     rigid="fenics_contact.methods.builders:nitsche_surface", two_body=None,
     no_two_body="nitsche needs the obstacle's stress-free side",

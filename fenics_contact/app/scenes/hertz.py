@@ -54,7 +54,7 @@ from mpi4py import MPI
 
 from ...condensed import step_solver_for
 from ...factory import contact_surface, two_body_multipliers, two_body_surfaces
-from ...laws import ContactLaw, Coulomb, LagrangeMultiplier
+from ...laws import ContactLaw, ExactCoulomb, LagrangeMultiplier
 from ...materials import MODELS, PLANES, Materials
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
@@ -182,7 +182,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         stabilisation = STABILISATION_MESHED if plate == "meshed" else STABILISATION
     # The condensed exact method needs no spring: the vertex that touches at rest holds the body from its first
     # iterate (its Newton runs on the condensed system), so it may take the whole load in one step.
-    if load is not None and int(steps) < 2 and not isinstance(law, Coulomb):
+    if load is not None and int(steps) < 2 and not isinstance(law, ExactCoulomb):
         raise ValueError(f"force control (load) needs steps >= 2 (the vanishing spring acts before the last; "
                          f"method coulomb: >= 1), got {steps!r}")
     poisson(nu=nu, plate_nu=plate_nu)

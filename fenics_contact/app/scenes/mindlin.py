@@ -38,7 +38,7 @@ from mpi4py import MPI
 from ...condensed import step_solver_for
 from ...factory import two_body_surfaces
 from ...friction import Friction
-from ...laws import ContactLaw, Coulomb
+from ...laws import ContactLaw, ExactCoulomb
 from ...materials import LinearElastic
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.mindlin import disk_on_block
@@ -159,14 +159,14 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
           width: float | None = None, height: float | None = None, depth: float | None = None,
           h_contact: float | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``), or the exact
-    :class:`~fenics_contact.laws.Coulomb` (method ``coulomb``, ``mu > 0``). ``ratios``: the
+    :class:`~fenics_contact.laws.ExactCoulomb` (method ``coulomb``, ``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` halves the contact mesh size (default
     ``h_contact = R / 600``) that many times; ``press_steps`` load steps for the pressing. Bodies: ``width``
     ``2 L`` (default ``R``), the upper body's ``height`` (default ``R / 2``), the block's ``depth`` (default
     ``R / 2``)."""
     positive(R=R, E=E, approach=approach, width=width, height=height, depth=depth, h_contact=h_contact)
     poisson(nu=nu)
-    exact = isinstance(law, Coulomb)  # method coulomb: exact Coulomb on the condensed system
+    exact = isinstance(law, ExactCoulomb)  # method coulomb: exact Coulomb on the condensed system
     if not (exact and law.mu > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
         raise ValueError(f"mindlin needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
     ratios = check_loading(ratios, refinement, press_steps)
