@@ -227,14 +227,14 @@ def test_master_exchange_sends_only_the_facets_near_the_slave():
     for mode in ("allgather", "boxes"):
         c.exchange = mode
         c.update()
-        got[mode] = (c.pairing(), c.projection["gap"].copy(), c._master["ids"].copy())
+        got[mode] = (c.pairing(), c.projection["gap"].copy(), c.pairs.master["ids"].copy())
     assert np.array_equal(got["boxes"][0], got["allgather"][0])
     assert np.array_equal(got["boxes"][1], got["allgather"][1])
     assert comm.allreduce(int(np.count_nonzero(got["boxes"][0] >= 0))) > 10  # points in contact
     # The facets a rank must receive, from the whole surface's current boxes.
     md, sd = c.master_data, c.slave_data
     xm = md.X[md.owned] + u.x.array[md.comp[md.owned]]
-    ids = c._exchange.ids
+    ids = c.pairs.exchange.ids
     xm, ids = np.concatenate(comm.allgather(xm)), np.concatenate(comm.allgather(ids))
     xs = sd.X + u.x.array[sd.comp]
     near = np.zeros(len(xm), bool)

@@ -10,7 +10,6 @@ moves off-process entries), so a master facet on another rank is a column.
 from __future__ import annotations
 
 import numpy as np
-from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..search import STRETCH_LIMIT, stretch
@@ -42,7 +41,6 @@ class SegmentSurface(TwoBodySurface):
                  name="twobody"):
         if u.function_space.num_sub_spaces > 0 and u.function_space.sub(0).num_sub_spaces > 0:
             raise ValueError("contact quadrature 'segment' needs a displacement unknown (not a mixed space)")
-        self._segments = None
         self._segment_pairs = None  # (owned slave facet, index into the received master facets)
         self._segment_ids = None  # the same with global master facet numbers (the pairing state)
         self._element_cache = None  # (inputs, (residuals, tangents)) of the last element evaluation
@@ -68,22 +66,19 @@ class SegmentSurface(TwoBodySurface):
         """Nodal projection (state, outputs) and the sub-segments of the owned slave facets. Collective."""
         changed = super().update()
         # Slave facets are local: an exploded slave facet on any rank rejects the iterate on every rank.
-        local = stretch(self._slave_current(), self.slave_data.X) > STRETCH_LIMIT
-        self.exploded = self.comm.allreduce(self.exploded or local, op=MPI.LOR)
-        self._exploded_seen |= self.exploded
-        if self.exploded:
+        if self.pairs.reject(stretch(self._slave_current(), self.slave_data.X) > STRETCH_LIMIT):
             return False
-        xm = self._master["x"]
+        xm = self.pairs.master["x"]
         own = np.flatnonzero(self.slave_data.owned)
         pair = pair_segments if self.gdim == 2 else pair_triangles
         fs, ms = pair(self._slave_current()[own], xm, self.radius)
         pairs = np.stack([own[fs], ms], axis=1)
-        ids = np.stack([own[fs], self._master["ids"][ms]], axis=1)  # the state: global master facet numbers
+        ids = np.stack([own[fs], self.pairs.master["ids"][ms]], axis=1)  # the state: global master facet numbers
         same = self._segment_ids is not None and np.array_equal(self._segment_ids, ids)
         seg_changed = self.comm.allreduce(0 if same else 1) > 0
         self._segment_pairs, self._segment_ids = pairs, ids
         if seg_changed:
-            self._pattern_version += 1
+            self._pattern.version += 1
         self._xm = xm
         return changed or seg_changed
 
@@ -97,10 +92,10 @@ class SegmentSurface(TwoBodySurface):
         f, m = self._segment_pairs[:, 0], self._segment_pairs[:, 1]
         x = np.concatenate([self._slave_current()[f], self._xm[m]], axis=1)
         scalars = {k: float(c.value) for k, c in self.constants.items()}
-        fields = {k: fn.x.array[self._sdofs[f]] for k, fn in self.fields.items()}
+        fields = {k: fn.x.array[self.mirror.scalar_dofs[f]] for k, fn in self.fields.items()}
         weight = float(self.weight.value)
         k = self.nv * self.gdim
-        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self._master["G"][m].reshape(-1, k)],
+        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self.pairs.master["G"][m].reshape(-1, k)],
                               axis=1)
         # The residual and the Jacobian of one state (a Newton iteration's F then J) share one evaluation: the
         # element routine gives both; it is reused while its inputs are unchanged (compared, not assumed).
@@ -133,7 +128,7 @@ class SegmentSurface(TwoBodySurface):
         rows = cols = np.zeros(0, np.int64)
         vals = np.zeros(0)
         if len(K):
-            idx = np.where(np.isin(dofs, self._bc_array), -1, dofs).astype(np.int64)
+            idx = np.where(np.isin(dofs, self._dirichlet), -1, dofs).astype(np.int64)
             m = idx.shape[1]
             rows, cols = np.repeat(idx, m, axis=1).ravel(), np.tile(idx, (1, m)).ravel()
             keep = (rows >= 0) & (cols >= 0)
