@@ -32,12 +32,22 @@ import numpy as np
 from .clipping import MAX_VERTICES, SLAVE_LINES, clip_arrays, master_lines
 from .dual import DUAL_OPS, Dual, cross, dot, dual_max, dual_min, dual_sqrt
 
-__all__ = ["SEGMENT_RULE", "TRIANGLE_RULE", "segment_element", "triangle_element"]
+__all__ = ["SEGMENT_RULE", "TRIANGLE_RULE", "reference_measure", "segment_element", "triangle_element"]
 
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
 SEGMENT_RULE = (np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)]), np.array([0.5, 0.5]))
 # 3-point rule on a triangle, barycentric points and weights (exact to degree 2).
 TRIANGLE_RULE = (np.array([[2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]]), np.full(3, 1 / 3))
+
+
+def reference_measure(X: np.ndarray) -> np.ndarray:
+    """The elements' ``J`` of slave facets with reference vertices ``X`` (nf, nv, gdim): the length of a
+    segment, twice the area of a triangle."""
+    if len(X) == 0:
+        return np.zeros(0)
+    if X.shape[-1] == 2:
+        return np.linalg.norm(X[:, 1] - X[:, 0], axis=1)
+    return np.linalg.norm(np.cross(X[:, 1] - X[:, 0], X[:, 2] - X[:, 0]), axis=1)
 
 
 def segment_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: dict, weight: float = 1.0,

@@ -14,7 +14,7 @@ import numpy as np
 from ..search import closest_point_on_facets, facet_normals, facet_pairs, project
 from .clipping import clip_arrays, master_lines, polygon_areas
 
-__all__ = ["overlap", "pair_segments", "pair_triangles"]
+__all__ = ["overlap", "pair_segments", "pair_triangles", "SegmentPairs"]
 
 
 def overlap(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -85,3 +85,29 @@ def pair_triangles(xs: np.ndarray, xm: np.ndarray, radius: float) -> tuple[np.nd
     return fs[keep], ms[keep]
 
 
+
+class SegmentPairs:
+    """The slave/master facet pairs of the owned slave facets at the last update, kept between updates.
+
+    ``pairs`` (n, 2): (local slave facet, index into ``master_x`` and ``master_dofs``, the current coordinates
+    and global displacement dofs (k, nv, gdim) of the master facets received then); ``ids``: the same pairs
+    with global master facet numbers (the pairing state)."""
+
+    def __init__(self, comm):
+        self.comm = comm
+        self.pairs = self.ids = self.master_x = self.master_dofs = None
+
+    def update(self, xs: np.ndarray, owned: np.ndarray, master: dict, radius: float) -> bool:
+        """Pair the owned ones (``owned`` (nf,) flags) of the current slave facets ``xs`` (nf, nv, gdim) with the
+        master facets ``master`` (:class:`twobody.Pairing`'s). Collective. Returns True if the pairs changed on
+        any rank (always on the first update)."""
+        own = np.flatnonzero(owned)
+        pair = pair_segments if xs.shape[-1] == 2 else pair_triangles
+        fs, ms = pair(xs[own], master["x"], radius)
+        pairs = np.stack([own[fs], ms], axis=1)
+        ids = np.stack([own[fs], master["ids"][ms]], axis=1)
+        same = self.ids is not None and np.array_equal(self.ids, ids)
+        changed = self.comm.allreduce(0 if same else 1) > 0
+        self.pairs, self.ids = pairs, ids
+        self.master_x, self.master_dofs = master["x"], master["G"]
+        return changed

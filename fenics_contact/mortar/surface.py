@@ -1,22 +1,30 @@
 """Two-body contact with segment-to-segment integration (:class:`SegmentSurface`), 2D and 3D.
 
-The surface uses the projection, master exchange, nodal state, augmentation and outputs of
-:class:`twobody.TwoBodySurface` with nodal points; the contact residual and tangent on slave and master dofs
-come from the element (:mod:`~.element`) on the facet pairs (:mod:`~.pairs`), assembled in NumPy and added by
-the solver hooks. Each rank integrates its *owned* slave facets (each once) against the master facets
-:class:`twobody.MasterExchange` brings; the entries go to PETSc with global indices (``ADD``; the assembly
-moves off-process entries), so a master facet on another rank is a column.
+The surface composes :mod:`twobody`'s parts at the slave vertices (facets, pairing, master exchange, mirror
+fields: the nodal state that the law's fields, the augmentation and the outputs use) with the facet pairs
+(:mod:`~.pairs`) and the element (:mod:`~.element`). Each rank integrates its *owned* slave facets (each
+once) against the master facets :class:`twobody.MasterExchange` brings; the entries go to PETSc with global
+indices (``ADD``; the assembly moves off-process entries), so a master facet on another rank is a column.
 """
 from __future__ import annotations
 
 import numpy as np
+from dolfinx import fem
 from petsc4py import PETSc
 
+from ..capabilities import check, of
+from ..contact import ContactSurface, is_mixed
+from ..laws import ContactLaw
 from ..search import STRETCH_LIMIT, stretch
 from ..sparse import aij_matrix
-from ..twobody import TwoBodySurface
-from .element import segment_element, triangle_element
-from .pairs import pair_segments, pair_triangles
+from ..twobody.coupling import JacobianPattern, dirichlet_columns
+from ..twobody.facets import SlavePoints, facet_pair
+from ..twobody.mirror import MirrorFields, MirrorObstacle
+from ..twobody.pairing import Pairing
+from ..twobody.report import Timings
+from ..twobody.surface import TwoBodySurface
+from .element import reference_measure, segment_element, triangle_element
+from .pairs import SegmentPairs
 
 __all__ = ["SegmentSurface"]
 
@@ -29,74 +37,115 @@ def _same(a: tuple, b: tuple) -> bool:
             and fa.keys() == fb.keys() and all(np.array_equal(fa[k], fb[k]) for k in fa))
 
 
-class SegmentSurface(TwoBodySurface):
-    """Two-body contact with segment-to-segment integration (``quadrature="segment"``, 2D and 3D): the same
-    projection, master exchange, nodal state, augmentation and outputs as
-    :class:`twobody.TwoBodySurface` with nodal points, but the contact residual and tangent on slave and
-    master dofs come from :func:`segment_element`, assembled in NumPy and added by the solver hooks."""
+class SegmentSurface(ContactSurface):
+    """Contact of the slave facets ``slave_tag`` against the current master facets ``master_tag`` of the same
+    mesh, integrated segment to segment (``quadrature="segment"``; flat facets: segments, triangles), with the
+    law ``law`` (pressure per reference slave area, > 0 in compression; gap > 0 penetration).
 
-    ufl_coupling = False
+    Args and errors as :class:`twobody.TwoBodySurface` (``u`` a displacement: a mixed unknown raises
+    ValueError). The law's fields live at the slave vertices, interpolated linearly at the sub-segment points.
+    """
 
-    def __init__(self, u, facet_tags, slave_tag, master_tag, law, load, weight=1.0, radius=None,
-                 name="twobody"):
-        if u.function_space.num_sub_spaces > 0 and u.function_space.sub(0).num_sub_spaces > 0:
+    exchange: str | None = None  # the master exchange (see TwoBodySurface); None: TwoBodySurface.exchange's
+
+    def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
+                 load: fem.Constant, weight: float = 1.0, radius: float | None = None, name: str = "twobody"):
+        if is_mixed(u.function_space):
             raise ValueError("contact quadrature 'segment' needs a displacement unknown (not a mixed space)")
-        self._segment_pairs = None  # (owned slave facet, index into the received master facets)
-        self._segment_ids = None  # the same with global master facet numbers (the pairing state)
-        self._element_cache = None  # (inputs, (residuals, tangents)) of the last element evaluation
-        super().__init__(u, facet_tags, slave_tag, master_tag, law, load, "nodal", weight, radius, name)
+        check(**of(law, u), kind="two-body", quadrature="segment")  # before any assembly
+        mesh = u.function_space.mesh
+        if not (np.isfinite(weight) and weight > 0):
+            raise ValueError(f"weight must be a finite number > 0, got {weight!r}")
+        self.comm = mesh.comm
+        self.slave_data, self.master_data = facet_pair(u, facet_tags, slave_tag, master_tag, name)
+        self.V, self.gdim, self.nv = u.function_space, mesh.geometry.dim, self.slave_data.nv
+        # The nodal state: the points at the slave vertices.
+        self.points = SlavePoints(self.slave_data, "nodal")
+        self.mirror = MirrorFields(mesh, self.slave_data, self.points, "nodal", name)
+        self._seconds = Timings()
+        self.pairs = Pairing(self.comm, self.slave_data, self.master_data, self.points, radius, self._seconds)
+        self.radius = self.pairs.radius
+        self._dirichlet = np.zeros(0, np.int64)  # global Dirichlet dofs, left out of the tangent (bind_problem)
+        self._problem = None
+        self._pattern = JacobianPattern()
+        self.weight = fem.Constant(mesh, float(weight))
+        m = self.mirror
+        obstacle = MirrorObstacle(m.reference, m.displacement, m.active, self.nv, self.gdim, self.radius)
+        super().__init__(u, facet_tags, slave_tag, obstacle, law, load, "nodal", name)
         self.quadrature = "segment"
-        sd = self.slave_data
-        if len(sd.X) == 0:
-            self._J = np.zeros(0)
-        elif self.gdim == 2:  # reference length
-            self._J = np.linalg.norm(sd.X[:, 1] - sd.X[:, 0], axis=1)
-        else:  # twice the reference area
-            self._J = np.linalg.norm(np.cross(sd.X[:, 1] - sd.X[:, 0], sd.X[:, 2] - sd.X[:, 0]), axis=1)
+        self.segments = SegmentPairs(self.comm)
+        self._element_cache = None  # (inputs, (residuals, tangents)) of the last element evaluation
+        self._J = reference_measure(self.slave_data.X)
+        self.update()
+
+    def _pressure(self):
+        return self.obstacle.active * super()._pressure()
 
     def residual(self, v):
         return None  # everything is in add_residual / add_jacobian
 
     # --- pairing -------------------------------------------------------------
-    def _slave_current(self) -> np.ndarray:
-        sd = self.slave_data
-        return sd.X + self.u.x.array[sd.comp]
-
     def update(self) -> bool:
-        """Nodal projection (state, outputs) and the sub-segments of the owned slave facets. Collective."""
-        changed = super().update()
+        """The nodal pairing (state, outputs) and the sub-segment pairs of the owned slave facets. Collective.
+        Returns True if either changed."""
+        everywhere = (self.exchange or TwoBodySurface.exchange) == "allgather"
+        changed = self.pairs.update(self.u.x.array, everywhere)
+        if not self.pairs.exploded:
+            with self._seconds.measure("search_s"):
+                self.mirror.fill(self.pairs.facet, self.pairs.master, None)
+            if changed:
+                self._pattern.version += 1
+        xs = self.slave_data.current(self.u.x.array)
         # Slave facets are local: an exploded slave facet on any rank rejects the iterate on every rank.
-        if self.pairs.reject(stretch(self._slave_current(), self.slave_data.X) > STRETCH_LIMIT):
+        if self.pairs.reject(stretch(xs, self.slave_data.X) > STRETCH_LIMIT):
             return False
-        xm = self.pairs.master["x"]
-        own = np.flatnonzero(self.slave_data.owned)
-        pair = pair_segments if self.gdim == 2 else pair_triangles
-        fs, ms = pair(self._slave_current()[own], xm, self.radius)
-        pairs = np.stack([own[fs], ms], axis=1)
-        ids = np.stack([own[fs], self.pairs.master["ids"][ms]], axis=1)  # the state: global master facet numbers
-        same = self._segment_ids is not None and np.array_equal(self._segment_ids, ids)
-        seg_changed = self.comm.allreduce(0 if same else 1) > 0
-        self._segment_pairs, self._segment_ids = pairs, ids
-        if seg_changed:
+        segments_changed = self.segments.update(xs, self.slave_data.owned, self.pairs.master, self.radius)
+        if segments_changed:
             self._pattern.version += 1
-        self._xm = xm
-        return changed or seg_changed
+        return changed or segments_changed
 
     def pairing(self) -> np.ndarray:
-        """The point pairs (:meth:`TwoBodySurface.pairing`) followed by the (slave facet, master facet) pairs of
-        the sub-segments, flattened."""
-        return np.concatenate([super().pairing(), self._segment_ids.ravel()])
+        """The point pairs (:meth:`twobody.TwoBodySurface.pairing`) followed by the (slave facet, master facet)
+        pairs of the sub-segments, flattened."""
+        return np.concatenate([self.pairs.ids.ravel().copy(), self.segments.ids.ravel()])
+
+    @property
+    def projection(self) -> dict | None:
+        """The nodal pairing's ``facet``, ``bary``, ``distance``, ``gap`` and ``normal`` at the local slave vertices
+        (:class:`twobody.Pairing`)."""
+        return self.pairs.projection
+
+    @property
+    def exploded(self) -> bool:
+        """The last update met a facet stretched past :data:`search.STRETCH_LIMIT`."""
+        return self.pairs.exploded
+
+    @property
+    def pairing_changes(self) -> int:
+        """Updates that changed the nodal pairing."""
+        return self.pairs.changes
+
+    def exchange_stats(self) -> dict:
+        """This rank's master exchange (:meth:`twobody.TwoBodySurface.exchange_stats`)."""
+        return dict(self.pairs.exchange.stats)
+
+    def take_failure(self) -> str | None:
+        return self.pairs.take_failure()
+
+    def timings(self) -> dict[str, float]:
+        """Seconds by kind; ``coupling_s``: the element evaluations and their assembly."""
+        return dict(self._seconds)
 
     def _elements(self, points: bool = False):
-        """Element residuals, tangents and global dof indices (n, 8) of the current sub-segments."""
-        f, m = self._segment_pairs[:, 0], self._segment_pairs[:, 1]
-        x = np.concatenate([self._slave_current()[f], self._xm[m]], axis=1)
+        """Element residuals, tangents and global dof indices (n, 2 nv gdim) of the current sub-segments."""
+        sd, seg = self.slave_data, self.segments
+        f, m = seg.pairs[:, 0], seg.pairs[:, 1]
+        x = np.concatenate([sd.current(self.u.x.array)[f], seg.master_x[m]], axis=1)
         scalars = {k: float(c.value) for k, c in self.constants.items()}
         fields = {k: fn.x.array[self.mirror.scalar_dofs[f]] for k, fn in self.fields.items()}
         weight = float(self.weight.value)
         k = self.nv * self.gdim
-        dofs = np.concatenate([self.slave_data.global_comp[f].reshape(-1, k), self.pairs.master["G"][m].reshape(-1, k)],
-                              axis=1)
+        dofs = np.concatenate([sd.global_comp[f].reshape(-1, k), seg.master_dofs[m].reshape(-1, k)], axis=1)
         # The residual and the Jacobian of one state (a Newton iteration's F then J) share one evaluation: the
         # element routine gives both; it is reused while its inputs are unchanged (compared, not assumed).
         inputs = (x, scalars, fields, weight, dofs)
@@ -109,47 +158,71 @@ class SegmentSurface(TwoBodySurface):
         return out, dofs
 
     # --- solver hooks ----------------------------------------------------------
+    def bind_problem(self, problem) -> None:
+        """Learn the Dirichlet dofs of ``problem``; their rows and columns are left out of the tangent."""
+        self._dirichlet = dirichlet_columns(self.V, self.comm, problem.bcs)
+        self._problem = problem
+        self._pattern.version += 1
+
+    def prepare(self, problem) -> None:
+        """Before each residual evaluation (``u`` current): re-pair."""
+        if self._problem is not problem:
+            self.bind_problem(problem)
+        self.update()
+
     def add_residual(self, b: PETSc.Vec) -> None:
-        if self.exploded:  # a non-finite residual: the solve fails and the step is cut (search.STRETCH_LIMIT)
+        """Add the element residuals (slave and master rows). An exploded iterate gets a non-finite residual:
+        the solve fails and the step is cut (:data:`search.STRETCH_LIMIT`)."""
+        if self.exploded:
             b.set(np.nan)
             return
-        (r, _), dofs = self._elements()
-        if len(r):
-            b.setValues(dofs.ravel().astype(PETSc.IntType), r.ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+        with self._seconds.measure("coupling_s"):
+            (r, _), dofs = self._elements()
+            if len(r):
+                b.setValues(dofs.ravel().astype(PETSc.IntType), r.ravel(), addv=PETSc.InsertMode.ADD_VALUES)
         b.assemblyBegin()
         b.assemblyEnd()
 
     def coupling_matrix(self, bcs) -> PETSc.Mat:
         """The whole contact tangent (slave and master rows and columns; Dirichlet rows and columns zero)."""
-        (_, K), dofs = self._elements()
-        Vmap, bs = self.V.dofmap.index_map, self.V.dofmap.index_map_bs
-        n_local, N = Vmap.size_local * bs, Vmap.size_global * bs
-        # The element entries summed per (row, column) here, Dirichlet rows and columns left out.
-        rows = cols = np.zeros(0, np.int64)
-        vals = np.zeros(0)
-        if len(K):
-            idx = np.where(np.isin(dofs, self._dirichlet), -1, dofs).astype(np.int64)
-            m = idx.shape[1]
-            rows, cols = np.repeat(idx, m, axis=1).ravel(), np.tile(idx, (1, m)).ravel()
-            keep = (rows >= 0) & (cols >= 0)
-            key, inverse = np.unique(rows[keep] * N + cols[keep], return_inverse=True)
-            vals = np.bincount(inverse.ravel(), weights=K.ravel()[keep], minlength=len(key))
-            rows, cols = key // N, key % N
+        with self._seconds.measure("coupling_s"):
+            (_, K), dofs = self._elements()
+            Vmap, bs = self.V.dofmap.index_map, self.V.dofmap.index_map_bs
+            n_local, N = Vmap.size_local * bs, Vmap.size_global * bs
+            # The element entries summed per (row, column) here, Dirichlet rows and columns left out.
+            rows = cols = np.zeros(0, np.int64)
+            vals = np.zeros(0)
+            if len(K):
+                idx = np.where(np.isin(dofs, self._dirichlet), -1, dofs).astype(np.int64)
+                m = idx.shape[1]
+                rows, cols = np.repeat(idx, m, axis=1).ravel(), np.tile(idx, (1, m)).ravel()
+                keep = (rows >= 0) & (cols >= 0)
+                key, inverse = np.unique(rows[keep] * N + cols[keep], return_inverse=True)
+                vals = np.bincount(inverse.ravel(), weights=K.ravel()[keep], minlength=len(key))
+                rows, cols = key // N, key % N
         return aij_matrix(self.comm, ((n_local, N),) * 2, rows, cols, vals)
+
+    def pattern_changes(self) -> bool:
+        return self._pattern.changed()
+
+    def add_jacobian(self, A: PETSc.Mat, bcs) -> bool:
+        """``A += tangent``; returns True when ``A``'s nonzero pattern was rebuilt (pairs changed)."""
+        return self._pattern.add(A, self.coupling_matrix(bcs))
 
     # --- figures ---------------------------------------------------------------
     def segment_points(self) -> dict:
-        """Sub-segment Gauss points of the owned slave facets (local): reference and current position,
-        weight (reference length, without the two-pass factor), gap, pressure, master normal."""
+        """Sub-segment Gauss points of the owned slave facets (local): reference and current position ``X``,
+        ``x`` (n, gdim), ``weight`` (reference length or area, without the two-pass factor), ``gap`` (> 0
+        penetration), ``pressure`` (> 0 compression, per reference area), master unit ``normal`` (n, gdim)."""
         d = self.gdim
-        if len(self._segment_pairs) == 0:
+        if len(self.segments.pairs) == 0:
             z = np.zeros((0, d))
             return {"X": z, "x": z, "weight": np.zeros(0), "gap": np.zeros(0), "pressure": np.zeros(0), "normal": z}
         (_, _, pts), _ = self._elements(points=True)
-        f = self._segment_pairs[pts["pair"], 0]
+        f = self.segments.pairs[pts["pair"], 0]
         N = pts["N"]
         X = np.einsum("qa,qaj->qj", N, self.slave_data.X[f])
-        x = np.einsum("qa,qaj->qj", N, self._slave_current()[f])
+        x = np.einsum("qa,qaj->qj", N, self.slave_data.current(self.u.x.array)[f])
         return {"X": X, "x": x, "weight": pts["weight"], "gap": pts["gap"], "pressure": pts["pressure"],
                 "normal": pts["normal"]}
 
@@ -166,8 +239,13 @@ class SegmentSurface(TwoBodySurface):
         return data[1][order], data[2][order], data[3][order]
 
     def total_force(self) -> np.ndarray:
-        """Force of the master on the slave body, ``sum_q w_q F_q n_m`` (per unit thickness)."""
+        """Force of the master on the slave body, ``sum_q w_q F_q n_m`` (global components; per unit thickness
+        in 2D), the same on every rank. Collective."""
         p = self.segment_points()
         local = np.einsum("q,q,qj->j", p["weight"], p["pressure"], p["normal"]) if len(p["weight"]) else \
             np.zeros(self.gdim)
         return np.array(self.comm.allreduce(local))
+
+    @property
+    def _segment_pairs(self) -> np.ndarray:  # scripts/segment_cost.py counts them
+        return self.segments.pairs
