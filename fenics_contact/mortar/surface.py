@@ -226,17 +226,22 @@ class SegmentSurface(ContactSurface):
         return {"X": X, "x": x, "weight": pts["weight"], "gap": pts["gap"], "pressure": pts["pressure"],
                 "normal": pts["normal"]}
 
-    def point_values(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Current position, gap and nominal pressure (per reference slave area) at every sub-segment Gauss
-        point, gathered on every rank and sorted by reference position. ``kind="cauchy"`` is refused here
-        (use the pointwise quadratures' :meth:`TwoBodySurface.point_values`)."""
+    def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
+                                                                                     np.ndarray]:
+        """Position (current; ``reference=True``: reference), gap (> 0 penetration) and nominal pressure (> 0
+        compression, per reference slave area) at every sub-segment Gauss point, gathered on every rank and
+        sorted by reference position. Collective.
+
+        Raises:
+            ValueError: ``kind`` is not ``nominal`` (the pointwise quadratures give ``cauchy`` too).
+        """
         if kind != "nominal":
             raise ValueError(f"{self.name}: segment integration reports the nominal pressure only (kind "
                              f"'nominal'), got kind {kind!r}; the pointwise quadratures give 'cauchy' too")
         p = self.segment_points()
         data = [np.concatenate(a) for a in zip(*self.comm.allgather((p["X"], p["x"], p["gap"], p["pressure"])))]
         order = np.lexsort(np.round(data[0], 12).T[::-1])
-        return data[1][order], data[2][order], data[3][order]
+        return data[0 if reference else 1][order], data[2][order], data[3][order]
 
     def total_force(self) -> np.ndarray:
         """Force of the master on the slave body, ``sum_q w_q F_q n_m`` (global components; per unit thickness
