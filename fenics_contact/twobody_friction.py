@@ -85,10 +85,11 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
         mesh = self.u.function_space.mesh
         d = self.gdim
         self.u_old = fem.Function(self.u.function_space, name="u_old")  # the displacement at the last accepted step
-        self.w_old = fem.Function(self.W, name="mirror_u_old")  # its values at the current master vertices
+        self.w_old = fem.Function(self.mirror.space, name="mirror_u_old")  # its values at the current master vertices
         x = ufl.SpatialCoordinate(mesh) + self.u
         self._N = barycentric(x, self.obstacle.vertices())
-        dw = [ufl.as_vector([self.w[k * d + i] - self.w_old[k * d + i] for i in range(d)]) for k in range(self.nv)]
+        w = self.mirror.displacement
+        dw = [ufl.as_vector([w[k * d + i] - self.w_old[k * d + i] for i in range(d)]) for k in range(self.nv)]
         master_motion = sum(N * v for N, v in zip(self._N, dw))
         self._init_friction(self.law, self._friction_load, x, lambda r_old: x - r_old - master_motion,
                             factor=self.obstacle.active)
@@ -118,22 +119,16 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
         return changed
 
     def _fill_w_old(self) -> None:
+        """``w_old``: the master's last accepted displacement at the current pairs. Collective."""
         md = self.master_data
-        # The master facets of the last update, in its order (TwoBodySurface._route_master). Collective.
-        U = self._exchange.values(self.u_old.x.array[md.comp[md.owned]])
-        facet = self.projection["facet"]
-        nf, nq = facet.shape
-        bs = self.nv * self.gdim
-        Uq = np.zeros((nf, nq, bs))
-        ok = facet >= 0
-        Uq[ok] = U[facet[ok]].reshape(-1, bs)
-        idx = self._wdofs[..., None] * bs + np.arange(bs)
-        self.w_old.x.array[idx] = np.einsum("aq,fqb->fab", self.Binv, Uq)
+        # The owned master facets' values on the facets of the last update, in its order.
+        U = self.pairs.exchange.values(self.u_old.x.array[md.comp[md.owned]])
+        self.mirror.set(self.w_old, self.mirror.nodal(self.pairs.facet, U))
 
     def _commit_more(self) -> None:
         """``u_old <- u`` (and the mirror ``w_old``): after a commit the slip increment is 0."""
         self.u_old.x.array[:] = self.u.x.array
-        if getattr(self, "projection", None) is not None:
+        if self.pairs.facet is not None:
             self._fill_w_old()
 
     def state(self) -> dict:
@@ -142,7 +137,7 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
     def restore(self, state: dict) -> None:
         super().restore(state)
         self.u_old.x.array[:] = state["u_old"]
-        if getattr(self, "projection", None) is not None:
+        if self.pairs.facet is not None:
             self._fill_w_old()
 
     # --- figures -------------------------------------------------------------------

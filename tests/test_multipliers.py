@@ -119,13 +119,13 @@ def test_two_body_multipliers_equal_augmented_cross_constraints(cylinders_lagran
     (hysteresis 0) both methods solve one discrete problem."""
     import functools
 
-    from fenics_contact import twobody
+    from fenics_contact.twobody import pairing
 
     f, _ = cylinders_lagrange
     fc, recs = solve_cylinders("cross", augment_max=30, K_hat=1e4)
     assert recs[-1].augmentation_converged
     assert abs(fc["p0"] - f["p0"]) <= 0.01 * f["p0"], (fc["p0"], f["p0"])  # the issue's acceptance: 1 %
-    monkeypatch.setattr(twobody, "project", functools.partial(twobody.project, hysteresis=0.0))
+    monkeypatch.setattr(pairing, "project", functools.partial(pairing.project, hysteresis=0.0))
     fm, _ = solve_cylinders("lagrange", c=1e3)
     fc, recs = solve_cylinders("cross", augment_max=30, K_hat=1e4)
     assert recs[-1].augmentation_converged

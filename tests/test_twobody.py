@@ -117,6 +117,59 @@ def test_patch_passes_with_segment_integration(passes, slave):
         assert gauss.figures()["pressure_deviation"] > 0.05
 
 
+def test_results_have_the_surface_signatures():
+    """``total_force``, ``point_values``, ``surface_values`` and ``friction_profile`` take the arguments that
+    :class:`Surface` declares on every two-body surface."""
+    import inspect
+
+    from fenics_contact.mortar import SegmentSurface
+    from fenics_contact.surface import Surface
+    from fenics_contact.twobody_friction import FrictionalTwoBodySurface
+
+    def params(f):
+        return [(p.name, p.kind, p.default) for p in inspect.signature(f).parameters.values()]
+
+    for cls in (TwoBodySurface, FrictionalTwoBodySurface, SegmentSurface):
+        for name in ("total_force", "point_values", "surface_values", "friction_profile"):
+            assert params(getattr(cls, name)) == params(getattr(Surface, name)), (cls.__name__, name)
+
+
+def test_segment_point_values_at_reference_positions():
+    """Segment integration after a patch solve: ``point_values(reference=True)`` gives the sub-segment Gauss points'
+    reference positions (on the slave's flat reference interface, as ``segment_points``), with the gaps and
+    pressures of ``point_values()`` in the same order; the current positions have moved. The law is set, and a
+    frictionless surface's ``friction_profile`` raises ValueError naming it."""
+    setup, _ = _patch("segment", "one")
+    c = setup.contacts[0]
+    assert c.law is not None and c.law.name == "auglag"
+    X, gr, pr = c.point_values(reference=True)
+    x, g, p = c.point_values()
+    assert np.array_equal(gr, g) and np.array_equal(pr, p) and len(X) == len(x) > 0
+    local = c.segment_points()["X"]
+    expected = np.concatenate(MPI.COMM_WORLD.allgather(local))
+    expected = expected[np.lexsort(np.round(expected, 12).T[::-1])]
+    assert np.array_equal(X, expected)
+    assert np.ptp(X[:, -1]) < 1e-12 and np.max(np.abs(x - X)) > 1e-4  # the interface moved down with the strain
+    with pytest.raises(ValueError, match="nominal"):
+        c.point_values(reference=True, kind="cauchy")
+    with pytest.raises(ValueError, match=c.name):
+        c.friction_profile()
+
+
+def test_pointwise_results_and_no_friction_profile():
+    """Pointwise two-body surface: ``point_values(reference=True)`` are the reference positions of
+    ``point_table`` (also ``reference_points``, each once); ``friction_profile`` raises ValueError naming it."""
+    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature="gauss", passes="one")
+    c = setup.contacts[0]
+    assert c.law is not None and c.law.name == "penalty"
+    X, g, p = c.point_values(reference=True)
+    table = c.point_table()
+    assert np.array_equal(X, table[0]) and np.array_equal(g, table[2]) and np.array_equal(p, table[3])
+    assert np.array_equal(np.unique(np.round(c.reference_points(), 12), axis=0), np.unique(np.round(X, 12), axis=0))
+    with pytest.raises(ValueError, match=f"{c.name}: this surface has no friction"):
+        c.friction_profile()
+
+
 def test_bad_input():
     mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (3, 2))
     from fenics_contact.compat import function_space
@@ -227,14 +280,14 @@ def test_master_exchange_sends_only_the_facets_near_the_slave():
     for mode in ("allgather", "boxes"):
         c.exchange = mode
         c.update()
-        got[mode] = (c.pairing(), c.projection["gap"].copy(), c._master["ids"].copy())
+        got[mode] = (c.pairing(), c.projection["gap"].copy(), c.pairs.master["ids"].copy())
     assert np.array_equal(got["boxes"][0], got["allgather"][0])
     assert np.array_equal(got["boxes"][1], got["allgather"][1])
     assert comm.allreduce(int(np.count_nonzero(got["boxes"][0] >= 0))) > 10  # points in contact
     # The facets a rank must receive, from the whole surface's current boxes.
     md, sd = c.master_data, c.slave_data
     xm = md.X[md.owned] + u.x.array[md.comp[md.owned]]
-    ids = c._exchange.ids
+    ids = c.pairs.exchange.ids
     xm, ids = np.concatenate(comm.allgather(xm)), np.concatenate(comm.allgather(ids))
     xs = sd.X + u.x.array[sd.comp]
     near = np.zeros(len(xm), bool)

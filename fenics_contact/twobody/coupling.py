@@ -1,0 +1,184 @@
+"""The coupling of the mirror fields to the master dofs, and its blocks in the global residual and Jacobian.
+
+``I`` (:func:`interpolation_operator`) is the sparse operator (rows: mirror dofs, columns: global
+displacement dofs) with ``w = I u``: a selection of master vertex values (nodal points) or its combination
+with the inverse of the facet's Gauss-point interpolation (``gauss``: the mirror lives in DG1 whose trace has
+one value per Gauss point). With the slave-side forms ``r_u = dP/du``, ``r_w = dP/dw`` and their derivatives
+compiled once by FFCx (:class:`MirrorCoupling`), the contact residual and tangent on the global dofs are::
+
+    R = r_u + I^T r_w,
+    K = A_uu + A_uw I + I^T A_wu + I^T A_ww I        (MatMatMult, TransposeMatMult, PtAP)
+
+``A_uu`` goes in the problem's own Jacobian form; the rest is added by the solver's hooks. Dirichlet dofs
+(:func:`dirichlet_columns`) are dropped from the columns of ``I`` and the coupling forms are assembled with
+the boundary conditions, so the constrained rows and columns stay the identity. A master facet owned by
+another rank is just a column of ``I`` with a global index: PETSc moves the values. The global matrix gets
+the coupling's extra sparsity by ``MatAXPY(DIFFERENT_NONZERO_PATTERN)`` only when the pairing changed since
+the last Jacobian (:class:`JacobianPattern`; the pattern then only grows and the solver resets its
+factorization); otherwise the pattern is reused.
+"""
+from __future__ import annotations
+
+import dolfinx.fem.petsc as fem_petsc
+import numpy as np
+import ufl
+from dolfinx import fem
+from petsc4py import PETSc
+
+from ..compat import bc_dofs, release_free_memory
+from ..sparse import aij_matrix
+from .mirror import MirrorFields
+
+__all__ = ["dirichlet_columns", "interpolation_operator", "MirrorCoupling", "JacobianPattern"]
+
+
+def dirichlet_columns(V: fem.FunctionSpace, comm, bcs) -> np.ndarray:
+    """Sorted global numbers (int64) of the unknowns of ``V`` fixed by the Dirichlet conditions ``bcs``, the
+    same on every rank. Collective."""
+    Vmap, bs = V.dofmap.index_map, V.dofmap.index_map_bs
+    local = np.unique(np.concatenate([bc_dofs(b) for b in bcs])) if bcs else np.zeros(0, int)
+    local = local[local < Vmap.size_local * bs]
+    glob = Vmap.local_to_global(local // bs) * bs + local % bs if len(local) else np.zeros(0, np.int64)
+    return np.unique(np.concatenate(comm.allgather(glob))).astype(np.int64)
+
+
+def interpolation_operator(comm, mirror: MirrorFields, V: fem.FunctionSpace, facet: np.ndarray,
+                           master_dofs: np.ndarray, dirichlet: np.ndarray) -> PETSc.Mat:
+    """``I`` with ``w = I u``: rows the mirror dofs of the local slave points (owned or not: PETSc moves
+    off-process rows), columns the global displacement dofs of their master facets' nodes.
+
+    Args:
+        facet: (nf, nq) each slave point's master facet, index into ``master_dofs`` (-1: unpaired, no entry).
+        master_dofs: (n, nv, gdim) global displacement dofs of the received master facets.
+        dirichlet: global dofs left out of the columns (:func:`dirichlet_columns`).
+    """
+    d, nv = mirror.gdim, mirror.nv
+    bs = nv * d
+    Wmap, Vmap = mirror.space.dofmap.index_map, V.dofmap.index_map
+    Vbs = V.dofmap.index_map_bs
+    sizes = ((Wmap.size_local * bs, Wmap.size_global * bs), (Vmap.size_local * Vbs, Vmap.size_global * Vbs))
+    inverse_rule = mirror.points.from_points
+    nn, nq = inverse_rule.shape
+    # Entries (row, column, B^-1 weight) of every paired point, summed where two points of one mirror node share
+    # a master vertex, Dirichlet columns dropped; rows of ghost slave facets are inserted by both ranks with
+    # the same values (INSERT), PETSc moves the off-process ones.
+    nf = facet.shape[0]
+    f, a, q = (x.ravel() for x in np.meshgrid(np.arange(nf), np.arange(nn), np.arange(nq), indexing="ij"))
+    m, w = facet[f, q], inverse_rule[a, q]
+    keep = (m >= 0) & (w != 0.0)
+    f, a, m, w = f[keep], a[keep], m[keep], w[keep]
+    local = (np.arange(nv)[:, None] * d + np.arange(d)).ravel()
+    rows = (mirror.global_nodes[f, a].astype(np.int64) * bs)[:, None] + local
+    cols = master_dofs[m].reshape(len(m), nv * d).astype(np.int64)
+    vals = np.broadcast_to(w[:, None], rows.shape)
+    fac = np.broadcast_to(f[:, None], rows.shape)
+    rows, cols, vals, fac = rows.ravel(), cols.ravel(), vals.ravel(), fac.ravel()
+    if len(dirichlet):
+        free = ~np.isin(cols, dirichlet)
+        rows, cols, vals, fac = rows[free], cols[free], vals[free], fac[free]
+    if len(rows):
+        # Sum over the points of one facet; a mirror node shared by two slave facets gets the same row from
+        # each (one insert, as INSERT_VALUES would leave it).
+        key, inverse = np.unique(np.stack([rows, cols, fac]), axis=1, return_inverse=True)
+        vals = np.bincount(inverse.ravel(), weights=vals)
+        rc, first = np.unique(key[:2], axis=1, return_index=True)
+        rows, cols, vals = rc[0], rc[1], vals[first]
+    return aij_matrix(comm, sizes, rows, cols, vals, addv=PETSc.InsertMode.INSERT_VALUES)
+
+
+class MirrorCoupling:
+    """The contact's residual and tangent blocks through the mirror displacement ``w = I u``.
+
+    Args:
+        u: the problem's unknown.
+        mirror: the mirror fields; ``mirror.displacement`` is ``w``.
+        r_u: the contact residual on the unknown's test function (slave rows; multipliers: with the
+            constraint rows).
+        r_w: the contact residual on the mirror's test function (master rows, mapped by ``I^T``).
+        seconds: the surface's timings; building ``I`` adds to ``coupling_s``.
+
+    ``operator``: ``I`` of the last :meth:`rebuild` (None before).
+    """
+
+    def __init__(self, u: fem.Function, mirror: MirrorFields, r_u: ufl.Form, r_w: ufl.Form, seconds):
+        self.comm, self.V, self.mirror = u.function_space.mesh.comm, u.function_space, mirror
+        w = mirror.displacement
+        du, dw = ufl.TrialFunction(self.V), ufl.TrialFunction(mirror.space)
+        self._r_w = fem.form(r_w)
+        self._a_uw = fem.form(ufl.derivative(r_u, w, dw))
+        self._a_wu = fem.form(ufl.derivative(r_w, u, du))
+        self._a_ww = fem.form(ufl.derivative(r_w, w, dw))
+        self._seconds = seconds
+        self.operator: PETSc.Mat | None = None
+        self._blocks: tuple[PETSc.Mat, PETSc.Mat, PETSc.Mat] | None = None  # A_uw, A_wu, A_ww (matrix)
+        self._tmp: PETSc.Vec | None = None
+
+    def rebuild(self, facet: np.ndarray, master_dofs: np.ndarray, dirichlet: np.ndarray) -> None:
+        """A new ``I`` for a pairing (arguments of :func:`interpolation_operator`). Collective."""
+        with self._seconds.measure("coupling_s"):
+            operator = interpolation_operator(self.comm, self.mirror, self.V, facet, master_dofs, dirichlet)
+            if self.operator is not None:
+                self.operator.destroy()
+            self.operator = operator
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        """``b += I^T r_w`` (owned entries; before boundary conditions are set)."""
+        rw = fem_petsc.assemble_vector(self._r_w)
+        rw.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        if self._tmp is None:
+            self._tmp = b.duplicate()
+        self.operator.multTranspose(rw, self._tmp)
+        b.axpy(1.0, self._tmp)
+        rw.destroy()
+
+    def matrix(self, bcs: list) -> PETSc.Mat:
+        """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero); the caller destroys it."""
+        # The three blocks' patterns depend on the slave facets only: made once, not per Jacobian (their rows span
+        # the whole mirror space, nv gdim values per vertex: each build allocated 0.16 GB at 4e5 dofs).
+        if self._blocks is None:
+            self._blocks = tuple(fem_petsc.create_matrix(a) for a in (self._a_uw, self._a_wu, self._a_ww))
+        A_uw, A_wu, A_ww = self._blocks
+        for M, a, b in zip(self._blocks, (self._a_uw, self._a_wu, self._a_ww), (bcs, bcs, [])):
+            M.zeroEntries()
+            fem_petsc.assemble_matrix(M, a, bcs=b)
+            M.assemble()
+        C = A_uw.matMult(self.operator)
+        C2 = self.operator.transposeMatMult(A_wu)
+        C3 = A_ww.PtAP(self.operator)
+        C.axpy(1.0, C2, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        C.axpy(1.0, C3, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        for m in (C2, C3):
+            m.destroy()
+        return C
+
+
+class JacobianPattern:
+    """Whether the contact block's nonzero pattern changed since it was last added to the Jacobian.
+
+    ``version`` counts the pattern changes (a pairing change, a new problem); ``merged`` is the version last
+    added to a Jacobian by :meth:`add`."""
+
+    def __init__(self):
+        self.version = 0
+        self.merged = -1
+
+    def changed(self) -> bool:
+        """True when the next :meth:`add` rebuilds the Jacobian's pattern."""
+        return self.merged != self.version
+
+    def add(self, A: PETSc.Mat, C: PETSc.Mat) -> bool:
+        """``A += C``, then destroy ``C``. Returns True when ``A``'s nonzero pattern was rebuilt."""
+        rebuild = self.changed()
+        if rebuild:  # the temporaries' freed pages back to the system before A's copy is allocated
+            release_free_memory()
+        structure = PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN if rebuild else \
+            PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN
+        # MatAXPY with a new pattern replaces A's header and drops its near-nullspace (GAMG's rigid-body modes):
+        # put it back, else AMG runs without it from the first pairing change on.
+        near = A.getNearNullSpace() if rebuild else None
+        A.axpy(1.0, C, structure=structure)
+        if near is not None and near.handle:
+            A.setNearNullSpace(near)
+        self.merged = self.version
+        C.destroy()
+        return rebuild

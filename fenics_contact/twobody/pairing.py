@@ -1,0 +1,159 @@
+"""Closest-point pairing of the slave points with the current master facets.
+
+Each update routes the master facets near this rank's slave facets (:class:`~.exchange.MasterExchange`),
+projects the slave points on their current positions (:func:`search.project`: a k-d tree, memory bounded by
+the surfaces' size whatever the iterate) and evaluates the normal gap (positive = penetration, see
+:mod:`laws`) and the master normal at each point, in NumPy with the formulas of the UFL gap
+(:class:`~.mirror.MirrorObstacle`). A point keeps its facet while that facet stays nearly as close as the
+closest one (the hysteresis of :func:`search.project`); the pairing is kept in global facet numbers, so it
+survives a re-routing and does not depend on the partition. An iterate that stretched a master facet past
+:data:`search.STRETCH_LIMIT` is rejected (``exploded``), not searched.
+"""
+from __future__ import annotations
+
+import numpy as np
+from mpi4py import MPI
+
+from ..search import facet_normals, project, quadratic_normals, quadratic_shape, stretch
+from .exchange import MasterExchange
+from .facets import FacetData, SlavePoints
+
+__all__ = ["Pairing"]
+
+
+class Pairing:
+    """The master facet, gap and normal of every local slave point. Collective construction and updates.
+
+    Args:
+        comm: the mesh's communicator.
+        slave, master: the two surfaces' facets (:func:`~.facets.facet_pair`).
+        points: the contact points on the slave facets.
+        radius: search radius (default: 2 x the longest master facet, 1 without master facets); slave points
+            farther from the master surface have no pair.
+        seconds: the surface's timings; ``exchange_s`` and ``search_s`` are added to it.
+
+    After :meth:`update` (unless ``exploded``): ``master`` the received master facets ``{"X", "G", "U", "ids",
+    "x"}`` (reference and current coordinates, global displacement dofs, displacements, global facet numbers;
+    partition-independent order), ``facet`` (nf, nq) index of each point's master facet in ``master`` (-1:
+    none), ``ids`` the same as global facet numbers, ``local_coordinate`` (nf, nq) the closest point's ``xi``
+    on a quadratic facet (None for flat facets) and ``projection``: ``facet``, ``bary`` (barycentric
+    coordinates of the closest point), ``distance``, ``gap`` (> 0 penetration; ``-inf`` unpaired) and
+    ``normal`` (master unit normal). ``changes``: updates that changed the pairing.
+
+    Raises:
+        ValueError: ``radius`` is not a finite number > 0.
+    """
+
+    def __init__(self, comm, slave: FacetData, master: FacetData, points: SlavePoints, radius: float | None,
+                 seconds):
+        self.comm, self.slave, self.master_facets, self.points = comm, slave, master, points
+        self.quadratic, self.nv = slave.quadratic, slave.nv
+        own = master.owned
+        self.exchange = MasterExchange(comm, master.X[own], master.global_comp[own], master.global_facets[own],
+                                       self.quadratic)
+        if radius is None:
+            Xo = master.X[own]
+            sides = (Xo[:, -1:] - Xo[:, :1]) if self.quadratic else np.diff(Xo, axis=1)
+            longest = comm.allreduce(float(np.max(np.linalg.norm(sides, axis=2))) if len(Xo) else 0.0, op=MPI.MAX)
+            radius = 2.0 * longest if longest > 0 else 1.0
+        if not (np.isfinite(radius) and radius > 0):
+            raise ValueError(f"search radius must be a finite number > 0, got {radius!r}")
+        self.radius = float(radius)
+        self._seconds = seconds
+        self.master = None
+        self.facet = None
+        self.ids = None
+        self.local_coordinate = None
+        self.projection = None
+        self.exploded = False  # the last update met a master facet stretched past search.STRETCH_LIMIT
+        self._exploded_seen = False  # ... or one since take_failure()
+        self.changes = 0
+
+    def update(self, u: np.ndarray, everywhere: bool = False) -> bool:
+        """Pair the slave points at the unknown's local array ``u``. ``everywhere``: every master facet to every
+        rank (the all-gather exchange). Returns True if the pairing changed on any rank (always on the first
+        update); False, with ``exploded`` set and the last pairing kept, for an exploded iterate."""
+        with self._seconds.measure("exchange_s"):
+            master = self._route(u, everywhere)
+        # An exploded iterate is rejected, not searched (every rank sees the largest stretch).
+        self.exploded = master is None
+        self._exploded_seen |= self.exploded
+        if self.exploded:
+            return False
+        self.master = master
+        with self._seconds.measure("search_s"):
+            facet = self._project(u)
+        ok = facet >= 0
+        ids = np.full(facet.shape, -1, np.int64)
+        ids[ok] = master["ids"][facet[ok]]
+        same = self.ids is not None and np.array_equal(self.ids, ids)
+        changed = self.comm.allreduce(0 if same else 1) > 0
+        self.facet, self.ids = facet.copy(), ids
+        self.changes += changed
+        return changed
+
+    def _route(self, u: np.ndarray, everywhere: bool) -> dict | None:
+        """The master facets near this rank's slave facets with their current coordinates ``x``, or None (on
+        every rank) if a master facet exploded."""
+        md = self.master_facets
+        X = md.X[md.owned]
+        U = u[md.comp[md.owned]]
+        xs = self.slave.current(u)
+        smax, master = self.exchange.exchange(U, xs, self.radius, stretch(X + U, X), everywhere)
+        if master is not None:
+            master["x"] = master["X"] + master["U"]
+        return master
+
+    def _project(self, u: np.ndarray) -> np.ndarray:
+        """Project the slave points on ``master``; set ``projection`` and ``local_coordinate``. Returns
+        ``facet`` (nf, nq)."""
+        xm = self.master["x"]
+        pts = self.points.current(u)
+        nf, nq, d = pts.shape if pts.size else (0, self.points.per_facet, pts.shape[-1])
+        previous = None if self.ids is None else self._local_facets(self.ids.ravel())
+        found = project(pts.reshape(-1, d), xm, self.radius, previous, quadratic=self.quadratic)
+        facet, bary, dist = found[:3]
+        facet = facet.reshape(nf, nq)
+        facet[self.points.excluded] = -1
+        xi = found[3].reshape(nf, nq) if self.quadratic else None
+        # Gap and master normal at the points, in NumPy (the same formulas as the UFL).
+        ok = facet >= 0
+        gap = np.full((nf, nq), -np.inf)
+        normal = np.zeros((nf, nq, d))
+        if np.any(ok):
+            xv = xm[facet[ok]]
+            if self.quadratic:
+                n = quadratic_normals(xv, xi[ok])
+                q = np.einsum("ik,ikj->ij", quadratic_shape(xi[ok])[0], xv)
+            else:
+                n = facet_normals(xv)
+                q = xv[:, 0]
+            normal[ok] = n
+            gap[ok] = -np.einsum("ij,ij->i", pts[ok] - q, n)
+        self.projection = {"facet": facet, "bary": bary.reshape(nf, nq, self.nv), "distance": dist.reshape(nf, nq),
+                           "gap": gap, "normal": normal}
+        self.local_coordinate = xi
+        return facet
+
+    def _local_facets(self, ids: np.ndarray) -> np.ndarray:
+        """Indices into ``master`` of global facet numbers ``ids`` (-1: none, or not received, i.e. beyond the
+        search radius of every local slave facet)."""
+        mid = self.master["ids"]
+        order = np.argsort(mid)
+        pos = np.minimum(np.searchsorted(mid[order], ids), max(len(mid) - 1, 0))
+        found = (ids >= 0) & (len(mid) > 0)
+        if len(mid):
+            found &= mid[order][pos] == ids
+        return np.where(found, order[pos] if len(mid) else -1, -1)
+
+    def reject(self, exploded_here: bool) -> bool:
+        """Mark the iterate exploded on every rank if it already is or ``exploded_here`` (e.g. a slave facet
+        stretched past :data:`search.STRETCH_LIMIT` on this rank). Collective. Returns ``exploded``."""
+        self.exploded = self.comm.allreduce(self.exploded or exploded_here, op=MPI.LOR)
+        self._exploded_seen |= self.exploded
+        return self.exploded
+
+    def take_failure(self) -> str | None:
+        """``"exploded_geometry"`` if an update was rejected since the last call, else None."""
+        seen, self._exploded_seen = self._exploded_seen, False
+        return "exploded_geometry" if seen else None
