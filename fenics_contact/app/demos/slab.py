@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem
 
-from fenics_contact import Friction, function_space, interpolate_expression, make_law
+from fenics_contact import function_space, interpolate_expression
 from fenics_contact.app import build, cli, run
 from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, slab
@@ -42,19 +42,6 @@ def slab_check(s: dict, mu: float, refinement: int, method: str, top_load: float
 
 
 
-def law_from_args(args):
-    """cli's law, with ``lam0`` for auglag (cli has no option for it)."""
-    law = cli.law_from_args(args)
-    if args.method != "auglag":
-        return law
-    normal = make_law("auglag", K=args.K, lam0=args.lam0)
-    if not cli.has_friction(args):
-        return normal
-    if args.c_t is not None:
-        return Friction(normal, c_t=args.c_t, m_t=args.m_t, omega_t=args.omega_t)
-    return Friction(normal, mu=args.mu, omega_t=args.omega_t)
-
-
 def main(argv=None) -> dict:
     # 1. Options: the formulation (default: the exact condensed Signorini-Coulomb), mu, mesh, load steps.
     # The slab rests on the plate (g = 0 everywhere at t = 0), where penalty-type laws are open: methods penalty and
@@ -65,12 +52,11 @@ def main(argv=None) -> dict:
     p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the cells this many times (32 x 16 at 0)")
     p.add_argument("--steps", type=cli.COUNT, default=1, help="proportional load steps (friction is path dependent)")
     p.add_argument("--sweep", action="store_true", help=f"run mu in {SWEEP} and plot the zones against mu")
-    p.add_argument("--lam0", type=cli.NONNEGATIVE, default=slab.LAM0,
-                   help="auglag: initial normal multiplier (> 0: the resting slab's first Jacobian needs it)")
     p.add_argument("--model", choices=["linear", "neohookean"], default="linear",
                    help="bulk material (coulomb: linear only)")
     scene = add_scene_options(p, slab.build)  # --width, --height, --E, --nu, --top-pressure, --side-pressure
-    p.set_defaults(method="coulomb", omega_t=slab.OMEGA_T, F_hat=slab.LAM0)
+    # auglag's lam0 > 0: the resting slab's first Jacobian needs it
+    p.set_defaults(method="coulomb", omega_t=slab.OMEGA_T, F_hat=slab.LAM0, lam0=slab.LAM0)
     for action in p._actions:
         if action.dest == "method":
             action.choices = [m for m in action.choices if m not in ("penalty", "nitsche")]
@@ -85,13 +71,12 @@ def main(argv=None) -> dict:
         folder = out / f"mu_{mu:g}" if args.sweep else out
 
         # 2. The scene: half slab, tractions on top and free side, symmetry, rigid frictional base.
-        setup = build("slab", law=law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
+        setup = build("slab", law=cli.law_from_args(args), quadrature=args.quadrature, refinement=args.refinement,
                       steps=args.steps, model=args.model, **scene_arguments(args, scene))
         comm = setup.problem.comm
 
         # 3. Solve (one proportional step by default), write XDMF and summary.json.
-        summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps,
-                                                      **({"lam0": args.lam0} if args.method == "auglag" else {})},
+        summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps},
                       args.augment, args.augment_tol, args.quiet,
                       options={**cli.solver_options(args), **slab.SOLVER_OPTIONS},
                       check=lambda s, mu=mu: slab_check(s, mu, args.refinement, args.method,
