@@ -49,6 +49,7 @@ scaling: setup
 docs: setup
 	$(PY) -m fenics_contact.capabilities > docs/capabilities.md
 	$(PY) -m fenics_contact.methods > docs/methods.md
+	$(PY) scripts/layout.py > docs/layout.md
 
 lint: setup
 	$(VENV)/bin/ruff check fenics_contact tests scripts

@@ -223,3 +223,12 @@ def test_a_method_without_a_law_of_the_gap_is_no_contact_law():
         with pytest.raises(ValueError, match="friction needs a normal law"):
             fc.Friction(formulation, mu=0.3)
     assert isinstance(fc.Penalty(1.0), fc.Formulation)
+
+
+def test_layout_page_is_the_modules_docstrings():
+    """docs/layout.md is what the modules' docstrings say (``make docs`` writes it with scripts/layout.py)."""
+    spec = importlib.util.spec_from_file_location("layout", PACKAGE.parent / "scripts" / "layout.py")
+    layout = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(layout)
+    assert (PACKAGE.parent / "docs" / "layout.md").read_text() == layout.page()
+

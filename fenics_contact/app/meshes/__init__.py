@@ -5,7 +5,7 @@ Every builder returns ``(mesh, cells, facets)``, the tags as :class:`~fenics_con
 physical names (``facets["contact"]``, or the name itself wherever the library takes a tag).
 gmsh meshes (``hertz_quarter_disk``, ``pin_plate``, the seal sections, ``two_half_disks``,
 ``sheet_over_cylinder``, ``sphere_octant``, ``cap_on_block``, ``concentric_rings``) are meshed from the gmsh
-geometry sources of the top-level ``meshes/`` folder (``hertz.geo``, ``pin.geo``, ``seal.geo``, ``two_disks.geo``,
+geometry sources of ``fenics_contact/app/geo`` (``hertz.geo``, ``pin.geo``, ``seal.geo``, ``two_disks.geo``,
 ``sheet.geo``, ``sphere.geo``, ``mindlin3d.geo``, ``rings.geo``: parametrised with ``DefineConstant``, openable in
 the gmsh GUI; the builder sets the parameters) on rank 0 and distributed with ``dolfinx.io.gmshio.model_to_mesh``;
 ``rectangle`` and ``stacked_blocks`` use dolfinx's built-in meshes, ``ring_quarter`` maps a rectangle

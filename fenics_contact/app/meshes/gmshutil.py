@@ -1,4 +1,4 @@
-"""gmsh plumbing shared by the mesh builders: the .geo sources of ``meshes/``, build on rank 0, distribute."""
+"""gmsh plumbing shared by the mesh builders: the .geo sources (``app/geo``), build on rank 0, distribute."""
 from __future__ import annotations
 
 import hashlib

@@ -31,7 +31,7 @@ def hertz_quarter_disk(
     ``contact_width`` (default R/5) of the contact point (0, 0); beyond, the size
     grows linearly, by 0.25 per unit distance, up to ``h_far`` (default R/10). Facets:
     ``contact`` (the arc from (0, 0) to (R, R)), ``symmetry`` (x = 0), ``top`` (y = R);
-    cells ``disk``. The geometry: ``meshes/hertz.geo``. Initialises and finalises gmsh (on every rank).
+    cells ``disk``. The geometry: ``geo/hertz.geo``. Initialises and finalises gmsh (on every rank).
     ``half=True``: the lower half disk ``y <= R`` instead (``contact``: the arc from
     (-R, R) to (R, R); no ``symmetry`` facets), for the model-reduction check.
     ``full=True``: the whole disk (``contact``: the lower half of the circle, ``contact_upper``: the upper half,
@@ -58,7 +58,7 @@ def hertz_quarter_disk(
 
 def _build_quarter_disk(R: float, h_contact: float, h_far: float, contact_width: float, half: bool = False,
                         full: bool = False, plate: tuple[float, float] | None = None) -> None:
-    """Mesh ``meshes/hertz.geo`` (the quarter disk, half disk, full disk or quarter disk on a plate) in the
+    """Mesh ``geo/hertz.geo`` (the quarter disk, half disk, full disk or quarter disk on a plate) in the
     current gmsh session."""
     gmsh.model.add("hertz_quarter_disk")
     width, depth = plate if plate is not None else (0.5 * R, 0.25 * R)

@@ -26,7 +26,7 @@ def cap_on_block(comm: MPI.Comm, R: float = 1.0, H: float = 0.5, L: float = 1.0,
     Size ``h_contact`` within ``contact_width`` of the origin, growing by 0.25 per unit distance up to ``h_far``.
     Cells ``cap``, ``block``; facets ``cap_surface`` (the spherical surface), ``cap_top`` (z = H), ``block_top``
     (z = 0), ``block_bottom`` (z = -D), ``symmetry`` (y = 0, both bodies). The geometry:
-    ``meshes/mindlin3d.geo``. gmsh meshes on rank 0, in a child process. Collective.
+    ``geo/mindlin3d.geo``. gmsh meshes on rank 0, in a child process. Collective.
     """
     _positive(R=R, H=H, L=L, D=D, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     _graded(h_contact, h_far)
@@ -44,7 +44,7 @@ def cap_on_block(comm: MPI.Comm, R: float = 1.0, H: float = 0.5, L: float = 1.0,
 
 def _build(R: float, H: float, L: float, D: float, h_contact: float, h_far: float, contact_width: float,
            overlap: float) -> None:
-    """Mesh ``meshes/mindlin3d.geo`` in the current gmsh session."""
+    """Mesh ``geo/mindlin3d.geo`` in the current gmsh session."""
     gmsh.model.add("cap_on_block")
     _load_geo(geo_path("mindlin3d"), R=R, H=H, L=L, D=D, overlap=overlap, h_contact=h_contact, h_far=h_far,
               contact_width=contact_width, grading=_GRADING)

@@ -32,7 +32,7 @@ def pin_plate(
     R/10) of the hole, then growing by 0.25 per unit distance up to ``h_far``
     (default R/2). Facets: ``contact`` (the half hole, from (0, -R) through
     (R, 0) to (0, R)), ``symmetry`` (the two pieces of x = 0), ``top`` (y = above),
-    ``free`` (y = -below and x = half_width); cells ``plate``. The geometry: ``meshes/pin.geo``.
+    ``free`` (y = -below and x = half_width); cells ``plate``. The geometry: ``geo/pin.geo``.
 
     Returns:
         ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
@@ -54,7 +54,7 @@ def pin_plate(
 
 def _build_pin_plate(R: float, half_width: float, below: float, above: float, h_contact: float,
                      h_far: float, band: float) -> None:
-    """Mesh ``meshes/pin.geo`` (the half plate with a hole) in the current gmsh session."""
+    """Mesh ``geo/pin.geo`` (the half plate with a hole) in the current gmsh session."""
     gmsh.model.add("pin_plate")
     _load_geo(geo_path("pin"), R=R, half_width=half_width, below=below, above=above, h_contact=h_contact,
               h_far=h_far, band=band, grading=_GRADING)

@@ -25,7 +25,7 @@ def concentric_rings(comm: MPI.Comm, a: float = 0.2, b: float = 0.6, c: float = 
     (2: 6-node triangles whose boundary edges follow the circles at their three nodes).
     Facets: ``inner_free`` (r = a), ``inner_surface`` and ``outer_surface`` (r = b of each ring), ``loaded``
     (r = c), ``x0_inner``, ``y0_inner``, ``x0_outer``, ``y0_outer`` (the symmetry lines of each ring).
-    The geometry: ``meshes/rings.geo``. Collective; initialises and finalises gmsh on every rank."""
+    The geometry: ``geo/rings.geo``. Collective; initialises and finalises gmsh on every rank."""
     _positive(a=a, b=b, c=c)
     if not a < b < c:
         raise ValueError(f"radii must satisfy a < b < c, got a={a!r}, b={b!r}, c={c!r}")

@@ -164,7 +164,7 @@ def seal_wave_section(comm: MPI.Comm, h: float = 0.25, R_out: float = 10.0, R_in
 
 
 def _seal_mesh(comm: MPI.Comm, h: float, data: dict, shape: int, name: str) -> tuple[Mesh, NamedTags, NamedTags]:
-    """Check ``h`` against the band's thickness, mesh ``meshes/seal.geo`` (``shape`` 0: U, 1: S, 2: wave; ``data``
+    """Check ``h`` against the band's thickness, mesh ``geo/seal.geo`` (``shape`` 0: U, 1: S, 2: wave; ``data``
     the checked geometry) with gmsh and name the mesh."""
     if not (math.isfinite(h) and 0 < h <= (data["R_out"] - data["R_in"]) / 2):
         raise ValueError(f"h must be in (0, (R_out - R_in)/2], got {h!r}")

@@ -32,7 +32,7 @@ def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, 
     each of its two quarter arcs, ``n_rad`` through its wall; facets ``cylinder_surface`` (its outer arc
     ``r = R``), ``cylinder_fixed`` (``r = R_in``), ``symmetry`` (its two segments on ``x = 0``). The two bodies
     touch along ``r = R`` but share no node (``n_cyl != n_arc``: non-matching interface meshes).
-    The geometry: ``meshes/sheet.geo``. Initialises and finalises gmsh (on every rank).
+    The geometry: ``geo/sheet.geo``. Initialises and finalises gmsh (on every rank).
     """
     _positive(R=R, thickness=thickness, leg=leg)
     for name, value in (("n_arc", n_arc), ("n_thick", n_thick), ("n_leg", n_leg)):

@@ -25,7 +25,7 @@ def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far
     ``symmetry_y`` (y = 0), ``top`` (z = R); cells ``ball``. ``plate=(width, depth)``: the octant and, in the
     same mesh (no shared node), the block ``[0, width]^2 x [-depth, 0]`` under it (cells ``plate``; facets
     ``plate_top`` at z = 0, ``plate_bottom``, and its faces x = 0 and y = 0 in ``symmetry`` and ``symmetry_y``
-    with the octant's), graded toward (0, 0, 0) too. The geometry: ``meshes/sphere.geo``. gmsh meshes on rank 0,
+    with the octant's), graded toward (0, 0, 0) too. The geometry: ``geo/sphere.geo``. gmsh meshes on rank 0,
     in a child process (its peak memory stays out of this one).
 
     Returns:
@@ -45,7 +45,7 @@ def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far
 
 def _build_sphere_octant(R: float, h_contact: float, h_far: float, contact_width: float,
                          plate: tuple[float, float] | None = None) -> None:
-    """Mesh ``meshes/sphere.geo`` in the current gmsh session."""
+    """Mesh ``geo/sphere.geo`` in the current gmsh session."""
     gmsh.model.add("sphere_octant")
     width, depth = plate if plate is not None else (0.0, 0.0)
     _load_geo(geo_path("sphere"), R=R, h_contact=h_contact, h_far=h_far, contact_width=contact_width,

@@ -117,7 +117,7 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
     ``lower_bottom``, ``lower_top``, ``upper_bottom``, ``upper_top`` (each arc split at its widest point into a
     bottom and a top quarter); cells ``lower``, ``upper``. Collective.
     ``full=True``: the whole disks (model-reduction check): ``*_bottom`` / ``*_top`` are the lower /
-    upper half circles, no ``symmetry`` facets; the poles are vertices. The geometry: ``meshes/two_disks.geo``."""
+    upper half circles, no ``symmetry`` facets; the poles are vertices. The geometry: ``geo/two_disks.geo``."""
     _positive(R_lower=R_lower, R_upper=R_upper, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     geo_path("two_disks")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
@@ -129,7 +129,7 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
 
 
 def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading, full=False):
-    """Mesh ``meshes/two_disks.geo`` in the current gmsh session."""
+    """Mesh ``geo/two_disks.geo`` in the current gmsh session."""
     gmsh.model.add("two_half_disks")
     _load_geo(geo_path("two_disks"), R_lower=R1, R_upper=R2, h_contact=h_contact, h_far=h_far, contact_width=width,
               overlap=overlap, grading=grading, full=int(full))
