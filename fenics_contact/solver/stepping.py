@@ -1,15 +1,4 @@
-"""The solver driver: PETSc SNES, load stepping with cutback, augmentation loop, record.
-
-Every Newton iterate logs its residual and the active set of the contact
-points (closed, ``g > 0``); a failed solve is classified by
-:func:`fenics_contact.failure.classify` (cycling, stagnation, divergence,
-linear-solve failure / ill-conditioning) and recorded in the step's
-``failure`` (and in ``summary.json``) instead of a bare "did not converge".
-
-PETSc options: the defaults below are set under the options prefix only when
-absent, so anything given on the command line (``-fc_snes_rtol 1e-12``) or
-in ``options`` wins. The same options must be given on every rank.
-"""
+"""The solver: load stepping with cutback and rollback, and the augmentation loop of each step."""
 from __future__ import annotations
 
 import logging
@@ -22,18 +11,19 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from . import failure as _failure
-from .capabilities import check, of
-from .compat import petsc_vec, release_free_memory
-from .nullspace import rigid_body_modes
-from .problem import ContactProblem
+from .. import failure as _failure
+from ..capabilities import check, of
+from ..compat import petsc_vec, release_free_memory
+from ..nullspace import rigid_body_modes
+from ..problem import ContactProblem
 
 __all__ = [
     "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "LINEAR_SOLVERS", "INEXACT_NEWTON",
-    "ConvergenceError", "StepRecord", "Solver"
+    "ConvergenceError", "StepRecord", "Solver", "EW_RTOL_MAX", "MULTIGRID", "MUMPS_WORKSPACE_DEFAULT",
+    "MUMPS_WORKSPACE_MAX"
 ]
 
-logger = logging.getLogger(__name__)
+logger = logging.getLogger(__package__)
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
