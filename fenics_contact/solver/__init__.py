@@ -12,12 +12,8 @@ in ``options`` wins. The same options must be given on every rank.
 """
 import logging
 
+from .options import DEFAULT_OPTIONS, EW_RTOL_MAX, INEXACT_NEWTON, LINEAR_SOLVERS, MULTIGRID
 from .stepping import (
-    DEFAULT_OPTIONS,
-    EW_RTOL_MAX,
-    INEXACT_NEWTON,
-    LINEAR_SOLVERS,
-    MULTIGRID,
     MUMPS_WORKSPACE_DEFAULT,
     MUMPS_WORKSPACE_MAX,
     PREDICTOR_ETA,

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import logging
 import time
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
@@ -16,34 +15,12 @@ from ..capabilities import check, of
 from ..compat import petsc_vec, release_free_memory
 from ..nullspace import rigid_body_modes
 from ..problem import ContactProblem
+from .options import MULTIGRID, ScopedOptions, read_at_setup, solver_options
 
-__all__ = [
-    "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "LINEAR_SOLVERS", "INEXACT_NEWTON",
-    "ConvergenceError", "StepRecord", "Solver", "EW_RTOL_MAX", "MULTIGRID", "MUMPS_WORKSPACE_DEFAULT",
-    "MUMPS_WORKSPACE_MAX"
-]
+__all__ = ["MUMPS_WORKSPACE_DEFAULT", "MUMPS_WORKSPACE_MAX", "PREDICTORS", "PREDICTOR_ETA", "PREDICTOR_FD",
+           "ConvergenceError", "StepRecord", "Solver"]
 
 logger = logging.getLogger(__package__)
-
-DEFAULT_OPTIONS = {
-    "snes_type": "newtonls",
-    "snes_linesearch_type": "l2",  # bt stalls on the exponential branch of cross-constraints
-    "snes_rtol": 1e-11,
-    "snes_atol": 1e-10,
-    "snes_stol": 1e-14,
-    "snes_max_it": 30,
-    # Divergence (Solver._convergence_test): the residual above this factor times the first
-    # one AND grown in each of the last two iterations. PETSc's own test (above the factor at any iterate)
-    # stops a penalty-like law's first iterate, which penetrates by the whole approach: its residual jumps
-    # by ~K/E and then falls quadratically (hertz K = 1e14: 5.1 -> 5.0e7 -> 8.9e6 -> 3.7e-9); a diverging
-    # Newton keeps growing (the sheet's three-point penalty at eps = 1e5: to 1e8 in 3 iterations, and each
-    # iterate of an exploded geometry widens the two-body pattern). PETSc's test: -fc_snes_convergence_test
-    # default. Real failures are named by failure.classify.
-    "snes_divergence_tolerance": 1e4,
-    "ksp_type": "preonly",
-    "pc_type": "lu",
-    "pc_factor_mat_solver_type": "mumps",
-}
 
 # MUMPS's work arrays: ICNTL(14), percent over the analysis' estimate. MUMPS's default; the most the solver grows
 # it to after a failed factorization (Solver._grow_mumps_workspace: 20 -> 40 -> ... -> 640, then a cutback).
@@ -55,41 +32,6 @@ PREDICTOR_FD = 1e-6  # forward-difference step of dR/dt in the tangent predictor
 # Line-search tolerance of the tangent predictor: |slope| <= PREDICTOR_ETA |slope at 0|. Near-exact (0.01 to 0.1
 # give the same seal history); 0.5 accepts the full tangent where the seal's corner lands (16 iterations).
 PREDICTOR_ETA = 0.05
-
-
-# Linear solvers of ``--solver``. direct: sparse LU (MUMPS), robust for every method, the default for
-# the 2D scenes (up to ~1e5 dofs). iterative: GMRES with smoothed-aggregation AMG (GAMG) and the
-# rigid-body modes as near-nullspace, for 3D meshes where LU's fill-in and time grow too fast.
-# (CG would do for these symmetric Jacobians, but GAMG's Chebyshev smoothers, with eigenvalue
-# estimates from the first contact iterations, reported an indefinite preconditioner on the sphere.)
-# Multipliers (a saddle point): "iterative" becomes their own FGMRES + Schur complement field split
-# (multipliers.PressureUnknown.iterative_solver_options; options of the caller's own still win).
-# Inexact Newton (Eisenstat-Walker, PETSc's -snes_ksp_ew; demos' --inexact): each Krylov tolerance follows the
-# nonlinear residual's decrease, at most EW_RTOL_MAX (ksp_rtol is then unused). An early two-body iterate pushes
-# the undeformed bodies through each other: its Jacobian (large pressures times the master normal's variation)
-# took GAMG-GMRES 53 / 145 / over 1000 iterations to 1e-8 at 5e3 / 1e4 / 2e4 dofs (sphere on block), a failed
-# solve and a cutback each time; to 1e-2 it takes 9-89, and the Newton iterations fall too (23 -> 15 at 2e4
-# dofs). EW's default cap 0.9 doubles the Newton iterations. Not the default: the path of the Newton iterates
-# then depends on the partition (GAMG), and with it the pairing that the search's hysteresis keeps (a nodal
-# pressure 1e-3 / 7e-3 apart between 1 and 2 ranks at 1.2e5 / 4e5 dofs); with ksp_rtol 1e-8 they agree closely.
-EW_RTOL_MAX = 1e-2
-INEXACT_NEWTON = {"snes_ksp_ew": True, "snes_ksp_ew_rtol0": EW_RTOL_MAX, "snes_ksp_ew_rtolmax": EW_RTOL_MAX}
-# Preconditioners whose set-up builds a hierarchy of level solvers (renewed, not reset, on a new pattern).
-MULTIGRID = ("gamg", "ml", "hypre", "mg")
-
-LINEAR_SOLVERS = {
-    "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
-    "iterative": {"ksp_type": "gmres", "pc_type": "gamg", "ksp_rtol": 1e-8, "ksp_max_it": 500},
-}
-
-
-def _read_at_setup(name: str) -> bool:
-    """Options read when the linear solver is set up inside a solve, not by ``setFromOptions``: a nested split's
-    blocks (the Schur complement's KSP) and a multigrid's level smoothers and coarse solver are made then, and
-    MUMPS reads its ``mat_mumps_*`` options at each symbolic factorization (a new factor on every new sparsity
-    pattern)."""
-    # A split's own MUMPS or multigrid options start with fieldsplit_.
-    return name.startswith(("fieldsplit_", "mat_mumps_", "mg_levels_", "mg_coarse_"))
 
 
 class ConvergenceError(RuntimeError):
@@ -171,41 +113,22 @@ class Solver:
         self.predictor = "secant" if predictor is True else predictor  # False, "secant" or "tangent"
         self._converged: list[tuple[float, np.ndarray]] = []  # last two converged (t, u), for the predictor
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
-        # Options already in the database (command line) win; ours are removed
-        # after setFromOptions so that they do not leak into the next solver.
-        opts = PETSc.Options()
         self._bounded = any(c.bounded for c in problem.contacts)
-        defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if self._bounded else {})}
-        for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
-            defaults.update(c.solver_options)
-        wanted = {**defaults, **(options or {})}
-        if wanted.get("pc_type") == "lu":  # a direct solve: a formulation may split off trivial blocks
-            for c in problem.contacts:
-                wanted.update(c.direct_solver_options)
-        elif wanted.get("pc_type") in MULTIGRID:  # the iterative solve: a formulation may need its own (Schur)
-            for c in problem.contacts:  # the capability matrix, before any assembly
-                check(**of(c.law, u=problem.u), solver="iterative")
-            for c in problem.contacts:
-                if c.iterative_solver_options:  # the caller's own options (not those of the generic GAMG) win
-                    generic = LINEAR_SOLVERS["iterative"]
-                    own = {k: v for k, v in (options or {}).items() if k not in generic or generic[k] != v}
-                    wanted.update({**c.iterative_solver_options, **own})
-                    break
-        self._wanted, self._prefix = wanted, prefix
+        self.options = ScopedOptions(prefix, solver_options(problem, options))
         u = problem.u
         self.b = problem.create_vector()  # the residual vector of the SNES (dolfinx_mpc style: public)
         self.A = problem.create_matrix()  # the Jacobian matrix of the SNES
         self._x = petsc_vec(u).copy()
         self.snes = PETSc.SNES().create(problem.comm)
-        self.snes.setOptionsPrefix(prefix)
+        self.snes.setOptionsPrefix(self.options.prefix)
         self.snes.setFunction(self._residual, self.b)
         self.snes.setJacobian(self._jacobian, self.A)
         self.snes.setMonitor(self._monitor)
-        with self._wanted_options():
+        with self.options.active():
             self.snes.setFromOptions()
             self.snes.getKSP().setFromOptions()
-            self._divtol = opts.getReal(prefix + "snes_divergence_tolerance", 1e4)
-            if not opts.hasName(prefix + "snes_convergence_test"):
+            self._divtol = self.options.get_real("snes_divergence_tolerance", 1e4)
+            if not self.options.has("snes_convergence_test"):
                 self.snes.setConvergenceTest(self._convergence_test)
             self._split_fields()
             if self.snes.getKSP().getPC().getType() in MULTIGRID:
@@ -259,7 +182,7 @@ class Solver:
         if old.getType() in MULTIGRID:
             pc = PETSc.PC().create(self.problem.comm)
             pc.setOptionsPrefix(old.getOptionsPrefix())
-            with self._wanted_options():
+            with self.options.active():
                 pc.setFromOptions()
             ksp.setPC(pc)
             pc.destroy()  # the KSP holds its own reference
@@ -269,21 +192,6 @@ class Solver:
         else:
             old.reset()
         self._split_fields()  # a reset field split has forgotten its index sets
-
-    @contextmanager
-    def _wanted_options(self, keep: Callable[[str], bool] = lambda k: True):
-        """Our options (those of ``self._wanted`` that ``keep`` accepts) in PETSc's database for the ``with``
-        block, under our prefix; options already there (the command line's) win and stay. Removed afterwards,
-        so that they do not leak into the next solver."""
-        opts = PETSc.Options()
-        ours = [k for k in self._wanted if keep(k) and not opts.hasName(self._prefix + k)]
-        for k in ours:
-            opts[self._prefix + k] = self._wanted[k]
-        try:
-            yield
-        finally:
-            for k in ours:
-                opts.delValue(self._prefix + k)
 
     def _split_fields(self, pc: PETSc.PC | None = None) -> None:
         """Give a ``fieldsplit`` preconditioner (default: the SNES's) the index sets of the contact that
@@ -297,7 +205,7 @@ class Solver:
                 pc.setFieldSplitIS(*fields)
                 # The split's own KSPs exist now: they read their options (``fieldsplit_<name>_...``), which
                 # are out of the database again after setFromOptions (also after a reset of the split).
-                with self._wanted_options(lambda k: k.startswith("fieldsplit_")):
+                with self.options.active(lambda k: k.startswith("fieldsplit_")):
                     for ksp in pc.getFieldSplitSubKSP():
                         ksp.setFromOptions()
                     inner = pc.getFieldSplitSubKSP()[0].getPC()  # the first block split again (Schur)
@@ -371,7 +279,7 @@ class Solver:
             return reason
         petsc_vec(self.problem.u).copy(self._x)
         start = time.perf_counter()
-        with self._wanted_options(_read_at_setup):
+        with self.options.active(read_at_setup):
             self.snes.solve(None, self._x)
         self.timings["snes_s"] += time.perf_counter() - start
         self.linear_iterations += self.snes.getLinearSolveIterations()
@@ -499,7 +407,7 @@ class Solver:
         r1.scale(-(t - t0) / eps)
         ksp = self.snes.getKSP()
         ksp.setOperators(self.A)
-        with self._wanted_options(_read_at_setup):
+        with self.options.active(read_at_setup):
             ksp.solve(r1, du)
         p.set_load(t)
         if ksp.getConvergedReason() < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
@@ -606,14 +514,13 @@ class Solver:
         ``MUMPS_WORKSPACE_MAX`` and say so: True if the step should be retried. Not if the option was given on
         the command line (the user's value stands; the failure then names it)."""
         info = (failure or {}).get("mumps_infog")
-        key = self._prefix + "mat_mumps_icntl_14"
-        if not info or info[0] not in _failure.MUMPS_WORKSPACE or PETSc.Options().hasName(key):
+        if not info or info[0] not in _failure.MUMPS_WORKSPACE or self.options.has("mat_mumps_icntl_14"):
             return False
-        now = int(self._wanted.get("mat_mumps_icntl_14", MUMPS_WORKSPACE_DEFAULT))
+        now = int(self.options.wanted.get("mat_mumps_icntl_14", MUMPS_WORKSPACE_DEFAULT))
         if now >= MUMPS_WORKSPACE_MAX:
             return False
         grown = min(max(2 * now, 2 * MUMPS_WORKSPACE_DEFAULT), MUMPS_WORKSPACE_MAX)
-        self._wanted["mat_mumps_icntl_14"] = grown
+        self.options.wanted["mat_mumps_icntl_14"] = grown
         for F in _failure.mumps_factors(self.snes.getKSP()):  # a refactorization of the same pattern keeps F
             F.setMumpsIcntl(14, grown)
         failure["message"] = f"MUMPS INFOG(1) = {info[0]}: work array too small; ICNTL(14) {now} -> {grown}"
@@ -643,14 +550,14 @@ class Solver:
         ksp = PETSc.KSP().create(self.problem.comm)
         # the SNES's linear-solver options (ours and the command line's), under the same prefix
         ksp.setOptionsPrefix(self.snes.getOptionsPrefix())
-        with self._wanted_options(lambda k: k.startswith(("ksp_", "pc_", "mg_"))):
+        with self.options.active(lambda k: k.startswith(("ksp_", "pc_", "mg_"))):
             ksp.setFromOptions()
             self._split_fields(ksp.getPC())
         x = self.b.duplicate()
         start = time.perf_counter()
         self._jacobian(self.snes, self._x, self.A, self.A)
         ksp.setOperators(self.A)
-        with self._wanted_options(lambda k: k.startswith("fieldsplit_")):  # a nested split's blocks: see _newton
+        with self.options.active(lambda k: k.startswith("fieldsplit_")):  # a nested split's blocks: see _newton
             ksp.solve(self.b, x)
         elapsed = time.perf_counter() - start
         ksp.destroy()
@@ -673,8 +580,7 @@ class Solver:
                 own[k] = own.get(k, 0.0) + v
         split.update({k: self.problem.comm.allreduce(v, op=MPI.MAX) for k, v in sorted(own.items())})
         # -fc_condition_estimate: also the condition estimate of the last Jacobian (benchmarks' stability map)
-        condition = self.condition_estimate() if PETSc.Options().getBool(self._prefix + "condition_estimate",
-                                                                         False) else None
+        condition = self.condition_estimate() if self.options.get_bool("condition_estimate", False) else None
         return {"time_split": split, "newton_iterations": sum(r.newton_iterations for r in done),
                 "newton_iterations_spent": self.newton_spent,
                 "augmentations": sum(r.augmentations for r in done), "linear_iterations": self.linear_iterations,
