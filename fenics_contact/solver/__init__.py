@@ -13,15 +13,14 @@ in ``options`` wins. The same options must be given on every rank.
 import logging
 
 from .options import DEFAULT_OPTIONS, EW_RTOL_MAX, INEXACT_NEWTON, LINEAR_SOLVERS, MULTIGRID
+from .record import ConvergenceError, StepRecord
 from .stepping import (
     MUMPS_WORKSPACE_DEFAULT,
     MUMPS_WORKSPACE_MAX,
     PREDICTOR_ETA,
     PREDICTOR_FD,
     PREDICTORS,
-    ConvergenceError,
     Solver,
-    StepRecord,
 )
 
 __all__ = [

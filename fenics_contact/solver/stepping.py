@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 import numpy as np
@@ -16,9 +15,9 @@ from ..compat import petsc_vec, release_free_memory
 from ..nullspace import rigid_body_modes
 from ..problem import ContactProblem
 from .options import MULTIGRID, ScopedOptions, read_at_setup, solver_options
+from .record import ConvergenceError, RunRecord, StepRecord, describe, progress_line, reason_text
 
-__all__ = ["MUMPS_WORKSPACE_DEFAULT", "MUMPS_WORKSPACE_MAX", "PREDICTORS", "PREDICTOR_ETA", "PREDICTOR_FD",
-           "ConvergenceError", "StepRecord", "Solver"]
+__all__ = ["MUMPS_WORKSPACE_DEFAULT", "MUMPS_WORKSPACE_MAX", "PREDICTORS", "PREDICTOR_ETA", "PREDICTOR_FD", "Solver"]
 
 logger = logging.getLogger(__package__)
 
@@ -34,47 +33,20 @@ PREDICTOR_FD = 1e-6  # forward-difference step of dR/dt in the tangent predictor
 PREDICTOR_ETA = 0.05
 
 
-class ConvergenceError(RuntimeError):
-    """A load step failed even after the allowed cutbacks; ``failure`` says why (see :mod:`failure`)."""
+class _Delegated:
+    """An attribute of :class:`Solver` held by one of its parts (``part``, the name of the Solver's attribute)."""
 
-    def __init__(self, message: str, failure: dict | None = None, newton_iterations: int | None = None):
-        super().__init__(message)
-        self.failure = failure
-        self.newton_iterations = newton_iterations  # every iteration the run spent, if known (run.run)
+    def __init__(self, part: str, name: str | None = None):
+        self.part, self.name = part, name
 
+    def __set_name__(self, owner, name: str) -> None:
+        self.name = self.name or name
 
-@dataclass
-class StepRecord:
-    """One converged (or failed) load step: Newton residual histories per solve (one per augmentation)."""
+    def __get__(self, solver, owner=None):
+        return self if solver is None else getattr(getattr(solver, self.part), self.name)
 
-    step: int
-    load: float
-    residuals: list[list[float]] = field(default_factory=list)
-    constraint_change: list[float] = field(default_factory=list)
-    augmentations: int = 0
-    augmentation_converged: bool = True
-    converged: bool = False
-    reason: int = 0
-    wall_time_s: float = 0.0
-    closed_points: list[list[int]] = field(default_factory=list)  # closed contact points per iterate, per solve
-    failure: dict | None = None  # why the last solve failed (failure.classify), with step, load, augmentation
-    message: str = ""  # why a step failed, from a surface that solves the step itself
-    predictor_scale: float | None = None  # the tangent predictor's scale s (Solver._tangent_predictor)
-    # solves that SNES accepted on the step length alone, their residual above rtol and atol: Newton stalled at
-    # the round-off floor of an ill-conditioned Jacobian (failure.stalled)
-    stalled: list[int] = field(default_factory=list)
-
-    @property
-    def newton_iterations(self) -> int:
-        return sum(max(len(r) - 1, 0) for r in self.residuals)
-
-    def as_dict(self) -> dict:
-        return {"step": self.step, "load": self.load, "newton_iterations": self.newton_iterations,
-                "residuals": self.residuals, "constraint_change": self.constraint_change,
-                "augmentations": self.augmentations, "augmentation_converged": self.augmentation_converged,
-                "converged": self.converged, "snes_reason": self.reason, "wall_time_s": self.wall_time_s,
-                "closed_points": self.closed_points, "failure": self.failure, "message": self.message,
-                "predictor_scale": self.predictor_scale, "stalled": self.stalled}
+    def __set__(self, solver, value) -> None:
+        setattr(getattr(solver, self.part), self.name, value)
 
 
 class Solver:
@@ -96,6 +68,11 @@ class Solver:
     its end: a contact that the step closes is not driven far into the
     obstacle). The tangent needs a force-based contact law (not ``bounded``).
     """
+
+    records = _Delegated("record")
+    failures = _Delegated("record")  # every failed solve, also those rescued by a cutback
+    timings = _Delegated("record")  # seconds on this rank per activity
+    newton_spent = _Delegated("record")  # Newton iterations of every solve, also of failed attempts (cut back or final)
 
     def __init__(self, problem: ContactProblem, prefix: str = "fc_", options: dict | None = None,
                  augment_max: int = 0, augment_tol: float = 1e-12, max_cutbacks: int = 4,
@@ -135,19 +112,13 @@ class Solver:
                 for c in problem.contacts:  # the capability matrix, before any assembly
                     check(**of(c.law, u), solver="iterative")
                 self.A.setNearNullSpace(rigid_body_modes(u.function_space))
-        self.records: list[StepRecord] = []
-        self.failures: list[dict] = []  # every failed solve, also those rescued by a cutback
+        self.record = RunRecord()
         self._history: list[float] = []
         self._reference: float | None = None  # the rtol reference after a predictor (_convergence_test)
         self._sets: list = []  # active-set fingerprint per iterate of the current solve
         self._closed: list[int] = []
         self.t = 0.0
-        # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
-        # (their difference is the linear solves and SNES's vector work), augmentation updates.
-        self.timings = {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0,
-                        "predictor_s": 0.0}
         self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
-        self.newton_spent = 0  # Newton iterations of every solve, also of failed attempts (cut back or final)
 
     # --- SNES callbacks ---------------------------------------------------
     def _set_u(self, x: PETSc.Vec) -> None:
@@ -480,7 +451,7 @@ class Solver:
                 # per-communicator garbage list (destruction is collective): free it here, where every rank is.
                 PETSc.garbage_cleanup(self.problem.comm)
                 release_free_memory()
-                self.newton_spent += rec.newton_iterations
+                self.record.newton_spent += rec.newton_iterations
                 if rec.converged:
                     for c in self._stateful():
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
@@ -503,8 +474,8 @@ class Solver:
                     self.records.append(rec)
                     raise ConvergenceError(
                         f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
-                        f"{self.max_cutbacks} cutbacks: {_describe(rec.failure)}, "
-                        f"{rec.message or 'SNES reason ' + _reason(rec.reason)}; "
+                        f"{self.max_cutbacks} cutbacks: {describe(rec.failure)}, "
+                        f"{rec.message or 'SNES reason ' + reason_text(rec.reason)}; "
                         f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
         return self.records
 
@@ -532,14 +503,8 @@ class Solver:
         """One progress line per load step (and per failed attempt) on rank 0, through ``logging`` (INFO;
         ``quiet``: DEBUG)."""
         level = logging.DEBUG if self.quiet else logging.INFO
-        if self.problem.comm.rank != 0 or not logger.isEnabledFor(level):
-            return
-        last = rec.residuals[-1][-1] if rec.residuals and rec.residuals[-1] else float("nan")
-        why = f"{_describe(rec.failure)} ({rec.message or _reason(rec.reason)})"
-        tag = f"FAILED: {why}, cutting the step" if failed else (
-            f"aug {rec.augmentations:2d} R {rec.constraint_change[-1]:.2e}" if rec.constraint_change else "")
-        logger.log(level, f"step {rec.step:3d}  t {rec.load:9.4g}  newton {rec.newton_iterations:3d}  "
-                          f"|r| {last:9.2e}  {rec.wall_time_s:7.2f} s  {tag}")
+        if self.problem.comm.rank == 0 and logger.isEnabledFor(level):
+            logger.log(level, progress_line(rec, failed))
 
     def linear_solve_time(self) -> float:
         """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
@@ -565,44 +530,8 @@ class Solver:
         return self.problem.comm.allreduce(elapsed, op=MPI.MAX)
 
     def summary(self) -> dict:
-        """Totals over the converged steps; the time split is the maximum over ranks."""
-        done = [r for r in self.records if r.converged]
-        t = {k: self.problem.comm.allreduce(v, op=MPI.MAX) for k, v in self.timings.items()}
-        # active_set_s: the per-iterate active-set log (failure diagnosis), inside the SNES solves too
-        split = {"assembly_s": t["assembly_s"],
-                 "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
-                 "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"],
-                 "predictor_s": t["predictor_s"]}
-        # the surfaces' own work (two-body search, exchange, coupling: inside assembly_s), summed over surfaces
-        own: dict[str, float] = {}
-        for c in self.problem.contacts:
-            for k, v in c.timings().items():
-                own[k] = own.get(k, 0.0) + v
-        split.update({k: self.problem.comm.allreduce(v, op=MPI.MAX) for k, v in sorted(own.items())})
-        # -fc_condition_estimate: also the condition estimate of the last Jacobian (benchmarks' stability map)
+        """Totals over the converged steps; the time split is the maximum over ranks (:meth:`RunRecord.summary`).
+        ``-fc_condition_estimate``: also the condition estimate of the last Jacobian (benchmarks' stability map).
+        Collective."""
         condition = self.condition_estimate() if self.options.get_bool("condition_estimate", False) else None
-        return {"time_split": split, "newton_iterations": sum(r.newton_iterations for r in done),
-                "newton_iterations_spent": self.newton_spent,
-                "augmentations": sum(r.augmentations for r in done), "linear_iterations": self.linear_iterations,
-                "load_steps": len(done), "stalled_solves": sum(len(r.stalled) for r in done),
-                "residual_final": done[-1].residuals[-1][-1] if done and done[-1].residuals[-1] else None,
-                "condition_estimate": condition,
-                "converged": bool(self.records) and all(r.converged for r in self.records),
-                "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,
-                "failures": self.failures,
-                "steps": [r.as_dict() for r in self.records]}
-
-
-def _reason(code: int) -> str:
-    names = {v: k for k, v in vars(PETSc.SNES.ConvergedReason).items() if isinstance(v, int)}
-    return f"{names.get(code, '?')} ({code})"
-
-
-def _describe(failure: dict | None) -> str:
-    """One line for a failure record."""
-    if not failure:
-        return "no diagnosis"
-    text = f"{failure['kind']} after {failure['iterations']} iterations (augmentation {failure['augmentation']})"
-    if failure["kind"] == "cycling" and failure.get("period"):
-        text += f", active set repeating with period {failure['period']} from iterate {failure['start']}"
-    return text
+        return self.record.summary(self.problem.comm, self.problem.contacts, self.linear_iterations, condition)
