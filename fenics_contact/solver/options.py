@@ -26,7 +26,7 @@ DEFAULT_OPTIONS = {
     "snes_atol": 1e-10,
     "snes_stol": 1e-14,
     "snes_max_it": 30,
-    # Divergence (Solver._convergence_test): the residual above this factor times the first
+    # Divergence (newton.Newton.convergence_test): the residual above this factor times the first
     # one AND grown in each of the last two iterations. PETSc's own test (above the factor at any iterate)
     # stops a penalty-like law's first iterate, which penetrates by the whole approach: its residual jumps
     # by ~K/E and then falls quadratically (hertz K = 1e14: 5.1 -> 5.0e7 -> 8.9e6 -> 3.7e-9); a diverging

@@ -35,7 +35,7 @@ class StepRecord:
     closed_points: list[list[int]] = field(default_factory=list)  # closed contact points per iterate, per solve
     failure: dict | None = None  # why the last solve failed (failure.classify), with step, load, augmentation
     message: str = ""  # why a step failed, from a surface that solves the step itself
-    predictor_scale: float | None = None  # the tangent predictor's scale s (Solver._tangent_predictor)
+    predictor_scale: float | None = None  # the tangent predictor's scale s (predictor.Predictor.tangent)
     # solves that SNES accepted on the step length alone, their residual above rtol and atol: Newton stalled at
     # the round-off floor of an ill-conditioned Jacobian (failure.stalled)
     stalled: list[int] = field(default_factory=list)
