@@ -44,7 +44,9 @@ class LinearSolver:
             u = self.problem.u
             for c in self.problem.contacts:  # the capability matrix, before any assembly
                 check(**of(c.law, u), solver="iterative")
-            A.setNearNullSpace(rigid_body_modes(u.function_space))
+            modes = rigid_body_modes(u.function_space)
+            A.setNearNullSpace(modes)
+            modes.destroy()  # A holds its own reference
 
     def split_fields(self, pc: PETSc.PC | None = None) -> None:
         """Give a ``fieldsplit`` preconditioner (default: the SNES's) the index sets of the contact that

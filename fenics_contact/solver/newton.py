@@ -19,7 +19,7 @@ __all__ = ["Newton"]
 
 class Newton:
     """The SNES solving ``problem`` (prefix and options from ``options``), with its residual vector ``b``,
-    Jacobian matrix ``A``, solution vector ``x`` and linear solver ``linear``.
+    Jacobian matrix ``A``, solution vector ``x`` and linear solver ``linear``; owns them (:meth:`destroy`).
     Seconds go to ``timings`` (``assembly_s``, ``snes_s``, ``active_set_s``); ``on_iterate(it)`` is called after
     every Newton iterate, with ``problem.u`` at that iterate.
 
@@ -54,6 +54,11 @@ class Newton:
         self.reference: float | None = None
         self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
         self._norms: list[float] = []  # residual norms of the current solve, for the convergence test
+
+    def destroy(self) -> None:
+        """Destroy the SNES, ``A``, ``b`` and ``x``. Collective."""
+        for obj in (self.snes, self.A, self.b, self.x):
+            obj.destroy()
 
     # --- SNES callbacks ---------------------------------------------------
     def set_u(self, x: PETSc.Vec) -> None:

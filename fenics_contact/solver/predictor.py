@@ -20,13 +20,19 @@ PREDICTOR_ETA = 0.05
 
 class Predictor:
     """The predictor ``kind`` (one of :data:`PREDICTORS`; ``True`` is ``"secant"``) of the Newton solves of
-    ``newton``; seconds go to ``timings["predictor_s"]``."""
+    ``newton``; seconds go to ``timings["predictor_s"]``. Owns its work vectors (:meth:`destroy`)."""
 
     def __init__(self, kind: bool | str, newton: Newton, timings: dict[str, float]):
         self.kind = "secant" if kind is True else kind  # False, "secant" or "tangent"
         self.newton, self.problem, self.timings = newton, newton.problem, timings
         self.converged: list[tuple[float, np.ndarray]] = []  # the last two converged (t, u.x.array)
         self._work: list | None = None
+
+    def destroy(self) -> None:
+        """Destroy the work vectors. Collective."""
+        for v in self._work or []:
+            v.destroy()
+        self._work = None
 
     def start(self, t: float) -> None:
         """A run starts from the state at load ``t``: the first converged state unless there is one."""

@@ -56,7 +56,8 @@ class Solver:
     its end: a contact that the step closes is not driven far into the
     obstacle). The tangent needs a force-based contact law (not ``bounded``).
 
-    PETSc options (``prefix``, ``options``): see :mod:`.options`.
+    PETSc options (``prefix``, ``options``): see :mod:`.options`. The solver owns its PETSc objects (the SNES,
+    ``A``, ``b``): :meth:`destroy` them, or use the solver as a context manager.
     """
 
     snes = _Delegated("newton")  # the SNES
@@ -91,6 +92,17 @@ class Solver:
         self.newton = Newton(problem, self.options, self.record.timings, on_iterate)
         self.prediction = Predictor(predictor, self.newton, self.record.timings)
         self.t = 0.0  # the load of the last converged step
+
+    def destroy(self) -> None:
+        """Destroy the PETSc objects of the solver (the SNES, ``A``, ``b``, work vectors). Collective."""
+        self.prediction.destroy()
+        self.newton.destroy()
+
+    def __enter__(self) -> Solver:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.destroy()
 
     def _grow_mumps_workspace(self, failure: dict | None) -> bool:
         """:meth:`LinearSolver.grow_mumps_workspace`: True if the failed step should be retried."""
@@ -132,6 +144,7 @@ class Solver:
                 release_free_memory()
                 self.record.newton_spent += rec.newton_iterations
                 if rec.converged:
+                    snap[0].destroy()
                     for c in self._stateful():
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
@@ -143,6 +156,7 @@ class Solver:
                     cuts = 0
                     continue
                 self._rollback(snap)
+                snap[0].destroy()
                 self.failures.append(rec.failure)
                 self._progress(rec, failed=True)
                 if self._grow_mumps_workspace(rec.failure):
@@ -169,7 +183,7 @@ class Solver:
         return [*self.problem.contacts, *([self.problem.step_solver] if self.problem.step_solver else [])]
 
     def _snapshot(self):
-        """``problem.u`` (a copy) and the states of :meth:`_stateful`."""
+        """``problem.u`` (a copy, the caller's to destroy) and the states of :meth:`_stateful`."""
         return petsc_vec(self.problem.u).copy(), [c.state() for c in self._stateful()]
 
     def _rollback(self, snap) -> None:
