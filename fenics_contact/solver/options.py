@@ -1,0 +1,136 @@
+"""PETSc options of the solver: the defaults, the linear solvers, and the options in force under one prefix.
+
+The options a solver wants (:func:`solver_options`: the defaults, what the contact formulations need, the
+caller's own) are put in PETSc's database only for the duration of a set-up or a solve
+(:meth:`ScopedOptions.active`) and only where absent, so anything given on the command line
+(``-fc_snes_rtol 1e-12``) wins, and they do not leak into the next solver. The same options must be given on
+every rank.
+"""
+from __future__ import annotations
+
+from contextlib import contextmanager
+from typing import Callable, Iterator
+
+from petsc4py import PETSc
+
+from ..capabilities import check, of
+from ..problem import ContactProblem
+
+__all__ = ["DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON", "LINEAR_SOLVERS", "MULTIGRID", "ScopedOptions",
+           "read_at_setup", "solver_options"]
+
+DEFAULT_OPTIONS = {
+    "snes_type": "newtonls",
+    "snes_linesearch_type": "l2",  # bt stalls on the exponential branch of cross-constraints
+    "snes_rtol": 1e-11,
+    "snes_atol": 1e-10,
+    "snes_stol": 1e-14,
+    "snes_max_it": 30,
+    # Divergence (newton.Newton.convergence_test): the residual above this factor times the first
+    # one AND grown in each of the last two iterations. PETSc's own test (above the factor at any iterate)
+    # stops a penalty-like law's first iterate, which penetrates by the whole approach: its residual jumps
+    # by ~K/E and then falls quadratically (hertz K = 1e14: 5.1 -> 5.0e7 -> 8.9e6 -> 3.7e-9); a diverging
+    # Newton keeps growing (the sheet's three-point penalty at eps = 1e5: to 1e8 in 3 iterations, and each
+    # iterate of an exploded geometry widens the two-body pattern). PETSc's test: -fc_snes_convergence_test
+    # default. Real failures are named by failure.classify.
+    "snes_divergence_tolerance": 1e4,
+    "ksp_type": "preonly",
+    "pc_type": "lu",
+    "pc_factor_mat_solver_type": "mumps",
+}
+
+# Linear solvers of ``--solver``. direct: sparse LU (MUMPS), robust for every method, the default for
+# the 2D scenes (up to ~1e5 dofs). iterative: GMRES with smoothed-aggregation AMG (GAMG) and the
+# rigid-body modes as near-nullspace, for 3D meshes where LU's fill-in and time grow too fast.
+# (CG would do for these symmetric Jacobians, but GAMG's Chebyshev smoothers, with eigenvalue
+# estimates from the first contact iterations, reported an indefinite preconditioner on the sphere.)
+# Multipliers (a saddle point): "iterative" becomes their own FGMRES + Schur complement field split
+# (multipliers.PressureUnknown.iterative_solver_options; options of the caller's own still win).
+# Inexact Newton (Eisenstat-Walker, PETSc's -snes_ksp_ew; demos' --inexact): each Krylov tolerance follows the
+# nonlinear residual's decrease, at most EW_RTOL_MAX (ksp_rtol is then unused). An early two-body iterate pushes
+# the undeformed bodies through each other: its Jacobian (large pressures times the master normal's variation)
+# took GAMG-GMRES 53 / 145 / over 1000 iterations to 1e-8 at 5e3 / 1e4 / 2e4 dofs (sphere on block), a failed
+# solve and a cutback each time; to 1e-2 it takes 9-89, and the Newton iterations fall too (23 -> 15 at 2e4
+# dofs). EW's default cap 0.9 doubles the Newton iterations. Not the default: the path of the Newton iterates
+# then depends on the partition (GAMG), and with it the pairing that the search's hysteresis keeps (a nodal
+# pressure 1e-3 / 7e-3 apart between 1 and 2 ranks at 1.2e5 / 4e5 dofs); with ksp_rtol 1e-8 they agree closely.
+EW_RTOL_MAX = 1e-2
+INEXACT_NEWTON = {"snes_ksp_ew": True, "snes_ksp_ew_rtol0": EW_RTOL_MAX, "snes_ksp_ew_rtolmax": EW_RTOL_MAX}
+# Preconditioners whose set-up builds a hierarchy of level solvers (renewed, not reset, on a new pattern).
+MULTIGRID = ("gamg", "ml", "hypre", "mg")
+
+LINEAR_SOLVERS = {
+    "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
+    "iterative": {"ksp_type": "gmres", "pc_type": "gamg", "ksp_rtol": 1e-8, "ksp_max_it": 500},
+}
+
+
+def read_at_setup(name: str) -> bool:
+    """Options read when the linear solver is set up inside a solve, not by ``setFromOptions``: a nested split's
+    blocks (the Schur complement's KSP) and a multigrid's level smoothers and coarse solver are made then, and
+    MUMPS reads its ``mat_mumps_*`` options at each symbolic factorization (a new factor on every new sparsity
+    pattern)."""
+    # A split's own MUMPS or multigrid options start with fieldsplit_.
+    return name.startswith(("fieldsplit_", "mat_mumps_", "mg_levels_", "mg_coarse_"))
+
+
+def solver_options(problem: ContactProblem, options: dict | None = None) -> dict:
+    """The PETSc options (without prefix) a solver of ``problem`` wants: :data:`DEFAULT_OPTIONS` (SNES VI if a
+    contact is bounded), then what the contact formulations need, then ``options``; a direct solve takes the
+    formulations' ``direct_solver_options``, a multigrid one their ``iterative_solver_options`` (the caller's
+    own options still win). Raises ``UnsupportedCombination`` for a law the iterative solver cannot do."""
+    bounded = any(c.bounded for c in problem.contacts)
+    defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if bounded else {})}
+    for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
+        defaults.update(c.solver_options)
+    wanted = {**defaults, **(options or {})}
+    if wanted.get("pc_type") == "lu":  # a direct solve: a formulation may split off trivial blocks
+        for c in problem.contacts:
+            wanted.update(c.direct_solver_options)
+    elif wanted.get("pc_type") in MULTIGRID:  # the iterative solve: a formulation may need its own (Schur)
+        for c in problem.contacts:  # the capability matrix, before any assembly
+            check(**of(c.law, u=problem.u), solver="iterative")
+        for c in problem.contacts:
+            if c.iterative_solver_options:  # the caller's own options (not those of the generic GAMG) win
+                generic = LINEAR_SOLVERS["iterative"]
+                own = {k: v for k, v in (options or {}).items() if k not in generic or generic[k] != v}
+                wanted.update({**c.iterative_solver_options, **own})
+                break
+    return wanted
+
+
+class ScopedOptions:
+    """The options a solver wants (``wanted``, names without prefix) under its options ``prefix``, put in PETSc's
+    database only inside :meth:`active`."""
+
+    def __init__(self, prefix: str, wanted: dict):
+        self.prefix = prefix
+        self.wanted = wanted
+
+    def has(self, name: str) -> bool:
+        """True if ``prefix + name`` is in PETSc's database (the command line's; inside :meth:`active`, ours
+        too)."""
+        return PETSc.Options().hasName(self.prefix + name)
+
+    def get_real(self, name: str, default: float) -> float:
+        """The real value of ``prefix + name`` in PETSc's database, else ``default``."""
+        return PETSc.Options().getReal(self.prefix + name, default)
+
+    def get_bool(self, name: str, default: bool) -> bool:
+        """The boolean value of ``prefix + name`` in PETSc's database, else ``default``."""
+        return PETSc.Options().getBool(self.prefix + name, default)
+
+    @contextmanager
+    def active(self, keep: Callable[[str], bool] = lambda name: True) -> Iterator[None]:
+        """Our options (those of ``wanted`` that ``keep`` accepts) in PETSc's database for the ``with`` block,
+        under our prefix; options already there (the command line's) win and stay. Removed afterwards, so that
+        they do not leak into the next solver."""
+        opts = PETSc.Options()
+        ours = [k for k in self.wanted if keep(k) and not opts.hasName(self.prefix + k)]
+        for k in ours:
+            opts[self.prefix + k] = self.wanted[k]
+        try:
+            yield
+        finally:
+            for k in ours:
+                opts.delValue(self.prefix + k)

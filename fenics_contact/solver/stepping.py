@@ -1,0 +1,253 @@
+"""The solver: load stepping with cutback and rollback, and the augmentation loop of each step."""
+from __future__ import annotations
+
+import logging
+import time
+from typing import Callable, Sequence
+
+import numpy as np
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from ..compat import petsc_vec, release_free_memory
+from ..problem import ContactProblem
+from .newton import Newton
+from .options import ScopedOptions, solver_options
+from .predictor import PREDICTORS, Predictor
+from .record import ConvergenceError, RunRecord, StepRecord, describe, progress_line, reason_text
+
+__all__ = ["Solver"]
+
+logger = logging.getLogger(__package__)
+
+
+class _Delegated:
+    """An attribute of :class:`Solver` held by one of its parts (``part``, the name of the Solver's attribute)."""
+
+    def __init__(self, part: str, name: str | None = None):
+        self.part, self.name = part, name
+
+    def __set_name__(self, owner, name: str) -> None:
+        self.name = self.name or name
+
+    def __get__(self, solver, owner=None):
+        return self if solver is None else getattr(getattr(solver, self.part), self.name)
+
+    def __set__(self, solver, value) -> None:
+        setattr(getattr(solver, self.part), self.name, value)
+
+
+class Solver:
+    """Drives a :class:`ContactProblem` through a sequence of load values.
+
+    ``augment_max`` augmentations at most per load step (0: none), stopping
+    when ``R = ||g_new - g_old|| <= augment_tol``. A step whose SNES
+    diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
+    called after every converged step (output); ``on_iterate(it)`` after
+    every Newton iterate, with ``problem.u`` at that iterate. Progress: one
+    line per load step on rank 0 through ``logging`` (logger
+    ``fenics_contact.solver``, INFO; ``quiet``: DEBUG, i.e. silent unless
+    the log asks for it). ``predictor`` chooses the state each load
+    step starts from: ``False`` the last converged state; ``"secant"`` (or
+    ``True``) the linear extrapolation in ``t`` of the last two converged
+    states; ``"tangent"`` the Euler predictor of :meth:`Predictor.tangent`
+    (the tangent of the load path at the last converged state, scaled back
+    to the energy's stationary point along it when the energy rises before
+    its end: a contact that the step closes is not driven far into the
+    obstacle). The tangent needs a force-based contact law (not ``bounded``).
+
+    PETSc options (``prefix``, ``options``): see :mod:`.options`. The solver owns its PETSc objects (the SNES,
+    ``A``, ``b``): :meth:`destroy` them, or use the solver as a context manager.
+    """
+
+    snes = _Delegated("newton")  # the SNES
+    A = _Delegated("newton")  # the Jacobian matrix of the SNES
+    b = _Delegated("newton")  # the residual vector of the SNES
+    linear_iterations = _Delegated("newton")  # Krylov iterations of all Newton steps (1 per step for LU)
+    on_iterate = _Delegated("newton")
+    predictor = _Delegated("prediction", "kind")  # False, "secant" or "tangent"
+    records = _Delegated("record")
+    failures = _Delegated("record")  # every failed solve, also those rescued by a cutback
+    timings = _Delegated("record")  # seconds on this rank per activity
+    newton_spent = _Delegated("record")  # Newton iterations of every solve, also of failed attempts (cut back or final)
+    _residual = _Delegated("newton", "residual")
+    _jacobian = _Delegated("newton", "jacobian")
+
+    def __init__(self, problem: ContactProblem, prefix: str = "fc_", options: dict | None = None,
+                 augment_max: int = 0, augment_tol: float = 1e-12, max_cutbacks: int = 4,
+                 quiet: bool = False, on_step: Callable[[float], None] | None = None,
+                 on_iterate: Callable[[int], None] | None = None, predictor: bool | str = False):
+        if predictor not in PREDICTORS:
+            raise ValueError(f"predictor must be one of {PREDICTORS}, got {predictor!r}")
+        if augment_max < 0:
+            raise ValueError(f"augment_max must be >= 0, got {augment_max}")
+        if not augment_tol > 0:
+            raise ValueError(f"augment_tol must be > 0, got {augment_tol}")
+        if max_cutbacks < 0:
+            raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
+        self.problem, self.quiet, self.on_step = problem, quiet, on_step
+        self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
+        self.options = ScopedOptions(prefix, solver_options(problem, options))
+        self.record = RunRecord()
+        self.newton = Newton(problem, self.options, self.record.timings, on_iterate)
+        self.prediction = Predictor(predictor, self.newton, self.record.timings)
+        self.t = 0.0  # the load of the last converged step
+
+    def destroy(self) -> None:
+        """Destroy the PETSc objects of the solver (the SNES, ``A``, ``b``, work vectors). Collective."""
+        self.prediction.destroy()
+        self.newton.destroy()
+
+    def __enter__(self) -> Solver:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.destroy()
+
+    def _grow_mumps_workspace(self, failure: dict | None) -> bool:
+        """:meth:`LinearSolver.grow_mumps_workspace`: True if the failed step should be retried."""
+        return self.newton.linear.grow_mumps_workspace(failure)
+
+    def condition_estimate(self) -> float | None:
+        """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,
+        else None). Collective."""
+        return self.newton.condition_estimate()
+
+    def linear_solve_time(self) -> float:
+        """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
+        (factorization included): the cost floor of one linear elastic solve on this mesh, max over ranks
+        (:meth:`LinearSolver.solve_time`)."""
+        newton = self.newton
+        return newton.linear.solve_time(newton.A, newton.b,
+                                        lambda: newton.jacobian(newton.snes, newton.x, newton.A, newton.A))
+
+    def summary(self) -> dict:
+        """Totals over the converged steps; the time split is the maximum over ranks (:meth:`RunRecord.summary`).
+        ``-fc_condition_estimate``: also the condition estimate of the last Jacobian (benchmarks' stability map).
+        Collective."""
+        condition = self.condition_estimate() if self.options.get_bool("condition_estimate", False) else None
+        return self.record.summary(self.problem.comm, self.problem.contacts, self.linear_iterations, condition)
+
+    # --- load stepping ----------------------------------------------------
+    def run(self, loads: Sequence[float]) -> list[StepRecord]:
+        """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
+        self.prediction.start(self.t)
+        for target in loads:
+            cuts = 0
+            while self.t != target:
+                t = target if cuts == 0 else self.t + (target - self.t) / 2**cuts
+                snap = self._snapshot()
+                rec = self._step(t, len(self.records) + 1)
+                # petsc4py (>= 3.18) defers destroying objects whose last Python reference is dropped to a
+                # per-communicator garbage list (destruction is collective): free it here, where every rank is.
+                PETSc.garbage_cleanup(self.problem.comm)
+                release_free_memory()
+                self.record.newton_spent += rec.newton_iterations
+                if rec.converged:
+                    snap[0].destroy()
+                    for c in self._stateful():
+                        c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
+                    self.records.append(rec)
+                    self.t = t
+                    self.prediction.accept(t)
+                    self._progress(rec)
+                    if self.on_step is not None:
+                        self.on_step(t)
+                    cuts = 0
+                    continue
+                self._rollback(snap)
+                snap[0].destroy()
+                self.failures.append(rec.failure)
+                self._progress(rec, failed=True)
+                if self._grow_mumps_workspace(rec.failure):
+                    continue  # the same step again, with more room for MUMPS: not a cutback
+                cuts += 1
+                if cuts > self.max_cutbacks:
+                    self.records.append(rec)
+                    raise ConvergenceError(
+                        f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
+                        f"{self.max_cutbacks} cutbacks: {describe(rec.failure)}, "
+                        f"{rec.message or 'SNES reason ' + reason_text(rec.reason)}; "
+                        f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
+        return self.records
+
+    def _progress(self, rec: StepRecord, failed: bool = False) -> None:
+        """One progress line per load step (and per failed attempt) on rank 0, through ``logging`` (INFO;
+        ``quiet``: DEBUG)."""
+        level = logging.DEBUG if self.quiet else logging.INFO
+        if self.problem.comm.rank == 0 and logger.isEnabledFor(level):
+            logger.log(level, progress_line(rec, failed))
+
+    def _stateful(self) -> list:
+        """The contacts and the step solver: everything with ``state``/``restore``/``commit``."""
+        return [*self.problem.contacts, *([self.problem.step_solver] if self.problem.step_solver else [])]
+
+    def _snapshot(self):
+        """``problem.u`` (a copy, the caller's to destroy) and the states of :meth:`_stateful`."""
+        return petsc_vec(self.problem.u).copy(), [c.state() for c in self._stateful()]
+
+    def _rollback(self, snap) -> None:
+        """Back to the state of :meth:`_snapshot` ``snap``."""
+        snap[0].copy(petsc_vec(self.problem.u))
+        self.problem.u.x.scatter_forward()
+        for c, s in zip(self._stateful(), snap[1]):
+            c.restore(s)
+
+    # --- one load step ----------------------------------------------------
+    def _step(self, t: float, number: int) -> StepRecord:
+        """Solve at load ``t`` with the augmentation loop; the record says whether it converged."""
+        rec = StepRecord(step=number, load=t)
+        start = time.perf_counter()
+        newton = self.newton
+        self.problem.set_load(t)
+        if newton.bounded:
+            newton.set_bounds(t)
+        augmentable = [c for c in self.problem.contacts if c.augmentable]
+        for c in augmentable:
+            c.forget_gap()
+        newton.reference, rec.predictor_scale = self.prediction.predict(t, self.t)
+        while True:
+            rec.reason = newton.solve()
+            rec.residuals.append(newton.history)
+            rec.closed_points.append(newton.closed)
+            rec.message = newton.message
+            # Accepted on the step length with the residual above tolerance: the round-off floor of the linear
+            # solves. On a Jacobian whose condition estimate exceeds failure.ILL_CONDITIONED (direct solvers) the
+            # step is then garbage (singular: a free rigid mode) and the solve fails as ill_conditioning;
+            # otherwise it is accepted and recorded in ``stalled``.
+            ill = False
+            if rec.reason > 0 and newton.stalled(rec.reason):
+                rec.stalled.append(rec.augmentations)
+                ill = newton.ill_conditioned()
+            if rec.reason <= 0 or ill:
+                rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
+                               **newton.diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
+                break
+            J = self.problem.min_jacobian()  # finite strain: a converged state with an inverted element is no answer
+            if J is not None and not J > 0.0:
+                rec.message = f"converged to a state with an inverted element (min det F = {J:.3g})"
+                rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
+                               "kind": "inverted_elements", "iterations": max(len(newton.history) - 1, 0),
+                               "min_jacobian": J, "message": rec.message}
+                break
+            for c in self.problem.contacts:
+                c.after_solve(self.problem)
+            if not self.augment_max or not augmentable:
+                rec.converged = True
+                break
+            start_aug = time.perf_counter()
+            R = max(c.constraint_change() for c in augmentable)
+            if np.isfinite(R):
+                rec.constraint_change.append(R)
+            if R <= self.augment_tol:
+                rec.converged = True
+                break
+            if rec.augmentations == self.augment_max:
+                rec.converged, rec.augmentation_converged = True, False
+                break
+            for c in augmentable:
+                c.augment()
+            rec.augmentations += 1
+            self.timings["augmentation_s"] += time.perf_counter() - start_aug
+        rec.wall_time_s = self.problem.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+        return rec
