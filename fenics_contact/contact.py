@@ -205,7 +205,7 @@ class ContactSurface(Surface):
         n = self.S.dofmap.index_map.size_local * self.S.dofmap.index_map_bs
         return a[:n]
 
-    # --- per-iteration status (failure detection, see solver.py) -------------
+    # --- per-iteration status (failure detection, see fenics_contact.solver) -------------
     def closed_points(self) -> np.ndarray:
         """Flags ``g > 0`` (closed) at this rank's contact points (owned state dofs on the surface), at the
         current ``u``. Nodal quadrature: one flag per contact vertex; Gauss: per DG1 dof (Gauss point map)."""

@@ -232,3 +232,30 @@ def test_layout_page_is_the_modules_docstrings():
     spec.loader.exec_module(layout)
     assert (PACKAGE.parent / "docs" / "layout.md").read_text() == layout.page()
 
+
+
+def test_no_class_of_the_library_is_a_god_class():
+    """Every class of the library (not the application) fits in about 250 lines: one job each."""
+    long = []
+    for path in PACKAGE.rglob("*.py"):
+        if "app" in path.relative_to(PACKAGE).parts:
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > 270:
+                long.append(f"{path.relative_to(PACKAGE)}:{node.name} ({node.end_lineno - node.lineno + 1} lines)")
+    assert not long, long
+
+
+def test_the_solver_destroys_what_it_owns():
+    """``with Solver(...)``: the SNES, its matrix and vectors are destroyed on leaving the block (PETSc objects
+    destroyed by their owner, collectively), after a solve that gave the closed form."""
+    setup = app.build("block", law=fc.make_law("penalty", K=1e4))
+    with fc.Solver(setup.problem, quiet=True) as solver:
+        solver.run(setup.loads)
+        snes, A, b = solver.snes, solver.A, solver.b
+        assert snes.handle and A.handle and b.handle
+    assert not snes.handle and not A.handle and not b.handle
+    E, nu = 1000.0, 0.3
+    K = 1e4  # the penalty's penetration p / K: the homogeneous state with it
+    exact = E / (1 - nu**2) * 0.32 / (2.0 + E / (1 - nu**2) / K)
+    assert setup.figures()["contact_pressure"] == pytest.approx(exact, rel=1e-8)

@@ -46,7 +46,7 @@ rigidly; 1e-3 is 0.1 % of the contact pressures here (~1) and changes them by
 as much. Newton without line search (``SOLVER_OPTIONS``): the suite's default
 ``l2`` line search damps the steps where contacts switch (up to 17
 iterations instead of 8). Each step starts from the tangent predictor
-(``PREDICTOR``, :meth:`fenics_contact.solver.Solver._tangent_predictor`; the
+(``PREDICTOR``, :meth:`fenics_contact.solver.predictor.Predictor.tangent`; the
 S keeps the secant one, see ``PREDICTOR``): the secant one (extrapolating the
 last increment) drives the outer corner 0.42 and 0.49 through the upper plate
 at t = 2.0 and 2.5, after it has landed at t = 1.78 and the band has become
