@@ -4,6 +4,7 @@
 #            under mpirun -n 2, and those on Debian 13's dolfinx (mpirun -n 2); within 20 minutes on 2 cores
 # make test-fast: the library's unit and closed-form tests (not slow, no scene), under 2 minutes
 # make test-all: every test serially, under mpirun -n 2 and on Debian 13 (serial and mpirun -n 2)
+# make docs: regenerate the generated pages, build the HTML documentation into docs/_build/html (warnings are errors)
 # Lanes: the markers slow, scene and mpi, given in tests/conftest.py
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -45,11 +46,13 @@ SCALING_ARGS ?=
 scaling: setup
 	$(PY) demos/scaling.py --out results/scaling $(SCALING_ARGS)
 
-# the capability matrix and the methods page, printed from the declarations (tests check the committed files)
+# the generated pages (capability matrix, methods, layout; tests check the committed files), then the HTML
+# documentation with the API reference in docs/_build/html (warnings are errors)
 docs: setup
 	$(PY) -m fenics_contact.capabilities > docs/capabilities.md
 	$(PY) -m fenics_contact.methods > docs/methods.md
 	$(PY) scripts/layout.py > docs/layout.md
+	$(VENV)/bin/sphinx-build -W --keep-going -b html docs docs/_build/html
 
 lint: setup
 	$(VENV)/bin/ruff check fenics_contact tests scripts
@@ -76,4 +79,4 @@ test: lint test-serial test-mpi
 test-all: lint test-serial test-mpi-all test-debian13
 
 clean:
-	rm -rf results .pytest_cache
+	rm -rf results .pytest_cache docs/_build

@@ -154,7 +154,7 @@ class ContactSurface(Surface):
     # --- hooks of the solver (see :class:`~fenics_contact.surface.Surface`) ------------
     @property
     def augmentable(self) -> bool:
-        """The law's: True when it has augmentable fields (augmented Lagrangian, Uzawa)."""
+        """The law's ``augmentable``, True when it has augmentable fields (augmented Lagrangian, Uzawa)."""
         return self.law.augmentable
 
     # --- forms -----------------------------------------------------------

@@ -108,7 +108,7 @@ class Friction(ContactLaw):
 
     @property
     def method(self) -> str:
-        """The normal law's method: friction is on top of it."""
+        """The method of the normal law (friction is on top of it)."""
         return self.normal.method
 
     @property
@@ -133,7 +133,7 @@ class Friction(ContactLaw):
 
     @property
     def augmentable(self) -> bool:
-        """Always: the tangential multiplier (the traction the trial starts from) can be augmented."""
+        """Always True (the tangential multiplier, the traction the trial starts from, can be augmented)."""
         return True
 
     # --- tangential part -------------------------------------------------------

@@ -67,6 +67,7 @@ class HalfPlane(Obstacle):
 
     @property
     def shape(self) -> str:
+        """``"aligned"`` when the normal is a coordinate axis, else ``"plane"``."""
         return "aligned" if np.count_nonzero(self.n) == 1 else "plane"
 
     def describe(self):

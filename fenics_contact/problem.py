@@ -105,7 +105,7 @@ class ContactProblem:
 
     @property
     def L(self) -> fem.Form:
-        """The whole residual as one form (dolfinx's ``NonlinearProblem.L``), compiled on first use: :meth:`F`
+        """The whole residual as one form (dolfinx's ``NonlinearProblem.L``), compiled on first use; :meth:`F`
         assembles its parts."""
         if not hasattr(self, "_L"):
             self._L = fem.form(self._residual_ufl)
@@ -113,7 +113,7 @@ class ContactProblem:
 
     @property
     def a(self) -> fem.Form:
-        """The Jacobian of :attr:`L` as one form (``NonlinearProblem.a``), compiled on first use: :meth:`J`
+        """The Jacobian of :attr:`L` as one form (``NonlinearProblem.a``), compiled on first use; :meth:`J`
         assembles its parts."""
         if not hasattr(self, "_a"):
             self._a = fem.form(ufl.derivative(self._residual_ufl, self.u, self._du))

@@ -18,10 +18,10 @@ Memory is bounded whatever an iterate does: the number of pairs is counted
 before any is listed (``return_length``) and facets are processed in
 chunks of at most ``PAIR_BUDGET`` pairs, so a Newton iterate that stretches
 a facet across the whole surface costs time (every point becomes its
-candidate), never an allocation proportional to the geometry's extent (the
-earlier uniform bucket grid listed a facet in every cell of its bounding
-box: a stretched facet allocated gigabytes). The two-body surfaces also
-reject such an iterate outright (:data:`STRETCH_LIMIT`).
+candidate), never an allocation proportional to the geometry's extent (a
+uniform bucket grid would list a stretched facet in every cell of its
+bounding box: gigabytes). The two-body surfaces also reject such an iterate
+outright (:data:`STRETCH_LIMIT`).
 """
 from __future__ import annotations
 

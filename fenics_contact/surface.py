@@ -73,7 +73,7 @@ class Surface(abc.ABC):
 
     @property
     def augmentable(self) -> bool:
-        """True when :meth:`augment` improves the solution (augmented Lagrangian, Uzawa): the solver then runs
+        """True when :meth:`augment` improves the solution (augmented Lagrangian, Uzawa); the solver then runs
         the augmentation loop on this surface."""
         return False
 

@@ -17,6 +17,6 @@ if [ ! -f "$STAMP" ] || [ pyproject.toml -nt "$STAMP" ]; then
   echo "setup: creating $VENV (system site packages, numpy<2)"
   /usr/bin/python3 -m venv --system-site-packages "$VENV"
   # numpy 2 would break the system petsc4py at import: keep it below 2 in every install.
-  "$VENV/bin/pip" install -q --disable-pip-version-check "numpy<2" -e ".[tests,demos]" -c scripts/constraints.txt
+  "$VENV/bin/pip" install -q --disable-pip-version-check "numpy<2" -e ".[tests,demos,docs]" -c scripts/constraints.txt
   touch "$STAMP"
 fi

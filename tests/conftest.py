@@ -115,6 +115,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_capabilities.py::test_two_pass_coinciding_points_carry_the_one_pass_pressure",
     "test_collocation.py::test_collocated_multipliers_exact_on_the_curved_interface",
     "test_cylinders.py::test_hertz_both_surfaces_and_equilibrium[segment]",
+    "test_docs.py::test_html_documentation_builds_without_warnings",  # a Sphinx build of the documentation
     "test_demos.py::test_demo_passes_its_check[sheet]", "test_demos.py::test_demo_passes_its_check[ironing]",
     "test_demos.py::test_demo_passes_its_check[mindlin]",
     "test_friction.py::test_tangent_matches_finite_differences[2-*",

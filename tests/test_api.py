@@ -1,8 +1,11 @@
 """The public API: ``fenics_contact.__all__``, ``__all__`` in every public module, no import cycle, no gmsh on
-import, and a problem set up on one's own mesh with public names only."""
+import, a problem set up on one's own mesh with public names only, and its reference page (docs/api.md) and
+docstrings."""
 import ast
 import importlib
 import importlib.util
+import inspect
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -259,3 +262,62 @@ def test_the_solver_destroys_what_it_owns():
     K = 1e4  # the penalty's penetration p / K: the homogeneous state with it
     exact = E / (1 - nu**2) * 0.32 / (2.0 + E / (1 - nu**2) / K)
     assert setup.figures()["contact_pressure"] == pytest.approx(exact, rel=1e-8)
+
+
+def _kind(obj) -> str:
+    """The autodoc directive that documents ``obj``."""
+    if inspect.ismodule(obj):
+        return "module"
+    if inspect.isclass(obj):
+        return "exception" if issubclass(obj, BaseException) else "class"
+    return "function" if inspect.isfunction(obj) else "data"
+
+
+def test_api_page_documents_every_public_name():
+    """docs/api.md (the API reference of ``make docs``) has one autodoc directive of the right kind for every name
+    of ``fc.__all__``, and none for a name outside it."""
+    page = (PACKAGE.parent / "docs" / "api.md").read_text()
+    directives = re.findall(r"^\.\. auto(\w+):: fenics_contact\.(\w+)\s*$", page, re.M)
+    names = [name for _, name in directives]
+    assert len(names) == len(set(names)), sorted(n for n in names if names.count(n) > 1)
+    assert sorted(names) == sorted(fc.__all__), sorted(set(names) ^ set(fc.__all__))
+    wrong = [(name, kind) for kind, name in directives if kind != _kind(getattr(fc, name))]
+    assert not wrong, wrong
+
+
+def _args_section(doc: str) -> "list[str] | None":
+    """The names of a Google-style ``Args:`` section (``name: ...`` or ``name (type): ...``), or None without one."""
+    match = re.search(r"^Args:\n((?:[ \t]+\S.*\n?|[ \t]*\n)+)", doc, re.M)
+    if match is None:
+        return None
+    lines = [line for line in match.group(1).splitlines() if line.strip()]
+    indent = min(len(line) - len(line.lstrip()) for line in lines)
+    return [re.split(r"[\s(:]", line.strip(), maxsplit=1)[0].lstrip("*") for line in lines
+            if len(line) - len(line.lstrip()) == indent]
+
+
+def test_public_classes_and_functions_have_docstrings():
+    """Every class and function of ``fc.__all__`` has a docstring of its own; one with an ``Args:`` section (its
+    own or one of its public methods') names every parameter there, and only those."""
+    missing, wrong = [], []
+    for name in fc.__all__:
+        obj = getattr(fc, name)
+        if not (inspect.isclass(obj) or inspect.isfunction(obj)):
+            continue
+        doc = obj.__doc__ or ""
+        if not doc.strip() or doc.startswith(f"{name}("):  # none, or the signature a dataclass writes
+            missing.append(name)
+        callables = [(name, obj)]
+        for member, value in (vars(obj).items() if inspect.isclass(obj) else ()):
+            value = value.__func__ if isinstance(value, (staticmethod, classmethod)) else value
+            if not member.startswith("_") and inspect.isfunction(value):
+                callables.append((f"{name}.{member}", value))
+        for label, f in callables:
+            documented = _args_section(inspect.getdoc(f) or "")
+            if documented is None:
+                continue
+            params = [p.name for p in inspect.signature(f).parameters.values() if p.name not in ("self", "cls")]
+            if sorted(documented) != sorted(params):
+                wrong.append(f"{label}: Args {documented}, parameters {params}")
+    assert not missing, f"no docstring: {missing}"
+    assert not wrong, wrong

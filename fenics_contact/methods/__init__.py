@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import re
 from typing import Iterator, Mapping
 
 from . import auglag, compliance, coulomb, cross, lagrange, nitsche, penalty, penalty_multiplier, vi
@@ -110,6 +111,11 @@ for _module in (penalty, cross, auglag, compliance, vi, coulomb, lagrange, penal
 del _module
 
 
+def _cell(text: str) -> str:
+    """``text`` in a Markdown table cell: ``|`` and a ``<`` that would open an HTML tag (``<g>``) escaped."""
+    return re.sub(r"<(?=[A-Za-z/!?])", r"\\<", text).replace("|", r"\|")
+
+
 def markdown() -> str:
     """The registered methods as Markdown (``docs/methods.md``): each method's formulation, parameters (option,
     meaning, range, default), augmentation default, friction, two-body support and benchmark sweep."""
@@ -124,7 +130,7 @@ def markdown() -> str:
     friction = {"none": "no", "law": "on top of the law (`--mu`, `--c-t`, `--tresca`)", "own": "its own `mu`"}
     for m in methods():
         sweep = "once" if m.sweep.kind == "once" else f"{m.sweep.parameter} ({m.sweep.kind})"
-        lines.append(f"| `{m.name}` | {m.summary} | {m.augment} | {friction[m.friction]} | "
+        lines.append(f"| `{m.name}` | {_cell(m.summary)} | {m.augment} | {friction[m.friction]} | "
                      f"{'yes' if m.two_body is not None else 'no: ' + (m.no_two_body or 'refused')} | {sweep} |")
     lines += ["", "## Parameters", "", "| method | parameter | option | meaning | accepted | default |",
               "|---|---|---|---|---|---|"]
@@ -132,6 +138,6 @@ def markdown() -> str:
         for p in m.parameters:
             default = "the scene's" if p.default is None else f"`--{p.default.replace('_', '-')}`" if isinstance(
                 p.default, str) else f"{p.default:g}"
-            lines.append(f"| `{m.name}` | `{p.name}` | `--{p.option.replace('_', '-')}` | {p.help} | "
+            lines.append(f"| `{m.name}` | `{p.name}` | `--{p.option.replace('_', '-')}` | {_cell(p.help)} | "
                          f"{RANGES[p.range][1]} | {default} |")
     return "\n".join(lines) + "\n"

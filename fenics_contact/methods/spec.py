@@ -76,7 +76,8 @@ class Sweep:
             (the small range), ``gamma0`` (the Nitsche values), ``once`` (no parameter: once per mesh, nodal).
         parameter: the option swept (``K``, ``gamma0``; None for ``once``).
         augmented: also run with augmentation (the augmented variant of the method).
-        colour, size: the charts' colour and marker size.
+        colour: the charts' colour (a matplotlib colour name).
+        size: the charts' marker size.
         reference: what a user would pick instead of the suite's penalty-type laws (drawn as a reference).
     """
 
@@ -101,6 +102,7 @@ class Method:
             signature of :func:`fenics_contact.methods.builders.law_surface`.
         two_body: builds the two-body surfaces (signature of :func:`fenics_contact.methods.builders.law_two_body`),
             or None: two bodies are refused, for the reason ``no_two_body``.
+        no_two_body: why two bodies are refused (with ``two_body=None``): the capability grid's reason.
         augment: default augmentations per load step (0: none).
         friction: ``none`` (no tangential law), ``law`` (friction on top of the law: ``Friction(law, ...)``) or
             ``own`` (the law's own parameter ``mu``).

@@ -39,8 +39,11 @@ class TwoBodySurface(ContactSurface):
 
     Args:
         u: the problem's unknown (a displacement, or the mixed unknown of :mod:`multipliers`).
-        facet_tags, slave_tag, master_tag: the two surfaces (tag values, or names of :class:`domain.NamedTags`).
-        law: the contact law; ``load``: the load parameter (a scalar Constant).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`~fenics_contact.domain.NamedTags`).
+        slave_tag: the slave surface (a tag value, or a name of :class:`~fenics_contact.domain.NamedTags`).
+        master_tag: the master surface (likewise).
+        law: the contact law.
+        load: the load parameter (a scalar Constant).
         quadrature: ``nodal`` or ``gauss`` on degree-1 facets; on quadratic facets (2D, curved 3-node) the slave
             points are the three nodes of each facet, ``nodal`` integrates with the end nodes only (the
             two-point element's constraint) and ``simpson`` with all three.
@@ -48,6 +51,7 @@ class TwoBodySurface(ContactSurface):
         radius: search radius (default 2 x the longest master facet); farther points have no pair, no force.
         work_quadrature: the rule of the pressure's work term, if not ``quadrature`` (multipliers: ``simpson``
             with the constraint at the end nodes).
+        name: the surface's name, in its error messages.
         exclude: (k, gdim) reference positions of slave points left without a pair (node on node).
 
     Raises:
