@@ -92,3 +92,27 @@ def test_methods_page_is_the_registry():
     """docs/methods.md is what the declarations say (``make docs`` writes it)."""
     page = Path(__file__).resolve().parents[1] / "docs" / "methods.md"
     assert page.read_text() == methods.markdown()
+
+
+@pytest.mark.parametrize("method", ["penalty", "lagrange", "penalty_multiplier", "coulomb"])
+def test_one_call_builds_every_two_body_method(method):
+    """``fc.two_body_surfaces`` builds the two-body surface of every method the grid offers for two bodies (the
+    multipliers' and the condensed one's too): two blocks pressed by a traction p, equilibrium of the contact force
+    with the load."""
+    import ufl
+    from dolfinx import fem
+
+    from fenics_contact.app.meshes import stacked_blocks
+
+    mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (3, 3), 1e-6)
+    law = fc.make_law(method, **({"K": 1e6} if method in ("penalty", "penalty_multiplier") else {}))
+    u, V = fc.unknown(mesh, 1, law)
+    load = fem.Constant(mesh, 0.0)
+    contacts = fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law, load)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft.meshtags, subdomain_id=ft["upper_top"])
+    bcs = [fc.Dirichlet.on_facets(V, ft, "lower_bottom", 1), fc.Dirichlet.on_facets(V, ft, "left", 0)]
+    problem = fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.3), load, bcs, contacts,
+                                [(ufl.as_vector((0.0, -10.0)), ds)], step_solver=fc.step_solver_for(contacts))
+    fc.Solver(problem, quiet=True).run([1.0])
+    force = sum(c.total_force() for c in contacts)
+    assert force[1] == pytest.approx(10.0, rel=1e-8)  # the traction p on a unit width
