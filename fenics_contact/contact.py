@@ -95,6 +95,10 @@ class ContactSurface(Surface):
     ``u`` for an initially touching contact). ``load`` is the scalar
     ``Constant`` that moves the obstacle. ``u`` is the problem's unknown: the displacement,
     or a mixed (displacement, pressure) Function (:mod:`multipliers`).
+
+    Why one class of this size: it is the base of every enforcement on a contact surface (the gap, the law's
+    parameters as Constants and fields, the output fields and the results all share its measure and state
+    space); the parts of one job each (projection, measure) are composed from :mod:`projection`.
     """
 
     material = None  # the bulk material next to the surface (bind_material): its da/dA gives the Cauchy pressure

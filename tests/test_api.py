@@ -238,13 +238,15 @@ def test_layout_page_is_the_modules_docstrings():
 
 
 def test_no_class_of_the_library_is_a_god_class():
-    """Every class of the library (not the application) fits in about 250 lines: one job each."""
+    """Every class of the library (not the application) fits in about 250 lines (one job each), or says in its
+    docstring why it does not."""
     long = []
     for path in PACKAGE.rglob("*.py"):
         if "app" in path.relative_to(PACKAGE).parts:
             continue
         for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > 270:
+            if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > 250 and \
+                    "Why one class of this size" not in (ast.get_docstring(node) or ""):
                 long.append(f"{path.relative_to(PACKAGE)}:{node.name} ({node.end_lineno - node.lineno + 1} lines)")
     assert not long, long
 
