@@ -39,7 +39,8 @@ gmsh.option.setNumber("Mesh.CharacteristicLengthMax", 0.25)
 gmsh.model.mesh.generate(2)
 mesh, cells, facets = fc.read_gmsh(None, MPI.COMM_WORLD, gdim=2)
 gmsh.finalize()
-print(facets)
+if MPI.COMM_WORLD.rank == 0:
+    print(facets)  # the named regions
 
 # %% [markdown]
 # The method: `lagrange` makes the contact pressure an unknown, so `fc.unknown` returns a mixed function

@@ -63,4 +63,4 @@ p0 = 2 * P / (np.pi * a)
 x, gap, pressure = contact.surface_values()
 if MPI.COMM_WORLD.rank == 0:
     print(f"P = {P:.5f}, a = {a:.4f}, p0 = {pressure.max():.4f} (Hertz {p0:.4f}), {pressure.max() / p0 - 1:+.2%}")
-assert abs(pressure.max() / p0 - 1) < 0.02
+assert abs(pressure.max() / p0 - 1) < 0.005  # measured +0.01 %
