@@ -4,7 +4,7 @@
 #            under mpirun -n 2, and those on Debian 13's dolfinx (mpirun -n 2); within 20 minutes on 2 cores
 # make test-fast: the library's unit and closed-form tests (not slow, no scene), under 2 minutes
 # make test-all: every test serially, under mpirun -n 2 and on Debian 13 (serial and mpirun -n 2)
-# make docs: regenerate the generated pages, build the HTML documentation into docs/_build/html (warnings are errors)
+# make docs: regenerate the generated pages (also docs/tutorials/ from tutorials/), build the HTML documentation into docs/_build/html (warnings are errors)
 # Lanes: the markers slow, scene and mpi, given in tests/conftest.py
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -52,10 +52,11 @@ docs: setup
 	$(PY) -m fenics_contact.capabilities > docs/capabilities.md
 	$(PY) -m fenics_contact.methods > docs/methods.md
 	$(PY) scripts/layout.py > docs/layout.md
+	$(PY) scripts/tutorials.py
 	$(VENV)/bin/sphinx-build -W --keep-going -b html docs docs/_build/html
 
 lint: setup
-	$(VENV)/bin/ruff check fenics_contact tests scripts
+	$(VENV)/bin/ruff check fenics_contact tests scripts tutorials
 
 test-fast: setup
 	ulimit -v $(MEM_CAP_KB) && $(PYTEST) $(XDIST) -m "not slow and not scene" tests

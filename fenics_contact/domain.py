@@ -97,7 +97,9 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
     error = comm.bcast(error, root=0)
     if error:
         raise ValueError(error)
-    own = path is not None or not gmsh.isInitialized()
+    # source None: the caller's model; gmsh before 4.9 (Debian 12: 4.8) has no isInitialized, and a model built
+    # with its API means the caller initialized it
+    own = path is not None or not getattr(gmsh, "isInitialized", lambda: True)()
     if own:
         gmsh.initialize()
         gmsh.option.setNumber("General.Terminal", 0)

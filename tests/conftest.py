@@ -152,6 +152,7 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_sheet.py::test_multipliers_independent_of_c_and_of_ranks",
     "test_sheet.py::test_three_point_penalty_independent_of_ranks", "test_slab.py::test_parallel_equals_serial",
     "test_sparse.py::test_a_rank_without_rows",
+    "test_tutorials.py::test_tutorial_runs[03_two_blocks_patch]",
     "test_twobody.py::test_slave_and_master_on_different_ranks_equal_serial*",
 )
 

@@ -38,3 +38,35 @@ def test_bad_source():
         read_gmsh("no_such_mesh.msh", MPI.COMM_WORLD, gdim=2)
     with pytest.raises(ValueError, match="gdim must be 2 or 3"):
         read_gmsh(GEO, MPI.COMM_WORLD, gdim=4)
+
+
+@pytest.mark.parametrize("has_is_initialized", [True, False])
+def test_current_gmsh_model(has_is_initialized, monkeypatch):
+    """``read_gmsh(None)`` reads the model built with the gmsh API, also with a gmsh without ``isInitialized``
+    (4.8, Debian 12), and leaves the caller's gmsh session open."""
+    gmsh = pytest.importorskip("gmsh")
+    if not has_is_initialized:
+        monkeypatch.delattr(gmsh, "isInitialized", raising=False)
+    elif not hasattr(gmsh, "isInitialized"):
+        pytest.skip("this gmsh has no isInitialized")
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("square")
+        if MPI.COMM_WORLD.rank == 0:
+            square = gmsh.model.occ.addRectangle(0, 0, 0, 1, 1)
+            gmsh.model.occ.synchronize()
+            bottom = [t for d, t in gmsh.model.getBoundary([(2, square)], oriented=False)
+                      if np.isclose(gmsh.model.occ.getCenterOfMass(1, t)[1], 0.0)]
+            gmsh.model.addPhysicalGroup(2, [square], 1)
+            gmsh.model.setPhysicalName(2, 1, "body")
+            gmsh.model.addPhysicalGroup(1, bottom, 2)
+            gmsh.model.setPhysicalName(1, 2, "bottom")
+            gmsh.option.setNumber("Mesh.CharacteristicLengthMax", 0.25)
+            gmsh.model.mesh.generate(2)
+        mesh, cells, facets = read_gmsh(None, MPI.COMM_WORLD, gdim=2)
+        assert gmsh.model.getCurrent() == "square"  # the caller's session is still open
+    finally:
+        gmsh.finalize()
+    assert cells.names == {"body": 1} and facets.names == {"bottom": 2}
+    assert MPI.COMM_WORLD.allreduce(len(facets.find("bottom")), op=MPI.SUM) >= 4

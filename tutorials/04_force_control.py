@@ -1,0 +1,70 @@
+# %% [markdown]
+# # Force control from rest: a traction and the vanishing spring
+#
+# The block of the first tutorial, now loaded by a pressure `q` on its top instead of a displacement. The
+# left side is a roller (`u_x = 0`), nothing else holds the block vertically but the contact: at rest, before
+# the contact has closed, the problem is singular (a free rigid motion). The cure is a spring
+# `k (1 - t) u` on the whole body that vanishes at the last load step `t = 1`: it holds the block in the
+# steps before, and the answer at `t = 1` is that of the pure force-controlled problem.
+#
+# Tractions are `ContactProblem(..., tractions=[(vector, ds(tag)), ...])`, scaled by the load parameter
+# `t`. The spring is written here as one more load-scaled term, `(-s u, dx)` with `s = k (1 - t) / t`,
+# updated by `set_load`.
+
+# %%
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+import fenics_contact as fc
+
+E, nu, W, H, q = 1000.0, 0.3, 1.0, 2.0, 5.0
+
+# %% [markdown]
+# A rectangle of dolfinx's own is enough here; its sides are tagged 1 (base), 2 (top), 3 (left).
+
+# %%
+mesh = dmesh.create_rectangle(MPI.COMM_WORLD, [np.zeros(2), np.array([W, H])], [4, 8])
+sides = {1: lambda x: np.isclose(x[1], 0.0), 2: lambda x: np.isclose(x[1], H), 3: lambda x: np.isclose(x[0], 0.0)}
+found = [(tag, dmesh.locate_entities_boundary(mesh, 1, where)) for tag, where in sides.items()]
+indices = np.concatenate([f for _, f in found]).astype(np.int32)
+values = np.concatenate([np.full(len(f), tag, np.int32) for tag, f in found])
+order = np.argsort(indices)
+facets = dmesh.meshtags(mesh, 1, indices[order], values[order])
+ds = ufl.Measure("ds", domain=mesh, subdomain_data=facets)
+
+
+class VanishingSpring(fc.ContactProblem):
+    """The problem plus the body force ``-k (1 - t) u``, zero at ``t = 1``."""
+
+    def __init__(self, u, material, load, dirichlet, contacts, tractions, k):
+        self.spring, self.k = fem.Constant(u.function_space.mesh, 0.0), k
+        super().__init__(u, material, load, dirichlet, contacts,
+                         [*tractions, (-self.spring * u, ufl.dx(domain=u.function_space.mesh))])
+
+    def set_load(self, t):
+        super().set_load(t)
+        self.spring.value = self.k * (1.0 - t) / t if 0.0 < t < 1.0 else 0.0
+
+
+# %%
+law = fc.make_law("auglag", K=1e5)
+u, V = fc.unknown(mesh, 1, law)
+load = fem.Constant(mesh, 0.0)
+contact = fc.contact_surface(u, facets, 1, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
+problem = VanishingSpring(u, fc.LinearElastic(E, nu), load, [fc.Dirichlet.on_facets(V, facets, 3, 0)], [contact],
+                          tractions=[(fem.Constant(mesh, np.array([0.0, -q])), ds(2))], k=E)
+fc.Solver(problem, quiet=True, augment_max=20, augment_tol=1e-10).run([0.25, 0.5, 0.75, 1.0])
+
+# %% [markdown]
+# At `t = 1` the spring is gone: the plane carries the whole load, `q` per unit area, uniformly.
+
+# %%
+x, gap, pressure = contact.surface_values()
+force = contact.total_force()
+if MPI.COMM_WORLD.rank == 0:
+    print(f"force {force[1]:.10f} (q W = {q * W}), pressure {pressure.min():.8f} .. {pressure.max():.8f}")
+assert np.isclose(force[1], q * W, rtol=1e-8)
+assert np.allclose(pressure, q, rtol=1e-6)
