@@ -43,7 +43,7 @@ fi
 echo "debian13 lane: dolfinx $(chroot "$DEB13" python3 -c 'import dolfinx; print(dolfinx.__version__)')"
 
 rm -rf "$DEB13/$PROJECT" && mkdir -p "$DEB13/$PROJECT"
-cp -a pyproject.toml README.md LICENSE Makefile fenics_contact tests scripts demos docs "$DEB13/$PROJECT/"
+cp -a pyproject.toml README.md LICENSE Makefile fenics_contact tests scripts demos docs tutorials "$DEB13/$PROJECT/"
 find "$DEB13/$PROJECT" -name __pycache__ -prune -exec rm -rf {} +
 
 # Debian 13's Open MPI may hang here without these transport choices.
