@@ -51,7 +51,7 @@ from .multipliers import MultiplierContact, TwoBodyMultiplier, unknown
 from .nitsche import NitscheContact
 from .obstacles import Ball, Cylinder, HalfPlane, Obstacle, Sphere
 from .output import XDMFWriter, write_summary
-from .problem import ContactProblem, Dirichlet
+from .problem import ContactProblem, Dirichlet, Stabilised
 from .solver import INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
 from .surface import StepSolver, Surface
 from .twobody import TwoBodySurface
@@ -76,7 +76,7 @@ __all__ = [
     # your own mesh: gmsh physical names
     "read_gmsh", "NamedTags",
     # problem, boundary conditions, solver
-    "ContactProblem", "Dirichlet", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
+    "ContactProblem", "Dirichlet", "Stabilised", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
     "INEXACT_NEWTON",
     # spaces (the same call on every supported dolfinx)
     "function_space", "interpolate_expression",

@@ -21,7 +21,7 @@ from .domain import tag_value
 from .materials import Material, Materials
 from .surface import StepSolver, Surface
 
-__all__ = ["Dirichlet", "ContactProblem"]
+__all__ = ["Dirichlet", "ContactProblem", "Stabilised"]
 
 
 @dataclass
@@ -199,3 +199,34 @@ class ContactProblem:
         n_owned = self.u.function_space.dofmap.index_map.size_local * self.u.function_space.dofmap.index_map_bs
         return self.comm.allreduce(float(np.sum(self.internal_force()[dofs[dofs < n_owned]])), op=MPI.SUM)
 
+
+class Stabilised(ContactProblem):
+    """Force control from rest: a :class:`ContactProblem` with the vanishing spring ``k (1 - t) u`` on
+    ``dx_body``, for a body held only by contact under a load (tractions) that grows with ``t``.
+
+    The spring makes the steps before the last well posed from rest (the body is not yet held) and is exactly 0
+    at ``t = 1``, so the last step's state is the unstabilised problem's. It enters as a load-scaled body force
+    (``t * spring * u`` with ``spring = k (1 - t) / t``), like the ``tractions``. Solve over loads ending at 1.
+
+    Args:
+        u: the unknown, as :class:`ContactProblem`.
+        material: the bulk material(s).
+        load: the load parameter ``t`` (a scalar ``Constant``).
+        dirichlet: the Dirichlet conditions.
+        contacts: the contact surfaces.
+        tractions: ``(vector, measure)`` pairs, scaled by ``t``.
+        k: the spring's stiffness per unit volume (stress per length); about ``E / L^2`` for a body of size
+            ``L`` keeps the first steps well conditioned without masking the contact.
+        dx_body: the measure of the body the spring holds (``ufl.dx`` for all bodies, or a tagged part).
+        step_solver: as :class:`ContactProblem`.
+    """
+
+    def __init__(self, u: fem.Function, material, load: fem.Constant, dirichlet, contacts, tractions,
+                 k: float, dx_body: ufl.Measure, step_solver=None):
+        self.spring, self.k = fem.Constant(u.function_space.mesh, 0.0), float(k)
+        super().__init__(u, material, load, dirichlet, contacts,
+                         [*tractions, (-self.spring * displacement(u), dx_body)], step_solver=step_solver)
+
+    def set_load(self, t: float) -> None:
+        super().set_load(t)
+        self.spring.value = self.k * (1.0 - t) / t if 0.0 < t < 1.0 else 0.0

@@ -8,8 +8,8 @@
 # steps before, and the answer at `t = 1` is that of the pure force-controlled problem.
 #
 # Tractions are `ContactProblem(..., tractions=[(vector, ds(tag)), ...])`, scaled by the load parameter
-# `t`. The spring is written here as one more load-scaled term, `(-s u, dx)` with `s = k (1 - t) / t`,
-# updated by `set_load`.
+# `t`. `fc.Stabilised` is the `ContactProblem` with that spring (one more load-scaled term, `(-s u, dx)` with
+# `s = k (1 - t) / t`, updated at every load step).
 
 # %%
 import numpy as np
@@ -36,26 +36,14 @@ facets = dmesh.meshtags(mesh, 1, indices[order], values[order])
 ds = ufl.Measure("ds", domain=mesh, subdomain_data=facets)
 
 
-class VanishingSpring(fc.ContactProblem):
-    """The problem plus the body force ``-k (1 - t) u``, zero at ``t = 1``."""
-
-    def __init__(self, u, material, load, dirichlet, contacts, tractions, k):
-        self.spring, self.k = fem.Constant(u.function_space.mesh, 0.0), k
-        super().__init__(u, material, load, dirichlet, contacts,
-                         [*tractions, (-self.spring * u, ufl.dx(domain=u.function_space.mesh))])
-
-    def set_load(self, t):
-        super().set_load(t)
-        self.spring.value = self.k * (1.0 - t) / t if 0.0 < t < 1.0 else 0.0
-
-
 # %%
 law = fc.make_law("auglag", K=1e5)
 u, V = fc.unknown(mesh, 1, law)
 load = fem.Constant(mesh, 0.0)
 contact = fc.contact_surface(u, facets, 1, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
-problem = VanishingSpring(u, fc.LinearElastic(E, nu), load, [fc.Dirichlet.on_facets(V, facets, 3, 0)], [contact],
-                          tractions=[(fem.Constant(mesh, np.array([0.0, -q])), ds(2))], k=E)
+problem = fc.Stabilised(u, fc.LinearElastic(E, nu), load, [fc.Dirichlet.on_facets(V, facets, 3, 0)], [contact],
+                        tractions=[(fem.Constant(mesh, np.array([0.0, -q])), ds(2))], k=E / H**2,
+                        dx_body=ufl.dx(domain=mesh))
 fc.Solver(problem, quiet=True, augment_max=20, augment_tol=1e-10).run([0.25, 0.5, 0.75, 1.0])
 
 # %% [markdown]

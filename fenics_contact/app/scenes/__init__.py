@@ -14,12 +14,10 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
-import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ...contact import displacement
-from ...problem import ContactProblem
+from ...problem import ContactProblem, Stabilised
 from ...surface import Surface
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
@@ -51,23 +49,6 @@ class Setup:
         V = self.problem.u.function_space
         pinned = sum(c.pinned_dofs for c in self.contacts)
         return V.dofmap.index_map.size_global * V.dofmap.index_map_bs - pinned
-
-
-class Stabilised(ContactProblem):
-    """A problem with the vanishing spring ``k (1 - t) u`` on ``dx_body`` (a body held only by contact under force
-    control: the spring makes the steps before the last well posed from rest, and is exactly 0 at ``t = 1``).
-    The spring enters as a load-scaled body force (``t * spring * u``, ``spring = k (1 - t) / t``): the
-    residual terms of ContactProblem's ``tractions`` scale with ``t``."""
-
-    def __init__(self, u: fem.Function, material, load: fem.Constant, dirichlet, contacts, tractions,
-                 k: float, dx_body: ufl.Measure, step_solver=None):
-        self.spring, self.k = fem.Constant(u.function_space.mesh, 0.0), float(k)
-        super().__init__(u, material, load, dirichlet, contacts,
-                         [*tractions, (-self.spring * displacement(u), dx_body)], step_solver=step_solver)
-
-    def set_load(self, t: float) -> None:
-        super().set_load(t)
-        self.spring.value = self.k * (1.0 - t) / t if 0.0 < t < 1.0 else 0.0
 
 
 def scene_names() -> list[str]:

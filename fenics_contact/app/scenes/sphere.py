@@ -25,7 +25,7 @@ meant for the finer levels. ``R``, ``E``, ``nu``, ``approach`` and the refined z
 ``contact_width`` are keyword arguments of :func:`build` (defaults: the module constants).
 Force control (``load=P``, the whole sphere's force): the equator carries the
 uniform traction ``P / 4`` per the meshed equator's area downward and the octant is held only by the
-contact; from rest through the vanishing spring of :class:`~fenics_contact.app.scenes.Stabilised`
+contact; from rest through the vanishing spring of :class:`~fenics_contact.Stabilised`
 (``k = stabilisation * E / R^2`` on the body, exactly 0 at the last step), as in ``hertz``.
 """
 from __future__ import annotations
