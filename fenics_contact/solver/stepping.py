@@ -10,6 +10,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..compat import petsc_vec, release_free_memory
+from ..failure import cutback_helps
 from ..problem import ContactProblem
 from .newton import Newton
 from .options import ScopedOptions, solver_options
@@ -162,12 +163,14 @@ class Solver:
                 if self._grow_mumps_workspace(rec.failure):
                     continue  # the same step again, with more room for MUMPS: not a cutback
                 cuts += 1
-                if cuts > self.max_cutbacks:
+                hopeless = not cutback_helps(rec.failure)  # out of memory: a smaller step factors the same pattern
+                if cuts > self.max_cutbacks or hopeless:
                     self.records.append(rec)
                     raise ConvergenceError(
-                        f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
-                        f"{self.max_cutbacks} cutbacks: {describe(rec.failure)}, "
-                        f"{rec.message or 'SNES reason ' + reason_text(rec.reason)}; "
+                        f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge "
+                        f"{'(a cutback cannot help)' if hopeless else f'after {self.max_cutbacks} cutbacks'}: "
+                        f"{describe(rec.failure)}, "
+                        f"{rec.message or rec.failure.get('message') or 'SNES reason ' + reason_text(rec.reason)}; "
                         f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
         return self.records
 
