@@ -88,9 +88,14 @@ class Solver:
             raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
         self.problem, self.quiet, self.on_step = problem, quiet, on_step
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
-        self.options = ScopedOptions(prefix, solver_options(problem, options))
+        self.options = ScopedOptions(prefix, solver_options(problem, options), options)
         self.record = RunRecord()
         self.newton = Newton(problem, self.options, self.record.timings, on_iterate)
+        try:  # a misspelt option of the caller's: refused now, not silently ignored
+            self.options.refuse_unused()
+        except ValueError:
+            self.newton.destroy()
+            raise
         self.prediction = Predictor(predictor, self.newton, self.record.timings)
         self.t = 0.0  # the load of the last converged step
 
@@ -149,6 +154,7 @@ class Solver:
                     for c in self._stateful():
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
+                    self.options.refuse_unused_later(self.linear_iterations > 0)
                     self.t = t
                     self.prediction.accept(t)
                     self._progress(rec)
