@@ -503,7 +503,7 @@ def error_line(exc: BaseException) -> str | None:
     if "SizeError" in names:  # a scene's size: its builder argument is the option --<argument>
         option = f"--{exc.parameter.replace('_', '-')}"
         return f"{option} {exc.value:g}: {exc.reason}; accepted: {option} {exc.accepted}"
-    if isinstance(exc, ValueError) or "UnsupportedCombination" in names:
+    if isinstance(exc, ValueError) or {"UnsupportedCombination", "MeshingError"} & names:
         return str(exc).splitlines()[0] if str(exc) else type(exc).__name__
     return None
 
