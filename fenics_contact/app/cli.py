@@ -39,7 +39,7 @@ from ..contact import QUADRATURES
 from ..laws import ContactLaw
 from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
 from ..solver.options import option_used
-from .scenes import BYTES_PER_DOF, available_memory
+from .memory import BYTES_PER_DOF, available_memory
 
 logger = logging.getLogger(__name__)
 
@@ -124,7 +124,7 @@ def number(kind: type = float, low: float | None = None, high: float | None = No
 
 def count(low: int = 1) -> Callable[[str], int]:
     """An argparse ``type``: an integer ``>= low`` of load steps or cells, at most what the memory can hold
-    (each takes at least 1 kB, :data:`~fenics_contact.app.scenes.BYTES_PER_DOF`: a step's record, a cell's
+    (each takes at least 1 kB, :data:`~fenics_contact.app.memory.BYTES_PER_DOF`: a step's record, a cell's
     unknowns), checked when parsed."""
     at_least = number(int, low)
 

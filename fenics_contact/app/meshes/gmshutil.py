@@ -16,6 +16,7 @@ from mpi4py import MPI
 
 from ...compat import model_to_mesh
 from ...domain import NamedTags, physical_names
+from ..memory import available_memory
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
@@ -186,8 +187,6 @@ def _mesh_in_child(build, what: str, key: str) -> Path:
         if failure.exists():
             message = failure.read_text()
         elif code < 0:  # a crash; under a memory cap most likely an allocation that failed unchecked
-            from ..scenes import available_memory
-
             message = f"the mesher was killed by signal {-code} ({signal.Signals(-code).name})"
             nbytes, phrase = available_memory()
             if "ulimit" in phrase or "control group" in phrase:

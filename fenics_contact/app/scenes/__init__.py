@@ -10,9 +10,7 @@ import argparse
 import importlib
 import inspect
 import math
-import os
 import pkgutil
-import resource
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -24,10 +22,10 @@ from mpi4py import MPI
 from ...contact import displacement
 from ...problem import ContactProblem
 from ...surface import Surface
+from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
-           "add_scene_options", "scene_arguments", "BYTES_PER_DOF", "SizeError", "available_memory", "max_dofs",
-           "refuse_size"]
+           "add_scene_options", "scene_arguments", "SizeError", "max_dofs", "refuse_size"]
 
 
 @dataclass
@@ -144,42 +142,14 @@ def scene_arguments(args: argparse.Namespace, names: Sequence[str]) -> dict:
 
 
 # --- sizes the machine can hold --------------------------------------------------------------------------------
-# The least memory one unknown takes in a run (mesh, spaces, forms, vectors, the Jacobian and its factorization or
-# multigrid hierarchy): measured 2.5 kB per dof with MUMPS LU (hertz, 5e4 to 2e5 dofs), 1.4 kB with GAMG (sphere,
-# 1e4). Below every solver's, so that only a mesh that cannot fit is refused.
-BYTES_PER_DOF = 1000.0
-
-
-def _gb(nbytes: float) -> str:
-    return f"{nbytes / 1e9:.3g} GB" if nbytes < 1e15 else f"1e{math.log10(nbytes) - 9:.0f} GB"
-
-
-def available_memory() -> tuple[float, str]:
-    """Bytes this process may use, the least of the machine's memory, its control group's limit and the
-    address-space cap (``ulimit -v``), and a phrase saying which (``"this machine's 24.7 GB"``)."""
-    limits = [(float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")), "this machine's {}")]
-    try:
-        text = open("/sys/fs/cgroup/memory.max").read().strip()
-        if text.isdigit():
-            limits.append((float(text), "the control group's limit of {}"))
-    except OSError:
-        pass
-    for cap, name in ((resource.RLIMIT_AS, "ulimit -v"), (resource.RLIMIT_DATA, "ulimit -d")):
-        soft = resource.getrlimit(cap)[0]
-        if soft != resource.RLIM_INFINITY:
-            limits.append((float(soft), f"the {{}} this process may use ({name})"))
-    nbytes, phrase = min(limits)
-    return nbytes, phrase.format(_gb(nbytes))
-
-
 def max_dofs(comm: MPI.Comm) -> tuple[float, str]:
     """The most unknowns a run on ``comm`` can hold (:data:`BYTES_PER_DOF` each, in the memory of all its ranks,
     at most the machine's), and the phrase of :func:`available_memory` naming the limit. Collective."""
     nbytes, phrase = available_memory()
-    machine = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    machine = machine_memory()
     total = comm.allreduce(nbytes, op=MPI.SUM)
     if total >= machine:
-        return machine / BYTES_PER_DOF, f"this machine's {_gb(machine)}"
+        return machine / BYTES_PER_DOF, f"this machine's {gigabytes(machine)}"
     return total / BYTES_PER_DOF, phrase if comm.size == 1 else f"{comm.size} ranks x {phrase}"
 
 
@@ -201,7 +171,7 @@ def refuse_size(parameter: str, value, log10_dofs: float, accepted: Callable[[fl
     if log10_dofs <= math.log10(most):
         return
     dofs = f"{10 ** log10_dofs:.2g}" if log10_dofs < 15 else f"1e{log10_dofs:.0f}"
-    need = _gb(10 ** log10_dofs * BYTES_PER_DOF) if log10_dofs < 15 else \
+    need = gigabytes(10 ** log10_dofs * BYTES_PER_DOF) if log10_dofs < 15 else \
         f"1e{log10_dofs + math.log10(BYTES_PER_DOF) - 9:.0f} GB"
     raise SizeError(parameter, value, f"about {dofs} unknowns, at least {need} of memory, more than {phrase}",
                     accepted(math.log10(most)))
