@@ -4,10 +4,13 @@ The command line is strict: an unknown ``--option`` is an error naming it
 (with the closest known option), every number is range-checked while
 parsing (before any work), and single-dash options go to PETSc's options
 database (``-fc_snes_monitor``, ``-fc_snes_linesearch_type basic``: ``fc_``
-is the solver's options prefix) and are checked once the solver is set up
-and has solved (after the first converged load step of :func:`run.run`, and
-again at the end of the demo): an option PETSc never read is an error
-naming it. :func:`main` runs a demo's
+is the solver's options prefix): a value PETSc rejects on its own
+(``-fc_snes_max_it -5``) is an error naming it before any work
+(:func:`check_petsc_values`), and once the solver is set up and has solved
+(after the first converged load step of :func:`run.run`, and again at the
+end of the demo) an option PETSc never read is an error naming it. Counts
+(load steps, cells) are bounded by what the memory can hold
+(:func:`count`). :func:`main` runs a demo's
 ``main(argv)`` and turns the expected errors (bad input, a refused
 combination, a failed solve, a PETSc value PETSc rejects, a size the memory
 cannot hold, running out of memory) into one line on rank 0 and a non-zero
@@ -474,9 +477,12 @@ def _petsc_message(exc: PETSc.Error) -> str:
 
 
 def _where(exc: BaseException) -> str:
-    """``file:line function`` of the deepest frame of ``exc``'s traceback in this package (else the deepest)."""
+    """`` (in file:line, function)`` of the deepest frame of ``exc``'s traceback outside installed libraries
+    (numpy's allocation is not news: the line of the package or of the script that asked for it is)."""
     frames = traceback.extract_tb(exc.__traceback__)
-    ours = [f for f in frames if "fenics_contact" in f.filename] or frames
+    ours = [f for f in frames if "fenics_contact" in f.filename
+            or not any(p in f.filename for p in ("site-packages", "dist-packages", "/lib/python"))]
+    ours = ours or frames
     if not ours:
         return ""
     f = ours[-1]
