@@ -1,5 +1,6 @@
 """A user's gmsh mesh with named regions: names from the physical groups, errors naming what exists, the same
-mesh on any number of ranks (the deterministic partitioner)."""
+mesh on any number of ranks (the deterministic partitioner); a gdim other than the mesh's is one error on every
+rank."""
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +10,7 @@ from mpi4py import MPI
 from fenics_contact.domain import read_gmsh
 
 GEO = Path(__file__).parents[1] / "fenics_contact" / "app" / "geo" / "half_disk.geo"
+SPHERE = GEO.with_name("sphere.geo")  # a solid (3D) geometry
 
 
 def test_names_from_physical_groups():
@@ -38,3 +40,12 @@ def test_bad_source():
         read_gmsh("no_such_mesh.msh", MPI.COMM_WORLD, gdim=2)
     with pytest.raises(ValueError, match="gdim must be 2 or 3"):
         read_gmsh(GEO, MPI.COMM_WORLD, gdim=4)
+
+
+@pytest.mark.parametrize("source,gdim,dim", [(SPHERE, 2, 3), (GEO, 3, 2)])
+def test_gdim_other_than_the_mesh_dimension(source, gdim, dim):
+    """A 3D geometry read with gdim=2, a planar one with gdim=3: one ValueError naming gdim and the model's
+    dimension, before meshing, raised on every rank (none waits for the others)."""
+    with pytest.raises(ValueError, match=rf"^read_gmsh: gdim={gdim}, but '.*{source.name}' is {dim}D: "
+                                         rf"give gdim={dim}$"):
+        read_gmsh(source, MPI.COMM_WORLD, gdim=gdim)
