@@ -325,3 +325,24 @@ def test_error_line_of_the_new_kinds():
                                         "tolerance": 0.02, "passed": False, "source": "Hertz"}}) == \
         "check failed: p0 = 2, reference 1 (Hertz), rel. error 1.00e+00 > tolerance 2e-02"
     assert cli._failed_check({"check": {"passed": True}}) is None and cli._failed_check(None) is None
+
+
+def test_petsc_values_checked_alone_and_named(monkeypatch):
+    """A value PETSc takes without a word (-fc_snes_max_it -5: the solve later fails with "Internal error") is
+    checked on its own before any work, with PETSc's complaint; an option PETSc accepts passes, and the probe
+    leaves nothing in PETSc's database. A PETSc error naming no option lists those given."""
+    from petsc4py import PETSc
+
+    with pytest.raises(cli.UsageError, match=r"^PETSc rejected -fc_snes_max_it -5: Maximum number of iterations -5 "
+                                             r"must be non-negative$"):
+        cli.check_petsc_values([("fc_snes_max_it", "-5")])
+    cli.check_petsc_values([("fc_snes_monitor", ""), ("fc_snes_max_it", "5"), ("other_prefix_ksp_rtol", "2")])
+
+    class Internal(PETSc.Error):
+        def __str__(self):
+            return "error code 77\n[0] SNESSolve() at snes.c:4694\n[0] Internal error, solver returned without " \
+                   "setting converged reason"
+
+    monkeypatch.setattr(cli, "_PETSC_OPTIONS", [("fc_snes_max_it", "-5"), ("fc_snes_monitor", "")])
+    assert cli.error_line(Internal(77)) == "PETSc error 77: Internal error, solver returned without setting " \
+        "converged reason (PETSc options given: -fc_snes_max_it -5, -fc_snes_monitor)"
