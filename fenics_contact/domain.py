@@ -6,7 +6,8 @@ this process) on rank 0, distributes it with the deterministic partitioner
 and returns ``(mesh, cells, facets)``: :class:`NamedTags` that give each
 physical group by its name (``facets["contact"]``) and work wherever the
 library takes facet or cell tags. A name that the mesh does not have is an
-error naming the names it has.
+error naming the names it has; so is a ``gdim`` other than the mesh's
+dimension (raised on every rank).
 
 Everything here is collective on ``comm``; gmsh is imported only when a
 mesh is read.
@@ -83,7 +84,8 @@ def physical_names(gmsh) -> dict[int, dict[str, int]]:
 def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: int = 3):
     """Mesh and named cell and facet tags from a gmsh ``.msh``/``.geo`` file or (``source=None``) the gmsh model
     of this process (rank 0's). Returns ``(mesh, cells, facets)`` (:class:`NamedTags`). ``gdim``: the geometric
-    dimension (2 for a planar mesh)."""
+    dimension, the model's own (2 for a planar mesh in the plane z = 0, 3 for a solid); another is a
+    ``ValueError`` naming both."""
     import gmsh
 
     from .compat import model_to_mesh
@@ -112,7 +114,12 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
                     gmsh.merge(str(path))
                     if path.suffix == ".geo":
                         gmsh.model.geo.synchronize()
-                        gmsh.model.mesh.generate(gdim)
+                dim = gmsh.model.getDimension()  # of the model's entities: a .geo's before it is meshed
+                if dim != gdim:
+                    what = "the gmsh model" if path is None else repr(str(path))
+                    raise ValueError(f"gdim={gdim}, but {what} is {dim}D: give gdim={dim}")
+                if path is not None and path.suffix == ".geo":
+                    gmsh.model.mesh.generate(gdim)
                 names = physical_names(gmsh)
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
                 error = f"read_gmsh: {exc}"

@@ -17,6 +17,10 @@ in this order of precedence:
     array too small for the pivots delayed at factorization (:data:`MUMPS_WORKSPACE`, e.g. ``-9``) is
     ``linear_solve`` (the Jacobian is fine; the solver grows ``ICNTL(14)`` and retries the step), ``-10``
     (numerically singular) ``ill_conditioning``.
+``out_of_memory``
+    MUMPS could not allocate its arrays (:data:`MUMPS_MEMORY`, e.g. ``-13``; or its memory cap ``ICNTL(23)``
+    is too small): the record's ``message`` says how much it asked for. Not cut back (:func:`cutback_helps`):
+    a smaller load step has the same matrix pattern, so the same factorization size.
 ``divergence``
     a non-finite residual, SNES ``DIVERGED_DTOL``/``DIVERGED_FNORM_NAN``, or a
     final residual above ``1e4`` times the first.
@@ -58,17 +62,23 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 __all__ = [
-    "ILL_CONDITIONED", "KINDS", "MUMPS_WORKSPACE", "mumps_factors", "mumps_error", "fingerprint", "find_cycle",
-    "condition_estimate", "classify", "stalled", "reason_name"
+    "ILL_CONDITIONED", "KINDS", "MUMPS_MEMORY", "MUMPS_WORKSPACE", "NO_CUTBACK", "mumps_factors", "mumps_error",
+    "mumps_message", "fingerprint", "find_cycle", "condition_estimate", "classify", "cutback_helps", "stalled",
+    "reason_name"
 ]
 
 # MUMPS INFOG(1) values meaning a work array sized at analysis (plus ICNTL(14) percent) was too small: pivots
 # delayed by the numerical pivoting of the factorization need more room than the analysis estimated (Jacobians
 # of unsymmetric friction tangents with penalty entries ~1e6 x the elastic ones). Cure: a larger ICNTL(14).
 MUMPS_WORKSPACE = (-8, -9, -11, -12, -14, -15, -17, -20)
+# MUMPS INFOG(1) values meaning an allocation failed (-5, -7: at analysis; -13: at factorization or solve) or the
+# memory cap ICNTL(23) is below what the factorization needs (-19). INFOG(2): the size asked for (< 0: millions).
+MUMPS_MEMORY = (-5, -7, -13, -19)
 ILL_CONDITIONED = 1e12  # condition estimate above which a failed solve is blamed on the Jacobian
-KINDS = ("linear_solve", "ill_conditioning", "divergence", "cycling", "stagnation", "max_iterations",
-         "inverted_elements", "exploded_geometry")
+KINDS = ("linear_solve", "ill_conditioning", "out_of_memory", "divergence", "cycling", "stagnation",
+         "max_iterations", "inverted_elements", "exploded_geometry")
+# Kinds a smaller load step cannot cure: the solver gives up at once instead of cutting the step back.
+NO_CUTBACK = ("out_of_memory",)
 
 # KSP reasons that mean a singular or numerically unusable operator (PETSc KSPConvergedReason).
 _ILL_CONDITIONED_KSP = {"DIVERGED_PC_FAILED", "DIVERGED_PCSETUP_FAILED", "DIVERGED_NANORINF", "DIVERGED_BREAKDOWN",
@@ -161,6 +171,25 @@ def mumps_error(ksp) -> tuple[int, int] | None:
     return None
 
 
+def mumps_message(info: int, size: int) -> str:
+    """One line on a MUMPS failure of :data:`MUMPS_MEMORY` or :data:`MUMPS_WORKSPACE` (``INFOG(1)``, ``INFOG(2)``)."""
+    entries = -size * 1e6 if size < 0 else size  # MUMPS gives a size above 2^31 in millions, negated
+    if info == -19:
+        return (f"MUMPS INFOG(1) = -19: out of memory, its cap ICNTL(23) is {entries:.3g} entries short of what "
+                "the factorization needs")
+    if info in MUMPS_MEMORY:
+        what = "integer" if info == -7 else "real"
+        phase = "analysis" if info in (-5, -7) else "factorization"
+        return (f"MUMPS INFOG(1) = {info}: out of memory, the {phase} could not allocate {entries:.3g} {what} "
+                f"entries (~{entries * 8 / 1e9:.3g} GB)")
+    return f"MUMPS INFOG(1) = {info}: a work array is too small (INFOG(2) = {size})"
+
+
+def cutback_helps(failure: dict | None) -> bool:
+    """False for a failure a smaller load step cannot cure (kind in ``NO_CUTBACK``: out of memory)."""
+    return (failure or {}).get("kind") not in NO_CUTBACK
+
+
 def classify(snes_reason: str, ksp_reason: str, residuals: Sequence[float], sets: Sequence[Hashable],
              closed: Sequence[int], condition: float | None = None, mumps: tuple[int, int] | None = None) -> dict:
     """Name the failure of one Newton solve (see the module docstring).
@@ -178,8 +207,10 @@ def classify(snes_reason: str, ksp_reason: str, residuals: Sequence[float], sets
            "condition_estimate": condition}
     if mumps is not None:
         out["mumps_infog"] = list(mumps)
+        if mumps[0] in MUMPS_MEMORY:
+            return {"kind": "out_of_memory", **out, "message": mumps_message(*mumps)}
         if mumps[0] in MUMPS_WORKSPACE:
-            return {"kind": "linear_solve", **out}
+            return {"kind": "linear_solve", **out, "message": mumps_message(*mumps)}
     if snes_reason == "DIVERGED_LINEAR_SOLVE" and ksp_reason not in _ILL_CONDITIONED_KSP and not (
             condition is not None and condition > ILL_CONDITIONED):
         return {"kind": "linear_solve", **out}

@@ -113,6 +113,8 @@ SLOW = (  # studies of more than a few seconds each
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*two-body*]",
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*-3*]",
     "test_capabilities.py::test_two_pass_coinciding_points_carry_the_one_pass_pressure",
+    "test_cli.py::test_gmsh_out_of_memory_is_one_line",
+    "test_cli.py::test_failed_check_exits_3_after_writing_its_outputs[mindlin-auglag]",
     "test_collocation.py::test_collocated_multipliers_exact_on_the_curved_interface",
     "test_cylinders.py::test_hertz_both_surfaces_and_equilibrium[segment]",
     "test_docs.py::test_html_documentation_builds_without_warnings",  # a Sphinx build of the documentation

@@ -1,9 +1,14 @@
 """The strict command line: a misspelt option, a number out of range, an unused or rejected PETSc option end the
-demo with a non-zero exit and one line naming the offender, without a traceback (subprocesses, serial lane)."""
+demo with a non-zero exit and one line naming the offender, without a traceback (subprocesses, serial lane); so
+do a size the memory cannot hold and running out of memory. A failed check exits 3 after the outputs are
+written; an exception on one rank of an mpirun job ends the job."""
 import json
 import os
+import resource
 import subprocess
 import sys
+import textwrap
+import time
 from pathlib import Path
 
 import pytest
@@ -17,11 +22,21 @@ NOISE = ("hwloc/linux:", "[")  # hwloc's warning; UCX's "[<time>] [<host>] ... U
 serial = pytest.mark.skipif(MPI.COMM_WORLD.size > 1, reason="subprocesses from the serial lane only")
 
 
-def demo(name: str, *args: str, out: Path) -> subprocess.CompletedProcess:
+def _env() -> dict:
     env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "PMI_"))}
     env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
+def _cap(nbytes: int):
+    """A ``preexec_fn`` capping the child's address space (``ulimit -v``)."""
+    return lambda: resource.setrlimit(resource.RLIMIT_AS, (nbytes, nbytes))
+
+
+def demo(name: str, *args: str, out: Path, memory: int | None = None) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, str(ROOT / "demos" / f"{name}.py"), "--out", str(out), "--no-pictures",
-                           "--no-xdmf", "--quiet", *args], capture_output=True, text=True, env=env, timeout=300)
+                           "--no-xdmf", "--quiet", *args], capture_output=True, text=True, env=_env(), timeout=300,
+                          preexec_fn=None if memory is None else _cap(memory))
 
 
 def one_line_error(proc: subprocess.CompletedProcess, *named: str) -> str:
@@ -142,3 +157,192 @@ def test_error_line_knows_the_user_errors_only():
     assert cli.error_line(ConvergenceError("step 1 failed", {}, 12)) == \
         "did not converge: step 1 failed (12 Newton iterations spent)"
     assert cli.error_line(TypeError("a bug")) is None  # a bug keeps its traceback
+
+
+@serial
+@pytest.mark.parametrize("name,args", [
+    ("hertz", ["--approach", "2.0"]),  # twice the radius: p0 far from Hertz's
+    ("hertz", ["--method", "auglag", "--mu", "1e300"]),
+    ("rings", ["--main-only", "--n", "8", "--q", "1e6"]),
+    ("sphere", ["--quadrature", "gauss", "--size", "1.0"]),  # p0 25-30 % off with Gauss points
+    ("mindlin", ["--method", "auglag"]),  # the stick zone 9 % off
+], ids=["hertz-approach", "hertz-mu", "rings-q", "sphere-gauss", "mindlin-auglag"])
+def test_failed_check_exits_3_after_writing_its_outputs(name, args, tmp_path):
+    start = time.monotonic()
+    proc = demo(name, *args, out=tmp_path)
+    line = one_line_error(proc, "check failed: ", "rel. error", "> tolerance")
+    assert proc.returncode == 3 and line.startswith(f"{name}.py: check failed: ")
+    assert time.monotonic() - start < 60
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["check"]["passed"] is False
+
+
+@serial
+@pytest.mark.parametrize("name,args,status,named", [
+    ("block", ["-fc_snes_max_it", "-5"], 2, ["PETSc rejected -fc_snes_max_it -5:", "must be non-negative"]),
+    ("block", ["-fc_ksp_rtol", "2"], 2, ["PETSc rejected -fc_ksp_rtol 2:", "less than 1.0"]),
+    ("hertz", ["--steps", "1000000000"], 2, ["--steps", "must be an integer in [1, ", "got '1000000000'"]),
+    ("hertz", ["--refinement", "12"], 1, ["--refinement 12: about", "of memory", "accepted: --refinement 0 to "]),
+    ("sphere", ["--size", "1e-9"], 1, ["--size 1e-09: about", "accepted: --size >= "]),
+    ("hertz", ["-fc_mat_mumps_icntl_14", "100000000"], 1,
+     ["error: out of memory: ", "a cutback cannot help", "MUMPS INFOG(1) = -13"]),
+])
+def test_user_errors_are_one_line_within_seconds(name, args, status, named, tmp_path):
+    """Values PETSc would take silently or fail on later, absurd sizes, MUMPS out of memory: one line naming the
+    option (or what ran out), the exit status, within seconds; the refusals before any work."""
+    start = time.monotonic()
+    proc = demo(name, *args, out=tmp_path)
+    one_line_error(proc, *named)
+    assert proc.returncode == status and time.monotonic() - start < 30
+    if "out of memory" not in named[0]:
+        assert not (tmp_path / "summary.json").exists()  # refused before any work
+    else:  # one failed attempt, no cutback
+        assert len(json.loads((tmp_path / "summary.json").read_text())["failures"]) == 1
+
+
+@serial
+def test_absurd_refinement_under_a_memory_cap_names_the_cap(tmp_path):
+    proc = demo("hertz", "--refinement", "12", out=tmp_path, memory=2 * 10**9)
+    line = one_line_error(proc, "--refinement 12:", "(ulimit -v)", "accepted: --refinement 0 to ")
+    assert proc.returncode == 1 and "this process may use" in line
+
+
+def _script(tmp_path: Path, body: str) -> Path:
+    path = tmp_path / "script.py"
+    path.write_text("import sys\nimport numpy as np\nfrom mpi4py import MPI\nfrom fenics_contact.app import cli\n\n"
+                    + textwrap.dedent(body) + "\n\ncli.main(demo)\n")
+    return path
+
+
+@serial
+def test_memory_error_is_one_line_naming_what_ran_out(tmp_path):
+    script = _script(tmp_path, """
+        def demo(argv):
+            return np.ones(10**15)  # 8 PB
+    """)
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=_env(), timeout=120)
+    line = one_line_error(proc, "error: out of memory: Unable to allocate", "(in ", "script.py:", "demo)")
+    assert proc.returncode == 1 and "GB" in line
+
+
+def _mpirun(script: Path, *args: str, timeout: float) -> tuple[subprocess.CompletedProcess, float]:
+    env = {**_env(), "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+           "OMPI_MCA_rmaps_base_oversubscribe": "1"}
+    start = time.monotonic()
+    proc = subprocess.run(["mpirun", "-n", "2", sys.executable, str(script), *args], capture_output=True, text=True,
+                          env=env, timeout=timeout)
+    return proc, time.monotonic() - start
+
+
+@serial
+def test_an_exception_on_one_rank_ends_the_mpi_job(tmp_path):
+    """Rank 1 raises (a bug) while rank 0 waits in a collective: the traceback is printed and the whole job ends
+    within 10 s, with a non-zero exit, instead of rank 0 waiting for ever."""
+    script = _script(tmp_path, """
+        def demo(argv):
+            if MPI.COMM_WORLD.rank == 1:
+                raise RuntimeError("a bug seen by rank 1 only")
+            MPI.COMM_WORLD.barrier()
+    """)
+    proc, elapsed = _mpirun(script, timeout=60)
+    assert proc.returncode != 0 and elapsed < 10, (elapsed, proc.stderr)
+    assert "Traceback" in proc.stderr and "RuntimeError: a bug seen by rank 1 only" in proc.stderr
+
+
+@serial
+def test_an_expected_error_on_one_rank_ends_the_mpi_job(tmp_path):
+    """A one-line error raised by rank 1 alone while rank 0 waits in a collective: rank 1 waits for the others a
+    few seconds, says its line and ends the job; raised by every rank: one line from rank 0, every rank exits 1."""
+    script = _script(tmp_path, """
+        def demo(argv):
+            if sys.argv[1] == "every" or MPI.COMM_WORLD.rank == 1:
+                raise ValueError(f"a bad value seen by rank {MPI.COMM_WORLD.rank}")
+            MPI.COMM_WORLD.barrier()
+    """)
+    proc, elapsed = _mpirun(script, "one", timeout=60)
+    assert proc.returncode != 0 and elapsed < 15, (elapsed, proc.stderr)
+    assert "rank 1: error: a bad value seen by rank 1" in proc.stderr and "Traceback" not in proc.stderr
+    proc, elapsed = _mpirun(script, "every", timeout=60)
+    assert proc.returncode == 1 and elapsed < 10, (elapsed, proc.stderr)
+    assert "script.py: error: a bad value seen by rank 0" in proc.stderr and "seen by rank 1" not in proc.stderr
+
+
+@serial
+def test_make_demo_names_the_demos_whose_check_failed(tmp_path):
+    runs = tmp_path / "runs.txt"
+    runs.write_text("block\nhertz --approach 2.0 --no-pictures --no-xdmf\n")
+    env = {**_env(), "QUICK": str(runs), "MPIRUN": "env", "PY": sys.executable}
+    proc = subprocess.run(["bash", str(ROOT / "scripts" / "demos.sh"), "quick", str(tmp_path / "out")], cwd=ROOT,
+                          capture_output=True, text=True, env=env, timeout=300)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert "demos whose check failed (exit status 3): hertz" in proc.stdout
+    assert "checks failed: hertz (p0: rel. error" in proc.stdout and "demos that failed" not in proc.stdout
+
+
+@serial
+def test_gmsh_out_of_memory_is_one_line(tmp_path):
+    """gmsh running out of memory (std::bad_alloc in a parallel region aborts its process) in the mesher's child
+    process: one line saying so, under a 0.82 GB cap."""
+    script = _script(tmp_path, """
+        def demo(argv):
+            from fenics_contact.app.meshes import hertz_quarter_disk
+
+            hertz_quarter_disk(MPI.COMM_WORLD, 1.0, h_contact=1e-5, h_far=0.1, contact_width=0.1)
+    """)
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=_env(), timeout=300,
+                          preexec_fn=_cap(820 * 10**6))
+    line = one_line_error(proc, "gmsh", "memory", "the quarter disk")
+    assert proc.returncode == 1 and "out of memory" in line
+
+
+def test_counts_are_bounded_by_the_memory():
+    steps = cli.count(1)
+    assert steps("3") == 3
+    with pytest.raises(Exception, match=r"must be an integer in \[1, \d+\] \(a load step or a cell takes at least "
+                                        r"1 kB of .*\), got '1000000000000'"):
+        steps("1000000000000")
+    with pytest.raises(Exception, match=r">= 2"):
+        cli.count(2)("1")
+
+
+def test_error_line_of_the_new_kinds():
+    from fenics_contact.app.meshes.gmshutil import MeshingError
+    from fenics_contact.app.scenes import SizeError
+    from fenics_contact.solver import ConvergenceError
+
+    oom = ConvergenceError("load step 1 did not converge (a cutback cannot help): MUMPS ...",
+                           {"kind": "out_of_memory"}, 3)
+    assert cli.error_line(oom).startswith("out of memory: load step 1")
+    assert cli.error_line(SizeError("h_contact", 1e-9, "about 1e12 unknowns", ">= 0.01")) == \
+        "--h-contact 1e-09: about 1e12 unknowns; accepted: --h-contact >= 0.01"
+    assert cli.error_line(MeshingError("gmsh failed to mesh the seal: ...")) == "gmsh failed to mesh the seal: ..."
+    try:
+        raise MemoryError()
+    except MemoryError as exc:
+        line = cli.error_line(exc)
+    assert line.startswith("out of memory: Python could not allocate memory (in ") and "test_cli.py" in line
+    assert cli._failed_check({"check": {"figure": "p0", "value": 2.0, "reference": 1.0, "rel_error": 1.0,
+                                        "tolerance": 0.02, "passed": False, "source": "Hertz"}}) == \
+        "check failed: p0 = 2, reference 1 (Hertz), rel. error 1.00e+00 > tolerance 2e-02"
+    assert cli._failed_check({"check": {"passed": True}}) is None and cli._failed_check(None) is None
+
+
+def test_petsc_values_checked_alone_and_named(monkeypatch):
+    """A value PETSc takes without a word (-fc_snes_max_it -5: the solve later fails with "Internal error") is
+    checked on its own before any work, with PETSc's complaint; an option PETSc accepts passes, and the probe
+    leaves nothing in PETSc's database. A PETSc error naming no option lists those given."""
+    from petsc4py import PETSc
+
+    with pytest.raises(cli.UsageError, match=r"^PETSc rejected -fc_snes_max_it -5: Maximum number of iterations -5 "
+                                             r"must be non-negative$"):
+        cli.check_petsc_values([("fc_snes_max_it", "-5")])
+    cli.check_petsc_values([("fc_snes_monitor", ""), ("fc_snes_max_it", "5"), ("other_prefix_ksp_rtol", "2")])
+
+    class Internal(PETSc.Error):
+        def __str__(self):
+            return "error code 77\n[0] SNESSolve() at snes.c:4694\n[0] Internal error, solver returned without " \
+                   "setting converged reason"
+
+    monkeypatch.setattr(cli, "_PETSC_OPTIONS", [("fc_snes_max_it", "-5"), ("fc_snes_monitor", "")])
+    assert cli.error_line(Internal(77)) == "PETSc error 77: Internal error, solver returned without setting " \
+        "converged reason (PETSc options given: -fc_snes_max_it -5, -fc_snes_monitor)"

@@ -52,6 +52,10 @@ def test_table_needs_a_passed_check_in_every_row():
     failed = {**ok_row, "check": {**ok_row["check"], "value": None, "rel_error": None, "passed": False}}
     assert not table.table([ok_row, failed])[1]
     assert not table.table([ok_row, {k: v for k, v in ok_row.items() if k != "check"}])[1]  # no check: a failure
+    off = {**ok_row, "scene": "hertz", "check": {**ok_row["check"], "figure": "p0", "rel_error": 0.3, "tolerance": 0.02,
+                                                 "passed": False}}
+    assert table.failed_checks([ok_row, off, failed, {"scene": "pin"}]) == [
+        "hertz (p0: rel. error 3.00e-01 > 2e-02)", "block (contact_pressure: no value)", "pin (check: no check)"]
 
 
 @pytest.mark.parametrize("method", ["penalty", "nitsche"])

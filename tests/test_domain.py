@@ -1,5 +1,6 @@
 """A user's gmsh mesh with named regions: names from the physical groups, errors naming what exists, the same
-mesh on any number of ranks (the deterministic partitioner)."""
+mesh on any number of ranks (the deterministic partitioner); a gdim other than the mesh's is one error on every
+rank."""
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +10,7 @@ from mpi4py import MPI
 from fenics_contact.domain import read_gmsh
 
 GEO = Path(__file__).parents[1] / "fenics_contact" / "app" / "geo" / "half_disk.geo"
+SPHERE = GEO.with_name("sphere.geo")  # a solid (3D) geometry
 
 
 def test_names_from_physical_groups():
@@ -70,3 +72,12 @@ def test_current_gmsh_model(has_is_initialized, monkeypatch):
         gmsh.finalize()
     assert cells.names == {"body": 1} and facets.names == {"bottom": 2}
     assert MPI.COMM_WORLD.allreduce(len(facets.find("bottom")), op=MPI.SUM) >= 4
+
+
+@pytest.mark.parametrize("source,gdim,dim", [(SPHERE, 2, 3), (GEO, 3, 2)])
+def test_gdim_other_than_the_mesh_dimension(source, gdim, dim):
+    """A 3D geometry read with gdim=2, a planar one with gdim=3: one ValueError naming gdim and the model's
+    dimension, before meshing, raised on every rank (none waits for the others)."""
+    with pytest.raises(ValueError, match=rf"^read_gmsh: gdim={gdim}, but '.*{source.name}' is {dim}D: "
+                                         rf"give gdim={dim}$"):
+        read_gmsh(source, MPI.COMM_WORLD, gdim=gdim)

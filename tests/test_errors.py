@@ -1,4 +1,6 @@
-"""Bad input gets a clear error; a step that cannot converge raises after the last converged step is on disk."""
+"""Bad input gets a clear error; a step that cannot converge raises after the last converged step is on disk; a
+misspelt solver option and a combination the capability grid refuses are refused when the solver or the problem
+is made."""
 import dataclasses
 import json
 import re
@@ -15,7 +17,7 @@ from fenics_contact.contact import ContactSurface
 from fenics_contact.laws import Penalty
 from fenics_contact.materials import LinearElastic
 from fenics_contact.obstacles import Ball, HalfPlane
-from fenics_contact.solver import ConvergenceError
+from fenics_contact.solver import LINEAR_SOLVERS, ConvergenceError, Solver
 
 
 def _u(comm):
@@ -69,3 +71,53 @@ def test_failed_step_raises_after_writing_the_last_converged_state(tmp_path_fact
     times = re.findall(r'Time Value="([^"]+)"', open(f"{out}/block.xdmf").read())
     assert times and all(float(t) == 1e-16 for t in times)  # only the converged step
     assert MPI.COMM_WORLD.allreduce(1) == comm.size
+
+
+def test_misspelt_solver_option_is_refused_at_construction(comm):
+    """An option of ``Solver(options=...)`` that PETSc never reads is one line naming it and the closest known
+    option, before any solve; the correct spelling and the library's own options pass."""
+    setup = block.build(Penalty(1e5), comm=comm)
+    with pytest.raises(ValueError, match=r"^Solver option not read by PETSc when the solver was set up .*: "
+                                         r"snes_atoll \(did you mean snes_atol\?\)$"):
+        Solver(setup.problem, quiet=True, options={"snes_atoll": 1e-8})
+    with pytest.raises(ValueError, match=r"pc_gamg_threshold$"):  # spelt right, but LU reads no GAMG option
+        Solver(setup.problem, quiet=True, options={"pc_gamg_threshold": 0.1})
+    Solver(setup.problem, quiet=True, options={"snes_atol": 1e-8, **LINEAR_SOLVERS["direct"],
+                                               "condition_estimate": True}).destroy()
+
+
+def test_misspelt_option_read_inside_a_solve_is_refused_after_the_first_step(comm):
+    """MUMPS reads its options at factorization: a misspelt one is refused once the first load step has been
+    solved (a linear system factored), naming it."""
+    setup = block.build(Penalty(1e5), comm=comm)
+    solver = Solver(setup.problem, quiet=True, options={"mat_mumps_icntl14": 30})
+    with pytest.raises(ValueError, match=r"first load step's solves .*: mat_mumps_icntl14 \(did you mean "
+                                         r"mat_mumps_icntl_14\?\)"):
+        solver.run(setup.loads)
+    assert len(solver.records) == 1
+    solver.destroy()
+
+
+@pytest.mark.parametrize("body", ["rigid", "two-body"])
+def test_coulomb_with_a_neohookean_body_is_refused_when_the_problem_is_made(body, comm):
+    """Method coulomb condenses a constant stiffness: a neo-Hookean body is refused by the capability grid when
+    the problem binds its material, not at the first solve."""
+    from fenics_contact.app.meshes import stacked_blocks
+    from fenics_contact.capabilities import UnsupportedCombination
+    from fenics_contact.condensed import step_solver_for
+    from fenics_contact.factory import contact_surface, two_body_surfaces
+    from fenics_contact.laws import ExactCoulomb
+    from fenics_contact.materials import NeoHookean
+    from fenics_contact.problem import ContactProblem
+
+    if body == "rigid":
+        u, tags = _u(comm)
+        load = fem.Constant(u.function_space.mesh, 0.0)
+        contacts = [contact_surface(u, tags, "bottom", HalfPlane([0.0, 0.0], [0.0, 1.0]), ExactCoulomb(0.3), load)]
+    else:
+        mesh, _, tags = stacked_blocks(comm, 1.0, 0.5, 0.5, (4, 2), (3, 2))
+        u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
+        load = fem.Constant(mesh, 0.0)
+        contacts = two_body_surfaces(u, tags, "upper_bottom", "lower_top", lambda: ExactCoulomb(0.3), load)
+    with pytest.raises(UnsupportedCombination, match="coulomb, neohookean .*use model 'linear'"):
+        ContactProblem(u, NeoHookean(1000.0, 0.3), load, [], contacts, step_solver=step_solver_for(contacts))

@@ -1,5 +1,6 @@
 """Failure diagnosis: synthetic histories, then real failed solves (KSP failure, singular Jacobian, cycling in
-summary.json), and MUMPS's work arrays grown after a factorization that ran out of them."""
+summary.json), MUMPS's work arrays grown after a factorization that ran out of them, and MUMPS out of memory
+named as such and not cut back."""
 import json
 
 import numpy as np
@@ -13,7 +14,15 @@ from fenics_contact.app.run import run
 from fenics_contact.app.scenes import block, build, ring
 from fenics_contact.compat import function_space
 from fenics_contact.contact import ContactSurface
-from fenics_contact.failure import MUMPS_WORKSPACE, classify, find_cycle, fingerprint, mumps_factors, stalled
+from fenics_contact.failure import (
+    MUMPS_WORKSPACE,
+    classify,
+    cutback_helps,
+    find_cycle,
+    fingerprint,
+    mumps_factors,
+    stalled,
+)
 from fenics_contact.laws import Penalty
 from fenics_contact.materials import LinearElastic
 from fenics_contact.obstacles import HalfPlane
@@ -138,3 +147,26 @@ def test_mumps_out_of_workspace_grows_icntl14_and_retries(comm):
     assert not solver._grow_mumps_workspace({"mumps_infog": [-10, 0]})
     solver.run(setup.loads[1:])
     assert solver.records[-1].converged and mumps_factors(solver.snes.getKSP())[0].getMumpsIcntl(14) == 640
+
+
+def test_mumps_out_of_memory_is_its_own_kind():
+    """INFOG(1) = -13 (an allocation failed; INFOG(2) < 0: millions of entries) is out_of_memory with a message
+    naming it, and not cut back; a work array too small is still linear_solve, named too."""
+    oom = classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_PCSETUP_FAILED", [1.0], [], [], None, (-13, -3900))
+    assert oom["kind"] == "out_of_memory" and oom["mumps_infog"] == [-13, -3900]
+    assert "INFOG(1) = -13" in oom["message"] and "3.9e+09" in oom["message"] and "31.2 GB" in oom["message"]
+    assert not cutback_helps(oom)
+    cap = classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_PCSETUP_FAILED", [1.0], [], [], None, (-19, 5000))
+    assert cap["kind"] == "out_of_memory" and "ICNTL(23)" in cap["message"]
+    room = classify("DIVERGED_LINEAR_SOLVE", "DIVERGED_PC_FAILED", [1.0], [], [], None, (-9, 1234))
+    assert room["kind"] == "linear_solve" and "work array" in room["message"] and cutback_helps(room)
+
+
+def test_mumps_out_of_memory_stops_at_once(comm):
+    """A factorization MUMPS cannot allocate (ICNTL(14): 1e8 percent more room, some 30 GB) fails the step as
+    out_of_memory without the four cutbacks, which would factor the same pattern again."""
+    setup = block.build(Penalty(1e5), comm=comm)
+    solver = Solver(setup.problem, quiet=True, prefix="fc_mumps_oom_", options={"mat_mumps_icntl_14": 100000000})
+    with pytest.raises(ConvergenceError, match=r"a cutback cannot help.*out_of_memory.*INFOG\(1\) = -13") as info:
+        solver.run(setup.loads)
+    assert info.value.failure["kind"] == "out_of_memory" and len(solver.failures) == 1

@@ -1,11 +1,12 @@
 """Parametric scenes: every physical constant a keyword argument of its builder, range-checked before any work,
-and a demo option through scenes.add_scene_options."""
+and a demo option through scenes.add_scene_options; a mesh size the memory cannot hold refused before any work,
+with the range that fits; the gmsh builders' meshes made in a child process the same as in this one."""
 import argparse
 import importlib
 
 import pytest
 
-from fenics_contact.app.scenes import add_scene_options, build, numeric_parameters, scene_arguments
+from fenics_contact.app.scenes import SizeError, add_scene_options, build, numeric_parameters, scene_arguments
 from fenics_contact.methods import make_law
 
 # scene -> its module constants that are now build arguments with those defaults
@@ -81,3 +82,66 @@ def test_bad_parameters_are_refused_before_any_work(scene, kw, match, monkeypatc
     args = {"law_factory": lambda: law} if scene == "cylinders" else {"law": law}
     with pytest.raises(ValueError, match=match):
         build(scene, **args, **kw)
+
+
+class _MeshReached(Exception):
+    pass
+
+
+@pytest.mark.parametrize("scene,parameter,big", [("hertz", "refinement", 12), ("pin", "refinement", 30),
+                                                 ("slab", "refinement", 20), ("sphere", "size", 1e-9)])
+def test_a_size_the_memory_cannot_hold_is_refused_before_any_work(scene, parameter, big, monkeypatch):
+    """Under a 2 GB cap: the size is refused naming the argument, the estimate and the cap, before any mesh is
+    made; the accepted range it gives is right at its end (the last accepted value reaches the mesher, the next
+    is refused). The command line says it with the option (--refinement)."""
+    import fenics_contact.app.scenes as scenes
+    from fenics_contact.app.cli import error_line
+
+    def mesher(*a, **k):
+        raise _MeshReached
+
+    module = importlib.import_module(f"fenics_contact.app.scenes.{scene}")
+    for name in ("hertz_quarter_disk", "rectangle", "pin_plate", "sphere_octant"):
+        if hasattr(module, name):
+            monkeypatch.setattr(module, name, mesher)
+    monkeypatch.setattr(scenes, "available_memory", lambda: (2e9, "the 2 GB this process may use (ulimit -v)"))
+    law = make_law("auglag", K=1e5)
+    with pytest.raises(SizeError) as info:
+        build(scene, law=law, **{parameter: big})
+    e = info.value
+    assert e.parameter == parameter and e.value == big and "unknowns" in e.reason and "ulimit -v" in e.reason
+    line = error_line(e)
+    assert line.startswith(f"--{parameter} {big:g}: about ") and f"accepted: --{parameter} " in line
+    if parameter == "refinement":
+        top = int(e.accepted.split(" to ")[1])
+        assert 2 <= top < big
+        with pytest.raises(_MeshReached):
+            build(scene, law=law, refinement=top)
+        with pytest.raises(SizeError):
+            build(scene, law=law, refinement=top + 1)
+    else:
+        low = float(e.accepted.split(">= ")[1])
+        with pytest.raises(_MeshReached):
+            build(scene, law=law, size=1.05 * low)
+        with pytest.raises(SizeError):
+            build(scene, law=law, size=0.9 * low)
+
+
+def test_mesh_from_a_child_process_is_the_same(monkeypatch):
+    """gmsh in a forked child (the default: the mesher's memory out of this process) gives the mesh gmsh makes in
+    this process, bit for bit (hertz's graded quarter disk, pin's plate with a hole)."""
+    import numpy as np
+    from mpi4py import MPI
+
+    from fenics_contact.app.meshes import gmshutil, hertz, pin
+
+    for module, make in ((hertz, lambda: hertz.hertz_quarter_disk(MPI.COMM_WORLD, 1.0, h_contact=1 / 200)),
+                         (pin, lambda: pin.pin_plate(MPI.COMM_WORLD))):
+        meshes = []
+        for isolate in (False, True):
+            monkeypatch.setattr(module, "_from_gmsh",
+                                lambda *a, isolate=isolate, **k: gmshutil._from_gmsh(*a, **{**k, "isolate": isolate}))
+            mesh, cells, facets = make()
+            meshes.append((mesh.geometry.x, mesh.topology.connectivity(2, 0).array, facets.indices, facets.values,
+                           cells.values, facets.names))
+        assert all(np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b for a, b in zip(*meshes))

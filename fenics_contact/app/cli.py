@@ -4,32 +4,45 @@ The command line is strict: an unknown ``--option`` is an error naming it
 (with the closest known option), every number is range-checked while
 parsing (before any work), and single-dash options go to PETSc's options
 database (``-fc_snes_monitor``, ``-fc_snes_linesearch_type basic``: ``fc_``
-is the solver's options prefix) and are checked once the solver is set up
-and has solved (after the first converged load step of :func:`run.run`, and
-again at the end of the demo): an option PETSc never read is an error
-naming it. :func:`main` runs a demo's
+is the solver's options prefix): a value PETSc rejects on its own
+(``-fc_snes_max_it -5``) is an error naming it before any work
+(:func:`check_petsc_values`), and once the solver is set up and has solved
+(after the first converged load step of :func:`run.run`, and again at the
+end of the demo) an option PETSc never read is an error naming it. Counts
+(load steps, cells) are bounded by what the memory can hold
+(:func:`count`). :func:`main` runs a demo's
 ``main(argv)`` and turns the expected errors (bad input, a refused
-combination, a failed solve, a PETSc value PETSc rejects) into one line on
-rank 0 and a non-zero exit, on every rank.
+combination, a failed solve, a PETSc value PETSc rejects, a size the memory
+cannot hold, running out of memory) into one line on rank 0 and a non-zero
+exit, on every rank; a demo whose own check failed exits with
+:data:`EXIT_CHECK`; any other exception prints its traceback and, under
+``mpirun``, ends the whole job (``MPI_Abort``) instead of leaving the other
+ranks waiting.
+
+Exit status: 0 done and checked, :data:`EXIT_ERROR` (1) an error, :data:`EXIT_USAGE` (2) a bad command line,
+:data:`EXIT_CHECK` (3) the demo ran and wrote its outputs but its check failed.
 """
 from __future__ import annotations
 
 import argparse
-import ctypes
 import difflib
 import logging
 import math
 import sys
+import time
+import traceback
 from typing import Callable, Sequence
 
+import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
 from .. import methods
-from ..compat import petsc_library
 from ..contact import QUADRATURES
 from ..laws import ContactLaw
 from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
+from ..solver.options import option_used
+from .memory import BYTES_PER_DOF, available_memory
 
 logger = logging.getLogger(__name__)
 
@@ -45,7 +58,14 @@ __all__ = ["parser", "parse", "refuse_unsupported", "one_line_errors", "has_fric
            "method_options", "FRICTION_OPTIONS", "RANGE_TYPES",
            "solver_options", "StrictParser",
            "UsageError", "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
-           "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "error_line", "main"]
+           "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "check_petsc_values", "error_line",
+           "main", "count",
+           "EXIT_ERROR", "EXIT_USAGE", "EXIT_CHECK"]
+
+EXIT_ERROR, EXIT_USAGE, EXIT_CHECK = 1, 2, 3  # main's exit status: an error, a bad command line, a failed check
+# Seconds a rank that failed waits for the others to reach the end of main (a rank still inside a collective of
+# the demo never does: the job is then aborted)
+AGREE_TIMEOUT = 5.0
 
 
 class UsageError(ValueError):
@@ -105,9 +125,31 @@ def number(kind: type = float, low: float | None = None, high: float | None = No
     return convert
 
 
+def count(low: int = 1) -> Callable[[str], int]:
+    """An argparse ``type``: an integer ``>= low`` of load steps or cells, at most what the memory can hold
+    (each takes at least 1 kB, :data:`~fenics_contact.app.memory.BYTES_PER_DOF`: a step's record, a cell's
+    unknowns), checked when parsed."""
+    at_least = number(int, low)
+
+    def convert(text: str) -> int:
+        nbytes, phrase = available_memory()
+        most = int(float(f"{nbytes / BYTES_PER_DOF:.2g}"))
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or value > most:
+            raise argparse.ArgumentTypeError(f"must be an integer in [{low}, {most}] (a load step or a cell takes at "
+                                             f"least 1 kB of {phrase}), got {text!r}")
+        return at_least(text)
+
+    convert.__name__ = at_least.__name__
+    return convert
+
+
 POSITIVE = number(float, 0.0, low_open=True)
 NONNEGATIVE = number(float, 0.0)
-COUNT = number(int, 1)  # load steps, cells: >= 1
+COUNT = count(1)  # load steps, cells: >= 1, within the memory
 LEVEL = number(int, 0)  # refinements, augmentations: >= 0
 EXPONENT = number(float, 1.0)
 
@@ -210,6 +252,7 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if petsc:
         PETSc.Options().insertString(" ".join(f"-{k} {v}" for k, v in petsc))
         _PETSC_OPTIONS.extend(petsc)
+        check_petsc_values(petsc)
     setup_logging(verbose=getattr(args, "verbose", False), quiet=getattr(args, "quiet", False))
     if getattr(args, "inexact", False) and getattr(args, "solver", None) != "iterative":
         raise UsageError(f"--inexact needs --solver iterative, got --solver {getattr(args, 'solver', None)}")
@@ -356,22 +399,13 @@ def solver_options(args: argparse.Namespace) -> dict:
 
 # --- PETSc options and the demos' entry ------------------------------------------------------------------
 
-def _petsc_used(name: str) -> bool:
-    """Whether PETSc read option ``name`` (no dash) from its database: ``PetscOptionsUsed``, which petsc4py 3.18
-    does not wrap, called in the PETSc library petsc4py has loaded (the same database)."""
-    used = ctypes.c_int(0)  # PetscBool is a C enum
-    if petsc_library().PetscOptionsUsed(None, name.encode(), ctypes.byref(used)) != 0:
-        raise RuntimeError(f"PetscOptionsUsed failed for -{name}")
-    return bool(used.value)
-
-
 def unused_petsc_options(later: Sequence[str] = ()) -> list[str]:
     """The command line's PETSc options that PETSc never read, each with the closest known option if any; those
     ending in one of ``later`` (read after the point of the check) are not reported."""
     known = [f"-fc_{k}" for k in dict.fromkeys([*DEFAULT_OPTIONS, *(k for s in LINEAR_SOLVERS.values() for k in s),
                                                 *INEXACT_NEWTON, *_COMMON_PETSC])]
     return [f"-{name}{_did_you_mean('-' + name, known)}" for name, _ in dict.fromkeys(_PETSC_OPTIONS)
-            if not name.endswith(tuple(later)) and not _petsc_used(name)]
+            if not name.endswith(tuple(later)) and not option_used(name)]
 
 
 def check_petsc_options(later: Sequence[str] = ()) -> None:
@@ -385,48 +419,175 @@ def check_petsc_options(later: Sequence[str] = ()) -> None:
                          f"the fc_ prefix?): {', '.join(unused)}")
 
 
-def _petsc_message(exc: PETSc.Error) -> str:
-    """One line for a PETSc error: the option of the command line whose value PETSc rejected, if one is named."""
+def _last_line(exc: PETSc.Error) -> str:
+    """PETSc's own complaint: the last line of its error stack, without the rank."""
     lines = [s.split("] ", 1)[-1].strip() for s in str(exc).splitlines() if s.strip()]
-    last = lines[-1] if lines else f"error code {exc.ierr}"
-    text = " ".join(lines)
-    bad = [f"-{k} {v}" for k, v in _PETSC_OPTIONS if v and v in text.split()]
-    return f"PETSc rejected {', '.join(bad)}: {last}" if bad else f"PETSc error {exc.ierr}: {last}"
+    return lines[-1] if lines else f"error code {exc.ierr}"
+
+
+# Options prefix of the solvers (Solver's default) and of the probe that checks one option of it alone
+_PREFIX, _PROBE = "fc_", "fc_probe_option_"
+
+
+def _probe_petsc_option(name: str, value: str) -> str | None:
+    """PETSc's complaint about the command line's ``-name value`` alone (an option of the solvers' prefix), or
+    None: a SNES of a probe prefix with only this option reads it with its KSP and line search, then hands its
+    tolerances back to PETSc's checking setters (``SNESSetFromOptions`` stores ``-snes_max_it -5`` unchecked;
+    the solve then fails without a word on it)."""
+    if not name.startswith(_PREFIX):
+        return None
+    key = _PROBE + name[len(_PREFIX):]
+    opts = PETSc.Options()
+    opts.setValue(key, value)
+    snes = PETSc.SNES().create(PETSc.COMM_SELF)
+    try:
+        snes.setOptionsPrefix(_PROBE)
+        snes.setFromOptions()
+        ksp = snes.getKSP()
+        ksp.setFromOptions()
+        snes.setTolerances(*snes.getTolerances())
+        ksp.setTolerances(*ksp.getTolerances())
+        return None
+    except PETSc.Error as exc:
+        return _last_line(exc)
+    finally:
+        snes.destroy()
+        opts.delValue(key)
+
+
+def check_petsc_values(options: Sequence[tuple[str, str]]) -> None:
+    """Raise ``UsageError`` naming the first command-line PETSc option (name without dash, value) whose value
+    PETSc rejects on its own (:func:`_probe_petsc_option`), with PETSc's complaint: before any work."""
+    for name, value in options:
+        complaint = _probe_petsc_option(name, value)
+        if complaint is not None:
+            raise UsageError(f"PETSc rejected -{name} {value}".rstrip() + f": {complaint}")
+
+
+def _petsc_message(exc: PETSc.Error) -> str:
+    """One line for a PETSc error: the command-line options it names (by value or name) with PETSc's complaint;
+    when it names none, every PETSc option of the command line, so that the one at fault is among them."""
+    last = _last_line(exc)
+    words = " ".join(str(exc).splitlines()).split()
+    bad = [f"-{k} {v}".rstrip() for k, v in _PETSC_OPTIONS if (v and v in words) or f"-{k}" in words]
+    if bad:
+        return f"PETSc rejected {', '.join(bad)}: {last}"
+    given = ", ".join(f"-{k} {v}".rstrip() for k, v in _PETSC_OPTIONS)
+    return f"PETSc error {exc.ierr}: {last}" + (f" (PETSc options given: {given})" if given else "")
+
+
+def _where(exc: BaseException) -> str:
+    """`` (in file:line, function)`` of the deepest frame of ``exc``'s traceback outside installed libraries
+    (numpy's allocation is not news: the line of the package or of the script that asked for it is)."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    ours = [f for f in frames if "fenics_contact" in f.filename
+            or not any(p in f.filename for p in ("site-packages", "dist-packages", "/lib/python"))]
+    ours = ours or frames
+    if not ours:
+        return ""
+    f = ours[-1]
+    start = f.filename.rfind("fenics_contact/")
+    return f" (in {f.filename[max(start, 0):]}:{f.lineno}, {f.name})"
 
 
 def error_line(exc: BaseException) -> str | None:
     """One line for the errors a user can cause (bad input, refused combination, failed solve, rejected PETSc
-    value); None for anything else (a bug: its traceback is shown)."""
+    value, a size the memory cannot hold, running out of memory); None for anything else (a bug: its traceback
+    is shown)."""
     if isinstance(exc, PETSc.Error):
         return _petsc_message(exc)
     names = {c.__name__ for c in type(exc).__mro__}
     if isinstance(exc, ConvergenceError):
         spent = "" if exc.newton_iterations is None else f" ({exc.newton_iterations} Newton iterations spent)"
+        if (exc.failure or {}).get("kind") == "out_of_memory":
+            return f"out of memory: {exc}{spent}"
         return f"did not converge: {exc}{spent}"
-    if isinstance(exc, ValueError) or "UnsupportedCombination" in names:
+    if isinstance(exc, MemoryError):
+        _, phrase = available_memory()
+        text = str(exc).splitlines()[0] if str(exc) else "Python could not allocate memory"
+        return f"out of memory: {text}{_where(exc)}; {phrase}"
+    if "SizeError" in names:  # a scene's size: its builder argument is the option --<argument>
+        option = f"--{exc.parameter.replace('_', '-')}"
+        return f"{option} {exc.value:g}: {exc.reason}; accepted: {option} {exc.accepted}"
+    if isinstance(exc, ValueError) or {"UnsupportedCombination", "MeshingError"} & names:
         return str(exc).splitlines()[0] if str(exc) else type(exc).__name__
     return None
 
 
+def _failed_check(result: object) -> str | None:
+    """One line on a demo's own check (``result["check"]``, :func:`~fenics_contact.app.checks.reference_check`)
+    that did not pass; None if it passed or the demo has none."""
+    c = result.get("check") if isinstance(result, dict) else None
+    if not isinstance(c, dict) or c.get("passed", True):
+        return None
+    if c.get("value") is None or c.get("rel_error") is None:
+        return f"check failed: {c.get('figure')} has no value (the run gave none)"
+    source = f" ({c['source']})" if c.get("source") else ""
+    return (f"check failed: {c['figure']} = {c['value']:.6g}, reference {c['reference']:.6g}{source}, "
+            f"rel. error {c['rel_error']:.2e} > tolerance {c['tolerance']:.0e}")
+
+
+def _agree(comm: MPI.Comm, status: int, line: str | None, prog: str) -> int:
+    """Every rank's status, agreed at the end of :func:`main` (the highest; its line printed once, by the lowest
+    rank that has it). A rank that failed waits at most :data:`AGREE_TIMEOUT` s for the others: one still inside
+    a collective of the demo never comes, and the job is aborted with this rank's line."""
+    size = comm.size
+    mine = status * size + (size - 1 - comm.rank) if status else 0
+    send, got = np.array([mine], dtype=np.int64), np.zeros(1, dtype=np.int64)
+    request = comm.Iallreduce(send, got, op=MPI.MAX)
+    deadline = time.monotonic() + AGREE_TIMEOUT
+    while not request.Test():
+        if status and time.monotonic() > deadline:
+            sys.stdout.flush()
+            print(f"{prog}: rank {comm.rank}: {line} (the other ranks did not finish: aborting)", file=sys.stderr,
+                  flush=True)
+            MPI.COMM_WORLD.Abort(status)
+        time.sleep(0.005)
+    agreed = int(got[0])
+    status, first = agreed // size, size - 1 - agreed % size
+    if status and comm.rank == first and line:
+        sys.stdout.flush()
+        print(f"{prog}: {line}", file=sys.stderr, flush=True)
+    return status
+
+
 def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | None = None) -> None:
-    """Run ``demo(argv)`` as a program: bad input, a refused combination, a failed solve or a PETSc value PETSc
-    rejects end in one line on rank 0 (``<program>: error: ...``) and exit status 1 (2 for a bad command line)
-    on every rank, without a Python traceback; so does a PETSc option PETSc never used (checked at the end)."""
+    """Run ``demo(argv)`` as a program, on every rank. Bad input, a refused combination, a failed solve, a PETSc
+    value PETSc rejects, a size the memory cannot hold or running out of memory end in one line on rank 0
+    (``<program>: error: ...``) and exit status :data:`EXIT_ERROR` (:data:`EXIT_USAGE` for a bad command line),
+    without a Python traceback; so does a PETSc option PETSc never used (checked at the end). A demo that returns
+    a ``check`` that did not pass (its outputs written) exits with :data:`EXIT_CHECK`, one line saying so. Any
+    other exception is a bug: its traceback, and under ``mpirun`` the whole job ends (``MPI_Abort``) rather than
+    leave the other ranks waiting in a collective."""
     prog = sys.argv[0].rsplit("/", 1)[-1] if sys.argv and sys.argv[0] else "demo"
+    world = MPI.COMM_WORLD
+    comm = world.Dup()  # the agreement at the end must not match a collective a stuck rank is in
+    status, line = 0, None
     try:
-        demo(argv)
+        result = demo(argv)
         check_petsc_options()
+        failed = _failed_check(result)
+        if failed is not None:
+            status, line = EXIT_CHECK, failed
     except Exception as exc:  # noqa: BLE001 - only the kinds error_line knows are turned into one line
         line = error_line(exc)
         if line is None:
-            raise
+            if world.size == 1:
+                raise
+            sys.stdout.flush()
+            traceback.print_exc()
+            print(f"{prog}: rank {world.rank}: unexpected {type(exc).__name__}: aborting every rank", file=sys.stderr,
+                  flush=True)
+            world.Abort(EXIT_ERROR)
         try:  # a failed run may also have been given an option PETSc never read: say so too
             unused = unused_petsc_options() if not isinstance(exc, UsageError) else []
         except Exception:  # noqa: BLE001
             unused = []
         if unused:
             line += f"; PETSc options not used: {', '.join(unused)}"
-        if MPI.COMM_WORLD.rank == 0:
-            sys.stdout.flush()
-            print(f"{prog}: error: {line}", file=sys.stderr, flush=True)
-        sys.exit(2 if isinstance(exc, UsageError) else 1)
+        line = f"error: {line}"
+        status = EXIT_USAGE if isinstance(exc, UsageError) else EXIT_ERROR
+    status = _agree(comm, status, line, prog)
+    comm.Free()
+    if status:
+        sys.exit(status)

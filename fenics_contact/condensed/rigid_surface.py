@@ -5,6 +5,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..bounds import PlaneVertices
+from ..capabilities import check, of
 from ..contact import ContactSurface
 from ..laws import ContactLaw
 from ..obstacles import HalfPlane, Obstacle
@@ -46,6 +47,12 @@ class CondensedContact(ContactSurface):
         self.parent_t = np.asarray(parent_t, dtype=np.int32)  # its collapsed dofs -> the unknown's
         self.traction_out = fem.Function(self.plane.Vk, name="tangential_traction")
         self._solution = None  # (vx, w, pn, pt, gap) of the last step, from set_solution
+
+    def bind_material(self, material) -> None:
+        """Refuse a bulk model the condensation cannot take (neo-Hookean: no constant stiffness) when the problem is
+        made, through the capability grid (:class:`~fenics_contact.capabilities.UnsupportedCombination`)."""
+        check(**of(self.law, material=material), kind="rigid")
+        super().bind_material(material)
 
     def _pressure(self):
         self._p = fem.Function(self.plane.Vk, name="nodal_reaction_pressure")

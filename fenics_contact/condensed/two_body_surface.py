@@ -112,6 +112,11 @@ class CondensedTwoBody(Surface):
         self._solution = None  # (force n, force t, gap, state, slip) per slave vertex, from set_solution
         self.dissipated, self.log = 0.0, []
 
+    def bind_material(self, material) -> None:
+        """Refuse a bulk model the condensation cannot take (neo-Hookean: no constant stiffness) when the problem is
+        made, through the capability grid (:class:`~fenics_contact.capabilities.UnsupportedCombination`)."""
+        check(**of(self.law, material=material), kind="two-body")
+
     def residual(self, v):
         """None: the step solver enforces the contact."""
         return None

@@ -5,19 +5,26 @@ caller's own) are put in PETSc's database only for the duration of a set-up or a
 (:meth:`ScopedOptions.active`) and only where absent, so anything given on the command line
 (``-fc_snes_rtol 1e-12``) wins, and they do not leak into the next solver. The same options must be given on
 every rank.
+
+The caller's own options must be read by PETSc (:meth:`ScopedOptions.refuse_unused`): one that no PETSc object
+of the set-up read (``snes_atoll``) is refused when the solver is made, one read inside a solve
+(:func:`read_at_setup`: MUMPS, multigrid levels, a nested split) after the first converged load step.
 """
 from __future__ import annotations
 
+import ctypes
+import difflib
 from contextlib import contextmanager
 from typing import Callable, Iterator
 
 from petsc4py import PETSc
 
 from ..capabilities import check, of
+from ..compat import petsc_library
 from ..problem import ContactProblem
 
-__all__ = ["DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON", "LINEAR_SOLVERS", "MULTIGRID", "ScopedOptions",
-           "read_at_setup", "solver_options"]
+__all__ = ["COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON", "LINEAR_SOLVERS", "MULTIGRID",
+           "OWN_OPTIONS", "ScopedOptions", "option_used", "read_at_setup", "solver_options"]
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
@@ -65,6 +72,33 @@ LINEAR_SOLVERS = {
 }
 
 
+# Options the solver reads itself, not PETSc's objects (Solver.summary: the condition estimate of the last Jacobian).
+OWN_OPTIONS = ("condition_estimate",)
+# PETSc options often given (without prefix), besides the library's own: the candidates of "did you mean" for a
+# misspelt one.
+COMMON_OPTIONS = ("snes_monitor", "snes_converged_reason", "snes_view", "snes_linesearch_monitor",
+                  "snes_linesearch_damping", "snes_convergence_test", "snes_max_funcs", "snes_lag_jacobian",
+                  "ksp_monitor", "ksp_converged_reason", "ksp_view", "ksp_atol", "ksp_gmres_restart",
+                  "pc_factor_mat_ordering_type", "pc_gamg_threshold", "pc_gamg_type", "mat_mumps_icntl_14",
+                  "mat_mumps_icntl_23", "mat_mumps_icntl_24", "mg_levels_ksp_type", "mg_levels_pc_type",
+                  "mg_levels_ksp_max_it")
+
+
+def option_used(name: str) -> bool:
+    """Whether PETSc read option ``name`` (with prefix, no dash) from its database: ``PetscOptionsUsed``, which
+    petsc4py 3.18 does not wrap, called in the PETSc library petsc4py has loaded (the same database)."""
+    used = ctypes.c_int(0)  # PetscBool is a C enum
+    if petsc_library().PetscOptionsUsed(None, name.encode(), ctypes.byref(used)) != 0:
+        raise RuntimeError(f"PetscOptionsUsed failed for -{name}")
+    return bool(used.value)
+
+
+def _library_option(name: str) -> bool:
+    """An option the library itself sets (a default, a linear solver's): never misspelt, even where the formulation
+    replaces the solver it belongs to (a field split instead of LU)."""
+    return name in DEFAULT_OPTIONS or name in INEXACT_NEWTON or any(name in s for s in LINEAR_SOLVERS.values())
+
+
 def read_at_setup(name: str) -> bool:
     """Options read when the linear solver is set up inside a solve, not by ``setFromOptions``: a nested split's
     blocks (the Schur complement's KSP) and a multigrid's level smoothers and coarse solver are made then, and
@@ -101,11 +135,42 @@ def solver_options(problem: ContactProblem, options: dict | None = None) -> dict
 
 class ScopedOptions:
     """The options a solver wants (``wanted``, names without prefix) under its options ``prefix``, put in PETSc's
-    database only inside :meth:`active`."""
+    database only inside :meth:`active`; ``given``: the caller's own, which PETSc must read
+    (:meth:`refuse_unused`)."""
 
-    def __init__(self, prefix: str, wanted: dict):
+    def __init__(self, prefix: str, wanted: dict, given: dict | None = None):
         self.prefix = prefix
         self.wanted = wanted
+        self.given = dict(given or {})
+        self.used: set[str] = set()  # names of ours that PETSc read while they were in its database
+        self._checked_later = False
+
+    def refuse_unused(self, later: bool = False) -> None:
+        """``ValueError`` naming the options of ``given`` that PETSc did not read (with the closest known option):
+        those read at set-up (call after it), or with ``later`` those read inside a solve (:func:`read_at_setup`;
+        call after a load step whose Newton solved a linear system). Options the solver reads itself
+        (:data:`OWN_OPTIONS`) and the library's own names are not checked."""
+        unused = [k for k in self.given if read_at_setup(k) == later and k not in OWN_OPTIONS
+                  and not _library_option(k) and k not in self.used and not option_used(self.prefix + k)]
+        if not unused:
+            return
+        known = list(dict.fromkeys([*DEFAULT_OPTIONS, *INEXACT_NEWTON, *(k for s in LINEAR_SOLVERS.values()
+                                                                           for k in s), *COMMON_OPTIONS, *self.used]))
+        named = []
+        for k in unused:
+            close = difflib.get_close_matches(k, [c for c in known if c != k], n=1, cutoff=0.6)
+            named.append(f"{k}{f' (did you mean {close[0]}?)' if close and k not in known else ''}")
+        where = "in the first load step's solves" if later else "when the solver was set up"
+        raise ValueError(f"Solver option{'s' * (len(unused) > 1)} not read by PETSc {where} (misspelt, or not an "
+                         f"option of this solver's objects): {', '.join(named)}")
+
+    def refuse_unused_later(self, solved: bool) -> None:
+        """:meth:`refuse_unused` of the options read inside a solve, once: the first time ``solved`` (a converged
+        load step whose Newton solved a linear system, so that MUMPS, the multigrid levels and a nested split have
+        been set up)."""
+        if solved and not self._checked_later:
+            self._checked_later = True
+            self.refuse_unused(later=True)
 
     def has(self, name: str) -> bool:
         """True if ``prefix + name`` is in PETSc's database (the command line's; inside :meth:`active`, ours
@@ -126,11 +191,13 @@ class ScopedOptions:
         under our prefix; options already there (the command line's) win and stay. Removed afterwards, so that
         they do not leak into the next solver."""
         opts = PETSc.Options()
-        ours = [k for k in self.wanted if keep(k) and not opts.hasName(self.prefix + k)]
+        present = opts.getAll()  # not hasName: that marks an option as used, hiding a misspelt one
+        ours = [k for k in self.wanted if keep(k) and self.prefix + k not in present]
         for k in ours:
             opts[self.prefix + k] = self.wanted[k]
         try:
             yield
         finally:
+            self.used.update(k for k in ours if option_used(self.prefix + k))
             for k in ours:
                 opts.delValue(self.prefix + k)

@@ -10,6 +10,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..compat import petsc_vec, release_free_memory
+from ..failure import cutback_helps
 from ..problem import ContactProblem
 from .newton import Newton
 from .options import ScopedOptions, solver_options
@@ -87,9 +88,14 @@ class Solver:
             raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
         self.problem, self.quiet, self.on_step = problem, quiet, on_step
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
-        self.options = ScopedOptions(prefix, solver_options(problem, options))
+        self.options = ScopedOptions(prefix, solver_options(problem, options), options)
         self.record = RunRecord()
         self.newton = Newton(problem, self.options, self.record.timings, on_iterate)
+        try:  # a misspelt option of the caller's: refused now, not silently ignored
+            self.options.refuse_unused()
+        except ValueError:
+            self.newton.destroy()
+            raise
         self.prediction = Predictor(predictor, self.newton, self.record.timings)
         self.t = 0.0  # the load of the last converged step
 
@@ -148,6 +154,7 @@ class Solver:
                     for c in self._stateful():
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
+                    self.options.refuse_unused_later(self.linear_iterations > 0)
                     self.t = t
                     self.prediction.accept(t)
                     self._progress(rec)
@@ -162,12 +169,14 @@ class Solver:
                 if self._grow_mumps_workspace(rec.failure):
                     continue  # the same step again, with more room for MUMPS: not a cutback
                 cuts += 1
-                if cuts > self.max_cutbacks:
+                hopeless = not cutback_helps(rec.failure)  # out of memory: a smaller step factors the same pattern
+                if cuts > self.max_cutbacks or hopeless:
                     self.records.append(rec)
                     raise ConvergenceError(
-                        f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge after "
-                        f"{self.max_cutbacks} cutbacks: {describe(rec.failure)}, "
-                        f"{rec.message or 'SNES reason ' + reason_text(rec.reason)}; "
+                        f"load step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) did not converge "
+                        f"{'(a cutback cannot help)' if hopeless else f'after {self.max_cutbacks} cutbacks'}: "
+                        f"{describe(rec.failure)}, "
+                        f"{rec.message or rec.failure.get('message') or 'SNES reason ' + reason_text(rec.reason)}; "
                         f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
         return self.records
 

@@ -2,6 +2,8 @@
 reference, its relative error, the tolerance and whether it passed (the demos' ``check``), iterations, time.
 
     python demos/table.py results          # exit status 1 if a check failed or a summary has none
+
+Below the table, one line names the runs whose check failed (or that have none).
 """
 import json
 import sys
@@ -15,6 +17,19 @@ def rows(root: Path) -> list[dict]:
 
 def _num(v, fmt: str) -> str:
     return "-" if v is None else format(v, fmt)
+
+
+def failed_checks(summaries: list[dict]) -> list[str]:
+    """``scene (figure: why)`` for every run whose check did not pass or that has none."""
+    out = []
+    for s in summaries:
+        c = s.get("check") or {}
+        if c.get("passed"):
+            continue
+        why = "no check" if not c else "no value" if c.get("rel_error") is None else \
+            f"rel. error {c['rel_error']:.2e} > {c.get('tolerance', float('nan')):.0e}"
+        out.append(f"{s.get('scene', '?')} ({c.get('figure', 'check')}: {why})")
+    return out
 
 
 def table(summaries: list[dict]) -> tuple[str, bool]:
@@ -36,6 +51,9 @@ def table(summaries: list[dict]) -> tuple[str, bool]:
 
 if __name__ == "__main__":
     root = Path(sys.argv[1] if len(sys.argv) > 1 else "results")
-    text, ok = table(rows(root))
+    summaries = rows(root)
+    text, ok = table(summaries)
     print(text)
+    if not ok:
+        print("checks failed:", ", ".join(failed_checks(summaries)))
     sys.exit(0 if ok else 1)

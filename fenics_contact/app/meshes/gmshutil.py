@@ -5,6 +5,8 @@ import hashlib
 import inspect
 import math
 import os
+import signal
+import sys
 import tempfile
 from importlib import resources
 from pathlib import Path
@@ -14,6 +16,7 @@ from mpi4py import MPI
 
 from ...compat import model_to_mesh
 from ...domain import NamedTags, physical_names
+from ..memory import available_memory
 
 if TYPE_CHECKING:
     from dolfinx.mesh import Mesh
@@ -31,6 +34,10 @@ class _Lazy:
 
 
 gmsh = _Lazy()
+
+
+class MeshingError(RuntimeError):
+    """gmsh failed to mesh a scene's geometry (raised on every rank)."""
 
 
 def _positive(**values: float) -> None:
@@ -77,27 +84,29 @@ def _load_geo(path: Path, **parameters: float) -> None:
 CACHE_VARIABLE = "FC_MESH_CACHE"
 
 
-def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = False,
+def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = True,
                key: str = "") -> tuple[Mesh, NamedTags, NamedTags]:
     """Run ``build()`` (adds and meshes a ``gdim``-dimensional gmsh model with named physical groups) on rank 0;
     distribute the mesh and its tags. Returns ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
 
-    Initialises and finalises gmsh on every rank; a gmsh failure raises ``RuntimeError`` on every rank.
-    ``isolate``: mesh in a forked child of rank 0 that writes a binary .msh (physical names included), which
-    rank 0 then reads: the mesher's peak memory (Delaunay structures, ~5 times the finished mesh: 1.2 GB at 1e6
-    dofs) stays out of this process, whose peak memory the scaling run measures. With ``$FC_MESH_CACHE`` set,
-    the .msh is kept there under a name hashing ``key`` (the builder's parameters and geometry source) and the
-    builder module's source, and reused.
+    Initialises and finalises gmsh on every rank; a gmsh failure raises :class:`MeshingError` on every rank,
+    gmsh running out of memory ``MemoryError``. ``isolate`` (default): mesh in a forked child of rank 0 that writes a
+    binary .msh (physical names included; the mesh read back is the same, bit for bit), which rank 0 then
+    reads: the mesher's peak memory (Delaunay structures, ~5 times the finished mesh: 1.2 GB at 1e6 dofs) stays
+    out of this process, whose peak memory the scaling run measures, and a mesher that runs out of memory
+    (``std::bad_alloc`` in a parallel region of gmsh aborts its process) is a ``MemoryError`` here instead of the
+    end of the run. With ``$FC_MESH_CACHE`` set and a ``key`` given, the .msh is kept there under a name
+    hashing ``key`` (the builder's parameters and geometry source) and the builder module's source, and reused.
     """
-    path, error = None, ""
+    path, error = None, ("", "")
     if isolate and comm.rank == 0:
         try:
             path = _mesh_in_child(build, what, key)
-        except RuntimeError as exc:
-            error = str(exc)
-    error = comm.bcast(error, root=0)
+        except (RuntimeError, MemoryError) as exc:
+            error = (type(exc).__name__, str(exc))
+    kind, error = comm.bcast(error, root=0)
     if error:
-        raise RuntimeError(error)
+        raise (MemoryError if kind == "MemoryError" else MeshingError)(error)
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -112,11 +121,11 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = 
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
                 error = f"gmsh failed to mesh {what}: {exc}"
             finally:
-                if path is not None and not os.environ.get(CACHE_VARIABLE):
+                if path is not None and not _cached(key):
                     path.unlink(missing_ok=True)
         error = comm.bcast(error, root=0)
         if error:
-            raise RuntimeError(error)
+            raise MeshingError(error)
         names = comm.bcast(names, root=0)
         mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, gdim)
     finally:
@@ -125,10 +134,17 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = 
     return mesh, NamedTags(cell_tags, names.get(tdim, {})), NamedTags(facet_tags, names.get(tdim - 1, {}))
 
 
+def _cached(key: str) -> bool:
+    """Whether the .msh of a build with ``key`` is kept in ``$FC_MESH_CACHE`` (only a build that has a key: the
+    hash must tell its parameters apart)."""
+    return bool(key and os.environ.get(CACHE_VARIABLE))
+
+
 def _mesh_in_child(build, what: str, key: str) -> Path:
     """Path of a binary .msh of ``build()``'s model, meshed by a forked child (this rank only; no MPI in the
-    child), or found in ``$FC_MESH_CACHE``. ``RuntimeError`` if the child fails."""
-    folder = os.environ.get(CACHE_VARIABLE)
+    child), or found in ``$FC_MESH_CACHE``. ``MemoryError`` if the child ran out of memory (its standard error,
+    kept in a file, says ``bad_alloc`` or ``MemoryError``), :class:`MeshingError` if it failed otherwise."""
+    folder = os.environ.get(CACHE_VARIABLE) if _cached(key) else None
     if folder:
         source = inspect.getsource(inspect.getmodule(build))
         digest = hashlib.sha256(f"{what}|{key}|{source}".encode()).hexdigest()[:16]
@@ -142,10 +158,15 @@ def _mesh_in_child(build, what: str, key: str) -> Path:
         path = Path(name)
     partial = path.with_name(f"{path.stem}.{os.getpid()}.part.msh")
     failure = path.with_suffix(".err")
+    stderr = path.with_suffix(".stderr")
     pid = os.fork()
     if pid == 0:  # the child: gmsh only, then _exit (no MPI, no atexit handlers of the parent)
         code = 1
         try:
+            # its standard error (a C++ abort's message and the MPI library's backtrace) to a file the parent reads
+            fd = os.open(stderr, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+            os.dup2(fd, 2)
+            os.close(fd)
             gmsh.initialize()
             gmsh.option.setNumber("General.Terminal", 0)
             build()
@@ -155,14 +176,29 @@ def _mesh_in_child(build, what: str, key: str) -> Path:
             os.replace(partial, path)
             code = 0
         except BaseException as exc:  # noqa: BLE001 (gmsh raises bare Exception; anything must reach _exit)
-            failure.write_text(str(exc))
+            failure.write_text(f"MemoryError: {exc}" if isinstance(exc, MemoryError) else str(exc))
         finally:
             os._exit(code)
     _, status = os.waitpid(pid, 0)
-    if os.waitstatus_to_exitcode(status) != 0:
-        message = failure.read_text() if failure.exists() else f"the mesher exited with status {status}"
+    code = os.waitstatus_to_exitcode(status)
+    said = stderr.read_text(errors="replace") if stderr.exists() else ""
+    stderr.unlink(missing_ok=True)
+    if code != 0:
+        if failure.exists():
+            message = failure.read_text()
+        elif code < 0:  # a crash; under a memory cap most likely an allocation that failed unchecked
+            message = f"the mesher was killed by signal {-code} ({signal.Signals(-code).name})"
+            nbytes, phrase = available_memory()
+            if "ulimit" in phrase or "control group" in phrase:
+                message += f", likely out of memory ({phrase})"
+        else:
+            message = f"the mesher exited with status {code}"
         failure.unlink(missing_ok=True)
         partial.unlink(missing_ok=True)
         path.unlink(missing_ok=True)
-        raise RuntimeError(f"gmsh failed to mesh {what}: {message}")
+        if "bad_alloc" in said or message.startswith(("MemoryError", "std::bad_alloc")):
+            raise MemoryError(f"gmsh ran out of memory meshing {what} (std::bad_alloc in the mesher process)")
+        raise MeshingError(f"gmsh failed to mesh {what}: {message}")
+    if said.strip():  # what gmsh or the child printed, shown as it was before (the child's stderr was ours)
+        sys.stderr.write(said)
     return path

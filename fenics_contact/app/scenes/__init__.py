@@ -1,7 +1,8 @@
 """Benchmark scenes: data plus one builder each, shared by demos, tests and benchmarks.
 
 A builder returns a :class:`Setup`; ``figures()`` returns the scene's figures
-(reduced over all ranks) after a solve.
+(reduced over all ranks) after a solve. A builder refuses a mesh size the machine's memory cannot hold before
+any work (:func:`refuse_size`, :class:`SizeError`).
 """
 from __future__ import annotations
 
@@ -19,9 +20,10 @@ from mpi4py import MPI
 
 from ...problem import ContactProblem, Stabilised
 from ...surface import Surface
+from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
-           "add_scene_options", "scene_arguments"]
+           "add_scene_options", "scene_arguments", "SizeError", "max_dofs", "refuse_size"]
 
 
 @dataclass
@@ -118,3 +120,39 @@ def add_scene_options(parser: argparse.ArgumentParser, builder: Callable) -> lis
 def scene_arguments(args: argparse.Namespace, names: Sequence[str]) -> dict:
     """The values of the options :func:`add_scene_options` added, as keyword arguments of the builder."""
     return {n: getattr(args, n) for n in names}
+
+
+# --- sizes the machine can hold --------------------------------------------------------------------------------
+def max_dofs(comm: MPI.Comm) -> tuple[float, str]:
+    """The most unknowns a run on ``comm`` can hold (:data:`BYTES_PER_DOF` each, in the memory of all its ranks,
+    at most the machine's), and the phrase of :func:`available_memory` naming the limit. Collective."""
+    nbytes, phrase = available_memory()
+    machine = machine_memory()
+    total = comm.allreduce(nbytes, op=MPI.SUM)
+    if total >= machine:
+        return machine / BYTES_PER_DOF, f"this machine's {gigabytes(machine)}"
+    return total / BYTES_PER_DOF, phrase if comm.size == 1 else f"{comm.size} ranks x {phrase}"
+
+
+class SizeError(ValueError):
+    """A mesh the machine's memory cannot hold: the builder argument ``parameter`` (the demos' option
+    ``--parameter``), its ``value``, ``reason`` (the estimate against the memory) and ``accepted`` (the values
+    that fit, e.g. ``"0 to 6"``)."""
+
+    def __init__(self, parameter: str, value, reason: str, accepted: str):
+        self.parameter, self.value, self.reason, self.accepted = parameter, value, reason, accepted
+        super().__init__(f"{parameter} = {value!r}: {reason}; accepted {parameter}: {accepted}")
+
+
+def refuse_size(parameter: str, value, log10_dofs: float, accepted: Callable[[float], str], comm: MPI.Comm) -> None:
+    """Raise :class:`SizeError` if ``10**log10_dofs`` unknowns (a scene's lower estimate for ``parameter =
+    value``) cannot fit in the memory of the run on ``comm`` (:func:`max_dofs`); ``accepted(log10 of the most
+    unknowns)``: the values of ``parameter`` that fit, for the message. Collective."""
+    most, phrase = max_dofs(comm)
+    if log10_dofs <= math.log10(most):
+        return
+    dofs = f"{10 ** log10_dofs:.2g}" if log10_dofs < 15 else f"1e{log10_dofs:.0f}"
+    need = gigabytes(10 ** log10_dofs * BYTES_PER_DOF) if log10_dofs < 15 else \
+        f"1e{log10_dofs + math.log10(BYTES_PER_DOF) - 9:.0f} GB"
+    raise SizeError(parameter, value, f"about {dofs} unknowns, at least {need} of memory, more than {phrase}",
+                    accepted(math.log10(most)))

@@ -27,6 +27,8 @@ sliding (``|t| = 0 = mu p``) and the others as open.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import ufl
 from dolfinx import fem
@@ -41,7 +43,7 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import rectangle
-from . import Setup, nonnegative, poisson, positive
+from . import Setup, nonnegative, poisson, positive, refuse_size
 
 __all__ = [
     "WIDTH", "HEIGHT", "E", "NU", "TOP_PRESSURE", "SIDE_PRESSURE", "NX", "NY", "SIGMA_XX", "SIGMA_YY",
@@ -129,6 +131,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
         raise ValueError(f"steps must be >= 1, got {steps!r}")
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    base = math.log10(2 * int(nx) * int(ny))  # 2 nx ny unknowns at least, times 4 per refinement
+    refuse_size("refinement", refinement, base + 2 * math.log10(2) * int(refinement),
+                lambda most: f"0 to {max(math.floor((most - base) / (2 * math.log10(2))), 0)}", comm)
     nx, ny = int(nx) * 2**refinement, int(ny) * 2**refinement
     mesh, _, facet_tags = rectangle(comm, width, height, nx, ny, quadrilateral=True)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
