@@ -44,6 +44,7 @@ from typing import Sequence
 import numpy as np
 
 from .. import methods
+from .cli import EXIT_CHECK
 
 __all__ = [
     "DEMOS", "COLUMNS", "AUGMENT", "ERROR_FLOOR", "PETSC_DTOL", "DTOL", "references", "parameter_label",
@@ -255,7 +256,8 @@ def run_one(scene: str, cfg: dict, folder: Path, timeout: float = 1800.0) -> dic
     try:
         proc = subprocess.run(command(scene, cfg, folder), capture_output=True, text=True, timeout=timeout,
                               env=child_env())
-        ok, log = proc.returncode == 0, proc.stdout + proc.stderr
+        # a run whose own check failed (EXIT_CHECK) has solved: the sweep measures its error itself
+        ok, log = proc.returncode in (0, EXIT_CHECK), proc.stdout + proc.stderr
     except subprocess.TimeoutExpired as exc:
         ok, log = False, f"timeout after {timeout} s\n{exc.stdout or ''}{exc.stderr or ''}"
     (folder / "log.txt").write_text(log if isinstance(log, str) else log.decode(errors="replace"))
