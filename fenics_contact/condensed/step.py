@@ -43,6 +43,7 @@ class CondensedStepSolver(StepSolver):
         # sticking vertices s = 0 exactly after one step, so c hardly enters the active-set decisions.
         self.c_scale, self.retries = 1.0, 2
         self.K: CondensedStiffness | None = None  # the condensed stiffness, from the first step on
+        self._restored: dict | None = None  # a state restored before the first step (a checkpoint's)
         self.timings = {"condense_s": 0.0, "load_s": 0.0, "contact_newton_s": 0.0, "recover_s": 0.0}
 
     @property
@@ -80,6 +81,9 @@ class CondensedStepSolver(StepSolver):
         K.condense(self._contact_dofs(problem, K))
         self.K = K
         self._uc = np.zeros(len(self.K.cidx))  # last solution
+        if self._restored is not None:  # the condensation set the slip reference to zero
+            self.restore(self._restored)
+            self._restored = None
         self.timings["condense_s"] += self.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
 
     def solve_step(self, problem) -> tuple[int, list[float], str]:
@@ -132,3 +136,5 @@ class CondensedStepSolver(StepSolver):
     def restore(self, state: dict) -> None:
         if state:
             self._uc, self._ref = state["uc"].copy(), state["ref"].copy()
+            if self.K is None:  # kept through the condensation at the first step
+                self._restored = state

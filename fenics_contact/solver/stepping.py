@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import logging
+import os
 import time
 from typing import Callable, Sequence
 
@@ -9,6 +10,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .. import checkpoint as checkpoints
 from ..compat import petsc_vec, release_free_memory
 from ..failure import cutback_helps
 from ..problem import ContactProblem
@@ -98,6 +100,7 @@ class Solver:
             raise
         self.prediction = Predictor(predictor, self.newton, self.record.timings)
         self.t = 0.0  # the load of the last converged step
+        self.pending: list[float] = []  # the load targets of run() still to reach after that step
 
     def destroy(self) -> None:
         """Destroy the PETSc objects of the solver (the SNES, ``A``, ``b``, work vectors). Collective."""
@@ -135,10 +138,13 @@ class Solver:
         return self.record.summary(self.problem.comm, self.problem.contacts, self.linear_iterations, condition)
 
     # --- load stepping ----------------------------------------------------
-    def run(self, loads: Sequence[float]) -> list[StepRecord]:
-        """Solve at every load value of ``loads`` in turn (cutting steps in half when needed)."""
+    def run(self, loads: Sequence[float], checkpoint: str | os.PathLike | None = None) -> list[StepRecord]:
+        """Solve at every load value of ``loads`` in turn (cutting steps in half when needed). ``checkpoint``: a
+        folder that gets the converged state after every step, after ``on_step`` (:func:`checkpoint.save
+        <fenics_contact.checkpoint.save>`; :meth:`restart` goes on from it)."""
+        loads = list(loads)
         self.prediction.start(self.t)
-        for target in loads:
+        for i, target in enumerate(loads):
             cuts = 0
             while self.t != target:
                 t = target if cuts == 0 else self.t + (target - self.t) / 2**cuts
@@ -151,15 +157,17 @@ class Solver:
                 self.record.newton_spent += rec.newton_iterations
                 if rec.converged:
                     snap[0].destroy()
-                    for c in self._stateful():
+                    for c in self.stateful():
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
                     self.options.refuse_unused_later(self.linear_iterations > 0)
-                    self.t = t
+                    self.t, self.pending = t, loads[i + 1:] if t == target else loads[i:]
                     self.prediction.accept(t)
                     self._progress(rec)
                     if self.on_step is not None:
                         self.on_step(t)
+                    if checkpoint is not None:
+                        checkpoints.save(self, checkpoint)
                     cuts = 0
                     continue
                 self._rollback(snap)
@@ -177,8 +185,18 @@ class Solver:
                         f"{'(a cutback cannot help)' if hopeless else f'after {self.max_cutbacks} cutbacks'}: "
                         f"{describe(rec.failure)}, "
                         f"{rec.message or rec.failure.get('message') or 'SNES reason ' + reason_text(rec.reason)}; "
-                        f"the last converged state (t = {self.t:.6g}) has been written", rec.failure)
+                        f"the last converged state is t = {self.t:.6g}", rec.failure)
         return self.records
+
+    def restart(self, folder: str | os.PathLike) -> list[float]:
+        """Go back to the last checkpoint in ``folder`` (:func:`checkpoint.restore
+        <fenics_contact.checkpoint.restore>`; this solver made as for the run that wrote it); returns the load
+        targets that run had still to reach: ``solver.run(solver.restart(folder), checkpoint=folder)`` finishes it.
+        ``ValueError`` if there is none. Collective."""
+        found = checkpoints.restore(self, folder)
+        if found is None:
+            raise ValueError(f"no checkpoint in {folder}")
+        return found["pending"]
 
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
         """One progress line per load step (and per failed attempt) on rank 0, through ``logging`` (INFO;
@@ -187,19 +205,19 @@ class Solver:
         if self.problem.comm.rank == 0 and logger.isEnabledFor(level):
             logger.log(level, progress_line(rec, failed))
 
-    def _stateful(self) -> list:
+    def stateful(self) -> list:
         """The contacts and the step solver: everything with ``state``/``restore``/``commit``."""
         return [*self.problem.contacts, *([self.problem.step_solver] if self.problem.step_solver else [])]
 
     def _snapshot(self):
-        """``problem.u`` (a copy, the caller's to destroy) and the states of :meth:`_stateful`."""
-        return petsc_vec(self.problem.u).copy(), [c.state() for c in self._stateful()]
+        """``problem.u`` (a copy, the caller's to destroy) and the states of :meth:`stateful`."""
+        return petsc_vec(self.problem.u).copy(), [c.state() for c in self.stateful()]
 
     def _rollback(self, snap) -> None:
         """Back to the state of :meth:`_snapshot` ``snap``."""
         snap[0].copy(petsc_vec(self.problem.u))
         self.problem.u.x.scatter_forward()
-        for c, s in zip(self._stateful(), snap[1]):
+        for c, s in zip(self.stateful(), snap[1]):
             c.restore(s)
 
     # --- one load step ----------------------------------------------------
