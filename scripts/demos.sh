@@ -29,10 +29,9 @@ start=$(date +%s)
 for run in "${RUNS[@]}"; do
   set -- $run
   demo=$1; shift
-  rm -f "$OUT/$demo/summary.json"
   echo "== demos/$demo.py $* (mpirun -n $NP)"
   # wall and CPU seconds (all ranks): on a shared machine the CPU time / NP is the unloaded wall time
-  "${TIMER[@]}" $MPIRUN $PY demos/$demo.py --out "$OUT/$demo" --quiet "$@"
+  "${TIMER[@]}" $MPIRUN $PY demos/$demo.py --out "$OUT/$demo" --overwrite --quiet "$@"
   status=$?
   if [ $status -eq 3 ]; then
     unchecked+=("$demo")

@@ -233,7 +233,7 @@ def command(scene: str, cfg: dict, folder: Path) -> list[str]:
     s = spec(scene)
     script = ["-m", "fenics_contact.app.bench", "--run-scene", scene] if "build" in s else \
         [str(DEMOS / f"{s.get('demo', scene)}.py")]
-    cmd = [sys.executable, *script, "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
+    cmd = [sys.executable, *script, "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder), "--overwrite",
            "--method", cfg["method"], "--augment", str(cfg["augment"]), "--quadrature", cfg["quadrature"],
            *s.get("demo_args", []), *s.get("method_args", {}).get(cfg["method"], [])]
     method = methods.get(cfg["method"])
@@ -863,7 +863,7 @@ def run_scene(scene: str, argv: Sequence[str]) -> None:
     run(setup, args.out, args.method, cli.method_parameters(args), args.augment or 0, args.augment_tol, args.quiet,
         options={**cli.solver_options(args), **(s.get("options") or {})}, max_cutbacks=s.get("max_cutbacks", 4),
         predictor=s.get("predictor", False),
-        xdmf=not args.no_xdmf)
+        xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
 
 
 def main(argv: Sequence[str] | None = None) -> None:

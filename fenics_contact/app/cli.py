@@ -221,8 +221,13 @@ def _grouped_help(declared: list) -> list[tuple[str, list[str]]]:
 
 
 def output_options(p: argparse.ArgumentParser, out: str | None = None) -> None:
-    """``--out``, ``--no-pictures``, ``--no-xdmf``, ``--quiet``, ``--verbose`` (every demo has them)."""
+    """``--out``, ``--restart``, ``--overwrite``, ``--no-pictures``, ``--no-xdmf``, ``--quiet``, ``--verbose``
+    (every demo has them)."""
     p.add_argument("--out", default=out, help="output directory (default: results/<scene>)")
+    p.add_argument("--restart", action="store_true",
+                   help="go on with the run stopped in --out from its last completed step (same options and ranks)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="empty --out first if it holds another run's files (refused otherwise)")
     p.add_argument("--no-pictures", action="store_true", help="skip the PNG pictures")
     p.add_argument("--no-xdmf", action="store_true", help="no XDMF field output (benchmarks: solver time alone)")
     p.add_argument("--quiet", action="store_true", help="no progress lines (warnings and errors only)")

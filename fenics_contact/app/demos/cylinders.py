@@ -60,10 +60,11 @@ def main(argv=None) -> dict:
 
 
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "passes": args.passes},
-                  args.augment, args.augment_tol, args.quiet, on_step=after_step,
+                  args.augment, args.augment_tol, args.quiet, on_step=after_step, keep=(history, profiles),
                   check=lambda s: reference_check("p0 (Hertz step)", history[0]["p0"] if history else None,
                                         history[0]["p0_hertz"] if history else None, TOLERANCE,
-                                        f"Hertz for two cylinders at t = {cylinders.T_HERTZ:g}"), xdmf=not args.no_xdmf)
+                                        f"Hertz for two cylinders at t = {cylinders.T_HERTZ:g}"),
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
 
     # 4. Tables and pictures (rank 0; every figure is already reduced over ranks).
     if comm.rank == 0:

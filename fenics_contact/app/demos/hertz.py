@@ -54,6 +54,7 @@ def main(argv=None) -> dict:
     # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
                   args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf,
+                  restart=args.restart, overwrite=args.overwrite,
                   check=lambda s: reference_check("p0", s.get("p0"), s.get("p0_hertz"), TOLERANCE,
                                         "Hertz p0 = 2P/(pi a) for the computed load"))
 

@@ -47,7 +47,8 @@ def main(argv=None) -> dict:
                      "step farthest from mu")
 
     summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
-                  options=cli.solver_options(args), xdmf=not args.no_xdmf, check=figures_check,
+                  options=cli.solver_options(args), xdmf=not args.no_xdmf,
+                  restart=args.restart, overwrite=args.overwrite, check=figures_check,
                   predictor=ironing.PREDICTOR)
     iterations = [s["newton_iterations"] for s in summary["steps"] if s["converged"]]
     summary.update({"history": setup.history(), "newton_per_step": iterations,

@@ -49,8 +49,8 @@ def main(argv=None) -> dict:
 
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,
-                  args.augment_tol, args.quiet, options=cli.solver_options(args), on_step=on_step,
-                  xdmf=not args.no_xdmf, check=self_check)
+                  args.augment_tol, args.quiet, options=cli.solver_options(args), on_step=on_step, keep=(profiles,),
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, check=self_check)
 
     # 4. Picture: tangential traction per ratio against Cattaneo-Mindlin.
     if not args.no_pictures and setup.problem.comm.rank == 0 and summary.get("P"):

@@ -55,8 +55,8 @@ def main(argv=None) -> dict:
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
     options = {**cli.solver_options(args), **(mindlin3d.ITERATIVE if args.solver == "iterative" else {})}
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,
-                  args.augment_tol, args.quiet, options=options, on_step=on_step,
-                  xdmf=not args.no_xdmf, check=self_check)
+                  args.augment_tol, args.quiet, options=options, on_step=on_step, keep=(profiles,),
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, check=self_check)
 
     # 4. Pictures: the traction along x against Mindlin; the stick/slip map of the last step.
     if not args.no_pictures and setup.problem.comm.rank == 0 and summary.get("P") and profiles:

@@ -85,7 +85,8 @@ def main(argv=None) -> dict:
         try:
             summaries[method] = run(setup, folder, method, {**cli.method_parameters(args), "label": label},
                                     args.augment, args.augment_tol, args.quiet, options=OPTIONS, max_cutbacks=0,
-                                    on_iterate=on_iterate, xdmf=not args.no_xdmf)
+                                    on_iterate=on_iterate, keep=(history,), xdmf=not args.no_xdmf,
+                                    restart=args.restart, overwrite=args.overwrite)
         except ConvergenceError as exc:
             summaries[method] = {**json.load(open(folder / "summary.json")), "exception": str(exc)}
         forces[method] = history

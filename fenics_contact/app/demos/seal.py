@@ -69,9 +69,11 @@ def main(argv=None) -> dict:
     options = {**cli.solver_options(args), **seal.SOLVER_OPTIONS}  # --solver; full Newton steps
     summary = run(setup, out, args.method if args.method == "cross" else "cross", cli.method_parameters(args), 0,
                   quiet=args.quiet, options=options, predictor=seal.PREDICTOR[args.shape], on_step=on_step,
+                  keep=(zones, states),
                   check=lambda s: reference_check("plate_force_upper", s.get("plate_force_upper"),
                                                   s.get("plate_force_lower"),
-                                        1e-6, "equilibrium: the lower plate's force"), xdmf=not args.no_xdmf)
+                                        1e-6, "equilibrium: the lower plate's force"),
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
     if comm.rank == 0:
         cli.say(tables.residual_table(summary["steps"], out / "seal_residuals"))
         cli.say(tables.write_table(zones, out / "seal_zones"))
@@ -94,7 +96,8 @@ def main(argv=None) -> dict:
     penalty = build("seal", law=Penalty(args.K), h=args.h, shape=args.shape, **scene_arguments(args, scene))
     try:
         penalty_summary = run(penalty, out / "penalty", "penalty", {"K": args.K}, 0, quiet=args.quiet,
-                              options=options, predictor=seal.PREDICTOR[args.shape], xdmf=not args.no_xdmf)
+                              options=options, predictor=seal.PREDICTOR[args.shape], xdmf=not args.no_xdmf,
+                              restart=args.restart, overwrite=args.overwrite)
     except ConvergenceError:
         penalty_summary = json.load(open(out / "penalty" / "summary.json")) if comm.rank == 0 else None
     if comm.rank == 0:

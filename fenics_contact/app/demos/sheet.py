@@ -38,6 +38,7 @@ from fenics_contact import (
 )
 from fenics_contact.app import build, cli, run
 from fenics_contact.app.checks import log_check, reference_check
+from fenics_contact.app.run import claimed
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, sheet
 
 TIMES = (0.5, 1.0)
@@ -80,8 +81,13 @@ def main(argv=None) -> dict:
     args = cli.parse(p, argv)
     if args.steps % 2:
         raise cli.UsageError(f"argument --steps: must be even (t = 0.5 must be a load step), got {args.steps}")
+    with claimed(Path(args.out), MPI.COMM_WORLD, overwrite=args.overwrite, restart=args.restart) as out:
+        return _compare(args, scene, out)
+
+
+def _compare(args, scene: list[str], out: Path) -> dict:
+    """2.-4. Every variant into its subfolder of ``out``, their comparison, summary.json, the CSV and picture."""
     three = args.eps if args.three_point_eps is None else args.three_point_eps
-    out = Path(args.out)
     # (name, law, quadrature, eps or None, multiplier method: the --solver applies)
     variants = [(REFERENCE, LagrangeMultiplier(args.c), "collocated", None, True)]
     variants += [(f"two-point penalty eps={e:g}", PenaltyMultiplier(e), "collocated", e, True) for e in args.eps]
@@ -107,7 +113,8 @@ def main(argv=None) -> dict:
         # through (27 load steps instead of 4).
         stiff = quadrature == "collocated" and eps is not None
         summaries[name] = run(setup, out / name.replace(" ", "_").replace("=", ""), law.name, params, quiet=args.quiet,
-                              on_step=after_step, xdmf=not args.no_xdmf, options=dict(LINEAR_SOLVERS[solver]),
+                              on_step=after_step, keep=(kept,), xdmf=not args.no_xdmf,
+                              restart=args.restart, overwrite=args.overwrite, options=dict(LINEAR_SOLVERS[solver]),
                               predictor="tangent" if stiff else False, max_cutbacks=8 if stiff else 4)
         profiles[name] = kept
 
