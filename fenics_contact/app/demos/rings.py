@@ -13,6 +13,7 @@ roller reaction, u_r at r = a and r = c, Newton iterations, or the error a run r
 Check: the collocated element on P2 facets (multipliers), its interface pressure farthest from Lamé's,
 within 0.5 % (--main-only: that option alone).
 """
+import time
 from pathlib import Path
 
 from mpi4py import MPI
@@ -27,6 +28,7 @@ from fenics_contact import (
 )
 from fenics_contact.app import cli
 from fenics_contact.app.checks import log_check, reference_check
+from fenics_contact.app.run import claimed
 from fenics_contact.app.scenes import build, rings
 from fenics_contact.app.tables import write_table
 
@@ -40,11 +42,18 @@ def main(argv=None) -> dict:
     p.add_argument("--main-only", action="store_true", help="only the checked option (P2, collocated, multipliers)")
     cli.output_options(p, out="results/rings")
     args = cli.parse(p, argv)
+    if args.restart:
+        raise cli.UsageError("--restart: rings solves each option in one load step, there is nothing to go on "
+                             "with; run it again with --overwrite")
+    start = time.perf_counter()
     out = Path(args.out)
     comm = MPI.COMM_WORLD
-    if comm.rank == 0:
-        out.mkdir(parents=True, exist_ok=True)
+    with claimed(out, comm, overwrite=args.overwrite):
+        return _compare(args, out, comm, start)
 
+
+def _compare(args, out: Path, comm: MPI.Comm, start: float) -> dict:
+    """Every option into the table, the check and summary.json."""
     OPTIONS = [(1, q) for q in ("nodal", "gauss", "segment")] + [(2, q) for q in ("nodal", "simpson", "collocated")]
     if args.main_only:
         OPTIONS = [(2, "collocated")]
@@ -71,6 +80,7 @@ def main(argv=None) -> dict:
                     row.update({k: f[k] for k in ("p_max_deviation", "p_mean_deviation", "p_reaction_deviation",
                                                   "ur_a_deviation", "ur_c_deviation", "points")})
                     row["newton"] = sum(r.newton_iterations for r in solver.records)
+                    row["dofs"] = setup.dofs
                 except Exception as exc:  # noqa: BLE001 (the table records what each option does)
                     row["error"] = f"{type(exc).__name__}: {str(exc).splitlines()[0][:120]}"
                 rows.append(row)
@@ -78,15 +88,17 @@ def main(argv=None) -> dict:
                     cli.say(row)
 
     columns = ["degree", "quadrature", "passes", "method", "p_max_deviation", "p_mean_deviation",
-               "p_reaction_deviation", "ur_a_deviation", "ur_c_deviation", "points", "newton", "error"]
+               "p_reaction_deviation", "ur_a_deviation", "ur_c_deviation", "points", "newton", "dofs", "error"]
     if comm.rank == 0:
         write_table([{c: r.get(c, "") for c in columns} for r in rows], out / "rings_options", columns)
     p_lame = rings.lame_pressure(args.q, rings.E_DEFAULT, rings.NU_DEFAULT, rings.E_DEFAULT, rings.NU_DEFAULT,
                                  args.plane)
     best = [r for r in rows if r["quadrature"] == "collocated" and r["method"] == "lagrange" and "error" not in r]
-    summary = {"scene": "rings", "method": "compare", "ranks": comm.size, "dofs": 0, "n": args.n, "q": args.q,
+    summary = {"scene": "rings", "method": "compare", "ranks": comm.size,
+               **({"dofs": best[0]["dofs"]} if best else {}), "n": args.n, "q": args.q,  # the checked option's
                "plane": args.plane, "p_lame": p_lame, "options": rows,
-               "newton_iterations": sum(r.get("newton", 0) for r in rows), "wall_time_s": 0.0,
+               "newton_iterations": sum(r.get("newton", 0) for r in rows),
+               "wall_time_s": comm.allreduce(time.perf_counter() - start, op=MPI.MAX),
                "check": reference_check("p_interface (P2 collocated, farthest)",
                               p_lame * (1 + best[0]["p_max_deviation"]) if best else None, p_lame, 5e-3,
                               "Lame's interface pressure")}
