@@ -35,10 +35,11 @@ if [ ! -x "$DEB13/usr/bin/apt-get" ]; then
   printf 'path-exclude /usr/share/doc/*\npath-exclude /usr/share/man/*\npath-exclude /usr/share/locale/*\n' \
     > "$DEB13/etc/dpkg/dpkg.cfg.d/nodoc"
 fi
-if ! chroot "$DEB13" python3 -c "import dolfinx, gmsh, pytest, matplotlib" 2>/dev/null; then
-  echo "debian13 lane: installing python3-dolfinx python3-gmsh python3-pytest python3-matplotlib in $DEB13"
+if ! chroot "$DEB13" python3 -c "import dolfinx, gmsh, pytest, matplotlib, h5py" 2>/dev/null; then
+  echo "debian13 lane: installing python3-dolfinx python3-gmsh python3-pytest python3-matplotlib python3-h5py in $DEB13"
   chroot "$DEB13" /bin/sh -c "apt-get update -q >/dev/null && DEBIAN_FRONTEND=noninteractive apt-get install -y -q \
-    --no-install-recommends python3-dolfinx python3-gmsh python3-pytest python3-matplotlib openmpi-bin >/dev/null"
+    --no-install-recommends python3-dolfinx python3-gmsh python3-pytest python3-matplotlib python3-h5py \
+    openmpi-bin >/dev/null"
 fi
 echo "debian13 lane: dolfinx $(chroot "$DEB13" python3 -c 'import dolfinx; print(dolfinx.__version__)')"
 

@@ -3,9 +3,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=${VENV:-.venv}
-APT_PACKAGES="python3-dolfinx python3-gmsh python3-venv openmpi-bin"
+APT_PACKAGES="python3-dolfinx python3-gmsh python3-h5py python3-venv openmpi-bin"
 
-if ! /usr/bin/python3 -c "import dolfinx, gmsh" 2>/dev/null || ! command -v mpirun >/dev/null; then
+if ! /usr/bin/python3 -c "import dolfinx, gmsh, h5py" 2>/dev/null || ! command -v mpirun >/dev/null; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
   echo "setup: installing $APT_PACKAGES (apt)"
   $SUDO apt-get update -q

@@ -105,7 +105,7 @@ SCENE = (  # a benchmark scene, its demo, or the application around it (harness,
     "test_block.py", "test_hertz.py", "test_sphere.py", "test_pin.py", "test_slab.py", "test_ring.py",
     "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
     "test_wedges.py", "test_ironing.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
-    "test_scenes.py", "test_cli.py", "test_run.py",
+    "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py",
 )
 SLOW = (  # studies of more than a few seconds each
     "test_bench.py::test_slab_error_from_the_exact_coulomb_reference", "test_bench.py::test_sweep_block",
@@ -113,6 +113,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*two-body*]",
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*-3*]",
     "test_capabilities.py::test_two_pass_coinciding_points_carry_the_one_pass_pressure",
+    "test_checkpoint.py::test_restart_gives_the_uninterrupted_figures[ironing]",
     "test_cli.py::test_gmsh_out_of_memory_is_one_line",
     "test_cli.py::test_failed_check_exits_3_after_writing_its_outputs[mindlin-auglag]",
     "test_collocation.py::test_collocated_multipliers_exact_on_the_curved_interface",
@@ -133,6 +134,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_pin.py::test_exact_gap_tends_to_the_linearized_gap_at_first_order",
     "test_pin.py::test_neat_fit_is_homogeneous_in_the_load",
     "test_predictor.py::test_a_far_predicted_state_does_not_pass_the_relative_tolerance",
+    "test_records.py::test_killed_demo_keeps_its_steps_and_restarts_to_the_same_figures[*",
     "test_rings.py::test_p1_chord_sag_converges", "test_rings.py::test_penalty_approaches_the_multipliers",
     "test_rings.py::test_serial_equals_ranks", "test_rings.py::test_two_point_multipliers_against_lame",
     "test_sheet.py::*",
@@ -143,6 +145,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_wedges.py::test_force_ratio_of_a_block_sliding_up_a_wedge[0.3-20.0]",
 )
 MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel lanes even when slow
+    "test_checkpoint.py::test_restart_gives_the_uninterrupted_figures[ironing]",  # a restart on every rank
     "test_collocation.py::test_serial_equals_ranks", "test_condensed_twobody.py::test_parallel_equals_serial",
     "test_cylinders.py::test_ranks_agree*", "test_friction.py::test_compliance3d_parallel_equals_serial",
     "test_friction.py::test_slab_parallel_equals_serial", "test_ironing.py::test_parallel_equals_serial",
