@@ -173,17 +173,26 @@ def test_a_full_disk_leaves_the_last_complete_summary(tmp_path_factory, comm, mo
     out = _folder(tmp_path_factory, comm, "full")
     setup = _block(comm)
     setup = dataclasses.replace(setup, loads=[0.25, 0.5, 0.75, 1.0])
-    write, writes = os.write, []
+    opened, write, temporary, summaries = os.open, os.write, set(), []
+
+    def track(path, *args, **kw):
+        fd = opened(path, *args, **kw)
+        if Path(path).name.startswith(".summary.json."):  # write_atomically's temporary file
+            temporary.add(fd)
+        else:
+            temporary.discard(fd)
+        return fd
 
     def full_disk(fd, data):  # the third summary (after step 2) finds the disk full half-way through
-        if os.readlink(f"/proc/self/fd/{fd}").endswith(".tmp") and "summary.json" in os.readlink(
-                f"/proc/self/fd/{fd}"):
-            writes.append(fd)
-            if len(writes) >= 3:
+        if fd in temporary:
+            temporary.discard(fd)
+            summaries.append(fd)
+            if len(summaries) >= 3:
                 write(fd, bytes(data)[:len(data) // 2])
                 raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
         return write(fd, data)
 
+    monkeypatch.setattr(os, "open", track)
     monkeypatch.setattr(os, "write", full_disk)
     with pytest.raises(OutputError, match="could not write .*summary.json: No space left on device") as info:
         run(setup, out, "penalty", {}, quiet=True)
@@ -296,6 +305,8 @@ def test_killed_demo_keeps_its_steps_and_restarts_to_the_same_figures(how, ranks
     the run): the fields hold the steps completed, readable by h5py and dolfinx; the summary says ``interrupted``
     (SIGTERM) or ``running`` at step k by a dead writer (SIGKILL); a second run into the folder is refused while the
     first runs, and after it; ``--restart`` ends with the uninterrupted run's figures."""
+    if ranks > 1 and not Path("/proc/self").exists():
+        pytest.skip("no /proc (a chroot without it): the ranks of mpirun cannot be found to be stopped and killed")
     out = tmp_path / "ironing"
     proc = subprocess.Popen(_demo(ranks, out), env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     everyone = [proc.pid]
@@ -333,7 +344,7 @@ def test_killed_demo_keeps_its_steps_and_restarts_to_the_same_figures(how, ranks
     assert 3 <= k < 12, k
     if how == "SIGTERM":
         assert s["status"] == "interrupted" and s["signal"] == "SIGTERM" and not (out / ".lock").exists()
-        assert f"interrupted by SIGTERM after step {k}" in err
+        assert ranks > 1 or f"interrupted by SIGTERM after step {k}" in err  # mpirun may drop a dying rank's line
     else:
         assert s["status"] == "running" and process_alive(s["pid"], s["host"]) is False
         assert (out / ".lock").exists()
