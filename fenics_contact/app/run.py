@@ -39,6 +39,9 @@ LATER_OPTIONS = ("condition_estimate",)
 CHECKPOINT = "checkpoint"  # the checkpoints' folder in a run's output folder
 RECORDS = ("summary.json", ".lock")  # a folder holding one of these holds a run's files
 IDENTITY = ("scene", "method", "parameters", "dofs", "ranks")  # what a restart must share with the run it continues
+# On SIGTERM the ranks but rank 0 exit this much later (mpirun kills them about a second after it): rank 0 may be
+# waiting in a collective for them before it can mark the summary ``interrupted``
+RANK_GRACE_S = 0.5
 _OURS: set[Path] = set()  # folders this process has run into (a demo's runs into subfolders of its own folder)
 
 
@@ -118,6 +121,7 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
         if check is not None:
             summary["check"] = check(summary)
         record.write(summary)
+        on_rank0(comm, str(lock.path), lock.release)  # every rank returns with the folder free
     except BaseException as exc:
         record.abandon(exc)
         raise
@@ -206,24 +210,28 @@ class _Record:
 
 @contextmanager
 def _interruptible(record: _Record):
-    """SIGTERM and SIGINT end the run at once: rank 0 marks the summary ``interrupted`` and frees the folder;
-    every completed step is on disk already. Not collective: a rank exits on its own signal (mpirun sends it to
-    every rank)."""
+    """SIGTERM and SIGINT end the run: rank 0 marks the summary ``interrupted``, frees the folder and exits at once;
+    the other ranks exit :data:`RANK_GRACE_S` later. Every completed step is on disk already. Not collective: a rank
+    acts on its own signal (mpirun sends it to every rank)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
 
     def stop(signum: int, frame) -> None:
+        if record.comm.rank != 0:  # rank 0 writes the summary: go on a moment, to end a collective it may wait in
+            end = threading.Timer(RANK_GRACE_S, os._exit, (128 + signum,))
+            end.daemon = True
+            end.start()
+            return
         name = signal.Signals(signum).name
         record.stop("interrupted", signal=name)
-        if record.comm.rank == 0:
-            try:
-                record.lock.release()
-                last = record.last or {}
-                print(f"{record.head['scene']}: interrupted by {name} after step {last.get('load_steps', 0)}; "
-                      f"--restart goes on from there", file=sys.stderr, flush=True)
-            except (OSError, RuntimeError):  # RuntimeError: the signal came while stderr was being written
-                pass
+        try:
+            record.lock.release()
+            last = record.last or {}
+            print(f"{record.head['scene']}: interrupted by {name} after step {last.get('load_steps', 0)}; "
+                  f"--restart goes on from there", file=sys.stderr, flush=True)
+        except (OSError, RuntimeError):  # RuntimeError: the signal came while stderr was being written
+            pass
         os._exit(128 + signum)
 
     before = {s: signal.signal(s, stop) for s in (signal.SIGTERM, signal.SIGINT)}
@@ -287,8 +295,9 @@ def claimed(out: str | Path, comm: MPI.Comm, overwrite: bool = False, restart: b
     lock, _ = claim(out, comm, overwrite=overwrite, restart=restart)
     try:
         yield Path(out)
+        on_rank0(comm, str(lock.path), lock.release)
     finally:
-        if comm.rank == 0:
+        if comm.rank == 0:  # not collective: the demo may be ending on one rank's error
             lock.release()
 
 
