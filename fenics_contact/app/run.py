@@ -192,7 +192,8 @@ class _Record:
         done = [r for r in solver.records if r.converged]
         self.write({**self.head, "load_steps": len(done), "last_load": solver.t,
                     "newton_iterations": sum(r.newton_iterations for r in done), "converged": False,
-                    "checkpoint": f"{CHECKPOINT}/step_{len(done):06d}", "steps": [r.as_dict() for r in done]})
+                    "checkpoint": f"{CHECKPOINT}/step_{len(done):06d}" if done else None,
+                    "steps": [r.as_dict() for r in done]})
 
     def stop(self, status: str, **more) -> None:
         """The last summary with ``status``, by rank 0 alone and without raising (a run that is ending)."""
