@@ -5,8 +5,9 @@
 A checkpoint holds this rank's ``u`` (owned and ghost values), every surface's and the step solver's ``state()``
 (and a surface's ``log`` of committed steps), the load, the load targets still to reach, the predictor's last
 converged states and the step records. Each rank's file is written under a temporary name and renamed; a step's
-checkpoint counts once every rank's file is there, and the one before it is then deleted. A restart needs the same
-mesh, partition and number of ranks. The files are pickles: load only checkpoints you wrote.
+checkpoint counts once every rank's file is there, and the one before it is then deleted (but for a run's last
+step). A restart needs the same mesh, partition and number of ranks. The files are pickles: load only checkpoints
+you wrote.
 """
 from __future__ import annotations
 
@@ -51,8 +52,9 @@ def steps(folder: str | Path, comm) -> tuple[list[int], set[int]]:
 
 def save(solver, folder: str | Path, extra: object = None) -> int:
     """Write ``solver``'s converged state (and ``extra``, anything picklable the caller keeps across steps) into
-    ``folder``; returns its step (converged steps so far). Then delete this rank's older checkpoints.
-    :class:`~fenics_contact.output.OutputError` on every rank if a rank cannot write. Collective."""
+    ``folder``; returns its step (converged steps so far). Then delete this rank's older checkpoints, but the one
+    before a run's last step (:func:`restore` solves that step again). :class:`~fenics_contact.output.OutputError`
+    on every rank if a rank cannot write. Collective."""
     folder, comm = Path(folder), solver.problem.comm
     step = sum(r.converged for r in solver.records)
     data = {"format": FORMAT, "step": step, "ranks": comm.size, "fingerprint": _fingerprint(solver.problem),
@@ -70,17 +72,19 @@ def save(solver, folder: str | Path, extra: object = None) -> int:
     errors = [e for e in comm.allgather(error) if e]
     if errors:
         raise OutputError(errors[0])
+    keep = step if solver.pending else step - 1
     for f in folder.glob(f"step_*.rank{comm.rank}of{comm.size}.pkl"):
-        if int(f.name[5:11]) < step:
+        if int(f.name[5:11]) < keep:
             f.unlink(missing_ok=True)
     return step
 
 
 def restore(solver, folder: str | Path) -> dict | None:
     """Bring ``solver`` (made as for the run that wrote ``folder``, not yet run) to the last complete checkpoint in
-    ``folder``; returns its ``step``, ``t``, ``pending`` (the load targets still to reach) and ``extra`` (as given
-    to :func:`save`), or None if there is no checkpoint. ``ValueError`` if the checkpoint is of another number of
-    ranks, mesh or partition. Collective."""
+    ``folder`` with a load step still to solve: for a run that had ended, the one before its last step (what a
+    surface derives from a solve, e.g. its pairing, comes back with it). Returns its ``step``, ``t``, ``pending``
+    (the load targets still to reach) and ``extra`` (as given to :func:`save`), or None if there is none.
+    ``ValueError`` if the checkpoint is of another number of ranks, mesh or partition. Collective."""
     folder, comm, problem = Path(folder), solver.problem.comm, solver.problem
     done, sizes = steps(folder, comm)
     if not done:
@@ -90,6 +94,10 @@ def restore(solver, folder: str | Path) -> dict | None:
                              f"restart with the same number of ranks (mpirun -n {n})")
         return None
     data = pickle.loads(_file(folder, done[-1], comm).read_bytes())
+    if not data["pending"]:  # the run had ended
+        if len(done) < 2:
+            return None
+        data = pickle.loads(_file(folder, done[-2], comm).read_bytes())
     same = data.get("format") == FORMAT and data["fingerprint"] == _fingerprint(problem)
     if not comm.allreduce(same, op=MPI.LAND):
         raise ValueError(f"{folder}: the checkpoint is of another mesh or partition than this run's")
@@ -104,7 +112,4 @@ def restore(solver, folder: str | Path) -> dict | None:
     solver.prediction.converged = data["predictor"]
     solver.records[:], solver.failures[:] = data["records"], data["failures"]
     solver.newton_spent, solver.linear_iterations = data["newton_spent"], data["linear_iterations"]
-    if data["step"]:
-        for c in problem.contacts:  # what a surface derives from the converged state (SNES VI: the pressure)
-            c.after_solve(problem)
     return {"step": data["step"], "t": data["t"], "pending": list(data["pending"]), "extra": data["extra"]}

@@ -69,7 +69,11 @@ def test_restart_gives_the_uninterrupted_figures(kind, tmp_path_factory, comm):
     assert [r.newton_iterations for r in solver.records] == [r.newton_iterations for r in full_solver.records]
     assert [r.load for r in solver.records] == [r.load for r in full_solver.records]
     assert solver.newton_spent == full_solver.newton_spent
-    assert checkpoint.steps(folder, comm)[0] == [len(full_solver.records)]  # the older ones deleted
+    n = len(full_solver.records)
+    assert checkpoint.steps(folder, comm)[0] == [n - 1, n]  # the older ones deleted; the last step's kept
+    again, solver = _solve(kind, folder=folder, restart=True)  # the run had ended: its last step solved again
+    _same_figures(full.figures(), again.figures())
+    assert [r.newton_iterations for r in solver.records] == [r.newton_iterations for r in full_solver.records]
 
 
 def test_restart_needs_a_checkpoint_of_as_many_ranks(tmp_path_factory, comm):
@@ -83,7 +87,7 @@ def test_restart_needs_a_checkpoint_of_as_many_ranks(tmp_path_factory, comm):
     with pytest.raises(ValueError, match=rf"written by {comm.size + 3} ranks.*mpirun -n {comm.size + 3}"):
         solver.restart(folder)
     empty = _folder(tmp_path_factory, comm, "empty")
-    with pytest.raises(ValueError, match="no checkpoint"):
+    with pytest.raises(ValueError, match="no checkpoint to go on from"):
         solver.restart(empty)
 
 

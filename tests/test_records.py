@@ -131,10 +131,15 @@ def test_a_folder_with_another_runs_files_is_refused_unless_overwritten(tmp_path
     with pytest.raises(OutputError, match=r"--restart: .* holds a run of block / penalty, converged, not of "
                                           r"block / cross"):
         run(_block(comm), out, "cross", {}, quiet=True, restart=True)
-    # --restart of a converged run: its last checkpoint, no step solved again, the same figures
+    # --restart of a run that has ended: its last step solved again (a run of one step: all of it)
     restarted = run(_block(comm), out, "penalty", {}, quiet=True, restart=True)
-    assert restarted["restarted_from"] == {"step": 1, "load": 1.0} and restarted["newton_iterations"] == \
-        first["newton_iterations"] and restarted["contact_pressure"] == first["contact_pressure"]
+    assert "restarted_from" not in restarted and restarted["contact_pressure"] == first["contact_pressure"]
+    two = _folder(tmp_path_factory, comm, "two_steps")
+    first = run(dataclasses.replace(_block(comm), loads=[0.5, 1.0]), two, "penalty", {}, quiet=True)
+    restarted = run(dataclasses.replace(_block(comm), loads=[0.5, 1.0]), two, "penalty", {}, quiet=True,
+                    restart=True)
+    assert restarted["restarted_from"] == {"step": 1, "load": 0.5} and restarted["contact_pressure"] == \
+        first["contact_pressure"] and restarted["newton_iterations"] == first["newton_iterations"]
 
 
 def test_a_folder_in_use_by_a_live_run_is_refused(tmp_path_factory, comm):

@@ -189,13 +189,13 @@ class Solver:
         return self.records
 
     def restart(self, folder: str | os.PathLike) -> list[float]:
-        """Go back to the last checkpoint in ``folder`` (:func:`checkpoint.restore
+        """Go back to the last checkpoint in ``folder`` with a step to solve (:func:`checkpoint.restore
         <fenics_contact.checkpoint.restore>`; this solver made as for the run that wrote it); returns the load
         targets that run had still to reach: ``solver.run(solver.restart(folder), checkpoint=folder)`` finishes it.
         ``ValueError`` if there is none. Collective."""
         found = checkpoints.restore(self, folder)
         if found is None:
-            raise ValueError(f"no checkpoint in {folder}")
+            raise ValueError(f"no checkpoint to go on from in {folder}")
         return found["pending"]
 
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
