@@ -19,7 +19,7 @@ from xml.sax.saxutils import quoteattr
 from dolfinx import fem, io
 from mpi4py import MPI
 
-__all__ = ["OutputError", "XDMFWriter", "write_summary", "write_atomically", "RunLock", "process_alive"]
+__all__ = ["OutputError", "XDMFWriter", "write_summary", "write_atomically", "on_rank0", "RunLock", "process_alive"]
 
 # every step's grids take their topology and geometry from the index's first grid, the mesh
 _MESH = "xpointer(/Xdmf/Domain/Grid[@GridType='Uniform'][1]/*[self::Topology or self::Geometry])"
@@ -92,8 +92,8 @@ class XDMFWriter:
 
         def prepare() -> bool:
             self.folder.mkdir(parents=True, exist_ok=True)
-            for f in self.folder.glob("step_*"):
-                if int(f.name[5:11]) > resume:
+            for f in self.folder.glob("step_??????.*"):
+                if f.name[5:11].isdigit() and int(f.name[5:11]) > resume:
                     f.unlink()
             return resume > 0 and self.path.exists() and self.path.with_suffix(".h5").exists()
 
