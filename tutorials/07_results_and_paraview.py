@@ -69,4 +69,5 @@ if MPI.COMM_WORLD.rank == 0:
 assert np.allclose(pressure, exact, rtol=1e-8) and np.allclose(gap, exact / K, rtol=1e-8)
 assert np.allclose(x[:, 1], -exact / K, atol=1e-12)  # current positions: below the plane by the penetration
 assert np.isclose(force[1], exact * W, rtol=1e-8) and np.isclose(reaction, -exact * W, rtol=1e-8)
-assert out.is_file() and out.with_suffix(".h5").is_file()
+assert out.is_file() and out.with_suffix(".h5").is_file()  # the index and the mesh
+assert len(list(out.with_name(out.stem + "_fields").glob("*.h5"))) == 2  # one file per load step
