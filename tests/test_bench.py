@@ -71,7 +71,7 @@ def test_scene_specs_and_commands(tmp_path):
 
 
 def test_friction_scene_specs(tmp_path):
-    """The two-body friction scenes (issue #17) declare an entry: the friction-capable laws the capability matrix
+    """The two-body friction scenes declare an entry: the friction-capable laws the capability matrix
     offers on their axes, a K sweep around the scene's default; mindlin3d on the tests' coarse contact mesh, one
     ratio; mindlin with the exact condensed Coulomb law once (no --K)."""
     from fenics_contact.app.scenes import ironing, mindlin, mindlin3d

@@ -124,7 +124,7 @@ def test_two_body_multipliers_equal_augmented_cross_constraints(cylinders_lagran
     f, _ = cylinders_lagrange
     fc, recs = solve_cylinders("cross", augment_max=30, K_hat=1e4)
     assert recs[-1].augmentation_converged
-    assert abs(fc["p0"] - f["p0"]) <= 0.01 * f["p0"], (fc["p0"], f["p0"])  # the acceptance: 1 %
+    assert abs(fc["p0"] - f["p0"]) <= 0.01 * f["p0"], (fc["p0"], f["p0"])  # within 1 % of each other
     monkeypatch.setattr(pairing, "project", functools.partial(pairing.project, hysteresis=0.0))
     fm, _ = solve_cylinders("lagrange", c=1e3)
     fc, recs = solve_cylinders("cross", augment_max=30, K_hat=1e4)

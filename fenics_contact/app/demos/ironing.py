@@ -20,7 +20,7 @@ from fenics_contact.app import build, cli, run
 from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, ironing, scene_arguments
 
-TOLERANCE = 0.02  # the acceptance: the steady-sliding ratio within 2 % of mu (every step of the window)
+TOLERANCE = 0.02  # the steady-sliding ratio within 2 % of mu (every step of the window)
 
 
 def main(argv=None) -> dict:

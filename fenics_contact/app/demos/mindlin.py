@@ -19,7 +19,7 @@ import numpy as np
 from fenics_contact.app import build, cli, run
 from fenics_contact.app.scenes import add_scene_options, mindlin, scene_arguments
 
-TOLERANCE = 0.05  # the stick-zone half-width at every ratio (the acceptance)
+TOLERANCE = 0.05  # the stick-zone half-width at every ratio, against Cattaneo-Mindlin
 
 
 def main(argv=None) -> dict:

@@ -16,7 +16,7 @@ from fenics_contact.app import build, cli, run
 from fenics_contact.app.checks import reference_check
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, wedges
 
-TOLERANCE = 0.01  # the acceptance
+TOLERANCE = 0.01  # the force ratio against its closed form
 
 
 def main(argv=None) -> dict:

@@ -32,7 +32,7 @@ departure from ``mu``. Where every closed point slides with ``|q| = mu p`` again
 is the pressure's resultant turned by ``atan mu``, so ``ratio = (mu + tan psi) / (1 - mu tan psi)`` exactly, with
 ``psi`` the tilt of the pressure's resultant (``P``, the ``F n`` part alone) from the punch's normal (the wedges
 formula): ``ratio - mu`` is the contact zone's shape, the rest is Coulomb's law. Reported over the steady window
-(the drag from ``steady_from`` on): the mean, peak to peak and largest relative distance from ``mu`` (the issue's
+(the drag from ``steady_from`` on): the mean, peak to peak and largest relative distance from ``mu`` (the check's
 2 % is measured on every step of the window), the mean ``psi`` and the identity's error; also in the global frame
 (``-F_x / F_y``).
 """
