@@ -53,8 +53,13 @@ def _folder(tmp_path_factory, comm, name: str) -> Path:
 
 def _env() -> dict:
     """This environment without an MPI job's own variables (the user's ``OMPI_MCA_`` choices stay)."""
+    # An MPI singleton (this process, or the test runner's controller whose environment a worker inherits) sets
+    # OMPI_MCA_ess, OMPI_MCA_orte_*, OMPI_MCA_pmix and ORTE_*: a child mpirun given them starts its ranks as
+    # singletons. The user's transport choices (OMPI_MCA_btl, OMPI_MCA_pml, ...) stay.
+    singleton = ("OMPI_MCA_ess", "OMPI_MCA_orte_", "OMPI_MCA_pmix", "ORTE_")
     env = {k: v for k, v in os.environ.items()
-           if not k.startswith(("OMPI_", "PMIX_", "PMI_")) or k.startswith(("OMPI_MCA_", "OMPI_ALLOW"))}
+           if (not k.startswith(("OMPI_", "PMIX_", "PMI_", "ORTE_")) or k.startswith(("OMPI_MCA_", "OMPI_ALLOW")))
+           and not k.startswith(singleton)}
     return {**env, "PYTHONPATH": str(ROOT) + os.pathsep + env.get("PYTHONPATH", ""), "OMP_NUM_THREADS": "1",
             "OPENBLAS_NUM_THREADS": "1", "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
             "OMPI_MCA_rmaps_base_oversubscribe": "1"}
@@ -255,7 +260,8 @@ def uninterrupted(tmp_path_factory):
     def get(np_: int) -> dict:
         if np_ not in done:
             out = tmp_path_factory.mktemp(f"uninterrupted{np_}")
-            proc = subprocess.run(_demo(np_, out), capture_output=True, text=True, env=_env(), timeout=300)
+            proc = subprocess.run(_demo(np_, out), capture_output=True, text=True, env=_env(), timeout=300,
+                                  stdin=subprocess.DEVNULL)
             assert proc.returncode == 0, proc.stderr
             done[np_] = summary(out)
         return done[np_]
@@ -314,7 +320,9 @@ def test_killed_demo_keeps_its_steps_and_restarts_to_the_same_figures(how, ranks
     if ranks > 1 and not Path("/proc/self").exists():
         pytest.skip("no /proc (a chroot without it): the ranks of mpirun cannot be found to be stopped and killed")
     out = tmp_path / "ironing"
-    proc = subprocess.Popen(_demo(ranks, out), env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # no standard input: mpirun forwards it to rank 0, and a test runner's worker may have none to give
+    proc = subprocess.Popen(_demo(ranks, out), env=_env(), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
     everyone = [proc.pid]
     try:
         deadline = time.monotonic() + 120
