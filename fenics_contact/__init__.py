@@ -28,7 +28,7 @@ from .capabilities import UnsupportedCombination
 from .compat import function_space, interpolate_expression
 from .condensed import CondensedContact, CondensedCoulomb, CondensedTwoBody, CondensedTwoBodyCoulomb, step_solver_for
 from .contact import ContactSurface, contact_measure
-from .domain import NamedTags, read_gmsh
+from .domain import NamedTags, read_gmsh, tag_boundary
 from .factory import contact_surface, two_body_multipliers, two_body_surfaces
 from .friction import Friction, FrictionalContact
 from .laws import (
@@ -74,7 +74,7 @@ __all__ = [
     "CondensedTwoBodyCoulomb", "TwoBodySurface", "SegmentSurface",
     "TwoBodyMultiplier", "FrictionalTwoBodySurface",
     # your own mesh: gmsh physical names
-    "read_gmsh", "NamedTags",
+    "read_gmsh", "NamedTags", "tag_boundary",
     # problem, boundary conditions, solver
     "ContactProblem", "Dirichlet", "Stabilised", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
     "INEXACT_NEWTON",

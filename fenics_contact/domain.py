@@ -15,12 +15,12 @@ mesh is read.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Mapping
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 from mpi4py import MPI
 
-__all__ = ["NamedTags", "read_gmsh", "tag_value", "check_tags"]
+__all__ = ["NamedTags", "read_gmsh", "tag_value", "check_tags", "tag_boundary"]
 
 
 class NamedTags:
@@ -147,3 +147,31 @@ def check_tags(facet_tags, tags: Mapping[str, int] | None,
         if comm.allreduce(int(np.count_nonzero(local == value)), op=MPI.SUM) == 0:
             raise ValueError(f"facet tag {name!r}={value} is absent from the mesh; "
                              f"tags present: {present}")
+
+
+def tag_boundary(msh, sides: Sequence[tuple[str, Callable[[np.ndarray], np.ndarray]]]) -> NamedTags:
+    """Named tags of the boundary facets of a mesh without physical names (e.g. dolfinx's built-in meshes).
+
+    Args:
+        msh: the mesh.
+        sides: ``(name, where)`` pairs; ``where(x)`` is true on the vertices of the facets to tag (``x`` of shape
+            (3, n)). A facet matched by several pairs is tagged once per pair.
+
+    Returns:
+        :class:`NamedTags`: the facet tags, numbered 1, 2, ... in the order of ``sides``, by name.
+    """
+    from dolfinx import mesh as dmesh
+
+    fdim = msh.topology.dim - 1
+    indices, values = [], []
+    names = {name: i + 1 for i, (name, _) in enumerate(sides)}
+    for name, where in sides:
+        tag = names[name]
+        facets = dmesh.locate_entities_boundary(msh, fdim, where)
+        indices.append(facets)
+        values.append(np.full(len(facets), tag, dtype=np.int32))
+    index = np.concatenate(indices).astype(np.int32)
+    order = np.argsort(index)
+    facet_tags = dmesh.meshtags(msh, fdim, index[order], np.concatenate(values)[order])
+    facet_tags.name = "facet_tags"
+    return NamedTags(facet_tags, names)

@@ -23,26 +23,23 @@ import fenics_contact as fc
 E, nu, W, H, q = 1000.0, 0.3, 1.0, 2.0, 5.0
 
 # %% [markdown]
-# A rectangle of dolfinx's own is enough here; its sides are tagged 1 (base), 2 (top), 3 (left).
+# A rectangle of dolfinx's own is enough here; `fc.tag_boundary` names its sides.
 
 # %%
 mesh = dmesh.create_rectangle(MPI.COMM_WORLD, [np.zeros(2), np.array([W, H])], [4, 8])
-sides = {1: lambda x: np.isclose(x[1], 0.0), 2: lambda x: np.isclose(x[1], H), 3: lambda x: np.isclose(x[0], 0.0)}
-found = [(tag, dmesh.locate_entities_boundary(mesh, 1, where)) for tag, where in sides.items()]
-indices = np.concatenate([f for _, f in found]).astype(np.int32)
-values = np.concatenate([np.full(len(f), tag, np.int32) for tag, f in found])
-order = np.argsort(indices)
-facets = dmesh.meshtags(mesh, 1, indices[order], values[order])
-ds = ufl.Measure("ds", domain=mesh, subdomain_data=facets)
+facets = fc.tag_boundary(mesh, [("base", lambda x: np.isclose(x[1], 0.0)),
+                                 ("top", lambda x: np.isclose(x[1], H)),
+                                 ("left", lambda x: np.isclose(x[0], 0.0))])
+ds = ufl.Measure("ds", domain=mesh, subdomain_data=facets.meshtags)
 
 
 # %%
 law = fc.make_law("auglag", K=1e5)
 u, V = fc.unknown(mesh, 1, law)
 load = fem.Constant(mesh, 0.0)
-contact = fc.contact_surface(u, facets, 1, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
-problem = fc.Stabilised(u, fc.LinearElastic(E, nu), load, [fc.Dirichlet.on_facets(V, facets, 3, 0)], [contact],
-                        tractions=[(fem.Constant(mesh, np.array([0.0, -q])), ds(2))], k=E / H**2,
+contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
+problem = fc.Stabilised(u, fc.LinearElastic(E, nu), load, [fc.Dirichlet.on_facets(V, facets, "left", 0)], [contact],
+                        tractions=[(fem.Constant(mesh, np.array([0.0, -q])), ds(facets["top"]))], k=E / H**2,
                         dx_body=ufl.dx(domain=mesh))
 fc.Solver(problem, quiet=True, augment_max=20, augment_tol=1e-10).run([0.25, 0.5, 0.75, 1.0])
 

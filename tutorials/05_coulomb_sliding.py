@@ -21,12 +21,8 @@ import fenics_contact as fc
 E, nu, W, H, mu, d, s = 1000.0, 0.3, 2.0, 1.0, 0.3, 0.01, 0.05
 
 mesh = dmesh.create_rectangle(MPI.COMM_WORLD, [np.zeros(2), np.array([W, H])], [16, 8])
-sides = {1: lambda x: np.isclose(x[1], 0.0), 2: lambda x: np.isclose(x[1], H)}
-found = [(tag, dmesh.locate_entities_boundary(mesh, 1, where)) for tag, where in sides.items()]
-indices = np.concatenate([f for _, f in found]).astype(np.int32)
-values = np.concatenate([np.full(len(f), tag, np.int32) for tag, f in found])
-order = np.argsort(indices)
-facets = dmesh.meshtags(mesh, 1, indices[order], values[order])
+facets = fc.tag_boundary(mesh, [("base", lambda x: np.isclose(x[1], 0.0)),
+                                 ("top", lambda x: np.isclose(x[1], H))])
 
 # %% [markdown]
 # A `Dirichlet`'s `path = (t_k, f_k)` makes its value `amplitude * f(t)`, `f` piecewise linear.
@@ -35,10 +31,10 @@ facets = dmesh.meshtags(mesh, 1, indices[order], values[order])
 law = fc.ExactCoulomb(mu)
 u, V = fc.unknown(mesh, 1, law)
 load = fem.Constant(mesh, 0.0)
-contact = fc.contact_surface(u, facets, 1, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
-down = fc.Dirichlet.on_facets(V, facets, 2, 1, -d)
+contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
+down = fc.Dirichlet.on_facets(V, facets, "top", 1, -d)
 down.path = ([0.0, 1.0], [0.0, 1.0])   # down by d at t = 1, then held
-along = fc.Dirichlet.on_facets(V, facets, 2, 0, s)
+along = fc.Dirichlet.on_facets(V, facets, "top", 0, s)
 along.path = ([1.0, 2.0], [0.0, 1.0])  # then along by s
 problem = fc.ContactProblem(u, fc.LinearElastic(E, nu), load, [down, along], [contact],
                             step_solver=fc.step_solver_for([contact]))

@@ -22,22 +22,19 @@ import fenics_contact as fc
 E, nu, W, H, strain = 1000.0, 0.3, 1.0, 2.0, 0.16
 
 mesh = dmesh.create_rectangle(MPI.COMM_WORLD, [np.zeros(2), np.array([W, H])], [4, 8])
-sides = {1: lambda x: np.isclose(x[1], 0.0), 2: lambda x: np.isclose(x[1], H), 3: lambda x: np.isclose(x[0], 0.0)}
-found = [(tag, dmesh.locate_entities_boundary(mesh, 1, where)) for tag, where in sides.items()]
-indices = np.concatenate([f for _, f in found]).astype(np.int32)
-values = np.concatenate([np.full(len(f), tag, np.int32) for tag, f in found])
-order = np.argsort(indices)
-facets = dmesh.meshtags(mesh, 1, indices[order], values[order])
+facets = fc.tag_boundary(mesh, [("base", lambda x: np.isclose(x[1], 0.0)),
+                                 ("top", lambda x: np.isclose(x[1], H)),
+                                 ("left", lambda x: np.isclose(x[0], 0.0))])
 
 # %%
 law = fc.make_law("nitsche", gamma0=10.0)
 u, V = fc.unknown(mesh, 1, law)
 load = fem.Constant(mesh, 0.0)
 material = fc.NeoHookean(E, nu)  # Nitsche's surface term needs the bulk stress: give the material
-contact = fc.contact_surface(u, facets, 1, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, material=material)
+contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, material=material)
 problem = fc.ContactProblem(u, material, load,
-                            [fc.Dirichlet.on_facets(V, facets, 2, 1, -strain * H),
-                             fc.Dirichlet.on_facets(V, facets, 3, 0)], [contact])
+                            [fc.Dirichlet.on_facets(V, facets, "top", 1, -strain * H),
+                             fc.Dirichlet.on_facets(V, facets, "left", 0)], [contact])
 fc.Solver(problem, quiet=True).run([0.25, 0.5, 0.75, 1.0])
 
 # %%

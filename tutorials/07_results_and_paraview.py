@@ -24,12 +24,9 @@ import fenics_contact as fc
 E, nu, W, H, d, K = 1000.0, 0.3, 1.0, 2.0, 0.02, 1e4
 
 mesh = dmesh.create_rectangle(MPI.COMM_WORLD, [np.zeros(2), np.array([W, H])], [4, 8])
-sides = {1: lambda x: np.isclose(x[1], 0.0), 2: lambda x: np.isclose(x[1], H), 3: lambda x: np.isclose(x[0], 0.0)}
-found = [(tag, dmesh.locate_entities_boundary(mesh, 1, where)) for tag, where in sides.items()]
-indices = np.concatenate([f for _, f in found]).astype(np.int32)
-values = np.concatenate([np.full(len(f), tag, np.int32) for tag, f in found])
-order = np.argsort(indices)
-facets = dmesh.meshtags(mesh, 1, indices[order], values[order])
+facets = fc.tag_boundary(mesh, [("base", lambda x: np.isclose(x[1], 0.0)),
+                                 ("top", lambda x: np.isclose(x[1], H)),
+                                 ("left", lambda x: np.isclose(x[0], 0.0))])
 
 # %% [markdown]
 # `fc.XDMFWriter(path, mesh, functions)` writes the mesh once and the functions at each call; the solver's
@@ -41,9 +38,9 @@ law = fc.make_law("penalty", K=K)
 u, V = fc.unknown(mesh, 1, law)
 u.name = "displacement"
 load = fem.Constant(mesh, 0.0)
-contact = fc.contact_surface(u, facets, 1, fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
-top = fc.Dirichlet.on_facets(V, facets, 2, 1, -d)
-problem = fc.ContactProblem(u, fc.LinearElastic(E, nu), load, [top, fc.Dirichlet.on_facets(V, facets, 3, 0)],
+contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
+top = fc.Dirichlet.on_facets(V, facets, "top", 1, -d)
+problem = fc.ContactProblem(u, fc.LinearElastic(E, nu), load, [top, fc.Dirichlet.on_facets(V, facets, "left", 0)],
                             [contact])
 out = Path("results") / "tutorials" / "block.xdmf"
 with fc.XDMFWriter(out, mesh, [u]) as writer:
