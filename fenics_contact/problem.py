@@ -65,6 +65,10 @@ class ContactProblem:
     :class:`~fenics_contact.surface.Surface` objects; ``step_solver``: a
     :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES (required by a
     surface with ``requires_step_solver``, method ``coulomb``).
+
+    ``stiffness``: the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` (a force per length). The
+    Dirichlet rows of the residual are ``stiffness (x - g)`` and their Jacobian diagonal ``stiffness``: every row
+    is a force, so the residual's norm and the Newton iterates do not depend on the units.
     """
 
     def __init__(self, u: fem.Function, material: Material | Materials, load: fem.Constant,
@@ -102,6 +106,24 @@ class ContactProblem:
             ([fem.form(ufl.derivative(surface, u, du))] if surface is not None else [])
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
         self.comm = V.mesh.comm
+        self.stiffness = self._reference_stiffness()
+
+    def _reference_stiffness(self) -> float:
+        """The mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its nonzero entries (a force per
+        length, ~ ``E h^(d-2)``), over all ranks. Collective."""
+        saved = self.u.x.array.copy()
+        self.u.x.array[:] = 0.0
+        A = fem_petsc.assemble_matrix(self._a_parts[0])
+        A.assemble()
+        d = A.getDiagonal()
+        diagonal = np.abs(d.array)
+        diagonal = diagonal[diagonal > 0]
+        total = self.comm.allreduce(float(diagonal.sum()), op=MPI.SUM)
+        count = self.comm.allreduce(diagonal.size, op=MPI.SUM)
+        d.destroy()
+        A.destroy()
+        self.u.x.array[:] = saved
+        return total / count if count and total > 0 and np.isfinite(total) else 1.0
 
     @property
     def L(self) -> fem.Form:
@@ -122,7 +144,7 @@ class ContactProblem:
     def F(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """The residual at ``x`` into ``b``, as dolfinx's ``NonlinearProblem.F``: sets ``u`` to ``x``, lets every
         contact prepare (two-body contact re-pairs), assembles the forms, adds the contacts' terms outside the
-        forms, and sets the Dirichlet rows to ``x - g`` (lifting on the free rows)."""
+        forms, and sets the Dirichlet rows to ``k (x - g)`` (``k``: :attr:`stiffness`; lifting on the free rows)."""
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         x.copy(petsc_vec(self.u))
         self.u.x.scatter_forward()
@@ -134,10 +156,10 @@ class ContactProblem:
             fem_petsc.assemble_vector(b, L)
         for c in self.contacts:  # coupling terms outside the forms (owned entries)
             c.add_residual(b)
-        lift_and_set_bc(b, self._a_parts, self.bcs, x, -1.0)
+        lift_and_set_bc(b, self._a_parts, self.bcs, x, -1.0, self.stiffness)
 
     def J(self, x: PETSc.Vec, A: PETSc.Mat) -> bool:
-        """The Jacobian at ``x`` into ``A`` (Dirichlet rows and columns: identity), as dolfinx's
+        """The Jacobian at ``x`` into ``A`` (Dirichlet rows and columns: ``k`` times the identity), as dolfinx's
         ``NonlinearProblem.J``: the state (``u``, contact pairing) is that of the last :meth:`F` at the same
         ``x``, as in a Newton iteration. Returns True when a contact's coupling changed ``A``'s nonzero pattern
         (a solver must then factor from scratch)."""
@@ -145,7 +167,7 @@ class ContactProblem:
         for a in self._a_parts[1:]:  # Dirichlet diagonal 0 (added or inserted, the bulk's 1 follows)
             fem_petsc.assemble_matrix(A, a, bcs=self.bcs, diagonal=0.0)
             A.assemble(PETSc.Mat.AssemblyType.FLUSH)  # its inserted diagonal before the bulk's added values
-        fem_petsc.assemble_matrix(A, self._a_parts[0], bcs=self.bcs)
+        fem_petsc.assemble_matrix(A, self._a_parts[0], bcs=self.bcs, diagonal=self.stiffness)
         A.assemble()
         # PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change: report it.
         return any([c.add_jacobian(A, self.bcs) for c in self.contacts])
@@ -168,6 +190,16 @@ class ContactProblem:
         self.load.value = t
         for d in self.dirichlet:
             d.value.value = d.at(t)
+
+    def mesh_size(self) -> float:
+        """The mean cell size ``(|Omega| / cells)^(1/d)`` of the mesh (a length; ``d`` its topological dimension),
+        over all ranks. Collective."""
+        if not hasattr(self, "_mesh_size"):
+            mesh = self.u.function_space.mesh
+            tdim = mesh.topology.dim
+            volume = self.comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ufl.dx)), op=MPI.SUM)
+            self._mesh_size = float((volume / mesh.topology.index_map(tdim).size_global) ** (1.0 / tdim))
+        return self._mesh_size
 
     def min_jacobian(self) -> float | None:
         """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the

@@ -44,7 +44,8 @@ class Solver:
     """Drives a :class:`ContactProblem` through a sequence of load values.
 
     ``augment_max`` augmentations at most per load step (0: none), stopping
-    when ``R = ||g_new - g_old|| <= augment_tol``. A step whose SNES
+    when ``R = ||g_new - g_old|| <= augment_tol h`` (``R``: the change of the contact points' gaps, a length;
+    ``h``: the mean cell size, :meth:`ContactProblem.mesh_size`; ``augment_tol`` is dimensionless). A step whose SNES
     diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
     called after every converged step (output); ``on_iterate(it)`` after
     every Newton iterate, with ``problem.u`` at that iterate. Progress: one
@@ -266,7 +267,7 @@ class Solver:
             R = max(c.constraint_change() for c in augmentable)
             if np.isfinite(R):
                 rec.constraint_change.append(R)
-            if R <= self.augment_tol:
+            if R <= self.augment_tol * self.problem.mesh_size():
                 rec.converged = True
                 break
             if rec.augmentations == self.augment_max:

@@ -117,7 +117,7 @@ __all__ = [
 A, B, C = 0.2, 0.6, 1.0
 E_DEFAULT, NU_DEFAULT, Q_DEFAULT = 1000.0, 0.3, 10.0
 PLANES = ("strain", "stress")
-RADIUS = 0.1  # two-body search radius (the interface moves by ~1e-2 at most)
+RADIUS = 0.1  # two-body search radius over c (the interface moves by ~1e-2 c at most)
 
 
 def _plane(E: float, nu: float, plane: str) -> tuple[float, float]:
@@ -178,20 +178,25 @@ class RingsElastic(LinearElastic):
 def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quadrature: str = "nodal",
           passes: str = "one", n: int = 16, n_outer: int | None = None, plane: str = "strain",
           E: tuple[float, float] = (E_DEFAULT, E_DEFAULT), nu: tuple[float, float] = (NU_DEFAULT, NU_DEFAULT),
-          q: float = Q_DEFAULT, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+          q: float = Q_DEFAULT, comm: MPI.Comm = MPI.COMM_WORLD,
+          radii: tuple[float, float, float] = (A, B, C)) -> Setup:
     """``degree`` 1 (P1 triangles, flat facets: ``quadrature`` ``nodal``, ``gauss`` or ``segment``) or 2
     (6-node triangles of a quadratic geometry, curved 3-node facets: ``nodal`` or ``simpson``); ``passes``
     ``one`` (the inner ring's arc is the slave) or ``two``. Method ``lagrange`` (``law`` a
     :class:`~fenics_contact.laws.LagrangeMultiplier`): the constraint at the vertices, the work with
     ``quadrature`` (P2: ``simpson`` is the two-point element); ``collocated`` (P2, ``lagrange`` or
     ``penalty_multiplier``): Papadopoulos & Solberg's collocated element (``passes`` not used: both
-    surfaces carry a pressure). One load step ``t = 1``."""
+    surfaces carry a pressure); ``radii``: ``a < b < c``. One load step ``t = 1``."""
     if degree not in (1, 2):
         raise ValueError(f"degree must be 1 or 2, got {degree!r}")
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if not (np.isfinite(q) and q > 0):
         raise ValueError(f"pressure q must be a finite number > 0, got {q!r}")
+    a, b, c = (float(r) for r in radii)
+    if not (np.isfinite(c) and 0 < a < b < c):
+        raise ValueError(f"radii must be finite with 0 < a < b < c, got {tuple(radii)!r}")
+    radius = RADIUS * c  # the two-body search radius
     if int(n) != n or n < 2:
         raise ValueError(f"n must be an integer >= 2, got {n!r}")
     if law_factory is None:
@@ -202,7 +207,7 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     multipliers = isinstance(first, LagrangeMultiplier)
     if n_outer is None:
         n_outer = max(3 * int(n) // 4, 2)
-    mesh, cell_tags, facet_tags = concentric_rings(comm, A, B, C, int(n), int(n_outer), order=degree)
+    mesh, cell_tags, facet_tags = concentric_rings(comm, a, b, c, int(n), int(n_outer), order=degree)
     u, V = unknown(mesh, degree, first)
     material = RingsElastic(mesh, cell_tags, E, nu, plane)  # validates E and nu
     load = fem.Constant(mesh, 0.0)
@@ -214,25 +219,25 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
                              f"'lagrange' or 'penalty_multiplier', got degree {degree!r}, method {first.name!r}")
         from ...collocation import collocated_surfaces
 
-        contacts = collocated_surfaces(u, facet_tags, "inner_surface", "outer_surface", first, load, RADIUS,
+        contacts = collocated_surfaces(u, facet_tags, "inner_surface", "outer_surface", first, load, radius,
                                        "interface")
     elif multipliers:
         if quadrature not in (("nodal",) if degree == 1 else ("nodal", "simpson")):
             raise ValueError(f"method {first.name!r} on degree-{degree} facets: quadrature must be 'nodal'"
                              f"{'' if degree == 1 else ' or simpson'}, got {quadrature!r}")
         contacts = two_body_multipliers(u, facet_tags, "inner_surface", "outer_surface", first, load,
-                                        RADIUS, "interface", passes=passes, work_quadrature=quadrature)
+                                        radius, "interface", passes=passes, work_quadrature=quadrature)
     else:
         contacts = two_body_surfaces(u, facet_tags, "inner_surface", "outer_surface", law_factory, load,
-                                     quadrature, passes, RADIUS, "interface")
+                                     quadrature, passes, radius, "interface")
     for cs in contacts:  # one name per field in the XDMF file
         cs.gap_out.name, cs.pressure_out.name = f"gap_{cs.name}", f"contact_pressure_{cs.name}"
     n_ref = ufl.FacetNormal(mesh)
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)
     problem = ContactProblem(u, material, load, rollers, contacts, tractions=[(-q * n_ref, ds(facet_tags["loaded"]))])
 
-    p_lame = lame_pressure(q, E[0], nu[0], E[1], nu[1], plane)
-    ua_lame, uc_lame = lame_displacements(q, E[0], nu[0], E[1], nu[1], plane)
+    p_lame = lame_pressure(q, E[0], nu[0], E[1], nu[1], plane, a, b, c)
+    ua_lame, uc_lame = lame_displacements(q, E[0], nu[0], E[1], nu[1], plane, a, b, c)
     # Radial displacement at the nodes of r = a and r = c (owned, gathered).
     if is_mixed(u.function_space):
         Vd, to_parent = u.function_space.sub(0).collapse()
@@ -275,7 +280,7 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
         ps = [constrained(cs) for cs in contacts]
         dev = np.abs(np.concatenate(ps) - p_lame) / p_lame
         ura, urc = radial("a"), radial("c")
-        p_reaction = problem.reaction(rollers[1].dofs) / B
+        p_reaction = problem.reaction(rollers[1].dofs) / b
         return {"p_lame": p_lame, "p_max_deviation": float(dev.max()), "p_mean_deviation": float(dev.mean()),
                 "p_min": float(min(p.min() for p in ps)), "p_max": float(max(p.max() for p in ps)),
                 "p_reaction": p_reaction, "p_reaction_deviation": abs(p_reaction - p_lame) / p_lame,
@@ -286,7 +291,7 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
                 "points": int(sum(len(p) for p in ps)),
                 "pairing_changes": int(sum(cs.pairing_changes for cs in contacts))}
 
-    params = {"a": A, "b": B, "c": C, "q": q, "E": tuple(E), "nu": tuple(nu), "plane": plane, "degree": degree,
+    params = {"a": a, "b": b, "c": c, "q": q, "E": tuple(E), "nu": tuple(nu), "plane": plane, "degree": degree,
               "n": int(n), "n_outer": int(n_outer), "quadrature": quadrature, "passes": passes,
               "material": "linear elastic per ring"}
     return Setup("rings", problem, contacts, [1.0], params, figures, [contacts[0].displacement_out])

@@ -1,0 +1,192 @@
+"""The same problem in any consistent units: every scene and the README example solved in their own units and
+rescaled (lengths x 2^-10, moduli and stresses x 2^30, forces accordingly) give the same dimensionless figures to
+1e-6, the same Newton iterations and the same augmentations; the README example also with lengths x 1e-3 and
+moduli x 1e9; the concentric rings in SI (E = 1e9 Pa) converge with the default options and match Lame.
+
+Powers of two scale every floating-point number exactly: a Newton path that hangs on a tie (a contact point with
+a gap of exactly 0, a point on a facet's end, stick against slip) takes the same branch in both unit systems, so
+equal iteration counts test the tolerances and defaults alone. With decimal factors, round-off differs and such a
+path may branch differently (mindlin: 12 and 15 iterations in a step; the figures agree)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from dolfinx import fem
+from mpi4py import MPI
+
+import fenics_contact as fc
+from fenics_contact.app.scenes import build, scene_names
+from fenics_contact.app.scenes.rings import lame_pressure
+
+LENGTH, STRESS = 2.0**-10, 2.0**30  # the rescaling: about mm -> m with MPa -> Pa, exact in floating point
+
+
+def _scale(value, factor):
+    return type(value)(v * factor for v in value) if isinstance(value, (tuple, list)) else value * factor
+
+
+# Per scene: a coarse, short version of it (builder keywords), the keywords that are lengths, stresses (moduli,
+# pressures, tractions) and forces (2D: per unit thickness), the method with its parameters and their units
+# ("S/L": a pressure per length, "S": a pressure, "1": dimensionless), friction, and the solver's arguments.
+CASES = {
+    "block": dict(kw=dict(nx=2, ny=4), lengths=("height", "width", "displacement"), stresses=("E",),
+                  law=("cross", {"K_hat": (1e5, "S/L")})),
+    "compliance3d": dict(kw=dict(nx=4, ny=2, nz=2, press_steps=1, drag_steps=2),
+                         lengths=("lx", "ly", "height", "press", "drag"), stresses=("E",),
+                         law=("compliance", {"c_n": (1e5, "S/L"), "m_n": (1.0, "1")}), friction=(0.3, 1e4)),
+    "cylinders": dict(kw=dict(h_contact=0.4, h_far=4.0, loads=[0.1, 0.2], model="linear"),
+                      lengths=("h_contact", "h_far", "contact_width", "R_lower", "R_upper", "overlap", "loads"),
+                      stresses=("E",), defaults=dict(E=2.8e3, nu=0.4, contact_width=1.0, R_lower=18.0, R_upper=8.0,
+                                                     overlap=1e-4),
+                      law=("penalty", {"K": (1e4, "S/L")})),
+    "hertz": dict(kw=dict(steps=2), lengths=("R", "approach"), stresses=("E",),
+                  law=("auglag", {"K": (1e6, "S/L")}), solver=dict(augment_max=30, augment_tol=1e-10)),
+    "ironing": dict(kw=dict(h=0.125, press_steps=2, drag_steps=2, drag=0.1),
+                    lengths=("depth", "drag", "H", "half_width", "r", "height", "margin", "h"), stresses=("E",),
+                    defaults=dict(depth=0.1, H=1.0, half_width=0.5, r=0.5, height=0.5, margin=1.5),
+                    law=("penalty", {"K": (1e5, "S/L")}), friction=(0.3, 1e4), solver=dict(predictor="secant")),
+    "mindlin": dict(kw=dict(press_steps=2, ratios=(0.5,)), lengths=("R", "approach"), stresses=("E",),
+                    law=("penalty", {"K": (1e7, "S/L")}), friction=(0.3, 1e6)),
+    "mindlin3d": dict(kw=dict(press_steps=1, ratios=(0.5,), h_contact=0.03), lengths=("R", "approach", "h_contact"),
+                      stresses=("E",), law=("penalty", {"K": (2e6, "S/L")}), friction=(0.3, 1e4 / 0.007)),
+    "patch": dict(kw=dict(), lengths=("width", "h_lower", "h_upper", "overlap"),
+                  stresses=("pressure", "E_lower", "E_upper"), law=("auglag", {"K": (1e6, "S/L")}),
+                  solver=dict(augment_max=10, augment_tol=1e-9)),
+    "pin": dict(kw=dict(steps=2), lengths=("R", "half_width", "below", "above"), stresses=("E", "P0"),
+                law=("auglag", {"K": (1e6, "S/L")}), solver=dict(augment_max=10, augment_tol=1e-10)),
+    "ring": dict(kw=dict(n_theta=22, n_r=2), lengths=("R_out", "R_in", "approach"), stresses=("E",),
+                 law=("penalty", {"K": (1e5, "S/L")})),
+    "rings": dict(kw=dict(n=8), lengths=("radii",), stresses=("E", "q"), defaults=dict(radii=(0.2, 0.6, 1.0)),
+                  law=("auglag", {"K": (1e8, "S/L")}), solver=dict(augment_max=10, augment_tol=1e-10)),
+    "seal": dict(kw=dict(h=1.0, loads=[0.5, 1.0]), lengths=("h", "R_out", "R_in", "plate_distance", "loads"),
+                 stresses=("E",), law=("cross", {"K_hat": (1e5, "S/L"), "F_hat": (1e-3, "S")}),
+                 solver=dict(options={"snes_linesearch_type": "basic"})),
+    "sheet": dict(kw=dict(n_arc=12, n_leg=4, steps=4, cylinder="rigid"),
+                  lengths=("R", "thickness", "leg", "R_in", "radius", "pull"), stresses=("lmbda", "mu"),
+                  law=("penalty", {"K": (1e5, "S/L")})),
+    "slab": dict(kw=dict(nx=8, ny=4), lengths=("width", "height"), stresses=("E", "top_pressure", "side_pressure"),
+                 law=("coulomb", {"mu": (0.5, "1")})),
+    "sphere": dict(kw=dict(), lengths=("R", "approach"), stresses=("E",), law=("penalty", {"K": (1e6, "S/L")})),
+    "wedges": dict(kw=dict(mesh=((20, 4), (6, 3))), lengths=("length", "push"), stresses=("E", "load"),
+                   law=("penalty", {"K": (1e6, "S/L")}), friction=(0.3, 1e4)),
+}
+SLOW_CASES = ("compliance3d", "cylinders", "ironing", "mindlin3d", "seal", "sphere")
+
+
+def _units(unit: str, L: float, S: float) -> float:
+    return {"S/L": S / L, "S": S, "1": 1.0}[unit]
+
+
+def _law(case: dict, L: float, S: float):
+    method, params = case["law"]
+    law = fc.make_law(method, **{k: v * _units(u, L, S) for k, (v, u) in params.items()})
+    if "friction" in case:
+        mu, omega_t = case["friction"]
+        law = fc.Friction(law, mu=mu, omega_t=omega_t * S / L)
+    return law
+
+
+def _builder_defaults(name: str) -> dict:
+    import importlib
+    import inspect
+
+    sig = inspect.signature(importlib.import_module(f"fenics_contact.app.scenes.{name}").build)
+    return {k: p.default for k, p in sig.parameters.items() if p.default is not inspect.Parameter.empty}
+
+
+def solve_scene(name: str, L: float = 1.0, S: float = 1.0) -> tuple[dict, list, list]:
+    """Scene ``name`` (coarse, :data:`CASES`) with its lengths times ``L`` and its stresses times ``S``: its
+    figures, the Newton iterations and the augmentations of every load step."""
+    case = CASES[name]
+    given = {**_builder_defaults(name), **case.get("defaults", {}), **case["kw"]}
+    kw = dict(case["kw"])
+    for k in case["lengths"]:
+        kw[k] = _scale(given[k], L)
+    for k in case["stresses"]:
+        kw[k] = _scale(given[k], S)
+    setup = build(name, law=_law(case, L, S), **kw)
+    with fc.Solver(setup.problem, quiet=True, **case.get("solver", {})) as solver:
+        solver.run(setup.loads)
+        figures = setup.figures()
+        return figures, [r.newton_iterations for r in solver.records], [r.augmentations for r in solver.records]
+
+
+def solve_readme(L: float = 1.0, S: float = 1.0) -> tuple[dict, list, list]:
+    """The README's own-mesh example (the half disk on a rigid plane) with lengths times ``L`` and moduli times
+    ``S``: the plane's force over ``S L``, the peak pressure over ``S``, Newton iterations and augmentations."""
+    mesh, cells, facets = fc.read_gmsh("fenics_contact/app/geo/half_disk.geo", MPI.COMM_WORLD, gdim=2)
+    mesh.geometry.x[:] *= L
+    law = fc.make_law("auglag", K=1e6 * S / L)
+    u, V = fc.unknown(mesh, 1, law)
+    load = fem.Constant(mesh, 0.0)
+    contact = fc.contact_surface(u, facets, "contact", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
+    push = 0.001 * L
+    problem = fc.ContactProblem(u, fc.LinearElastic(1000.0 * S, 0.3), load,
+                                [fc.Dirichlet.on_facets(V, facets, "top", 1, -push),
+                                 fc.Dirichlet.on_facets(V, facets, "top", 0)], [contact])
+    with fc.Solver(problem, augment_max=10, augment_tol=1e-10, quiet=True) as solver:
+        solver.run([0.5, 1.0])
+        x, gap, pressure = contact.surface_values()
+        figures = {"P": contact.total_force()[1] / (S * L), "p0": pressure.max() / S}
+        return figures, [r.newton_iterations for r in solver.records], [r.augmentations for r in solver.records]
+
+
+def assert_same_figures(base: dict, scaled: dict, unit: float = 2.0**10) -> None:
+    """Each figure of ``scaled`` is that of ``base`` times a power of ``unit`` (its unit: a power of the length
+    and the stress factor, each a power of ``unit``) to 1e-6; integers and strings equal."""
+    assert base.keys() == scaled.keys()
+    for k, a in base.items():
+        b = scaled[k]
+        if isinstance(a, (bool, str, int, np.integer)) or a is None:
+            assert a == b, k
+            continue
+        a, b = np.asarray(a, float), np.asarray(b, float)
+        assert a.shape == b.shape, k
+        if not np.any(a):
+            assert not np.any(b), k
+            continue
+        i = np.argmax(np.abs(a))
+        power = unit ** round(math.log(abs(b.flat[i] / a.flat[i])) / math.log(unit))
+        assert np.allclose(b / power, a, rtol=1e-6, atol=1e-6 * np.max(np.abs(a))), (k, a, b / power)
+
+
+@pytest.mark.parametrize("L, S, unit", [(LENGTH, STRESS, 2.0**10), (1e-3, 1e9, 1e3)])
+def test_readme_example_any_units(L, S, unit, monkeypatch):
+    from pathlib import Path
+
+    monkeypatch.chdir(Path(__file__).parents[1])
+    base, scaled = solve_readme(), solve_readme(L, S)
+    assert_same_figures(base[0], scaled[0], unit)
+    assert base[1:] == scaled[1:]
+
+
+def test_every_scene_has_a_case():
+    assert sorted(CASES) == scene_names()
+
+
+@pytest.mark.parametrize("name", [n for n in CASES if n not in SLOW_CASES])
+def test_scene_any_units(name):
+    base, scaled = solve_scene(name), solve_scene(name, LENGTH, STRESS)
+    assert_same_figures(base[0], scaled[0])
+    assert base[1:] == scaled[1:]
+
+
+@pytest.mark.parametrize("name", SLOW_CASES)
+def test_slow_scene_any_units(name):
+    base, scaled = solve_scene(name), solve_scene(name, LENGTH, STRESS)
+    assert_same_figures(base[0], scaled[0])
+    assert base[1:] == scaled[1:]
+
+
+def test_rings_in_si_converge_with_default_options():
+    """The rings at E = 1e9 Pa, q = 1e6 Pa (plane stress, strains ~1e-3) with the default options: converged,
+    the interface pressure from the reaction within 5 % of Lame (925925.93 Pa)."""
+    setup = build("rings", law=fc.make_law("auglag", K=1e14), E=(1e9, 1e9), nu=(0.2, 0.2), q=1e6, plane="stress")
+    with fc.Solver(setup.problem, quiet=True, augment_max=10, augment_tol=1e-10) as solver:
+        solver.run(setup.loads)
+        f = setup.figures()
+    assert f["p_lame"] == pytest.approx(lame_pressure(1e6, 1e9, 0.2, 1e9, 0.2, "stress"))
+    assert f["p_lame"] == pytest.approx(925925.93, rel=1e-8)
+    assert f["p_reaction_deviation"] < 0.05
