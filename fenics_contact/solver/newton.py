@@ -27,9 +27,10 @@ class Newton:
     fingerprint and number of closed contact points per iterate), ``message`` (a step solver's). Set
     ``reference`` before a solve to make ``rtol`` relative to the smaller of the first residual and it.
 
-    The absolute tolerance (:attr:`atol`) is :data:`~.options.ATOL_RELATIVE` times ``force_scale``, the first
-    nonzero residual norm of the first solve (the residual's rows are forces, so the decisions do not depend on the
-    units); a ``snes_atol`` given in the options or on the command line is used as it is."""
+    The absolute tolerance (:attr:`atol`) is :data:`~.options.ATOL_RELATIVE` times ``force_scale``, the largest
+    first residual of the solves so far (after a predictor: the out-of-balance of the last converged state at the
+    new load, as for ``rtol``). The residual's rows are forces, so the decisions do not depend on the units; a
+    ``snes_atol`` given in the options or on the command line is used as it is."""
 
     def __init__(self, problem: ContactProblem, options: ScopedOptions, timings: dict[str, float],
                  on_iterate: Callable[[int], None] | None = None):
@@ -57,7 +58,7 @@ class Newton:
         self.closed: list[int] = []
         self.message = ""
         self.reference: float | None = None
-        self.force_scale: float | None = None  # the first residual of the first solve (a force): scales atol
+        self.force_scale: float | None = None  # the largest first residual of the run's solves (a force): atol's scale
         self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
         self._norms: list[float] = []  # residual norms of the current solve, for the convergence test
 
@@ -112,8 +113,9 @@ class Newton:
         rtol, _, stol, _ = snes.getTolerances()
         if it == 0:
             self._norms = [fnorm]
-            if self.force_scale is None and np.isfinite(fnorm) and fnorm > 0:
-                self.force_scale = float(fnorm)
+            first = fnorm if self.reference is None else min(fnorm, self.reference)
+            if np.isfinite(first) and first > (self.force_scale or 0.0):
+                self.force_scale = float(first)
         else:
             self._norms.append(fnorm)
         if not np.isfinite(fnorm):
