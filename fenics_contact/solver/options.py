@@ -48,10 +48,10 @@ DEFAULT_OPTIONS = {
 }
 
 # The residual norm below which a solve has converged whatever its first residual, relative to the force scale of
-# the run (the largest first residual of its solves, newton.Newton.force_scale): the round-off floor of the
-# residual is ~1e-16 x the internal forces (x the conditioning of the assembly), reached well below rtol's 1e-11
-# of a load step's first residual only by a step that changes little.
-ATOL_RELATIVE = 1e-12
+# the run (the largest first residual of its solves, newton.Newton.force_scale): a step that changes little (a late
+# augmentation) starts near it and stops there instead of at rtol of its own small first residual, at the
+# round-off floor (~1e-16 x the internal forces x the conditioning of the assembly).
+ATOL_RELATIVE = 1e-11
 
 # Linear solvers of ``--solver``. direct: sparse LU (MUMPS), robust for every method, the default for
 # the 2D scenes (up to ~1e5 dofs). iterative: GMRES with smoothed-aggregation AMG (GAMG) and the
