@@ -105,7 +105,7 @@ SCENE = (  # a benchmark scene, its demo, or the application around it (harness,
     "test_block.py", "test_hertz.py", "test_sphere.py", "test_pin.py", "test_slab.py", "test_ring.py",
     "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
     "test_wedges.py", "test_ironing.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
-    "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py",
+    "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py", "test_bench_pages.py",
 )
 SLOW = (  # studies of more than a few seconds each
     "test_bench.py::test_slab_error_from_the_exact_coulomb_reference", "test_bench.py::test_sweep_block",

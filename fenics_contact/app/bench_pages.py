@@ -1,0 +1,182 @@
+"""The benchmark pages of the documentation, written from the results of a benchmark run.
+
+    python -m fenics_contact.app.bench_pages results/bench docs/bench [--demos results]
+
+Reads what :mod:`fenics_contact.app.bench` writes into its output folder (``run.json``: the machine, date,
+commit and command of the run; per scene ``<scene>_findings.md``, ``<scene>_stability.md``,
+``<scene>_reduction.md``, ``model_reduction.md`` and the charts ``<scene>_*.png``) and, with ``--demos``, the
+``<demo>/summary.json`` of every demo in that folder (their checks against the scenes' references). Writes
+``index.md`` (the run's header, the demos' checks, a page per scene) and ``<scene>.md`` with the charts copied
+next to them. Every page starts with the header: machine (CPU model, cores, memory, from /proc), date, commit,
+command. The pages hold numbers only; docs/benchmarks.md explains how to read them.
+"""
+from __future__ import annotations
+
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Sequence
+
+__all__ = ["RUN_FILE", "machine", "record_run", "read_run", "header", "scene_page", "demo_checks", "write_pages",
+           "main"]
+
+RUN_FILE = "run.json"  # the run's record in the benchmark's output folder
+CHARTS = ("pareto", "dofs", "iterations", "stability", "stability_accuracy")
+CHART_TITLES = {"pareto": "Error against solver time", "dofs": "Error against dofs",
+                "iterations": "Newton iterations against K", "stability": "Stability map",
+                "stability_accuracy": "The K each method needs"}
+
+
+def machine() -> dict:
+    """CPU model, logical cores and memory (GB) of this machine, from /proc (``unknown`` where not readable),
+    and the operating system."""
+    cpu, memory = "unknown", None
+    try:
+        cpu = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
+                   if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    try:
+        kb = next(int(line.split()[1]) for line in Path("/proc/meminfo").read_text().splitlines()
+                  if line.startswith("MemTotal:"))
+        memory = round(kb / 1024**2, 1)
+    except (OSError, StopIteration, ValueError):
+        pass
+    system = platform.platform()
+    try:
+        system = next(line.split("=", 1)[1].strip().strip('"') for line in
+                      Path("/etc/os-release").read_text().splitlines() if line.startswith("PRETTY_NAME="))
+    except (OSError, StopIteration):
+        pass
+    return {"cpu": cpu, "cores": os.cpu_count(), "memory_gb": memory, "system": system}
+
+
+def _commit(root: Path) -> str:
+    try:
+        out = subprocess.run(["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"], capture_output=True,
+                             text=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        return "unknown"
+    return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else "unknown"
+
+
+def record_run(out: str | Path, argv: Sequence[str]) -> dict:
+    """Write ``<out>/run.json``: this machine, the date (UTC), the commit of the package's checkout and the
+    command ``python demos/bench.py <argv>``; returns it."""
+    run = {"date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+           "commit": _commit(Path(__file__).resolve().parents[2]),
+           "command": " ".join(["python demos/bench.py", *argv]), "machine": machine()}
+    Path(out).mkdir(parents=True, exist_ok=True)
+    (Path(out) / RUN_FILE).write_text(json.dumps(run, indent=1) + "\n")
+    return run
+
+
+def read_run(results: str | Path) -> dict:
+    """The run's record (``ValueError`` naming the folder if it has none: the pages need the machine and date)."""
+    path = Path(results) / RUN_FILE
+    if not path.exists():
+        raise ValueError(f"{results} has no {RUN_FILE}: not the output folder of a benchmark run (make bench)")
+    return json.loads(path.read_text())
+
+
+def header(run: dict) -> str:
+    """The lines every page starts with: machine, date, commit, command."""
+    m = run["machine"]
+    memory = "unknown memory" if m.get("memory_gb") is None else f"{m['memory_gb']:g} GB memory"
+    return (f"Measured on {m['cpu']}, {m['cores']} cores, {memory}, {m['system']}; {run['date']}; "
+            f"commit `{run['commit']}`; command `{run['command']}`. Times are wall times of serial runs on this "
+            "machine.\n")
+
+
+def _section(title: str, path: Path) -> list[str]:
+    return [f"## {title}", "", path.read_text().rstrip(), ""] if path.exists() else []
+
+
+def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
+    """The page of one scene: findings, stability summary, model reduction and charts (copied into ``out``)."""
+    lines = [f"# {scene}", "", header(run)]
+    lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
+    lines += _section("Stability over the parameter and the load steps", results / f"{scene}_stability.md")
+    lines += _section("Model reduction", results / f"{scene}_reduction.md")
+    for chart in CHARTS:
+        png = results / f"{scene}_{chart}.png"
+        if png.exists():
+            shutil.copyfile(png, out / png.name)
+            lines += [f"## {CHART_TITLES[chart]}", "", f"![{scene}: {CHART_TITLES[chart].lower()}]({png.name})", ""]
+    return "\n".join(lines).rstrip() + "\n"
+
+
+def demo_checks(folder: str | Path) -> str:
+    """Markdown table of the checks in ``folder/<demo>/summary.json`` (the layout of ``make demo``: figure, value,
+    reference, relative error, tolerance, passed), one row per demo; empty if there is none."""
+    rows = []
+    for path in sorted(Path(folder).glob("*/summary.json")):
+        s = json.loads(path.read_text())
+        c = s.get("check")
+        if not c:
+            continue
+        def fmt(v, spec=".6g"):
+            return "-" if v is None else format(v, spec)
+
+        rows.append(f"| {s.get('scene', path.parent.name)} | {s.get('method', '-')} | {s.get('ranks', '-')} | "
+                    f"{s.get('dofs', '-')} | {c['figure']} | {fmt(c.get('value'))} | {fmt(c.get('reference'))} | "
+                    f"{fmt(c.get('rel_error'), '.2e')} | {fmt(c.get('tolerance'), 'g')} | "
+                    f"{'yes' if c.get('passed') else 'no'} | {fmt(s.get('wall_time_s'), '.3g')} |")
+    if not rows:
+        return ""
+    return "\n".join(["| scene | method | ranks | dofs | figure | value | reference | error | tolerance | passed | "
+                      "wall time [s] |", "|---|---|---|---|---|---|---|---|---|---|---|", *rows]) + "\n"
+
+
+def write_pages(results: str | Path, out: str | Path, demos: str | Path | None = None) -> list[Path]:
+    """Write ``out/index.md`` and a page per scene with results in ``results``; returns the pages written.
+    Pages and charts of an earlier run in ``out`` are removed first."""
+    results, out = Path(results), Path(out)
+    run = read_run(results)
+    scenes = sorted(p.name[: -len("_findings.md")] for p in results.glob("*_findings.md"))
+    if not scenes:
+        raise ValueError(f"{results} holds no <scene>_findings.md: no benchmark results")
+    out.mkdir(parents=True, exist_ok=True)
+    for old in [*out.glob("*.md"), *out.glob("*.png")]:
+        old.unlink()
+    pages = []
+    for scene in scenes:
+        page = out / f"{scene}.md"
+        page.write_text(scene_page(scene, results, run, out))
+        pages.append(page)
+    index = ["# Benchmark results", "", header(run),
+             "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
+             "```{toctree}", ":maxdepth: 1", "", *scenes, "```", ""]
+    if (results / "model_reduction.md").exists():
+        index += _section("Model reduction", results / "model_reduction.md")
+    checks = demo_checks(demos) if demos is not None else ""
+    if checks:
+        index += ["## Demo checks", "", "Each demo's figure against its scene's reference.", "", checks]
+    (out / "index.md").write_text("\n".join(index).rstrip() + "\n")
+    return [out / "index.md", *pages]
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """Command line: ``results out [--demos folder]``; bad input ends in one line, exit status 2."""
+    import argparse
+
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("results", help="the benchmark's output folder (make bench: results/bench)")
+    p.add_argument("out", help="the folder of the pages (docs/bench)")
+    p.add_argument("--demos", default=None, help="a folder of demo results (summary.json) to tabulate")
+    args = p.parse_args(argv)
+    try:
+        pages = write_pages(args.results, args.out, args.demos)
+    except ValueError as exc:
+        sys.stderr.write(f"error: {exc}\n")
+        raise SystemExit(2) from None
+    print(f"{len(pages)} pages -> {args.out}")
+
+
+if __name__ == "__main__":
+    main()
