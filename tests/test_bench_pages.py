@@ -6,16 +6,14 @@ import re
 from pathlib import Path
 
 import pytest
+from history import HISTORY
 from mpi4py import MPI
 
 from fenics_contact.app import bench, bench_pages
 
 ROOT = Path(__file__).resolve().parent.parent
 serial = pytest.mark.skipif(MPI.COMM_WORLD.size > 1, reason="writes files: the serial lane only")
-# words of a lab notebook: numbered rounds of work, issue targets, before/after stories
-HISTORY = re.compile(r"\bround \d|\bissue\b|\bsession\b|\bwhat changed\b|\bbefore (it|this|the change)\b|"
-                     r"\bused to\b|\bpreviously\b|\bno longer\b|\bsince the (change|last)\b|\bnow (takes|is|gives)\b",
-                     re.I)
+
 
 
 def _fixture(folder: Path) -> None:

@@ -82,3 +82,28 @@ def test_keywords_in_the_documentation_are_the_api_arguments():
                           if k not in params]
     assert seen > 50  # the pages do call the API
     assert not wrong, wrong
+
+
+def test_no_development_history_in_docs_or_comments():
+    """No page of docs/ nor the README, and no comment or docstring of the package, the tests, the scripts or the
+    tutorials, carries development history (:data:`history.HISTORY`)."""
+    import io
+    import tokenize
+
+    from history import HISTORY
+
+    hits = []
+    for path in [ROOT / "README.md", *(ROOT / "docs").rglob("*.md")]:
+        if "_build" not in path.parts:
+            hits += [f"{path.relative_to(ROOT)}: {m.group(0)}" for m in HISTORY.finditer(path.read_text())]
+    sources = [*(ROOT / "fenics_contact").rglob("*.py"), *(ROOT / "tests").glob("*.py"),
+               *(ROOT / "scripts").glob("*.py"), *(ROOT / "tutorials").glob("*.py"), *(ROOT / "demos").glob("*.py")]
+    for path in sources:
+        if path.name == "history.py":
+            continue  # the pattern itself
+        for tok in tokenize.generate_tokens(io.StringIO(path.read_text()).readline):
+            if tok.type == tokenize.COMMENT or (tok.type == tokenize.STRING and
+                                               tok.string.lstrip("rbuRBU").startswith(('"""', "\'\'\'"))):
+                hits += [f"{path.relative_to(ROOT)}:{tok.start[0]}: {m.group(0)}" for m in HISTORY.finditer(tok.string)]
+    assert HISTORY.search("as in round 3, the issue's target") and not HISTORY.search("the load path (t_k, f_k)")
+    assert not hits, hits
