@@ -4,7 +4,7 @@
 
 Reads what :mod:`fenics_contact.app.bench` writes into its output folder (``run.json``: the machine, date,
 commit and command of the run; per scene ``<scene>_findings.md``, ``<scene>_stability.md``,
-``<scene>_reduction.md``, ``model_reduction.md`` and the charts ``<scene>_*.png``) and, with ``--demos``, the
+``<scene>_reduction.md`` and the charts ``<scene>_*.png``) and, with ``--demos``, the
 ``<demo>/summary.json`` of every demo in that folder (their checks against the scenes' references). Writes
 ``index.md`` (the run's header, the demos' checks, a page per scene) and ``<scene>.md`` with the charts copied
 next to them. Every page starts with the header: machine (CPU model, cores, memory, from /proc), date, commit,
@@ -21,6 +21,8 @@ import sys
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Sequence
+
+from . import bench
 
 __all__ = ["RUN_FILE", "machine", "record_run", "read_run", "header", "scene_page", "demo_checks", "write_pages",
            "main"]
@@ -152,8 +154,10 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     index = ["# Benchmark results", "", header(run),
              "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
              "```{toctree}", ":maxdepth: 1", "", *scenes, "```", ""]
-    if (results / "model_reduction.md").exists():
-        index += _section("Model reduction", results / "model_reduction.md")
+    reductions = sorted(results.glob("*_reduction.md"))
+    if reductions:  # one table: each scene's rows under the common header
+        rows = [line for path in reductions for line in path.read_text().splitlines()[2:] if line.strip()]
+        index += ["## Model reduction", "", *bench.REDUCTION_HEADER, *rows, ""]
     checks = demo_checks(demos) if demos is not None else ""
     if checks:
         index += ["## Demo checks", "", "Each demo's figure against its scene's reference.", "", checks]
