@@ -39,7 +39,7 @@ class StepRecord:
         converged: the step converged.
         reason: the last SNES converged reason.
         wall_time_s: the step's wall time (s).
-        closed_points: closed contact points per solve, per surface.
+        closed_points: the number of closed contact points (all surfaces) at each Newton iterate, per solve.
         failure: the diagnosis of a failed step (:mod:`failure`), else None.
         message: the one-line message of a failed step.
         predictor_scale: the tangent predictor's scale, None without one.
