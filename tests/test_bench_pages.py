@@ -83,3 +83,20 @@ def test_committed_pages_state_the_machine_and_date_and_no_history():
             assert (page.parent / image).exists(), image
     explained = (ROOT / "docs" / "benchmarks.md").read_text()
     assert not HISTORY.search(explained), HISTORY.search(explained)
+
+
+def test_time_split_of_two_body_runs_only():
+    """The time split lists the fastest converged run per method variant and quadrature, with its search,
+    exchange and coupling times; rigid-obstacle rows (no search time) give no table."""
+    base = dict(bench.run_config("penalty", 2.5e4, 0, "nodal", 0), scene="hertz_twobody", dofs=9868, converged=True,
+                newton_iterations=20, error=1.7e-3, assembly_s=0.76, linear_solve_s=1.39, exchange_s=0.033,
+                coupling_s=0.018, ratio_to_linear_solve=15.9)
+    rows = [dict(base, wall_time_s=2.16, search_s=0.233), dict(base, wall_time_s=3.0, search_s=0.3),
+            dict(base, wall_time_s=1.0, search_s=0.1, converged=False),
+            dict(base, quadrature="segment", wall_time_s=2.04, search_s=0.17)]
+    table = bench_pages.time_split(rows).splitlines()
+    assert len(table) == 4  # header, rule, nodal's fastest converged run, segment's
+    assert table[2] == "| 0 | 9868 | penalty | nodal | K 2.5e+04 | 0.0017 | 20 | 2.16 | 0.233 | 0.033 | 0.018 | " \
+                       "0.76 | 1.39 | 15.9 |"
+    assert "| segment |" in table[3]
+    assert bench_pages.time_split([dict(r, search_s=math.nan) for r in rows]) == ""

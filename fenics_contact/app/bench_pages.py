@@ -13,6 +13,7 @@ command. The pages hold numbers only; docs/benchmarks.md explains how to read th
 from __future__ import annotations
 
 import json
+import math
 import os
 import platform
 import shutil
@@ -24,8 +25,8 @@ from typing import Sequence
 
 from . import bench
 
-__all__ = ["RUN_FILE", "machine", "record_run", "read_run", "header", "scene_page", "demo_checks", "write_pages",
-           "main"]
+__all__ = ["RUN_FILE", "machine", "record_run", "read_run", "header", "time_split", "scene_page", "demo_checks",
+           "write_pages", "main"]
 
 RUN_FILE = "run.json"  # the run's record in the benchmark's output folder
 CHARTS = ("pareto", "dofs", "iterations", "stability", "stability_accuracy")
@@ -99,10 +100,40 @@ def _section(title: str, path: Path) -> list[str]:
     return [f"## {title}", "", path.read_text().rstrip(), ""] if path.exists() else []
 
 
+def time_split(rows: Sequence[dict]) -> str:
+    """Markdown: per mesh, method variant and quadrature the fastest converged run and where its solver time
+    went (two-body search, exchange and coupling; assembly; linear solves), in s; empty without a search time
+    (rigid obstacles)."""
+    rows = [r for r in rows if r["converged"] and r.get("search_s", math.nan) == r.get("search_s", math.nan)]
+    if not rows:
+        return ""
+    best: dict[tuple, dict] = {}
+    for r in rows:
+        key = (r["refinement"], bench._variant(r), r["quadrature"])
+        if key not in best or r["wall_time_s"] < best[key]["wall_time_s"]:
+            best[key] = r
+    lines = ["| mesh | dofs | method | quadrature | parameter | error | Newton | wall | search | exchange | coupling | "
+             "assembly | linear solves | /linear |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for (level, variant, quadrature), r in best.items():
+        label = bench.parameter_label(r["method"])
+        parameter = "-" if label == "-" else f"{label} {r['K']:.3g}"
+        lines.append(f"| {'-' if level is None else level} | {r['dofs']} | {variant} | {quadrature} | "
+                     f"{parameter} | {r['error']:.2g} | "
+                     f"{r['newton_iterations']} | {r['wall_time_s']:.3g} | {r['search_s']:.3g} | "
+                     f"{r['exchange_s']:.3g} | {r['coupling_s']:.3g} | {r['assembly_s']:.3g} | "
+                     f"{r['linear_solve_s']:.3g} | {r['ratio_to_linear_solve']:.1f} |")
+    return "\n".join(lines) + "\n"
+
+
 def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
-    """The page of one scene: findings, stability summary, model reduction and charts (copied into ``out``)."""
+    """The page of one scene: findings, time split (two bodies), stability summary, model reduction and charts
+    (copied into ``out``)."""
     lines = [f"# {scene}", "", header(run)]
     lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
+    split = time_split(bench.read_rows(results / f"{scene}.csv")) if (results / f"{scene}.csv").exists() else ""
+    if split:
+        lines += ["## Where the time goes", "", "The fastest converged run of each method and quadrature; times in s.",
+                  "", split]
     lines += _section("Stability over the parameter and the load steps", results / f"{scene}_stability.md")
     lines += _section("Model reduction", results / f"{scene}_reduction.md")
     for chart in CHARTS:
