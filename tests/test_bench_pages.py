@@ -76,7 +76,7 @@ def test_committed_pages_state_the_machine_and_date_and_no_history():
     for page in pages:
         text = page.read_text()
         first = next(line for line in text.splitlines() if line.startswith("Measured on "))
-        assert re.search(r", \d+ cores, [\d.]+ GB memory, .*; \d{4}-\d\d-\d\d \d\d:\d\d UTC; commit `\w+`; "
+        assert re.search(r", \d+ cores, [\d.]+ GB memory, .*; \d{4}-\d\d-\d\d \d\d:\d\d UTC; commit `[\w ,]+`; "
                          r"command `python demos/bench.py [^`]*--quick", first), first
         assert not HISTORY.search(text), (page.name, HISTORY.search(text))
         for image in re.findall(r"\]\(([^)]+\.png)\)", text):

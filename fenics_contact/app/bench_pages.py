@@ -59,6 +59,14 @@ def machine() -> dict:
     return {"cpu": cpu, "cores": os.cpu_count(), "memory_gb": memory, "system": system}
 
 
+def _load_average() -> float | None:
+    """The 1-minute load average (other jobs share the cores: times are noisy above the core count)."""
+    try:
+        return round(os.getloadavg()[0], 1)
+    except OSError:
+        return None
+
+
 def _commit(root: Path) -> str:
     try:
         out = subprocess.run(["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"], capture_output=True,
@@ -69,11 +77,12 @@ def _commit(root: Path) -> str:
 
 
 def record_run(out: str | Path, argv: Sequence[str]) -> dict:
-    """Write ``<out>/run.json``: this machine, the date (UTC), the commit of the package's checkout and the
-    command ``python demos/bench.py <argv>``; returns it."""
+    """Write ``<out>/run.json``: this machine, the date (UTC), the commit of the package's checkout, the
+    command ``python demos/bench.py <argv>`` and the load average at the start; returns it."""
     run = {"date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
            "commit": _commit(Path(__file__).resolve().parents[2]),
-           "command": " ".join(["python demos/bench.py", *argv]), "machine": machine()}
+           "command": " ".join(["python demos/bench.py", *argv]), "machine": machine(),
+           "load_average": _load_average()}
     Path(out).mkdir(parents=True, exist_ok=True)
     (Path(out) / RUN_FILE).write_text(json.dumps(run, indent=1) + "\n")
     return run
@@ -93,7 +102,8 @@ def header(run: dict) -> str:
     memory = "unknown memory" if m.get("memory_gb") is None else f"{m['memory_gb']:g} GB memory"
     return (f"Measured on {m['cpu']}, {m['cores']} cores, {memory}, {m['system']}; {run['date']}; "
             f"commit `{run['commit']}`; command `{run['command']}`. Times are wall times of serial runs on this "
-            "machine.\n")
+            "machine" + ("" if run.get("load_average") is None else
+                         f", load average {run['load_average']:g} at the start (other jobs on its cores)") + ".\n")
 
 
 def _section(title: str, path: Path) -> list[str]:
@@ -104,7 +114,7 @@ def time_split(rows: Sequence[dict]) -> str:
     """Markdown: per mesh, method variant and quadrature the fastest converged run and where its solver time
     went (two-body search, exchange and coupling; assembly; linear solves), in s; empty without a search time
     (rigid obstacles)."""
-    rows = [r for r in rows if r["converged"] and r.get("search_s", math.nan) == r.get("search_s", math.nan)]
+    rows = [r for r in rows if r["converged"] and not math.isnan(r.get("search_s", math.nan))]
     if not rows:
         return ""
     best: dict[tuple, dict] = {}
@@ -144,6 +154,10 @@ def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
     return "\n".join(lines).rstrip() + "\n"
 
 
+def _fmt(v, spec: str = ".6g") -> str:
+    return "-" if v is None else format(v, spec)
+
+
 def demo_checks(folder: str | Path) -> str:
     """Markdown table of the checks in ``folder/<demo>/summary.json`` (the layout of ``make demo``: figure, value,
     reference, relative error, tolerance, passed), one row per demo; empty if there is none."""
@@ -153,9 +167,7 @@ def demo_checks(folder: str | Path) -> str:
         c = s.get("check")
         if not c:
             continue
-        def fmt(v, spec=".6g"):
-            return "-" if v is None else format(v, spec)
-
+        fmt = _fmt
         rows.append(f"| {s.get('scene', path.parent.name)} | {s.get('method', '-')} | {s.get('ranks', '-')} | "
                     f"{s.get('dofs', '-')} | {c['figure']} | {fmt(c.get('value'))} | {fmt(c.get('reference'))} | "
                     f"{fmt(c.get('rel_error'), '.2e')} | {fmt(c.get('tolerance'), 'g')} | "
