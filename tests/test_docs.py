@@ -107,3 +107,11 @@ def test_no_development_history_in_docs_or_comments():
                 hits += [f"{path.relative_to(ROOT)}:{tok.start[0]}: {m.group(0)}" for m in HISTORY.finditer(tok.string)]
     assert HISTORY.search("as in round 3, the issue's target") and not HISTORY.search("the load path (t_k, f_k)")
     assert not hits, hits
+
+
+def test_the_failure_guide_names_every_failure_kind():
+    """docs/guide/failures.md has a row for every kind a failed solve can be given (``failure.KINDS``)."""
+    from fenics_contact import failure
+
+    rows = re.findall(r"^\| `(\w+)` \|", (ROOT / "docs" / "guide" / "failures.md").read_text(), re.M)
+    assert sorted(rows) == sorted(failure.KINDS), sorted(set(rows) ^ set(failure.KINDS))
