@@ -9,7 +9,7 @@ import pytest
 from history import HISTORY
 from mpi4py import MPI
 
-from fenics_contact.app import bench, bench_pages
+from fenics_contact.app import bench, bench_pages, run_record
 
 ROOT = Path(__file__).resolve().parent.parent
 serial = pytest.mark.skipif(MPI.COMM_WORLD.size > 1, reason="writes files: the serial lane only")
@@ -28,7 +28,7 @@ def _fixture(folder: Path) -> None:
     bench.write_rows(rows, folder / "hertz.csv", folder / "hertz.json")
     (folder / "hertz_findings.md").write_text(bench.findings("hertz", rows))
     bench.plot_pareto(rows, folder / "hertz_pareto.png", title="hertz")
-    bench_pages.record_run(folder, ["--quick", "--scene", "hertz", "--out", str(folder)])
+    run_record.record_run(folder, ["--quick", "--scene", "hertz", "--out", str(folder)])
     demo = folder.parent / "demos" / "hertz"
     demo.mkdir(parents=True)
     (demo / "summary.json").write_text(json.dumps({
@@ -44,7 +44,7 @@ def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
     pages = bench_pages.write_pages(results, out, demos=tmp_path / "demos")
     assert [p.name for p in pages] == ["index.md", "hertz.md"]
     run = json.loads((results / "run.json").read_text())
-    machine = bench_pages.machine()
+    machine = run_record.machine()
     assert run["machine"] == machine and machine["cores"] >= 1
     for page in pages:
         text = page.read_text()

@@ -895,7 +895,7 @@ def _sweep(argv: Sequence[str]) -> None:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     if not args.charts_only:  # the machine, date, commit and command of the results (the benchmark pages' header)
-        from .bench_pages import record_run
+        from .run_record import record_run
 
         record_run(out, argv)
     reduced: dict[str, str] = {}  # model-reduction rows per scene, one table at the end
