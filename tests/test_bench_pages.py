@@ -28,7 +28,7 @@ def _fixture(folder: Path) -> None:
     bench.write_rows(rows, folder / "hertz.csv", folder / "hertz.json")
     (folder / "hertz_findings.md").write_text(bench.findings("hertz", rows))
     bench.plot_pareto(rows, folder / "hertz_pareto.png", title="hertz")
-    run_record.record_run(folder, ["--quick", "--scene", "hertz", "--out", str(folder)])
+    run_record.record_run(folder, ["--quick", "--scene", "hertz", "--out", str(folder)], ["hertz"])
     demo = folder.parent / "demos" / "hertz"
     demo.mkdir(parents=True)
     (demo / "summary.json").write_text(json.dumps({
@@ -43,14 +43,14 @@ def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
     _fixture(results)
     pages = bench_pages.write_pages(results, out, demos=tmp_path / "demos")
     assert [p.name for p in pages] == ["index.md", "hertz.md"]
-    run = json.loads((results / "run.json").read_text())
+    [run] = json.loads((results / "run.json").read_text())["runs"]
     machine = run_record.machine()
     assert run["machine"] == machine and machine["cores"] >= 1
     for page in pages:
         text = page.read_text()
         assert machine["cpu"] in text and f"{machine['cores']} cores" in text and "GB memory" in text
         assert run["date"] in text and run["commit"] in text
-        assert "command `python demos/bench.py --quick --scene hertz" in text
+        assert "command `python demos/bench.py --quick --scene hertz" in text and "; scenes hertz." in text
         assert not HISTORY.search(text), HISTORY.search(text)
     scene = (out / "hertz.md").read_text()
     assert "| 0 | 3990 | penalty | K 1e+08 | 0.0032 |" in scene  # the fastest penalty run within the 1 % target
@@ -100,3 +100,21 @@ def test_time_split_of_two_body_runs_only():
                        "0.76 | 1.39 | 15.9 |"
     assert "| segment |" in table[3]
     assert bench_pages.time_split([dict(r, search_s=math.nan) for r in rows]) == ""
+
+
+@serial
+def test_each_page_names_the_run_of_its_scene(tmp_path):
+    """Two runs into one folder, the second rerunning one scene of the first: each scene's page carries the run
+    that produced its results; the index lists both runs."""
+    results = tmp_path / "bench"
+    _fixture(results)
+    (results / "block_findings.md").write_text("block's findings\n")
+    first = run_record.record_run(results, ["--quick", "--scene", "block", "--scene", "hertz"], ["block", "hertz"])
+    second = run_record.record_run(results, ["--quick", "--scene", "hertz"], ["hertz"])
+    runs = run_record.read_runs(results)
+    assert [r["scenes"] for r in runs] == [["block"], ["hertz"]]
+    bench_pages.write_pages(results, tmp_path / "docs")
+    block, hertz, index = ((tmp_path / "docs" / f"{n}.md").read_text() for n in ("block", "hertz", "index"))
+    assert first["command"] in block and second["command"] not in block and "; scenes block." in block
+    assert second["command"] in hertz and "; scenes hertz." in hertz
+    assert first["command"] in index and second["command"] in index

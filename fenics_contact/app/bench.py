@@ -897,7 +897,7 @@ def _sweep(argv: Sequence[str]) -> None:
     if not args.charts_only:  # the machine, date, commit and command of the results (the benchmark pages' header)
         from .run_record import record_run
 
-        record_run(out, argv)
+        record_run(out, argv, scenes)
     reduced: dict[str, str] = {}  # model-reduction rows per scene, one table at the end
     for scene in scenes:
         start = time.perf_counter()

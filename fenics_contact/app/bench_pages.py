@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Sequence
 
 from . import bench
-from .run_record import read_run
+from .run_record import read_runs
 
 __all__ = ["header", "time_split", "scene_page", "demo_checks", "write_pages", "main"]
 
@@ -31,13 +31,14 @@ CHART_TITLES = {"pareto": "Error against solver time", "dofs": "Error against do
 
 
 def header(run: dict) -> str:
-    """The lines every page starts with: machine, date, commit, command."""
+    """The line a page starts with, per run: machine, date, commit, command, load, the scenes it ran."""
     m = run["machine"]
     memory = "unknown memory" if m.get("memory_gb") is None else f"{m['memory_gb']:g} GB memory"
     return (f"Measured on {m['cpu']}, {m['cores']} cores, {memory}, {m['system']}; {run['date']}; "
             f"commit `{run['commit']}`; command `{run['command']}`. Times are wall times of serial runs on this "
             "machine" + ("" if run.get("load_average") is None else
-                         f", load average {run['load_average']:g} at the start (other jobs on its cores)") + ".\n")
+                         f", load average {run['load_average']:g} at the start (other jobs on its cores)") +
+            f"; scenes {', '.join(run['scenes'])}.\n")
 
 
 def _section(title: str, path: Path) -> list[str]:
@@ -72,7 +73,7 @@ def time_split(rows: Sequence[dict]) -> str:
 def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
     """The page of one scene: findings, time split (two bodies), stability summary, model reduction and charts
     (copied into ``out``)."""
-    lines = [f"# {scene}", "", header(run)]
+    lines = [f"# {scene}", "", header(run)]  # the run that produced this scene's results
     lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
     split = time_split(bench.read_rows(results / f"{scene}.csv")) if (results / f"{scene}.csv").exists() else ""
     if split:
@@ -116,19 +117,22 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     """Write ``out/index.md`` and a page per scene with results in ``results``; returns the pages written.
     Pages and charts of an earlier run in ``out`` are removed first."""
     results, out = Path(results), Path(out)
-    run = read_run(results)
-    scenes = sorted(p.name[: -len("_findings.md")] for p in results.glob("*_findings.md"))
+    runs = read_runs(results)
+    by_scene = {scene: run for run in runs for scene in run["scenes"]}
+    scenes = sorted(p.name[: -len("_findings.md")] for p in results.glob("*_findings.md")
+                    if p.name[: -len("_findings.md")] in by_scene)
     if not scenes:
-        raise ValueError(f"{results} holds no <scene>_findings.md: no benchmark results")
+        raise ValueError(f"{results} holds no <scene>_findings.md of a recorded run: no benchmark results")
     out.mkdir(parents=True, exist_ok=True)
     for old in [*out.glob("*.md"), *out.glob("*.png")]:
         old.unlink()
     pages = []
     for scene in scenes:
         page = out / f"{scene}.md"
-        page.write_text(scene_page(scene, results, run, out))
+        page.write_text(scene_page(scene, results, by_scene[scene], out))
         pages.append(page)
-    index = ["# Benchmark results", "", header(run),
+    used = [run for run in runs if any(scene in scenes for scene in run["scenes"])]
+    index = ["# Benchmark results", "", *(header(run) for run in used),
              "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
              "```{toctree}", ":maxdepth: 1", "", *scenes, "```", ""]
     reductions = sorted(results.glob("*_reduction.md"))

@@ -10,7 +10,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Sequence
 
-__all__ = ["RUN_FILE", "machine", "record_run", "read_run"]
+__all__ = ["RUN_FILE", "machine", "record_run", "read_runs"]
 
 RUN_FILE = "run.json"  # the run's record in the benchmark's output folder
 
@@ -56,21 +56,27 @@ def _commit(root: Path) -> str:
     return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else "unknown"
 
 
-def record_run(out: str | Path, argv: Sequence[str]) -> dict:
-    """Write ``<out>/run.json``: this machine, the date (UTC), the commit of the package's checkout, the
-    command ``python demos/bench.py <argv>`` and the load average at the start; returns it."""
+def record_run(out: str | Path, argv: Sequence[str], scenes: Sequence[str]) -> dict:
+    """Add this run to ``<out>/run.json`` (the runs whose results are in ``out``): this machine, the date (UTC),
+    the commit of the package's checkout, the command ``python demos/bench.py <argv>``, the load average at the
+    start and the ``scenes`` it runs; an earlier run keeps only the scenes this one does not rerun. Returns the
+    new run's record."""
     run = {"date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
            "commit": _commit(Path(__file__).resolve().parents[2]),
            "command": " ".join(["python demos/bench.py", *argv]), "machine": machine(),
-           "load_average": _load_average()}
+           "load_average": _load_average(), "scenes": list(scenes)}
+    path = Path(out) / RUN_FILE
+    earlier = json.loads(path.read_text())["runs"] if path.exists() else []
+    kept = [dict(r, scenes=[s for s in r["scenes"] if s not in run["scenes"]]) for r in earlier]
     Path(out).mkdir(parents=True, exist_ok=True)
-    (Path(out) / RUN_FILE).write_text(json.dumps(run, indent=1) + "\n")
+    path.write_text(json.dumps({"runs": [r for r in kept if r["scenes"]] + [run]}, indent=1) + "\n")
     return run
 
 
-def read_run(results: str | Path) -> dict:
-    """The run's record (``ValueError`` naming the folder if it has none: the pages need the machine and date)."""
+def read_runs(results: str | Path) -> list[dict]:
+    """The records of the runs whose results are in ``results``, oldest first (``ValueError`` naming the folder
+    if it has none: the pages need the machine and date)."""
     path = Path(results) / RUN_FILE
     if not path.exists():
         raise ValueError(f"{results} has no {RUN_FILE}: not the output folder of a benchmark run (make bench)")
-    return json.loads(path.read_text())
+    return json.loads(path.read_text())["runs"]
