@@ -54,7 +54,7 @@ def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
         assert not HISTORY.search(text), HISTORY.search(text)
     scene = (out / "hertz.md").read_text()
     assert "| 0 | 3990 | penalty | K 1e+08 | 0.0032 |" in scene  # the fastest penalty run within the 1 % target
-    assert "![hertz: error against solver time](hertz_pareto.png)" in scene
+    assert "![hertz: Error against solver time](hertz_pareto.png)" in scene
     assert (out / "hertz_pareto.png").read_bytes() == (results / "hertz_pareto.png").read_bytes()
     index = (out / "index.md").read_text()
     assert "| hertz | auglag | 2 | 3990 | p0 | 11.235 | 11.2 | 3.10e-03 | 0.01 | yes | 0.3 |" in index

@@ -85,7 +85,7 @@ def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
         png = results / f"{scene}_{chart}.png"
         if png.exists():
             shutil.copyfile(png, out / png.name)
-            lines += [f"## {CHART_TITLES[chart]}", "", f"![{scene}: {CHART_TITLES[chart].lower()}]({png.name})", ""]
+            lines += [f"## {CHART_TITLES[chart]}", "", f"![{scene}: {CHART_TITLES[chart]}]({png.name})", ""]
     return "\n".join(lines).rstrip() + "\n"
 
 
