@@ -62,11 +62,11 @@ from ...materials import PLANES, LinearElastic
 from ...obstacles import Cylinder
 from ...problem import Dirichlet
 from ..meshes import pin_plate
-from . import Setup, Stabilised, nonnegative, poisson, positive, refuse_size
+from . import Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_size
 
 __all__ = [
     "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "STABILISATION", "DEFAULT_K", "LOADED_FORCE",
-    "pressure_along_pin", "contact_angle", "GAPS", "build", "BENCH"
+    "pressure_along_pin", "contact_angle", "GAPS", "OPTIONS", "build", "BENCH"
 ]
 
 R, HALF_WIDTH, BELOW, ABOVE = 1.0, 5.0, 5.0, 5.0
@@ -114,6 +114,19 @@ def contact_angle(theta: np.ndarray, p: np.ndarray, rel_tol: float = 1e-8) -> fl
 
 
 GAPS = ("linearized", "current")
+
+
+OPTIONS = {
+    "h_contact": Option("mesh size at the hole (length; default: R / 50, halved per --refinement)"),
+    "R": Option("radius of the hole and pin (length)"),
+    "half_width": Option("plate's half-width (length)"),
+    "below": Option("plate's extent below the pin's centre (length)"),
+    "above": Option("plate's extent above the pin's centre (length)"),
+    "E": Option("plate's Young's modulus (stress)"),
+    "nu": Option("plate's Poisson's ratio", "poisson"),
+    "P0": Option("traction on the plate's top (stress)"),
+    "stabilisation": Option("the vanishing spring's k R^2 / E (dimensionless)", "nonnegative"),
+}
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_contact: float | None = None,

@@ -37,10 +37,11 @@ from ...materials import PLANES, LinearElastic
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import ring_quarter
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 
 __all__ = [
-    "R_OUT", "R_IN", "E", "NU", "APPROACH", "K", "PAPER_PENETRATION", "PAPER_RESIDUAL_6", "build", "VARIANTS", "BENCH"
+    "R_OUT", "R_IN", "E", "NU", "APPROACH", "K", "PAPER_PENETRATION", "PAPER_RESIDUAL_6", "build", "VARIANTS", "BENCH",
+    "OPTIONS"
 ]
 
 R_OUT, R_IN, E, NU, APPROACH = 8.0, 6.0, 1000.0, 0.3, 1.0
@@ -48,6 +49,15 @@ K = 1e5
 # Published first-step penetrations (centre, neighbours) and residual after 6 iterations.
 PAPER_PENETRATION = (0.19e-3, 0.13e-3)
 PAPER_RESIDUAL_6 = 0.9e-10
+
+
+OPTIONS = {
+    "R_out": Option("ring's outer radius (length)"),
+    "R_in": Option("ring's inner radius, < --R-out (length)"),
+    "E": Option("Young's modulus (stress)"),
+    "nu": Option("Poisson's ratio", "poisson"),
+    "approach": Option("upper plate's downward displacement (length)"),
+}
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: int = 4, quadrilateral: bool = True,

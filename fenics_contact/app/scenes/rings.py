@@ -107,11 +107,11 @@ from ...materials import LinearElastic
 from ...multipliers import unknown
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.rings import concentric_rings
-from . import Setup
+from . import Option, Setup, poisson, positive
 
 __all__ = [
     "A", "B", "C", "E_DEFAULT", "NU_DEFAULT", "Q_DEFAULT", "PLANES", "RADIUS", "lame_pressure", "lame_displacements",
-    "RingsElastic", "build"
+    "RingsElastic", "OPTIONS", "build"
 ]
 
 A, B, C = 0.2, 0.6, 1.0
@@ -175,9 +175,18 @@ class RingsElastic(LinearElastic):
         return {"model": type(self).__name__, **self.rings}
 
 
+OPTIONS = {
+    "E": Option("inner ring's Young's modulus (stress)"),
+    "nu": Option("inner ring's Poisson's ratio", "poisson"),
+    "E_outer": Option("outer ring's Young's modulus (stress; default: --E)"),
+    "nu_outer": Option("outer ring's Poisson's ratio (default: --nu)", "poisson"),
+    "q": Option("external pressure on the outer ring (stress)"),
+}
+
+
 def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quadrature: str = "nodal",
           passes: str = "one", n: int = 16, n_outer: int | None = None, plane: str = "strain",
-          E: tuple[float, float] = (E_DEFAULT, E_DEFAULT), nu: tuple[float, float] = (NU_DEFAULT, NU_DEFAULT),
+          E: float = E_DEFAULT, nu: float = NU_DEFAULT, E_outer: float | None = None, nu_outer: float | None = None,
           q: float = Q_DEFAULT, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
     """``degree`` 1 (P1 triangles, flat facets: ``quadrature`` ``nodal``, ``gauss`` or ``segment``) or 2
     (6-node triangles of a quadratic geometry, curved 3-node facets: ``nodal`` or ``simpson``); ``passes``
@@ -185,7 +194,12 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     :class:`~fenics_contact.laws.LagrangeMultiplier`): the constraint at the vertices, the work with
     ``quadrature`` (P2: ``simpson`` is the two-point element); ``collocated`` (P2, ``lagrange`` or
     ``penalty_multiplier``): Papadopoulos & Solberg's collocated element (``passes`` not used: both
-    surfaces carry a pressure). One load step ``t = 1``."""
+    surfaces carry a pressure). One load step ``t = 1``. The inner ring's ``E``, ``nu``, the outer ring's
+    ``E_outer``, ``nu_outer`` (default: the inner ring's), the external pressure ``q``."""
+    positive(E=E, E_outer=E_outer)
+    poisson(nu=nu, nu_outer=nu_outer)
+    E = (E, E if E_outer is None else E_outer)
+    nu = (nu, nu if nu_outer is None else nu_outer)
     if degree not in (1, 2):
         raise ValueError(f"degree must be 1 or 2, got {degree!r}")
     if plane not in PLANES:
