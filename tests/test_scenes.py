@@ -10,8 +10,8 @@ from fenics_contact.app.scenes import SizeError, add_scene_options, build, numer
 from fenics_contact.methods import make_law
 
 # scene -> its module constants that are now build arguments with those defaults
-CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"},  # stabilisation: None (by plate)
-             "sphere": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"},
+CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU"},  # stabilisation, approach: None (by plate; APPROACH R)
+             "sphere": {"R": "R", "E": "E", "nu": "NU"},
              "block": {"height": "HEIGHT", "E": "E", "nu": "NU", "displacement": "DISPLACEMENT"},
              "slab": {"width": "WIDTH", "height": "HEIGHT", "E": "E", "nu": "NU", "top_pressure": "TOP_PRESSURE",
                       "side_pressure": "SIDE_PRESSURE"},
@@ -48,7 +48,7 @@ def test_demo_options_from_the_builder():
     args = p.parse_args(["--E", "200", "--nu", "0.3", "--R", "8", "--load", "10", "--plate-E", "200"])
     kw = scene_arguments(args, names)
     assert kw["E"] == 200.0 and kw["R"] == 8.0 and kw["load"] == 10.0 and kw["plate_E"] == 200.0
-    assert kw["plate_width"] is None and kw["approach"] == hertz.APPROACH
+    assert kw["plate_width"] is None and kw["approach"] is None  # force control: no approach
 
 
 @pytest.mark.parametrize("scene, kw, match", [

@@ -75,15 +75,18 @@ class UsageError(ValueError):
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
-    """Each option's help followed by its default; an option whose default is unset (``None``) and whose help
-    does not say what it defaults to gets ``(default: not used)``."""
+    """Each option's help followed by its default. An option whose default is unset (``None``) and whose help
+    does not say what it defaults to gets ``(default: not used)``; a help saying ``default: <rule>`` whose option
+    a demo gave a value (``set_defaults``) shows that value instead of the rule."""
 
     def _get_help_string(self, action):
         text = action.help or ""
-        if action.default is None and action.option_strings and "default:" not in text:
-            return text + " (default: not used)"
-        if action.default is None or "default:" in text and "%(default)" not in text:
-            return text
+        if action.default is None or action.default is argparse.SUPPRESS:
+            return text + " (default: not used)" if action.option_strings and "default:" not in text else text
+        if "default:" in text:
+            shown = f"{action.default:g}" if isinstance(action.default, float) else str(action.default)
+            rule = re.search(r"default: [^;)]*", text).group(0)
+            return text if shown in rule else text.replace(rule, "default: %(default)s", 1)
         return super()._get_help_string(action)
 
 
@@ -157,6 +160,7 @@ def number(kind: type = float, low: float | None = None, high: float | None = No
         return value
 
     convert.__name__ = what  # argparse names the type in its messages
+    convert.range = (kind, low, high, low_open, high_open)  # the accepted range, for tests and callers
     return convert
 
 
@@ -179,6 +183,7 @@ def count(low: int = 1) -> Callable[[str], int]:
         return at_least(text)
 
     convert.__name__ = at_least.__name__
+    convert.range = at_least.range
     return convert
 
 

@@ -32,8 +32,8 @@ from fenics_contact.app.run import claimed
 from fenics_contact.app.scenes import add_scene_options, build, rings, scene_arguments
 from fenics_contact.app.tables import write_table
 
-# Penalty parameters per unit E (the ring's mesh is fixed relative to its radii: K ~ E / h): the penalty sweep, the
-# augmented Lagrangian's K and the multipliers' complementarity parameter c (it steers Newton only)
+# Penalty parameters per unit E / c (the mesh is fixed relative to the radii, so K ~ E / h scales as E / c): the
+# penalty sweep, the augmented Lagrangian's K and the multipliers' complementarity parameter (it steers Newton only)
 K_PER_E, AUGLAG_PER_E, C_PER_E = (1e2, 1e3, 1e4, 1e5), 1e3, 1.0
 
 
@@ -43,13 +43,13 @@ def main(argv=None) -> dict:
     p.add_argument("--plane", choices=rings.PLANES, default="strain", help="2D assumption")
     p.add_argument("--K", type=cli.POSITIVE, nargs="+", default=None,
                    help=f"penalty parameters (pressure per length; default: {', '.join(f'{k:g}' for k in K_PER_E)} "
-                        f"times --E)")
+                        f"times --E / --c)")
     scene = add_scene_options(p, rings.build)  # --E, --nu, --E-outer, --nu-outer, --q
     p.add_argument("--main-only", action="store_true", help="only the checked option (P2, collocated, multipliers)")
     cli.output_options(p, out="results/rings")
     args = cli.parse(p, argv)
     if args.K is None:
-        args.K = [k * args.E for k in K_PER_E]
+        args.K = [k * args.E / args.c for k in K_PER_E]
     if args.restart:
         raise cli.UsageError("--restart: rings solves each option in one load step, there is nothing to go on "
                              "with; run it again with --overwrite")
@@ -69,12 +69,12 @@ def _compare(args, physics: dict, out: Path, comm: MPI.Comm, start: float) -> di
     for degree, quadrature in OPTIONS:
         for passes in (("both",) if quadrature == "collocated" else ("one", "two")):
             laws = [(f"penalty K={K:g}", lambda K=K: Penalty(K), 0) for K in args.K]
-            K_auglag = AUGLAG_PER_E * args.E
+            K_auglag = AUGLAG_PER_E * args.E / args.c
             laws.append((f"auglag K={K_auglag:g}", lambda K=K_auglag: AugmentedLagrangian(K), 50))
             if quadrature == "collocated":  # the pressure is an unknown: multipliers and p = eps <g>
                 laws = [(f"penalty_multiplier eps={K:g}", lambda K=K: PenaltyMultiplier(K), 0) for K in args.K]
             if quadrature != "segment":
-                laws.append(("lagrange", lambda: LagrangeMultiplier(C_PER_E * args.E), 0))
+                laws.append(("lagrange", lambda: LagrangeMultiplier(C_PER_E * args.E / args.c), 0))
             if args.main_only:
                 laws = laws[-1:]
             for name, law, augment in laws:
@@ -101,7 +101,8 @@ def _compare(args, physics: dict, out: Path, comm: MPI.Comm, start: float) -> di
     if comm.rank == 0:
         write_table([{c: r.get(c, "") for c in columns} for r in rows], out / "rings_options", columns)
     p_lame = rings.lame_pressure(args.q, args.E, args.nu, args.E if args.E_outer is None else args.E_outer,
-                                 args.nu if args.nu_outer is None else args.nu_outer, args.plane)
+                                 args.nu if args.nu_outer is None else args.nu_outer, args.plane, args.a, args.b,
+                                 args.c)
     best = [r for r in rows if r["quadrature"] == "collocated" and r["method"] == "lagrange" and "error" not in r]
     summary = {"scene": "rings", "method": "compare", "ranks": comm.size,
                **({"dofs": best[0]["dofs"]} if best else {}), "n": args.n, **physics,  # the checked option's

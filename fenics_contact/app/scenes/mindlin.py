@@ -105,18 +105,22 @@ def worst_ratio(out: dict, errors: list[tuple[float, float]]) -> None:
 def add_shear_options(parser: argparse.ArgumentParser, ratios: tuple, refinement_help: str) -> None:
     """The Mindlin demos' loading options: ``--ratios`` (default ``ratios``), ``--refinement`` (``refinement_help``)
     and ``--press-steps`` (before :func:`~fenics_contact.app.scenes.add_scene_options`, which then skips them)."""
-    from ..cli import COUNT, LEVEL
+    from ..cli import COUNT, LEVEL, number
 
-    parser.add_argument("--ratios", type=float, nargs="+", default=list(ratios), metavar="R",
+    parser.add_argument("--ratios", type=number(float, 0.0, 1.0, True, True), nargs="+", default=list(ratios),
+                        metavar="R",
                         help="Q / (mu P) of the tangential load steps, increasing in (0, 1)")
     parser.add_argument("--refinement", type=LEVEL, default=0, help=refinement_help)
     parser.add_argument("--press-steps", type=COUNT, default=4, help="load steps of the pressing")
 
 
 def check_ratios_option(ratios: list) -> None:
-    """``ValueError`` naming ``--ratios`` unless its values increase in (0, 1) (the demos, before any work)."""
+    """:class:`~fenics_contact.app.cli.UsageError` naming ``--ratios`` unless its values increase in (0, 1) (the
+    demos, before any work)."""
+    from ..cli import UsageError
+
     if not all(0 < r < 1 for r in ratios) or ratios != sorted(set(ratios)):
-        raise ValueError(f"--ratios: must be increasing values in (0, 1), got {ratios}")
+        raise UsageError(f"--ratios must be increasing values in (0, 1), got {ratios}")
 
 
 def worst_ratio_check(ratios: list, tolerance: float, source: str) -> Callable[[dict], dict]:
