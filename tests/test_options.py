@@ -178,7 +178,7 @@ def test_two_identical_bodies_from_options_alone_within_1_percent():
     from fenics_contact.methods import make_law
     from fenics_contact.solver import Solver
 
-    setup = build("hertz", law=make_law("lagrange", K=2.5e4), plate="meshed", R=8.0, E=200.0, nu=0.3, load=10.0,
+    setup = build("hertz", law=make_law("lagrange", c=2.5e4), plate="meshed", R=8.0, E=200.0, nu=0.3, load=10.0,
                   plate_E=200.0)
     a = hertz.hertz(10.0, 8.0, 200.0, 0.3, "strain", 200.0, 0.3)[0]
     assert setup.parameters["plate_width"] == pytest.approx(hertz.PLATE_HALF_WIDTHS * a)
@@ -186,7 +186,7 @@ def test_two_identical_bodies_from_options_alone_within_1_percent():
     Solver(setup.problem, quiet=True).run(setup.loads)
     f = setup.figures()
     assert f["load_error"] < 1e-8 and f["p0_error"] < 0.01, f
-    rigid = build("hertz", law=make_law("lagrange", K=1e6))
+    rigid = build("hertz", law=make_law("lagrange", c=1e6))
     Solver(rigid.problem, quiet=True).run(rigid.loads)
     g = rigid.figures()
     assert hertz.approach_half_width(hertz.APPROACH) == pytest.approx(g["a_hertz"], rel=0.02)
