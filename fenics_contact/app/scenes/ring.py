@@ -56,18 +56,20 @@ OPTIONS = {
     "R_in": Option("ring's inner radius, < --R-out (length)"),
     "E": Option("Young's modulus (stress)"),
     "nu": Option("Poisson's ratio", "poisson"),
-    "approach": Option("upper plate's downward displacement (length)"),
+    "approach": Option(f"upper plate's downward displacement (length; default: {APPROACH / R_OUT:g} R_out, the "
+                       f"paper's {APPROACH:g} at R_out {R_OUT:g})"),
 }
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: int = 4, quadrilateral: bool = True,
           comm: MPI.Comm = MPI.COMM_WORLD, R_out: float = R_OUT, R_in: float = R_IN, E: float = E, nu: float = NU,
-          approach: float = APPROACH, plane: str = "strain") -> Setup:
+          approach: float | None = None, plane: str = "strain") -> Setup:
     """The quarter ring (radii ``R_in < R_out``, ``E``, ``nu``); one load step (upper plate down by ``approach``);
     ``plane``: ``strain`` or ``stress``. Defaults: the module constants, the paper's."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     positive(R_out=R_out, R_in=R_in, E=E, approach=approach)
+    approach = APPROACH * R_out / R_OUT if approach is None else approach  # the same squeeze of a larger ring
     poisson(nu=nu)
     if not R_in < R_out:
         raise ValueError(f"ring: R_in must be < R_out, got R_in = {R_in}, R_out = {R_out}")
