@@ -142,6 +142,8 @@ def test_a_bad_number_is_one_line_naming_the_option(name, monkeypatch, capsys):
     ("sphere", ["--plate-E", "5"], "--plate-E is used only with --plate meshed"),
     ("rings", ["--nu-outer", "0.5"], "--nu-outer must be a finite number in [0, 0.5)"),
     ("ironing", ["--theta", "0"], "--theta must be a finite number in (0, 90]"),
+    ("hertz", ["--load", "1", "--symmetry", "half"], "--load is used only with --symmetry quarter"),
+    ("sphere", ["--load", "1", "--plate", "meshed"], "--load is used only with --plate rigid (got --plate meshed)"),
 ])
 def test_contradictions_and_ranges_refused_while_parsing(name, argv, named, monkeypatch, capsys):
     end = _run(name, argv, monkeypatch)

@@ -192,7 +192,7 @@ OPTIONS = {
     "approach": Option(f"displacement control: the disk's centre moved toward the plate (length; default: "
                        f"{APPROACH:g} R, when --load is not given)", excludes="load"),
     "load": Option("force control instead of --approach: total force on the whole cylinder per unit length "
-                   "(force / length; quarter symmetry; default: not used)"),
+                   "(force / length; quarter symmetry; default: not used)", needs=("symmetry", "quarter")),
     "stabilisation": Option(f"force control: the vanishing spring's k R^2 / E (default: {STABILISATION:g}, "
                             f"{STABILISATION_MESHED:g} on the meshed plate)", "nonnegative", needs=("load", GIVEN)),
     "plate_E": Option(f"meshed plate's Young's modulus (stress; default: {PLATE_STIFFNESS:g} E)",

@@ -91,7 +91,7 @@ OPTIONS = {
     "approach": Option(f"displacement control: the equator's displacement toward the plate (length; default: "
                        f"{APPROACH:g} R, when --load is not given)", excludes="load"),
     "load": Option("force control instead of --approach: the sphere's total force (force; rigid plate; "
-                   "default: not used)"),
+                   "default: not used)", needs=("plate", "rigid")),
     "stabilisation": Option(f"force control: the vanishing spring's k R^2 / E (dimensionless; default: "
                             f"{STABILISATION:g})", "nonnegative", needs=("load", GIVEN)),
     "contact_width": Option(f"radius of the refined zone at the contact (length; default: {CONTACT_WIDTH:g} R)"),
