@@ -58,12 +58,13 @@ __all__ = ["parser", "parse", "refuse_unsupported", "one_line_errors", "has_fric
            "method_parameters",
            "method_options", "FRICTION_OPTIONS", "RANGE_TYPES",
            "solver_options", "StrictParser",
-           "UsageError", "HelpFormatter",
+           "UsageError", "HelpFormatter", "GIVEN",
            "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
            "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "check_petsc_values", "error_line",
            "main", "count",
            "EXIT_ERROR", "EXIT_USAGE", "EXIT_CHECK"]
 
+GIVEN = "given"  # StrictParser.requirements: the other option must be given (any value)
 EXIT_ERROR, EXIT_USAGE, EXIT_CHECK = 1, 2, 3  # main's exit status: an error, a bad command line, a failed check
 # Seconds a rank that failed waits for the others to reach the end of main (a rank still inside a collective of
 # the demo never does: the job is then aborted)
@@ -94,7 +95,7 @@ class StrictParser(argparse.ArgumentParser):
     """``argparse.ArgumentParser`` without abbreviations (``--refinment`` never matches ``--refinement``) whose
     errors raise :class:`UsageError` (one line, naming the option) instead of printing the usage and exiting.
     ``requirements``: ``(dest, other, value)``, the option ``dest`` given only with the option ``other`` at
-    ``value`` (``"given"``: given at all), checked when parsed."""
+    ``value`` (:data:`GIVEN`: given at all), checked when parsed."""
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("allow_abbrev", False)
@@ -117,10 +118,10 @@ class StrictParser(argparse.ArgumentParser):
             if getattr(ns, dest, None) is None or not hasattr(ns, other):
                 continue
             have = getattr(ns, other)
-            if (have is None) if value == "given" else (have != value):
+            if (have is None) if value == GIVEN else (have != value):
                 flag, needed = "--" + dest.replace("_", "-"), "--" + other.replace("_", "-")
-                raise UsageError(f"{flag} is used only with {needed}" + ("" if value == "given" else f" {value}")
-                                 + (f" (got {needed} {have})" if value != "given" else ""))
+                raise UsageError(f"{flag} is used only with {needed}" + ("" if value == GIVEN else f" {value}")
+                                 + (f" (got {needed} {have})" if value != GIVEN else ""))
         return ns, rest
 
     def parse_args(self, args=None, namespace=None):

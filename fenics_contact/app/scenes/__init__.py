@@ -22,6 +22,7 @@ from mpi4py import MPI
 
 from ...problem import ContactProblem, Stabilised
 from ...surface import Surface
+from ..cli import GIVEN  # Option.needs: the other option must be given (any value)
 from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
@@ -103,9 +104,6 @@ def numeric_parameters(builder: Callable) -> dict[str, float | None]:
         if note in ("float", "float | None") and (par.default is None or isinstance(par.default, (int, float))):
             out[name] = par.default
     return out
-
-
-GIVEN = "given"  # Option.needs: the other option must be given (any value)
 
 
 @dataclass(frozen=True)
