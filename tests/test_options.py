@@ -142,6 +142,9 @@ def test_a_bad_number_is_one_line_naming_the_option(name, monkeypatch, capsys):
     ("sphere", ["--plate-E", "5"], "--plate-E is used only with --plate meshed"),
     ("rings", ["--nu-outer", "0.5"], "--nu-outer must be a finite number in [0, 0.5)"),
     ("ironing", ["--theta", "0"], "--theta must be a finite number in (0, 90]"),
+    ("ring", ["--R-in", "9"], "--R-in must be < --R-out (8), got 9"),
+    ("rings", ["--a", "0.2", "--b", "1.5"], "--b must be < --c (1), got 1.5"),
+    ("pin", ["--R", "2", "--above", "1.5"], "--R must be < --above (1.5), got 2"),
     ("hertz", ["--load", "1", "--symmetry", "half"], "--load is used only with --symmetry quarter"),
     ("sphere", ["--load", "1", "--plate", "meshed"], "--load is used only with --plate rigid (got --plate meshed)"),
 ])

@@ -95,7 +95,8 @@ class StrictParser(argparse.ArgumentParser):
     """``argparse.ArgumentParser`` without abbreviations (``--refinment`` never matches ``--refinement``) whose
     errors raise :class:`UsageError` (one line, naming the option) instead of printing the usage and exiting.
     ``requirements``: ``(dest, other, value)``, the option ``dest`` given only with the option ``other`` at
-    ``value`` (:data:`GIVEN`: given at all), checked when parsed."""
+    ``value`` (:data:`GIVEN`: given at all); ``orders``: ``(dest, other)``, the value of ``dest`` below that of
+    ``other`` (when both are set); both checked when parsed."""
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("allow_abbrev", False)
@@ -103,6 +104,7 @@ class StrictParser(argparse.ArgumentParser):
         kwargs.setdefault("epilog", "Other -options go to PETSc (prefix fc_); they must be used by PETSc.")
         super().__init__(*args, **kwargs)
         self.requirements: list[tuple[str, str, object]] = []
+        self.orders: list[tuple[str, str]] = []
 
     def error(self, message: str):
         # "argument --E: must be ..." -> "--E must be ..."; "argument --load: not allowed with argument
@@ -122,6 +124,11 @@ class StrictParser(argparse.ArgumentParser):
                 flag, needed = "--" + dest.replace("_", "-"), "--" + other.replace("_", "-")
                 raise UsageError(f"{flag} is used only with {needed}" + ("" if value == GIVEN else f" {value}")
                                  + (f" (got {needed} {have})" if value != GIVEN else ""))
+        for dest, other in self.orders:
+            mine, theirs = getattr(ns, dest, None), getattr(ns, other, None)
+            if mine is not None and theirs is not None and not mine < theirs:
+                flag, bound = "--" + dest.replace("_", "-"), "--" + other.replace("_", "-")
+                raise UsageError(f"{flag} must be < {bound} ({theirs:g}), got {mine:g}")
         return ns, rest
 
     def parse_args(self, args=None, namespace=None):

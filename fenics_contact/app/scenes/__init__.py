@@ -114,12 +114,14 @@ class Option:
     for a default derived from the others (``None`` in the builder), how it is derived. ``range``: ``positive``
     (> 0), ``nonnegative`` (>= 0), ``poisson`` ([0, 0.5)) or a closed interval ``(low, high)``. ``excludes``:
     another parameter that contradicts this one (giving both is refused). ``needs``: ``(other, value)``, this
-    one is used only when the demo's option ``other`` has ``value`` (:data:`GIVEN`: is given)."""
+    one is used only when the demo's option ``other`` has ``value`` (:data:`GIVEN`: is given). ``below``: the
+    parameters this one must be smaller than (a radius inside another)."""
 
     help: str
-    range: str | tuple[float, float] = "positive"
+    range: str | tuple = "positive"
     excludes: str | None = None
     needs: tuple[str, object] | None = None
+    below: tuple[str, ...] = ()
 
 
 def _option_type(range_: str | tuple[float, float]) -> Callable[[str], float]:
@@ -155,7 +157,8 @@ def add_scene_options(parser: argparse.ArgumentParser, builder: Callable) -> lis
     """One ``--name`` option (``_`` written ``-``) per numeric keyword argument of ``builder``
     (:func:`scene_options`) that ``parser`` does not have yet, range-checked when parsed, with its help text and
     default; returns their names. Two options one of which ``excludes`` the other are mutually exclusive; an
-    option that ``needs`` another's value is refused without it (checked when parsed, :class:`cli.StrictParser`)."""
+    option that ``needs`` another's value is refused without it, one not ``below`` the others it must be below
+    is refused (checked when parsed, :class:`cli.StrictParser`)."""
     options = scene_options(builder)
     names: list[str] = []
     groups: dict[str, argparse._MutuallyExclusiveGroup] = {}
@@ -171,6 +174,8 @@ def add_scene_options(parser: argparse.ArgumentParser, builder: Callable) -> lis
         names.append(name)
         if opt.needs is not None and hasattr(parser, "requirements"):
             parser.requirements.append((name, *opt.needs))
+        if hasattr(parser, "orders"):
+            parser.orders.extend((name, other) for other in opt.below)
     return names
 
 

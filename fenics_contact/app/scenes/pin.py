@@ -118,7 +118,7 @@ GAPS = ("linearized", "current")
 
 OPTIONS = {
     "h_contact": Option("mesh size at the hole (length; default: R / 50, halved per --refinement)"),
-    "R": Option("radius of the hole and pin (length)"),
+    "R": Option("radius of the hole and pin (length)", below=("half_width", "below", "above")),
     "half_width": Option(f"plate's half-width (length; default: {HALF_WIDTH / R:g} R)"),
     "below": Option(f"plate's extent below the pin's centre (length; default: {BELOW / R:g} R)"),
     "above": Option(f"plate's extent above the pin's centre (length; default: {ABOVE / R:g} R)"),

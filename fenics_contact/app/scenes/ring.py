@@ -53,7 +53,7 @@ PAPER_RESIDUAL_6 = 0.9e-10
 
 OPTIONS = {
     "R_out": Option("ring's outer radius (length)"),
-    "R_in": Option("ring's inner radius, < --R-out (length)"),
+    "R_in": Option("ring's inner radius, < --R-out (length)", below=("R_out",)),
     "E": Option("Young's modulus (stress)"),
     "nu": Option("Poisson's ratio", "poisson"),
     "approach": Option(f"upper plate's downward displacement (length; default: {APPROACH / R_OUT:g} R_out, the "

@@ -181,8 +181,8 @@ OPTIONS = {
     "E_outer": Option("outer ring's Young's modulus (stress; default: --E)"),
     "nu_outer": Option("outer ring's Poisson's ratio (default: --nu)", "poisson"),
     "q": Option("external pressure on the outer ring (stress)"),
-    "a": Option("inner ring's inner radius (length)"),
-    "b": Option("interface radius, between --a and --c (length)"),
+    "a": Option("inner ring's inner radius (length)", below=("b",)),
+    "b": Option("interface radius, between --a and --c (length)", below=("c",)),
     "c": Option("outer ring's outer radius (length)"),
 }
 

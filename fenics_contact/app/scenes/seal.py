@@ -91,7 +91,7 @@ OPTIONS = {
     "E": Option("Young's modulus (stress)"),
     "nu": Option("Poisson's ratio", "poisson"),
     "R_out": Option("section's outer radius (length)"),
-    "R_in": Option("section's inner radius, < --R-out (length)"),
+    "R_in": Option("section's inner radius, < --R-out (length)", below=("R_out",)),
     "plate_distance": Option("distance between the two plates at the start (length)"),
 }
 

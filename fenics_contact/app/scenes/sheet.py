@@ -156,7 +156,7 @@ OPTIONS = {
     "R": Option("cylinder's outer radius (length)"),
     "thickness": Option("sheet thickness (length)"),
     "leg": Option("length of the sheet's legs (length)"),
-    "R_in": Option("cylinder's fixed inner radius, < --R (length)"),
+    "R_in": Option("cylinder's fixed inner radius, < --R (length)", below=("R",)),
     "lmbda": Option("sheet's first Lame constant (stress)"),
     "mu": Option("sheet's shear modulus (stress)"),
     "radius": Option("two-body search radius (length)"),
