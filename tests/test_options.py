@@ -154,6 +154,7 @@ def test_contradictions_and_ranges_refused_while_parsing(name, argv, named, monk
     assert end.code == cli.EXIT_USAGE and len(lines) == 1 and named in lines[0], lines
 
 
+@serial
 def test_options_that_agree_parse(monkeypatch):
     """The refusals above are of the contradiction, not of the options: each parses alone or with what it needs."""
     for argv in (["--load", "1", "--stabilisation", "0.5"], ["--plate", "meshed", "--plate-width", "16"],
