@@ -82,7 +82,9 @@ class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
 
     def _get_help_string(self, action):
         text = action.help or ""
-        if action.default is None or action.default is argparse.SUPPRESS:
+        if action.default is argparse.SUPPRESS:  # --help
+            return text
+        if action.default is None:
             return text + " (default: not used)" if action.option_strings and "default:" not in text else text
         if "default:" in text:
             shown = f"{action.default:g}" if isinstance(action.default, float) else str(action.default)
