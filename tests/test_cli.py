@@ -132,7 +132,7 @@ def test_unknown_option_in_process_names_the_close_match():
     p.add_argument("--refinement", type=cli.LEVEL, default=0)
     with pytest.raises(cli.UsageError, match="unknown option --refinment .did you mean --refinement"):
         cli.parse(p, ["--refinment", "1"])
-    with pytest.raises(cli.UsageError, match="--refinement: must be an integer >= 0, got -1"):
+    with pytest.raises(cli.UsageError, match="--refinement must be an integer >= 0, got -1"):
         cli.parse(p, ["--refinement", "-1"])
 
 

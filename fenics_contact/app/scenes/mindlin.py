@@ -42,15 +42,15 @@ from ...laws import ContactLaw, ExactCoulomb
 from ...materials import LinearElastic
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.mindlin import disk_on_block
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 from .hertz import contact_half_width
 
-__all__ = ["build", "mindlin_c", "mindlin_traction", "check_loading", "stick_figures", "worst_ratio",
+__all__ = ["OPTIONS", "build", "mindlin_c", "mindlin_traction", "check_loading", "stick_figures", "worst_ratio",
            "add_shear_options", "check_ratios_option", "worst_ratio_check", "ShearProblem", "DEFAULT_K",
            "DEFAULT_OMEGA_T", "BENCH"]
 
 R, E, NU = 1.0, 1000.0, 0.3
-APPROACH = 3.5e-3  # gives a ~ 0.047 R with the default bodies
+APPROACH = 3.5e-3  # per unit R (default: APPROACH R): gives a ~ 0.047 R with the default bodies
 RATIOS = (0.2, 0.5, 0.8)
 DEFAULT_K = 1e7  # normal penalty: p0 / K ~ 1e-6, 1e-3 of the approach
 # Tangential penalty: the elastic slip mu p0 / omega_t ~ 4e-6 is 1 % of the slip at the contact edge; 1e7 (= K)
@@ -105,18 +105,22 @@ def worst_ratio(out: dict, errors: list[tuple[float, float]]) -> None:
 def add_shear_options(parser: argparse.ArgumentParser, ratios: tuple, refinement_help: str) -> None:
     """The Mindlin demos' loading options: ``--ratios`` (default ``ratios``), ``--refinement`` (``refinement_help``)
     and ``--press-steps`` (before :func:`~fenics_contact.app.scenes.add_scene_options`, which then skips them)."""
-    from ..cli import COUNT, LEVEL
+    from ..cli import COUNT, LEVEL, number
 
-    parser.add_argument("--ratios", type=float, nargs="+", default=list(ratios), metavar="R",
+    parser.add_argument("--ratios", type=number(float, 0.0, 1.0, True, True), nargs="+", default=list(ratios),
+                        metavar="R",
                         help="Q / (mu P) of the tangential load steps, increasing in (0, 1)")
     parser.add_argument("--refinement", type=LEVEL, default=0, help=refinement_help)
     parser.add_argument("--press-steps", type=COUNT, default=4, help="load steps of the pressing")
 
 
 def check_ratios_option(ratios: list) -> None:
-    """``ValueError`` naming ``--ratios`` unless its values increase in (0, 1) (the demos, before any work)."""
+    """:class:`~fenics_contact.app.cli.UsageError` naming ``--ratios`` unless its values increase in (0, 1) (the
+    demos, before any work)."""
+    from ..cli import UsageError
+
     if not all(0 < r < 1 for r in ratios) or ratios != sorted(set(ratios)):
-        raise ValueError(f"--ratios: must be increasing values in (0, 1), got {ratios}")
+        raise UsageError(f"--ratios must be increasing values in (0, 1), got {ratios}")
 
 
 def worst_ratio_check(ratios: list, tolerance: float, source: str) -> Callable[[dict], dict]:
@@ -154,8 +158,20 @@ class ShearProblem(ContactProblem):
         super().set_load(t)
 
 
+OPTIONS = {
+    "R": Option("radius of the upper body's cylindrical face (length)"),
+    "E": Option("Young's modulus of both bodies (stress)"),
+    "nu": Option("Poisson's ratio of both bodies", "poisson"),
+    "approach": Option(f"pressing displacement of the upper body (length; default: {APPROACH:g} R)"),
+    "width": Option("width 2 L of both bodies (length; default: R)"),
+    "height": Option("upper body's height (length; default: R / 2)"),
+    "depth": Option("lower block's depth (length; default: R / 2)"),
+    "h_contact": Option("mesh size at the contact (length; default: R / 600, halved per --refinement)"),
+}
+
+
 def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MPI.Comm = MPI.COMM_WORLD,
-          R: float = R, E: float = E, nu: float = NU, approach: float = APPROACH, press_steps: int = 4,
+          R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int = 4,
           width: float | None = None, height: float | None = None, depth: float | None = None,
           h_contact: float | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``), or the exact
@@ -164,6 +180,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     ``h_contact = R / 600``) that many times; ``press_steps`` load steps for the pressing. Bodies: ``width``
     ``2 L`` (default ``R``), the upper body's ``height`` (default ``R / 2``), the block's ``depth`` (default
     ``R / 2``)."""
+    approach = APPROACH * R if approach is None else approach
     positive(R=R, E=E, approach=approach, width=width, height=height, depth=depth, h_contact=h_contact)
     poisson(nu=nu)
     exact = isinstance(law, ExactCoulomb)  # method coulomb: exact Coulomb on the condensed system

@@ -32,9 +32,9 @@ from ...laws import ContactLaw
 from ...materials import LinearElastic
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.mindlin import block_on_incline
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 
-__all__ = ["build", "wedge_ratio"]
+__all__ = ["OPTIONS", "build", "wedge_ratio"]
 
 E, NU = 1000.0, 0.3
 ALPHA = 20.0  # degrees
@@ -50,6 +50,15 @@ def wedge_ratio(mu: float, alpha_deg: float) -> float:
     if mu * t >= 1.0:
         raise ValueError(f"mu tan(alpha) must be < 1 (self-locking otherwise), got mu={mu}, alpha={alpha_deg}")
     return (mu + t) / (1 - mu * t)
+
+
+OPTIONS = {
+    "alpha": Option("wedge angle (degrees, in [0, 60])", (0.0, 60.0)),
+    "E": Option("Young's modulus of the block and the wedge (stress)"),
+    "nu": Option("Poisson's ratio of the block and the wedge", "poisson"),
+    "load": Option("vertical traction on the block's top (stress)"),
+    "push": Option("horizontal displacement of the block's left face at the end (length)"),
+}
 
 
 def build(law: ContactLaw, alpha: float = ALPHA, E: float = E, nu: float = NU, load: float = LOAD,
