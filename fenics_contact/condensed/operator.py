@@ -41,7 +41,8 @@ class CondensedStiffness:
     Attributes: ``A`` (``K``, no boundary conditions), ``dir_idx`` (this rank's owned Dirichlet dofs, global),
     ``dir_all`` (every rank's, sorted), ``cidx``, ``S`` (symmetrized, the same on every rank), ``diag`` (the mean
     absolute diagonal of ``S``: the scale of the semismooth Newton's ``c``), ``x`` (after :meth:`load`: the load
-    mode ``u_0(t)``; the work vector of :meth:`displacement`)."""
+    mode ``u_0(t)``; the work vector of :meth:`displacement`), ``assemblies`` and ``factorizations`` (of ``K``
+    and of ``K_D`` with its ``S``, so far)."""
 
     def __init__(self, problem, comm):
         if not problem.material.linear:
@@ -58,6 +59,7 @@ class CondensedStiffness:
         # when one of them has changed (a re-assembly per step costs about a third of a factorization).
         self._u, self._inputs = problem.u, problem.jacobian_inputs()
         self._seen = self._input_values()
+        self.assemblies, self.factorizations = 1, 0  # of K, of K_D (each with its S)
         self._f = fem_petsc.create_vector(problem.L)
         lo, hi = self.A.getOwnershipRange()
         # Dirichlet dofs (owned, global) and the Dirichlet condition each belongs to (its value at t, per step).
@@ -83,6 +85,7 @@ class CondensedStiffness:
         """Factor ``K_D`` (``K`` with the rows and columns of the contact and Dirichlet dofs replaced by the
         identity) and form the dense Schur complement ``S`` (every rank)."""
         nc = len(self.cidx)
+        self.factorizations += 1
         if self._ksp is not None:
             self._ksp.destroy()
             self._KD.destroy()
@@ -126,6 +129,7 @@ class CondensedStiffness:
         if self.comm.allreduce(int(same), op=MPI.MIN):  # a Function's values may differ on one rank only
             return False
         self._seen = now
+        self.assemblies += 1
         A = fem_petsc.assemble_matrix(problem.a)
         A.assemble()
         ref = self.A.norm(PETSc.NormType.FROBENIUS)

@@ -63,7 +63,8 @@ def build(law: ContactLaw, alpha: float = ALPHA, E: float = E, nu: float = NU, l
           mesh: tuple = ((40, 8), (12, 6))) -> Setup:
     """``law``: a Coulomb :class:`~fenics_contact.friction.Friction` (``mu > 0``); ``alpha`` in degrees, in
     [0, 60]; ``load`` the vertical traction on the block's top; ``push`` the horizontal displacement of its left
-    face at the end; ``slide_steps`` load steps of the push (solve them with the predictor :data:`PREDICTOR`); ``mesh`` the (nx, ny) of the wedge and the block."""
+    face at the end; ``slide_steps`` load steps of the push (solve them with the predictor :data:`PREDICTOR`);
+    ``mesh`` the (nx, ny) of the wedge and the block."""
     positive(E=E, load=load, push=push)
     poisson(nu=nu)
     alpha = float(alpha)
