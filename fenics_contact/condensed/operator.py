@@ -10,7 +10,8 @@ ICNTL(19)): about the cost of one factorization. ``S`` is singular for a floatin
 
 Each load step, the load as the problem has set it at ``t`` (tractions, body forces and Dirichlet values: any
 path, not only ``t`` times a load): one solve gives the load mode ``u_0(t)`` (``u_c = 0``, the load ``f(t)``,
-the Dirichlet data at ``t``), and the force the contact dofs need (the contact force on the body) is
+the Dirichlet data at ``t``; no solve when the load is a combination of earlier steps', :mod:`.loadmodes`), and
+the force the contact dofs need (the contact force on the body) is
 ``R(u_c) = S u_c + r(t)``, ``r(t) = (K u_0(t) - f(t))_c``. Recovery: one solve of ``K_D u = ...`` with ``u_c``
 prescribed. ``K`` is re-assembled at a step where a value its form depends on (a Constant, a Function) has
 changed, and compared with the condensed one: a stiffness that changes with the load (the vanishing spring of a
@@ -19,7 +20,8 @@ force-controlled scene) is condensed again for that step.
 Parallel: ``K`` and its factorization for the solves are distributed (MUMPS); PETSc does not hand out MUMPS's
 distributed Schur complement, so ``K`` is gathered on rank 0 for ``S`` (its ``nnz`` entries once) and ``S``
 (``n_c x n_c``, a few hundred) is broadcast: every rank holds the same dense ``S`` (``O(n_c^2)`` memory,
-8 n_c^2 bytes). Cost: two factorizations; per step one solve for the load mode and one for the recovery.
+8 n_c^2 bytes). Cost: two factorizations; per step at most one solve for the load mode, and one for the
+recovery.
 """
 from __future__ import annotations
 
@@ -29,6 +31,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..compat import bc_dofs, schur_complement
+from .loadmodes import LoadModes
 
 __all__ = ["CondensedStiffness"]
 
@@ -60,6 +63,7 @@ class CondensedStiffness:
         self._u, self._inputs = problem.u, problem.jacobian_inputs()
         self._seen = self._input_values()
         self.assemblies, self.factorizations = 1, 0  # of K, of K_D (each with its S)
+        self.modes = LoadModes(comm)  # earlier steps' load modes (their combinations need no solve)
         self._f = fem_petsc.create_vector(problem.L)
         lo, hi = self.A.getOwnershipRange()
         # Dirichlet dofs (owned, global) and the Dirichlet condition each belongs to (its value at t, per step).
@@ -86,6 +90,7 @@ class CondensedStiffness:
         identity) and form the dense Schur complement ``S`` (every rank)."""
         nc = len(self.cidx)
         self.factorizations += 1
+        self.modes.clear()  # the load modes of another stiffness
         if self._ksp is not None:
             self._ksp.destroy()
             self._KD.destroy()
@@ -158,6 +163,9 @@ class CondensedStiffness:
         u.x.array[:] = saved
         self._dir_val = np.concatenate([np.full(len(i), float(d.value.value)) for d, i in self._dirichlet]
                                        + [np.empty(0)])
+        r = self.modes.combine(self._f, self._dir_val, self.x)  # a combination of earlier steps' loads
+        if r is not None:
+            return r
         self.displacement(np.zeros(len(self.cidx)), self.x)
         self.A.mult(self.x, self._y)
         self._y.axpy(-1.0, self._f)
@@ -165,6 +173,7 @@ class CondensedStiffness:
         r = np.zeros(len(self.cidx))
         for idx, v in self.comm.allgather((self._cmine, self._y.array[self.cidx[self._cmine] - lo])):
             r[idx] = v
+        self.modes.add(self._f, self._dir_val, self.x, r)
         return r
 
     def displacement(self, uc: np.ndarray, x: PETSc.Vec) -> None:
