@@ -48,8 +48,8 @@ CASES = {
                            law=("lagrange", {"c": (1e6, "S/L")})),
     "hertz.nitsche": dict(kw=dict(steps=2), lengths=("R", "approach"), stresses=("E",),
                           law=("nitsche", {"gamma0": (10.0, "1")})),
-    "rings.collocated": dict(kw=dict(degree=2, quadrature="collocated"), lengths=("radii",), stresses=("E", "q"),
-                             defaults=dict(radii=(0.2, 0.6, 1.0)), law=("lagrange", {"c": (1e3, "S/L")})),
+    "rings.collocated": dict(kw=dict(degree=2, quadrature="collocated"), lengths=("a", "b", "c"),
+                             stresses=("E", "q"), law=("lagrange", {"c": (1e3, "S/L")})),
     "ironing": dict(kw=dict(h=0.125, press_steps=2, drag_steps=2, drag=0.1),
                     lengths=("depth", "drag", "H", "half_width", "r", "height", "margin", "h"), stresses=("E",),
                     defaults=dict(depth=0.1, H=1.0, half_width=0.5, r=0.5, height=0.5, margin=1.5),
@@ -65,7 +65,7 @@ CASES = {
                 law=("auglag", {"K": (1e6, "S/L")}), solver=dict(augment_max=10, augment_tol=1e-10)),
     "ring": dict(kw=dict(n_theta=22, n_r=2), lengths=("R_out", "R_in", "approach"), stresses=("E",),
                  law=("penalty", {"K": (1e5, "S/L")})),
-    "rings": dict(kw=dict(n=8), lengths=("radii",), stresses=("E", "q"), defaults=dict(radii=(0.2, 0.6, 1.0)),
+    "rings": dict(kw=dict(n=8), lengths=("a", "b", "c"), stresses=("E", "q"),
                   law=("auglag", {"K": (1e8, "S/L")}), solver=dict(augment_max=10, augment_tol=1e-10)),
     "seal": dict(kw=dict(loads=[0.5, 1.0]), lengths=("h", "R_out", "R_in", "plate_distance", "loads"),
                  stresses=("E",), law=("cross", {"K_hat": (1e5, "S/L"), "F_hat": (1e-3, "S")}),
@@ -207,7 +207,7 @@ def test_rings_in_any_units_match_lame(E, q):
     demo's units, with the default solver options: converged, the interface pressure farthest from Lame's
     (925925.93 Pa in SI) within the demo's 0.5 %, the same Newton iterations."""
     setup = build("rings", law_factory=lambda: fc.LagrangeMultiplier(E), degree=2, quadrature="collocated",
-                  E=(E, E), nu=(0.2, 0.2), q=q, plane="stress")
+                  E=E, nu=0.2, q=q, plane="stress")
     with fc.Solver(setup.problem, quiet=True) as solver:
         solver.run(setup.loads)
         f = setup.figures()

@@ -107,11 +107,11 @@ from ...materials import LinearElastic
 from ...multipliers import unknown
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.rings import concentric_rings
-from . import Setup
+from . import Option, Setup, poisson, positive
 
 __all__ = [
     "A", "B", "C", "E_DEFAULT", "NU_DEFAULT", "Q_DEFAULT", "PLANES", "RADIUS", "lame_pressure", "lame_displacements",
-    "RingsElastic", "build"
+    "RingsElastic", "OPTIONS", "build"
 ]
 
 A, B, C = 0.2, 0.6, 1.0
@@ -175,28 +175,43 @@ class RingsElastic(LinearElastic):
         return {"model": type(self).__name__, **self.rings}
 
 
+OPTIONS = {
+    "E": Option("inner ring's Young's modulus (stress)"),
+    "nu": Option("inner ring's Poisson's ratio", "poisson"),
+    "E_outer": Option("outer ring's Young's modulus (stress; default: --E)"),
+    "nu_outer": Option("outer ring's Poisson's ratio (default: --nu)", "poisson"),
+    "q": Option("external pressure on the outer ring (stress)"),
+    "a": Option("inner ring's inner radius (length)", below=("b",)),
+    "b": Option("interface radius, between --a and --c (length)", below=("c",)),
+    "c": Option("outer ring's outer radius (length)"),
+}
+
+
 def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quadrature: str = "nodal",
           passes: str = "one", n: int = 16, n_outer: int | None = None, plane: str = "strain",
-          E: tuple[float, float] = (E_DEFAULT, E_DEFAULT), nu: tuple[float, float] = (NU_DEFAULT, NU_DEFAULT),
-          q: float = Q_DEFAULT, comm: MPI.Comm = MPI.COMM_WORLD,
-          radii: tuple[float, float, float] = (A, B, C)) -> Setup:
+          E: float = E_DEFAULT, nu: float = NU_DEFAULT, E_outer: float | None = None, nu_outer: float | None = None,
+          q: float = Q_DEFAULT, a: float = A, b: float = B, c: float = C, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
     """``degree`` 1 (P1 triangles, flat facets: ``quadrature`` ``nodal``, ``gauss`` or ``segment``) or 2
     (6-node triangles of a quadratic geometry, curved 3-node facets: ``nodal`` or ``simpson``); ``passes``
     ``one`` (the inner ring's arc is the slave) or ``two``. Method ``lagrange`` (``law`` a
     :class:`~fenics_contact.laws.LagrangeMultiplier`): the constraint at the vertices, the work with
     ``quadrature`` (P2: ``simpson`` is the two-point element); ``collocated`` (P2, ``lagrange`` or
     ``penalty_multiplier``): Papadopoulos & Solberg's collocated element (``passes`` not used: both
-    surfaces carry a pressure); ``radii``: ``a < b < c``. One load step ``t = 1``."""
+    surfaces carry a pressure). One load step ``t = 1``. The inner ring's ``E``, ``nu``, the outer ring's
+    ``E_outer``, ``nu_outer`` (default: the inner ring's), the external pressure ``q``; the radii ``a < b < c``
+    (inner, interface, outer); the two-body search radius ``RADIUS c``."""
+    positive(E=E, E_outer=E_outer, a=a, b=b, c=c)
+    if not a < b < c:
+        raise ValueError(f"the radii must satisfy a < b < c, got a = {a!r}, b = {b!r}, c = {c!r}")
+    poisson(nu=nu, nu_outer=nu_outer)
+    E = (E, E if E_outer is None else E_outer)
+    nu = (nu, nu if nu_outer is None else nu_outer)
     if degree not in (1, 2):
         raise ValueError(f"degree must be 1 or 2, got {degree!r}")
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if not (np.isfinite(q) and q > 0):
         raise ValueError(f"pressure q must be a finite number > 0, got {q!r}")
-    a, b, c = (float(r) for r in radii)
-    if not (np.isfinite(c) and 0 < a < b < c):
-        raise ValueError(f"radii must be finite with 0 < a < b < c, got {tuple(radii)!r}")
-    radius = RADIUS * c  # the two-body search radius
     if int(n) != n or n < 2:
         raise ValueError(f"n must be an integer >= 2, got {n!r}")
     if law_factory is None:
@@ -219,17 +234,17 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
                              f"'lagrange' or 'penalty_multiplier', got degree {degree!r}, method {first.name!r}")
         from ...collocation import collocated_surfaces
 
-        contacts = collocated_surfaces(u, facet_tags, "inner_surface", "outer_surface", first, load, radius,
+        contacts = collocated_surfaces(u, facet_tags, "inner_surface", "outer_surface", first, load, RADIUS * c,
                                        "interface")
     elif multipliers:
         if quadrature not in (("nodal",) if degree == 1 else ("nodal", "simpson")):
             raise ValueError(f"method {first.name!r} on degree-{degree} facets: quadrature must be 'nodal'"
                              f"{'' if degree == 1 else ' or simpson'}, got {quadrature!r}")
         contacts = two_body_multipliers(u, facet_tags, "inner_surface", "outer_surface", first, load,
-                                        radius, "interface", passes=passes, work_quadrature=quadrature)
+                                        RADIUS * c, "interface", passes=passes, work_quadrature=quadrature)
     else:
         contacts = two_body_surfaces(u, facet_tags, "inner_surface", "outer_surface", law_factory, load,
-                                     quadrature, passes, radius, "interface")
+                                     quadrature, passes, RADIUS * c, "interface")
     for cs in contacts:  # one name per field in the XDMF file
         cs.gap_out.name, cs.pressure_out.name = f"gap_{cs.name}", f"contact_pressure_{cs.name}"
     n_ref = ufl.FacetNormal(mesh)
