@@ -15,8 +15,9 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .capabilities import check, of
 from .compat import function_space, interpolate_expression, lift_and_set_bc, petsc_vec
-from .contact import displacement
+from .contact import displacement, is_mixed
 from .domain import tag_value
 from .materials import Material, Materials
 from .surface import StepSolver, Surface
@@ -61,7 +62,9 @@ class ContactProblem:
     """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
 
     ``u`` is the unknown: the displacement, or a mixed (displacement, pressure)
-    Function when a contact surface has its pressure as an unknown (:mod:`multipliers`). ``contacts``: the
+    Function when a contact surface has its pressure as an unknown (:mod:`multipliers`) or the material is
+    mixed (:class:`~fenics_contact.materials.MixedNeoHookean`: ``unknown(..., model="neohookean-mixed")``; the
+    contact terms act on its displacement field). ``contacts``: the
     :class:`~fenics_contact.surface.Surface` objects; ``step_solver``: a
     :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES (required by a
     surface with ``requires_step_solver``, method ``coulomb``).
@@ -80,8 +83,14 @@ class ContactProblem:
         self.step_solver = step_solver  # solves whole load steps instead of SNES (None: SNES)
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
+        if material.mixed and not is_mixed(V):
+            raise ValueError(f"model {material.model!r} needs the mixed unknown of unknown(mesh, 2, law, "
+                             f"model={material.model!r}), got a displacement")
+        for c in self.contacts:  # the capability grid with the model (a surface built without the material)
+            if getattr(c, "law", None) is not None:
+                check(**of(c.law, material=material))
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        bulk = ufl.derivative(material.energy_form(displacement(u)), u, v)  # per body with Materials
+        bulk = ufl.derivative(material.bulk_form(u), u, v)  # per body with Materials
         body = bulk
         for t, ds in tractions:
             body -= load * ufl.dot(t, displacement(v)) * ds

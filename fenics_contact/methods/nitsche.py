@@ -12,4 +12,5 @@ METHOD = Method(
     sweep=Sweep("gamma0", "gamma0", colour="tab:purple", size=9.0, reference=True),
     rules=(rule("degree 1, model 'linear' or another method", "Nitsche's gamma = gamma0 E / h does not grow with "
                 "the degree (coercivity needs ~p^2): on quadratic elements at finite strain gamma0 = 10 loses the "
-                "solve (found by the full grid)", method="nitsche", degree=2, model="neohookean"),))
+                "solve (found by the full grid)", method="nitsche", degree=2,
+                model=("neohookean", "neohookean-mixed")),))
