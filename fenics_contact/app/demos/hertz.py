@@ -30,7 +30,7 @@ def main(argv=None) -> dict:
                    quadratures=("nodal", "gauss", "simpson", "segment"))  # segment: the meshed plate
     p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the contact mesh size this many times")
     p.add_argument("--steps", type=cli.COUNT, default=2, help="load steps")
-    p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
+    cli.model_option(p, mixed=True)
     p.add_argument("--symmetry", choices=["quarter", "half", "full"], default="quarter",
                    help="modelled part of the disk")
     p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
@@ -43,7 +43,8 @@ def main(argv=None) -> dict:
     args = cli.parse(p, argv)
     out = Path(args.out or "results/hertz")
     # Refused combinations: one line, before any work.
-    cli.refuse_unsupported(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=2, degree=1,
+    cli.refuse_unsupported(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=2,
+                           degree=cli.model_degree(args.model),
                            model=args.model)
 
     # 2. The scene: graded quarter-disk mesh, symmetry, prescribed approach, rigid plane.

@@ -216,7 +216,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     mesh, cell_tags, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=contact_width,
                                                      half=symmetry == "half", full=symmetry == "full",
                                                      plate=plate_size if plate == "meshed" else None)
-    u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
+    # displacement P1, or (displacement, pressure): P1-P1 for method lagrange, Taylor-Hood P2-P1 for the mixed model
+    u, V = unknown(mesh, 2 if MODELS[model].mixed else 1, law, model=model)
     t = fem.Constant(mesh, 0.0)  # the load parameter
     fdim = mesh.topology.dim - 1
     # the full disk has no top side (its u_y is held at the centre, below)
