@@ -214,7 +214,8 @@ def covering_cells() -> list[dict]:
     for method in LAWS + ("coulomb",):  # friction: every law; structural variants with penalty
         cells.append(_first_supported(method=method, friction=True))
     cells += [c for s in _structural("rigid") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
-    cells.append(_first_supported(method="penalty", friction=True, model="neohookean"))
+    for model in ("neohookean", "neohookean-mixed"):  # friction on the displacement field of a mixed unknown too
+        cells.append(_first_supported(method="penalty", friction=True, model=model))
     for method in LAWS + ("coulomb",):  # two-body friction: every law; structural variants with penalty
         cells.append(_first_supported(method=method, kind="two-body", friction=True))
     cells += [c for s in _structural("two-body") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
