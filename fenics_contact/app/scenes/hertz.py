@@ -159,7 +159,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
           plate_width: float | None = None, plate_depth: float | None = None, contact_width: float | None = None,
           stabilisation: float | None = None) -> Setup:
     """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
-    ``model``: ``linear`` (default: strains ~1e-3) or ``neohookean`` (the model-reduction check);
+    ``model``: ``linear`` (default: strains ~1e-3), ``neohookean`` (the model-reduction check) or
+    ``neohookean-mixed`` (nearly incompressible: Taylor-Hood P2-P1, quadrature ``gauss`` or ``simpson``);
     ``symmetry``: ``quarter`` (default), ``half`` (the lower half disk, ``u_x = 0`` at the centre
     only: the same problem without the mirror about ``x = 0``) or ``full`` (the whole disk between the
     lower plate and an upper rigid plate that moves down by ``2 approach``: no mirror at all; the rigid
@@ -200,6 +201,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:
         raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
+    MODELS[model](E, nu, plane=plane)  # a plane the model refuses (the mixed one: plane strain), before any work
     if symmetry not in ("quarter", "half", "full"):
         raise ValueError(f"hertz symmetry must be 'quarter', 'half' or 'full', got {symmetry!r}")
     if plate not in ("rigid", "meshed"):
