@@ -44,7 +44,18 @@ from .laws import (
     PenaltyMultiplier,
     SnesVI,
 )
-from .materials import MODELS, PLANES, Kinematics, LinearElastic, Material, Materials, MixedNeoHookean, NeoHookean, lame
+from .materials import (
+    MODELS,
+    PLANES,
+    Kinematics,
+    LinearElastic,
+    Material,
+    Materials,
+    MixedLinearElastic,
+    MixedNeoHookean,
+    NeoHookean,
+    lame,
+)
 from .methods import METHODS, Method, Parameter, Sweep, make_law, register
 from .mortar import SegmentSurface
 from .multipliers import MultiplierContact, TwoBodyMultiplier, unknown
@@ -59,7 +70,8 @@ from .twobody_friction import FrictionalTwoBodySurface
 
 __all__ = [
     # materials
-    "Material", "LinearElastic", "NeoHookean", "MixedNeoHookean", "Kinematics", "Materials", "MODELS", "PLANES", "lame",
+    "Material", "LinearElastic", "NeoHookean", "MixedNeoHookean", "MixedLinearElastic",
+    "Kinematics", "Materials", "MODELS", "PLANES", "lame",
     # contact laws (method name -> class: METHODS, make_law)
     "Formulation", "ContactLaw", "Penalty", "CrossConstraints", "AugmentedLagrangian", "NormalCompliance", "SnesVI",
     "ExactCoulomb", "LagrangeMultiplier", "PenaltyMultiplier", "Nitsche", "Friction",

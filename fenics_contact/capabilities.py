@@ -23,7 +23,9 @@ from . import methods as _methods
 from .materials import MODELS
 from .methods.spec import Rule, rule
 
-__all__ = ["AXES", "Rule", "UnsupportedCombination", "axes", "cells", "cells_like", "check", "describe",
+MIXED_MODELS = tuple(name for name, cls in MODELS.items() if cls.mixed)  # the unknown is (displacement, pressure)
+
+__all__ = ["AXES", "MIXED_MODELS", "Rule", "UnsupportedCombination", "axes", "cells", "cells_like", "check", "describe",
            "markdown", "of", "refusal", "rules", "supported"]
 
 _FIXED_AXES: dict[str, tuple] = {
@@ -103,9 +105,9 @@ _QUADRATURE = (
 
 _MIXED = (
     rule("degree 2", "the mixed model's unknown is Taylor-Hood: P2 displacement, P1 pressure (equal orders are not "
-         "inf-sup stable)", model="neohookean-mixed", degree=1),
+         "inf-sup stable)", model=MIXED_MODELS, degree=1),
     rule("solver 'direct'", "the mixed model's Jacobian is a saddle point (no near-nullspace of the pressure "
-         "field for algebraic multigrid)", model="neohookean-mixed", solver="iterative"),
+         "field for algebraic multigrid)", model=MIXED_MODELS, solver="iterative"),
 )
 
 

@@ -15,8 +15,8 @@ nominal (per reference area), their Cauchy (true) value is nominal ``/ (da/dA)``
 
 :meth:`Material.density` is the energy density of the problem's unknown ``w`` (a displacement, or a mixed
 Function whose first field is the displacement): what :class:`~fenics_contact.problem.ContactProblem`
-differentiates. :class:`MixedNeoHookean` (nearly incompressible rubber) is the mixed displacement-pressure model:
-its unknown is Taylor-Hood (:func:`~fenics_contact.multipliers.unknown` with ``model="neohookean-mixed"``).
+differentiates. The mixed displacement-pressure models of nearly incompressible bodies are in
+:mod:`~fenics_contact.incompressible` (in :data:`MODELS` too).
 """
 from __future__ import annotations
 
@@ -27,8 +27,8 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
-__all__ = ["PLANES", "lame", "Material", "LinearElastic", "NeoHookean", "Kinematics", "MixedNeoHookean", "Materials",
-           "MODELS"]
+__all__ = ["PLANES", "lame", "Material", "LinearElastic", "NeoHookean", "Kinematics", "MixedNeoHookean",
+           "MixedLinearElastic", "Materials", "MODELS"]
 
 PLANES = ("strain", "stress")
 
@@ -176,115 +176,6 @@ class NeoHookean(Material):
         return J * ufl.sqrt(ufl.dot(FinvTN, FinvTN))
 
 
-class Kinematics:
-    """How a body's displacement ``u`` deforms it, for :class:`MixedNeoHookean`: the deformation gradient as a
-    3 x 3 tensor and the weight of the volume element over ``dx``. This one: 3D, or plane strain in 2D
-    (``F = diag(F_2, 1)``), weight 1. A body of other kinematics gives its own (axisymmetric: ``F_33`` the hoop
-    stretch ``1 + u_r / r``, weight ``2 pi r``); the energy and stresses are written on the 3 x 3 ``F``."""
-
-    def deformation_gradient(self, u) -> ufl.core.expr.Expr:
-        """``F`` (3 x 3) of the displacement ``u`` (2 or 3 components)."""
-        F = ufl.Identity(len(u)) + ufl.grad(u)
-        if len(u) == 3:
-            return F
-        return ufl.as_matrix([[F[0, 0], F[0, 1], 0], [F[1, 0], F[1, 1], 0], [0, 0, 1]])
-
-    def weight(self, u) -> ufl.core.expr.Expr:
-        """The volume element over ``dx`` (1: the mesh's own measure; per unit thickness in plane strain)."""
-        return ufl.as_ufl(1.0)
-
-
-def _in_plane(T, d: int):
-    """The ``d x d`` leading block of a 3 x 3 tensor (the components the mesh's dimension carries)."""
-    return T if d == 3 else ufl.as_matrix([[T[i, j] for j in range(d)] for i in range(d)])
-
-
-class MixedNeoHookean(Material):
-    """Nearly incompressible neo-Hookean in the mixed displacement-pressure form (perturbed Lagrangian):
-
-        ``W(F, p) = mu/2 (J^(-2/3) tr C - 3) + p (J - 1) - p^2 / (2 kappa)``,  ``kappa = lambda + 2 mu / 3``,
-
-    the u/p formulation of Sussman & Bathe (1987, Computers & Structures 26, 357-409) with the decoupled
-    (isochoric/volumetric) neo-Hookean energy of Simo & Taylor (1991, CMAME 85, 273-310). ``p`` is a field of
-    its own (the second field of the unknown, Taylor-Hood P2-P1: :func:`~fenics_contact.multipliers.unknown` with
-    ``model="neohookean-mixed"``): the mean Cauchy stress, > 0 in tension, in the units of ``E``. The residual is
-    the first variation of ``int W dV`` in ``(u, p)``, a saddle point (symmetric, indefinite: MUMPS LU); its
-    ``p`` equation is ``J - 1 = p / kappa`` weakly, so ``nu -> 1/2`` (``kappa -> inf``) is the incompressible
-    limit without locking. Eliminating ``p`` gives ``mu/2 (I1_bar - 3) + kappa/2 (J - 1)^2`` (``energy(u)``
-    without ``p``), whose small-strain limit is linear elasticity of ``E``, ``nu``.
-
-    Kinematics from ``kinematics`` (:class:`Kinematics`: 3D and plane strain by default), so ``F`` is 3 x 3 and
-    the volume element ``weight dx``; plane stress is refused (``F_33`` is then not kinematic). The stresses
-    without ``p`` use the eliminated ``p = kappa (J - 1)``.
-    """
-
-    mixed = True
-    model = "neohookean-mixed"
-
-    def __init__(self, E: float, nu: float, plane: str = "strain", kinematics: Kinematics | None = None):
-        if plane != "strain":
-            raise ValueError(f"model 'neohookean-mixed' is plane strain or 3D, got plane {plane!r}")
-        super().__init__(E, nu, plane)
-        self.kappa = self.lmbda + 2.0 * self.mu / 3.0
-        self.kinematics = kinematics or Kinematics()
-
-    def _pressure(self, J, p):
-        return self.kappa * (J - 1) if p is None else p
-
-    def energy(self, u, p=None):
-        """``W`` per unit reference volume of the displacement ``u`` and the pressure ``p`` (None: eliminated)."""
-        F = self.kinematics.deformation_gradient(u)
-        J = ufl.det(F)
-        iso = 0.5 * self.mu * (J ** (-2.0 / 3.0) * ufl.tr(F.T * F) - 3)
-        if p is None:
-            return iso + 0.5 * self.kappa * (J - 1) ** 2
-        return iso + p * (J - 1) - p**2 / (2 * self.kappa)
-
-    def density(self, w):
-        """``W(u, p) weight`` of the mixed unknown ``w = (u, p)``."""
-        u, p = ufl.split(w)
-        return self.energy(u, p) * self.kinematics.weight(u)
-
-    def energy_form(self, u):
-        """``int W(u) weight dx`` with ``p`` eliminated."""
-        return self.energy(u) * self.kinematics.weight(u) * ufl.dx
-
-    def stress(self, u, p=None):
-        """Cauchy stress ``mu J^(-5/3) dev(B) + p I`` (in-plane components in 2D)."""
-        F = self.kinematics.deformation_gradient(u)
-        J = ufl.det(F)
-        B = F * F.T
-        s = self.mu * J ** (-5.0 / 3.0) * (B - ufl.tr(B) / 3 * ufl.Identity(3)) + self._pressure(J, p) * ufl.Identity(3)
-        return _in_plane(s, len(u))
-
-    def piola(self, u, p=None):
-        """``P = mu J^(-2/3) (F - tr C / 3 F^-T) + p J F^-T`` (in-plane components in 2D)."""
-        F = self.kinematics.deformation_gradient(u)
-        J = ufl.det(F)
-        FinvT = ufl.inv(F).T
-        P = self.mu * J ** (-2.0 / 3.0) * (F - ufl.tr(F.T * F) / 3 * FinvT) + self._pressure(J, p) * J * FinvT
-        return _in_plane(P, len(u))
-
-    def area_ratio(self, u, N):
-        F = self.kinematics.deformation_gradient(u)
-        N3 = ufl.as_vector([N[i] for i in range(len(u))] + [0.0] * (3 - len(u)))
-        FinvTN = ufl.dot(ufl.inv(F).T, N3)
-        return ufl.det(F) * ufl.sqrt(ufl.dot(FinvTN, FinvTN))
-
-    def uniaxial(self, a: float, c: float, dim: int) -> tuple[float, float]:
-        """Nominal stresses ``(P_lateral, P_axial)`` of the homogeneous ``F = diag(a, .., c)`` (``a`` in the
-        ``dim - 1`` lateral directions of the mesh; plane strain: ``F_33 = 1``) at the eliminated pressure
-        ``p = kappa (J - 1)``: the closed form the scenes' exact states solve for."""
-        s = [a] * (dim - 1) + [c] + [1.0] * (3 - dim)
-        J, I1 = float(np.prod(s)), float(np.sum(np.square(s)))
-        p = self.kappa * (J - 1)
-        P = [self.mu * J ** (-2 / 3) * (x - I1 / (3 * x)) + p * J / x for x in s]
-        return P[0], P[dim - 1]
-
-    def describe(self) -> dict:
-        return {**super().describe(), "kappa": self.kappa}
-
-
 class Materials:
     """One material per body: ``by_tag`` maps each cell tag of ``cell_tags`` (on ``mesh``) to its :class:`Material`
     (a tag is an integer value, or a region name of :class:`~fenics_contact.domain.NamedTags`).
@@ -331,8 +222,8 @@ class Materials:
         self.linear = all(m.linear for m in self.by_tag.values())
         self.mixed = any(m.mixed for m in self.by_tag.values())
         if self.mixed and not all(m.mixed for m in self.by_tag.values()):
-            raise ValueError("Materials: model 'neohookean-mixed' on some bodies only; the pressure field spans "
-                             "the mesh, give every body a mixed model or none")
+            raise ValueError("Materials: a mixed model on some bodies only; the pressure field spans the mesh, give "
+                             "every body a mixed model or none")
         self.model = "linear" if self.linear else next(m.model for m in self.by_tag.values() if not m.linear)
 
     def _sum(self, f):
@@ -369,4 +260,7 @@ class Materials:
         return {"model": "Materials", "bodies": {str(t): m.describe() for t, m in self.by_tag.items()}}
 
 
-MODELS = {"linear": LinearElastic, "neohookean": NeoHookean, "neohookean-mixed": MixedNeoHookean}
+from .incompressible import Kinematics, MixedLinearElastic, MixedNeoHookean  # noqa: E402 (they build on Material)
+
+MODELS = {"linear": LinearElastic, "neohookean": NeoHookean, "neohookean-mixed": MixedNeoHookean,
+          "linear-mixed": MixedLinearElastic}

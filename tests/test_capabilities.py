@@ -51,10 +51,11 @@ from fenics_contact.app.scenes.patch import uniform_stretches
 
 E, NU, H, MU = 1000.0, 0.3, 1.0, 0.2
 K = 1e6  # penalty-type laws: the regularized closed form includes the penetration p / K
-D = {"linear": 0.01, "neohookean": 0.15, "neohookean-mixed": 0.15}  # rigid: top displacement (finite strain)
-P = {"linear": 10.0, "neohookean": 100.0, "neohookean-mixed": 100.0}  # two-body: pressure on the top
+# rigid: top displacement (neo-Hookean: finite strain); two-body: pressure on the top
+D = {"linear": 0.01, "neohookean": 0.15, "neohookean-mixed": 0.15, "linear-mixed": 0.01}
+P = {"linear": 10.0, "neohookean": 100.0, "neohookean-mixed": 100.0, "linear-mixed": 10.0}
 # friction: sideways top motion, beyond the stick limit mu p / omega_t, the elastic shear and the lateral expansion
-SLIDE = {"linear": 0.05, "neohookean": 0.3, "neohookean-mixed": 0.3}
+SLIDE = {"linear": 0.05, "neohookean": 0.3, "neohookean-mixed": 0.3, "linear-mixed": 0.05}
 EXACT = ("auglag", "vi", "lagrange", "nitsche", "coulomb")
 LAWS = tuple(m.name for m in fc.methods.methods() if m.friction == "law")  # laws of the gap, friction on top
 MULTIPLIERS = ("lagrange", "penalty_multiplier")  # the pressure an unknown
@@ -74,7 +75,7 @@ def law_for(method: str, friction: bool):
 def uniaxial_pressure(stretch: float, model: str, dim: int) -> float:
     """Nominal pressure of the uniform uniaxial state at axial stretch ``stretch`` (lateral faces free;
     plane strain in 2D)."""
-    if model == "linear":
+    if model in ("linear", "linear-mixed"):  # linear-mixed: its eliminated energy is the linear one
         return (E if dim == 3 else E / (1 - NU**2)) * (1.0 - stretch)
     if model == "neohookean-mixed":  # free sides: P_lateral(a, stretch) = 0
         m = fc.MixedNeoHookean(E, NU)

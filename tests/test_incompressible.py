@@ -1,5 +1,5 @@
-"""Nearly incompressible rubber: the mixed displacement-pressure neo-Hookean model
-(:class:`fenics_contact.materials.MixedNeoHookean`, Taylor-Hood P2-P1) with contact on its displacement field.
+"""Nearly incompressible rubber: the mixed displacement-pressure models (:mod:`fenics_contact.incompressible`,
+Taylor-Hood P2-P1) with contact on their displacement field.
 
 The block pressed on a frictionless rigid plane (top moved down, sides free, rollers on the symmetry planes) is
 homogeneous, ``F = diag(a, .., c)``: P2 displacements and a P1 pressure hold it exactly, so the contact pressure is
@@ -57,13 +57,14 @@ def block(dim: int, comm=MPI.COMM_WORLD, nu: float = NU, strain: float = STRAIN)
     return mesh, fc.tag_boundary(mesh, sides)
 
 
-def solve_block(dim: int, comm=MPI.COMM_WORLD, nu: float = NU, strain: float = STRAIN):
+def solve_block(dim: int, comm=MPI.COMM_WORLD, nu: float = NU, strain: float = STRAIN,
+                model: str = "neohookean-mixed"):
     """The block of the module docstring by converged augmented Lagrangian (penalty ``E / h``); returns the mean
     nominal contact pressure, the top's reaction per area and the problem."""
     mesh, ft = block(dim, comm)
     law = fc.make_law("auglag", K=10 * E / 0.5)
-    u, V = fc.unknown(mesh, 2, law, model="neohookean-mixed")
-    material = MixedNeoHookean(E, nu)
+    u, V = fc.unknown(mesh, 2, law, model=model)
+    material = fc.MODELS[model](E, nu)
     load = fem.Constant(mesh, 0.0)
     top = fc.Dirichlet.on_facets(V, ft, "top", dim - 1, -strain * H)
     dirichlet = [top, fc.Dirichlet.on_facets(V, ft, "left", 0)]
@@ -101,6 +102,15 @@ def test_small_strain_limit_is_linear_elasticity():
     assert abs(p - linear) <= 1e-5 * linear, (p, linear)
 
 
+@pytest.mark.parametrize("dim", [2, 3])
+def test_herrmann_block_is_the_linear_closed_form(dim):
+    """The small-strain mixed model (``linear-mixed``) at nu = 0.4999: ``E/(1 - nu^2) strain`` in plane strain,
+    ``E strain`` in 3D (free sides), to 1e-8."""
+    p, reaction, _ = solve_block(dim, strain=0.01, model="linear-mixed")
+    exact = (E / (1 - NU**2) if dim == 2 else E) * 0.01
+    assert abs(p - exact) <= 1e-8 * exact and abs(reaction - exact) <= 1e-8 * exact, (p, reaction, exact)
+
+
 def test_eliminated_energy_and_stress_agree_with_the_mixed_ones():
     """``energy(u)`` and ``stress(u)`` without ``p`` equal the mixed ones at ``p = kappa (J - 1)``, and the Piola
     stress is the derivative of the energy (UFL), on a non-homogeneous displacement."""
@@ -120,6 +130,9 @@ def test_eliminated_energy_and_stress_agree_with_the_mixed_ones():
     F = ufl.variable(ufl.Identity(2) + ufl.grad(u))
     P = ufl.diff(_energy_2d(m, F, p), F)
     assert norm(P - m.piola(u, p)) <= 1e-10 * norm(m.piola(u, p))
+    lin, herrmann = fc.LinearElastic(E, 0.45), fc.MixedLinearElastic(E, 0.45)  # eliminated p: the linear model
+    assert norm(herrmann.energy(u) - lin.energy(u)) <= 1e-12 * norm(lin.energy(u))
+    assert norm(herrmann.stress(u) - lin.stress(u)) <= 1e-12 * norm(lin.stress(u))
 
 
 def _energy_2d(m, F2, p):
@@ -141,6 +154,10 @@ def test_refusals():
         fc.capabilities.check(method="nitsche", model="neohookean-mixed", degree=2)
     with pytest.raises(ValueError, match="plane strain or 3D"):
         MixedNeoHookean(E, NU, plane="stress")
+    with pytest.raises(UnsupportedCombination, match="pressure field"):
+        fc.capabilities.check(method="nitsche", model="linear-mixed", degree=2)
+    with pytest.raises(ValueError, match="every body a mixed model or none"):
+        fc.Materials(mesh, _cells(mesh), {1: MixedNeoHookean(E, NU), 2: fc.NeoHookean(E, NU)})
     law = fc.make_law("penalty", K=1e4)
     u, V = fc.unknown(mesh, 2, law)  # a displacement
     load = fem.Constant(mesh, 0.0)
@@ -154,3 +171,12 @@ def test_parallel_equals_serial():
     parallel = solve_block(2, MPI.COMM_WORLD)[:2]
     serial = solve_block(2, MPI.COMM_SELF)[:2]
     assert np.allclose(parallel, serial, rtol=1e-8, atol=0.0), (parallel, serial)
+
+
+def _cells(mesh):
+    """Cell tags 1 (x < 1/2) and 2 (the rest)."""
+    tdim = mesh.topology.dim
+    n = mesh.topology.index_map(tdim).size_local + mesh.topology.index_map(tdim).num_ghosts
+    cells = np.arange(n, dtype=np.int32)
+    left = dmesh.locate_entities(mesh, tdim, lambda x: x[0] <= 0.5 + 1e-12)
+    return dmesh.meshtags(mesh, tdim, cells, np.where(np.isin(cells, left), 1, 2).astype(np.int32))

@@ -204,7 +204,7 @@ def model_option(p: argparse.ArgumentParser, default: str = "linear", mixed: boo
 
     choices = [name for name, cls in MODELS.items() if mixed or not cls.mixed]
     p.add_argument("--model", choices=choices, default=default,
-                   help=help + ("; neohookean-mixed: nearly incompressible, Taylor-Hood P2-P1 (u, p), contact "
+                   help=help + ("; the -mixed models: nearly incompressible, Taylor-Hood P2-P1 (u, p), contact "
                                 "quadrature gauss or simpson" if mixed else ""))
 
 

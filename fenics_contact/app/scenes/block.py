@@ -12,7 +12,8 @@ Options: ``plane="stress"`` (``sigma_zz = 0``: exact pressure ``E * 0.32/2 = 160
 ``model="neohookean"`` (finite strain, same E and nu), whose exact state is the homogeneous
 ``F = diag(a, c, l3)`` of :func:`homogeneous_state`, and ``model="neohookean-mixed"`` (nearly
 incompressible rubber, plane strain: the mixed displacement-pressure model on Taylor-Hood P2-P1, contact
-quadrature ``gauss`` or ``simpson``), whose exact state is homogeneous too. Pressures are nominal (per reference area);
+quadrature ``gauss`` or ``simpson``; ``linear-mixed``: Herrmann's small-strain form, the linear state), whose
+exact state is homogeneous too. Pressures are nominal (per reference area);
 neo-Hookean runs also report the Cauchy (true) pressure, per current area. The constants are keyword
 arguments of :func:`build` (``height``, ``width``, ``E``, ``nu``, ``displacement``), their defaults the
 paper's; the exact state is then :func:`homogeneous_state` of ``strain = displacement / height``.
@@ -66,16 +67,16 @@ def homogeneous_state(model: str = "linear", plane: str = "strain", E: float = E
         raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    if MODELS[model].mixed and plane != "strain":
+        raise ValueError(f"model {model!r} is plane strain, got plane {plane!r}")
     lam, mu = lame(E, nu)
     c = 1.0 - strain
-    if model == "linear":
+    if MODELS[model].linear:  # linear-mixed: the same state (its eliminated energy is LinearElastic's)
         p = (E if plane == "stress" else E / (1 - nu**2)) * strain
         return {"a": 1.0, "c": c, "l3": 1.0, "p_nominal": p, "p_cauchy": p}
     if model == "neohookean-mixed":
         from scipy.optimize import brentq
 
-        if plane != "strain":
-            raise ValueError(f"model 'neohookean-mixed' is plane strain, got plane {plane!r}")
         m = MODELS[model](E, nu)
         a = brentq(lambda s: m.uniaxial(s, c, 2)[0], 1.0, 2.0 / c)  # P_xx < 0 at a = 1, > 0 at J = 2
         p = -m.uniaxial(a, c, 2)[1]
@@ -97,7 +98,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
           steps: int = 1, plane: str = "strain", height: float = HEIGHT, width: float = 2 * HALF_WIDTH, E: float = E,
           nu: float = NU, displacement: float = DISPLACEMENT) -> Setup:
     """``model``: ``linear`` (the paper's), ``neohookean`` (finite strain, same E and nu) or
-    ``neohookean-mixed`` (P2-P1, quadrature ``gauss`` or ``simpson``); ``plane``:
+    ``neohookean-mixed`` or ``linear-mixed`` (P2-P1, quadrature ``gauss`` or ``simpson``); ``plane``:
     ``strain`` (the paper's) or ``stress``; the block ``width`` x ``height`` (the right half modelled), its top
     moved down by ``displacement``."""
     positive(height=height, width=width, E=E, displacement=displacement)
