@@ -111,8 +111,9 @@ def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement",
     """The problem's unknown and the displacement (sub)space for Dirichlet data.
 
     ``(u, V)`` with ``u`` on the vector Lagrange space ``V`` of ``degree``, or ``(w, W.sub(0))`` with ``w`` on a
-    mixed space: for method ``lagrange`` (displacement of ``degree``, contact pressure P1), or for the bulk
-    ``model`` ``neohookean-mixed`` (Taylor-Hood: displacement of ``degree``, the bulk pressure of ``degree - 1``).
+    mixed space: for method ``lagrange`` (displacement of ``degree``, contact pressure P1), or for a mixed bulk
+    ``model`` (``neohookean-mixed``, ``linear-mixed``; Taylor-Hood: displacement of ``degree``, the bulk pressure
+    of ``degree - 1``).
     ``V.sub(i)`` are the components either way. ``model`` (a name of
     :data:`~fenics_contact.materials.MODELS`; None: a displacement model) is checked with the law on the
     capability grid.

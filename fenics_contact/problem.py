@@ -63,8 +63,8 @@ class ContactProblem:
 
     ``u`` is the unknown: the displacement, or a mixed (displacement, pressure)
     Function when a contact surface has its pressure as an unknown (:mod:`multipliers`) or the material is
-    mixed (:class:`~fenics_contact.materials.MixedNeoHookean`: ``unknown(..., model="neohookean-mixed")``; the
-    contact terms act on its displacement field). ``contacts``: the
+    mixed (:mod:`~fenics_contact.incompressible`: ``unknown(..., model="neohookean-mixed")``; the contact terms
+    act on its displacement field). ``contacts``: the
     :class:`~fenics_contact.surface.Surface` objects; ``step_solver``: a
     :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES (required by a
     surface with ``requires_step_solver``, method ``coulomb``).
