@@ -20,8 +20,8 @@ import itertools
 from typing import Any, Iterator, Mapping
 
 from . import methods as _methods
-from .materials import MODELS
 from .methods.spec import Rule, rule
+from .models import MODELS
 
 MIXED_MODELS = tuple(name for name, cls in MODELS.items() if cls.mixed)  # the unknown is (displacement, pressure)
 

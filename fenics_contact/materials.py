@@ -16,7 +16,7 @@ nominal (per reference area), their Cauchy (true) value is nominal ``/ (da/dA)``
 :meth:`Material.density` is the energy density of the problem's unknown ``w`` (a displacement, or a mixed
 Function whose first field is the displacement): what :class:`~fenics_contact.problem.ContactProblem`
 differentiates. The mixed displacement-pressure models of nearly incompressible bodies are in
-:mod:`~fenics_contact.incompressible` (in :data:`MODELS` too).
+:mod:`~fenics_contact.incompressible`; every model by name in :data:`~fenics_contact.models.MODELS`.
 """
 from __future__ import annotations
 
@@ -27,8 +27,7 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
-__all__ = ["PLANES", "lame", "Material", "LinearElastic", "NeoHookean", "Kinematics", "MixedNeoHookean",
-           "MixedLinearElastic", "Materials", "MODELS"]
+__all__ = ["PLANES", "lame", "Material", "LinearElastic", "NeoHookean", "Materials"]
 
 PLANES = ("strain", "stress")
 
@@ -49,7 +48,7 @@ class Material:
 
     linear = False  # True: small strain (a constant stiffness; reference and current configurations are one)
     mixed = False  # True: the unknown is (displacement, pressure), :meth:`density` reads both
-    model = ""  # the capability grid's name of the model (:data:`MODELS`)
+    model = ""  # the capability grid's name of the model (:data:`~fenics_contact.models.MODELS`)
 
     def __init__(self, E: float, nu: float, plane: str = "strain"):
         if plane not in PLANES:
@@ -258,9 +257,3 @@ class Materials:
 
     def describe(self) -> dict:
         return {"model": "Materials", "bodies": {str(t): m.describe() for t, m in self.by_tag.items()}}
-
-
-from .incompressible import Kinematics, MixedLinearElastic, MixedNeoHookean  # noqa: E402 (they build on Material)
-
-MODELS = {"linear": LinearElastic, "neohookean": NeoHookean, "neohookean-mixed": MixedNeoHookean,
-          "linear-mixed": MixedLinearElastic}

@@ -118,7 +118,7 @@ def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement",
     :data:`~fenics_contact.materials.MODELS`; None: a displacement model) is checked with the law on the
     capability grid.
     """
-    from .materials import MODELS
+    from .models import MODELS
 
     check(**of(law), dim=mesh.geometry.dim, degree=degree, model=model)
     if isinstance(law, LagrangeMultiplier) or (model is not None and MODELS[model].mixed):

@@ -20,7 +20,7 @@ from scipy.optimize import brentq
 
 import fenics_contact as fc
 from fenics_contact.capabilities import UnsupportedCombination
-from fenics_contact.materials import Kinematics, MixedNeoHookean
+from fenics_contact.incompressible import Kinematics, MixedNeoHookean
 
 E, NU, H, STRAIN = 1000.0, 0.4999, 1.0, 0.16
 

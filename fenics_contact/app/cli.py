@@ -250,7 +250,7 @@ def model_option(p: argparse.ArgumentParser, default: str = "linear", mixed: boo
                  help: str = "bulk material") -> None:
     """``--model``: the bulk models of :data:`~fenics_contact.materials.MODELS`, the displacement ones and, with
     ``mixed`` (a scene whose builder takes them), the mixed displacement-pressure ones."""
-    from ..materials import MODELS
+    from ..models import MODELS
 
     choices = [name for name, cls in MODELS.items() if mixed or not cls.mixed]
     p.add_argument("--model", choices=choices, default=default,
@@ -261,7 +261,7 @@ def model_option(p: argparse.ArgumentParser, default: str = "linear", mixed: boo
 def model_degree(model: str, degree: int = 1) -> int:
     """The displacement degree a scene of displacement ``degree`` runs ``model`` with: 2 (Taylor-Hood) for a
     mixed model."""
-    from ..materials import MODELS
+    from ..models import MODELS
 
     return 2 if MODELS[model].mixed else degree
 

@@ -7,7 +7,7 @@ __all__ = ["METHOD", "mixed_models", "multiplier_rules"]
 
 def mixed_models() -> tuple:
     """The bulk models whose unknown is (displacement, pressure)."""
-    from ..materials import MODELS
+    from ..models import MODELS
 
     return tuple(name for name, cls in MODELS.items() if cls.mixed)
 

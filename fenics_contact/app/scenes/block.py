@@ -27,7 +27,8 @@ from mpi4py import MPI
 from ...condensed import step_solver_for
 from ...factory import contact_surface
 from ...laws import ContactLaw
-from ...materials import MODELS, PLANES, lame
+from ...materials import PLANES, lame
+from ...models import MODELS
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet

@@ -56,7 +56,8 @@ from mpi4py import MPI
 from ...condensed import step_solver_for
 from ...factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ...laws import ContactLaw, ExactCoulomb, LagrangeMultiplier
-from ...materials import MODELS, PLANES, Materials
+from ...materials import PLANES, Materials
+from ...models import MODELS
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
