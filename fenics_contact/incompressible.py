@@ -80,8 +80,13 @@ class MixedNeoHookean(_Mixed):
     its own (the second field of the unknown, Taylor-Hood P2-P1: :func:`~fenics_contact.multipliers.unknown` with
     ``model="neohookean-mixed"``): the mean Cauchy stress, > 0 in tension, in the units of ``E``. Its equation is
     ``J - 1 = p / kappa`` weakly. Eliminating ``p`` gives ``mu/2 (I1_bar - 3) + kappa/2 (J - 1)^2`` (``energy(u)``
-    without ``p``), whose small-strain limit is linear elasticity of ``E``, ``nu``. ``kinematics``: the body's
-    (:class:`Kinematics`; default plane strain or 3D).
+    without ``p``), whose small-strain limit is linear elasticity of ``E``, ``nu``.
+
+    Args:
+        E: Young's modulus (stress), > 0.
+        nu: Poisson's ratio, in (-1, 0.5); up to 0.4999 and beyond without locking.
+        plane: ``strain`` (plane strain in 2D; 3D); ``stress`` is refused.
+        kinematics: the body's :class:`Kinematics` (None: plane strain or 3D).
     """
 
     model = "neohookean-mixed"
@@ -140,7 +145,13 @@ class MixedLinearElastic(_Mixed):
     ``p`` the mean stress (> 0 in tension), the second field of the Taylor-Hood unknown
     (``model="linear-mixed"``); its equation is ``tr eps = p / kappa`` weakly. Eliminating ``p`` gives
     ``mu eps : eps + lambda/2 (tr eps)^2``, :class:`~fenics_contact.materials.LinearElastic`'s energy.
-    ``kinematics``: the body's (:class:`Kinematics`; default plane strain or 3D)."""
+
+    Args:
+        E: Young's modulus (stress), > 0.
+        nu: Poisson's ratio, in (-1, 0.5); up to 0.4999 and beyond without locking.
+        plane: ``strain`` (plane strain in 2D; 3D); ``stress`` is refused.
+        kinematics: the body's :class:`Kinematics` (None: plane strain or 3D).
+    """
 
     linear = True
     model = "linear-mixed"
