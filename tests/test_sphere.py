@@ -226,21 +226,21 @@ def test_hertz_fit_recovers_the_profile():
 
 
 def test_sphere_on_block_p0_converges_to_hertz():
-    """The octant on a block of its own material (one-pass two-body penalty, K = 1e6, LU): the fitted peak
-    pressure converges to Hertz's for the measured force (1/E* of the pair) as the mesh is refined (measured:
-    4.8 %, 0.80 %, 0.67 % at sizes 1.0, 0.7, 0.5), while the nodal maximum of the one-pass pressure scatters
-    (2-11 %). The default block follows the approach: 7 sqrt(R approach), at least 0.5 R."""
+    """The octant on a block of its own material (one-pass two-body penalty, K = 1e6, GMRES + GAMG, inexact
+    Newton as in the scaling run): the fitted peak pressure approaches Hertz's for the measured force (1/E* of the
+    pair) as the mesh is refined (measured: 4.8 %, 0.80 %, 0.67 % below at sizes 1.0, 0.7, 0.5; 0.86 %, 0.91 % at
+    0.35, 0.25), while the nodal maximum of the one-pass pressure scatters (2-11 % above). The default block
+    follows the approach: 7 sqrt(R approach) wide and deep, at least 0.5 R."""
     errors = []
     for size in (1.0, 0.7, 0.5):
         setup = sphere.build(make_law("penalty", K=sphere.DEFAULT_K), size=size, plate="meshed", steps=2)
-        solver = Solver(setup.problem, quiet=True)
+        solver = Solver(setup.problem, quiet=True, options={**LINEAR_SOLVERS["iterative"], **INEXACT_NEWTON})
         solver.run(setup.loads)
         assert solver.summary()["converged"]
         f = setup.figures()
-        assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
+        assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-6)
         errors.append(f["p0_error"])
-    assert errors[0] > errors[1] > errors[2], errors
-    assert errors[2] < 0.02 and errors[0] > 3 * errors[2], errors
-    params = sphere.build(make_law("penalty", K=sphere.DEFAULT_K), size=1.0, plate="meshed", approach=0.02).params
+    assert errors[0] > 3 * max(errors[1:]) and max(errors[1:]) < 0.02, errors
+    params = sphere.build(make_law("penalty", K=1.0), size=1.0, plate="meshed", approach=0.02).parameters
     assert np.isclose(params["plate_width"], 7 * np.sqrt(0.02)) and params["plate_depth"] == params["plate_width"]
-    assert sphere.build(make_law("penalty", K=1.0), size=1.0, plate="meshed").params["plate_width"] == 0.5
+    assert sphere.build(make_law("penalty", K=1.0), size=1.0, plate="meshed").parameters["plate_width"] == 0.5
