@@ -47,7 +47,7 @@ from .hertz import contact_half_width
 
 __all__ = ["OPTIONS", "build", "mindlin_c", "mindlin_traction", "check_loading", "stick_figures", "worst_ratio",
            "add_shear_options", "check_ratios_option", "worst_ratio_check", "ShearProblem", "DEFAULT_K",
-           "DEFAULT_OMEGA_T", "BENCH"]
+           "DEFAULT_OMEGA_T", "PRESS_STEPS", "PRESS_STEPS_EXACT", "PREDICTOR", "BENCH"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 3.5e-3  # per unit R (default: APPROACH R): gives a ~ 0.047 R with the default bodies
@@ -56,6 +56,13 @@ DEFAULT_K = 1e7  # normal penalty: p0 / K ~ 1e-6, 1e-3 of the approach
 # Tangential penalty: the elastic slip mu p0 / omega_t ~ 4e-6 is 1 % of the slip at the contact edge; 1e7 (= K)
 # makes Newton cycle between stick and slip at the stick zone's edge (the 2nd pressing step never converged).
 DEFAULT_OMEGA_T = 1e6
+# Load steps of the pressing. Dundurs' beta = 0: the pressing slips nowhere, so the exact method (method coulomb)
+# presses in one step (the same stick zones to round-off as in 4, 8 semismooth Newton iterations instead of 21).
+# The penalty-type laws press in 8 steps, each started from the tangent predictor (PREDICTOR): 50 Newton iterations
+# in 11 steps with the penalty defaults (4 steps from the last state: 43 in 7, up to 11 in one step; 4 steps from
+# the tangent predictor: 37 in 7; 6: 44 in 9), no failed attempt in any.
+PRESS_STEPS, PRESS_STEPS_EXACT = 8, 1
+PREDICTOR = "tangent"  # the penalty-type laws' steps (the exact method's steps are the step solver's)
 
 
 def mindlin_c(a: float, ratio: float) -> float:
@@ -111,7 +118,8 @@ def add_shear_options(parser: argparse.ArgumentParser, ratios: tuple, refinement
                         metavar="R",
                         help="Q / (mu P) of the tangential load steps, increasing in (0, 1)")
     parser.add_argument("--refinement", type=LEVEL, default=0, help=refinement_help)
-    parser.add_argument("--press-steps", type=COUNT, default=4, help="load steps of the pressing")
+    parser.add_argument("--press-steps", type=COUNT, default=None,
+                        help="load steps of the pressing (default: the scene's for the method)")
 
 
 def check_ratios_option(ratios: list) -> None:
@@ -171,13 +179,14 @@ OPTIONS = {
 
 
 def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MPI.Comm = MPI.COMM_WORLD,
-          R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int = 4,
+          R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int | None = None,
           width: float | None = None, height: float | None = None, depth: float | None = None,
           h_contact: float | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``), or the exact
     :class:`~fenics_contact.laws.ExactCoulomb` (method ``coulomb``, ``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` halves the contact mesh size (default
-    ``h_contact = R / 600``) that many times; ``press_steps`` load steps for the pressing. Bodies: ``width``
+    ``h_contact = R / 600``) that many times; ``press_steps`` load steps for the pressing (default
+    :data:`PRESS_STEPS`, :data:`PRESS_STEPS_EXACT` for method ``coulomb``). Bodies: ``width``
     ``2 L`` (default ``R``), the upper body's ``height`` (default ``R / 2``), the block's ``depth`` (default
     ``R / 2``)."""
     approach = APPROACH * R if approach is None else approach
@@ -186,6 +195,8 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     exact = isinstance(law, ExactCoulomb)  # method coulomb: exact Coulomb on the condensed system
     if not (exact and law.mu > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
         raise ValueError(f"mindlin needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
+    if press_steps is None:
+        press_steps = PRESS_STEPS_EXACT if exact else PRESS_STEPS
     ratios = check_loading(ratios, refinement, press_steps)
     mu = float(law.mu if exact else law.scalars["mu"])
     L = 0.5 * (R if width is None else width)

@@ -170,13 +170,13 @@ OPTIONS = {
 
 
 def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MPI.Comm = MPI.COMM_WORLD,
-          R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int = 4,
+          R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int | None = None,
           cap_height: float | None = None, width: float | None = None, depth: float | None = None,
           h_contact: float | None = None, contact_width: float | None = None, h_far: float | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` divides the contact mesh size (default
     ``h_contact = H_CONTACT R``) by ``REFINE = sqrt(2)`` that many times; ``press_steps`` load steps for the
-    (frictionless) pressing.
+    (frictionless) pressing (default 4).
     Bodies: the cap's height ``cap_height`` (default ``R / 2``), the block's half ``width`` ``L`` (default
     ``R``; it spans ``y`` in ``[0, L]``) and ``depth`` (default ``R / 2``); the mesh: size ``h_contact`` within
     ``contact_width`` (default ``0.1 R``) of the contact point, growing to ``h_far`` (default ``0.1 R``)."""
@@ -186,6 +186,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     poisson(nu=nu)
     if not isinstance(law, Friction) or "mu" not in law.scalars or not law.scalars["mu"] > 0:
         raise ValueError(f"mindlin3d needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
+    press_steps = 4 if press_steps is None else press_steps
     ratios = check_loading(ratios, refinement, press_steps)
     H = 0.5 * R if cap_height is None else cap_height
     if not H < R:
