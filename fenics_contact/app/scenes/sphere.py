@@ -13,11 +13,17 @@ Hertz (sphere on a rigid plane, load ``P``, ``E* = E/(1-nu^2)``):
 ``a = (3 P R / (4 E*))^(1/3)``, ``p0 = 3 P / (2 pi a^2)``.
 
 Two deformable bodies (``plate="meshed"``, the 3D two-body case of the scaling run): the octant on the
-block ``plate_width^2 x plate_depth`` (default ``0.5 R`` each, ``plate_E = E``, ``plate_nu = nu``: two
-identical bodies), in the same mesh, the block fixed at its bottom and on the same symmetry planes; the
-ball's surface is the slave of a one-pass two-body contact (:mod:`twobody`), the block's top the master.
-Hertz with ``1/E* = (1-nu^2)/E + (1-nu_p^2)/E_p``; the block is finite and clamped, so it is stiffer than a
-half-space (a ~ 0.07 R against a depth of 7 a): ``p0`` above Hertz by a few per cent.
+block ``plate_width^2 x plate_depth`` (``plate_E = E``, ``plate_nu = nu`` by default: two identical bodies),
+in the same mesh and graded toward the contact like the ball, the block fixed at its bottom and on the same
+symmetry planes; the ball's surface is the slave of a one-pass two-body contact (:mod:`twobody`), the block's
+top the master. Hertz with ``1/E* = (1-nu^2)/E + (1-nu_p^2)/E_p``. The block is by default
+``PLATE_HALF_WIDTHS`` expected contact radii ``a = sqrt(R approach)`` wide and deep (Hertz's approach
+``a^2 / R``), and at least ``PLATE_SIZE``: the clamped block stiffens the force per approach, not the
+pressure profile per force (p0 for the measured force moves by 0.1 % from a block 7 a to 14 a). One-pass
+node-to-surface contact on non-matching meshes scatters the pointwise pressure (it does not pass the patch
+test): its nodal maximum is 2-12 % off at every mesh size, so ``p0`` is the peak of the Hertz profile fitted
+to the pressures (:func:`hertz_fit`; the maximum is ``p0_max``): 4.8 % below Hertz at size 1.0, 0.7-0.9 %
+below from size 0.7 to 0.25 (penalty K = 1e6).
 
 ``level`` scales every mesh size by ``LEVELS[level]``, chosen so that the dofs run from about
 1e4 (level 0) to about 1e6 (level 3). The iterative linear solver (``--solver iterative``) is
@@ -39,21 +45,30 @@ from mpi4py import MPI
 
 from ...factory import contact_surface, two_body_surfaces
 from ...laws import ContactLaw
-from ...materials import MODELS, Materials
+from ...materials import Materials
+from ...models import MODELS
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import sphere_octant
 from . import GIVEN, Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_size
 
-__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "BENCHES", "hertz3d", "OPTIONS", "build"]
+__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "PLATE_SIZE", "PLATE_HALF_WIDTHS", "FIT_INNER",
+           "BENCH", "BENCHES", "hertz3d", "hertz_fit", "OPTIONS", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1, per unit R (default: APPROACH R)
 DEFAULT_K = 1e6  # ~ 10 E / h_contact at level 0
 CONTACT_WIDTH = 0.15  # the refined zone around the contact point, per unit R
 STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E
-PLATE_SIZE = (0.5, 0.5)  # the meshed block (plate="meshed"): width (x and y), depth, per unit R
+PLATE_SIZE = (0.5, 0.5)  # the meshed block (plate="meshed"): least width (x and y), depth, per unit R
+# ... and at least this many expected contact radii a = sqrt(R approach) wide and deep (7 a = 0.5 R at the default
+# approach: p0 for the measured force 0.55 % / 0.66 % off Hertz on blocks of 7 a / 14 a at size 0.5)
+PLATE_HALF_WIDTHS = 7.0
+# Two bodies: one-pass node-to-surface contact does not pass the patch test on non-matching meshes, so the pointwise
+# pressure scatters by ~15-20 % about its mean at every mesh size and its maximum does not converge; the peak is
+# the Hertz profile's, fitted to the points within FIT_INNER of the contact radius (hertz_fit).
+FIT_INNER = 0.8
 # Mesh-size factor per level: h_contact = 0.02 f, h_far = 0.15 f (dofs 11931, 68208, 230964, 1178016).
 LEVELS = (0.5, 0.25, 0.16, 0.09)
 # The benchmark's view of this scene (fenics_contact.app.bench): level 0 only in the quick sweep.
@@ -67,9 +82,9 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], 
          "stability": True, "quick_stability": {"K": (0, 2, 4, 6, 8), "steps": (1,), "gamma0": (10.0, 1e3, 1e5),
                                                    "dtol": False, "skip": [("auglag", 6)]}}
 # The 3D two-body case: the octant on a deformable block of its own material (one-pass, the ball's surface the
-# slave), GMRES + GAMG; the block is finite and clamped (p0 above Hertz by a few per cent: no error target).
+# slave), GMRES + GAMG; p0 the fitted Hertz peak (0.7 % off at level 0)
 BENCHES = {"sphere_block": {
-    "demo": "sphere", "error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.15,
+    "demo": "sphere", "error": "p0_error", "value": "p0", "figures": ["p0", "p0_max", "a", "a_error"], "target": 0.05,
     "K": DEFAULT_K, "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag"],
     "quadratures": ["nodal", "gauss"], "axes": {"kind": "two-body", "dim": 3},
     "demo_args": ["--plate", "meshed", "--solver", "iterative"], "quick_sweep": {"penalty": (0,), "other": (0,)}}}
@@ -82,6 +97,18 @@ def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU, plate_E: float
     Es = E / (1 - nu**2) if plate_E is None else 1.0 / ((1 - nu**2) / E + (1 - plate_nu**2) / plate_E)
     a = (3 * P * R / (4 * Es)) ** (1 / 3)
     return float(a), float(3 * P / (2 * np.pi * a**2))
+
+
+def hertz_fit(x: np.ndarray, p: np.ndarray, a: float, inner: float = FIT_INNER) -> float:
+    """Peak pressure of the Hertz profile ``p^2 = p0^2 (1 - r^2 / a^2)`` fitted by least squares (``p^2`` linear
+    in ``r^2``) to the pressures ``p`` at the points ``x`` (n, 3) within ``inner a`` of the axis (``a``: the
+    contact radius; the fit sets its own). NaN with fewer than 3 points."""
+    r2 = x[:, 0] ** 2 + x[:, 1] ** 2
+    inside = r2 < (inner * a) ** 2
+    if np.count_nonzero(inside) < 3:
+        return float("nan")
+    slope, intercept = np.polyfit(r2[inside], p[inside] ** 2, 1)
+    return float(np.sqrt(max(intercept, 0.0)))
 
 
 OPTIONS = {
@@ -98,9 +125,10 @@ OPTIONS = {
     "size": Option("mesh-size factor instead of the level's (dimensionless; default: the level's)"),
     "plate_E": Option("meshed plate's Young's modulus (stress; default: --E)", needs=("plate", "meshed")),
     "plate_nu": Option("meshed plate's Poisson's ratio (default: --nu)", "poisson", needs=("plate", "meshed")),
-    "plate_width": Option(f"meshed plate's width in x and y (length; default: {PLATE_SIZE[0]:g} R)",
-                          needs=("plate", "meshed")),
-    "plate_depth": Option(f"meshed plate's depth (length; default: {PLATE_SIZE[1]:g} R)", needs=("plate", "meshed")),
+    "plate_width": Option(f"meshed plate's width in x and y (length; default: {PLATE_HALF_WIDTHS:g} sqrt(R approach), "
+                          f"at least {PLATE_SIZE[0]:g} R)", needs=("plate", "meshed")),
+    "plate_depth": Option(f"meshed plate's depth (length; default: {PLATE_HALF_WIDTHS:g} sqrt(R approach), at least "
+                          f"{PLATE_SIZE[1]:g} R)", needs=("plate", "meshed")),
 }
 
 
@@ -114,7 +142,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     is the mesh-size factor instead (``LEVELS[0] = 0.5``; e.g. 1.0 for a tiny smoke-test mesh); ``approach``
     (displacement control) or ``load`` (force control: the sphere's total force); ``contact_width``: the
     refined zone (default ``0.15 R``). ``plate``: ``rigid`` (the half-space z <= 0, default) or ``meshed`` (the
-    block ``plate_width^2 x plate_depth``, default ``PLATE_SIZE`` times ``R``, of ``plate_E``, ``plate_nu``,
+    block ``plate_width^2 x plate_depth``, default ``PLATE_HALF_WIDTHS sqrt(R approach)``, at least ``PLATE_SIZE``
+    times ``R``, of ``plate_E``, ``plate_nu``,
     default ``E``, ``nu``: two-body contact, displacement control only). ``OPTIONS`` describes each parameter."""
     if approach is not None and load is not None:
         raise ValueError(f"give approach or load, not both (got approach {approach!r}, load {load!r})")
@@ -146,8 +175,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     h = 0.02 * f * R
     meshed = plate == "meshed"
     plate_E, plate_nu = (E if plate_E is None else plate_E), (nu if plate_nu is None else plate_nu)
-    plate_size = (PLATE_SIZE[0] * R if plate_width is None else plate_width,
-                  PLATE_SIZE[1] * R if plate_depth is None else plate_depth)
+    a_expected = math.sqrt(R * approach) if approach is not None else 0.0  # Hertz: approach = a^2 / R
+    plate_size = (max(PLATE_SIZE[0] * R, PLATE_HALF_WIDTHS * a_expected) if plate_width is None else plate_width,
+                  max(PLATE_SIZE[1] * R, PLATE_HALF_WIDTHS * a_expected) if plate_depth is None else plate_depth)
     mesh, cell_tags, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=contact_width,
                                                 plate=plate_size if meshed else None)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
@@ -186,9 +216,10 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
         applied = None if load is None else float(t.value) * load  # force control: Hertz for the applied load
         a_h, p0_h = hertz3d(P if applied is None else applied, R, E, nu, *((plate_E, plate_nu) if meshed else ()))
         loaded = p > 1e-8 * max(p.max(), 1e-300)
-        p0 = float(p.max())
         a = float(np.hypot(x[loaded, 0], x[loaded, 1]).max()) if loaded.any() else 0.0  # outermost loaded node
-        out = {"total_force": P, "reaction_top": -4 * problem.reaction(top_z) if applied is None else applied,
+        p0 = hertz_fit(x, p, a) if meshed else float(p.max())
+        out = {**({"p0_max": float(p.max())} if meshed else {}), "total_force": P,
+               "reaction_top": -4 * problem.reaction(top_z) if applied is None else applied,
                "p0": p0, "a": a, "p0_hertz": p0_h, "a_hertz": a_h, "p0_error": abs(p0 - p0_h) / p0_h,
                "a_error": abs(a - a_h) / a_h, "contact_nodes": int(np.count_nonzero(loaded)), "h_contact": h}
         if applied is not None:  # the spring is off at t = 1: the contact carries the whole load
