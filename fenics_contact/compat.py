@@ -67,9 +67,9 @@ def petsc_vec(f: fem.Function) -> PETSc.Vec:
     return f.x.petsc_vec if hasattr(f.x, "petsc_vec") else f.vector
 
 
-def lift_and_set_bc(b: PETSc.Vec, a, bcs, x0: PETSc.Vec, scale: float) -> None:
-    """``b -= scale * A (g - x0)`` on free rows, ``b = scale (g - x0)`` on Dirichlet rows. ``a``: the Jacobian
-    form, or a list of forms whose sum it is."""
+def lift_and_set_bc(b: PETSc.Vec, a, bcs, x0: PETSc.Vec, scale: float, diagonal: float = 1.0) -> None:
+    """``b -= scale * A (g - x0)`` on free rows, ``b = scale * diagonal * (g - x0)`` on Dirichlet rows (``diagonal``:
+    the Jacobian's diagonal on those rows). ``a``: the Jacobian form, or a list of forms whose sum it is."""
     for form in (a if isinstance(a, (list, tuple)) else [a]):
         try:
             fem_petsc.apply_lifting(b, [form], bcs=[bcs], x0=[x0], scale=scale)
@@ -77,9 +77,9 @@ def lift_and_set_bc(b: PETSc.Vec, a, bcs, x0: PETSc.Vec, scale: float) -> None:
             fem_petsc.apply_lifting(b, [form], bcs=[bcs], x0=[x0], alpha=scale)
     b.ghostUpdate(addv=_petsc().InsertMode.ADD, mode=_petsc().ScatterMode.REVERSE)
     try:
-        fem_petsc.set_bc(b, bcs, x0, scale)
+        fem_petsc.set_bc(b, bcs, x0, scale * diagonal)
     except TypeError:
-        fem_petsc.set_bc(b, bcs, x0, alpha=scale)
+        fem_petsc.set_bc(b, bcs, x0, alpha=scale * diagonal)
 
 
 def bc_dofs(bc) -> typing.Any:

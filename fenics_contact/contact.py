@@ -388,7 +388,8 @@ def _loaded_zones(x: np.ndarray, p: np.ndarray, facets: np.ndarray, relative: fl
     """Connected sets of the points ``x`` (n, 3) whose pressure ``p`` is above ``relative`` times the largest,
     points of a common facet (``facets``: (nf, nodes, 3) coordinates) connected; see
     :meth:`ContactSurface.contact_zones`."""
-    scale = 1e-9 * max(float(np.ptp(x)) if x.size else 1.0, 1.0)
+    extent = float(np.ptp(x)) if x.size else 0.0
+    scale = 1e-9 * (extent if extent > 0 else 1.0)  # coincident points: equal to 1e-9 of the surface's extent
     key = lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))  # noqa: E731
     index = {key(c): i for i, c in enumerate(x)}
     parent = list(range(len(x)))

@@ -120,8 +120,11 @@ def _revisiting(sets: Sequence[Hashable], window: int = 8) -> bool:
 def condition_estimate(A, ksp, iterations: int = 15) -> float | None:
     """Estimate of the 2-norm condition number of ``A`` (a PETSc Mat): power iteration for ``||A||``
     times inverse iteration (with ``ksp``'s factorization of ``A``) for ``||A^-1||``. None unless ``ksp``
-    is a direct solve (LU or Cholesky) already set up with ``A``. Collective; a lower bound in general."""
+    is a direct solve (LU or Cholesky) already set up with ``A`` (not with a part of it: SNES VI factors the rows of
+    the inactive set). Collective; a lower bound in general."""
     if ksp.getPC().getType() not in ("lu", "cholesky") or not A.assembled:  # no Jacobian yet: no estimate
+        return None
+    if ksp.getOperators()[0].getSize() != A.getSize():  # SNES VI: the factorization is of the reduced system
         return None
     x, y = A.createVecs()
     norms = []

@@ -29,11 +29,11 @@ complementarity function ``C(p, g) = p - max(0, p + c g)`` (gap ``g > 0``
 penetration) is zero iff ``g <= 0, p >= 0, p g = 0``. The residual is
 
     u rows:  dW[v] + int p dg[v] ds
-    p rows:  int -C(p, g)/c q ds = int (max(0, p/c + g) - p/c) q ds
+    p rows:  int -C(p, g) q ds = int (max(0, p + c g) - p) q ds
 
-(``C`` divided by ``-c`` so that the Jacobian is symmetric: active rows are
-``dg[du] q``, the transpose of the ``u`` rows' ``dp dg[v]``; inactive rows
-are ``-dp q / c``). The Jacobian is ``ufl.derivative`` of the residual: the
+(a force, like the ``u`` rows, so that the residual's norm does not depend on the units: active rows are
+``c dg[du] q``, ``c`` times the transpose of the ``u`` rows' ``dp dg[v]``; inactive rows are ``-dp q``). The
+Jacobian is ``ufl.derivative`` of the residual: the
 derivative of ``max_value`` is UFL's generalized (semismooth) derivative, so
 SNES ``newtonls`` is a semismooth Newton / primal-dual active-set method.
 ``c`` changes the iterates, not the converged solution.
@@ -72,8 +72,8 @@ block split again into the displacement ``u`` and the surface pressures
 ``p`` (:meth:`PressureUnknown.schur_split`, index sets in the free block's
 numbering) and preconditioned by the full Schur factorization
 (``pc_fieldsplit_schur_fact_type full``) with ``S ~ A_pp - A_pu
-diag(A_uu)^-1 A_up`` (``selfp``; inactive pressure rows keep their ``-1/c``
-diagonal, active rows get ``A_pu D^-1 A_up``): ``A_uu`` by one GAMG cycle
+diag(A_uu)^-1 A_up`` (``selfp``; inactive pressure rows keep their ``-1``
+(times the vertex weight) diagonal, active rows get ``A_pu D^-1 A_up``): ``A_uu`` by one GAMG cycle
 with the rigid-body modes as near-nullspace (block size 2 or 3), ``S`` by
 block Jacobi ILU(0); outer FGMRES, ``rtol 1e-8``, restart 100, at most 500
 iterations. A block's options can be replaced on the command line
@@ -259,9 +259,9 @@ class PressureUnknown:
                  ("p", PETSc.IS().createGeneral((is_p + offset).astype(PETSc.IntType), comm=comm))], nullspace)
 
     def _constraint(self, v: ufl.Argument) -> ufl.Form:
-        """``-int C(p, g)/c q ds`` (vertex rule): the pressure rows."""
+        """``-int C(p, g) q ds`` (vertex rule): the pressure rows, forces like the displacement rows."""
         C = self.law.complementarity(self.pressure, self.gap, self.params, ufl_ops())
-        return -C / self.constants["c"] * ufl.split(v)[1] * self.ds
+        return -C * ufl.split(v)[1] * self.ds
 
 
 class MultiplierContact(PressureUnknown, ContactSurface):
@@ -299,7 +299,7 @@ class MultiplierContact(PressureUnknown, ContactSurface):
         return ufl.split(self.u)[1]
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
-        """``int p dg[v] ds_work - int C(p, g)/c q ds`` (``v`` the mixed test function; ``ds`` the vertex
+        """``int p dg[v] ds_work - int C(p, g) q ds`` (``v`` the mixed test function; ``ds`` the vertex
         rule, ``ds_work`` the vertex rule or Simpson's)."""
         return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work + self._constraint(v)
 
@@ -323,7 +323,7 @@ class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
         return ufl.split(self.u)[1]  # p = 0 where unpaired: the gap is then -open_gap (open)
 
     def residual(self, v):
-        """``weight int p dg/du[v] ds_work - int C(p, g)/c q ds``; the master part is ``add_residual``."""
+        """``weight int p dg/du[v] ds_work - int C(p, g) q ds``; the master part is ``add_residual``."""
         return (self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
                 + self._constraint(v))
 

@@ -22,7 +22,12 @@ from .domain import tag_value
 from .materials import Material, Materials
 from .surface import StepSolver, Surface
 
-__all__ = ["load_factor", "Dirichlet", "ContactProblem", "Stabilised"]
+__all__ = ["DIRICHLET_WEIGHT", "load_factor", "Dirichlet", "ContactProblem", "Stabilised"]
+
+# The Dirichlet rows' weight against the bodies' stiffness: small, so that the l2 line search (the residual norm
+# along the step) follows the equilibrium rows; a Dirichlet row is linear and met by any full step (weight 1 took
+# the mindlin scene 22 Newton iterations in its first step instead of 7).
+DIRICHLET_WEIGHT = 1e-3
 
 # a load path: None (f(t) = t), a callable f(t), or piecewise linear (t_k, f_k)
 LoadPath = Union[tuple[Sequence[float], Sequence[float]], Callable[[float], float], None]
@@ -106,6 +111,10 @@ class Dirichlet:
 class ContactProblem:
     """Residual ``F(u; v) = dW[v] - sum_k f_k(t) f_ext,k[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
 
+    ``stiffness``: :data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0``
+    (a force per length). The Dirichlet rows of the residual are ``stiffness (x - g)`` and their Jacobian diagonal
+    ``stiffness``: every row is a force, so the residual's norm and the Newton iterates do not depend on the units.
+
     Args:
         u: the unknown: the displacement, or a mixed (displacement, pressure) Function when a contact surface
             has its pressure as an unknown or the material is mixed (:mod:`~fenics_contact.incompressible`;
@@ -176,6 +185,24 @@ class ContactProblem:
             ([fem.form(ufl.derivative(surface, u, du))] if surface is not None else [])
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
         self.comm = V.mesh.comm
+        self.stiffness = self._reference_stiffness()
+
+    def _reference_stiffness(self) -> float:
+        """:data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its
+        nonzero entries (a force per length, ~ ``E h^(d-2)``), over all ranks. Collective."""
+        saved = self.u.x.array.copy()
+        self.u.x.array[:] = 0.0
+        A = fem_petsc.assemble_matrix(self._a_parts[0])
+        A.assemble()
+        d = A.getDiagonal()
+        diagonal = np.abs(d.array)
+        diagonal = diagonal[diagonal > 0]
+        total = self.comm.allreduce(float(diagonal.sum()), op=MPI.SUM)
+        count = self.comm.allreduce(diagonal.size, op=MPI.SUM)
+        d.destroy()
+        A.destroy()
+        self.u.x.array[:] = saved
+        return DIRICHLET_WEIGHT * (total / count if count and total > 0 and np.isfinite(total) else 1.0)
 
     @property
     def L(self) -> fem.Form:
@@ -205,7 +232,7 @@ class ContactProblem:
     def F(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """The residual at ``x`` into ``b``, as dolfinx's ``NonlinearProblem.F``: sets ``u`` to ``x``, lets every
         contact prepare (two-body contact re-pairs), assembles the forms, adds the contacts' terms outside the
-        forms, and sets the Dirichlet rows to ``x - g`` (lifting on the free rows)."""
+        forms, and sets the Dirichlet rows to ``k (x - g)`` (``k``: :attr:`stiffness`; lifting on the free rows)."""
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         x.copy(petsc_vec(self.u))
         self.u.x.scatter_forward()
@@ -217,10 +244,10 @@ class ContactProblem:
             fem_petsc.assemble_vector(b, L)
         for c in self.contacts:  # coupling terms outside the forms (owned entries)
             c.add_residual(b)
-        lift_and_set_bc(b, self._a_parts, self.bcs, x, -1.0)
+        lift_and_set_bc(b, self._a_parts, self.bcs, x, -1.0, self.stiffness)
 
     def J(self, x: PETSc.Vec, A: PETSc.Mat) -> bool:
-        """The Jacobian at ``x`` into ``A`` (Dirichlet rows and columns: identity), as dolfinx's
+        """The Jacobian at ``x`` into ``A`` (Dirichlet rows and columns: ``k`` times the identity), as dolfinx's
         ``NonlinearProblem.J``: the state (``u``, contact pairing) is that of the last :meth:`F` at the same
         ``x``, as in a Newton iteration. Returns True when a contact's coupling changed ``A``'s nonzero pattern
         (a solver must then factor from scratch)."""
@@ -228,7 +255,7 @@ class ContactProblem:
         for a in self._a_parts[1:]:  # Dirichlet diagonal 0 (added or inserted, the bulk's 1 follows)
             fem_petsc.assemble_matrix(A, a, bcs=self.bcs, diagonal=0.0)
             A.assemble(PETSc.Mat.AssemblyType.FLUSH)  # its inserted diagonal before the bulk's added values
-        fem_petsc.assemble_matrix(A, self._a_parts[0], bcs=self.bcs)
+        fem_petsc.assemble_matrix(A, self._a_parts[0], bcs=self.bcs, diagonal=self.stiffness)
         A.assemble()
         # PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change: report it.
         return any([c.add_jacobian(A, self.bcs) for c in self.contacts])
@@ -253,6 +280,15 @@ class ContactProblem:
             d.value.value = d.at(t)
         for factor, path in self._traction_factors:
             factor.value = load_factor(path, t)
+
+    def mesh_size(self) -> float:
+        """The size of the mesh: the diagonal of its bounding box (a length), over all ranks. Collective."""
+        if not hasattr(self, "_mesh_size"):
+            x = self.u.function_space.mesh.geometry.x
+            lo = self.comm.allreduce(x.min(axis=0) if len(x) else np.full(3, np.inf), op=MPI.MIN)
+            hi = self.comm.allreduce(x.max(axis=0) if len(x) else np.full(3, -np.inf), op=MPI.MAX)
+            self._mesh_size = float(np.linalg.norm(hi - lo))
+        return self._mesh_size
 
     def min_jacobian(self) -> float | None:
         """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the

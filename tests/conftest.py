@@ -106,8 +106,10 @@ SCENE = (  # a benchmark scene, its demo, or the application around it (harness,
     "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
     "test_wedges.py", "test_ironing.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
     "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py", "test_options.py", "test_bench_pages.py",
+    "test_units.py::test_*scene*", "test_units.py::test_rings_*",
 )
 SLOW = (  # studies of more than a few seconds each
+    "test_units.py::test_slow_scene_any_units*",
     "test_bench.py::test_slab_error_from_the_exact_coulomb_reference", "test_bench.py::test_sweep_block",
     "test_bench.py::test_stability_harness_classifies_the_ring", "test_bench.py::test_ring_through_the_scene_runner",
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*two-body*]",

@@ -226,7 +226,9 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
     p.add_argument("--augment", type=LEVEL, default=None,
                    help="max augmentations per load step (default: the method's, " + ", ".join(
                        f"{m.name} {m.augment}" for m in methods.methods()) + ")")
-    p.add_argument("--augment-tol", type=POSITIVE, default=1e-12, help="stop when ||g_new - g_old|| <= this")
+    p.add_argument("--augment-tol", type=POSITIVE, default=1e-12,
+                   help="stop augmenting when ||g_new - g_old|| <= this x the mesh's size (its bounding box's "
+                   "diagonal; dimensionless)")
     p.add_argument("--mu", type=NONNEGATIVE, default=0.0,
                    help="Coulomb friction coefficient (>= 0; 0: frictionless; exact with method coulomb)")
     p.add_argument("--c-t", type=POSITIVE, default=None,

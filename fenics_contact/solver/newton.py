@@ -12,7 +12,7 @@ from .. import failure as _failure
 from ..compat import petsc_vec, release_free_memory
 from ..problem import ContactProblem
 from .linear import LinearSolver
-from .options import ScopedOptions, read_at_setup
+from .options import ATOL_RELATIVE, ScopedOptions, read_at_setup
 
 __all__ = ["Newton"]
 
@@ -25,7 +25,12 @@ class Newton:
 
     Per solve (:meth:`solve`): ``history`` (residual norm per iterate), ``sets`` and ``closed`` (active-set
     fingerprint and number of closed contact points per iterate), ``message`` (a step solver's). Set
-    ``reference`` before a solve to make ``rtol`` relative to the smaller of the first residual and it."""
+    ``reference`` before a solve to make ``rtol`` relative to the smaller of the first residual and it.
+
+    The absolute tolerance (:attr:`atol`) is :data:`~.options.ATOL_RELATIVE` times ``force_scale``, the largest
+    first residual of the solves so far (after a predictor: the out-of-balance of the last converged state at the
+    new load, as for ``rtol``). The residual's rows are forces, so the decisions do not depend on the units; a
+    ``snes_atol`` given in the options or on the command line is used as it is."""
 
     def __init__(self, problem: ContactProblem, options: ScopedOptions, timings: dict[str, float],
                  on_iterate: Callable[[int], None] | None = None):
@@ -44,6 +49,7 @@ class Newton:
             self.snes.setFromOptions()
             self.snes.getKSP().setFromOptions()
             self.divergence_tolerance = options.get_real("snes_divergence_tolerance", 1e4)
+            self.absolute_atol = options.has("snes_atol")  # the caller's (or the command line's) own
             if not options.has("snes_convergence_test"):
                 self.snes.setConvergenceTest(self.convergence_test)
             self.linear.configure(self.A)
@@ -52,6 +58,7 @@ class Newton:
         self.closed: list[int] = []
         self.message = ""
         self.reference: float | None = None
+        self.force_scale: float | None = None  # the largest first residual of the run's solves (a force): atol's scale
         self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
         self._norms: list[float] = []  # residual norms of the current solve, for the convergence test
 
@@ -87,22 +94,33 @@ class Newton:
         release_free_memory()  # before the preconditioner's set-up and the Krylov vectors
         self.timings["assembly_s"] += time.perf_counter() - start
 
+    @property
+    def atol(self) -> float:
+        """The absolute residual tolerance of the solves: the given ``snes_atol``, else
+        :data:`~.options.ATOL_RELATIVE` times ``force_scale`` (0 before the first nonzero residual)."""
+        if self.absolute_atol:
+            return self.snes.getTolerances()[1]
+        return ATOL_RELATIVE * (self.force_scale or 0.0)
+
     def convergence_test(self, snes: PETSc.SNES, it: int, norms: tuple[float, float, float]) -> int:
         """PETSc's default test (``SNESConvergedDefault``: NaN, atol, rtol, stol) with two changes: divergence is
         the residual above ``snes_divergence_tolerance`` times the first one *and* grown in each of the last two
         iterations (see ``DEFAULT_OPTIONS``); after a predictor, ``rtol`` is relative to the smaller of the first
         residual and ``reference``, the out-of-balance of the last converged state at the new load (a predicted
-        state far off, residual 3e11, would otherwise pass at 3)."""
+        state far off, residual 3e11, would otherwise pass at 3); ``atol`` is :attr:`atol`."""
         xnorm, ynorm, fnorm = norms
         R = PETSc.SNES.ConvergedReason
-        rtol, atol, stol, _ = snes.getTolerances()
+        rtol, _, stol, _ = snes.getTolerances()
         if it == 0:
             self._norms = [fnorm]
+            first = fnorm if self.reference is None else min(fnorm, self.reference)
+            if np.isfinite(first) and first > (self.force_scale or 0.0):
+                self.force_scale = float(first)
         else:
             self._norms.append(fnorm)
         if not np.isfinite(fnorm):
             return R.DIVERGED_FNORM_NAN
-        if fnorm < atol:
+        if fnorm == 0 or fnorm < self.atol:
             return R.CONVERGED_FNORM_ABS
         if it == 0:
             return R.CONVERGED_ITERATING
@@ -173,7 +191,7 @@ class Newton:
         """True if the last solve was accepted on the step length alone with its residual above ``rtol`` and
         ``atol`` (:func:`failure.stalled`)."""
         return _failure.stalled(_failure.reason_name(PETSc.SNES.ConvergedReason, reason), self.history,
-                                *self.snes.getTolerances()[:2])
+                                self.snes.getTolerances()[0], self.atol)
 
     def condition_estimate(self) -> float | None:
         """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,

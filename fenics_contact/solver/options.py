@@ -23,14 +23,15 @@ from ..capabilities import check, of
 from ..compat import petsc_library
 from ..problem import ContactProblem
 
-__all__ = ["COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON", "LINEAR_SOLVERS", "MULTIGRID",
-           "OWN_OPTIONS", "ScopedOptions", "option_used", "read_at_setup", "solver_options"]
+__all__ = ["ATOL_RELATIVE", "COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON", "LINEAR_SOLVERS",
+           "MULTIGRID", "OWN_OPTIONS", "ScopedOptions", "option_used", "read_at_setup", "solver_options"]
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
     "snes_linesearch_type": "l2",  # bt stalls on the exponential branch of cross-constraints
     "snes_rtol": 1e-11,
-    "snes_atol": 1e-10,
+    # No snes_atol: the absolute floor is ATOL_RELATIVE times the run's force scale (newton.Newton.atol); a
+    # snes_atol given by the caller or on the command line is used as it is.
     "snes_stol": 1e-14,
     "snes_max_it": 30,
     # Divergence (newton.Newton.convergence_test): the residual above this factor times the first
@@ -45,6 +46,12 @@ DEFAULT_OPTIONS = {
     "pc_type": "lu",
     "pc_factor_mat_solver_type": "mumps",
 }
+
+# The residual norm below which a solve has converged whatever its first residual, relative to the force scale of
+# the run (the largest first residual of its solves, newton.Newton.force_scale): a step that changes little (a late
+# augmentation) starts near it and stops there instead of at rtol of its own small first residual, at the
+# round-off floor (~1e-16 x the internal forces x the conditioning of the assembly).
+ATOL_RELATIVE = 1e-11
 
 # Linear solvers of ``--solver``. direct: sparse LU (MUMPS), robust for every method, the default for
 # the 2D scenes (up to ~1e5 dofs). iterative: GMRES with smoothed-aggregation AMG (GAMG) and the
@@ -76,7 +83,7 @@ LINEAR_SOLVERS = {
 OWN_OPTIONS = ("condition_estimate",)
 # PETSc options often given (without prefix), besides the library's own: the candidates of "did you mean" for a
 # misspelt one.
-COMMON_OPTIONS = ("snes_monitor", "snes_converged_reason", "snes_view", "snes_linesearch_monitor",
+COMMON_OPTIONS = ("snes_atol", "snes_monitor", "snes_converged_reason", "snes_view", "snes_linesearch_monitor",
                   "snes_linesearch_damping", "snes_convergence_test", "snes_max_funcs", "snes_lag_jacobian",
                   "ksp_monitor", "ksp_converged_reason", "ksp_view", "ksp_atol", "ksp_gmres_restart",
                   "pc_factor_mat_ordering_type", "pc_gamg_threshold", "pc_gamg_type", "mat_mumps_icntl_14",

@@ -44,9 +44,9 @@ class Solver:
     """Drives a :class:`ContactProblem` through a sequence of load values.
 
     ``augment_max`` augmentations at most per load step (0: none), stopping
-    when ``R = ||g_new - g_old|| <= augment_tol``. A step whose SNES
-    diverges is halved up to ``max_cutbacks`` times. ``on_step(t)`` is
-    called after every converged step (output); ``on_iterate(it)`` after
+    when ``R = ||g_new - g_old|| <= augment_tol D`` (``R``: the gaps' change; ``D``: the size of the mesh,
+    :meth:`ContactProblem.mesh_size`). A step whose SNES diverges is halved up to ``max_cutbacks`` times.
+    ``on_step(t)`` is called after every converged step (output); ``on_iterate(it)`` after
     every Newton iterate, with ``problem.u`` at that iterate. Progress: one
     line per load step on rank 0 through ``logging`` (logger
     ``fenics_contact.solver``, INFO; ``quiet``: DEBUG, i.e. silent unless
@@ -278,7 +278,7 @@ class Solver:
             R = max(c.constraint_change() for c in augmentable)
             if np.isfinite(R):
                 rec.constraint_change.append(R)
-            if R <= self.augment_tol:
+            if R <= self.augment_tol * self.problem.mesh_size():
                 rec.converged = True
                 break
             if rec.augmentations == self.augment_max:

@@ -140,7 +140,7 @@ class SlavePoints:
 
     ``at_points`` (nq, nv): the value at each point of values at the facet's nodes (barycentric coordinates
     of :data:`POINT_RULES`; quadratic facets: the identity, the points are the three nodes); ``from_points``
-    (nv, nq) its inverse. ``excluded`` (nf, nq): points left without a pair, those within ``1e-9 max(1, |X|)``
+    (nv, nq) its inverse. ``excluded`` (nf, nq): points left without a pair, those within ``1e-9 max |X|``
     of a reference position in ``exclude`` (k, gdim) (node on node with the other pass of a quadratic pair).
     """
 
@@ -152,7 +152,7 @@ class SlavePoints:
         self.excluded = np.zeros(X.shape[:2], bool)
         if exclude is not None and len(exclude) and len(X):
             dmin = np.min(np.linalg.norm(X[:, :, None, :] - np.asarray(exclude)[None, None], axis=3), axis=2)
-            self.excluded = dmin <= 1e-9 * max(1.0, float(np.abs(X).max()))
+            self.excluded = dmin <= 1e-9 * float(np.abs(X).max())
 
     @property
     def per_facet(self) -> int:

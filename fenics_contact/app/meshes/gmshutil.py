@@ -85,9 +85,11 @@ CACHE_VARIABLE = "FC_MESH_CACHE"
 
 
 def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = True,
-               key: str = "") -> tuple[Mesh, NamedTags, NamedTags]:
+               key: str = "", scale: float = 1.0) -> tuple[Mesh, NamedTags, NamedTags]:
     """Run ``build()`` (adds and meshes a ``gdim``-dimensional gmsh model with named physical groups) on rank 0;
     distribute the mesh and its tags. Returns ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
+    ``scale``: the model is built with its lengths over ``scale`` and its coordinates are multiplied by it (gmsh's
+    tolerances are absolute: the same mesh, to round-off, in any units).
 
     Initialises and finalises gmsh on every rank; a gmsh failure raises :class:`MeshingError` on every rank,
     gmsh running out of memory ``MemoryError``. ``isolate`` (default): mesh in a forked child of rank 0 that writes a
@@ -130,6 +132,7 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = 
         mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, gdim)
     finally:
         gmsh.finalize()
+    mesh.geometry.x[:] *= scale
     tdim = mesh.topology.dim
     return mesh, NamedTags(cell_tags, names.get(tdim, {})), NamedTags(facet_tags, names.get(tdim - 1, {}))
 

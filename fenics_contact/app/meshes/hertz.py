@@ -51,7 +51,9 @@ def hertz_quarter_disk(
     geo_path("hertz")  # a missing source: a clear error on every rank
 
     mesh, cell_tags, facet_tags = _from_gmsh(
-        comm, lambda: _build_quarter_disk(R, h_contact, h_far, contact_width, half, full, plate), "the quarter disk")
+        comm, lambda: _build_quarter_disk(1.0, h_contact / R, h_far / R, contact_width / R, half, full,
+                                          None if plate is None else (plate[0] / R, plate[1] / R)),
+        "the quarter disk", scale=R)
     mesh.name = "hertz_quarter_disk"
     return mesh, cell_tags, facet_tags
 

@@ -35,9 +35,9 @@ def cap_on_block(comm: MPI.Comm, R: float = 1.0, H: float = 0.5, L: float = 1.0,
     if not (0.0 <= overlap < 1e-3 * R):
         raise ValueError(f"overlap must be in [0, 1e-3 R), got {overlap!r}")
     source = geo_path("mindlin3d").read_text()
-    args = (R, H, L, D, h_contact, h_far, contact_width, overlap)
+    args = (1.0, H / R, L / R, D / R, h_contact / R, h_far / R, contact_width / R, overlap / R)
     mesh, cells, facets = _from_gmsh(comm, lambda: _build(*args), "the cap on a block", gdim=3, isolate=True,
-                                     key=repr(args) + source)
+                                     key=repr(args) + source, scale=R)
     mesh.name = "cap_on_block"
     return mesh, cells, facets
 

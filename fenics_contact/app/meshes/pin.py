@@ -47,7 +47,8 @@ def pin_plate(
     _graded(h_contact, h_far)
     geo_path("pin")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
-        comm, lambda: _build_pin_plate(R, half_width, below, above, h_contact, h_far, band), "the pin plate")
+        comm, lambda: _build_pin_plate(1.0, half_width / R, below / R, above / R, h_contact / R, h_far / R, band / R),
+        "the pin plate", scale=R)
     mesh.name = "pin_plate"
     return mesh, cell_tags, facet_tags
 

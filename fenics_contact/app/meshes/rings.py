@@ -39,10 +39,10 @@ def concentric_rings(comm: MPI.Comm, a: float = 0.2, b: float = 0.6, c: float = 
 
     def build() -> None:
         gmsh.model.add("rings")
-        _load_geo(path, a=a, b=b, c=c, n_inner=int(n_inner), n_outer=int(n_outer))
+        _load_geo(path, a=a / c, b=b / c, c=1.0, n_inner=int(n_inner), n_outer=int(n_outer))
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(order)
 
-    mesh, cell_tags, facet_tags = _from_gmsh(comm, build, "the concentric rings")
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, build, "the concentric rings", scale=c)
     mesh.name = "concentric_rings"
     return mesh, cell_tags, facet_tags

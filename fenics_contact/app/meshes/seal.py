@@ -172,9 +172,10 @@ def _seal_mesh(comm: MPI.Comm, h: float, data: dict, shape: int, name: str) -> t
 
     def build() -> None:
         gmsh.model.add(name)
-        _load_geo(path, shape=shape, R_out=data["R_out"], R_in=data["R_in"], gap=data["gap"], h=h)
+        s = data["R_out"]
+        _load_geo(path, shape=shape, R_out=1.0, R_in=data["R_in"] / s, gap=data["gap"] / s, h=h / s)
         gmsh.model.mesh.generate(2)
 
-    mesh, cell_tags, facet_tags = _from_gmsh(comm, build, "the seal")
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, build, "the seal", scale=data["R_out"])
     mesh.name = name
     return mesh, cell_tags, facet_tags

@@ -47,12 +47,13 @@ def sheet_over_cylinder(comm: MPI.Comm, R: float = 3.0, thickness: float = 1.0, 
     def build() -> None:
         gmsh.model.add("sheet")
         R_in, n_cyl, n_rad = cylinder if cylinder is not None else (R / 3, 18, 3)
-        _load_geo(path, R=R, thickness=thickness, leg=leg, n_arc=int(n_arc), n_thick=int(n_thick), n_leg=int(n_leg),
-                  cylinder=int(cylinder is not None), R_in=R_in, n_cyl=int(n_cyl), n_rad=int(n_rad))
+        _load_geo(path, R=1.0, thickness=thickness / R, leg=leg / R, n_arc=int(n_arc), n_thick=int(n_thick),
+                  n_leg=int(n_leg), cylinder=int(cylinder is not None), R_in=R_in / R, n_cyl=int(n_cyl),
+                  n_rad=int(n_rad))
         gmsh.option.setNumber("Mesh.ElementOrder", 1)  # the geometry order set below, as for the other builders
         gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(order)
 
-    mesh, cell_tags, facet_tags = _from_gmsh(comm, build, "the sheet")
+    mesh, cell_tags, facet_tags = _from_gmsh(comm, build, "the sheet", scale=R)
     mesh.name = "sheet"
     return mesh, cell_tags, facet_tags

@@ -37,8 +37,10 @@ def sphere_octant(comm: MPI.Comm, R: float = 1.0, h_contact: float = 0.02, h_far
         _positive(plate_width=plate[0], plate_depth=plate[1])
     source = geo_path("sphere").read_text()  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
-        comm, lambda: _build_sphere_octant(R, h_contact, h_far, contact_width, plate), "the sphere octant",
-        gdim=3, isolate=True, key=repr((R, h_contact, h_far, contact_width, plate)) + source)
+        comm, lambda: _build_sphere_octant(1.0, h_contact / R, h_far / R, contact_width / R,
+                                           None if plate is None else (plate[0] / R, plate[1] / R)),
+        "the sphere octant", gdim=3, isolate=True, key=repr((1.0, h_contact / R, h_far / R, contact_width / R, plate
+                                                             and (plate[0] / R, plate[1] / R))) + source, scale=R)
     mesh.name = "sphere_octant"
     return mesh, cell_tags, facet_tags
 

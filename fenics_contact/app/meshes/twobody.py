@@ -121,9 +121,9 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
     _positive(R_lower=R_lower, R_upper=R_upper, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     geo_path("two_disks")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
-        comm, lambda: _build_two_half_disks(R_lower, R_upper, h_contact, h_far, contact_width, overlap, grading,
-                                            full),
-        "the two half disks")
+        comm, lambda: _build_two_half_disks(R_lower / R_upper, 1.0, h_contact / R_upper, h_far / R_upper,
+                                            contact_width / R_upper, overlap / R_upper, grading, full),
+        "the two half disks", scale=R_upper)
     mesh.name = "two_half_disks"
     return mesh, cell_tags, facet_tags
 

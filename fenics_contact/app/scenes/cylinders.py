@@ -96,7 +96,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
           h_contact: float = 0.05, h_far: float = 2.0, contact_width: float = 1.0, grading: float = 0.25,
           loads: list[float] | None = None, comm: MPI.Comm = MPI.COMM_WORLD, model: str = "neohookean",
           symmetry: str = "half", plane: str = "strain", R_lower: float = R_LOWER, R_upper: float = R_UPPER,
-          E: float | None = None, nu: float | None = None) -> Setup:
+          E: float | None = None, nu: float | None = None, overlap: float = OVERLAP) -> Setup:
     """``law_factory()`` gives a fresh contact law for each of the contact surfaces (plates and cylinders).
     ``grading``: growth of the mesh size per unit distance beyond ``contact_width`` (the contact zone
     reaches x ~ 7 at t = 15: the demo uses a slow grading). ``loads``: the plate motions ``t``
@@ -105,11 +105,11 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     the right halves: the horizontal rigid modes of each cylinder, held by frictionless contact alone, are
     removed by ``u_x = 0`` at its two poles, values of the exact symmetric solution). ``plane``: ``strain``
     (the paper's) or ``stress``. The cylinders' radii ``R_lower``, ``R_upper``; ``E``, ``nu`` (both bodies;
-    default: the Lame constants ``LAMBDA``, ``MU``)."""
+    default: the Lame constants ``LAMBDA``, ``MU``); ``overlap``: the initial overlap at each contact."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     positive(R_lower=R_lower, R_upper=R_upper, E=E, h_contact=h_contact, h_far=h_far, contact_width=contact_width,
-             grading=grading)
+             grading=grading, overlap=overlap)
     poisson(nu=nu)
     if model not in ("neohookean", "linear"):
         raise ValueError(f"cylinders model must be 'neohookean' or 'linear', got {model!r}")
@@ -119,7 +119,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         if law is None:
             raise ValueError("give law_factory (or law)")
         law_factory = lambda: law  # noqa: E731
-    mesh, _, facet_tags = two_half_disks(comm, R_lower, R_upper, h_contact, h_far, contact_width, OVERLAP,
+    mesh, _, facet_tags = two_half_disks(comm, R_lower, R_upper, h_contact, h_far, contact_width, overlap,
                                          grading, full=symmetry == "full")
     u, V = unknown(mesh, 1, law_factory())  # displacement, or (displacement, pressure) for method lagrange
     load = fem.Constant(mesh, 0.0)
@@ -131,12 +131,12 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         sym = fem.locate_dofs_topological(V.sub(0), 0, dmesh.locate_entities_boundary(
             mesh, 0, lambda x: np.isclose(x[0], 0.0, atol=1e-9)))
     dirichlet = [Dirichlet(V.sub(0), sym)]
-    top = 2 * R_lower + 2 * R_upper - OVERLAP
+    top = 2 * R_lower + 2 * R_upper - overlap
     plate_quadrature = "gauss" if quadrature == "segment" else quadrature  # segment: two-body integration only
-    lower_plate = contact_surface(u, facet_tags, "lower_bottom", HalfPlane([0.0, OVERLAP], [0.0, 1.0]),
+    lower_plate = contact_surface(u, facet_tags, "lower_bottom", HalfPlane([0.0, overlap], [0.0, 1.0]),
                                  law_factory(), load, plate_quadrature, name="lower_plate")
     upper_plate = contact_surface(u, facet_tags, "upper_top",
-                                 HalfPlane([0.0, top - OVERLAP], [0.0, -1.0], motion=[0.0, -1.0]),
+                                 HalfPlane([0.0, top - overlap], [0.0, -1.0], motion=[0.0, -1.0]),
                                  law_factory(), load, plate_quadrature, name="upper_plate")
     if isinstance(law_factory(), LagrangeMultiplier):  # one pass: the upper surface's vertices are constrained
         if passes != "one" or quadrature != "nodal":
@@ -197,7 +197,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
               "E": bulk.E, "nu": bulk.nu, "h_contact": h_contact,
               "h_far": h_far, "contact_width": contact_width, "grading": grading,
               "quadrature": quadrature, "passes": passes,
-              "overlap": OVERLAP,
+              "overlap": overlap,
               "model": f"{'right halves (symmetry x = 0)' if symmetry == 'half' else 'whole disks'}, "
               f"plane {plane}, {'neo-Hookean' if model == 'neohookean' else 'linear elastic'}"}
     if loads is None:

@@ -117,7 +117,7 @@ __all__ = [
 A, B, C = 0.2, 0.6, 1.0
 E_DEFAULT, NU_DEFAULT, Q_DEFAULT = 1000.0, 0.3, 10.0
 PLANES = ("strain", "stress")
-RADIUS = 0.1  # two-body search radius (the interface moves by ~1e-2 at most)
+RADIUS = 0.1  # two-body search radius over c (the interface moves by ~1e-2 c at most)
 
 
 def _plane(E: float, nu: float, plane: str) -> tuple[float, float]:

@@ -39,6 +39,7 @@ __all__ = ["OPTIONS", "build", "wedge_ratio", "SLIDE_STEPS", "PREDICTOR"]
 E, NU = 1000.0, 0.3
 ALPHA = 20.0  # degrees
 LOAD = 1.0  # the vertical traction on the block's top (N = LOAD * 2 b): strains ~1e-3
+LENGTH = 1.0  # the wedge's length L (its depth 0.4 L; the block 0.25 L wide and high)
 PUSH = 0.05  # horizontal displacement of the pushed face at t = 2 (>> the elastic slip mu p / omega_t)
 DEFAULT_K = 1e6
 DEFAULT_OMEGA_T = 1e4  # ~ E / h: the elastic slip mu p / omega_t ~ 3e-5 is 1e-3 of the push
@@ -69,12 +70,13 @@ OPTIONS = {
 
 def build(law: ContactLaw, alpha: float = ALPHA, E: float = E, nu: float = NU, load: float = LOAD,
           push: float = PUSH, slide_steps: int = SLIDE_STEPS, comm: MPI.Comm = MPI.COMM_WORLD,
-          mesh: tuple = ((40, 8), (12, 6))) -> Setup:
+          mesh: tuple = ((40, 8), (12, 6)), length: float = LENGTH) -> Setup:
     """``law``: a Coulomb :class:`~fenics_contact.friction.Friction` (``mu > 0``); ``alpha`` in degrees, in
     [0, 60]; ``load`` the vertical traction on the block's top; ``push`` the horizontal displacement of its left
     face at the end; ``slide_steps`` load steps of the push (solve them with the predictor :data:`PREDICTOR`);
-    ``mesh`` the (nx, ny) of the wedge and the block."""
-    positive(E=E, load=load, push=push)
+    ``mesh`` the (nx, ny) of the wedge and the block; ``length`` the wedge's length ``L`` (its depth ``0.4 L``,
+    the block ``0.25 L`` wide and high)."""
+    positive(E=E, load=load, push=push, length=length)
     poisson(nu=nu)
     alpha = float(alpha)
     if not (math.isfinite(alpha) and 0.0 <= alpha <= 60.0):
@@ -85,7 +87,7 @@ def build(law: ContactLaw, alpha: float = ALPHA, E: float = E, nu: float = NU, l
         raise ValueError(f"slide_steps must be >= 1, got {slide_steps!r}")
     mu = float(law.scalars["mu"])
     reference = wedge_ratio(mu, alpha)  # refuses a self-locking wedge before any work
-    L, D, b, h = 1.0, 0.4, 0.25, 0.25
+    L, D, b, h = length, 0.4 * length, 0.25 * length, 0.25 * length
     msh, cells, facets = block_on_incline(comm, math.radians(alpha), L, D, b, h, *mesh, overlap=1e-9 * L)
     V = function_space(msh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")
