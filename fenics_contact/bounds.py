@@ -65,6 +65,8 @@ class BoundContact(ContactSurface):
     """A contact surface enforced exactly by bounds; same figures and output as :class:`ContactSurface`, its
     pressure (> 0 compression) the nodal reaction over the vertex weight."""
 
+    ring_weighted = False  # its own integrals (nodal weights, NumPy element) carry no 2 pi r
+
     bounded = True
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,

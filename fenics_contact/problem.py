@@ -58,7 +58,8 @@ class Dirichlet:
 
 
 class ContactProblem:
-    """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
+    """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian; on an axisymmetric
+    body (``material.axisymmetric``) every integral, the tractions' too, is weighted by ``2 pi r``.
 
     ``u`` is the unknown: the displacement, or a mixed (displacement, pressure)
     Function when a contact surface has its pressure as an unknown (:mod:`multipliers`). ``contacts``: the
@@ -80,11 +81,14 @@ class ContactProblem:
         self.step_solver = step_solver  # solves whole load steps instead of SNES (None: SNES)
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
+        if getattr(material, "axisymmetric", False):
+            self._check_axisymmetric(u, material)
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
         bulk = ufl.derivative(material.energy_form(displacement(u)), u, v)  # per body with Materials
         body = bulk
+        ring = material.weight(displacement(u))  # 2 pi r on an axisymmetric body: loads over the whole ring
         for t, ds in tractions:
-            body -= load * ufl.dot(t, displacement(v)) * ds
+            body -= load * ufl.dot(t, displacement(v)) * ring * ds
         surface = None
         for c in self.contacts:
             c.bind_material(material)  # for the Cauchy pressure (da/dA)
@@ -102,6 +106,19 @@ class ContactProblem:
             ([fem.form(ufl.derivative(surface, u, du))] if surface is not None else [])
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
         self.comm = V.mesh.comm
+
+    def _check_axisymmetric(self, u, material) -> None:
+        """Refuse, before any form is compiled, a contact the capability grid or the surface's integrals do not
+        allow on an axisymmetric body."""
+        from .capabilities import check, of
+
+        for c in self.contacts:
+            if c.law is not None:  # the entry points checked the rest; the quadrature matters here for segments
+                segment = getattr(c, "quadrature", None) == "segment"
+                check(**of(c.law, u, material), quadrature="segment" if segment else None)
+            if not c.ring_weighted:
+                raise ValueError(f"contact {c.name}: {type(c).__name__} does not weight its integrals by 2 pi r; "
+                                 "an axisymmetric body needs a surface that does (capabilities: geometry)")
 
     @property
     def L(self) -> fem.Form:

@@ -27,6 +27,8 @@ class CondensedContact(ContactSurface):
     friction force, :meth:`point_values` / :meth:`surface_values` at every vertex of the surface,
     :meth:`friction_profile` at the condensed vertices (those whose normal component is free)."""
 
+    ring_weighted = False  # its own integrals (nodal weights, NumPy element) carry no 2 pi r
+
     requires_step_solver = True
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
