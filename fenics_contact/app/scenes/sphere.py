@@ -46,7 +46,7 @@ from ...problem import ContactProblem, Dirichlet
 from ..meshes import sphere_octant
 from . import Setup, Stabilised, nonnegative, poisson, positive, refuse_size
 
-__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "BENCHES", "hertz3d", "build"]
+__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "BENCHES", "mesh_sizes", "hertz3d", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
@@ -64,8 +64,9 @@ BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], 
          "method_args": {"vi": ["--solver", "direct"]},
          # the iterative solver shows the conditioning: Krylov iterations per Newton iteration against K; auglag at
          # K = 1e12 fails slowly (91 Newton iterations over 4 cutbacks, 60 s): left out of the quick map
-         "stability": True, "quick_stability": {"K": (0, 2, 4, 6, 8), "steps": (1,), "gamma0": (10.0, 1e3, 1e5),
-                                                   "dtol": False, "skip": [("auglag", 6)]}}
+         "stability": True, "reduction": True,
+         "quick_stability": {"K": (0, 2, 4, 6, 8), "steps": (1,), "gamma0": (10.0, 1e3, 1e5), "dtol": False,
+                             "skip": [("auglag", 6)]}}
 # The 3D two-body case: the octant on a deformable block of its own material (one-pass, the ball's surface the
 # slave), GMRES + GAMG; the block is finite and clamped (p0 above Hertz by a few per cent: no error target).
 BENCHES = {"sphere_block": {
@@ -73,6 +74,11 @@ BENCHES = {"sphere_block": {
     "K": DEFAULT_K, "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag"],
     "quadratures": ["nodal", "gauss"], "axes": {"kind": "two-body", "dim": 3},
     "demo_args": ["--plate", "meshed", "--solver", "iterative"], "quick_sweep": {"penalty": (0,), "other": (0,)}}}
+
+
+def mesh_sizes(f: float, R: float = R) -> tuple[float, float]:
+    """The mesh sizes at the contact and far from it of the mesh-size factor ``f`` (``LEVELS``)."""
+    return 0.02 * f * R, 0.15 * f * R
 
 
 def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU, plate_E: float | None = None,
@@ -119,12 +125,12 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     zone = math.log10(1.5) + 3 * math.log10(contact_width / (0.02 * R))
     refuse_size("size" if size is not None else "level", f if size is not None else level, zone - 3 * math.log10(f),
                 lambda most: f">= {10 ** ((zone - most) / 3):.2g}", comm)
-    h = 0.02 * f * R
+    h, h_far = mesh_sizes(f, R)
     meshed = plate == "meshed"
     plate_E, plate_nu = (E if plate_E is None else plate_E), (nu if plate_nu is None else plate_nu)
     plate_size = (PLATE_SIZE[0] if plate_width is None else plate_width,
                   PLATE_SIZE[1] if plate_depth is None else plate_depth)
-    mesh, cell_tags, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=contact_width,
+    mesh, cell_tags, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=h_far, contact_width=contact_width,
                                                 plate=plate_size if meshed else None)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     t = fem.Constant(mesh, 0.0)  # the load parameter
