@@ -11,6 +11,7 @@ from mpi4py import MPI
 
 import fenics_contact as fc
 from fenics_contact import capabilities as cap
+from fenics_contact.app.meshes import stacked_blocks
 
 E, NU = 1000.0, 0.3
 A, B, L = 1.0, 2.0, 0.5  # inner and outer radius, axial length of the cylinder's section
@@ -148,6 +149,14 @@ def test_geometry_refusals():
         with pytest.raises(cap.UnsupportedCombination, match="axisymmetric geometry"):
             fc.contact_surface(u, ft, "bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law,
                                fem.Constant(mesh, 0.0), material=material)
+    # a two-body surface does not see the material: the problem refuses it (segment-to-segment integration)
+    blocks, _, ftb = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (2, 2), 1e-6)
+    u = fem.Function(fc.function_space(blocks, "Lagrange", 1, (2,)))
+    load = fem.Constant(blocks, 0.0)
+    segment = fc.two_body_surfaces(u, ftb, "upper_bottom", "lower_top", lambda: fc.make_law("penalty", K=1e6), load,
+                                   "segment")
+    with pytest.raises(cap.UnsupportedCombination, match="segment quadrature"):
+        fc.ContactProblem(u, material, load, [], segment)
     box = dmesh.create_unit_cube(MPI.COMM_WORLD, 1, 1, 1)
     w = fem.Function(fc.function_space(box, "Lagrange", 1, (3,)))
     with pytest.raises(ValueError, match="plane='axisymmetric' is a 2D assumption"):

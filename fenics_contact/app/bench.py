@@ -428,6 +428,8 @@ REDUCTIONS = {
                "figures": ["p0", "a", "total_force"], "variants": [
                    ("sphere: axisymmetric meridian section (r, z), 2 pi r weights (used)",
                     ["--geometry", "axisymmetric", "--solver", "direct"]),
+                   ("sphere: axisymmetric, 1/4 of the mesh size at the contact (h = R/400)",
+                    ["--geometry", "axisymmetric", "--solver", "direct", "--size", "0.125"]),
                    ("sphere: 3D octant (symmetry x = 0, y = 0)", [])]},
     # the scene's own method (penalty K 1e4, two-pass, Gauss points) at the Hertz step t = 0.2
     "cylinders": {"method": "penalty", "augment": 0, "quadrature": "gauss", "args": [], "repeats": 1,
