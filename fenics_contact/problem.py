@@ -18,6 +18,7 @@ from petsc4py import PETSc
 from .compat import function_space, interpolate_expression, lift_and_set_bc, petsc_vec
 from .contact import displacement
 from .domain import tag_value
+from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
 from .surface import StepSolver, Surface
 
@@ -189,13 +190,16 @@ class ContactProblem:
     def min_jacobian(self) -> float | None:
         """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the
         vertices), over all ranks; None for a small-strain material (no such constraint). ``J <= 0``: an
-        inverted element, an inadmissible finite-strain state even if Newton converged to it."""
+        inverted element, an inadmissible finite-strain state even if Newton converged to it. Axisymmetric: the
+        hoop stretch ``1 + u_r / r`` is a factor of ``J``."""
         if self.material.linear:
             return None
         if not hasattr(self, "_detF"):
             w = displacement(self.u)
-            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)),
-                          ufl.det(ufl.Identity(len(w)) + ufl.grad(w)))
+            detF = ufl.det(ufl.Identity(len(w)) + ufl.grad(w))
+            if getattr(self.material, "axisymmetric", False):
+                detF = detF * hoop_stretch(w, AXISYMMETRIC)
+            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)), detF)
         f, expr = self._detF
         interpolate_expression(f, expr)
         local = f.x.array[: f.function_space.dofmap.index_map.size_local]

@@ -166,3 +166,14 @@ def test_geometry_refusals():
                               np.r_[np.ones(1, np.int32), 2 * np.ones(mesh.topology.index_map(2).size_local - 1,
                                                                       np.int32)])
         fc.Materials(mesh, tags, {1: material, 2: fc.LinearElastic(E, NU)})
+
+
+def test_min_jacobian_includes_the_hoop_stretch():
+    """``min_jacobian`` of an axisymmetric neo-Hookean body is ``det F_2 (1 + u_r / r)``: ``u_r = -0.5 r`` (a
+    uniform radial contraction, ``u_z = 0``) gives ``0.5 x 0.5``, on the axis too."""
+    mesh, _ = solid_cylinder(2)
+    V = fc.function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V)
+    u.interpolate(lambda x: np.stack([-0.5 * x[0], 0.0 * x[1]]))
+    problem = fc.ContactProblem(u, fc.NeoHookean(E, NU, "axisymmetric"), fem.Constant(mesh, 0.0))
+    assert problem.min_jacobian() == pytest.approx(0.25, rel=1e-12)
