@@ -87,7 +87,8 @@ class ContactProblem:
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
         bulk = ufl.derivative(material.energy_form(displacement(u)), u, v)  # per body with Materials
         body = bulk
-        ring = material.weight(displacement(u))  # 2 pi r on an axisymmetric body: loads over the whole ring
+        # 2 pi r on an axisymmetric body: loads over the whole ring (a material without weight(): 1)
+        ring = material.weight(displacement(u)) if hasattr(material, "weight") else 1.0
         for t, ds in tractions:
             body -= load * ufl.dot(t, displacement(v)) * ring * ds
         surface = None
