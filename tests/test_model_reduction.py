@@ -56,7 +56,7 @@ def _sphere_figures(geometry: str, size: float):
     law = make_law("auglag", K=sphere.DEFAULT_K)
     if geometry == "axisymmetric":
         h, h_far = sphere.mesh_sizes(size)
-        setup = build("axisphere", law=law, h_contact=h, h_far=h_far, contact_width=sphere.CONTACT_WIDTH)
+        setup = build("axisphere", law=law, h_contact=h, h_far=h_far)  # contact width 0.15 R, as the octant
     else:
         setup = build("sphere", law=law, size=size)
     solver = Solver(setup.problem, augment_max=10, augment_tol=1e-10, quiet=True)

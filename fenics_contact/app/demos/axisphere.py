@@ -19,26 +19,6 @@ from fenics_contact.app.scenes import add_scene_options, axisphere, scene_argume
 # p0 and a within 1 % of Hertz on the default mesh (h = a / 28): measured 0.42 % / 0.20 % (plane), 0.39 % /
 # 0.71 % (two spheres), auglag, nodal
 TOLERANCE = 1e-2
-HELP = {"R": "radius of the pressed sphere (length)", "E": "Young's modulus of the pressed sphere (stress)",
-        "nu": "Poisson's ratio of the pressed sphere", "approach": "downward displacement of its equator (length)",
-        "R2": "radius of the second sphere (partner sphere; default 2 R)",
-        "E2": "Young's modulus of the second sphere (default E)", "nu2": "Poisson's ratio of the second sphere "
-        "(default nu)", "h_contact": "mesh size at the contact (length; default R / 400)",
-        "contact_width": "radius of the refined zone around the contact point (length; default 0.15 R)",
-        "h_far": "mesh size far from the contact (length; default R / 20)"}
-
-
-def add_options(p) -> list[str]:
-    """The scene's physical constants as options with their help texts; returns their names."""
-    for name, default in axisphere_defaults().items():
-        p.add_argument("--" + name.replace("_", "-"), type=cli.POSITIVE if name not in ("nu", "nu2") else float,
-                       default=default, dest=name, help=HELP[name])
-    return add_scene_options(p, axisphere.build) + list(axisphere_defaults())
-
-
-def axisphere_defaults() -> dict:
-    return {"R": axisphere.R, "E": axisphere.E, "nu": axisphere.NU, "approach": axisphere.APPROACH, "R2": None,
-            "E2": None, "nu2": None, "h_contact": None, "contact_width": None, "h_far": None}
 
 
 def main(argv=None) -> dict:
@@ -49,7 +29,7 @@ def main(argv=None) -> dict:
     p.add_argument("--steps", type=cli.COUNT, default=1, help="load steps")
     p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
     p.add_argument("--degree", type=int, choices=(1, 2), default=1, help="degree of the displacement")
-    scene = add_options(p)
+    scene = add_scene_options(p, axisphere.build)  # --R, --E, --nu, --approach, --R2, ..., --h-contact
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)
     out = Path(args.out or "results/axisphere")

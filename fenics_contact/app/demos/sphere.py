@@ -27,13 +27,15 @@ TOLERANCE = 5e-2
 def main(argv=None) -> dict:
     # 1. Options: formulation, mesh level (about 1e4 to 1e6 dofs), linear solver.
     p = cli.parser(__doc__.splitlines()[0], default_K=sphere.DEFAULT_K)
-    p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)), help="mesh level")
+    p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)),
+                   help="mesh level: 0 to 3, about 1e4 to 1e6 dofs")
     p.add_argument("--steps", type=cli.COUNT, default=None, help="load steps (default: 1, or 2 with --load)")
     p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
     p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
                    help="the plane: rigid, or a meshed block of the sphere's material (two-body contact)")
     p.add_argument("--size", type=cli.POSITIVE, default=None,
-                   help="mesh-size factor instead of the level's (level 0: 0.5; 1.0 is a tiny mesh, ~2800 dofs)")
+                   help="mesh-size factor instead of the level's (level 0: 0.5; 1.0 is a tiny mesh, ~2800 dofs; "
+                        "default: the --level's)")
     p.add_argument("--geometry", choices=["3d", "axisymmetric"], default="3d",
                    help="3d: the octant; axisymmetric: the meridian section (r, z) with the same mesh size at the "
                         "contact (scene axisphere; rigid plate, displacement control)")
@@ -58,7 +60,7 @@ def main(argv=None) -> dict:
         h, h_far = sphere.mesh_sizes(sphere.LEVELS[args.level] if args.size is None else args.size, args.R)
         setup = build("axisphere", law=law, quadrature=args.quadrature, steps=args.steps, model=args.model,
                       R=args.R, E=args.E, nu=args.nu, approach=args.approach, contact_width=args.contact_width,
-                      h_contact=h, h_far=h_far)
+                      h_contact=h, h_far=h_far)  # the same defaults: approach 0.005 R, contact width 0.15 R
     else:
         setup = build("sphere", law=law, quadrature=args.quadrature, level=args.level, steps=args.steps,
                       size=args.size, model=args.model, plate=args.plate, **scene_arguments(args, scene))

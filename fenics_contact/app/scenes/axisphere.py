@@ -28,13 +28,13 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import hertz_quarter_disk, two_half_disks
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 from .hertz import contact_half_width
 
-__all__ = ["R", "E", "NU", "APPROACH", "H_CONTACT", "DEFAULT_K", "PARTNERS", "hertz_spheres", "build"]
+__all__ = ["R", "E", "NU", "APPROACH", "H_CONTACT", "DEFAULT_K", "PARTNERS", "hertz_spheres", "OPTIONS", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
-APPROACH = 0.005  # the equator's displacement at t = 1 (as the sphere scene's)
+APPROACH = 0.005  # the equator's displacement at t = 1, per R (as the sphere scene's)
 H_CONTACT = 1.0 / 400  # mesh size at the contact, per R (a / 28 at the default approach)
 CONTACT_WIDTH = 0.15  # the refined zone's radius, per R
 H_FAR = 0.05  # the mesh size far from the contact, per R
@@ -53,14 +53,29 @@ def hertz_spheres(P: float, R: float = R, E: float = E, nu: float = NU, R2: floa
     return float(a), float(3 * P / (2 * np.pi * a**2))
 
 
+OPTIONS = {
+    "R": Option("radius of the pressed sphere (length)"),
+    "E": Option("Young's modulus of the pressed sphere (stress)"),
+    "nu": Option("Poisson's ratio of the pressed sphere", "poisson"),
+    "approach": Option(f"the equator's displacement toward the partner (length; default: {APPROACH:g} R)"),
+    "R2": Option("radius of the second sphere (length; default: 2 R)", needs=("partner", "sphere")),
+    "E2": Option("Young's modulus of the second sphere (stress; default: --E)", needs=("partner", "sphere")),
+    "nu2": Option("Poisson's ratio of the second sphere (default: --nu)", "poisson", needs=("partner", "sphere")),
+    "h_contact": Option(f"mesh size at the contact (length; default: R / {1 / H_CONTACT:g})"),
+    "contact_width": Option(f"radius of the refined zone at the contact (length; default: {CONTACT_WIDTH:g} R)"),
+    "h_far": Option(f"mesh size far from the contact (length; default: {H_FAR:g} R)"),
+}
+
+
 def build(law: ContactLaw, quadrature: str = "nodal", steps: int = 1, comm: MPI.Comm = MPI.COMM_WORLD,
           model: str = "linear", partner: str = "plane", R: float = R, E: float = E, nu: float = NU,
-          approach: float = APPROACH, R2: float | None = None, E2: float | None = None, nu2: float | None = None,
+          approach: float | None = None, R2: float | None = None, E2: float | None = None, nu2: float | None = None,
           h_contact: float | None = None, contact_width: float | None = None, h_far: float | None = None,
           degree: int = 1) -> Setup:
     """``partner``: ``plane`` (rigid) or ``sphere`` (``R2``, ``E2``, ``nu2``; defaults ``2 R``, ``E``, ``nu``);
     ``h_contact``, ``contact_width``, ``h_far``: the mesh (defaults ``R / 400``, ``0.15 R``, ``0.05 R``);
-    ``approach``: the equator's displacement (length); ``degree``: of the displacement (1 or 2)."""
+    ``approach``: the equator's displacement (length; default ``0.005 R``); ``degree``: of the displacement (1 or
+    2). ``OPTIONS`` describes each parameter."""
     if partner not in PARTNERS:
         raise ValueError(f"axisphere partner must be one of {PARTNERS}, got {partner!r}")
     if model not in MODELS:
@@ -73,6 +88,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", steps: int = 1, comm: MPI.
              h_far=h_far)
     poisson(nu=nu, nu2=nu2)
     sphere = partner == "sphere"
+    approach = APPROACH * R if approach is None else approach
     R2 = 2 * R if R2 is None else R2
     E2, nu2 = (E if E2 is None else E2), (nu if nu2 is None else nu2)
     h = H_CONTACT * R if h_contact is None else h_contact
