@@ -22,7 +22,7 @@ benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :fu
 (:mod:`~fenics_contact.app.plotting`), meshes (:mod:`~fenics_contact.app.meshes`, gmsh imported only by the
 builders that use it) and tables are public too. Importing the package does not import gmsh.
 """
-from . import capabilities, compat, domain, failure, laws, methods, search
+from . import capabilities, compat, domain, failure, kinematics, laws, methods, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
 from .compat import function_space, interpolate_expression
@@ -62,7 +62,7 @@ from .twobody_friction import FrictionalTwoBodySurface
 __all__ = [
     # materials
     "Material", "LinearElastic", "NeoHookean", "MixedNeoHookean", "MixedLinearElastic",
-    "Kinematics", "Materials", "MODELS", "PLANES", "lame",
+    "Kinematics", "Materials", "MODELS", "PLANES", "lame", "kinematics",
     # contact laws (method name -> class: METHODS, make_law)
     "Formulation", "ContactLaw", "Penalty", "CrossConstraints", "AugmentedLagrangian", "NormalCompliance", "SnesVI",
     "ExactCoulomb", "LagrangeMultiplier", "PenaltyMultiplier", "Nitsche", "Friction",

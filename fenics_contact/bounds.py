@@ -78,6 +78,8 @@ class BoundContact(ContactSurface):
             gap of the current position ``X + u``.
     """
 
+    ring_weighted = False  # its own integrals (nodal weights, NumPy element) carry no 2 pi r
+
     bounded = True
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,

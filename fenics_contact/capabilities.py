@@ -1,14 +1,15 @@
 """The capability matrix: which combinations of options the suite supports, declared once as data.
 
-Axes (:func:`axes`): contact method (the registered methods of :mod:`fenics_contact.methods`), contact kind
-(a rigid obstacle or two deformable bodies), contact quadrature, passes (two-body), dimension, displacement
-degree, bulk model, linear solver, friction. Every combination is supported unless a rule of :func:`rules`
-refuses it; a rule names the axis values it refuses and what to use instead. A method's own rules are part of
-its declaration; the rules that follow from what it declares (no two-body surface, no friction) and the rules of
-no single method are here. :func:`check` raises
-:class:`UnsupportedCombination` (a ``ValueError``) with one line naming the combination; the entry points
-(:func:`fenics_contact.factory.contact_surface`, :func:`fenics_contact.factory.two_body_surfaces`,
-:func:`fenics_contact.multipliers.unknown`, the scenes that combine options) call it before any
+Axes (:func:`axes`): contact method (the registered methods of :mod:`fenics_contact.methods`), contact kind (a rigid
+obstacle or two deformable bodies), contact quadrature, passes (two-body), dimension, displacement degree, bulk
+model, linear solver, friction, geometry (cartesian: 3D, plane strain or stress; axisymmetric: the meridian section
+of a body of revolution, every integral weighted by ``2 pi r``). Every combination is supported unless a rule of
+:func:`rules` refuses it; a rule names the axis values it refuses and what to use instead. A method's own rules are
+part of its declaration; the rules that follow from what it declares (no two-body surface, no friction) and the
+rules of no single method are here. :func:`check` raises :class:`UnsupportedCombination` (a ``ValueError``) with one
+line naming the combination; the entry points (:func:`fenics_contact.factory.contact_surface`,
+:func:`fenics_contact.factory.two_body_surfaces`, :func:`fenics_contact.multipliers.unknown`, the scenes that
+combine options) call it before any
 assembly. ``python -m fenics_contact.capabilities`` prints the matrix (``docs/capabilities.md``).
 
 Axis value ``None`` in :func:`check` means "not known here" (e.g. the linear solver when a surface is
@@ -38,6 +39,7 @@ _FIXED_AXES: dict[str, tuple] = {
     "model": tuple(MODELS),
     "solver": ("direct", "iterative"),
     "friction": (False, True),
+    "geometry": ("cartesian", "axisymmetric"),
 }
 
 
@@ -78,6 +80,12 @@ _KIND = (
     rule("quadrature 'nodal' or 'gauss'", "segment-to-segment integration pairs two meshed surfaces",
          kind="rigid", quadrature="segment"),
 )
+_GEOMETRY = (
+    rule("dim 2 (the meridian section (r, z))", "an axisymmetric body is modelled on its 2D meridian section",
+         geometry="axisymmetric", dim=3),
+    rule("quadrature 'nodal' or 'gauss'", "the segment-to-segment element integrates without the ring's 2 pi r",
+         geometry="axisymmetric", quadrature="segment"),
+)
 _TWO_BODY_FRICTION = (
     rule("quadrature 'nodal' or 'gauss' (pointwise two-body friction) or mu 0",
          "the segment-to-segment element has no tangential law", kind="two-body", friction=True,
@@ -112,8 +120,8 @@ _MIXED = (
 
 
 def rules() -> tuple[Rule, ...]:
-    """Every rule, in the order they are tried: the kind, the methods without two-body surfaces, two-body
-    friction, the methods without friction, each method's own rules (registry order), the mixed model,
+    """Every rule, in the order they are tried: the kind, the geometry, the methods without two-body surfaces,
+    two-body friction, the methods without friction, each method's own rules (registry order), the mixed model,
     quadrature and degree."""
     ms = _methods.methods()
     two_body = [m.name for m in ms if m.two_body is not None]
@@ -126,7 +134,7 @@ def rules() -> tuple[Rule, ...]:
                         "these methods have no tangential law", friction=True, method=frictionless),) if frictionless \
         else ()
     own = tuple(r for m in ms for r in m.rules)
-    return _KIND + no_two_body + _TWO_BODY_FRICTION + no_friction + own + _MIXED + _QUADRATURE
+    return _KIND + _GEOMETRY + no_two_body + _TWO_BODY_FRICTION + no_friction + own + _MIXED + _QUADRATURE
 
 
 def _fmt(axis: str, value: Any) -> str:
@@ -145,6 +153,8 @@ def _fmt(axis: str, value: Any) -> str:
                 "none": "no obstacle"}[value]
     if axis == "quadrature":
         return f"{value} quadrature"
+    if axis == "geometry":
+        return f"{value} geometry"
     return str(value)
 
 
@@ -178,11 +188,11 @@ def supported(**combo: Any) -> bool:
 def check(method: str | None = None, kind: str | None = None, quadrature: str | None = None,
           passes: str | None = None, dim: int | None = None, degree: int | None = None,
           model: str | None = None, solver: str | None = None, friction: bool | None = None,
-          obstacle: str | None = None) -> None:
+          obstacle: str | None = None, geometry: str | None = None) -> None:
     """Raise :class:`UnsupportedCombination` (one line: the refused axis values, the whole combination and
     what to use instead) if a rule refuses the combination; ``None``: the axis is not known here."""
     combo = dict(method=method, kind=kind, quadrature=quadrature, passes=passes, dim=dim, degree=degree,
-                 model=model, solver=solver, friction=friction, obstacle=obstacle)
+                 model=model, solver=solver, friction=friction, obstacle=obstacle, geometry=geometry)
     found = refusal(**combo)
     if found is not None:
         refused = describe(**{a: combo[a] for a in found.when})
@@ -193,8 +203,8 @@ def check(method: str | None = None, kind: str | None = None, quadrature: str | 
 def of(law, u=None, material=None) -> dict:
     """The axis values an entry point can see: ``method`` and ``friction`` from the law, ``dim`` and ``degree``
     from the unknown ``u`` (a displacement or mixed (displacement, pressure) Function), ``model`` from the
-    bulk material (``None`` where not given). A law of the user's own that no registered method declares has
-    method ``None``: the rules on the method are skipped for it."""
+    bulk material and ``geometry`` from its ``axisymmetric`` (``None`` where not given). A law of the user's own
+    that no registered method declares has method ``None``: the rules on the method are skipped for it."""
     method = _methods.of_law(law)
     out = {"method": None if method is None else method.name, "friction": bool(law.has_friction)}
     if u is not None:
@@ -204,6 +214,7 @@ def of(law, u=None, material=None) -> dict:
         out["degree"] = 2 if len(Vd.dofmap.dof_layout.entity_dofs(1, 0)) else 1  # Lagrange: edge dofs from P2
     if material is not None:
         out["model"] = material.model  # per-body Materials: linear if every body is
+        out["geometry"] = "axisymmetric" if getattr(material, "axisymmetric", False) else "cartesian"
     return out
 
 
@@ -235,9 +246,10 @@ def markdown() -> str:
         lines.append(f"| {when} | {r.why} | {r.use} |")
     lines += ["", "## Supported combinations", "",
               "Per method and contact kind: the supported (quadrature, passes, dim, degree) cells, and for each "
-              "the bulk models, linear solvers and friction settings it allows.", "",
-              "| method | kind | quadrature | passes | dim | degree | obstacles | models | solvers | friction |",
-              "|---|---|---|---|---|---|---|---|---|---|"]
+              "the bulk models, linear solvers, friction settings and geometries it allows.", "",
+              "| method | kind | quadrature | passes | dim | degree | obstacles | models | solvers | friction | "
+              "geometries |",
+              "|---|---|---|---|---|---|---|---|---|---|---|"]
     structural = ("quadrature", "passes", "dim", "degree")
     for method in axes()["method"]:
         for kind in AXES["kind"]:
@@ -247,10 +259,11 @@ def markdown() -> str:
                 if not ok:
                     continue
                 col = {a: sorted({str(c[a]) if a != "friction" else ("yes" if c[a] else "no") for c in ok})
-                       for a in ("obstacle", "model", "solver", "friction")}
+                       for a in ("obstacle", "model", "solver", "friction", "geometry")}
                 lines.append(f"| {method} | {kind} | {s['quadrature']} | {s['passes']} | {s['dim']}D | "
                              f"P{s['degree']} | {', '.join(col['obstacle'])} | {', '.join(col['model'])} | "
-                             f"{', '.join(col['solver'])} | {', '.join(col['friction'])} |")
+                             f"{', '.join(col['solver'])} | {', '.join(col['friction'])} | "
+                             f"{', '.join(col['geometry'])} |")
     return "\n".join(lines) + "\n"
 
 

@@ -71,6 +71,8 @@ def collocated_surfaces(w: fem.Function, facet_tags, tag_a: int, tag_b: int, law
 class CollocatedSurface(TwoBodyMultiplier):
     """One surface of the collocated pair: its facets' Simpson work and its vertices' constraints."""
 
+    ring_weighted = False  # its own integrals (nodal weights, NumPy element) carry no 2 pi r
+
     ufl_coupling = False
 
     def __init__(self, *args, **kwargs):

@@ -125,6 +125,7 @@ class ContactSurface(Surface):
     """
 
     material = None  # the bulk material next to the surface (bind_material): its da/dA gives the Cauchy pressure
+    ring_weighted = True  # every integral of the surface carries self.ring
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
@@ -132,6 +133,12 @@ class ContactSurface(Surface):
         self.name, self.u, self.law, self.obstacle, self.quadrature = name, u, law, obstacle, quadrature
         self.facets = check_facet_tag(mesh, facet_tags, tag, name)
         self.ds = contact_measure(mesh, facet_tags, tag, quadrature)
+        # The factor of every integral over the surface: 1, or 2 pi r on an axisymmetric body (_fill_ring). A
+        # Function, so that forms compiled before the bulk material is bound (the two-body couplings) weight by
+        # the ring too; the projections stay unweighted (a node on the axis has r = 0).
+        Vu = u.function_space.sub(0) if is_mixed(u.function_space) else u.function_space
+        self.ring = fem.Function(function_space(mesh, "Lagrange", Vu.ufl_element().degree()), name="ring")
+        self.ring.x.array[:] = 1.0
         obstacle.bind(load)
         self.displacement_out = u  # the displacement Function for output (a collapsed copy if u is mixed)
         if is_mixed(u.function_space):
@@ -164,9 +171,10 @@ class ContactSurface(Surface):
                          for k, e in law.augment_fields(self.gap, self.params, ufl_ops()).items()}
         self._gap_now = fem.Function(self.S)
         self._gap_prev = None
-        self._force_forms = [fem.form(self.pressure * self.normal[i] * self.ds) for i in range(mesh.geometry.dim)]
-        self._area_form = fem.form(fem.Constant(mesh, 1.0) * self.ds)
-        self._mean_p_form = fem.form(self.pressure * self.ds)
+        self._force_forms = [fem.form(self.pressure * self.normal[i] * self.ring * self.ds)
+                             for i in range(mesh.geometry.dim)]
+        self._area_form = fem.form(self.ring * self.ds)
+        self._mean_p_form = fem.form(self.pressure * self.ring * self.ds)
         self.comm = mesh.comm
 
         # Output: nodal values of gap and pressure on P1, for XDMF and the figures.
@@ -189,8 +197,9 @@ class ContactSurface(Surface):
 
     # --- forms -----------------------------------------------------------
     def residual(self, v: ufl.Argument) -> ufl.Form:
-        """Surface term ``F(g) dg[v] ds`` of the residual (``dg[v] = -n . v`` for a rigid obstacle)."""
-        return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds
+        """Surface term ``F(g) dg[v] ds`` of the residual (``dg[v] = -n . v`` for a rigid obstacle; axisymmetric:
+        ``ds`` weighted by ``2 pi r``)."""
+        return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ring * self.ds
 
     # --- state -----------------------------------------------------------
     def state(self) -> dict:
@@ -247,9 +256,34 @@ class ContactSurface(Surface):
     # --- pressures: nominal (per reference area) and Cauchy (per current area) ---------------------------
     def bind_material(self, material) -> None:
         """The bulk material next to the surface (:class:`~fenics_contact.problem.ContactProblem` binds its
-        own unless the surface has one): its area ratio ``da/dA`` turns nominal pressures into Cauchy ones."""
+        own unless the surface has one): its area ratio ``da/dA`` turns nominal pressures into Cauchy ones; an
+        axisymmetric material weights every integral of the surface by ``2 pi r`` (:attr:`ring`)."""
         if self.material is None:
             self.material = material
+        if getattr(self.material, "axisymmetric", False):
+            self._fill_ring()
+
+    def _fill_ring(self) -> None:
+        """:attr:`ring` of an axisymmetric body: ``2 pi r`` (Gauss points); for the nodal rules (vertex,
+        Simpson) its nodal values ``int phi_i 2 pi r ds / int phi_i ds``, so that the rule's weight of node ``i``
+        times them is the row sum ``int phi_i 2 pi r ds`` of the weighted surface mass (a uniform pressure
+        then gives the bulk's consistent nodal forces: the patch test; the node on the axis keeps its share)."""
+        x = ufl.SpatialCoordinate(self.ring.function_space.mesh)
+        self.ring.interpolate(lambda X: 2 * np.pi * X[0])
+        if self.quadrature in ("nodal", "simpson"):
+            ds = self.ds.reconstruct(metadata={"quadrature_degree": 4})
+            phi = ufl.TestFunction(self.ring.function_space)
+            sums = []
+            for f in (2 * np.pi * x[0], 1.0):
+                b = fem_petsc.assemble_vector(fem.form(f * phi * ds))
+                b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+                b.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+                with b.localForm() as loc:
+                    sums.append(loc.array.copy())
+                b.destroy()
+            on = sums[1] > 0
+            self.ring.x.array[on] = sums[0][on] / sums[1][on]
+        self.ring.x.scatter_forward()
 
     def _check_kind(self, kind: str) -> None:
         if kind not in PRESSURE_KINDS:
@@ -266,7 +300,7 @@ class ContactSurface(Surface):
     def _cauchy_forms(self) -> None:
         if not hasattr(self, "_current_area_form"):
             ratio = self.area_ratio()
-            self._current_area_form = fem.form(ratio * self.ds)
+            self._current_area_form = fem.form(ratio * self.ring * self.ds)
             self.pressure_cauchy_out = fem.Function(self.pressure_out.function_space, name="contact_pressure_cauchy")
             self._cauchy_rhs = self._out.compile(self.pressure / ratio)
 
@@ -277,7 +311,7 @@ class ContactSurface(Surface):
         if self.quadrature != "nodal":
             raise ValueError("point_forces needs quadrature 'nodal' (one contact point per vertex)")
         if not hasattr(self, "_weights"):
-            b = fem_petsc.assemble_vector(self.projector.compile(fem.Constant(self.S.mesh, 1.0)))
+            b = fem_petsc.assemble_vector(self.projector.compile(self.ring))
             b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
             self._weights = b.array[self.projector.surface_dofs].copy()  # int phi_i ds
             b.destroy()
@@ -290,8 +324,9 @@ class ContactSurface(Surface):
     # --- results (see :class:`~fenics_contact.surface.Surface`) ---------------------
     def total_force(self) -> np.ndarray:
         """Force of the obstacle on the body, ``int F n ds`` (the normal contact force; a frictional surface's
-        friction force is its ``tangential_force``), shape ``(gdim,)``, per unit thickness in 2D; the same on every
-        rank."""
+        friction force is its ``tangential_force``), shape ``(gdim,)``, per unit thickness in 2D; axisymmetric:
+        ``int F n 2 pi r ds``, component 1 the axial force on the whole ring (component 0 the radial sum, no
+        resultant); the same on every rank."""
         return np.array([self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in self._force_forms])
 
     def update_output(self) -> None:

@@ -215,9 +215,9 @@ class FrictionHistory:
         self.traction = law.traction(*args) if factor is None else factor * law.traction(*args)
         self.slip_state_expr = law.slip_state(*args)  # UFL: 0 open, 1 slip, 2 stick at the current u
         dissipation = law.dissipation(*args) if factor is None else factor * law.dissipation(*args)
-        self._dissipation_form = fem.form(dissipation * self.ds)
-        self._tangential_forms = [fem.form(self.traction[i] * self.ds) for i in range(gdim)]
-        self._capacity_form = fem.form(law.bound(self.gap, self.params, ufl_ops()) * self.ds)
+        self._dissipation_form = fem.form(dissipation * self.ring * self.ds)
+        self._tangential_forms = [fem.form(self.traction[i] * self.ring * self.ds) for i in range(gdim)]
+        self._capacity_form = fem.form(law.bound(self.gap, self.params, ufl_ops()) * self.ring * self.ds)
         # The state of the last accepted step, kept at commit: after a commit the next trial starts at
         # the bound, so the current expression would call a sliding point sticking.
         self.slip_state = fem.Function(self.S, name="slip_state_committed")
@@ -364,7 +364,7 @@ class FrictionalContact(FrictionHistory, ContactSurface):
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """``F(g) dg[v] ds - q . v ds``."""
-        return super().residual(v) - ufl.dot(self.traction, displacement(v)) * self.ds
+        return super().residual(v) - ufl.dot(self.traction, displacement(v)) * self.ring * self.ds
 
     def _normal_at(self, x: np.ndarray) -> np.ndarray:
         """Obstacle normal at the vertices (half-planes: constant; else the reference direction)."""

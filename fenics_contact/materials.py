@@ -1,8 +1,11 @@
 """Bulk materials as stored-energy densities of the displacement ``u``.
 
-A 2D mesh means plane strain (``u_z = 0``, ``F_zz = 1``) by default, or plane
+A 2D mesh means plane strain (``u_z = 0``, ``F_zz = 1``) by default, plane
 stress (``plane="stress"``: ``sigma_zz = 0``, the out-of-plane stretch a
-function of the in-plane deformation, see each model). Units: stresses in the
+function of the in-plane deformation, see each model), or axisymmetry
+(``plane="axisymmetric"``: the mesh is the meridian section ``(r, z) = (x[0], x[1])``,
+``r >= 0``; hoop strain ``u_r / r``, every integral weighted by ``2 pi r``, see
+:mod:`~fenics_contact.kinematics`). Units: stresses in the
 units of ``E``; lengths are the mesh's. :class:`Materials` gives each body
 (cell tag) its own material.
 
@@ -27,9 +30,12 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
+from .kinematics import AXISYMMETRIC, hoop_stretch, small_strain
+from .kinematics import weight as _weight
+
 __all__ = ["PLANES", "lame", "Material", "LinearElastic", "NeoHookean", "Materials"]
 
-PLANES = ("strain", "stress")
+PLANES = ("strain", "stress", AXISYMMETRIC)
 
 
 def lame(E: float, nu: float) -> tuple[float, float]:
@@ -51,13 +57,14 @@ def lame(E: float, nu: float) -> tuple[float, float]:
 
 
 class Material:
-    """Isotropic material given by ``E`` and ``nu``; ``plane``: ``strain`` or ``stress``, the 2D
-    assumption (a 3D displacement with ``plane="stress"`` is refused).
+    """Isotropic material given by ``E`` and ``nu``; ``plane``: ``strain``, ``stress`` or ``axisymmetric``, the
+    2D assumption (a 3D displacement with ``plane="stress"`` or ``"axisymmetric"`` is refused).
 
     Args:
         E: Young's modulus (stress), > 0.
         nu: Poisson's ratio, in (-1, 0.5).
-        plane: the 2D assumption, ``strain`` or ``stress`` (3D: ``strain``, a 3D body with ``stress`` is refused).
+        plane: the 2D assumption, ``strain``, ``stress`` or ``axisymmetric`` (the meridian section
+            ``(r, z) = (x[0], x[1])``; every integral weighted by ``2 pi r``); 3D: ``strain``.
     """
 
     linear = False  # True: small strain (a constant stiffness; reference and current configurations are one)
@@ -78,16 +85,26 @@ class Material:
 
     def _dim(self, u) -> int:
         d = len(u)
-        if self.plane == "stress" and d != 2:
-            raise ValueError(f"plane='stress' is a 2D assumption, got a {d}D displacement")
+        if self.plane != "strain" and d != 2:
+            raise ValueError(f"plane={self.plane!r} is a 2D assumption, got a {d}D displacement")
         return d
+
+    @property
+    def axisymmetric(self) -> bool:
+        """True for an axisymmetric body (integrals over the ring, :meth:`weight`)."""
+        return self.plane == AXISYMMETRIC
+
+    def weight(self, u) -> ufl.core.expr.Expr:
+        """The factor of every integral over the body: ``2 pi r`` if axisymmetric, else 1 (per unit
+        thickness in 2D)."""
+        return _weight(u, self.plane if self.axisymmetric else "strain")
 
     def energy(self, u: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
         raise NotImplementedError
 
     def energy_form(self, u: ufl.core.expr.Expr) -> ufl.Form:
-        """The bulk stored energy ``int W(u) dx``."""
-        return self.energy(u) * ufl.dx
+        """The bulk stored energy ``int W(u) dx`` (axisymmetric: ``int W(u) 2 pi r dx``, the whole ring's)."""
+        return self.energy(u) * self.weight(u) * ufl.dx
 
     def density(self, w) -> ufl.core.expr.Expr:
         """The stored energy per ``dx`` of the problem's unknown ``w`` (its displacement field)."""
@@ -96,11 +113,14 @@ class Material:
         return self.energy(displacement(w))
 
     def bulk_form(self, w) -> ufl.Form:
-        """``int density(w) dx``: the bulk energy :class:`~fenics_contact.problem.ContactProblem` differentiates."""
-        return self.density(w) * ufl.dx
+        """``int density(w) dx``: the bulk energy :class:`~fenics_contact.problem.ContactProblem` differentiates
+        (axisymmetric: weighted by ``2 pi r``)."""
+        from .contact import displacement
+
+        return self.density(w) * self.weight(displacement(w)) * ufl.dx
 
     def stress(self, u: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
-        """Cauchy stress (in-plane components in 2D)."""
+        """Cauchy stress (in-plane components in 2D; axisymmetric: the (r, z) components)."""
         raise NotImplementedError
 
     def piola(self, u: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
@@ -133,15 +153,28 @@ class LinearElastic(Material):
     def _lambda(self, d: int):
         return 2 * self.lmbda * self.mu / (self.lmbda + 2 * self.mu) if self.plane == "stress" else self.lmbda
 
+    def _strain(self, u):
+        """The strain whose energy is the body's: 3x3 with the hoop strain if axisymmetric, else ``sym grad u``."""
+        d = self._dim(u)
+        return small_strain(u, AXISYMMETRIC) if self.axisymmetric else ufl.sym(ufl.grad(u)), d
+
     def energy(self, u):
-        lmbda = self._lambda(self._dim(u))
-        eps = ufl.sym(ufl.grad(u))
+        eps, d = self._strain(u)
+        lmbda = self._lambda(d)
         return self.mu * ufl.inner(eps, eps) + 0.5 * lmbda * ufl.tr(eps) ** 2
 
     def stress(self, u):
-        lmbda = self._lambda(self._dim(u))
-        eps = ufl.sym(ufl.grad(u))
-        return 2 * self.mu * eps + lmbda * ufl.tr(eps) * ufl.Identity(len(u))
+        eps, d = self._strain(u)
+        lmbda = self._lambda(d)
+        sigma = 2 * self.mu * eps + lmbda * ufl.tr(eps) * ufl.Identity(eps.ufl_shape[0])
+        return ufl.as_matrix([[sigma[i, j] for j in range(d)] for i in range(d)]) if self.axisymmetric else sigma
+
+    def hoop_stress(self, u):
+        """``sigma_tt`` of an axisymmetric body (UFL)."""
+        if not self.axisymmetric:
+            raise ValueError(f"hoop_stress is for plane='axisymmetric', got plane={self.plane!r}")
+        eps, _ = self._strain(u)
+        return 2 * self.mu * eps[2, 2] + self.lmbda * ufl.tr(eps)
 
     def piola(self, u):
         return self.stress(u)
@@ -154,7 +187,8 @@ class NeoHookean(Material):
     """Compressible neo-Hookean of the two-body paper:
     ``W = mu/2 (tr C - 3) - mu ln J + lambda/4 (J^2 - 1 - 2 ln J)``.
 
-    2D: ``F = diag(F_2, lambda_3)``, ``lambda_3 = 1`` in plane strain; in plane stress ``P_33 = 0``, i.e.
+    2D: ``F = diag(F_2, lambda_3)``, ``lambda_3 = 1`` in plane strain, ``1 + u_r / r`` (the hoop stretch) in
+    axisymmetry; in plane stress ``P_33 = 0``, i.e.
     ``mu (lambda_3^2 - 1) + lambda/2 (J^2 - 1) = 0`` with ``J = J_2 lambda_3``, solved in closed form per
     point: ``lambda_3^2 = (mu + lambda/2) / (mu + lambda J_2^2 / 2)``. ``W(F_2, lambda_3(F_2))`` is then the
     plane-stress energy: its derivative is ``P_2`` (``dW/dlambda_3 = P_33 = 0``), and UFL differentiates
@@ -177,7 +211,7 @@ class NeoHookean(Material):
         if self.plane == "stress":
             l3 = ufl.sqrt((self.mu + 0.5 * self.lmbda) / (self.mu + 0.5 * self.lmbda * J2**2))
         else:
-            l3 = ufl.as_ufl(1.0)
+            l3 = hoop_stretch(u, AXISYMMETRIC if self.axisymmetric else "strain")
         return F, J2 * l3, l3, d
 
     def energy(self, u):
@@ -205,7 +239,8 @@ class Materials:
     """One material per body: ``by_tag`` maps each cell tag of ``cell_tags`` (on ``mesh``) to its :class:`Material`
     (a tag is an integer value, or a region name of :class:`~fenics_contact.domain.NamedTags`).
 
-    The bulk energy is ``sum over tags of int W_tag dx(tag)``; every cell must carry one of the tags. The
+    The bulk energy is ``sum over tags of int W_tag dx(tag)``; every cell must carry one of the tags; the bodies
+    are all axisymmetric or none (one mesh, one meaning of ``x[0]``). The
     stress, Piola stress, area ratio and ``E`` (for Nitsche's parameter) are the tag's, through a DG0
     indicator per tag, so they evaluate on cells and on boundary facets alike. ``linear`` if every body is.
 
@@ -234,6 +269,11 @@ class Materials:
         if cell_tags.dim != tdim:
             raise ValueError(f"Materials needs cell tags (dimension {tdim}), got tags of dimension {cell_tags.dim}")
         self.by_tag = {values[k]: v for k, v in by_tag.items()}
+        axisymmetric = {m.axisymmetric for m in self.by_tag.values()}
+        if len(axisymmetric) > 1:
+            raise ValueError("Materials: the bodies of one mesh are all axisymmetric or none, got "
+                             f"planes {sorted({m.plane for m in self.by_tag.values()})}")
+        self.axisymmetric = axisymmetric.pop()
         self.cell_tags, self.mesh = cell_tags, mesh
         n_owned = mesh.topology.index_map(tdim).size_local
         covered = np.unique(cell_tags.indices[np.isin(cell_tags.values, list(self.by_tag))])
@@ -261,13 +301,20 @@ class Materials:
         return sum(self.indicator[t] * f(m) for t, m in self.by_tag.items())
 
     def energy_form(self, u) -> ufl.Form:
-        """``sum over tags of int W_tag dx(tag)`` (what :class:`~fenics_contact.problem.ContactProblem` uses)."""
-        return sum(m.energy(u) * self.dx(t) for t, m in self.by_tag.items())
+        """``sum over tags of int W_tag dx(tag)`` (what :class:`~fenics_contact.problem.ContactProblem` uses;
+        axisymmetric: weighted by ``2 pi r``)."""
+        return sum(m.energy(u) * m.weight(u) * self.dx(t) for t, m in self.by_tag.items())
+
+    def weight(self, u) -> ufl.core.expr.Expr:
+        """The factor of every integral over the bodies (:meth:`Material.weight`, the same for all)."""
+        return next(iter(self.by_tag.values())).weight(u)
 
     def bulk_form(self, w) -> ufl.Form:
         """``sum over tags of int density_tag(w) dx(tag)`` (what :class:`~fenics_contact.problem.ContactProblem`
         differentiates)."""
-        return sum(m.density(w) * self.dx(t) for t, m in self.by_tag.items())
+        from .contact import displacement
+
+        return sum(m.density(w) * m.weight(displacement(w)) * self.dx(t) for t, m in self.by_tag.items())
 
     def energy(self, u):
         """The energy density per body (through the indicators): ``energy(u) * dx`` equals :meth:`energy_form`."""

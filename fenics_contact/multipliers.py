@@ -291,9 +291,10 @@ class MultiplierContact(PressureUnknown, ContactSurface):
         self.ds_work = contact_measure(w.function_space.mesh, facet_tags, tag, quadrature)
         # Figures with the quadrature of the work term, so that the contact force balances the loads.
         mesh = w.function_space.mesh
-        self._force_forms = [fem.form(self.pressure * self.normal[i] * self.ds_work) for i in range(mesh.geometry.dim)]
-        self._area_form = fem.form(fem.Constant(mesh, 1.0) * self.ds_work)
-        self._mean_p_form = fem.form(self.pressure * self.ds_work)
+        self._force_forms = [fem.form(self.pressure * self.normal[i] * self.ring * self.ds_work)
+                             for i in range(mesh.geometry.dim)]
+        self._area_form = fem.form(self.ring * self.ds_work)
+        self._mean_p_form = fem.form(self.pressure * self.ring * self.ds_work)
 
     def _pressure(self):
         return ufl.split(self.u)[1]
@@ -301,7 +302,7 @@ class MultiplierContact(PressureUnknown, ContactSurface):
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """``int p dg[v] ds_work - int C(p, g) q ds`` (``v`` the mixed test function; ``ds`` the vertex
         rule, ``ds_work`` the vertex rule or Simpson's)."""
-        return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work + self._constraint(v)
+        return self.pressure * ufl.derivative(self.gap, self.u, v) * self.ring * self.ds_work + self._constraint(v)
 
 
 class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
@@ -324,7 +325,7 @@ class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
 
     def residual(self, v):
         """``weight int p dg/du[v] ds_work - int C(p, g) q ds``; the master part is ``add_residual``."""
-        return (self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
+        return (self.weight * self.ring * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
                 + self._constraint(v))
 
     def _point_pressure(self, g):

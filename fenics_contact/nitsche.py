@@ -85,4 +85,4 @@ class NitscheContact(ContactSurface):
     def residual(self, v):
         dps = ufl.derivative(self._ps, self.u, v)
         dg = ufl.derivative(self.gap, self.u, v)
-        return (self.pressure * (self.gamma * dg + dps) - self._ps * dps) / self.gamma * self.ds
+        return (self.pressure * (self.gamma * dg + dps) - self._ps * dps) / self.gamma * self.ring * self.ds

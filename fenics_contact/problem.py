@@ -19,6 +19,7 @@ from .capabilities import check, of
 from .compat import function_space, interpolate_expression, lift_and_set_bc, petsc_vec
 from .contact import displacement, is_mixed
 from .domain import tag_value
+from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
 from .surface import StepSolver, Surface
 
@@ -109,7 +110,8 @@ class Dirichlet:
 
 
 class ContactProblem:
-    """Residual ``F(u; v) = dW[v] - sum_k f_k(t) f_ext,k[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
+    """Residual ``F(u; v) = dW[v] - sum_k f_k(t) f_ext,k[v] + sum_c F_c(g) dg[v]`` and its Jacobian; on an
+    axisymmetric body (``material.axisymmetric``) every integral, the loads' too, is weighted by ``2 pi r``.
 
     ``stiffness``: :data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0``
     (a force per length). The Dirichlet rows of the residual are ``stiffness (x - g)`` and their Jacobian diagonal
@@ -157,9 +159,13 @@ class ContactProblem:
         for c in self.contacts:  # the capability grid with the model (a surface built without the material)
             if getattr(c, "law", None) is not None:
                 check(**of(c.law, material=material))
+        if getattr(material, "axisymmetric", False):
+            self._check_axisymmetric(u, material)
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
         bulk = ufl.derivative(material.bulk_form(u), u, v)  # per body with Materials
         body = bulk
+        # 2 pi r on an axisymmetric body: loads over the whole ring (a material without weight(): 1)
+        ring = material.weight(displacement(u)) if hasattr(material, "weight") else 1.0
         # each traction with a path has its own factor f(t) (a Constant set by set_load); the others follow t
         self._traction_factors = []
         for vector, measure, *path in tractions:
@@ -167,7 +173,7 @@ class ContactProblem:
             if path and path[0] is not None:
                 factor = fem.Constant(V.mesh, 0.0)
                 self._traction_factors.append((factor, path[0]))
-            body -= factor * ufl.dot(vector, displacement(v)) * measure
+            body -= factor * ufl.dot(vector, displacement(v)) * ring * measure
         surface = None
         for c in self.contacts:
             c.bind_material(material)  # for the Cauchy pressure (da/dA)
@@ -203,6 +209,19 @@ class ContactProblem:
         A.destroy()
         self.u.x.array[:] = saved
         return DIRICHLET_WEIGHT * (total / count if count and total > 0 and np.isfinite(total) else 1.0)
+
+    def _check_axisymmetric(self, u, material) -> None:
+        """Refuse, before any form is compiled, a contact the capability grid or the surface's integrals do not
+        allow on an axisymmetric body."""
+        from .capabilities import check, of
+
+        for c in self.contacts:
+            if c.law is not None:  # the entry points checked the rest; the quadrature matters here for segments
+                segment = getattr(c, "quadrature", None) == "segment"
+                check(**of(c.law, u, material), quadrature="segment" if segment else None)
+            if not c.ring_weighted:
+                raise ValueError(f"contact {c.name}: {type(c).__name__} does not weight its integrals by 2 pi r; "
+                                 "an axisymmetric body needs a surface that does (capabilities: geometry)")
 
     @property
     def L(self) -> fem.Form:
@@ -293,13 +312,16 @@ class ContactProblem:
     def min_jacobian(self) -> float | None:
         """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the
         vertices), over all ranks; None for a small-strain material (no such constraint). ``J <= 0``: an
-        inverted element, an inadmissible finite-strain state even if Newton converged to it."""
+        inverted element, an inadmissible finite-strain state even if Newton converged to it. Axisymmetric: the
+        hoop stretch ``1 + u_r / r`` is a factor of ``J``."""
         if self.material.linear:
             return None
         if not hasattr(self, "_detF"):
             w = displacement(self.u)
-            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)),
-                          ufl.det(ufl.Identity(len(w)) + ufl.grad(w)))
+            detF = ufl.det(ufl.Identity(len(w)) + ufl.grad(w))
+            if getattr(self.material, "axisymmetric", False):
+                detF = detF * hoop_stretch(w, AXISYMMETRIC)
+            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)), detF)
         f, expr = self._detF
         interpolate_expression(f, expr)
         local = f.x.array[: f.function_space.dofmap.index_map.size_local]

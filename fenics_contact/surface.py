@@ -46,7 +46,9 @@ class Surface(abc.ABC):
     number of unknowns fixed by ``bcs`` that are not real unknowns (not counted in reported sizes); ``bounded``
     True when the surface is
     enforced by variable bounds (SNES VI) instead of a residual term; ``requires_step_solver`` True when its
-    steps must be solved by a :class:`StepSolver` given to the problem (no residual term, no bounds).
+    steps must be solved by a :class:`StepSolver` given to the problem (no residual term, no bounds);
+    ``ring_weighted`` True when every integral of the surface takes the ``2 pi r`` of an axisymmetric body
+    (:meth:`bind_material`): the problem refuses an axisymmetric body with a surface that does not.
     """
 
     name: str = "contact"
@@ -58,6 +60,7 @@ class Surface(abc.ABC):
     pinned_dofs: int = 0
     bounded: bool = False
     requires_step_solver: bool = False
+    ring_weighted: bool = False
 
     # --- the problem's forms ------------------------------------------------------
     @abc.abstractmethod

@@ -116,14 +116,14 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Slave part ``weight (F(g) dg/du[v] - q . v) ds``; the master part is :meth:`master_residual`."""
         self._ensure_friction()
-        return super().residual(v) - self.weight * ufl.dot(self.traction, v) * self.ds_work
+        return super().residual(v) - self.weight * self.ring * ufl.dot(self.traction, v) * self.ds_work
 
     def master_residual(self, vw: ufl.Argument) -> ufl.Form:
         """Master part ``weight (F(g) dg/dw[vw] + q . sum_k N_k(xi) vw_k) ds`` on the mirror test function."""
         self._ensure_friction()
         d = self.gdim
         vm = sum(N * ufl.as_vector([vw[k * d + i] for i in range(d)]) for k, N in enumerate(self._N))
-        return super().master_residual(vw) + self.weight * ufl.dot(self.traction, vm) * self.ds_work
+        return super().master_residual(vw) + self.weight * self.ring * ufl.dot(self.traction, vm) * self.ds_work
 
     # --- history -----------------------------------------------------------------
     def update(self) -> bool:

@@ -106,10 +106,12 @@ SCENE = (  # a benchmark scene, its demo, or the application around it (harness,
     "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
     "test_wedges.py", "test_ironing.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
     "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py", "test_options.py", "test_bench_pages.py",
-    "test_units.py::test_*scene*", "test_units.py::test_rings_*",
+    "test_units.py::test_*scene*", "test_units.py::test_rings_*", "test_axisphere.py",
 )
 SLOW = (  # studies of more than a few seconds each
     "test_units.py::test_slow_scene_any_units*",
+    "test_axisphere.py::test_two_elastic_spheres_are_hertz", "test_axisphere.py::test_parallel_equals_serial",
+    "test_axisymmetric.py::test_lame_converges_at_second_order_in_p1",
     "test_bench.py::test_slab_error_from_the_exact_coulomb_reference", "test_bench.py::test_sweep_block",
     "test_bench.py::test_stability_harness_classifies_the_ring", "test_bench.py::test_ring_through_the_scene_runner",
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*two-body*]",
@@ -149,6 +151,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_wedges.py::test_force_ratio_of_a_block_sliding_up_a_wedge[0.3-20.0]",
 )
 MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel lanes even when slow
+    "test_axisphere.py::test_parallel_equals_serial",
     "test_checkpoint.py::test_restart_gives_the_uninterrupted_figures[ironing]",  # a restart on every rank
     "test_collocation.py::test_serial_equals_ranks", "test_condensed_twobody.py::test_parallel_equals_serial",
     "test_cylinders.py::test_ranks_agree*", "test_friction.py::test_compliance3d_parallel_equals_serial",

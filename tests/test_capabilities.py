@@ -21,9 +21,11 @@ Covering set (why it covers the matrix). The axes act on three independent parts
    penalty_multiplier), ``nitsche``, ``vi``, ``coulomb``;
 2. the *law* -- every method runs once per supported kind (2D, P1, its default quadrature), so every
    ``F(g)`` and augmentation is exercised;
-3. the *orthogonal options* -- model, solver, friction -- enter the bulk form, the PETSc options and the
-   tangential law: each supported value is run with every family and kind at one structural cell, and
-   friction with every law and structural variant of the rigid kind.
+3. the *orthogonal options* -- model, solver, friction, geometry -- enter the bulk form, the PETSc options, the
+   tangential law and the weight of every integral: each supported value is run with every family and kind at
+   one structural cell, and friction with every law and structural variant of the rigid kind. Axisymmetric:
+   the blocks are solid cylinders (``x = 0`` the axis, its roller ``u_r = 0``), the uniform states are the 3D
+   uniaxial ones.
 
 ``FC_GRID=full`` runs every supported cell of the full product instead (506 cells, minutes; run by hand).
 
@@ -108,13 +110,13 @@ def solve(problem, method: str, solver: str, augment: int = 0, steps: int = 1):
     assert all(r.converged for r in s.records)
 
 
-def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple[float, float]:
+def run_rigid(method, quadrature, dim, degree, model, solver, friction, geometry="cartesian") -> tuple[float, float]:
     """(measured, reference): the mean contact pressure, or with friction the ratio tangential / normal force."""
     law = law_for(method, friction)
     mesh, ft = rigid_mesh(dim)
     u, V = fc.unknown(mesh, degree, law, model=model)
     load = fem.Constant(mesh, 0.0)
-    material = fc.MODELS[model](E, NU)
+    material = fc.MODELS[model](E, NU, "axisymmetric" if geometry == "axisymmetric" else "strain")
     v = dim - 1
     dirichlet = [fc.Dirichlet.on_facets(V, ft, "top", v, -D[model])]
     if friction:
@@ -142,10 +144,11 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple
     if method == "coulomb":
         prof = contact.friction_profile()
         return float(np.mean(prof["pressure"])), rigid_reference(method, model, dim)
-    return contact.mean_pressure(), rigid_reference(method, model, dim)
+    return contact.mean_pressure(), rigid_reference(method, model, 3 if geometry == "axisymmetric" else dim)
 
 
-def run_two_body(method, quadrature, passes, dim, degree, model, solver, friction=False) -> tuple[float, float]:
+def run_two_body(method, quadrature, passes, dim, degree, model, solver, friction=False,
+                 geometry="cartesian") -> tuple[float, float]:
     """(largest |p - P| / P over the slave points of every surface, 0). With friction: the same (the two blocks
     expand alike under P, nothing slides) and no tangential force."""
     law = law_for(method, friction)
@@ -164,7 +167,8 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
                                      quadrature, passes)
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft.meshtags, subdomain_id=ft["upper_top"])
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-P[model],)), ds)
-    problem = fc.ContactProblem(u, fc.MODELS[model](E, NU), load, dirichlet, contacts, [traction],
+    plane = "axisymmetric" if geometry == "axisymmetric" else "strain"
+    problem = fc.ContactProblem(u, fc.MODELS[model](E, NU, plane), load, dirichlet, contacts, [traction],
                                 step_solver=fc.step_solver_for(contacts))
     solve(problem, method, solver, augment=30 if method == "auglag" else 0)
     dev = max(float(np.max(np.abs(c.point_values()[2] - P[model]))) for c in contacts) / P[model]
@@ -176,7 +180,7 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
 # --- the covering set --------------------------------------------------------------------------------------
 FAMILIES = ("penalty", "lagrange", "nitsche", "vi", "coulomb")
 DEFAULT = {"method": "penalty", "kind": "rigid", "quadrature": "nodal", "passes": "one", "dim": 2, "degree": 1,
-           "model": "linear", "solver": "direct", "friction": False, "obstacle": "aligned"}
+           "model": "linear", "solver": "direct", "friction": False, "obstacle": "aligned", "geometry": "cartesian"}
 OBSTACLE = {"rigid": "aligned", "two-body": "none"}  # the covering set's obstacle per kind (run_rigid's plane)
 
 
@@ -209,7 +213,7 @@ def covering_cells() -> list[dict]:
             cells.append(_first_supported(method=method, kind=kind))
     for method in FAMILIES:  # 3. orthogonal options per family and kind
         for kind in cap.AXES["kind"]:
-            for axis in ("model", "solver"):
+            for axis in ("model", "solver", "geometry"):
                 for value in cap.AXES[axis]:
                     cells.append(_first_supported(method=method, kind=kind, **{axis: value}))
     for method in LAWS + ("coulomb",):  # friction: every law; structural variants with penalty
@@ -240,11 +244,11 @@ def test_supported_cell_solves_to_its_closed_form(cell):
     c = dict(cell)
     if c["kind"] == "rigid":
         got, ref = run_rigid(c["method"], c["quadrature"], c["dim"], c["degree"], c["model"], c["solver"],
-                             c["friction"])
+                             c["friction"], c["geometry"])
         assert abs(got - ref) <= 1e-6 * abs(ref), (got, ref)
     else:
         dev, _ = run_two_body(c["method"], c["quadrature"], c["passes"], c["dim"], c["degree"], c["model"],
-                              c["solver"], c["friction"])
+                              c["solver"], c["friction"], c["geometry"])
         assert dev <= 1e-6, dev
 
 
@@ -257,13 +261,13 @@ def test_covering_set_covers_every_supported_cell():
     its structural cell, its method runs its kind, and its family runs each of its model, solver and friction
     values with its kind."""
     structural = ("kind", "quadrature", "passes", "dim", "degree")
-    runs = {"structure": set(), "law": set(), **{a: set() for a in ("model", "solver", "friction")}}
+    runs = {"structure": set(), "law": set(), **{a: set() for a in ("model", "solver", "friction", "geometry")}}
     cover = covering_cells()  # (also when FC_GRID=full runs every cell)
     for c in cover:
         assert cap.supported(**c), c
         runs["structure"].add((_family(c["method"]),) + tuple(c[a] for a in structural))
         runs["law"].add((c["method"], c["kind"]))
-        for a in ("model", "solver", "friction"):
+        for a in ("model", "solver", "friction", "geometry"):
             runs[a].add((_family(c["method"]), c["kind"], c[a]))
     n = 0
     for c in cap.cells():
@@ -272,7 +276,7 @@ def test_covering_set_covers_every_supported_cell():
         n += 1
         assert (_family(c["method"]),) + tuple(c[a] for a in structural) in runs["structure"], c
         assert (c["method"], c["kind"]) in runs["law"], c
-        for a in ("model", "solver", "friction"):
+        for a in ("model", "solver", "friction", "geometry"):
             assert (_family(c["method"]), c["kind"], c[a]) in runs[a], (a, c)
     assert n > len(cover)
 

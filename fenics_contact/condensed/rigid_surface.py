@@ -38,6 +38,8 @@ class CondensedContact(ContactSurface):
         name: the surface's name, in messages and output.
     """
 
+    ring_weighted = False  # its own integrals (nodal weights, NumPy element) carry no 2 pi r
+
     requires_step_solver = True
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,

@@ -21,5 +21,7 @@ METHOD = Method(
            rule("dim 2", "coulomb has one tangential direction", method="coulomb", dim=3),
            rule("model 'linear'", "coulomb condenses a constant stiffness", method="coulomb",
                 model=("neohookean", "neohookean-mixed")),
+           rule("geometry 'cartesian' (or another method)", "coulomb's contact vertices carry unweighted nodal "
+                "areas (no 2 pi r)", method="coulomb", geometry="axisymmetric"),
            rule("solver 'direct'", "coulomb factors the stiffness itself (MUMPS)", method="coulomb",
                 solver="iterative")))

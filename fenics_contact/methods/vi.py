@@ -16,5 +16,7 @@ METHOD = Method(
                 quadrature=("gauss", "segment", "simpson")),
            rule("degree 1", "vi's pressure is the nodal reaction over the vertex weight (0 at a mid-side node)",
                 method="vi", degree=2),
+           rule("geometry 'cartesian' (or another method)", "vi's pressure is the nodal reaction (a ring total) "
+                "over vertex weights without the ring's 2 pi r", method="vi", geometry="axisymmetric"),
            rule("solver 'direct'", "SNES VI's reduced system changes size between iterations: GAMG cannot follow",
                 method="vi", solver="iterative")))

@@ -57,6 +57,8 @@ class SegmentSurface(ContactSurface):
         name: the surface's name, in messages and output.
     """
 
+    ring_weighted = False  # its own integrals (nodal weights, NumPy element) carry no 2 pi r
+
     exchange: str | None = None  # the master exchange (see TwoBodySurface); None: TwoBodySurface.exchange's
 
     def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,

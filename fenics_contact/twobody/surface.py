@@ -109,11 +109,12 @@ class TwoBodySurface(ContactSurface):
     def master_residual(self, vw: ufl.Argument) -> ufl.Form:
         """Master part on the mirror test function ``vw``: ``weight F(g) dg/dw[vw] ds`` (to the master dofs by
         ``I^T``)."""
-        return self.weight * self.pressure * ufl.derivative(self.gap, self.mirror.displacement, vw) * self.ds_work
+        return (self.weight * self.ring * self.pressure * ufl.derivative(self.gap, self.mirror.displacement, vw)
+                * self.ds_work)
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Slave part ``weight F(g) dg/du[v] ds``; the master part is :meth:`add_residual`."""
-        return self.weight * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
+        return self.weight * self.ring * self.pressure * ufl.derivative(self.gap, self.u, v) * self.ds_work
 
     # --- pairing -------------------------------------------------------------------
     def update(self) -> bool:

@@ -3,10 +3,13 @@
     python demos/sphere.py --method penalty --level 0
     mpirun -n 2 python demos/sphere.py --method penalty --level 2 --solver iterative
     python demos/sphere.py --plate meshed --solver iterative      # on a deformable block (two-body contact)
+    python demos/sphere.py --geometry axisymmetric                # the same sphere on its meridian section (r, z)
 
 Octant of a ball (R = 1, E = 1000, nu = 0.3) pressed on the plane z = 0; p0
 and a are compared with Hertz for the computed load (check: p0 within 5 %). Writes sphere.xdmf,
-summary.json and sphere_pressure.png to --out.
+summary.json and sphere_pressure.png to --out. ``--geometry axisymmetric`` solves the same sphere (R, E, nu,
+approach, contact width, the level's mesh size at the contact) as the ``axisphere`` scene: the model-reduction
+table's reduced model (rigid plane, displacement control).
 """
 from pathlib import Path
 
@@ -33,6 +36,9 @@ def main(argv=None) -> dict:
     p.add_argument("--size", type=cli.POSITIVE, default=None,
                    help="mesh-size factor instead of the level's (level 0: 0.5; 1.0 is a tiny mesh, ~2800 dofs; "
                         "default: the --level's)")
+    p.add_argument("--geometry", choices=["3d", "axisymmetric"], default="3d",
+                   help="3d: the octant; axisymmetric: the meridian section (r, z) with the same mesh size at the "
+                        "contact (scene axisphere; rigid plate, displacement control)")
     scene = add_scene_options(p, sphere.build)  # --R, --E, --nu, --approach, --load (force control), ...
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)
@@ -40,12 +46,24 @@ def main(argv=None) -> dict:
         args.steps = 1 if args.load is None else 2
     out = Path(args.out or "results/sphere")
     # refused combinations: one line, before any work
-    cli.refuse_unsupported(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=3, degree=1,
-                           model=args.model)
+    axisymmetric = args.geometry == "axisymmetric"
+    if axisymmetric and (args.plate != "rigid" or args.load is not None):
+        raise ValueError("--geometry axisymmetric takes the rigid plate and displacement control (--approach); "
+                         "two spheres: demos/axisphere.py --partner sphere")
+    cli.refuse_unsupported(args, kind="two-body" if args.plate == "meshed" else "rigid", dim=2 if axisymmetric else 3,
+                           degree=1, model=args.model, geometry="axisymmetric" if axisymmetric else "cartesian")
 
-    # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane.
-    setup = build("sphere", law=cli.law_from_args(args), quadrature=args.quadrature, level=args.level, steps=args.steps,
-                  size=args.size, model=args.model, plate=args.plate, **scene_arguments(args, scene))
+    # 2. The scene: graded octant mesh, three symmetry planes, prescribed approach, rigid plane (or its meridian
+    # section with the same mesh size at the contact).
+    law = cli.law_from_args(args)
+    if axisymmetric:
+        h, h_far = sphere.mesh_sizes(sphere.LEVELS[args.level] if args.size is None else args.size, args.R)
+        setup = build("axisphere", law=law, quadrature=args.quadrature, steps=args.steps, model=args.model,
+                      R=args.R, E=args.E, nu=args.nu, approach=args.approach, contact_width=args.contact_width,
+                      h_contact=h, h_far=h_far)  # the same defaults: approach 0.005 R, contact width 0.15 R
+    else:
+        setup = build("sphere", law=law, quadrature=args.quadrature, level=args.level, steps=args.steps,
+                      size=args.size, model=args.model, plate=args.plate, **scene_arguments(args, scene))
 
     # 3. Solve, write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
@@ -62,7 +80,7 @@ def main(argv=None) -> dict:
         x, g, pr = c.point_values(reference=True) if args.plate == "meshed" else c.surface_values()
         if setup.problem.comm.rank == 0:
             a, p0 = summary["a_hertz"], summary["p0_hertz"]
-            r = np.hypot(x[:, 0], x[:, 1])
+            r = x[:, 0] if axisymmetric else np.hypot(x[:, 0], x[:, 1])
             keep = r <= 2 * a
             order = np.argsort(r[keep])
             rr = np.linspace(0, a, 200)

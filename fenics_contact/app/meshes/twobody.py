@@ -108,8 +108,8 @@ def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float,
 
 
 def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: float, h_far: float,
-                   contact_width: float, overlap: float = 0.0, grading: float = _GRADING, full: bool = False
-                   ) -> tuple[Mesh, NamedTags, NamedTags]:
+                   contact_width: float, overlap: float = 0.0, grading: float = _GRADING, full: bool = False,
+                   quarters: bool = False) -> tuple[Mesh, NamedTags, NamedTags]:
     """Right halves (x >= 0) of two disks stacked on the y axis, in one mesh without shared nodes: the lower
     disk centred at ``(0, R_lower)``, the upper at ``(0, 2 R_lower + R_upper - overlap)``. P1 triangles of
     size ``h_contact`` within ``contact_width`` of the four points on the y axis where the disks touch each
@@ -117,20 +117,23 @@ def two_half_disks(comm: MPI.Comm, R_lower: float, R_upper: float, h_contact: fl
     ``lower_bottom``, ``lower_top``, ``upper_bottom``, ``upper_top`` (each arc split at its widest point into a
     bottom and a top quarter); cells ``lower``, ``upper``. Collective.
     ``full=True``: the whole disks (model-reduction check): ``*_bottom`` / ``*_top`` are the lower /
-    upper half circles, no ``symmetry`` facets; the poles are vertices. The geometry: ``geo/two_disks.geo``."""
+    upper half circles, no ``symmetry`` facets; the poles are vertices. ``quarters=True``: only the quarters that
+    face each other (the lower disk above its centre, the upper below its own; graded toward their contact point
+    only), facets ``symmetry``, ``lower_top``, ``upper_bottom`` and the cuts ``lower_equator``, ``upper_equator``.
+    The geometry: ``geo/two_disks.geo``."""
     _positive(R_lower=R_lower, R_upper=R_upper, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     geo_path("two_disks")  # a missing source: a clear error on every rank
     mesh, cell_tags, facet_tags = _from_gmsh(
         comm, lambda: _build_two_half_disks(R_lower / R_upper, 1.0, h_contact / R_upper, h_far / R_upper,
-                                            contact_width / R_upper, overlap / R_upper, grading, full),
+                                            contact_width / R_upper, overlap / R_upper, grading, full, quarters),
         "the two half disks", scale=R_upper)
     mesh.name = "two_half_disks"
     return mesh, cell_tags, facet_tags
 
 
-def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading, full=False):
+def _build_two_half_disks(R1, R2, h_contact, h_far, width, overlap, grading, full=False, quarters=False):
     """Mesh ``geo/two_disks.geo`` in the current gmsh session."""
     gmsh.model.add("two_half_disks")
     _load_geo(geo_path("two_disks"), R_lower=R1, R_upper=R2, h_contact=h_contact, h_far=h_far, contact_width=width,
-              overlap=overlap, grading=grading, full=int(full))
+              overlap=overlap, grading=grading, full=int(full), quarters=int(quarters))
     gmsh.model.mesh.generate(2)

@@ -54,7 +54,7 @@ from ..meshes import sphere_octant
 from . import GIVEN, Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_size
 
 __all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "PLATE_SIZE", "PLATE_HALF_WIDTHS", "FIT_INNER",
-           "BENCH", "BENCHES", "hertz3d", "hertz_fit", "OPTIONS", "build"]
+           "BENCH", "BENCHES", "mesh_sizes", "hertz3d", "hertz_fit", "OPTIONS", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1, per unit R (default: APPROACH R)
@@ -72,15 +72,17 @@ FIT_INNER = 0.8
 # Mesh-size factor per level: h_contact = 0.02 f, h_far = 0.15 f (dofs 11931, 68208, 230964, 1178016).
 LEVELS = (0.5, 0.25, 0.16, 0.09)
 # The benchmark's view of this scene (fenics_contact.app.bench): level 0 only in the quick sweep.
-BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error"], "target": 0.05, "K": DEFAULT_K,
+BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "total_force"], "target": 0.05,
+         "K": DEFAULT_K,
          "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag", "nitsche", "vi"],
          "demo_args": ["--solver", "iterative"], "quick_sweep": {"penalty": (0, 1), "other": (0,), "gamma0": (10.0,)},
          # SNES VI's reduced system changes size between iterations, which GAMG cannot follow: LU
          "method_args": {"vi": ["--solver", "direct"]},
          # the iterative solver shows the conditioning: Krylov iterations per Newton iteration against K; auglag at
          # K = 1e12 fails slowly (91 Newton iterations over 4 cutbacks, 60 s): left out of the quick map
-         "stability": True, "quick_stability": {"K": (0, 2, 4, 6, 8), "steps": (1,), "gamma0": (10.0, 1e3, 1e5),
-                                                   "dtol": False, "skip": [("auglag", 6)]}}
+         "stability": True, "reduction": True,
+         "quick_stability": {"K": (0, 2, 4, 6, 8), "steps": (1,), "gamma0": (10.0, 1e3, 1e5), "dtol": False,
+                             "skip": [("auglag", 6)]}}
 # The 3D two-body case: the octant on a deformable block of its own material (one-pass, the ball's surface the
 # slave), GMRES + GAMG; p0 the fitted Hertz peak (0.7 % off at level 0)
 BENCHES = {"sphere_block": {
@@ -88,6 +90,11 @@ BENCHES = {"sphere_block": {
     "K": DEFAULT_K, "mesh": ("level", {"quick": [0], "full": [0, 1]}), "methods": ["penalty", "auglag"],
     "quadratures": ["nodal", "gauss"], "axes": {"kind": "two-body", "dim": 3},
     "demo_args": ["--plate", "meshed", "--solver", "iterative"], "quick_sweep": {"penalty": (0,), "other": (0,)}}}
+
+
+def mesh_sizes(f: float, R: float = R) -> tuple[float, float]:
+    """The mesh sizes at the contact and far from it of the mesh-size factor ``f`` (``LEVELS``)."""
+    return 0.02 * f * R, 0.15 * f * R
 
 
 def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU, plate_E: float | None = None,
@@ -172,13 +179,13 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     zone = math.log10(1.5) + 3 * math.log10(contact_width / (0.02 * R))
     refuse_size("size" if size is not None else "level", f if size is not None else level, zone - 3 * math.log10(f),
                 lambda most: f">= {10 ** ((zone - most) / 3):.2g}", comm)
-    h = 0.02 * f * R
+    h, h_far = mesh_sizes(f, R)
     meshed = plate == "meshed"
     plate_E, plate_nu = (E if plate_E is None else plate_E), (nu if plate_nu is None else plate_nu)
     a_expected = math.sqrt(R * approach) if approach is not None else 0.0  # Hertz: approach = a^2 / R
     plate_size = (max(PLATE_SIZE[0] * R, PLATE_HALF_WIDTHS * a_expected) if plate_width is None else plate_width,
                   max(PLATE_SIZE[1] * R, PLATE_HALF_WIDTHS * a_expected) if plate_depth is None else plate_depth)
-    mesh, cell_tags, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=contact_width,
+    mesh, cell_tags, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=h_far, contact_width=contact_width,
                                                 plate=plate_size if meshed else None)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
     t = fem.Constant(mesh, 0.0)  # the load parameter
