@@ -31,6 +31,8 @@ def _scale(value, factor):
 # pressures, tractions) and forces (2D: per unit thickness), the method with its parameters and their units
 # ("S/L": a pressure per length, "S": a pressure, "1": dimensionless), friction, and the solver's arguments.
 CASES = {
+    "axisphere": dict(kw=dict(h_contact=0.01), lengths=("R", "approach", "h_contact"), stresses=("E",),
+                      law=("penalty", {"K": (1e6, "S/L")})),
     "block": dict(kw=dict(nx=2, ny=4), lengths=("height", "width", "displacement"), stresses=("E",),
                   law=("cross", {"K_hat": (1e5, "S/L")})),
     "compliance3d": dict(kw=dict(nx=4, ny=2, nz=2, press_steps=1, drag_steps=2),

@@ -10,9 +10,9 @@ from petsc4py import PETSc
 
 from .. import failure as _failure
 from ..compat import petsc_vec, release_free_memory
-from ..problem import ContactProblem
+from ..problem import DIRICHLET_WEIGHT, ContactProblem
 from .linear import LinearSolver
-from .options import ATOL_RELATIVE, ScopedOptions, read_at_setup
+from .options import ATOL_RELATIVE, ROUNDOFF_FACTOR, ScopedOptions, read_at_setup
 
 __all__ = ["Newton"]
 
@@ -58,6 +58,7 @@ class Newton:
         self.closed: list[int] = []
         self.message = ""
         self.reference: float | None = None
+        self._roundoff_floor: float | None = None  # roundoff_floor, once the problem is known
         self.force_scale: float | None = None  # the largest first residual of the run's solves (a force): atol's scale
         self.linear_iterations = 0  # Krylov iterations of all Newton steps (1 per step for LU)
         self._norms: list[float] = []  # residual norms of the current solve, for the convergence test
@@ -100,7 +101,25 @@ class Newton:
         :data:`~.options.ATOL_RELATIVE` times ``force_scale`` (0 before the first nonzero residual)."""
         if self.absolute_atol:
             return self.snes.getTolerances()[1]
-        return ATOL_RELATIVE * (self.force_scale or 0.0)
+        return max(ATOL_RELATIVE * (self.force_scale or 0.0), self.roundoff_floor)
+
+    @property
+    def roundoff_floor(self) -> float:
+        """The residual norm a finite-strain body cannot go below (0 for small strain): its stresses are formed from
+        ``F`` near ``I``, so each row carries a round-off of ~ machine epsilon times its stiffness diagonal times
+        the cell size, whatever the strain (a strain of 1e-6 would otherwise never reach ``ATOL_RELATIVE`` of its
+        first residual). :data:`~.options.ROUNDOFF_FACTOR` times that, in the norm over all rows; the cell size
+        is the mesh's bounding-box diagonal over the d-th root of the rows."""
+        if self._roundoff_floor is None:
+            problem = self.problem
+            self._roundoff_floor = 0.0
+            if not problem.material.linear:
+                n = self.b.getSize()
+                d = problem.u.function_space.mesh.geometry.dim
+                h = problem.mesh_size() / max(n, 1) ** (1.0 / d)
+                diagonal = problem.stiffness / DIRICHLET_WEIGHT
+                self._roundoff_floor = ROUNDOFF_FACTOR * np.finfo(float).eps * diagonal * h * np.sqrt(n)
+        return self._roundoff_floor
 
     def convergence_test(self, snes: PETSc.SNES, it: int, norms: tuple[float, float, float]) -> int:
         """PETSc's default test (``SNESConvergedDefault``: NaN, atol, rtol, stol) with two changes: divergence is

@@ -23,8 +23,9 @@ from ..capabilities import check, of
 from ..compat import petsc_library
 from ..problem import ContactProblem
 
-__all__ = ["ATOL_RELATIVE", "COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON", "LINEAR_SOLVERS",
-           "MULTIGRID", "OWN_OPTIONS", "ScopedOptions", "option_used", "read_at_setup", "solver_options"]
+__all__ = ["ATOL_RELATIVE", "ROUNDOFF_FACTOR", "COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON",
+           "LINEAR_SOLVERS", "MULTIGRID", "OWN_OPTIONS", "ScopedOptions", "option_used", "read_at_setup",
+           "solver_options"]
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
@@ -52,6 +53,9 @@ DEFAULT_OPTIONS = {
 # augmentation) starts near it and stops there instead of at rtol of its own small first residual, at the
 # round-off floor (~1e-16 x the internal forces x the conditioning of the assembly).
 ATOL_RELATIVE = 1e-11
+# The round-off floor of a finite-strain residual in units of machine epsilon x stiffness diagonal x cell size per
+# row (newton.Newton.roundoff_floor): above the ~10 terms each entry of a stress sums.
+ROUNDOFF_FACTOR = 100.0
 
 # Linear solvers of ``--solver``. direct: sparse LU (MUMPS), robust for every method, the default for
 # the 2D scenes (up to ~1e5 dofs). iterative: GMRES with smoothed-aggregation AMG (GAMG) and the
