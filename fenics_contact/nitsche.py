@@ -1,8 +1,9 @@
 """Nitsche's method for frictionless contact against a rigid obstacle (method ``nitsche``).
 
-A reference solver of the benchmarks (Chouly & Hild 2013), written in the reference configuration so that it is consistent at finite
-strain. With the suite's convention (gap ``g > 0`` = penetration, pressure
-> 0 in compression), ``n`` the obstacle's unit normal at the current point
+A reference solver of the benchmarks (Chouly & Hild 2013), written in the
+reference configuration so that it is consistent at finite strain. With the
+suite's convention (gap ``g > 0`` = penetration, pressure > 0 in
+compression), ``n`` the obstacle's unit normal at the current point
 ``x = X + u`` (into the body) and ``N`` the body's outward unit normal on the
 reference surface, the force on a reference surface element is ``P N dA``
 (``P`` the first Piola-Kirchhoff stress). Frictionless contact with the
@@ -18,11 +19,12 @@ the residual, on the reference surface ``ds``, is
 
 the derivative of ``int (<gamma g + p_s>^2 - p_s^2) / (2 gamma) ds``: the
 Jacobian is symmetric (``theta = 1``; the family of Chouly & Hild,
-:func:`nitsche_residual`, replaces ``dp_s[v]`` by ``theta dp_s[v]``: ``theta = 0``
-incomplete, ``-1`` skew-symmetric, each consistent), and the exact solution (``P N = p n``, ``p g = 0``)
-satisfies it at any ``gamma`` (consistent), unlike penalty. Every quantity is
-per reference area, so ``gamma = gamma0 E / h`` with ``h`` the diameter of the
-reference cell next to the facet; ``gamma0`` must be large enough for
+:func:`nitsche_residual`, puts ``theta dp_s[v]`` in place of both
+``dp_s[v]``: ``theta = 0`` incomplete, ``-1`` skew-symmetric, each
+consistent), and the exact solution (``P N = p n``, ``p g = 0``) satisfies
+it at any ``gamma`` (consistent), unlike penalty. Every quantity is per
+reference area, so ``gamma = gamma0 E / h`` with ``h`` the diameter of the reference
+cell next to the facet; ``gamma0`` must be large enough for
 coercivity (the bench sweeps it). ``dp_s[v]`` is the derivative of ``p_s``
 along ``v`` (also through ``n`` on a curved obstacle), so a nonlinear material
 gets the consistent tangent. In small strain ``P`` is the Cauchy stress; on a

@@ -10,8 +10,9 @@ skew-symmetric) is
 
     weight int_s [ p (gamma dg[v] + theta dp_s[v]) - theta p_s dp_s[v] ] / gamma ds,
 
-where ``dg[v]`` moves both the slave point and the paired master facet (the master part goes to the master dofs
-through :mod:`twobody`'s coupling, like any law of the gap: ``weight p dg/dw[vw]``).
+where ``v`` moves both the slave point and the paired master facet: the master part is the same integrand
+differentiated with respect to the master facet's displacement ``w`` (through the gap and through ``n`` in
+``p_s``), taken to the master dofs by :mod:`twobody`'s coupling.
 
 Unbiased (Chouly, Mlika, Renard & Hild 2018, ``passes="two"``): each body's surface is slave once with
 ``weight = 1/2`` and its own stress, so both bodies' stresses enter and neither side is privileged. One pass
@@ -70,10 +71,17 @@ class NitscheTwoBody(TwoBodySurface):
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Slave part ``weight [p (gamma dg[v] + theta dp_s[v]) - theta p_s dp_s[v]] / gamma ds``; the master
-        part is :meth:`master_residual` (``weight p dg/dw[vw]``)."""
+        part is :meth:`master_residual`."""
         theta = self.constants["theta"]
         return self.weight * nitsche_residual(self.pressure, self.gamma, self.gap, self._ps, theta, self.u,
                                               v) * self.ds_work
+
+    def master_residual(self, vw: ufl.Argument) -> ufl.Form:
+        """Master part on the mirror test function ``vw``: the same integrand with the derivatives taken with respect
+        to the mirror displacement ``w`` (the gap's, and the stress pressure's through the master normal ``n``)."""
+        theta = self.constants["theta"]
+        return self.weight * nitsche_residual(self.pressure, self.gamma, self.gap, self._ps, theta,
+                                              self.mirror.displacement, vw) * self.ds_work
 
     def _point_pressure(self, g: np.ndarray) -> np.ndarray:
         """Nitsche's pressure at the slave points (nf, nq): projected on the surface space (it is not a law of the
