@@ -51,6 +51,7 @@ class NitscheTwoBody(TwoBodySurface):
                  quadrature: str = "nodal", weight: float = 1.0, radius: float | None = None, name: str = "twobody",
                  work_quadrature: str | None = None, exclude: np.ndarray | None = None,
                  material: Material | Materials | None = None):
+        material = material if material is not None else getattr(self, "material", None)  # a subclass's
         if material is None:
             raise ValueError("method 'nitsche' needs the bulk material (material=...) for the surface stress")
         if work_quadrature not in (None, quadrature):
@@ -65,8 +66,8 @@ class NitscheTwoBody(TwoBodySurface):
         self.gamma = self.constants["gamma0"] * self.material.E / ufl.CellDiameter(mesh)
         active = self.obstacle.active
         # unpaired points: the slave's own inward normal (the mirror's placeholder facet has none of its own)
-        n = active * self.normal - (1.0 - active) * ufl.FacetNormal(mesh)
-        self._ps = stress_pressure(self.material, self.u, n)
+        self.stress_normal = active * self.normal - (1.0 - active) * ufl.FacetNormal(mesh)
+        self._ps = stress_pressure(self.material, self.u, self.stress_normal)
         return active * ufl_ops().max(self.gamma * self.gap + self._ps, 0.0)
 
     def residual(self, v: ufl.Argument) -> ufl.Form:

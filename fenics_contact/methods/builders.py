@@ -21,6 +21,7 @@ from ..nitsche import NitscheContact
 from ..twobody import TwoBodySurface
 from ..twobody_friction import FrictionalTwoBodySurface
 from ..twobody_nitsche import NitscheTwoBody
+from ..twobody_nitsche_friction import NitscheFrictionTwoBody
 
 __all__ = ["law_surface", "bound_surface", "condensed_surface", "multiplier_surface", "nitsche_surface",
            "law_two_body", "condensed_two_body", "multiplier_two_body", "nitsche_two_body"]
@@ -111,11 +112,13 @@ def multiplier_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadratu
 
 def nitsche_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
                      work_quadrature, cls, material=None):
-    """Nitsche between two bodies (:class:`NitscheTwoBody`; needs the bulk ``material``): one pass (the slave's
-    stress) or two (unbiased: each side slave once with its own stress, weight 1/2)."""
+    """Nitsche between two bodies (:class:`NitscheTwoBody`, with friction :class:`NitscheFrictionTwoBody`; needs
+    the bulk ``material``): one pass (the slave's stress) or two (unbiased: each side slave once with its own
+    stress, weight 1/2)."""
     if cls is not None:
         raise ValueError("method 'nitsche' takes no cls")
     if material is None:
         raise ValueError("method 'nitsche' needs the bulk material (material=...) for the surface stress")
+    cls = NitscheFrictionTwoBody if isinstance(law_factory(), Friction) else NitscheTwoBody
     return law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-                        work_quadrature, functools.partial(NitscheTwoBody, material=material))
+                        work_quadrature, functools.partial(cls, material=material))

@@ -1,5 +1,6 @@
 """Nitsche: ``p = <gamma g - P_n(u)>``, ``gamma = gamma0 E / h``; ``theta`` 1 symmetric, 0 incomplete, -1
-skew-symmetric; between two bodies unbiased with two passes (each side's own stress, weight 1/2)."""
+skew-symmetric; between two bodies unbiased with two passes (each side's own stress, weight 1/2), frictionless,
+Tresca or Coulomb."""
 from ..laws import Nitsche
 from .spec import Method, Parameter, Sweep, rule
 
@@ -13,8 +14,10 @@ METHOD = Method(
                           range="sign", default=1.0)),
     rigid="fenics_contact.methods.builders:nitsche_surface",
     two_body="fenics_contact.methods.builders:nitsche_two_body",
-    sweep=Sweep("gamma0", "gamma0", colour="tab:purple", size=9.0, reference=True),
-    rules=(rule("degree 1, model 'linear' or another method", "Nitsche's gamma = gamma0 E / h does not grow with "
+    friction="law", sweep=Sweep("gamma0", "gamma0", colour="tab:purple", size=9.0, reference=True),
+    rules=(rule("kind 'two-body', mu 0 or another method", "Nitsche's friction is built between two bodies",
+                method="nitsche", kind="rigid", friction=True),
+           rule("degree 1, model 'linear' or another method", "Nitsche's gamma = gamma0 E / h does not grow with "
                 "the degree (coercivity needs ~p^2): on quadratic elements at finite strain gamma0 = 10 loses the "
                 "solve (found by the full grid)", method="nitsche", degree=2, model="neohookean"),
            rule("quadrature 'nodal' or 'gauss' (or another method)", "the segment-to-segment element has no "
