@@ -10,22 +10,32 @@ from fenics_contact.app.scenes import build
 from fenics_contact.capabilities import UnsupportedCombination
 from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.factory import two_body_surfaces
+from fenics_contact.friction import Friction
 from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
 
 
-def _nitsche(theta=1.0, gamma0=10.0):
-    return lambda: make_law("nitsche", gamma0=gamma0, theta=theta)
+def _nitsche(theta=1.0, gamma0=10.0, friction=None):
+    def law():
+        normal = make_law("nitsche", gamma0=gamma0, theta=theta)
+        if friction == "coulomb":
+            return Friction(normal, mu=0.3)
+        return normal if friction is None else Friction(normal, tresca=0.5)
+    return law
 
 
-@pytest.mark.parametrize("quadrature,passes,dim,theta", [("gauss", "two", 2, 1.0), ("nodal", "two", 2, -1.0),
-                                                         ("gauss", "one", 2, 0.0), ("nodal", "two", 3, 1.0)])
-def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, theta, contact_tangent_error):
-    """Central differences of the contact residual (slave and master rows: the gap and the stress term through the
-    master normal) against the assembled tangent, at a sliding, pressed configuration with every node perturbed
-    (the master facets rotate), to 1e-6 relative; symmetric, skew-symmetric and incomplete variants."""
+@pytest.mark.parametrize("quadrature,passes,dim,theta,friction", [
+    ("gauss", "two", 2, 1.0, None), ("nodal", "two", 2, -1.0, None), ("gauss", "one", 2, 0.0, None),
+    ("nodal", "two", 3, 1.0, None), ("gauss", "two", 2, 1.0, "coulomb"), ("nodal", "one", 2, -1.0, "tresca"),
+    ("nodal", "two", 3, 1.0, "coulomb")])
+def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, theta, friction, contact_tangent_error):
+    """Central differences of the contact residual (slave and master rows: the gap, the stress terms through the
+    master normal, the slip) against the assembled tangent, at a sliding, pressed configuration with every node
+    perturbed (the master facets rotate), to 1e-6 relative; symmetric, skew-symmetric and incomplete variants,
+    frictionless, Coulomb and Tresca (points in stick and in slip)."""
     sizes = {} if dim == 2 else {"n_lower": (2, 2, 1), "n_upper": (3, 3, 1)}
-    setup = build("patch", law_factory=_nitsche(theta), quadrature=quadrature, passes=passes, **sizes)
+    setup = build("patch", law_factory=_nitsche(theta, friction=friction), quadrature=quadrature, passes=passes,
+                  **sizes)
     problem = setup.problem
     solver = Solver(problem, quiet=True)
     problem.set_load(1.0)
@@ -46,14 +56,27 @@ def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, theta, con
     for bc in problem.bcs:
         d.array[bc_dofs(bc)] = 0.0
         x.array[bc_dofs(bc)] = 0.0
+    if friction is not None:  # the slip history at the slid state, then a small motion: points stick and slip
+        u.x.array[:] = x.array
+        for c in setup.contacts:
+            c.prepare(problem)
+            c.commit()
+        x.array[:] += 2e-4 * rng.standard_normal(x.array.shape)
+        for bc in problem.bcs:
+            x.array[bc_dofs(bc)] = 0.0
     du, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     Ab = fem_petsc.assemble_matrix(fem.form(ufl.derivative(
         ufl.derivative(problem.material.energy(u) * ufl.dx, u, v), u, du)), bcs=problem.bcs)
     Ab.assemble()
     err, master = contact_tangent_error(solver, x, d, lambda c: c.pairing(), Ab, np.repeat(~upper, dim))
     assert master > 0.1
-    print(f"FD check nitsche theta {theta:g} {quadrature} {passes}-pass {dim}D: relative error {err:.2e}")
+    print(f"FD check nitsche {friction} theta {theta:g} {quadrature} {passes}-pass {dim}D: relative error {err:.2e}")
     assert err <= 1e-6, err
+    if friction is not None:  # both branches of the return mapping are in the check
+        states = np.concatenate([c.report.field_values(c.projector.project(
+            c.projector.compile(c.slip_state_expr), fem.Function(c.S))).ravel() for c in setup.contacts])
+        # (nodal quadrature: a vertex between a sliding and a sticking facet gets the mean)
+        assert np.any(np.abs(states - 1.0) < 0.25) and states.max() > 1.25, np.unique(states.round(3))
 
 
 def _patch(quadrature="gauss", passes="two", theta=1.0, comm=MPI.COMM_WORLD, **kw):
@@ -127,8 +150,8 @@ def test_two_body_hertz():
 
 
 def test_bad_input():
-    """theta outside [-1, 1], no material, segment integration and quadratic facets are refused up front with one
-    line."""
+    """theta outside [-1, 1], no material, segment integration, quadratic facets, a normal-compliance friction
+    bound and friction against a rigid obstacle are refused up front with one line."""
     from fenics_contact.app.meshes import stacked_blocks
     from fenics_contact.compat import function_space
     from fenics_contact.materials import LinearElastic
@@ -143,7 +166,49 @@ def test_bad_input():
     with pytest.raises(UnsupportedCombination, match="no stress term"):
         two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(), load, "segment",
                           material=LinearElastic(1.0, 0.3))
+    with pytest.raises(ValueError, match="not c_t"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: Friction(make_law("nitsche"), c_t=1.0), load,
+                          "gauss", material=LinearElastic(1.0, 0.3))
+    from fenics_contact.factory import contact_surface
+    from fenics_contact.obstacles import HalfPlane
+
+    with pytest.raises(UnsupportedCombination, match="between two bodies"):
+        contact_surface(u, ft, "lower_top", HalfPlane([0.0, 0.0], [0.0, 1.0]), Friction(make_law("nitsche"), mu=0.3),
+                        load, material=LinearElastic(1.0, 0.3))
     u2 = fem.Function(function_space(mesh, "Lagrange", 2, (2,)))
     with pytest.raises(UnsupportedCombination, match="flat"):
         two_body_surfaces(u2, ft, "upper_bottom", "lower_top", _nitsche(), load, "simpson",
                           material=LinearElastic(1.0, 0.3))
+
+
+def _wedges(friction, comm=MPI.COMM_WORLD):
+    law = _nitsche(friction=friction)() if friction == "coulomb" else Friction(make_law("nitsche"), tresca=0.15)
+    setup = build("wedges", law=law, comm=comm)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    return setup, solver
+
+
+@pytest.mark.parametrize("friction", ["coulomb", "tresca"])
+def test_wedges_ratio(friction):
+    """A block pushed up an elastic incline (alpha 20 degrees) with Nitsche's friction, one pass: the push over
+    the vertical force within 1 % of the closed form (Coulomb mu = 0.3: (mu + tan alpha) / (1 - mu tan alpha);
+    Tresca s = 0.15: tan alpha + s / (load cos alpha)), the vertical force balance and every closed point sliding
+    at the end (measured: 1.5e-4 both)."""
+    setup, solver = _wedges(friction)
+    f = setup.figures()
+    newton = sum(len(res) - 1 for r in solver.records for res in r.residuals)
+    print(f"wedges, nitsche {friction}: ratio {f['ratio']:.6f} (closed form {f['ratio_reference']:.6f}, error "
+          f"{f['ratio_error']:.1e}), Newton {newton}")
+    assert f["ratio_error"] < 1e-2 and f["vertical_equilibrium_error"] < 1e-4
+    assert f["slip_fraction"] == 1.0
+
+
+def test_wedges_serial_equals_ranks():
+    """Nitsche's Coulomb friction on the wedges under mpirun: the figures equal the serial ones to 1e-8."""
+    par, _ = _wedges("coulomb", MPI.COMM_WORLD)
+    ser, _ = _wedges("coulomb", MPI.COMM_SELF)
+    fp, fs = par.figures(), ser.figures()
+    for k in fs:
+        assert abs(fp[k] - fs[k]) <= 1e-8 * max(abs(fs[k]), 1e-3), (k, fp[k], fs[k])
