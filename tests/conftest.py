@@ -145,6 +145,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_twobody_nitsche.py::test_consistent_tangent_with_master_dofs[nodal-two-3-1.0-None]",
     "test_twobody_nitsche.py::test_patch_matching_interface_to_round_off[gauss-0.0]",
     "test_twobody_nitsche.py::test_two_body_hertz", "test_twobody_nitsche.py::test_wedges_*",
+    "test_twobody_nitsche.py::test_mindlin_stick_zone",
     "test_twobody_nitsche.py::test_consistent_tangent_with_master_dofs[nodal-two-3-1.0-coulomb]",
     "test_wedges.py::test_force_ratio_of_a_block_sliding_up_a_wedge[0.3-20.0]",
 )

@@ -249,5 +249,6 @@ def _space(mesh):
 # discrete stick zone is known to half a contact element): the sweep shows how little the normal K moves it.
 BENCH = {"error": "c_error_max", "value": "c_worst", "figures": ["ratio_worst", "a_error", "traction_rms_error", "P"],
          "target": 0.05, "K": DEFAULT_K, "mesh": ("refinement", {"quick": [0], "full": [0, 1]}),
-         "methods": ["penalty", "cross", "auglag", "coulomb"], "axes": {"kind": "two-body", "dim": 2, "friction": True},
+         "methods": ["penalty", "cross", "auglag", "coulomb", "nitsche"],
+         "axes": {"kind": "two-body", "dim": 2, "friction": True},
          "demo_args": [], "quick_sweep": {"penalty": (-2, -1, 0, 1), "other": (-1, 0)}, "quadratures": ["nodal"]}
