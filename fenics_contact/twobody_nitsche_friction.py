@@ -20,7 +20,8 @@ the slave part with derivatives with respect to ``u``, the master part with resp
 on its edge against the slip where it slides) ``q = t_s`` and the term reduces to the friction force's work
 ``-q . d(P_T ds)[v]``: consistent at any ``gamma``, with no tangential penalty (``omega_t`` is not used). The
 history is the slip increment's alone (``r_old``, ``u_old``); nothing is augmented. The tangential force and
-traction reported are those of the last committed step (``q_old``). Coulomb (``mu``) and Tresca
+traction reported are those of the last committed step (``q_old``); the state areas count a vertex between
+a sticking and a sliding facet half to each. Coulomb (``mu``) and Tresca
 (``tresca``) bounds; normal-compliance bounds are refused.
 """
 from __future__ import annotations
@@ -96,6 +97,12 @@ class NitscheFrictionTwoBody(FrictionalTwoBodySurface, NitscheTwoBody):
         # increment restarts at 0 and the live traction is the projected stress, no longer the step's.
         q = ufl.as_vector(self.q_old)
         self._tangential_forms = [fem.form(q[i] * self.ds) for i in range(self.gdim)]
+        # State areas: the stress term's state is evaluated per facet (the stress of its cell), so a vertex between
+        # a sticking and a sliding facet has the mean 1.5; it counts half to each (whole states as before).
+        st = self.slip_state
+        frac = {"open": ufl.max_value(1.0 - st, 0.0), "slip": ufl.max_value(1.0 - abs(st - 1.0), 0.0),
+                "stick": ufl.max_value(st - 1.0, 0.0)}
+        self._state_area_forms = {k: fem.form(ufl.min_value(e, 1.0) * self.ds) for k, e in frac.items()}
         outs = {id(f) for f in self._traction_out}
         self._out_rhs = [(rhs, f) for rhs, f in self._out_rhs if id(f) not in outs] + [
             (self._out.compile(q[i]), f) for i, f in enumerate(self._traction_out)]
