@@ -215,14 +215,14 @@ def test_wedges_serial_equals_ranks():
 
 
 def test_mindlin_stick_zone():
-    """Cattaneo-Mindlin partial slip (the ``mindlin`` scene, two identical bodies, mu = 0.3, one pass) with Nitsche's
-    Coulomb friction, gamma0 = 10: the contact half-width within 2 % of Hertz's (measured 1.1 %) and the stick
-    half-width within one contact element of c = a sqrt(1 - Q / (mu P)) at Q / (mu P) = 0.2, 0.5, 0.8 (measured
-    0.31, 0.51, 0.91 elements), within 5 % at 0.2 and 0.5 (measured 1.2 %, 2.5 %); at 0.8 the stick zone is 12
-    elements wide and one element is 7.2 %."""
+    """Cattaneo-Mindlin partial slip (the ``mindlin`` scene, two identical bodies, mu = 0.3, one pass, refinement 1:
+    h = R / 1200) with Nitsche's Coulomb friction, gamma0 = 10: the contact half-width within 2 % of Hertz's
+    (measured 0.66 %) and the stick half-width within 5 % of c = a sqrt(1 - Q / (mu P)) at Q / (mu P) = 0.2, 0.5,
+    0.8 (measured 1.1 %, 1.2 %, 4.1 %; on the default mesh, h = R / 600: 1.2 %, 2.5 %, 7.2 %, i.e. 0.31, 0.51 and
+    0.91 contact elements)."""
     from fenics_contact.app.scenes import mindlin
 
-    setup = build("mindlin", law=_nitsche(friction="coulomb")())
+    setup = build("mindlin", law=_nitsche(friction="coulomb")(), refinement=1)
     solver = Solver(setup.problem, quiet=True)
     solver.run(setup.loads)
     assert all(r.converged for r in solver.records)
@@ -232,6 +232,6 @@ def test_mindlin_stick_zone():
     for r in mindlin.RATIOS:
         c, ref = f[f"c_{r:g}"], f[f"c_ref_{r:g}"]
         print(f"mindlin nitsche Q/(mu P) = {r}: c error {abs(c - ref) / ref:.2%} = {abs(c - ref) / h:.2f} elements")
-        assert abs(c - ref) <= h and (r > 0.5 or abs(c - ref) <= 0.05 * ref), (r, c, ref)
+        assert abs(c - ref) <= 0.05 * ref, (r, c, ref)
     print(f"mindlin nitsche: a error {f['a_error']:.2e}, Newton {newton}")
     assert f["a_error"] < 0.02
