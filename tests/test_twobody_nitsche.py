@@ -189,8 +189,10 @@ def test_bad_input():
 
 def _wedges(friction, comm=MPI.COMM_WORLD):
     law = _nitsche(friction=friction)() if friction == "coulomb" else Friction(make_law("nitsche"), tresca=0.15)
+    from fenics_contact.app.scenes import wedges
+
     setup = build("wedges", law=law, comm=comm)
-    solver = Solver(setup.problem, quiet=True)
+    solver = Solver(setup.problem, quiet=True, predictor=wedges.PREDICTOR)
     solver.run(setup.loads)
     assert all(r.converged for r in solver.records)
     return setup, solver
