@@ -26,7 +26,17 @@ __all__ = [
 
 
 def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None = None):
-    """Lagrange-type space; ``shape=(gdim,)`` for a vector space."""
+    """Lagrange-type space; ``shape=(gdim,)`` for a vector space.
+
+    Args:
+        mesh: the mesh.
+        family: the element family (``Lagrange``, ``DG``).
+        degree: the polynomial degree.
+        shape: the value shape (None: scalar).
+
+    Returns:
+        The dolfinx ``FunctionSpace``.
+    """
     if hasattr(fem, "functionspace"):  # dolfinx >= 0.8
         return fem.functionspace(mesh, (family, degree, *([shape] if shape else [])))
     if shape:
@@ -85,7 +95,15 @@ def _petsc():
 
 
 def interpolate_expression(f: fem.Function, expr) -> fem.Function:
-    """``f`` = ``expr`` (UFL) evaluated at the interpolation points of ``f``'s space, cell by cell."""
+    """``f`` = ``expr`` (UFL) evaluated at the interpolation points of ``f``'s space, cell by cell.
+
+    Args:
+        f: the Function to set.
+        expr: the UFL expression.
+
+    Returns:
+        ``f``.
+    """
     pts = f.function_space.element.interpolation_points
     f.interpolate(fem.Expression(expr, pts() if callable(pts) else pts))
     f.x.scatter_forward()
