@@ -93,8 +93,8 @@ class NitscheFrictionTwoBody(FrictionalTwoBodySurface, NitscheTwoBody):
         self._slip_of = ds_of_r_old
         super()._init_friction(_NitscheReturnMapping(law, self._ts, self.gamma, self.pressure), load, r,
                                self._capture_slip, factor)
-        # The figures of a step are its converged traction, kept by commit in q_old: after the commit the slip
-        # increment restarts at 0 and the live traction is the projected stress, no longer the step's.
+        # The figures of a step are its converged traction, which commit keeps in q_old: a committed state's slip
+        # increment is 0, so its live traction is the projected stress, not the step's.
         q = ufl.as_vector(self.q_old)
         self._tangential_forms = [fem.form(q[i] * self.ds) for i in range(self.gdim)]
         # State areas: the stress term's state is evaluated per facet (the stress of its cell), so a vertex between
