@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from fenics_contact.app.scenes import hertz
-from fenics_contact.laws import AugmentedLagrangian, CrossConstraints
+from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty
 from fenics_contact.solver import Solver
 
 
@@ -171,3 +171,20 @@ def test_meshed_plate_with_multipliers():
     f = setup.figures()
     assert f["p0_error"] < 0.02 and f["a_error"] < 0.02, (f["p0_error"], f["a_error"])
     assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
+
+
+@pytest.mark.parametrize("mixed_model, model", [("neohookean-mixed", "neohookean"), ("linear-mixed", "linear")])
+def test_mixed_model_does_not_lock_where_the_displacement_model_does(mixed_model, model):
+    """Rubber, ``nu = 0.4999``, neo-Hookean at finite strain (or linear) under a small load (``a/R = 0.02``), on
+    one mesh (refined zone 0.04 R, ``h = R/800``), penalty ``1e5 E/R`` (penetration ~1e-4 of the approach): the
+    mixed model (Taylor-Hood P2-P1, Simpson contact points) is within 2 % of Hertz in ``p0`` and ``a`` and in
+    equilibrium; the displacement-only one (P1) locks: stiffer for the same approach, its contact too narrow and
+    its peak too high for its own force."""
+    kw = dict(nu=0.4999, refinement=1, contact_width=0.04, steps=1)
+    K = 1e5 * hertz.E / hertz.R
+    mixed = solve(Penalty(K), model=mixed_model, quadrature="simpson", **kw)
+    locked = solve(Penalty(K), model=model, quadrature="nodal", **kw)
+    assert mixed["p0_error"] < 0.02 and mixed["a_error"] < 0.02, mixed
+    assert np.isclose(mixed["total_force"], mixed["reaction_top"], rtol=1e-8)
+    assert locked["a"] < 0.8 * locked["a_hertz"] and locked["p0"] > 1.3 * locked["p0_hertz"], locked
+    assert locked["total_force"] > 1.1 * mixed["total_force"]

@@ -2,6 +2,7 @@
 skew-symmetric; between two bodies unbiased with two passes (each side's own stress, weight 1/2), frictionless,
 Tresca or Coulomb."""
 from ..laws import Nitsche
+from .lagrange import mixed_models
 from .spec import Method, Parameter, Sweep, rule
 
 __all__ = ["METHOD"]
@@ -15,7 +16,9 @@ METHOD = Method(
     rigid="fenics_contact.methods.builders:nitsche_surface",
     two_body="fenics_contact.methods.builders:nitsche_two_body",
     friction="law", sweep=Sweep("gamma0", "gamma0", colour="tab:purple", size=9.0, reference=True),
-    rules=(rule("kind 'two-body', mu 0 or another method", "Nitsche's friction is built between two bodies",
+    rules=(rule("model 'linear' or 'neohookean' (or another method)", "Nitsche's surface stress P(u) N would need "
+                "a mixed model's pressure field", method="nitsche", model=mixed_models()),
+           rule("kind 'two-body', mu 0 or another method", "Nitsche's friction is built between two bodies",
                 method="nitsche", kind="rigid", friction=True),
            rule("degree 1, model 'linear' or another method", "Nitsche's gamma = gamma0 E / h does not grow with "
                 "the degree (coercivity needs ~p^2): on quadratic elements at finite strain gamma0 = 10 loses the "
