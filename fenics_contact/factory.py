@@ -61,7 +61,7 @@ def contact_surface(u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, l
 def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory: Callable[[], ContactLaw],
                       load: fem.Constant, quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
                       name: str = "twobody", work_quadrature: str | None = None,
-                      cls: type | None = None) -> list[Surface]:
+                      cls: type | None = None, material: Material | None = None) -> list[Surface]:
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
     ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
     at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
@@ -71,8 +71,9 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     point of both passes, each at weight 1/2 (quadratic facets: a second-pass point that coincides with a
     first-pass one in the reference configuration is left out). ``cls``: the surface class of the pointwise
     quadratures (default :class:`TwoBodySurface`, or
-    :class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface` for a law with friction).
-    A combination the capability matrix refuses raises
+    :class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface` for a law with friction). ``material``:
+    the bulk material, which method ``nitsche`` needs (:class:`~fenics_contact.twobody_nitsche.NitscheTwoBody`;
+    two passes: the unbiased variant). A combination the capability matrix refuses raises
     :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly.
 
     Args:
@@ -88,6 +89,7 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
         name: the surface's name, in messages and output.
         work_quadrature: the rule of the pressure's work term, if not ``quadrature``.
         cls: the surface class of the pointwise quadratures (None: chosen from the law).
+        material: the bulk material (method ``nitsche``; else not used).
 
     Returns:
         The surfaces (one per pass), to pass to :class:`ContactProblem`.
@@ -98,12 +100,12 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
         raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
     # The capability matrix (multipliers: the rule of the work term is the option; the constraint is nodal).
     probe = law_factory()
-    check(**of(probe, u), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes,
+    check(**of(probe, u, material), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes,
           obstacle="none")
     method = methods.of_law(probe)
     build = law_two_body if method is None else method.build_two_body
     return build(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name, work_quadrature,
-                 cls)
+                 cls, material)
 
 
 def two_body_multipliers(w: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,

@@ -34,7 +34,7 @@ from mpi4py import MPI
 
 from .compat import function_space, interpolate_expression
 from .contact import ContactSurface, displacement
-from .laws import NUMPY, ContactLaw, NormalCompliance, _check_exponent, ufl_ops
+from .laws import NUMPY, ContactLaw, Nitsche, NormalCompliance, _check_exponent, ufl_ops
 
 __all__ = ["OPEN", "SLIP", "STICK", "friction_ops", "Friction", "FrictionHistory", "FrictionalContact"]
 
@@ -60,7 +60,7 @@ def friction_ops(ops: Any) -> Any:
 
 
 class Friction(ContactLaw):
-    """A normal law (any :class:`ContactLaw` but ``vi``) with friction.
+    """A normal law (any :class:`ContactLaw` but ``vi``, or Nitsche between two bodies) with friction.
 
     Give exactly one of ``mu >= 0`` (Coulomb bound ``mu <F(g)>``), ``c_t > 0`` with ``m_t >= 1``
     (normal compliance bound ``c_t <g>^m_t``; ``m_t`` defaults to the normal law's ``m_n``) and
@@ -81,8 +81,9 @@ class Friction(ContactLaw):
 
     def __init__(self, normal: ContactLaw, mu: float | None = None, omega_t: float = 1.0,
                  c_t: float | None = None, m_t: float | None = None, tresca: float | None = None):
-        if isinstance(normal, Friction) or not isinstance(normal, ContactLaw):
-            raise ValueError(f"friction needs a normal law (penalty, cross, auglag, compliance), got {normal!r}")
+        if isinstance(normal, Friction) or not isinstance(normal, (ContactLaw, Nitsche)):
+            raise ValueError(f"friction needs a normal law (penalty, cross, auglag, compliance, nitsche), "
+                             f"got {normal!r}")
         if sum(x is not None for x in (mu, c_t, tresca)) != 1:
             raise ValueError("friction: give exactly one of mu (Coulomb), c_t (normal compliance bound) and tresca "
                              "(Tresca bound)")

@@ -387,18 +387,22 @@ class PenaltyMultiplier(LagrangeMultiplier):
 
 
 class Nitsche(Formulation):
-    """Method ``nitsche``: symmetric Nitsche (:mod:`fenics_contact.nitsche`). The pressure is
+    """Method ``nitsche``: Nitsche's method (:mod:`fenics_contact.nitsche`). The pressure is
     ``<gamma g - sigma_n(u)>`` with ``gamma = gamma0 E / h``, not a law of the gap alone; ``gamma0``
-    (dimensionless, > 0) is its only parameter. The surface needs the bulk material (for ``sigma_n``).
+    (dimensionless, > 0) and ``theta`` are its parameters. The surface needs the bulk material (for ``sigma_n``).
 
     Args:
         gamma0: the dimensionless Nitsche parameter, > 0 (``gamma = gamma0 E / h``).
+        theta: in [-1, 1]: 1 symmetric, 0 incomplete, -1 skew-symmetric.
     """
 
     name = "nitsche"
 
-    def __init__(self, gamma0: float = 10.0):
-        self.scalars = {"gamma0": _check_positive("Nitsche gamma0", gamma0)}
+    def __init__(self, gamma0: float = 10.0, theta: float = 1.0):
+        theta = float(theta)
+        if not (math.isfinite(theta) and -1.0 <= theta <= 1.0):
+            raise ValueError(f"Nitsche theta must be a finite number in [-1, 1], got {theta!r}")
+        self.scalars = {"gamma0": _check_positive("Nitsche gamma0", gamma0), "theta": theta}
         self.fields = {}
 
 

@@ -1,9 +1,9 @@
-"""Symmetric Nitsche's method for frictionless contact against a rigid obstacle (method ``nitsche``).
+"""Nitsche's method for frictionless contact against a rigid obstacle (method ``nitsche``).
 
-A reference solver of the benchmarks (Chouly & Hild 2013, ``theta = 1``),
-written in the reference configuration so that it is consistent at finite
-strain. With the suite's convention (gap ``g > 0`` = penetration, pressure
-> 0 in compression), ``n`` the obstacle's unit normal at the current point
+A reference solver of the benchmarks (Chouly & Hild 2013), written in the
+reference configuration so that it is consistent at finite strain. With the
+suite's convention (gap ``g > 0`` = penetration, pressure > 0 in
+compression), ``n`` the obstacle's unit normal at the current point
 ``x = X + u`` (into the body) and ``N`` the body's outward unit normal on the
 reference surface, the force on a reference surface element is ``P N dA``
 (``P`` the first Piola-Kirchhoff stress). Frictionless contact with the
@@ -18,10 +18,13 @@ the residual, on the reference surface ``ds``, is
     int [ p (gamma dg[v] + dp_s[v]) - p_s(u) dp_s[v] ] / gamma ds,
 
 the derivative of ``int (<gamma g + p_s>^2 - p_s^2) / (2 gamma) ds``: the
-Jacobian is symmetric, and the exact solution (``P N = p n``, ``p g = 0``)
-satisfies it at any ``gamma`` (consistent), unlike penalty. Every quantity is
-per reference area, so ``gamma = gamma0 E / h`` with ``h`` the diameter of the
-reference cell next to the facet; ``gamma0`` must be large enough for
+Jacobian is symmetric (``theta = 1``; the family of Chouly & Hild,
+:func:`nitsche_residual`, puts ``theta dp_s[v]`` in place of both
+``dp_s[v]``: ``theta = 0`` incomplete, ``-1`` skew-symmetric, each
+consistent), and the exact solution (``P N = p n``, ``p g = 0``) satisfies
+it at any ``gamma`` (consistent), unlike penalty. Every quantity is per
+reference area, so ``gamma = gamma0 E / h`` with ``h`` the diameter of the reference
+cell next to the facet; ``gamma0`` must be large enough for
 coercivity (the bench sweeps it). ``dp_s[v]`` is the derivative of ``p_s``
 along ``v`` (also through ``n`` on a curved obstacle), so a nonlinear material
 gets the consistent tangent. In small strain ``P`` is the Cauchy stress; on a
@@ -45,11 +48,28 @@ from .contact import ContactSurface
 from .laws import ufl_ops
 from .materials import Material, Materials
 
-__all__ = ["NitscheContact"]
+__all__ = ["NitscheContact", "nitsche_residual", "stress_pressure"]
+
+
+def stress_pressure(material: Material | Materials, u, n) -> ufl.core.expr.Expr:
+    """``n . P(u) N``: the nominal pressure (> 0 compression, per reference area) carried across the reference
+    surface (outward unit normal ``N``) by the stress of ``u``; ``n`` the unit normal into the body."""
+    N = ufl.FacetNormal(u.function_space.mesh)
+    return ufl.dot(n, ufl.dot(material.piola(u), N))
+
+
+def nitsche_residual(p, gamma, gap, ps, theta, u, v) -> ufl.core.expr.Expr:
+    """The integrand of Nitsche's surface term (Chouly & Hild's family) on the side of ``u``:
+    ``(p (gamma dg[v] + theta dp_s[v]) - theta p_s dp_s[v]) / gamma`` with ``p = <gamma g + p_s>`` the pressure,
+    ``g`` the gap (> 0 penetration), ``p_s`` the stress pressure (:func:`stress_pressure`), derivatives along ``v``
+    with respect to ``u``. ``theta``: 1 symmetric, 0 incomplete, -1 skew-symmetric."""
+    dps = ufl.derivative(ps, u, v)
+    dg = ufl.derivative(gap, u, v)
+    return (p * (gamma * dg + theta * dps) - theta * ps * dps) / gamma
 
 
 class NitscheContact(ContactSurface):
-    """Contact by symmetric Nitsche; same results, output and hooks as :class:`ContactSurface`, its pressure
+    """Contact by Nitsche's method; same results, output and hooks as :class:`ContactSurface`, its pressure
     the nominal ``<gamma g + p_s(u)>`` (> 0 compression). ``material``: the bulk material (for ``P``).
 
     Args:
@@ -71,18 +91,12 @@ class NitscheContact(ContactSurface):
         self.material = material
         super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name)
 
-    def _stress_pressure(self, w) -> ufl.core.expr.Expr:
-        """``n . P(w) N``: the nominal pressure carried across the reference surface by the stress of ``w``."""
-        N = ufl.FacetNormal(self.u.function_space.mesh)
-        return ufl.dot(self.normal, ufl.dot(self.material.piola(w), N))
-
     def _pressure(self):
         mesh = self.u.function_space.mesh
         self.gamma = self.constants["gamma0"] * self.material.E / ufl.CellDiameter(mesh)
-        self._ps = self._stress_pressure(self.u)
+        self._ps = stress_pressure(self.material, self.u, self.normal)
         return ufl_ops().max(self.gamma * self.gap + self._ps, 0.0)
 
     def residual(self, v):
-        dps = ufl.derivative(self._ps, self.u, v)
-        dg = ufl.derivative(self.gap, self.u, v)
-        return (self.pressure * (self.gamma * dg + dps) - self._ps * dps) / self.gamma * self.ring * self.ds
+        theta = self.constants["theta"]
+        return nitsche_residual(self.pressure, self.gamma, self.gap, self._ps, theta, self.u, v) * self.ring * self.ds

@@ -218,11 +218,15 @@ def test_former_names_warn_and_give_the_new_class(old, new):
 
 
 def test_a_method_without_a_law_of_the_gap_is_no_contact_law():
-    """vi, coulomb, the multipliers and Nitsche are formulations, not laws of the gap: friction on top of them is
-    refused, and they have no force to call."""
+    """vi, coulomb, the multipliers and Nitsche are formulations, not laws of the gap: they have no force to call,
+    and friction on top of them is refused but for Nitsche's (its own tangential term, between two bodies)."""
     for formulation in (fc.SnesVI(), fc.ExactCoulomb(0.3), fc.LagrangeMultiplier(), fc.Nitsche()):
         assert isinstance(formulation, fc.Formulation) and not isinstance(formulation, fc.ContactLaw)
         assert not hasattr(formulation, "force")
+        if isinstance(formulation, fc.Nitsche):
+            law = fc.Friction(formulation, mu=0.3)
+            assert law.has_friction and law.method == "nitsche"
+            continue
         with pytest.raises(ValueError, match="friction needs a normal law"):
             fc.Friction(formulation, mu=0.3)
     assert isinstance(fc.Penalty(1.0), fc.Formulation)

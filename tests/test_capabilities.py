@@ -164,7 +164,7 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
                                         work_quadrature=None if quadrature == "nodal" else quadrature)
     else:
         contacts = fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law_for(method, friction), load,
-                                     quadrature, passes)
+                                        quadrature, passes, material=fc.MODELS[model](E, NU))
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=ft.meshtags, subdomain_id=ft["upper_top"])
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-P[model],)), ds)
     plane = "axisymmetric" if geometry == "axisymmetric" else "strain"

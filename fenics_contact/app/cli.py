@@ -270,7 +270,7 @@ def model_degree(model: str, degree: int = 1) -> int:
 
 FRICTION_OPTIONS = ("mu", "c_t", "m_t", "tresca", "omega_t")  # options of the friction on top of a law
 RANGE_TYPES = {"positive": POSITIVE, "nonnegative": NONNEGATIVE, "exponent": EXPONENT,
-               "unit": number(float, 0.0, 1.0, high_open=True)}
+               "unit": number(float, 0.0, 1.0, high_open=True), "sign": number(float, -1.0, 1.0)}
 
 
 def method_options() -> dict[str, list]:

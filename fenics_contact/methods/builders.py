@@ -4,10 +4,11 @@ capability grid first and then call the method's builder.
 
 Rigid builders take ``(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized, material)``;
 two-body builders ``(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-work_quadrature, cls)`` and return a list of surfaces.
+work_quadrature, cls, material)`` and return a list of surfaces.
 """
 from __future__ import annotations
 
+import functools
 import logging
 
 from ..bounds import BoundContact
@@ -19,9 +20,11 @@ from ..multipliers import MultiplierContact, TwoBodyMultiplier
 from ..nitsche import NitscheContact
 from ..twobody import TwoBodySurface
 from ..twobody_friction import FrictionalTwoBodySurface
+from ..twobody_nitsche import NitscheTwoBody
+from ..twobody_nitsche_friction import NitscheFrictionTwoBody
 
 __all__ = ["law_surface", "bound_surface", "condensed_surface", "multiplier_surface", "nitsche_surface",
-           "law_two_body", "condensed_two_body", "multiplier_two_body"]
+           "law_two_body", "condensed_two_body", "multiplier_two_body", "nitsche_two_body"]
 
 
 # --- rigid obstacle ---------------------------------------------------------------------------------------
@@ -58,7 +61,7 @@ def nitsche_surface(u, facet_tags, tag, obstacle, law, load, quadrature, name, l
 
 # --- two deformable bodies ---------------------------------------------------------------------------------
 def law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name, work_quadrature,
-                 cls):
+                 cls, material=None):
     """Pointwise (nodal, Gauss, Simpson) or segment-to-segment two-body surfaces of a law of the gap; one pass
     (``tag_a`` slave) or two (each side slave once, weight 1/2)."""
     if quadrature == "segment":
@@ -90,7 +93,7 @@ def law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, pas
 
 
 def condensed_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-                       work_quadrature, cls):
+                       work_quadrature, cls, material=None):
     """Exact Coulomb between two bodies on the condensed system (2D, P1, nodal, one pass): one
     :class:`CondensedTwoBody`."""
     if cls is not None or work_quadrature is not None:
@@ -99,9 +102,23 @@ def condensed_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadratur
 
 
 def multiplier_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-                        work_quadrature, cls):
+                        work_quadrature, cls, material=None):
     """The slave pressure as an unknown (:class:`TwoBodyMultiplier`): nodal Signorini conditions of the slave
     vertices against the current master facets; ``work_quadrature`` ``simpson`` on quadratic facets (the
     two-point element)."""
     return law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, "nodal", passes, radius, name,
                         work_quadrature, cls or TwoBodyMultiplier)
+
+
+def nitsche_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
+                     work_quadrature, cls, material=None):
+    """Nitsche between two bodies (:class:`NitscheTwoBody`, with friction :class:`NitscheFrictionTwoBody`; needs
+    the bulk ``material``): one pass (the slave's stress) or two (unbiased: each side slave once with its own
+    stress, weight 1/2)."""
+    if cls is not None:
+        raise ValueError("method 'nitsche' takes no cls")
+    if material is None:
+        raise ValueError("method 'nitsche' needs the bulk material (material=...) for the surface stress")
+    cls = NitscheFrictionTwoBody if isinstance(law_factory(), Friction) else NitscheTwoBody
+    return law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
+                        work_quadrature, functools.partial(cls, material=material))

@@ -16,6 +16,7 @@ RANGES: dict[str, tuple[Callable[[float], bool], str]] = {
     "nonnegative": (lambda v: v >= 0.0, "a finite number >= 0"),
     "exponent": (lambda v: v >= 1.0, "a finite number >= 1"),
     "unit": (lambda v: 0.0 <= v < 1.0, "a finite number in [0, 1)"),
+    "sign": (lambda v: -1.0 <= v <= 1.0, "a finite number in [-1, 1]"),
 }
 
 

@@ -55,7 +55,7 @@ from mpi4py import MPI
 
 from ...condensed import step_solver_for
 from ...factory import contact_surface, two_body_multipliers, two_body_surfaces
-from ...laws import ContactLaw, ExactCoulomb, LagrangeMultiplier
+from ...laws import ContactLaw, ExactCoulomb, LagrangeMultiplier, Nitsche
 from ...materials import PLANES, Materials
 from ...models import MODELS
 from ...multipliers import unknown
@@ -107,7 +107,8 @@ TWO_BODY = ["--plate", "meshed", "--E", "200", "--nu", "0.3", "--R", "8", "--loa
 BENCHES = {"hertz_twobody": {
     "demo": "hertz", "error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "total_force"],
     "target": 0.005, "K": 2.5e4, "mesh": ("refinement", {"quick": [0, 1], "full": [0, 1, 2]}),
-    "methods": ["penalty", "cross", "auglag", "lagrange", "coulomb"], "quadratures": ["nodal", "gauss", "segment"],
+    "methods": ["penalty", "cross", "auglag", "lagrange", "coulomb", "nitsche"],
+    "quadratures": ["nodal", "gauss", "segment"],
     "axes": {"kind": "two-body", "dim": 2}, "demo_args": TWO_BODY, "method_args": {"coulomb": ["--steps", "1"]},
     "quick_sweep": {"penalty": (0, 1), "other": (0,)}}}
 
@@ -226,7 +227,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     centre, point values of the exact symmetric solution, whose reaction ``centre_reaction`` measures
     how far the two contacts are from balance); ``plate``: ``rigid`` (the analytic half-plane, default)
     or ``meshed`` (quarter only: a plate of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
-    in the same mesh, in two-body contact, one pass, the disk's arc the slave). The last three are the
+    in the same mesh, in two-body contact, one pass, the disk's arc the slave; method ``nitsche``: two passes,
+    unbiased). The last three are the
     model-reduction checks. ``plane``: ``strain`` (default) or ``stress`` (disk and plate).
 
     Physical parameters (defaults: the module constants): the disk's ``R``, ``E``, ``nu``; ``approach``
@@ -303,7 +305,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     dirichlet = [Dirichlet(V.sub(0), fix_x)] if load is not None else [Dirichlet(V.sub(1), top_y, -approach),
                                                                         Dirichlet(V.sub(0), fix_x)]
     material = MODELS[model](E, nu, plane=plane)
-    contacts = []
+    contacts, pair = [], []
     if symmetry == "full":  # the rigid modes: u_y at the centre, u_x at the centre and the upper pole
         pole = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 2 * R))
         top_y = fem.locate_dofs_topological(V.sub(1), 0, centre)  # its reaction: the imbalance of the contacts
@@ -323,9 +325,12 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         if isinstance(law, LagrangeMultiplier):  # the slave pressure an unknown (P1: quadrature 'nodal')
             contact = two_body_multipliers(u, facet_tags, "contact", "plate_top", law, t, radius=0.1 * R,
                                            name="plate", work_quadrature=quadrature)[0]
-        else:
-            contact = two_body_surfaces(u, facet_tags, "contact", "plate_top", lambda: law, t, quadrature,
-                                        radius=0.1 * R, name="plate")[0]
+        else:  # Nitsche: unbiased (each side slave once, its own stress); the disk's pass gives the figures
+            pair = two_body_surfaces(u, facet_tags, "contact", "plate_top", lambda: law, t, quadrature,
+                                     "two" if isinstance(law, Nitsche) else "one", radius=0.1 * R, name="plate",
+                                     material=material)
+            contact = pair[0]
+            contacts += pair[1:]
     else:
         contact = contact_surface(u, facet_tags, "contact", HalfPlane([0.0, 0.0], [0.0, 1.0]), law, t, quadrature,
                                   material=material)
@@ -352,7 +357,11 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         lower = x[:, 1] <= R  # the full disk: the lower contact
         x, p = x[lower], p[lower]
         right = x[:, 0] >= -1e-12 * R  # the half model: the profile from the centre to the right
-        P = copies * contact.total_force()[1]
+        # two passes (Nitsche, unbiased): the force on the disk is the weighted mean of the disk's pass and the
+        # reaction of the plate's pass
+        P = copies * (contact.total_force()[1] if len(pair) < 2 else
+                      float(pair[0].weight.value) * pair[0].total_force()[1]
+                      - float(pair[1].weight.value) * pair[1].total_force()[1])
         applied = None if load is None else float(t.value) * load  # force control: Hertz for the applied load
         a_h, p0_h = hertz(P if applied is None else applied, R, E, nu, plane,
                           *((plate_E, plate_nu) if plate == "meshed" else ()))

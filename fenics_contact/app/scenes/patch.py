@@ -139,11 +139,12 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
     if dim == 3:
         dirichlet.append(Dirichlet.on_facets(V, facet_tags, "front", 1))
     tags = ("upper_bottom", "lower_top") if slave == "upper" else ("lower_top", "upper_bottom")
-    contacts = two_body_surfaces(u, facet_tags, *tags, law_factory, load, quadrature, passes, name="interface")
-    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags, subdomain_id=facet_tags["upper_top"])
-    traction = (ufl.as_vector((0.0,) * (dim - 1) + (-pressure,)), ds)
     bulk = Materials(mesh, cell_tags, {"lower": MODELS[material](E_lower, nu_lower),
                                        "upper": MODELS[material](E_upper, nu_upper)})
+    contacts = two_body_surfaces(u, facet_tags, *tags, law_factory, load, quadrature, passes, name="interface",
+                                 material=bulk)
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags, subdomain_id=facet_tags["upper_top"])
+    traction = (ufl.as_vector((0.0,) * (dim - 1) + (-pressure,)), ds)
     problem = ContactProblem(u, bulk, load, dirichlet, contacts, [traction])
     top_dofs = fem.locate_dofs_topological(V, fdim, facet_tags.find("upper_top"))
     (a_lo, c_lo), (a_up, c_up) = (uniform_stretches(pressure, material, dim, E, nu)

@@ -11,9 +11,10 @@ it down the incline) gives the horizontal force
 
     H / N = (mu + tan alpha) / (1 - mu tan alpha)
 
-(``H``: the push, from the block's equilibrium: minus the contact force's x component). The figure ``ratio`` is
-``H / N`` at the last step; ``ratio_error``
-its relative distance from the formula. The deformation turns the interface by about the elastic strain (~1e-3
+(Tresca's bound ``s`` instead, on the block's bottom ``2 b``: ``H / N = tan alpha + s / (load cos alpha)``,
+with ``N = load 2 b``; ``H``: the push, from the block's equilibrium: minus the contact force's x component).
+The figure ``ratio`` is ``H / N`` at the last step; ``ratio_error`` its relative distance from the formula.
+The deformation turns the interface by about the elastic strain (~1e-3
 with the defaults): the formula's departure.
 """
 from __future__ import annotations
@@ -34,7 +35,7 @@ from ...problem import ContactProblem, Dirichlet
 from ..meshes.mindlin import block_on_incline
 from . import Option, Setup, poisson, positive
 
-__all__ = ["OPTIONS", "build", "wedge_ratio", "SLIDE_STEPS", "PREDICTOR"]
+__all__ = ["OPTIONS", "build", "wedge_ratio", "tresca_wedge_ratio", "SLIDE_STEPS", "PREDICTOR"]
 
 E, NU = 1000.0, 0.3
 ALPHA = 20.0  # degrees
@@ -59,6 +60,13 @@ def wedge_ratio(mu: float, alpha_deg: float) -> float:
     return (mu + t) / (1 - mu * t)
 
 
+def tresca_wedge_ratio(s: float, load: float, alpha_deg: float) -> float:
+    """``tan alpha + s / (load cos alpha)``: horizontal over vertical force to push a block whose whole bottom
+    slides with Tresca's bound ``s`` up the incline, under the vertical traction ``load`` on its top."""
+    a = math.radians(alpha_deg)
+    return math.tan(a) + s / (load * math.cos(a))
+
+
 OPTIONS = {
     "alpha": Option("wedge angle (degrees, in [0, 60])", (0.0, 60.0)),
     "E": Option("Young's modulus of the block and the wedge (stress)"),
@@ -71,22 +79,25 @@ OPTIONS = {
 def build(law: ContactLaw, alpha: float = ALPHA, E: float = E, nu: float = NU, load: float = LOAD,
           push: float = PUSH, slide_steps: int = SLIDE_STEPS, comm: MPI.Comm = MPI.COMM_WORLD,
           mesh: tuple = ((40, 8), (12, 6)), length: float = LENGTH) -> Setup:
-    """``law``: a Coulomb :class:`~fenics_contact.friction.Friction` (``mu > 0``); ``alpha`` in degrees, in
-    [0, 60]; ``load`` the vertical traction on the block's top; ``push`` the horizontal displacement of its left
-    face at the end; ``slide_steps`` load steps of the push (solve them with the predictor :data:`PREDICTOR`);
-    ``mesh`` the (nx, ny) of the wedge and the block; ``length`` the wedge's length ``L`` (its depth ``0.4 L``,
-    the block ``0.25 L`` wide and high)."""
+    """``law``: a Coulomb (``mu > 0``) or Tresca (``tresca > 0``) :class:`~fenics_contact.friction.Friction`;
+    ``alpha`` in degrees, in [0, 60]; ``load`` the vertical traction on the block's top; ``push`` the horizontal
+    displacement of its left face at the end; ``slide_steps`` load steps of the push (solve them with the
+    predictor :data:`PREDICTOR`); ``mesh`` the (nx, ny) of the wedge and the block; ``length`` the wedge's length
+    ``L`` (its depth ``0.4 L``, the block ``0.25 L`` wide and high)."""
     positive(E=E, load=load, push=push, length=length)
     poisson(nu=nu)
     alpha = float(alpha)
     if not (math.isfinite(alpha) and 0.0 <= alpha <= 60.0):
         raise ValueError(f"alpha must be in [0, 60] degrees, got {alpha!r}")
-    if not isinstance(law, Friction) or "mu" not in law.scalars or not law.scalars["mu"] > 0:
-        raise ValueError(f"wedges needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
+    bound = law.scalars.get("mu", law.scalars.get("tresca", 0.0)) if isinstance(law, Friction) else 0.0
+    if not bound > 0 or "c_t" in law.scalars:
+        raise ValueError(f"wedges needs a Coulomb (mu > 0, e.g. --mu 0.3) or Tresca (tresca > 0) friction law, "
+                         f"got {law!r}")
     if int(slide_steps) < 1:
         raise ValueError(f"slide_steps must be >= 1, got {slide_steps!r}")
-    mu = float(law.scalars["mu"])
-    reference = wedge_ratio(mu, alpha)  # refuses a self-locking wedge before any work
+    mu = float(law.scalars["mu"]) if "mu" in law.scalars else None
+    # refuses a self-locking wedge before any work
+    reference = wedge_ratio(mu, alpha) if mu is not None else tresca_wedge_ratio(bound, load, alpha)
     L, D, b, h = length, 0.4 * length, 0.25 * length, 0.25 * length
     msh, cells, facets = block_on_incline(comm, math.radians(alpha), L, D, b, h, *mesh, overlap=1e-9 * L)
     V = function_space(msh, "Lagrange", 1, (2,))
@@ -95,11 +106,13 @@ def build(law: ContactLaw, alpha: float = ALPHA, E: float = E, nu: float = NU, l
     left = fem.locate_dofs_topological(V.sub(0), 1, facets.find("block_left"))  # pushed along x
     dirichlet = [Dirichlet.on_facets(V, facets, "wedge_bottom", 0), Dirichlet.on_facets(V, facets, "wedge_bottom", 1),
                  Dirichlet(V.sub(0), left, 1.0, ([0.0, 1.0, 2.0], [0.0, 0.0, push]))]
-    contact = two_body_surfaces(u, facets, "block_bottom", "wedge_top", lambda: law, t, "nodal", name="incline")[0]
+    material = LinearElastic(E, nu)
+    contact = two_body_surfaces(u, facets, "block_bottom", "wedge_top", lambda: law, t, "nodal", name="incline",
+                                material=material)[0]
     ds = ufl.Measure("ds", domain=msh, subdomain_data=facets.meshtags)
     # Tractions are scaled by t: this vector times t is (0, -load) from t = 1 on.
     top = ufl.as_vector((0.0, -load * ufl.min_value(t, 1.0) / t))
-    problem = ContactProblem(u, LinearElastic(E, nu), t, dirichlet, [contact], [(top, ds(facets["block_top"]))])
+    problem = ContactProblem(u, material, t, dirichlet, [contact], [(top, ds(facets["block_top"]))])
     top_length = 2 * b  # the top is turned, its length is 2 b; the traction is per unit length
     N = load * top_length
     loads = [1.0] + [1.0 + (i + 1) / slide_steps for i in range(slide_steps)]
@@ -116,8 +129,10 @@ def build(law: ContactLaw, alpha: float = ALPHA, E: float = E, nu: float = NU, l
                 "slip_fraction": float(np.mean(prof["state"][closed] == SLIP)) if closed.any() else 0.0,
                 "contact_force_y": float(force[1]), "vertical_equilibrium_error": abs(float(force[1]) - N) / N}
 
-    params = {"E": E, "nu": nu, "alpha": alpha, "mu": mu, "load": load, "push": push, "N": N,
+    params = {"E": E, "nu": nu, "alpha": alpha, **({"mu": mu} if mu is not None else {"tresca": bound}),
+              "load": load, "push": push, "N": N,
               "mesh": [list(m) for m in mesh], "quadrature": "nodal",
-              "model": "block pushed up an incline, two deformable bodies, node-to-segment Coulomb friction"}
+              "model": "block pushed up an incline, two deformable bodies, node-to-segment "
+                       f"{'Coulomb' if mu is not None else 'Tresca'} friction"}
     return Setup("wedges", problem, [contact], loads, params, figures,
                  [u, contact.gap_out, contact.pressure_out, contact.traction_out, contact.state_out])

@@ -1,0 +1,245 @@
+"""Two-body Nitsche (unbiased with two passes): consistent tangent, patch test, Hertz, ranks, bad input."""
+import dolfinx.fem.petsc as fem_petsc
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from fenics_contact.app.scenes import build
+from fenics_contact.capabilities import UnsupportedCombination
+from fenics_contact.compat import bc_dofs, petsc_vec
+from fenics_contact.factory import two_body_surfaces
+from fenics_contact.friction import Friction
+from fenics_contact.methods import make_law
+from fenics_contact.solver import Solver
+
+
+def _nitsche(theta=1.0, gamma0=10.0, friction=None):
+    def law():
+        normal = make_law("nitsche", gamma0=gamma0, theta=theta)
+        if friction == "coulomb":
+            return Friction(normal, mu=0.3)
+        return normal if friction is None else Friction(normal, tresca=0.5)
+    return law
+
+
+@pytest.mark.parametrize("quadrature,passes,dim,theta,friction", [
+    ("gauss", "two", 2, 1.0, None), ("nodal", "two", 2, -1.0, None), ("gauss", "one", 2, 0.0, None),
+    ("nodal", "two", 3, 1.0, None), ("gauss", "two", 2, 1.0, "coulomb"), ("nodal", "one", 2, -1.0, "tresca"),
+    ("nodal", "two", 3, 1.0, "coulomb")])
+def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, theta, friction, contact_tangent_error):
+    """Central differences of the contact residual (slave and master rows: the gap, the stress terms through the
+    master normal, the slip) against the assembled tangent, at a sliding, pressed configuration with every node
+    perturbed (the master facets rotate), to 1e-6 relative; symmetric, skew-symmetric and incomplete variants,
+    frictionless, Coulomb and Tresca (points in stick and in slip)."""
+    sizes = {} if dim == 2 else {"n_lower": (2, 2, 1), "n_upper": (3, 3, 1)}
+    setup = build("patch", law_factory=_nitsche(theta, friction=friction), quadrature=quadrature, passes=passes,
+                  **sizes)
+    problem = setup.problem
+    solver = Solver(problem, quiet=True)
+    problem.set_load(1.0)
+    u = problem.u
+    V = u.function_space
+    x = petsc_vec(u).copy()
+    X = V.tabulate_dof_coordinates()[: len(x.array) // dim]
+
+    def noise(seed):  # pseudo-random values of the dofs' coordinates: the same state on any number of ranks
+        h = np.sin(X @ np.array([12.9898, 78.233, 37.719]) + seed) * 43758.5453
+        return np.stack([np.sin(h * (k + 1.7)) for k in range(dim)], axis=1).ravel()
+
+    z = X[:, dim - 1]
+    upper = (z > 1.0 + 1e-9) | np.isclose(z, 1.0 - 1e-6, rtol=0, atol=1e-9)
+    x.array[:] = 1e-3 * noise(0.0)
+    x.array[0::dim][upper] += 0.037
+    if dim == 3:
+        x.array[1::dim][upper] += 0.023
+    x.array[dim - 1::dim][upper] -= 0.002
+    d = x.duplicate()
+    d.array[:] = noise(1.0)
+    for bc in problem.bcs:
+        d.array[bc_dofs(bc)] = 0.0
+        x.array[bc_dofs(bc)] = 0.0
+    if friction is not None:  # the slip history at the slid state, then a small motion: points stick and slip
+        u.x.array[: len(x.array)] = x.array  # the owned values, then the ghosts'
+        u.x.scatter_forward()
+        for c in setup.contacts:
+            c.prepare(problem)
+            c.commit()
+        x.array[:] += 2e-4 * noise(4.0 if dim == 2 else 5.0)
+        for bc in problem.bcs:
+            x.array[bc_dofs(bc)] = 0.0
+    du, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+    Ab = fem_petsc.assemble_matrix(fem.form(ufl.derivative(
+        ufl.derivative(problem.material.energy(u) * ufl.dx, u, v), u, du)), bcs=problem.bcs)
+    Ab.assemble()
+    err, master = contact_tangent_error(solver, x, d, lambda c: c.pairing(), Ab, np.repeat(~upper, dim))
+    assert master > 0.1
+    print(f"FD check nitsche {friction} theta {theta:g} {quadrature} {passes}-pass {dim}D: relative error {err:.2e}")
+    assert err <= 1e-6, err
+    if friction is not None:  # both branches of the return mapping are in the check
+        states = np.concatenate([c.report.field_values(c.projector.project(
+            c.projector.compile(c.slip_state_expr), fem.Function(c.S))).ravel() for c in setup.contacts])
+        states = np.concatenate(MPI.COMM_WORLD.allgather(states))
+        # (nodal quadrature: a vertex between a sliding and a sticking facet gets the mean)
+        assert np.any(np.abs(states - 1.0) < 0.25) and states.max() > 1.25, np.unique(states.round(3))
+
+
+def _patch(quadrature="gauss", passes="two", theta=1.0, comm=MPI.COMM_WORLD, **kw):
+    setup = build("patch", law_factory=_nitsche(theta), quadrature=quadrature, passes=passes, comm=comm, **kw)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    return setup, solver
+
+
+@pytest.mark.parametrize("quadrature,theta", [("gauss", 1.0), ("nodal", -1.0), ("gauss", 0.0)])
+def test_patch_matching_interface_to_round_off(quadrature, theta):
+    """Two blocks of different E, uniform pressure, unbiased Nitsche: where the interface nodes match, the uniform
+    state is reproduced to round-off (pressure at every slave point of both passes, the displacement of every
+    node), for any theta; the force balance is exact."""
+    setup, solver = _patch(quadrature, "two", theta, n_lower=(5, 4), n_upper=(5, 4))
+    f = setup.figures()
+    print(f"matching patch, {quadrature}, theta {theta:g}: pressure deviation {f['pressure_deviation']:.1e}, "
+          f"displacement error {f['displacement_error']:.1e}")
+    assert f["pressure_deviation"] < 1e-10 and f["displacement_error"] < 1e-10
+    assert np.isclose(f["reaction_bottom"], f["applied_force"], rtol=1e-10)
+
+
+def test_patch_non_matching_interface():
+    """Non-matching interface nodes (5 and 7 cells): the master part is integrated with the slave's Gauss rule
+    across the kinks of the master's shape functions, so the uniform pressure is reproduced only to that
+    quadrature error (measured 6.1e-2 of the pressure, largest point); the force balance stays exact (round-off),
+    the top displacement within 1e-4 of the exact one (measured 3.8e-5), and Newton converges quadratically (3
+    iterations)."""
+    setup, solver = _patch("gauss", "two")
+    f = setup.figures()
+    print(f"non-matching patch: pressure deviation {f['pressure_deviation']:.2e}, top displacement error "
+          f"{f['top_displacement_error']:.1e}, Newton {len(solver.records[0].residuals[-1]) - 1}")
+    assert np.isclose(f["reaction_bottom"], f["applied_force"], rtol=1e-10)
+    assert f["top_displacement_error"] < 1e-4 and f["pressure_deviation"] < 0.1
+    res = solver.records[0].residuals[-1]
+    assert len(res) - 1 <= 4 and res[-2] <= 10 * res[-3] ** 2 / res[0]
+
+
+def test_serial_equals_two_ranks():
+    """The unbiased patch (two passes, non-matching) under mpirun: every figure and the pressure at every slave
+    point equal the serial ones to 1e-8."""
+    par, _ = _patch("gauss", "two", comm=MPI.COMM_WORLD)
+    ser, _ = _patch("gauss", "two", comm=MPI.COMM_SELF)
+    fp, fs = par.figures(), ser.figures()
+    for k in fs:
+        floor = 1.0 if k == "pressure_deviation" else 1e-3
+        assert abs(fp[k] - fs[k]) <= 1e-8 * max(abs(fs[k]), floor), (k, fp[k], fs[k])
+    for cp, cs in zip(par.contacts, ser.contacts):
+        xp, _, pp = cp.point_values()
+        xs, _, ps = cs.point_values()
+        assert np.allclose(xp, xs, rtol=0, atol=1e-12) and np.allclose(pp, ps, rtol=1e-8, atol=1e-8 * ps.max())
+
+
+def test_two_body_hertz():
+    """The two-body Hertz case (quarter disk R = 8 on a 16 x 16 block of its own material, E = 200, nu = 0.3,
+    load 10, from rest, force control): unbiased symmetric Nitsche, gamma0 = 10, at the scene's contact mesh size
+    h = R / 400: p0 within 1 % of Hertz with E* = E / (2 (1 - nu^2)), the transmitted force (both passes at
+    weight 1/2) the load."""
+    from fenics_contact.app.scenes import hertz
+
+    kw = dict(plate="meshed", E=200.0, nu=0.3, R=8.0, load=10.0, plate_E=200.0, plate_width=16.0, plate_depth=16.0)
+    setup = hertz.build(make_law("nitsche", gamma0=10.0), quadrature="gauss", **kw)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    f = setup.figures()
+    newton = sum(len(res) - 1 for r in solver.records for res in r.residuals)
+    print(f"two-body Hertz, nitsche: p0 error {f['p0_error']:.2e}, a error {f['a_error']:.2e}, Newton {newton}")
+    assert f["load_error"] < 1e-8 and f["p0_error"] < 1e-2
+
+
+def test_bad_input():
+    """theta outside [-1, 1], no material, segment integration, quadratic facets, a normal-compliance friction
+    bound and friction against a rigid obstacle are refused up front with one line."""
+    from fenics_contact.app.meshes import stacked_blocks
+    from fenics_contact.compat import function_space
+    from fenics_contact.materials import LinearElastic
+
+    with pytest.raises(ValueError, match=r"theta must be a finite number in \[-1, 1\]"):
+        make_law("nitsche", theta=2.0)
+    mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (3, 2))
+    u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
+    load = fem.Constant(mesh, 0.0)
+    with pytest.raises(ValueError, match="needs the bulk material"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(), load, "gauss")
+    with pytest.raises(UnsupportedCombination, match="no stress term"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(), load, "segment",
+                          material=LinearElastic(1.0, 0.3))
+    with pytest.raises(ValueError, match="not c_t"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: Friction(make_law("nitsche"), c_t=1.0), load,
+                          "gauss", material=LinearElastic(1.0, 0.3))
+    from fenics_contact.factory import contact_surface
+    from fenics_contact.obstacles import HalfPlane
+
+    with pytest.raises(UnsupportedCombination, match="between two bodies"):
+        contact_surface(u, ft, "lower_top", HalfPlane([0.0, 0.0], [0.0, 1.0]), Friction(make_law("nitsche"), mu=0.3),
+                        load, material=LinearElastic(1.0, 0.3))
+    u2 = fem.Function(function_space(mesh, "Lagrange", 2, (2,)))
+    with pytest.raises(UnsupportedCombination, match="flat"):
+        two_body_surfaces(u2, ft, "upper_bottom", "lower_top", _nitsche(), load, "simpson",
+                          material=LinearElastic(1.0, 0.3))
+
+
+def _wedges(friction, comm=MPI.COMM_WORLD):
+    law = _nitsche(friction=friction)() if friction == "coulomb" else Friction(make_law("nitsche"), tresca=0.15)
+    from fenics_contact.app.scenes import wedges
+
+    setup = build("wedges", law=law, comm=comm)
+    solver = Solver(setup.problem, quiet=True, predictor=wedges.PREDICTOR)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    return setup, solver
+
+
+@pytest.mark.parametrize("friction", ["coulomb", "tresca"])
+def test_wedges_ratio(friction):
+    """A block pushed up an elastic incline (alpha 20 degrees) with Nitsche's friction, one pass: the push over
+    the vertical force within 1 % of the closed form (Coulomb mu = 0.3: (mu + tan alpha) / (1 - mu tan alpha);
+    Tresca s = 0.15: tan alpha + s / (load cos alpha)), the vertical force balance and every closed point sliding
+    at the end (measured: 1.5e-4 both)."""
+    setup, solver = _wedges(friction)
+    f = setup.figures()
+    newton = sum(len(res) - 1 for r in solver.records for res in r.residuals)
+    print(f"wedges, nitsche {friction}: ratio {f['ratio']:.6f} (closed form {f['ratio_reference']:.6f}, error "
+          f"{f['ratio_error']:.1e}), Newton {newton}")
+    assert f["ratio_error"] < 1e-2 and f["vertical_equilibrium_error"] < 1e-4
+    assert f["slip_fraction"] == 1.0
+
+
+def test_wedges_serial_equals_ranks():
+    """Nitsche's Coulomb friction on the wedges under mpirun: the figures equal the serial ones to 1e-8."""
+    par, _ = _wedges("coulomb", MPI.COMM_WORLD)
+    ser, _ = _wedges("coulomb", MPI.COMM_SELF)
+    fp, fs = par.figures(), ser.figures()
+    for k in fs:
+        assert abs(fp[k] - fs[k]) <= 1e-8 * max(abs(fs[k]), 1e-3), (k, fp[k], fs[k])
+
+
+def test_mindlin_stick_zone():
+    """Cattaneo-Mindlin partial slip (the ``mindlin`` scene, two identical bodies, mu = 0.3, one pass, refinement 1:
+    h = R / 1200) with Nitsche's Coulomb friction, gamma0 = 10: the contact half-width within 2 % of Hertz's
+    (measured 0.66 %) and the stick half-width within 5 % of c = a sqrt(1 - Q / (mu P)) at Q / (mu P) = 0.2, 0.5,
+    0.8 (measured 1.1 %, 1.2 %, 4.1 %; on the default mesh, h = R / 600: 1.2 %, 2.5 %, 7.2 %, i.e. 0.31, 0.51 and
+    0.91 contact elements)."""
+    from fenics_contact.app.scenes import mindlin
+
+    setup = build("mindlin", law=_nitsche(friction="coulomb")(), refinement=1)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records)
+    f = setup.figures()
+    h = f["h_contact"]
+    newton = sum(len(res) - 1 for r in solver.records for res in r.residuals)
+    for r in mindlin.RATIOS:
+        c, ref = f[f"c_{r:g}"], f[f"c_ref_{r:g}"]
+        print(f"mindlin nitsche Q/(mu P) = {r}: c error {abs(c - ref) / ref:.2%} = {abs(c - ref) / h:.2f} elements")
+        assert abs(c - ref) <= 0.05 * ref, (r, c, ref)
+    print(f"mindlin nitsche: a error {f['a_error']:.2e}, Newton {newton}")
+    assert f["a_error"] < 0.02
