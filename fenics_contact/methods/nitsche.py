@@ -11,7 +11,7 @@ METHOD = Method(
     name="nitsche", summary="Nitsche (symmetric, incomplete or skew), gamma = gamma0 E / h; two bodies: unbiased "
                             "with two passes", law=Nitsche,
     parameters=(Parameter("gamma0", "gamma0", "gamma = gamma0 E / h (dimensionless)", default=10.0),
-                Parameter("theta", "theta", "Nitsche's theta: 1 symmetric, 0 incomplete, -1 skew-symmetric",
+                Parameter("theta", "nitsche_theta", "Nitsche's theta: 1 symmetric, 0 incomplete, -1 skew-symmetric",
                           range="sign", default=1.0)),
     rigid="fenics_contact.methods.builders:nitsche_surface",
     two_body="fenics_contact.methods.builders:nitsche_two_body",
@@ -26,4 +26,6 @@ METHOD = Method(
            rule("quadrature 'nodal' or 'gauss' (or another method)", "the segment-to-segment element has no "
                 "stress term", method="nitsche", kind="two-body", quadrature="segment"),
            rule("degree 1 (or another method)", "two-body Nitsche is built and checked on flat (degree-1) facets",
-                method="nitsche", kind="two-body", degree=2)))
+                method="nitsche", kind="two-body", degree=2),
+           rule("kind 'rigid' or geometry 'cartesian' (or another method)", "two-body Nitsche's stress terms carry "
+                "no 2 pi r", method="nitsche", kind="two-body", geometry="axisymmetric")))

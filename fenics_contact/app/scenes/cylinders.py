@@ -89,6 +89,8 @@ OPTIONS = {
     "E": Option(f"Young's modulus of both cylinders (stress; default: from the Lame constants {LAMBDA:g}, {MU:g})"),
     "nu": Option(f"Poisson's ratio of both cylinders (default: from the Lame constants {LAMBDA:g}, {MU:g})",
                  "poisson"),
+    "overlap": Option(f"initial overlap of each contact, the plates' and the cylinders' (length; default: "
+                      f"{OVERLAP:g})"),
 }
 
 

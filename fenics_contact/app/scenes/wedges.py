@@ -73,6 +73,8 @@ OPTIONS = {
     "nu": Option("Poisson's ratio of the block and the wedge", "poisson"),
     "load": Option("vertical traction on the block's top (stress)"),
     "push": Option("horizontal displacement of the block's left face at the end (length)"),
+    "length": Option(f"the wedge's length L; its depth 0.4 L, the block 0.25 L wide and high (length; default: "
+                     f"{LENGTH:g})"),
 }
 
 
