@@ -304,8 +304,9 @@ class ContactProblem:
         """The size of the mesh: the diagonal of its bounding box (a length), over all ranks. Collective."""
         if not hasattr(self, "_mesh_size"):
             x = self.u.function_space.mesh.geometry.x
-            lo = self.comm.allreduce(x.min(axis=0) if len(x) else np.full(3, np.inf), op=MPI.MIN)
-            hi = self.comm.allreduce(x.max(axis=0) if len(x) else np.full(3, -np.inf), op=MPI.MAX)
+            lo, hi = np.full(3, np.inf), np.full(3, -np.inf)  # buffers: allreduce's MIN of arrays is not elementwise
+            self.comm.Allreduce(x.min(axis=0) if len(x) else lo.copy(), lo, op=MPI.MIN)
+            self.comm.Allreduce(x.max(axis=0) if len(x) else hi.copy(), hi, op=MPI.MAX)
             self._mesh_size = float(np.linalg.norm(hi - lo))
         return self._mesh_size
 

@@ -91,7 +91,8 @@ def solve_cylinders(method, comm=MPI.COMM_WORLD, augment_max=0, **params):
 
     setup = build("cylinders", law_factory=lambda: make_law(method, **params), quadrature="nodal", passes="one",
                   loads=[cylinders.T_HERTZ], comm=comm)
-    solver = Solver(setup.problem, quiet=True, augment_max=augment_max, augment_tol=1e-6)
+    # augment_tol: a gap change of 1e-6 on the scene ~50 long
+    solver = Solver(setup.problem, quiet=True, augment_max=augment_max, augment_tol=2e-8)
     solver.run(setup.loads)
     return setup.figures(), solver.records
 

@@ -105,20 +105,19 @@ class Newton:
 
     @property
     def roundoff_floor(self) -> float:
-        """The residual norm a finite-strain body cannot go below (0 for small strain): its stresses are formed from
-        ``F`` near ``I``, so each row carries a round-off of ~ machine epsilon times its stiffness diagonal times
-        the cell size, whatever the strain (a strain of 1e-6 would otherwise never reach ``ATOL_RELATIVE`` of its
-        first residual). :data:`~.options.ROUNDOFF_FACTOR` times that, in the norm over all rows; the cell size
-        is the mesh's bounding-box diagonal over the d-th root of the rows."""
+        """The residual norm below which a solve has converged whatever its loads: a finite-strain stress formed
+        from ``F`` near ``I``, or a gap from the current positions, carries a round-off of ~ machine epsilon times
+        the stiffness diagonal times the cell size in each row, whatever the strain (a strain of 1e-6 would
+        otherwise never reach ``ATOL_RELATIVE`` of its first residual). :data:`~.options.ROUNDOFF_FACTOR` times
+        that, in the norm over all rows; the cell size is the mesh's bounding-box diagonal over the d-th root of
+        the rows. At strains above ~1e-4 it is below ``ATOL_RELATIVE`` of the first residual."""
         if self._roundoff_floor is None:
             problem = self.problem
-            self._roundoff_floor = 0.0
-            if not problem.material.linear:
-                n = self.b.getSize()
-                d = problem.u.function_space.mesh.geometry.dim
-                h = problem.mesh_size() / max(n, 1) ** (1.0 / d)
-                diagonal = problem.stiffness / DIRICHLET_WEIGHT
-                self._roundoff_floor = ROUNDOFF_FACTOR * np.finfo(float).eps * diagonal * h * np.sqrt(n)
+            n = self.b.getSize()
+            d = problem.u.function_space.mesh.geometry.dim
+            h = problem.mesh_size() / max(n, 1) ** (1.0 / d)
+            diagonal = problem.stiffness / DIRICHLET_WEIGHT
+            self._roundoff_floor = ROUNDOFF_FACTOR * np.finfo(float).eps * diagonal * h * np.sqrt(n)
         return self._roundoff_floor
 
     def convergence_test(self, snes: PETSc.SNES, it: int, norms: tuple[float, float, float]) -> int:

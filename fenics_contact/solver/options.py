@@ -53,8 +53,8 @@ DEFAULT_OPTIONS = {
 # augmentation) starts near it and stops there instead of at rtol of its own small first residual, at the
 # round-off floor (~1e-16 x the internal forces x the conditioning of the assembly).
 ATOL_RELATIVE = 1e-11
-# The round-off floor of a finite-strain residual in units of machine epsilon x stiffness diagonal x cell size per
-# row (newton.Newton.roundoff_floor): above the ~10 terms each entry of a stress sums.
+# The round-off floor of a residual (finite strain, current gap) in units of machine epsilon x stiffness
+# diagonal x cell size per row (newton.Newton.roundoff_floor): above the ~10 terms each entry of a stress sums.
 ROUNDOFF_FACTOR = 100.0
 
 # Linear solvers of ``--solver``. direct: sparse LU (MUMPS), robust for every method, the default for
