@@ -25,6 +25,7 @@ builders that use it) and tables are public too. Importing the package does not 
 from . import capabilities, compat, domain, failure, laws, methods, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
+from .cells import MeshError, check_cells
 from .compat import function_space, interpolate_expression
 from .condensed import CondensedContact, CondensedCoulomb, CondensedTwoBody, CondensedTwoBodyCoulomb, step_solver_for
 from .contact import ContactSurface, contact_measure
@@ -74,7 +75,7 @@ __all__ = [
     "CondensedTwoBodyCoulomb", "TwoBodySurface", "SegmentSurface",
     "TwoBodyMultiplier", "FrictionalTwoBodySurface",
     # your own mesh: gmsh physical names
-    "read_gmsh", "NamedTags", "tag_boundary",
+    "read_gmsh", "NamedTags", "tag_boundary", "check_cells", "MeshError",
     # problem, boundary conditions, solver
     "ContactProblem", "Dirichlet", "Stabilised", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
     "INEXACT_NEWTON",

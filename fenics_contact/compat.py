@@ -20,7 +20,7 @@ if typing.TYPE_CHECKING:
 
 __all__ = [
     "function_space", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "interpolate_expression", "cell_sizes",
-    "entities_to_geometry", "cell_dofs", "cell_partitioner", "model_to_mesh", "create_mesh",
+    "entities_to_geometry", "cell_dofs", "geometry_dofs", "cell_partitioner", "model_to_mesh", "create_mesh",
     "release_free_memory", "schur_complement", "petsc_library"
 ]
 
@@ -100,6 +100,16 @@ def cell_dofs(V) -> typing.Any:
     if hasattr(dofs, "offsets"):  # dolfinx 0.5: an AdjacencyList
         return np.asarray(dofs.array).reshape(len(dofs.offsets) - 1, -1)
     return np.asarray(dofs)
+
+
+def geometry_dofs(mesh) -> typing.Any:
+    """The geometry dofmap as an array (local cells, nodes per cell) of rows of ``mesh.geometry.x``."""
+    import numpy as np
+
+    dofs = mesh.geometry.dofmap
+    if hasattr(dofs, "offsets"):  # dolfinx 0.5: an AdjacencyList
+        return np.asarray(dofs.array).reshape(len(dofs.offsets) - 1, -1)
+    return np.asarray(dofs[0] if isinstance(dofs, (list, tuple)) else dofs)
 
 
 def cell_sizes(mesh, dim: int, entities):

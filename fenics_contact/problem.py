@@ -15,6 +15,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .cells import check_cells
 from .compat import function_space, interpolate_expression, lift_and_set_bc, petsc_vec
 from .contact import displacement
 from .domain import tag_value
@@ -71,6 +72,7 @@ class ContactProblem:
                  dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[Surface] = (),
                  tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = (),
                  step_solver: StepSolver | None = None):
+        check_cells(u.function_space.mesh)  # a tangled or flat cell: no answer to solve for
         self.u, self.material, self.load = u, material, load
         self.dirichlet, self.contacts = list(dirichlet), list(contacts)
         need = [c.name for c in self.contacts if c.requires_step_solver]
