@@ -16,7 +16,14 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .cells import check_cells
-from .compat import function_space, interpolate_expression, lift_and_set_bc, petsc_vec
+from .compat import (
+    cell_dofs,
+    compile_expression,
+    function_space,
+    interpolate_expression,
+    lift_and_set_bc,
+    petsc_vec,
+)
 from .contact import displacement
 from .domain import tag_value
 from .materials import Material, Materials
@@ -171,20 +178,31 @@ class ContactProblem:
         for d in self.dirichlet:
             d.value.value = d.at(t)
 
-    def min_jacobian(self) -> float | None:
-        """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the
-        vertices), over all ranks; None for a small-strain material (no such constraint). ``J <= 0``: an
-        inverted element, an inadmissible finite-strain state even if Newton converged to it."""
-        if self.material.linear:
-            return None
+    def _cell_jacobians(self) -> np.ndarray:
+        """Smallest ``det F`` (``F = I + grad u``) of each owned cell over its DG1 interpolation points (the
+        vertices), at the current displacement."""
         if not hasattr(self, "_detF"):
             w = displacement(self.u)
-            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)),
-                          ufl.det(ufl.Identity(len(w)) + ufl.grad(w)))
+            f = fem.Function(function_space(self.u.function_space.mesh, "DG", 1))
+            self._detF = (f, compile_expression(ufl.det(ufl.Identity(len(w)) + ufl.grad(w)), f.function_space))
         f, expr = self._detF
         interpolate_expression(f, expr)
-        local = f.x.array[: f.function_space.dofmap.index_map.size_local]
+        V = f.function_space
+        return f.x.array[cell_dofs(V)[: V.mesh.topology.index_map(V.mesh.topology.dim).size_local]].min(axis=1)
+
+    def min_jacobian(self) -> float:
+        """Smallest ``J = det F`` (``F = I + grad u``) at the current displacement over every cell's DG1
+        interpolation points (the vertices), over all ranks. ``J <= 0``: an inverted element, no answer even
+        if Newton converged to it (a finite-strain material has no such state; a small-strain one gives it
+        without complaint, its displacement overlapping itself)."""
+        local = self._cell_jacobians()
         return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
+
+    def inverted_cells(self) -> tuple[int, int]:
+        """``(cells with det F <= 0 at a vertex, cells)`` at the current displacement, over all ranks."""
+        local = self._cell_jacobians()
+        return (self.comm.allreduce(int(np.count_nonzero(local <= 0.0)), op=MPI.SUM),
+                self.comm.allreduce(local.size, op=MPI.SUM))
 
     def internal_force(self) -> np.ndarray:
         """Internal forces ``dW[phi_i]`` at the current state, local array (owned and ghost dofs)."""

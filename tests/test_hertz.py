@@ -1,4 +1,6 @@
 """Cylinder on a rigid plane against Hertz (plane strain)."""
+import re
+
 import numpy as np
 import pytest
 
@@ -150,3 +152,32 @@ def test_meshed_plate_with_multipliers():
     f = setup.figures()
     assert f["p0_error"] < 0.02 and f["a_error"] < 0.02, (f["p0_error"], f["a_error"])
     assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
+
+
+def test_linear_elastic_inversion_is_a_failure_not_an_answer(tmp_path_factory, comm, capsys):
+    """An approach of 2 R (the quarter disk pushed through the plate by twice its radius) with linear elasticity:
+    the small-strain solve converges at every load, to a displacement that turns cells over (det(I + grad u) <= 0)
+    past an approach of R. Each such solve fails as ``inverted_elements``; the step is cut back, and after the
+    cutbacks the demo ends with exit status 1 and one line naming the cause."""
+    import importlib.util
+    from pathlib import Path
+
+    from fenics_contact.app import cli
+
+    path = Path(__file__).resolve().parent.parent / "fenics_contact" / "app" / "demos" / "hertz.py"
+    spec = importlib.util.spec_from_file_location("demo_hertz", path)
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    out = comm.bcast(str(tmp_path_factory.mktemp("approach")) if comm.rank == 0 else None)
+    with pytest.raises(SystemExit) as ended:
+        cli.main(demo.main, ["--approach", "2.0", "--steps", "1", "--method", "penalty", "--out", out,
+                             "--no-pictures", "--no-xdmf", "--quiet"])
+    assert ended.value.code == cli.EXIT_ERROR
+    err = capsys.readouterr().err.strip().splitlines()
+    if comm.rank == 0:
+        line = err[-1]
+        assert "did not converge" in line and "inverted_elements" in line, line
+        found = re.search(r"with (\d+) of (\d+) cells inverted", line)
+        assert found and int(found[1]) > 0, line
+        last = float(re.search(r"the last converged state is t = ([0-9.e-]+)", line)[1])
+        assert last <= 0.5  # an approach of R at most: beyond it the disk's top has passed its bottom

@@ -55,8 +55,10 @@ class StepRecord:
 
 def _timings() -> dict[str, float]:
     # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
-    # (their difference is the linear solves and SNES's vector work), augmentation updates.
-    return {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0, "predictor_s": 0.0}
+    # (their difference is the linear solves and SNES's vector work), augmentation updates, the check of every
+    # converged solve for inverted cells (det F).
+    return {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0, "predictor_s": 0.0,
+            "validity_s": 0.0}
 
 
 @dataclass
@@ -80,7 +82,7 @@ class RunRecord:
         split = {"assembly_s": t["assembly_s"],
                  "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
                  "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"],
-                 "predictor_s": t["predictor_s"]}
+                 "predictor_s": t["predictor_s"], "validity_s": t["validity_s"]}
         # the surfaces' own work (two-body search, exchange, coupling: inside assembly_s), summed over surfaces
         own: dict[str, float] = {}
         for c in contacts:

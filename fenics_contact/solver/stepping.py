@@ -250,12 +250,17 @@ class Solver:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                **newton.diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
                 break
-            J = self.problem.min_jacobian()  # finite strain: a converged state with an inverted element is no answer
-            if J is not None and not J > 0.0:
-                rec.message = f"converged to a state with an inverted element (min det F = {J:.3g})"
+            start_check = time.perf_counter()
+            J = self.problem.min_jacobian()  # a converged state with an inverted element is no answer
+            if not J > 0.0:
+                bad, cells = self.problem.inverted_cells()
+                rec.message = (f"converged to a state with {bad} of {cells} cells inverted (det F <= 0, min "
+                               f"{J:.3g}): the displacement overlaps itself")
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                "kind": "inverted_elements", "iterations": max(len(newton.history) - 1, 0),
-                               "min_jacobian": J, "message": rec.message}
+                               "min_jacobian": J, "inverted_cells": bad, "message": rec.message}
+            self.timings["validity_s"] += time.perf_counter() - start_check
+            if rec.failure is not None:
                 break
             for c in self.problem.contacts:
                 c.after_solve(self.problem)
