@@ -62,7 +62,8 @@ def save(solver, folder: str | Path, extra: object = None) -> int:
             "stateful": [{"state": c.state(), **({"log": list(c.log)} if isinstance(getattr(c, "log", None), list)
                                                  else {})} for c in solver.stateful()],
             "predictor": solver.prediction.converged, "records": solver.records, "failures": solver.failures,
-            "newton_spent": solver.newton_spent, "linear_iterations": solver.linear_iterations, "extra": extra}
+            "warnings": solver.record.warnings, "newton_spent": solver.newton_spent,
+            "linear_iterations": solver.linear_iterations, "extra": extra}
     error = None
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -111,5 +112,6 @@ def restore(solver, folder: str | Path) -> dict | None:
     solver.t, solver.pending = data["t"], data["pending"]
     solver.prediction.converged = data["predictor"]
     solver.records[:], solver.failures[:] = data["records"], data["failures"]
+    solver.record.warnings[:] = data.get("warnings", [])
     solver.newton_spent, solver.linear_iterations = data["newton_spent"], data["linear_iterations"]
     return {"step": data["step"], "t": data["t"], "pending": list(data["pending"]), "extra": data["extra"]}

@@ -64,11 +64,13 @@ def _timings() -> dict[str, float]:
 @dataclass
 class RunRecord:
     """The load steps' records (converged, and the last failed one), every failed solve (also those rescued by a
-    cutback), seconds per activity on this rank (``timings``: the parts of a solver add to it) and the Newton
-    iterations of every solve (``newton_spent``, failed attempts included)."""
+    cutback), the warnings of the run (a model past its range: not failures), seconds per activity on this rank
+    (``timings``: the parts of a solver add to it) and the Newton iterations of every solve (``newton_spent``,
+    failed attempts included)."""
 
     records: list[StepRecord] = field(default_factory=list)
     failures: list[dict] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)  # a model or a reference out of its range (not a failure)
     timings: dict[str, float] = field(default_factory=_timings)
     newton_spent: int = 0
 
@@ -97,7 +99,7 @@ class RunRecord:
                 "condition_estimate": condition,
                 "converged": bool(self.records) and all(r.converged for r in self.records),
                 "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,
-                "failures": self.failures,
+                "failures": self.failures, "warnings": list(self.warnings),
                 "steps": [r.as_dict() for r in self.records]}
 
 

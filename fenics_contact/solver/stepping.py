@@ -13,6 +13,7 @@ from petsc4py import PETSc
 from .. import checkpoint as checkpoints
 from ..compat import petsc_vec, release_free_memory
 from ..failure import cutback_helps
+from ..materials import SMALL_STRAIN
 from ..problem import ContactProblem
 from .newton import Newton
 from .options import ScopedOptions, solver_options
@@ -160,6 +161,7 @@ class Solver:
                     for c in self.stateful():
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
+                    self._flag_strain(rec)
                     self.options.refuse_unused_later(self.linear_iterations > 0)
                     self.t, self.pending = t, loads[i + 1:] if t == target else loads[i:]
                     self.prediction.accept(t)
@@ -204,6 +206,22 @@ class Solver:
         level = logging.DEBUG if self.quiet else logging.INFO
         if self.problem.comm.rank == 0 and logger.isEnabledFor(level):
             logger.log(level, progress_line(rec, failed))
+
+    def _flag_strain(self, rec: StepRecord) -> None:
+        """A small-strain model past :data:`~fenics_contact.materials.SMALL_STRAIN` at the accepted step ``rec``:
+        a warning in the log (rank 0) and in the record's ``warnings``, once per run. Not a failure."""
+        if not self.problem.material.linear or any(w.startswith("small-strain") for w in self.record.warnings):
+            return
+        start = time.perf_counter()
+        strain = self.problem.max_strain()
+        self.timings["validity_s"] += time.perf_counter() - start
+        if strain > SMALL_STRAIN:
+            text = (f"small-strain model past its range: strain {strain:.3g} (largest principal value of sym(grad u)) "
+                    f"> {SMALL_STRAIN:g} at step {rec.step} (t = {rec.load:.6g}); a finite-strain model (neohookean) "
+                    "holds there")
+            self.record.warnings.append(text)
+            if self.problem.comm.rank == 0:
+                logger.warning(text)
 
     def stateful(self) -> list:
         """The contacts and the step solver: everything with ``state``/``restore``/``commit``."""

@@ -18,7 +18,7 @@ from dolfinx import fem
 
 from fenics_contact import function_space, interpolate_expression
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import reference_check
+from fenics_contact.app.checks import hertz_range, reference_check
 from fenics_contact.app.scenes import add_scene_options, hertz, scene_arguments
 
 TOLERANCE = 2e-2  # p0 of the nodal maximum on the default mesh (README: within 0.32 % with cross)
@@ -56,7 +56,8 @@ def main(argv=None) -> dict:
                   args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf,
                   restart=args.restart, overwrite=args.overwrite,
                   check=lambda s: reference_check("p0", s.get("p0"), s.get("p0_hertz"), TOLERANCE,
-                                        "Hertz p0 = 2P/(pi a) for the computed load"))
+                                        "Hertz p0 = 2P/(pi a) for the computed load",
+                                        hertz_range(s.get("a_hertz"), setup.parameters["R"])))
 
     # 4. Pictures: von Mises stress on the deformed quarter disk; pressure against Hertz.
     if not args.no_pictures:
