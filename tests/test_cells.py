@@ -114,3 +114,26 @@ def test_contact_problem_refuses_a_mesh_with_an_inverted_cell(cell):
     u = fem.Function(fc.function_space(msh, "Lagrange", 1, (msh.geometry.dim,)))
     with pytest.raises(MeshError, match=r"^the mesh has \d+ inverted \(tangled\) cells? of \d+ "):
         fc.ContactProblem(u, fc.LinearElastic(1.0, 0.3), fem.Constant(msh, 0.0))
+
+
+def test_a_program_reading_a_tangled_mesh_file_ends_in_one_line(tmp_path_factory, capsys):
+    """A tangled mesh written to a .msh file and read by a program run through the demos' entry (cli.main): exit
+    status 1 and one line naming the file and the inverted cells, no traceback."""
+    from fenics_contact.app import cli
+
+    comm = MPI.COMM_WORLD
+    path = comm.bcast(str(tmp_path_factory.mktemp("mesh") / "tangled.msh") if comm.rank == 0 else None)
+    try:
+        flipped, _ = _gmsh_square(lambda p, q, r: (q + r) / 2 + 0.3 * ((q + r) / 2 - p))
+        if comm.rank == 0:
+            gmsh.write(path)
+    finally:
+        gmsh.finalize()
+    comm.barrier()
+    with pytest.raises(SystemExit) as ended:
+        cli.main(lambda argv: fc.read_gmsh(path, comm, gdim=2), [])
+    assert ended.value.code == cli.EXIT_ERROR
+    err = capsys.readouterr().err.strip().splitlines()
+    if comm.rank == 0:
+        assert len(err) == 1 and "Traceback" not in err[0], err
+        assert f"error: read_gmsh: {path!r} has {flipped} inverted (tangled) cell" in err[0], err
