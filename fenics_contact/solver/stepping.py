@@ -13,12 +13,12 @@ from petsc4py import PETSc
 from .. import checkpoint as checkpoints
 from ..compat import petsc_vec, release_free_memory
 from ..failure import cutback_helps
-from ..materials import SMALL_STRAIN
 from ..problem import ContactProblem
 from .newton import Newton
 from .options import ScopedOptions, solver_options
 from .predictor import PREDICTORS, Predictor
 from .record import ConvergenceError, RunRecord, StepRecord, describe, progress_line, reason_text
+from .validity import inverted_failure, strain_warning
 
 __all__ = ["Solver"]
 
@@ -161,7 +161,7 @@ class Solver:
                     for c in self.stateful():
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
-                    self._flag_strain(rec)
+                    strain_warning(self.problem, rec.step, rec.load, self.record.warnings, self.timings)
                     self.options.refuse_unused_later(self.linear_iterations > 0)
                     self.t, self.pending = t, loads[i + 1:] if t == target else loads[i:]
                     self.prediction.accept(t)
@@ -206,22 +206,6 @@ class Solver:
         level = logging.DEBUG if self.quiet else logging.INFO
         if self.problem.comm.rank == 0 and logger.isEnabledFor(level):
             logger.log(level, progress_line(rec, failed))
-
-    def _flag_strain(self, rec: StepRecord) -> None:
-        """A small-strain model past :data:`~fenics_contact.materials.SMALL_STRAIN` at the accepted step ``rec``:
-        a warning in the log (rank 0) and in the record's ``warnings``, once per run. Not a failure."""
-        if not self.problem.material.linear or any(w.startswith("small-strain") for w in self.record.warnings):
-            return
-        start = time.perf_counter()
-        strain = self.problem.max_strain()
-        self.timings["validity_s"] += time.perf_counter() - start
-        if strain > SMALL_STRAIN:
-            text = (f"small-strain model past its range: strain {strain:.3g} (largest principal value of sym(grad u)) "
-                    f"> {SMALL_STRAIN:g} at step {rec.step} (t = {rec.load:.6g}); a finite-strain model (neohookean) "
-                    "holds there")
-            self.record.warnings.append(text)
-            if self.problem.comm.rank == 0:
-                logger.warning(text)
 
     def stateful(self) -> list:
         """The contacts and the step solver: everything with ``state``/``restore``/``commit``."""
@@ -268,17 +252,11 @@ class Solver:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                **newton.diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
                 break
-            start_check = time.perf_counter()
-            J = self.problem.min_jacobian()  # a converged state with an inverted element is no answer
-            if not J > 0.0:
-                bad, cells = self.problem.inverted_cells()
-                rec.message = (f"converged to a state with {bad} of {cells} cells inverted (det F <= 0, min "
-                               f"{J:.3g}): the displacement overlaps itself")
+            inverted = inverted_failure(self.problem, self.timings)  # a state that overlaps itself is no answer
+            if inverted is not None:
+                rec.message = inverted["message"]
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
-                               "kind": "inverted_elements", "iterations": max(len(newton.history) - 1, 0),
-                               "min_jacobian": J, "inverted_cells": bad, "message": rec.message}
-            self.timings["validity_s"] += time.perf_counter() - start_check
-            if rec.failure is not None:
+                               "iterations": max(len(newton.history) - 1, 0), **inverted}
                 break
             for c in self.problem.contacts:
                 c.after_solve(self.problem)
