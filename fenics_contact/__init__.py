@@ -22,7 +22,7 @@ benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :fu
 (:mod:`~fenics_contact.app.plotting`), meshes (:mod:`~fenics_contact.app.meshes`, gmsh imported only by the
 builders that use it) and tables are public too. Importing the package does not import gmsh.
 """
-from . import capabilities, compat, domain, failure, laws, methods, search
+from . import capabilities, cells, compat, domain, failure, laws, methods, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
 from .cells import MeshError, check_cells
@@ -86,7 +86,7 @@ __all__ = [
     # the capability matrix: a refused combination of options (capabilities.check, docs/capabilities.md)
     "UnsupportedCombination",
     # public submodules
-    "capabilities", "compat", "domain", "failure", "methods", "search",
+    "capabilities", "cells", "compat", "domain", "failure", "methods", "search",
 ]
 
 # Former names, kept for one release: each use warns (DeprecationWarning) and gives the new object.
