@@ -106,6 +106,7 @@ SCENE = (  # a benchmark scene, its demo, or the application around it (harness,
     "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
     "test_wedges.py", "test_ironing.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
     "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py",
+    "test_cells.py::test_a_program_reading_a_tangled_mesh_file_ends_in_one_line",
 )
 SLOW = (  # studies of more than a few seconds each
     "test_bench.py::test_slab_error_from_the_exact_coulomb_reference", "test_bench.py::test_sweep_block",
