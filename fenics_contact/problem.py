@@ -128,6 +128,15 @@ class ContactProblem:
             self._a = fem.form(ufl.derivative(self._residual_ufl, self.u, self._du))
         return self._a
 
+    def jacobian_inputs(self) -> tuple[list, list]:
+        """The Constants and the Functions the Jacobian form depends on (after expanding the derivative): what
+        can change the Jacobian between two assemblies (``u`` among the Functions: a nonlinear Jacobian)."""
+        from ufl.algorithms import expand_derivatives
+        from ufl.algorithms.analysis import extract_coefficients, extract_constants
+
+        form = expand_derivatives(ufl.derivative(self._residual_ufl, self.u, self._du))
+        return extract_constants(form), extract_coefficients(form)
+
     def F(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """The residual at ``x`` into ``b``, as dolfinx's ``NonlinearProblem.F``: sets ``u`` to ``x``, lets every
         contact prepare (two-body contact re-pairs), assembles the forms, adds the contacts' terms outside the

@@ -105,7 +105,7 @@ SCENE = (  # a benchmark scene, its demo, or the application around it (harness,
     "test_block.py", "test_hertz.py", "test_sphere.py", "test_pin.py", "test_slab.py", "test_ring.py",
     "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
     "test_wedges.py", "test_ironing.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
-    "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py",
+    "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py", "test_options.py",
     "test_cells.py::test_a_program_reading_a_tangled_mesh_file_ends_in_one_line",
 )
 SLOW = (  # studies of more than a few seconds each
@@ -127,6 +127,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_mindlin3d.py::test_stick_radius_against_cattaneo_mindlin",
     "test_model_reduction.py::*",
     "test_multipliers.py::test_two_body_multipliers_equal_augmented_cross_constraints",
+    "test_options.py::test_two_identical_bodies_from_options_alone_within_1_percent",
     "test_multipliers.py::test_two_body_multipliers_hertz_and_equilibrium",
     "test_nitsche.py::test_neohookean_block_nominal_pressure_is_the_closed_form[stress-100.0-1]",
     "test_obstacles_and_bulk.py::test_moving_rigid_cylinder_indents_a_block*",

@@ -133,7 +133,7 @@ def test_unknown_option_in_process_names_the_close_match():
     p.add_argument("--refinement", type=cli.LEVEL, default=0)
     with pytest.raises(cli.UsageError, match="unknown option --refinment .did you mean --refinement"):
         cli.parse(p, ["--refinment", "1"])
-    with pytest.raises(cli.UsageError, match="--refinement: must be an integer >= 0, got -1"):
+    with pytest.raises(cli.UsageError, match="--refinement must be an integer >= 0, got -1"):
         cli.parse(p, ["--refinement", "-1"])
 
 
@@ -189,7 +189,7 @@ def test_error_line_knows_the_user_errors_only():
     ("hertz", ["--method", "auglag", "--mu", "1e300"], ["rel. error", "> tolerance"]),
     # q = 1e6 on E = 1000: strains ~1000 turn cells over, the run gives no answer to check
     ("rings", ["--main-only", "--n", "8", "--q", "1e6"], ["has no value (the run gave none)"]),
-    ("mindlin", ["--method", "auglag"], ["rel. error", "> tolerance"]),  # the stick zone 9 % off
+    ("mindlin", ["--method", "auglag", "--press-steps", "4"], ["rel. error", "> tolerance"]),  # the stick zone 9 % off
 ], ids=["hertz-approach", "hertz-mu", "rings-q", "mindlin-auglag"])
 def test_failed_check_exits_3_after_writing_its_outputs(name, args, named, tmp_path):
     start = time.monotonic()

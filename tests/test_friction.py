@@ -211,11 +211,11 @@ def test_dissipation_over_a_closed_cycle():
     (lambda: NormalCompliance(0.0, 1.5), "c_n must be"),
     (lambda: NormalCompliance(1e5, 0.9), "m_n must be"),
     (lambda: cli.law_from_args(cli.parse(cli.parser("x", 1e5), ["--method", "compliance", "--mu", "-0.2"])),
-     "--mu: must be"),  # the command line checks the range before any work
+     "--mu must be"),  # the command line checks the range before any work
     (lambda: cli.law_from_args(cli.parse(cli.parser("x", 1e5), ["--method", "compliance", "--m-n", "0.5"])),
-     "--m-n: must be"),
+     "--m-n must be"),
     (lambda: cli.law_from_args(cli.parse(cli.parser("x", 1e5), ["--method", "compliance", "--c-n", "0"])),
-     "--c-n: must be"),
+     "--c-n must be"),
     (lambda: cli.law_from_args(cli.parse(cli.parser("x", 1e5), ["--method", "vi", "--mu", "0.3"])), "no friction"),
 ])
 def test_bad_friction_input(make, match):

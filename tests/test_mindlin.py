@@ -23,7 +23,7 @@ def _build(comm):
 
 def _run(comm=MPI.COMM_WORLD):
     """The default scene solved (once per communicator size): setup, figures."""
-    setup, _, figures = solved("mindlin penalty", _build, comm)
+    setup, _, figures = solved("mindlin penalty", _build, comm, predictor=mindlin.PREDICTOR)
     return setup, figures
 
 
@@ -38,6 +38,16 @@ def test_stick_zone_against_cattaneo_mindlin():
               f"= {abs(c - ref) / h:.2f} elements")
         assert abs(c - ref) <= h and abs(c - ref) <= 0.05 * ref, (r, c, ref)
     assert f["a_error"] < 0.02  # the contact half-width is Hertz's (within the element size 0.035 a)
+
+
+def test_default_steps_waste_no_newton_iteration():
+    """The scene's load steps and predictor: every step converges at the first attempt (no cutback) in at most 5
+    Newton iterations per step on average."""
+    _, solver, _ = solved("mindlin penalty", _build, MPI.COMM_WORLD, predictor=mindlin.PREDICTOR)
+    summary = solver.summary()
+    assert not summary["failures"], summary["failures"]
+    assert summary["load_steps"] == mindlin.PRESS_STEPS + len(mindlin.RATIOS)
+    assert summary["newton_iterations"] <= 5 * summary["load_steps"], summary["newton_iterations"]
 
 
 def test_equilibrium_of_both_bodies_and_coulomb_at_the_slip_points():

@@ -92,7 +92,8 @@ def test_penalty_approaches_the_multipliers():
 def test_different_materials(plane):
     """Stiffer, less compressible outer ring: Lamé's pressure of two materials, plane strain and stress."""
     E, nu = (1000.0, 3000.0), (0.3, 0.45)
-    f = solve(LagrangeMultiplier(1e3), degree=2, quadrature="simpson", n=16, E=E, nu=nu, plane=plane)
+    f = solve(LagrangeMultiplier(1e3), degree=2, quadrature="simpson", n=16, E=E[0], nu=nu[0], E_outer=E[1],
+              nu_outer=nu[1], plane=plane)
     p, ua, uc = lame_by_hooke(rings.Q_DEFAULT, E[0], nu[0], E[1], nu[1], plane)
     assert np.isclose(f["p_lame"], p, rtol=1e-12)
     assert f["p_reaction_deviation"] < 1e-4 and f["ur_a_deviation"] < 3e-3 and f["ur_c_deviation"] < 3e-4
@@ -115,7 +116,8 @@ def test_serial_equals_ranks(two_point):
 def test_bad_input():
     law = LagrangeMultiplier(1e3)
     for kw, match in (({"degree": 3}, "degree"), ({"plane": "shell"}, "plane"), ({"q": -1.0}, "pressure q"),
-                      ({"n": 1}, "n must"), ({"quadrature": "gauss"}, "quadrature")):
+                      ({"n": 1}, "n must"), ({"quadrature": "gauss"}, "quadrature"), ({"a": 0.7}, "radii"),
+                      ({"E_outer": -1.0}, "E_outer must"), ({"nu_outer": 0.5}, "nu_outer must")):
         with pytest.raises(ValueError, match=match):
             build("rings", law=law, **kw)
     with pytest.raises(ValueError, match="radii"):

@@ -10,14 +10,13 @@ from fenics_contact.app.scenes import SizeError, add_scene_options, build, numer
 from fenics_contact.methods import make_law
 
 # scene -> its module constants that are now build arguments with those defaults
-CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"},  # stabilisation: None (by plate)
-             "sphere": {"R": "R", "E": "E", "nu": "NU", "approach": "APPROACH"},
+CONSTANTS = {"hertz": {"R": "R", "E": "E", "nu": "NU"},  # stabilisation, approach: None (by plate; APPROACH R)
+             "sphere": {"R": "R", "E": "E", "nu": "NU"},
              "block": {"height": "HEIGHT", "E": "E", "nu": "NU", "displacement": "DISPLACEMENT"},
              "slab": {"width": "WIDTH", "height": "HEIGHT", "E": "E", "nu": "NU", "top_pressure": "TOP_PRESSURE",
                       "side_pressure": "SIDE_PRESSURE"},
-             "pin": {"R": "R", "half_width": "HALF_WIDTH", "below": "BELOW", "above": "ABOVE", "E": "E", "nu": "NU",
-                     "P0": "P0", "stabilisation": "STABILISATION"},
-             "ring": {"R_out": "R_OUT", "R_in": "R_IN", "E": "E", "nu": "NU", "approach": "APPROACH"},
+             "pin": {"R": "R", "E": "E", "nu": "NU", "P0": "P0", "stabilisation": "STABILISATION"},  # plate: x R
+             "ring": {"R_out": "R_OUT", "R_in": "R_IN", "E": "E", "nu": "NU"},  # approach: APPROACH R_out / R_OUT
              "compliance3d": {"lx": "LX", "ly": "LY", "height": "H", "E": "E", "nu": "NU", "press": "PRESS",
                               "drag": "DRAG"},
              "cylinders": {"R_lower": "R_LOWER", "R_upper": "R_UPPER"},
@@ -48,13 +47,13 @@ def test_demo_options_from_the_builder():
     args = p.parse_args(["--E", "200", "--nu", "0.3", "--R", "8", "--load", "10", "--plate-E", "200"])
     kw = scene_arguments(args, names)
     assert kw["E"] == 200.0 and kw["R"] == 8.0 and kw["load"] == 10.0 and kw["plate_E"] == 200.0
-    assert kw["plate_width"] is None and kw["approach"] == hertz.APPROACH
+    assert kw["plate_width"] is None and kw["approach"] is None  # force control: no approach
 
 
 @pytest.mark.parametrize("scene, kw, match", [
     ("hertz", {"E": 0.0}, "E must be a finite number > 0"), ("hertz", {"nu": 0.5}, r"nu must be in \[0, 0.5\)"),
     ("block", {"height": -2.0}, "height must be"), ("slab", {"nu": -0.1}, "nu must be in"),
-    ("pin", {"R": 6.0}, "hole"), ("ring", {"R_in": 9.0}, "R_in must be < R_out"),
+    ("pin", {"R": 6.0, "half_width": 5.0}, "hole"), ("ring", {"R_in": 9.0}, "R_in must be < R_out"),
     ("sphere", {"approach": float("inf")}, "approach must be"), ("seal", {"E": float("nan")}, "E must be"),
     ("compliance3d", {"press": 0.0}, "press must be"), ("cylinders", {"nu": 0.6}, "nu must be in"),
     ("sheet", {"R_in": 3.0}, "R_in must be < R"), ("sheet", {"lmbda": -1.0}, "lmbda must be"),

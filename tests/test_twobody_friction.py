@@ -238,7 +238,7 @@ def test_tresca_from_the_command_line():
 
     f = law(["--method", "penalty", "--tresca", "1.5"])
     assert isinstance(f, fc.Friction) and f.scalars["tresca"] == 1.5 and "mu" not in f.scalars
-    with pytest.raises(ValueError, match="--tresca: must be"):
+    with pytest.raises(ValueError, match="--tresca must be"):
         law(["--method", "penalty", "--tresca", "-1"])
     with pytest.raises(ValueError, match="give one of --mu"):
         law(["--method", "penalty", "--tresca", "1", "--mu", "0.3"])

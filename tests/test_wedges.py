@@ -12,7 +12,7 @@ def test_force_ratio_of_a_block_sliding_up_a_wedge(mu, alpha):
     equilibrium of the block holds to 1e-8."""
     law = fc.Friction(fc.make_law("penalty", K=wedges.DEFAULT_K), mu=mu, omega_t=wedges.DEFAULT_OMEGA_T)
     setup = app.build("wedges", law=law, alpha=alpha)
-    solver = fc.Solver(setup.problem, quiet=True)
+    solver = fc.Solver(setup.problem, quiet=True, predictor=wedges.PREDICTOR)
     solver.run(setup.loads)
     f = setup.figures()
     print(f"wedges mu={mu} alpha={alpha}: H/N = {f['ratio']:.6g}, formula {f['ratio_reference']:.6g}, "
@@ -20,6 +20,10 @@ def test_force_ratio_of_a_block_sliding_up_a_wedge(mu, alpha):
     assert f["slip_fraction"] == 1.0
     assert f["ratio_error"] <= 0.01, f
     assert f["vertical_equilibrium_error"] <= 1e-8
+    # the scene's load steps and predictor: no failed Newton attempt, at most 5 iterations per step on average
+    summary = solver.summary()
+    assert not summary["failures"], summary["failures"]
+    assert summary["newton_iterations"] <= 5 * summary["load_steps"], summary["newton_iterations"]
 
 
 def test_bad_input():

@@ -28,6 +28,7 @@ import argparse
 import difflib
 import logging
 import math
+import re
 import sys
 import time
 import traceback
@@ -57,11 +58,13 @@ __all__ = ["parser", "parse", "refuse_unsupported", "one_line_errors", "has_fric
            "method_parameters",
            "method_options", "FRICTION_OPTIONS", "RANGE_TYPES",
            "solver_options", "StrictParser",
-           "UsageError", "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
+           "UsageError", "HelpFormatter", "GIVEN",
+           "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
            "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "check_petsc_values", "error_line",
            "main", "count",
            "EXIT_ERROR", "EXIT_USAGE", "EXIT_CHECK"]
 
+GIVEN = "given"  # StrictParser.requirements: the other option must be given (any value)
 EXIT_ERROR, EXIT_USAGE, EXIT_CHECK = 1, 2, 3  # main's exit status: an error, a bad command line, a failed check
 # Seconds a rank that failed waits for the others to reach the end of main (a rank still inside a collective of
 # the demo never does: the job is then aborted)
@@ -72,18 +75,63 @@ class UsageError(ValueError):
     """A command line we refuse (unknown option, a value out of range); exit status 2 as argparse's."""
 
 
+class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Each option's help followed by its default. An option whose default is unset (``None``) and whose help
+    does not say what it defaults to gets ``(default: not used)``; a help saying ``default: <rule>`` whose option
+    a demo gave a value (``set_defaults``) shows that value instead of the rule."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if action.default is argparse.SUPPRESS:  # --help
+            return text
+        if action.default is None:
+            return text + " (default: not used)" if action.option_strings and "default:" not in text else text
+        if "default:" in text:
+            shown = f"{action.default:g}" if isinstance(action.default, float) else str(action.default)
+            rule = re.search(r"default: [^;)]*", text).group(0)
+            return text if shown in rule else text.replace(rule, "default: %(default)s", 1)
+        return super()._get_help_string(action)
+
+
 class StrictParser(argparse.ArgumentParser):
     """``argparse.ArgumentParser`` without abbreviations (``--refinment`` never matches ``--refinement``) whose
-    errors raise :class:`UsageError` (one line) instead of printing the usage and exiting."""
+    errors raise :class:`UsageError` (one line, naming the option) instead of printing the usage and exiting.
+    ``requirements``: ``(dest, other, value)``, the option ``dest`` given only with the option ``other`` at
+    ``value`` (:data:`GIVEN`: given at all); ``orders``: ``(dest, other)``, the value of ``dest`` below that of
+    ``other`` (when both are set); both checked when parsed."""
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("allow_abbrev", False)
-        kwargs.setdefault("formatter_class", argparse.ArgumentDefaultsHelpFormatter)
+        kwargs.setdefault("formatter_class", HelpFormatter)
         kwargs.setdefault("epilog", "Other -options go to PETSc (prefix fc_); they must be used by PETSc.")
         super().__init__(*args, **kwargs)
+        self.requirements: list[tuple[str, str, object]] = []
+        self.orders: list[tuple[str, str]] = []
 
     def error(self, message: str):
+        # "argument --E: must be ..." -> "--E must be ..."; "argument --load: not allowed with argument
+        # --approach" -> "--load contradicts --approach: give one of them"
+        message = re.sub(r"^argument (\S+): must be", r"\1 must be", message)
+        message = re.sub(r"^argument (\S+): not allowed with argument (\S+)",
+                         r"\1 contradicts \2: give one of them", message)
         raise UsageError(message)
+
+    def parse_known_args(self, args=None, namespace=None):
+        ns, rest = super().parse_known_args(args, namespace)
+        for dest, other, value in self.requirements:
+            if getattr(ns, dest, None) is None or not hasattr(ns, other):
+                continue
+            have = getattr(ns, other)
+            if (have is None) if value == GIVEN else (have != value):
+                flag, needed = "--" + dest.replace("_", "-"), "--" + other.replace("_", "-")
+                raise UsageError(f"{flag} is used only with {needed}" + ("" if value == GIVEN else f" {value}")
+                                 + (f" (got {needed} {have})" if value != GIVEN else ""))
+        for dest, other in self.orders:
+            mine, theirs = getattr(ns, dest, None), getattr(ns, other, None)
+            if mine is not None and theirs is not None and not mine < theirs:
+                flag, bound = "--" + dest.replace("_", "-"), "--" + other.replace("_", "-")
+                raise UsageError(f"{flag} must be < {bound} ({theirs:g}), got {mine:g}")
+        return ns, rest
 
     def parse_args(self, args=None, namespace=None):
         """All arguments must be ours (no PETSc options: :func:`parse` takes those): an unknown one is named, with
@@ -122,6 +170,7 @@ def number(kind: type = float, low: float | None = None, high: float | None = No
         return value
 
     convert.__name__ = what  # argparse names the type in its messages
+    convert.range = (kind, low, high, low_open, high_open)  # the accepted range, for tests and callers
     return convert
 
 
@@ -144,6 +193,7 @@ def count(low: int = 1) -> Callable[[str], int]:
         return at_least(text)
 
     convert.__name__ = at_least.__name__
+    convert.range = at_least.range
     return convert
 
 
@@ -170,7 +220,7 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
             None if isinstance(param.default, str) else param.default
         helps = "; ".join(f"{', '.join(names)}: {text}" for text, names in _grouped_help(declared))
         if option == "K" and derived:
-            helps += "; unset: the scene's K, scaled with E / h"
+            helps += "; default: the scene's K, scaled with E / h"
         p.add_argument(f"--{option.replace('_', '-')}", dest=option, type=RANGE_TYPES[param.range], default=default,
                        help=helps)
     p.add_argument("--augment", type=LEVEL, default=None,

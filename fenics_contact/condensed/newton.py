@@ -12,8 +12,9 @@ converged step)``::
 generalized Jacobian are the step solver's (rigid obstacle or two bodies); this module drives the iteration:
 converged when the largest residual entry is below ``tol`` times the largest entry of ``r(t)``; a repeated
 active set without progress (a cycle), a singular Jacobian or ``max_it`` iterations end a try, which is
-retried with ``c / 10``, ``c / 100``, ... Per iteration one dense ``n_c x n_c`` solve (``O(n_c^3)``), the same
-on every rank.
+retried with ``c / 10``, ``c / 100``, ... Per iteration one dense ``n_c x n_c`` solve, the same on every rank:
+``O(k n_c^2)`` when ``k`` rows changed since the last factorization (:mod:`.rowupdate`), ``O(n_c^3)`` when
+many did.
 """
 from __future__ import annotations
 
@@ -21,6 +22,7 @@ from typing import Callable
 
 import numpy as np
 
+from .rowupdate import RowUpdatedSolve, SingularMatrix
 from .states import StepFailure
 
 __all__ = ["semismooth_newton"]
@@ -31,9 +33,10 @@ Residual = Callable[[np.ndarray, float], tuple]
 
 
 def semismooth_newton(residual: Residual, uc: np.ndarray, r: np.ndarray, c: float, retries: int, max_it: int,
-                      tol: float) -> tuple[np.ndarray, list[float]]:
+                      tol: float, linear: RowUpdatedSolve | None = None) -> tuple[np.ndarray, list[float]]:
     """Semismooth Newton from ``uc`` with ``c``; if a try fails, again from ``uc`` with ``c`` divided by 10,
-    ``retries`` times. ``r``: the load's contact force ``r(t)`` (the residual's scale).
+    ``retries`` times. ``r``: the load's contact force ``r(t)`` (the residual's scale); ``linear``: the solver of
+    the Newton systems (kept across steps: its factorization serves while few contact states change).
 
     Returns:
         ``u_c`` and the relative residual history of all tries.
@@ -42,10 +45,11 @@ def semismooth_newton(residual: Residual, uc: np.ndarray, r: np.ndarray, c: floa
         StepFailure: every try failed (the message names each try's ``c`` and reason).
     """
     history, reasons = [], []
+    linear = RowUpdatedSolve() if linear is None else linear
     for k in range(retries + 1):
         ck = c / 10**k
         try:
-            out, h = _newton_c(residual, uc, r, ck, max_it, tol)
+            out, h = _newton_c(residual, uc, r, ck, max_it, tol, linear)
             return out, history + h
         except StepFailure as exc:
             history += exc.args[1]
@@ -54,7 +58,7 @@ def semismooth_newton(residual: Residual, uc: np.ndarray, r: np.ndarray, c: floa
 
 
 def _newton_c(residual: Residual, uc: np.ndarray, r: np.ndarray, c: float, max_it: int,
-              tol: float) -> tuple[np.ndarray, list[float]]:
+              tol: float, linear: RowUpdatedSolve) -> tuple[np.ndarray, list[float]]:
     """One try with a fixed ``c``."""
     scale = max(float(np.max(np.abs(r))) if len(r) else 0.0, 1e-300)
     uc = uc.copy()
@@ -75,8 +79,8 @@ def _newton_c(residual: Residual, uc: np.ndarray, r: np.ndarray, c: float, max_i
                               history)
         seen[key] = it
         try:
-            uc = uc - np.linalg.solve(J, F)
-        except np.linalg.LinAlgError:
+            uc = uc - linear.solve(J, F)
+        except SingularMatrix:
             raise StepFailure(f"singular semismooth Newton matrix at iteration {it} (no vertex in contact "
                               "holds the body)", history) from None
     raise AssertionError("unreachable")

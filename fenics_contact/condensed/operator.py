@@ -10,23 +10,28 @@ ICNTL(19)): about the cost of one factorization. ``S`` is singular for a floatin
 
 Each load step, the load as the problem has set it at ``t`` (tractions, body forces and Dirichlet values: any
 path, not only ``t`` times a load): one solve gives the load mode ``u_0(t)`` (``u_c = 0``, the load ``f(t)``,
-the Dirichlet data at ``t``), and the force the contact dofs need (the contact force on the body) is
+the Dirichlet data at ``t``; no solve when the load is a combination of earlier steps', :mod:`.loadmodes`), and
+the force the contact dofs need (the contact force on the body) is
 ``R(u_c) = S u_c + r(t)``, ``r(t) = (K u_0(t) - f(t))_c``. Recovery: one solve of ``K_D u = ...`` with ``u_c``
-prescribed. ``K`` is re-assembled at every step and compared with the condensed one: a stiffness that changes
-with the load (the vanishing spring of a force-controlled scene) is condensed again for that step.
+prescribed. ``K`` is re-assembled at a step where a value its form depends on (a Constant, a Function) has
+changed, and compared with the condensed one: a stiffness that changes with the load (the vanishing spring of a
+force-controlled scene) is condensed again for that step.
 
 Parallel: ``K`` and its factorization for the solves are distributed (MUMPS); PETSc does not hand out MUMPS's
 distributed Schur complement, so ``K`` is gathered on rank 0 for ``S`` (its ``nnz`` entries once) and ``S``
 (``n_c x n_c``, a few hundred) is broadcast: every rank holds the same dense ``S`` (``O(n_c^2)`` memory,
-8 n_c^2 bytes). Cost: two factorizations; per step one solve for the load mode and one for the recovery.
+8 n_c^2 bytes). Cost: two factorizations; per step at most one solve for the load mode, and one for the
+recovery.
 """
 from __future__ import annotations
 
 import dolfinx.fem.petsc as fem_petsc
 import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..compat import bc_dofs, schur_complement
+from .loadmodes import LoadModes
 
 __all__ = ["CondensedStiffness"]
 
@@ -39,7 +44,8 @@ class CondensedStiffness:
     Attributes: ``A`` (``K``, no boundary conditions), ``dir_idx`` (this rank's owned Dirichlet dofs, global),
     ``dir_all`` (every rank's, sorted), ``cidx``, ``S`` (symmetrized, the same on every rank), ``diag`` (the mean
     absolute diagonal of ``S``: the scale of the semismooth Newton's ``c``), ``x`` (after :meth:`load`: the load
-    mode ``u_0(t)``; the work vector of :meth:`displacement`)."""
+    mode ``u_0(t)``; the work vector of :meth:`displacement`), ``assemblies`` and ``factorizations`` (of ``K``
+    and of ``K_D`` with its ``S``, so far)."""
 
     def __init__(self, problem, comm):
         if not problem.material.linear:
@@ -52,6 +58,12 @@ class CondensedStiffness:
         # spring changes it, re-checked at every step by changed) and a vector for the load.
         self.A = fem_petsc.assemble_matrix(problem.a)
         self.A.assemble()
+        # What K depends on (the values of the Constants and Functions of its form): changed re-assembles K only
+        # when one of them has changed (a re-assembly per step costs about a third of a factorization).
+        self._u, self._inputs = problem.u, problem.jacobian_inputs()
+        self._seen = self._input_values()
+        self.assemblies, self.factorizations = 1, 0  # of K, of K_D (each with its S)
+        self.modes = LoadModes(comm)  # earlier steps' load modes (their combinations need no solve)
         self._f = fem_petsc.create_vector(problem.L)
         lo, hi = self.A.getOwnershipRange()
         # Dirichlet dofs (owned, global) and the Dirichlet condition each belongs to (its value at t, per step).
@@ -77,6 +89,8 @@ class CondensedStiffness:
         """Factor ``K_D`` (``K`` with the rows and columns of the contact and Dirichlet dofs replaced by the
         identity) and form the dense Schur complement ``S`` (every rank)."""
         nc = len(self.cidx)
+        self.factorizations += 1
+        self.modes.clear()  # the load modes of another stiffness
         if self._ksp is not None:
             self._ksp.destroy()
             self._KD.destroy()
@@ -102,10 +116,25 @@ class CondensedStiffness:
         self.S = 0.5 * (S + S.T)
         self.diag = float(np.mean(np.abs(np.diag(self.S)))) if nc else 1.0
 
+    def _input_values(self) -> list[np.ndarray] | None:
+        """Copies of the values of the Constants and Functions ``K``'s form depends on; None if it depends on the
+        displacement itself (then :meth:`changed` re-assembles at every step)."""
+        constants, functions = self._inputs
+        if any(f is self._u for f in functions):
+            return None
+        return [np.array(c.value, copy=True) for c in constants] + [f.x.array.copy() for f in functions]
+
     def changed(self, problem) -> bool:
-        """Re-assemble ``K`` at the step; True (and ``K`` replaced) if it differs from the condensed one beyond
-        round-off (a load-dependent stiffness, e.g. the vanishing spring of a force-controlled scene): the
-        caller then calls :meth:`factor` for the step."""
+        """True (and ``K`` replaced) if ``K`` at the step differs from the condensed one beyond round-off (a
+        load-dependent stiffness, e.g. the vanishing spring of a force-controlled scene): the caller then calls
+        :meth:`factor` for the step. ``K`` is re-assembled only when a value its form depends on has changed."""
+        now = self._input_values()
+        same = now is not None and self._seen is not None and all(np.array_equal(a, b)
+                                                                  for a, b in zip(now, self._seen))
+        if self.comm.allreduce(int(same), op=MPI.MIN):  # a Function's values may differ on one rank only
+            return False
+        self._seen = now
+        self.assemblies += 1
         A = fem_petsc.assemble_matrix(problem.a)
         A.assemble()
         ref = self.A.norm(PETSc.NormType.FROBENIUS)
@@ -134,6 +163,9 @@ class CondensedStiffness:
         u.x.array[:] = saved
         self._dir_val = np.concatenate([np.full(len(i), float(d.value.value)) for d, i in self._dirichlet]
                                        + [np.empty(0)])
+        r = self.modes.combine(self._f, self._dir_val, self.x)  # a combination of earlier steps' loads
+        if r is not None:
+            return r
         self.displacement(np.zeros(len(self.cidx)), self.x)
         self.A.mult(self.x, self._y)
         self._y.axpy(-1.0, self._f)
@@ -141,6 +173,7 @@ class CondensedStiffness:
         r = np.zeros(len(self.cidx))
         for idx, v in self.comm.allgather((self._cmine, self._y.array[self.cidx[self._cmine] - lo])):
             r[idx] = v
+        self.modes.add(self._f, self._dir_val, self.x, r)
         return r
 
     def displacement(self, uc: np.ndarray, x: PETSc.Vec) -> None:

@@ -18,6 +18,7 @@ from ..compat import petsc_vec
 from ..surface import StepSolver
 from .newton import semismooth_newton
 from .operator import CondensedStiffness
+from .rowupdate import RowUpdatedSolve
 from .states import StepFailure
 
 __all__ = ["CondensedStepSolver"]
@@ -45,6 +46,7 @@ class CondensedStepSolver(StepSolver):
         self.K: CondensedStiffness | None = None  # the condensed stiffness, from the first step on
         self._restored: dict | None = None  # a state restored before the first step (a checkpoint's)
         self.timings = {"condense_s": 0.0, "load_s": 0.0, "contact_newton_s": 0.0, "recover_s": 0.0}
+        self.linear = RowUpdatedSolve()  # the Newton systems' solver, its factorization kept across steps
 
     @property
     def S(self) -> np.ndarray:
@@ -107,7 +109,8 @@ class CondensedStepSolver(StepSolver):
         start = time.perf_counter()
         try:
             uc, history = semismooth_newton(lambda uc, c: self._residual(uc, t, c), self._uc, self._r,
-                                            self.c_scale * self.K.diag, self.retries, self.max_it, self.tol)
+                                            self.c_scale * self.K.diag, self.retries, self.max_it, self.tol,
+                                            self.linear)
         except StepFailure as exc:
             self.timings["contact_newton_s"] += time.perf_counter() - start
             return int(PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT), list(exc.args[1]), \

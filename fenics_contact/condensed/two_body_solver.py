@@ -17,6 +17,7 @@ motion is refused. ``n_c`` = both surfaces' contact dofs (the mindlin scene: 568
 from __future__ import annotations
 
 import numpy as np
+from scipy import sparse
 
 from .operator import CondensedStiffness
 from .states import OPEN, classify
@@ -125,25 +126,31 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         self._d0 = c.d0[ps]
         self._ref = np.zeros(ns)  # t . w at the last converged step
         self._w0n, self._w0t = np.zeros(ns), np.zeros(ns)
+        # The maps have a few entries per row: sparse products (the dense ones, O(n_c^3) each, cost as much as
+        # the semismooth Newton's solves).
+        self._sNn, self._sNt, self._sM = (sparse.csr_matrix(a) for a in (self._Nn, self._Nt, self._M))
+        self._sGn, self._sGt = sparse.csr_matrix(self._Gn), sparse.csr_matrix(self._Gt)
+        self._blocks_of = None  # the S the Jacobian's fixed blocks were formed with
 
     def _step_data(self) -> None:
         """The prescribed components' values at the step (read from the load mode ``u_0(t)``), the Jacobian's
-        fixed blocks."""
+        fixed blocks (formed again only when S has been condensed again)."""
         vals = self.K.values(self._presc, self.K.x)
         self._w0n, self._w0t = self._Pn @ vals, self._Pt @ vals
-        # The Jacobian's fixed blocks (S may have been condensed again for this step).
-        self._PnS, self._PtS, self._MS = self._Nn @ self.S, self._Nt @ self.S, self._M @ self.S
+        if self._blocks_of is not self.S:
+            self._PnS, self._PtS, self._MS = (np.asarray(m @ self.S) for m in (self._sNn, self._sNt, self._sM))
+            self._blocks_of = self.S
 
     def _kinematics(self, uc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Distance ``d`` (> 0 open) and ``t . w`` of every paired slave vertex at ``uc``."""
-        return self._d0 + self._Gn @ uc + self._w0n, self._Gt @ uc + self._w0t
+        return self._d0 + self._sGn @ uc + self._w0n, self._sGt @ uc + self._w0t
 
     def _residual(self, uc: np.ndarray, t: float, c: float):
         """Alart-Curnier rows of the slave vertices (normal, tangential) and the master rows; generalized
         Jacobian; state per slave vertex (0 open, +-1 slip and its direction, 2 stick); ``R``."""
         mu = self.mu
         R = self.S @ uc + self._r
-        p, q = self._Nn @ R, self._Nt @ R
+        p, q = self._sNn @ R, self._sNt @ R
         d, tw = self._kinematics(uc)
         s = tw - self._ref
         PnS, PtS = self._PnS, self._PtS
@@ -154,13 +161,23 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         stick = active & (np.abs(qtr) <= bound)
         direction = np.sign(qtr)
         Fn = np.where(active, c * d, p)
-        Jn = np.where(active[:, None], c * self._Gn, PnS)
         Ft = np.where(stick, c * s, q - bound * direction)
-        slip_J = PtS - (mu * direction * active)[:, None] * (PnS - c * self._Gn)
-        Jt = np.where(stick[:, None], c * self._Gt, slip_J)
         fr = self._fric  # the vertices with a tangential row (not the rollers: q = 0 there)
-        F = np.concatenate([Fn, Ft[fr], self._M @ R])
-        J = np.vstack([Jn, Jt[fr], self._MS])
+        F = np.concatenate([Fn, Ft[fr], self._sM @ R])
+        # J row by row into one array: normal rows, tangential rows of fr, master rows.
+        ns, nf = len(p), len(fr)
+        J = np.empty((ns + nf + self._MS.shape[0], len(uc)))
+        Jn, Jt = J[:ns], J[ns:ns + nf]
+        Jn[:] = PnS
+        Jn[active] = c * self._Gn[active]
+        Jt[:] = PtS[fr]
+        slipping = np.flatnonzero(active[fr] & ~stick[fr])
+        if len(slipping):
+            v = fr[slipping]
+            Jt[slipping] -= (mu * direction[v])[:, None] * (PnS[v] - c * self._Gn[v])
+        sticking = np.flatnonzero(stick[fr])
+        Jt[sticking] = c * self._Gt[fr[sticking]]
+        J[ns + nf:] = self._MS
         state = active.astype(np.int64)
         state[fr] = np.where(active[fr], np.where(stick[fr], 2, np.where(direction[fr] < 0, -1, 1)), 0)
         return F, J, state, R
@@ -170,7 +187,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         vertex to the surface."""
         c = self.contact
         R = self.S @ uc + self._r
-        p, q = self._Nn @ R, self._Nt @ R
+        p, q = self._sNn @ R, self._sNt @ R
         d, tw = self._kinematics(uc)
         nv = len(c.X)
         fn, ft, gap, slip = np.zeros(nv), np.zeros(nv), np.full(nv, -c.radius), np.zeros(nv)

@@ -30,11 +30,12 @@ def main(argv=None) -> dict:
     p = cli.parser(__doc__.splitlines()[0], default_K=cylinders.DEFAULT_K, quadratures=QUADRATURES)
     p.set_defaults(method="penalty", quadrature="gauss")
     p.add_argument("--passes", choices=["one", "two"], default="two", help="one-pass or two-pass two-body contact")
-    p.add_argument("--h-contact", type=cli.POSITIVE, default=0.05, help="mesh size at the contacts")
+    p.add_argument("--h-contact", type=cli.POSITIVE, default=0.05, help="mesh size at the contacts (length)")
     p.add_argument("--grading", type=cli.POSITIVE, default=0.04,
                    help="mesh size growth per unit distance from the contacts")
-    p.add_argument("--t-end", type=cli.POSITIVE, default=cylinders.T_END, help="final plate motion")
-    p.add_argument("--dt", type=cli.POSITIVE, default=0.5, help="load step after the Hertz step")
+    p.add_argument("--t-end", type=cli.POSITIVE, default=cylinders.T_END, help="final plate motion (length)")
+    p.add_argument("--dt", type=cli.POSITIVE, default=0.5,
+                   help="plate motion per load step after the Hertz step (length)")
     p.add_argument("--model", choices=["neohookean", "linear"], default="neohookean",
                    help="bulk material (linear: small t only, the model-reduction check)")
     p.add_argument("--symmetry", choices=["half", "full"], default="half", help="right halves (x >= 0) or whole disks")

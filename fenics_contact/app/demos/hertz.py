@@ -4,7 +4,7 @@
     mpirun -n 2 python demos/hertz.py --method cross --refinement 1 -fc_snes_monitor
     python demos/hertz.py --load 0.36 --method auglag          # force control: the disk held by contact alone
     python demos/hertz.py --plate meshed --E 200 --nu 0.3 --R 8 --load 10 --plate-E 200 \
-        --plate-width 16 --plate-depth 16 --method lagrange    # two identical bodies (E* = E / (2 (1 - nu^2)))
+        --method lagrange    # two identical bodies (E* = E / (2 (1 - nu^2))); the plate 10 a wide and deep
 
 Quarter of a disk (R = 1, E = 1000, nu = 0.3) pressed on the plane y = 0;
 p0 and a are compared with Hertz for the computed load. Writes hertz.xdmf,
@@ -34,7 +34,7 @@ def main(argv=None) -> dict:
     p.add_argument("--symmetry", choices=["quarter", "half", "full"], default="quarter",
                    help="modelled part of the disk")
     p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
-                   help="lower plate: analytic rigid, or meshed (default E x 1000, two-body contact; quarter only)")
+                   help="lower plate: analytic rigid, or meshed (its E: --plate-E; two-body contact; quarter only)")
     p.add_argument("--plane", choices=["strain", "stress"], default="strain",
                    help="2D assumption (Hertz's E* follows)")
     # --R, --E, --nu, --approach, --load (force control: total force per unit length), --plate-E, --plate-nu, ...

@@ -48,8 +48,10 @@ def main(argv=None) -> dict:
                                            "Cattaneo-Mindlin c = a sqrt(1 - Q/(mu P)) at the worst ratio")
 
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
+    predictor = False if setup.problem.step_solver else mindlin.PREDICTOR  # the scene's, for Newton's steps
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,
                   args.augment_tol, args.quiet, options=cli.solver_options(args), on_step=on_step, keep=(profiles,),
+                  predictor=predictor,
                   xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, check=self_check)
 
     # 4. Picture: tangential traction per ratio against Cattaneo-Mindlin.

@@ -34,8 +34,10 @@ def main(argv=None) -> dict:
     # 1. Options of the main run.
     p = cli.parser(__doc__.splitlines()[0], default_K=1e6, quadratures=QUADRATURES)
     p.set_defaults(method="auglag", quadrature="segment", augment_tol=1e-9)
-    p.add_argument("--passes", choices=["one", "two"], default="one")
-    p.add_argument("--slave", choices=["upper", "lower"], default="upper")
+    p.add_argument("--passes", choices=["one", "two"], default="one",
+                   help="one-pass (one slave surface) or two-pass (both surfaces slave in turn) two-body contact")
+    p.add_argument("--slave", choices=["upper", "lower"], default="upper",
+                   help="the block whose interface is the slave surface (one pass)")
     p.add_argument("--main-only", action="store_true", help="only the main run (not every option)")
     scene = add_scene_options(p, patch.build)  # --pressure, --E-lower, --E-upper, --nu-lower, ..., --overlap
     args = cli.parse(p, argv)

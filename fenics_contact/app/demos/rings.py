@@ -29,19 +29,27 @@ from fenics_contact import (
 from fenics_contact.app import cli
 from fenics_contact.app.checks import log_check, reference_check
 from fenics_contact.app.run import claimed
-from fenics_contact.app.scenes import build, rings
+from fenics_contact.app.scenes import add_scene_options, build, rings, scene_arguments
 from fenics_contact.app.tables import write_table
+
+# Penalty parameters per unit E / c (the mesh is fixed relative to the radii, so K ~ E / h scales as E / c): the
+# penalty sweep, the augmented Lagrangian's K and the multipliers' complementarity parameter (it steers Newton only)
+K_PER_E, AUGLAG_PER_E, C_PER_E = (1e2, 1e3, 1e4, 1e5), 1e3, 1.0
 
 
 def main(argv=None) -> dict:
     p = cli.StrictParser(description=__doc__.splitlines()[0])
     p.add_argument("--n", type=cli.COUNT, default=16, help="elements along the inner ring's interface arc")
-    p.add_argument("--q", type=cli.POSITIVE, default=rings.Q_DEFAULT, help="external pressure")
-    p.add_argument("--plane", choices=rings.PLANES, default="strain")
-    p.add_argument("--K", type=cli.POSITIVE, nargs="+", default=[1e5, 1e6, 1e7, 1e8], help="penalty parameters")
+    p.add_argument("--plane", choices=rings.PLANES, default="strain", help="2D assumption")
+    p.add_argument("--K", type=cli.POSITIVE, nargs="+", default=None,
+                   help=f"penalty parameters (pressure per length; default: {', '.join(f'{k:g}' for k in K_PER_E)} "
+                        f"times --E / --c)")
+    scene = add_scene_options(p, rings.build)  # --E, --nu, --E-outer, --nu-outer, --q
     p.add_argument("--main-only", action="store_true", help="only the checked option (P2, collocated, multipliers)")
     cli.output_options(p, out="results/rings")
     args = cli.parse(p, argv)
+    if args.K is None:
+        args.K = [k * args.E / args.c for k in K_PER_E]
     if args.restart:
         raise cli.UsageError("--restart: rings solves each option in one load step, there is nothing to go on "
                              "with; run it again with --overwrite")
@@ -49,11 +57,11 @@ def main(argv=None) -> dict:
     out = Path(args.out)
     comm = MPI.COMM_WORLD
     with claimed(out, comm, overwrite=args.overwrite):
-        return _compare(args, out, comm, start)
+        return _compare(args, scene_arguments(args, scene), out, comm, start)
 
 
-def _compare(args, out: Path, comm: MPI.Comm, start: float) -> dict:
-    """Every option into the table, the check and summary.json."""
+def _compare(args, physics: dict, out: Path, comm: MPI.Comm, start: float) -> dict:
+    """Every option into the table, the check and summary.json; ``physics``: the builder's physical parameters."""
     OPTIONS = [(1, q) for q in ("nodal", "gauss", "segment")] + [(2, q) for q in ("nodal", "simpson", "collocated")]
     if args.main_only:
         OPTIONS = [(2, "collocated")]
@@ -61,19 +69,20 @@ def _compare(args, out: Path, comm: MPI.Comm, start: float) -> dict:
     for degree, quadrature in OPTIONS:
         for passes in (("both",) if quadrature == "collocated" else ("one", "two")):
             laws = [(f"penalty K={K:g}", lambda K=K: Penalty(K), 0) for K in args.K]
-            laws.append(("auglag K=1e6", lambda: AugmentedLagrangian(1e6), 50))
+            K_auglag = AUGLAG_PER_E * args.E / args.c
+            laws.append((f"auglag K={K_auglag:g}", lambda K=K_auglag: AugmentedLagrangian(K), 50))
             if quadrature == "collocated":  # the pressure is an unknown: multipliers and p = eps <g>
                 laws = [(f"penalty_multiplier eps={K:g}", lambda K=K: PenaltyMultiplier(K), 0) for K in args.K]
             if quadrature != "segment":
-                laws.append(("lagrange", lambda: LagrangeMultiplier(1e3), 0))
+                laws.append(("lagrange", lambda: LagrangeMultiplier(C_PER_E * args.E / args.c), 0))
             if args.main_only:
                 laws = laws[-1:]
             for name, law, augment in laws:
                 row = {"degree": degree, "quadrature": quadrature, "passes": passes, "method": name}
                 try:
                     setup = build("rings", law_factory=law, degree=degree, quadrature=quadrature,
-                                  passes="one" if passes == "both" else passes, n=args.n, q=args.q, plane=args.plane,
-                                  comm=comm)
+                                  passes="one" if passes == "both" else passes, n=args.n, plane=args.plane,
+                                  comm=comm, **physics)
                     solver = Solver(setup.problem, quiet=True, augment_max=augment, augment_tol=1e-10)
                     solver.run(setup.loads)
                     f = setup.figures()
@@ -91,11 +100,12 @@ def _compare(args, out: Path, comm: MPI.Comm, start: float) -> dict:
                "p_reaction_deviation", "ur_a_deviation", "ur_c_deviation", "points", "newton", "dofs", "error"]
     if comm.rank == 0:
         write_table([{c: r.get(c, "") for c in columns} for r in rows], out / "rings_options", columns)
-    p_lame = rings.lame_pressure(args.q, rings.E_DEFAULT, rings.NU_DEFAULT, rings.E_DEFAULT, rings.NU_DEFAULT,
-                                 args.plane)
+    p_lame = rings.lame_pressure(args.q, args.E, args.nu, args.E if args.E_outer is None else args.E_outer,
+                                 args.nu if args.nu_outer is None else args.nu_outer, args.plane, args.a, args.b,
+                                 args.c)
     best = [r for r in rows if r["quadrature"] == "collocated" and r["method"] == "lagrange" and "error" not in r]
     summary = {"scene": "rings", "method": "compare", "ranks": comm.size,
-               **({"dofs": best[0]["dofs"]} if best else {}), "n": args.n, "q": args.q,  # the checked option's
+               **({"dofs": best[0]["dofs"]} if best else {}), "n": args.n, **physics,  # the checked option's
                "plane": args.plane, "p_lame": p_lame, "options": rows,
                "newton_iterations": sum(r.get("newton", 0) for r in rows),
                "wall_time_s": comm.allreduce(time.perf_counter() - start, op=MPI.MAX),

@@ -43,17 +43,19 @@ SCENES = {"rigid": [], "block": ["--plate", "meshed", "--steps", "2", "--inexact
 # instead of sphere.LEVELS) keeps the largest near 1e6 dofs (about 2.1e4, 1.2e5, 4.1e5, 1.0e6).
 BLOCK_SIZES = (0.5, 0.25, 0.16, 0.115)
 
-p = cli.StrictParser(description=__doc__.splitlines()[0], epilog=None)
-p.add_argument("--scenes", nargs="+", choices=list(SCENES), default=list(SCENES), help="rigid plane, deformable block")
+p = cli.StrictParser(description=" ".join(__doc__.split("\n\n")[0].split()), epilog=None)
+p.add_argument("--scenes", nargs="+", choices=list(SCENES), default=list(SCENES),
+               help="scenes to run: rigid (the sphere on a rigid plane), block (on a deformable block)")
 p.add_argument("--levels", type=cli.number(int, 0, len(sphere.LEVELS) - 1), nargs="+",
-               default=list(range(len(sphere.LEVELS))), help="sphere mesh levels")
+               default=list(range(len(sphere.LEVELS))), help="the sphere demo's mesh levels (its --level)")
 p.add_argument("--ranks", type=cli.COUNT, nargs="+", default=[1, 2], help="MPI rank counts")
-p.add_argument("--method", default="penalty", help="contact method")
+p.add_argument("--method", default="penalty", help="contact method (the sphere demo's --method)")
 p.add_argument("--out", default="results/scaling", help="output folder")
 try:
     args = p.parse_args()
 except cli.UsageError as exc:
-    sys.exit(f"{Path(sys.argv[0]).name}: error: {exc}")
+    print(f"{Path(sys.argv[0]).name}: error: {exc}", file=sys.stderr)
+    sys.exit(cli.EXIT_USAGE)
 out = Path(args.out)
 out.mkdir(parents=True, exist_ok=True)
 

@@ -61,6 +61,9 @@ def sheet_checks(s: dict, comparison: dict, eps: float) -> list[dict]:
                          c["peak_multipliers"], AGREEMENT_TOL, "the collocated multipliers' peak pressure"))
     return out
 
+# The complementarity parameter and the penalties per unit (shear modulus / thickness), i.e. ~ E / h
+C_PER_MU, EPS_PER_MU = 2.0, (20.0, 2000.0)
+
 
 def main(argv=None) -> dict:
     # 1. Options: mesh, load steps, the complementarity parameter and the penalties.
@@ -68,8 +71,12 @@ def main(argv=None) -> dict:
     p.add_argument("--n-arc", type=cli.COUNT, default=24, help="elements along the quarter arc (the leg gets n_arc/3)")
     p.add_argument("--steps", type=cli.number(int, 2), default=4, help="load steps (even, so that t = 0.5 is one)")
     p.add_argument("--ratio", type=cli.POSITIVE, default=sheet.RATIO, help="cylinder's Lame constants / sheet's")
-    p.add_argument("--c", type=cli.POSITIVE, default=1e3, help="multipliers: complementarity parameter, ~E/h")
-    p.add_argument("--eps", type=cli.POSITIVE, nargs="+", default=[1e4, 1e6], help="penalty parameters")
+    p.add_argument("--c", type=cli.POSITIVE, default=None,
+                   help=f"multipliers: complementarity parameter, ~E/h (pressure per length; default: {C_PER_MU:g} "
+                        f"--mu / --thickness)")
+    p.add_argument("--eps", type=cli.POSITIVE, nargs="+", default=None,
+                   help=f"penalty parameters (pressure per length; default: "
+                        f"{', '.join(f'{e:g}' for e in EPS_PER_MU)} times --mu / --thickness)")
     p.add_argument("--three-point-eps", type=cli.POSITIVE, nargs="+", default=None,
                    help="the three-point penalty's parameters (default: --eps)")
     p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
@@ -80,7 +87,10 @@ def main(argv=None) -> dict:
     scene = add_scene_options(p, sheet.build)  # --R, --thickness, --leg, --R-in, --lmbda, --mu, --radius
     args = cli.parse(p, argv)
     if args.steps % 2:
-        raise cli.UsageError(f"argument --steps: must be even (t = 0.5 must be a load step), got {args.steps}")
+        raise cli.UsageError(f"--steps must be even (t = 0.5 must be a load step), got {args.steps}")
+    stiffness = args.mu / args.thickness  # ~ E / h: the mesh is fixed relative to the thickness
+    args.c = C_PER_MU * stiffness if args.c is None else args.c
+    args.eps = [e * stiffness for e in EPS_PER_MU] if args.eps is None else args.eps
     with claimed(Path(args.out), MPI.COMM_WORLD, overwrite=args.overwrite, restart=args.restart) as out:
         return _compare(args, scene, out)
 

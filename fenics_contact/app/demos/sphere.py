@@ -24,13 +24,15 @@ TOLERANCE = 5e-2
 def main(argv=None) -> dict:
     # 1. Options: formulation, mesh level (about 1e4 to 1e6 dofs), linear solver.
     p = cli.parser(__doc__.splitlines()[0], default_K=sphere.DEFAULT_K)
-    p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)), help="mesh level")
+    p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)),
+                   help="mesh level: 0 to 3, about 1e4 to 1e6 dofs")
     p.add_argument("--steps", type=cli.COUNT, default=None, help="load steps (default: 1, or 2 with --load)")
     p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
     p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
                    help="the plane: rigid, or a meshed block of the sphere's material (two-body contact)")
     p.add_argument("--size", type=cli.POSITIVE, default=None,
-                   help="mesh-size factor instead of the level's (level 0: 0.5; 1.0 is a tiny mesh, ~2800 dofs)")
+                   help="mesh-size factor instead of the level's (level 0: 0.5; 1.0 is a tiny mesh, ~2800 dofs; "
+                        "default: the --level's)")
     scene = add_scene_options(p, sphere.build)  # --R, --E, --nu, --approach, --load (force control), ...
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)

@@ -50,7 +50,16 @@ def table(summaries: list[dict]) -> tuple[str, bool]:
 
 
 if __name__ == "__main__":
-    root = Path(sys.argv[1] if len(sys.argv) > 1 else "results")
+    from fenics_contact.app import cli
+
+    parser = cli.StrictParser(description=" ".join(__doc__.split("\n\n")[0].split()), epilog=None)
+    parser.add_argument("root", nargs="?", default="results", help="folder of the runs' folders (each with a "
+                        "summary.json)")
+    try:
+        root = Path(parser.parse_args().root)
+    except cli.UsageError as exc:
+        print(f"table.py: error: {exc}", file=sys.stderr)
+        sys.exit(cli.EXIT_USAGE)
     summaries = rows(root)
     text, ok = table(summaries)
     print(text)

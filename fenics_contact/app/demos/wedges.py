@@ -22,7 +22,7 @@ TOLERANCE = 0.01  # the force ratio against its closed form
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction mu = 0.3 on a penalty normal law unless told otherwise.
     p = cli.parser(__doc__.splitlines()[0], default_K=wedges.DEFAULT_K, quadratures=("nodal",))
-    p.add_argument("--slide-steps", type=cli.COUNT, default=2, help="load steps of the push")
+    p.add_argument("--slide-steps", type=cli.COUNT, default=wedges.SLIDE_STEPS, help="load steps of the push")
     p.set_defaults(method="penalty", mu=0.3, omega_t=wedges.DEFAULT_OMEGA_T)
     scene = add_scene_options(p, wedges.build)  # --alpha, --E, --nu, --load, --push
     args = cli.parse(p, argv)
@@ -37,7 +37,7 @@ def main(argv=None) -> dict:
 
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
     summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
-                  options=cli.solver_options(args), xdmf=not args.no_xdmf,
+                  options=cli.solver_options(args), xdmf=not args.no_xdmf, predictor=wedges.PREDICTOR,
                   restart=args.restart, overwrite=args.overwrite,
                   check=lambda s: reference_check("ratio", s.get("ratio"), s.get("ratio_reference"), TOLERANCE,
                                         "(mu + tan alpha) / (1 - mu tan alpha)"))

@@ -2,7 +2,9 @@
 
 A builder returns a :class:`Setup`; ``figures()`` returns the scene's figures
 (reduced over all ranks) after a solve. A builder refuses a mesh size the machine's memory cannot hold before
-any work (:func:`refuse_size`, :class:`SizeError`).
+any work (:func:`refuse_size`, :class:`SizeError`). Each scene module declares its builder's numeric
+parameters in ``OPTIONS`` (:class:`Option`: help text with units, accepted range, options it excludes or
+needs), from which :func:`add_scene_options` makes the demos' range-checked command-line options.
 """
 from __future__ import annotations
 
@@ -20,10 +22,12 @@ from mpi4py import MPI
 
 from ...problem import ContactProblem, Stabilised
 from ...surface import Surface
+from ..cli import GIVEN  # Option.needs: the other option must be given (any value)
 from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
-           "add_scene_options", "scene_arguments", "SizeError", "max_dofs", "refuse_size"]
+           "Option", "GIVEN", "scene_options", "add_scene_options", "scene_arguments", "SizeError", "max_dofs",
+           "refuse_size"]
 
 
 @dataclass
@@ -102,18 +106,76 @@ def numeric_parameters(builder: Callable) -> dict[str, float | None]:
     return out
 
 
+@dataclass(frozen=True)
+class Option:
+    """A scene builder's numeric parameter as a command-line option.
+
+    ``help``: what it is, with its units (consistent units: "length", "stress" = force / length^2, ...) and,
+    for a default derived from the others (``None`` in the builder), how it is derived. ``range``: ``positive``
+    (> 0), ``nonnegative`` (>= 0), ``poisson`` ([0, 0.5)) or a closed interval ``(low, high)``. ``excludes``:
+    another parameter that contradicts this one (giving both is refused). ``needs``: ``(other, value)``, this
+    one is used only when the demo's option ``other`` has ``value`` (:data:`GIVEN`: is given). ``below``: the
+    parameters this one must be smaller than (a radius inside another)."""
+
+    help: str
+    range: str | tuple = "positive"
+    excludes: str | None = None
+    needs: tuple[str, object] | None = None
+    below: tuple[str, ...] = ()
+
+
+def _option_type(range_: str | tuple[float, float]) -> Callable[[str], float]:
+    from ..cli import NONNEGATIVE, POSITIVE, number
+
+    if isinstance(range_, tuple):
+        return number(float, *range_)
+    return {"positive": POSITIVE, "nonnegative": NONNEGATIVE,
+            "poisson": number(float, 0.0, 0.5, high_open=True)}[range_]
+
+
+def scene_options(builder: Callable) -> dict[str, Option]:
+    """The :class:`Option` of every numeric parameter of ``builder`` (:func:`numeric_parameters`), from its
+    module's ``OPTIONS``; ``ValueError`` naming a parameter without one, or an ``OPTIONS`` entry that is not a
+    parameter."""
+    module = inspect.getmodule(builder)
+    declared = getattr(module, "OPTIONS", {})
+    params = numeric_parameters(builder)
+    missing = [n for n in params if n not in declared]
+    extra = [n for n in declared if n not in params]
+    if missing or extra:
+        raise ValueError(f"{module.__name__}.OPTIONS: " + "; ".join(
+            ([f"no help text for {', '.join(missing)}"] if missing else [])
+            + ([f"not parameters of build: {', '.join(extra)}"] if extra else [])))
+    return {n: declared[n] for n in params}
+
+
+def _flag(name: str) -> str:
+    return "--" + name.replace("_", "-")
+
+
 def add_scene_options(parser: argparse.ArgumentParser, builder: Callable) -> list[str]:
     """One ``--name`` option (``_`` written ``-``) per numeric keyword argument of ``builder``
-    (:func:`numeric_parameters`) that ``parser`` does not have yet; returns their names. The builder
-    range-checks them before any work."""
-    names = []
+    (:func:`scene_options`) that ``parser`` does not have yet, range-checked when parsed, with its help text and
+    default; returns their names. Two options one of which ``excludes`` the other are mutually exclusive; an
+    option that ``needs`` another's value is refused without it, one not ``below`` the others it must be below
+    is refused (checked when parsed, :class:`cli.StrictParser`)."""
+    options = scene_options(builder)
+    names: list[str] = []
+    groups: dict[str, argparse._MutuallyExclusiveGroup] = {}
     for name, default in numeric_parameters(builder).items():
-        flag = "--" + name.replace("_", "-")
+        flag = _flag(name)
         if flag in parser._option_string_actions:  # e.g. the shared --mu (friction) or --K
             continue
-        parser.add_argument(flag, type=float, default=default, dest=name,
-                            help="scene parameter" + (" (default: derived from the others)" if default is None else ""))
+        opt = options[name]
+        if opt.excludes is not None and opt.excludes not in groups:
+            groups[name] = groups[opt.excludes] = parser.add_mutually_exclusive_group()
+        where = groups.get(name, parser)
+        where.add_argument(flag, type=_option_type(opt.range), default=default, dest=name, help=opt.help)
         names.append(name)
+        if opt.needs is not None and hasattr(parser, "requirements"):
+            parser.requirements.append((name, *opt.needs))
+        if hasattr(parser, "orders"):
+            parser.orders.extend((name, other) for other in opt.below)
     return names
 
 

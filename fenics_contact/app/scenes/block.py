@@ -29,9 +29,10 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import rectangle
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 
-__all__ = ["HEIGHT", "HALF_WIDTH", "E", "NU", "DISPLACEMENT", "EXACT_PRESSURE", "BENCH", "build", "reference"]
+__all__ = ["OPTIONS",
+           "HEIGHT", "HALF_WIDTH", "E", "NU", "DISPLACEMENT", "EXACT_PRESSURE", "BENCH", "build", "reference"]
 
 HEIGHT, HALF_WIDTH, E, NU, DISPLACEMENT = 2.0, 1.0, 1000.0, 0.3, 0.32
 EXACT_PRESSURE = E / (1 - NU**2) * DISPLACEMENT / HEIGHT
@@ -75,6 +76,15 @@ def homogeneous_state(model: str = "linear", plane: str = "strain", E: float = E
     J = a * c * l3
     p = -(mu * (c - 1 / c) + lam / 2 * (J**2 - 1) / c)
     return {"a": float(a), "c": c, "l3": float(l3), "p_nominal": float(p), "p_cauchy": float(p / (a * l3))}
+
+
+OPTIONS = {
+    "height": Option("block height (length)"),
+    "width": Option("block width, the right half modelled (length)"),
+    "E": Option("Young's modulus (stress)"),
+    "nu": Option("Poisson's ratio", "poisson"),
+    "displacement": Option("downward displacement of the block's top at the end (length)"),
+}
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,

@@ -33,11 +33,11 @@ from ...laws import ContactLaw, NormalCompliance
 from ...materials import LinearElastic
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
-from . import Setup, nonnegative, poisson, positive
+from . import Option, Setup, nonnegative, poisson, positive
 
 __all__ = [
     "LX", "LY", "H", "E", "NU", "PRESS", "DRAG", "C_N", "M_N", "MU", "OMEGA_T",
-    "default_law", "half_box", "build"
+    "default_law", "half_box", "OPTIONS", "build"
 ]
 
 LX, LY, H, E, NU = 1.0, 1.0, 0.5, 1000.0, 0.3
@@ -62,6 +62,17 @@ def half_box(comm: MPI.Comm, nx: int, ny: int, nz: int, lx: float = LX, ly: floa
     val = np.concatenate([np.full(len(f), t, dtype=np.int32) for t, f in found])
     idx, first = np.unique(idx, return_index=True)  # an edge facet keeps its first tag (base, top before symmetry)
     return msh, NamedTags(dmesh.meshtags(msh, fdim, idx, val[first]), {"base": 1, "top": 2, "symmetry": 3})
+
+
+OPTIONS = {
+    "lx": Option("box length along x (length)"),
+    "ly": Option("box length along y (length)"),
+    "height": Option("box height (length)"),
+    "E": Option("Young's modulus (stress)"),
+    "nu": Option("Poisson's ratio", "poisson"),
+    "press": Option("downward platen displacement of the pressing phase (length)"),
+    "drag": Option("sideways platen displacement of the drag phase (length)", "nonnegative"),
+}
 
 
 def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16, ny: int = 8, nz: int = 4,

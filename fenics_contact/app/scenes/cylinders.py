@@ -50,12 +50,12 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import two_half_disks
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 from .hertz import contact_half_width
 
 __all__ = [
     "R_LOWER", "R_UPPER", "LAMBDA", "MU", "T_END", "OVERLAP", "DEFAULT_K", "T_HERTZ", "hertz_two_cylinders", "build",
-    "BENCH"
+    "BENCH", "OPTIONS"
 ]
 
 R_LOWER, R_UPPER, LAMBDA, MU, T_END = 18.0, 8.0, 288.0, 192.0, 15.0
@@ -77,6 +77,19 @@ def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER, plan
     Es = 1.0 / (2.0 * ((1.0 - nu**2) if plane == "strain" else 1.0) / E)
     a = np.sqrt(4.0 * P * R / (np.pi * Es))
     return float(a), float(2.0 * P / (np.pi * a))
+
+
+OPTIONS = {
+    "h_contact": Option("mesh size at the contacts (length)"),
+    "h_far": Option("mesh size far from the contacts (length)"),
+    "contact_width": Option("half-width of the zone of mesh size --h-contact around each contact (length)"),
+    "grading": Option("growth of the mesh size per unit distance beyond --contact-width (dimensionless)"),
+    "R_lower": Option("radius of the lower cylinder (length)"),
+    "R_upper": Option("radius of the upper cylinder (length)"),
+    "E": Option(f"Young's modulus of both cylinders (stress; default: from the Lame constants {LAMBDA:g}, {MU:g})"),
+    "nu": Option(f"Poisson's ratio of both cylinders (default: from the Lame constants {LAMBDA:g}, {MU:g})",
+                 "poisson"),
+}
 
 
 def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "gauss", passes: str = "two",

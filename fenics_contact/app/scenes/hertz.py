@@ -16,10 +16,10 @@ Hertz (rigid plane, load ``P`` per unit length, ``E* = E/(1-nu^2)`` in plane
 strain, ``E* = E`` in plane stress, ``plane="stress"``): ``a = sqrt(4 P R / (pi E*))``,
 ``p0 = 2P/(pi a)``. Pressures are nominal (per reference length); neo-Hookean
 runs on the rigid plate also report the Cauchy peak ``p0_cauchy`` (per current length).
-The default approach gives ``a/R ~ 0.09``, small enough for Hertz's
+The default approach ``APPROACH R`` gives ``a/R ~ 0.02``, small enough for Hertz's
 half-space assumption (error ``O((a/R)^2)``). Every constant below is a keyword
 argument of :func:`build` (``R``, ``E``, ``nu``, ``approach``, the plate's size and
-material, the refined zone), its default the module constant.
+material, the refined zone), described in ``OPTIONS``.
 
 Force control (``load=P``, quarter only): instead of the approach, the
 diameter ``y = R`` carries the uniform traction ``P / (2 R)`` downward (the
@@ -40,7 +40,8 @@ touches at rest holds the disk from the first iterate.
 Two deformable bodies (``plate="meshed"``): ``E* = 1/((1-nu^2)/E + (1-nu_p^2)/E_p)``
 (two identical bodies: ``E/(2 (1-nu^2))``); the plate ``plate_width`` x
 ``plate_depth`` is fixed at its bottom, so it approximates a half-space only
-when it is large against ``a``.
+when it is large against ``a``: by default it is ``PLATE_HALF_WIDTHS`` contact
+half-widths ``a`` wide and deep (:func:`expected_half_width`), and at least ``PLATE_SIZE``.
 """
 from __future__ import annotations
 
@@ -60,17 +61,17 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import hertz_quarter_disk
-from . import Setup, Stabilised, nonnegative, poisson, positive, refuse_size
+from . import GIVEN, Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_size
 
 __all__ = [
     "R", "E", "NU", "APPROACH", "DEFAULT_K", "PENALTY_FACTOR", "default_K", "BENCH", "BENCHES", "TWO_BODY", "hertz",
-    "contact_half_width",
-    "PLATE_STIFFNESS", "PLATE_SIZE", "STABILISATION", "STABILISATION_MESHED",
+    "contact_half_width", "approach_half_width", "expected_half_width", "OPTIONS",
+    "PLATE_STIFFNESS", "PLATE_SIZE", "PLATE_HALF_WIDTHS", "STABILISATION", "STABILISATION_MESHED",
     "build", "law_twin"
 ]
 
 R, E, NU = 1.0, 1000.0, 0.3
-APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1
+APPROACH = 0.001  # vertical displacement of the diameter y = R at t = 1, per unit R (default: APPROACH R)
 PENALTY_FACTOR = 10.0  # pure penalty on the rigid plate: K x this (default_K)
 DEFAULT_K = 1e6  # penalty scale ~ E / h_contact (2.5 E / h at the defaults: E = 1000, h = R / 400)
 
@@ -126,6 +127,33 @@ def hertz(P: float, R: float = R, E: float = E, nu: float = NU, plane: str = "st
     return float(a), float(2 * P / (np.pi * a))
 
 
+def approach_half_width(approach: float, R: float = R) -> float:
+    """The contact half-width ``a`` of a disk of radius ``R`` whose centre approaches a rigid plane by
+    ``approach`` (plane strain or stress alike): Johnson, Contact Mechanics, eq. 5.36, ``approach = (a^2 / 4R)
+    (2 ln(4R/a) - 1)`` (``P / (pi E*) = a^2 / 4R``), solved for ``a`` by bisection in ``(0, R]`` (``R`` when the
+    approach is past the formula's range). Independent of ``E``."""
+    def f(a: float) -> float:
+        return a * a / (4 * R) * (2 * math.log(4 * R / a) - 1)
+
+    if approach >= f(R):
+        return R
+    lo, hi = 0.0, R
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if f(mid) < approach else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def expected_half_width(R: float, E: float, nu: float, plane: str = "strain", approach: float | None = None,
+                        load: float | None = None, E2: float = math.inf, nu2: float = NU) -> float:
+    """The contact half-width the scene will reach, before solving it: Hertz's ``a`` for ``load`` (against the
+    half-space ``E2``, ``nu2``), else :func:`approach_half_width` (the disk alone on a rigid plane: a compliant
+    plate takes part of the approach, so this is an upper bound)."""
+    if load is not None:
+        return hertz(load, R, E, nu, plane, E2, nu2)[0]
+    return approach_half_width(APPROACH * R if approach is None else approach, R)
+
+
 def contact_half_width(x: np.ndarray, p: np.ndarray) -> float:
     """Edge of the pressure profile ``p(x)`` (``x`` ascending from the centre).
 
@@ -143,8 +171,13 @@ def contact_half_width(x: np.ndarray, p: np.ndarray) -> float:
 
 
 PLATE_STIFFNESS = 1000.0  # the meshed plate's E / the disk's E (model-reduction check)
-PLATE_SIZE = (0.5 * R, 0.25 * R)  # meshed plate: width, depth
-CONTACT_WIDTH = 0.1 * R  # the refined zone's half-width (mesh size R / 400 within it at refinement 0)
+PLATE_SIZE = (0.5, 0.25)  # meshed plate: least width, depth per unit R (the rigid-plate check's model reduction)
+# ... and at least this many contact half-widths a wide and deep. The plate is fixed at its bottom, so it is a
+# half-space only far from the contact: p0's error against Hertz falls as about (a / size)^2 (two identical bodies,
+# E = 200, R = 8, load 10, a = 0.96, square plates of 3, 5, 8, 12 a: 1.8 %, 0.63 %, 0.19 %, 0.03 %); 10 a
+# (0.35 % with the default mesh's own error) leaves the 1 % target to the discretisation, at 2 % more unknowns.
+PLATE_HALF_WIDTHS = 10.0
+CONTACT_WIDTH = 0.1  # the refined zone's half-width per unit R (mesh size R / 400 within it at refinement 0)
 STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E (module docstring)
 # ... on the meshed plate: the compliant plate makes the contact softer, so a spring of 1.0 carries most of the load
 # before the last step, and removing it there throws Newton far off (two identical bodies, E = 200, R = 8, load 10:
@@ -152,8 +185,31 @@ STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E (module d
 STABILISATION_MESHED = 0.1
 
 
+OPTIONS = {
+    "R": Option("disk radius (length)"),
+    "E": Option("disk's Young's modulus (stress)"),
+    "nu": Option("disk's Poisson's ratio", "poisson"),
+    "approach": Option(f"displacement control: the disk's centre moved toward the plate (length; default: "
+                       f"{APPROACH:g} R, when --load is not given)", excludes="load"),
+    "load": Option("force control instead of --approach: total force on the whole cylinder per unit length "
+                   "(force / length; quarter symmetry; default: not used)", needs=("symmetry", "quarter")),
+    "stabilisation": Option(f"force control: the vanishing spring's k R^2 / E (default: {STABILISATION:g}, "
+                            f"{STABILISATION_MESHED:g} on the meshed plate)", "nonnegative", needs=("load", GIVEN)),
+    "plate_E": Option(f"meshed plate's Young's modulus (stress; default: {PLATE_STIFFNESS:g} E)",
+                      needs=("plate", "meshed")),
+    "plate_nu": Option("meshed plate's Poisson's ratio (default: --nu)", "poisson", needs=("plate", "meshed")),
+    "plate_width": Option(f"meshed plate's width from the symmetry line (length; default: {PLATE_HALF_WIDTHS:g} "
+                          f"contact half-widths a, from Hertz for --load or Johnson's disk approach for --approach, "
+                          f"at least {PLATE_SIZE[0]:g} R)", needs=("plate", "meshed")),
+    "plate_depth": Option(f"meshed plate's depth (length; default: {PLATE_HALF_WIDTHS:g} contact half-widths a as "
+                          f"--plate-width, at least {PLATE_SIZE[1]:g} R)", needs=("plate", "meshed")),
+    "contact_width": Option(f"half-width of the refined zone at the contact, mesh size R / 400 within it (length; "
+                            f"default: {CONTACT_WIDTH:g} R)"),
+}
+
+
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps: int = 2,
-          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH,
+          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float | None = None,
           symmetry: str = "quarter", plate: str = "rigid", plane: str = "strain", R: float = R, E: float = E,
           nu: float = NU, load: float | None = None, plate_E: float | None = None, plate_nu: float | None = None,
           plate_width: float | None = None, plate_depth: float | None = None, contact_width: float | None = None,
@@ -166,7 +222,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     modes are removed by ``u_x = 0`` at the centre and the upper pole and ``u_y = -approach`` at the
     centre, point values of the exact symmetric solution, whose reaction ``centre_reaction`` measures
     how far the two contacts are from balance); ``plate``: ``rigid`` (the analytic half-plane, default)
-    or ``meshed`` (quarter only: a plate ``PLATE_SIZE`` of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
+    or ``meshed`` (quarter only: a plate of ``PLATE_STIFFNESS`` x E, fixed at its bottom,
     in the same mesh, in two-body contact, one pass, the disk's arc the slave). The last three are the
     model-reduction checks. ``plane``: ``strain`` (default) or ``stress`` (disk and plate).
 
@@ -174,7 +230,10 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     (displacement control) or ``load`` (force control: the total force ``P`` per unit length of the whole
     cylinder, quarter only; module docstring), ``stabilisation`` its vanishing spring; the meshed plate's
     ``plate_E`` (default ``PLATE_STIFFNESS * E``), ``plate_nu`` (default ``nu``), ``plate_width`` and
-    ``plate_depth`` (default ``0.5 R``, ``0.25 R``); ``contact_width``: the refined zone (default ``0.1 R``)."""
+    ``plate_depth`` (default ``PLATE_HALF_WIDTHS`` times :func:`expected_half_width`, at least ``PLATE_SIZE``
+    times ``R``); ``contact_width``: the refined zone (default ``0.1 R``). ``OPTIONS`` describes each."""
+    if approach is not None and load is not None:
+        raise ValueError(f"give approach or load, not both (got approach {approach!r}, load {load!r})")
     positive(R=R, E=E, approach=approach, load=load, plate_E=plate_E, plate_width=plate_width,
              plate_depth=plate_depth, contact_width=contact_width)
     nonnegative(stabilisation=stabilisation)
@@ -194,8 +253,14 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         raise ValueError(f"hertz load (force control) needs symmetry 'quarter', got {symmetry!r}")
     plate_E = PLATE_STIFFNESS * E if plate_E is None else plate_E
     plate_nu = nu if plate_nu is None else plate_nu
-    plate_size = (0.5 * R if plate_width is None else plate_width, 0.25 * R if plate_depth is None else plate_depth)
-    contact_width = 0.1 * R if contact_width is None else contact_width
+    if load is None and approach is None:
+        approach = APPROACH * R
+    if plate == "meshed" and None in (plate_width, plate_depth):
+        least = PLATE_HALF_WIDTHS * expected_half_width(R, E, nu, plane, approach if load is None else None, load,
+                                                    plate_E, plate_nu)
+    plate_size = (max(PLATE_SIZE[0] * R, least) if plate_width is None and plate == "meshed" else plate_width,
+                  max(PLATE_SIZE[1] * R, least) if plate_depth is None and plate == "meshed" else plate_depth)
+    contact_width = CONTACT_WIDTH * R if contact_width is None else contact_width
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:

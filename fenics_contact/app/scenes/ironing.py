@@ -52,9 +52,10 @@ from ...materials import Materials, NeoHookean
 from ...problem import ContactProblem, Dirichlet
 from ...twobody_friction import FrictionalTwoBodySurface
 from ..meshes.ironing import punch_on_block
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 
-__all__ = ["E", "NU", "STIFFNESS", "DEFAULT_K", "DEFAULT_OMEGA_T", "PREDICTOR", "IroningSurface", "build", "BENCH"]
+__all__ = ["OPTIONS",
+           "E", "NU", "STIFFNESS", "DEFAULT_K", "DEFAULT_OMEGA_T", "PREDICTOR", "IroningSurface", "build", "BENCH"]
 
 E, NU = 1000.0, 0.3  # the block; the punch is STIFFNESS times stiffer
 STIFFNESS = 100.0
@@ -90,6 +91,26 @@ class IroningSurface(FrictionalTwoBodySurface):
         super().commit()
         if self.log:
             self.log[-1]["face_angle"] = self.face_angle()
+
+
+OPTIONS = {
+    "E": Option("block's Young's modulus (stress)"),
+    "nu": Option("block's Poisson's ratio (the punch's too)", "poisson"),
+    "stiffness": Option("punch's Young's modulus / the block's (dimensionless)"),
+    "depth": Option("punch's descent into the block (length)"),
+    "drag": Option("punch's horizontal travel (length)"),
+    "H": Option("block height (length)"),
+    "half_width": Option("half-width of the punch's flat face (length)"),
+    "r": Option("radius of the punch's fillets (length)"),
+    "theta": Option("angle the fillets turn from the vertical (degrees, in (0, 90])", (0.0, 90.0, True)),
+    "height": Option("height of the punch's top above its flat face (length)"),
+    "margin": Option("block length beyond the punch at both ends of the drag (length)"),
+    "h": Option("slave node spacing, the block's columns (length)"),
+    "h_flat": Option("punch's facet size on the flat face (length; default: 2 --h)"),
+    "h_arc": Option("punch's facet size along the fillets (length; default: --h / 4)"),
+    "steady_from": Option("drag from which the steady figures are averaged (length; default: half of --drag)",
+                          "nonnegative"),
+}
 
 
 def build(law: ContactLaw, E: float = E, nu: float = NU, stiffness: float = STIFFNESS, depth: float = 0.1,

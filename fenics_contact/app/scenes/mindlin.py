@@ -42,20 +42,27 @@ from ...laws import ContactLaw, ExactCoulomb
 from ...materials import LinearElastic
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.mindlin import disk_on_block
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 from .hertz import contact_half_width
 
-__all__ = ["build", "mindlin_c", "mindlin_traction", "check_loading", "stick_figures", "worst_ratio",
+__all__ = ["OPTIONS", "build", "mindlin_c", "mindlin_traction", "check_loading", "stick_figures", "worst_ratio",
            "add_shear_options", "check_ratios_option", "worst_ratio_check", "ShearProblem", "DEFAULT_K",
-           "DEFAULT_OMEGA_T", "BENCH"]
+           "DEFAULT_OMEGA_T", "PRESS_STEPS", "PRESS_STEPS_EXACT", "PREDICTOR", "BENCH"]
 
 R, E, NU = 1.0, 1000.0, 0.3
-APPROACH = 3.5e-3  # gives a ~ 0.047 R with the default bodies
+APPROACH = 3.5e-3  # per unit R (default: APPROACH R): gives a ~ 0.047 R with the default bodies
 RATIOS = (0.2, 0.5, 0.8)
 DEFAULT_K = 1e7  # normal penalty: p0 / K ~ 1e-6, 1e-3 of the approach
 # Tangential penalty: the elastic slip mu p0 / omega_t ~ 4e-6 is 1 % of the slip at the contact edge; 1e7 (= K)
 # makes Newton cycle between stick and slip at the stick zone's edge (the 2nd pressing step never converged).
 DEFAULT_OMEGA_T = 1e6
+# Load steps of the pressing. Dundurs' beta = 0: the pressing slips nowhere, so the exact method (method coulomb)
+# presses in one step (the same stick zones to round-off as in 4, 8 semismooth Newton iterations instead of 21).
+# The penalty-type laws press in 8 steps, each started from the tangent predictor (PREDICTOR): 50 Newton iterations
+# in 11 steps with the penalty defaults (4 steps from the last state: 43 in 7, up to 11 in one step; 4 steps from
+# the tangent predictor: 37 in 7; 6: 44 in 9), no failed attempt in any.
+PRESS_STEPS, PRESS_STEPS_EXACT = 8, 1
+PREDICTOR = "tangent"  # the penalty-type laws' steps (the exact method's steps are the step solver's)
 
 
 def mindlin_c(a: float, ratio: float) -> float:
@@ -105,18 +112,23 @@ def worst_ratio(out: dict, errors: list[tuple[float, float]]) -> None:
 def add_shear_options(parser: argparse.ArgumentParser, ratios: tuple, refinement_help: str) -> None:
     """The Mindlin demos' loading options: ``--ratios`` (default ``ratios``), ``--refinement`` (``refinement_help``)
     and ``--press-steps`` (before :func:`~fenics_contact.app.scenes.add_scene_options`, which then skips them)."""
-    from ..cli import COUNT, LEVEL
+    from ..cli import COUNT, LEVEL, number
 
-    parser.add_argument("--ratios", type=float, nargs="+", default=list(ratios), metavar="R",
+    parser.add_argument("--ratios", type=number(float, 0.0, 1.0, True, True), nargs="+", default=list(ratios),
+                        metavar="R",
                         help="Q / (mu P) of the tangential load steps, increasing in (0, 1)")
     parser.add_argument("--refinement", type=LEVEL, default=0, help=refinement_help)
-    parser.add_argument("--press-steps", type=COUNT, default=4, help="load steps of the pressing")
+    parser.add_argument("--press-steps", type=COUNT, default=None,
+                        help="load steps of the pressing (default: the scene's for the method)")
 
 
 def check_ratios_option(ratios: list) -> None:
-    """``ValueError`` naming ``--ratios`` unless its values increase in (0, 1) (the demos, before any work)."""
+    """:class:`~fenics_contact.app.cli.UsageError` naming ``--ratios`` unless its values increase in (0, 1) (the
+    demos, before any work)."""
+    from ..cli import UsageError
+
     if not all(0 < r < 1 for r in ratios) or ratios != sorted(set(ratios)):
-        raise ValueError(f"--ratios: must be increasing values in (0, 1), got {ratios}")
+        raise UsageError(f"--ratios must be increasing values in (0, 1), got {ratios}")
 
 
 def worst_ratio_check(ratios: list, tolerance: float, source: str) -> Callable[[dict], dict]:
@@ -156,21 +168,37 @@ class ShearProblem(ContactProblem):
         super().set_load(t)
 
 
+OPTIONS = {
+    "R": Option("radius of the upper body's cylindrical face (length)"),
+    "E": Option("Young's modulus of both bodies (stress)"),
+    "nu": Option("Poisson's ratio of both bodies", "poisson"),
+    "approach": Option(f"pressing displacement of the upper body (length; default: {APPROACH:g} R)"),
+    "width": Option("width 2 L of both bodies (length; default: R)"),
+    "height": Option("upper body's height (length; default: R / 2)"),
+    "depth": Option("lower block's depth (length; default: R / 2)"),
+    "h_contact": Option("mesh size at the contact (length; default: R / 600, halved per --refinement)"),
+}
+
+
 def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MPI.Comm = MPI.COMM_WORLD,
-          R: float = R, E: float = E, nu: float = NU, approach: float = APPROACH, press_steps: int = 4,
+          R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int | None = None,
           width: float | None = None, height: float | None = None, depth: float | None = None,
           h_contact: float | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``), or the exact
     :class:`~fenics_contact.laws.ExactCoulomb` (method ``coulomb``, ``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` halves the contact mesh size (default
-    ``h_contact = R / 600``) that many times; ``press_steps`` load steps for the pressing. Bodies: ``width``
+    ``h_contact = R / 600``) that many times; ``press_steps`` load steps for the pressing (default
+    :data:`PRESS_STEPS`, :data:`PRESS_STEPS_EXACT` for method ``coulomb``). Bodies: ``width``
     ``2 L`` (default ``R``), the upper body's ``height`` (default ``R / 2``), the block's ``depth`` (default
     ``R / 2``)."""
+    approach = APPROACH * R if approach is None else approach
     positive(R=R, E=E, approach=approach, width=width, height=height, depth=depth, h_contact=h_contact)
     poisson(nu=nu)
     exact = isinstance(law, ExactCoulomb)  # method coulomb: exact Coulomb on the condensed system
     if not (exact and law.mu > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
         raise ValueError(f"mindlin needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
+    if press_steps is None:
+        press_steps = PRESS_STEPS_EXACT if exact else PRESS_STEPS
     ratios = check_loading(ratios, refinement, press_steps)
     mu = float(law.mu if exact else law.scalars["mu"])
     L = 0.5 * (R if width is None else width)

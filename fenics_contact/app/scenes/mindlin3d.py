@@ -49,14 +49,15 @@ from ...materials import LinearElastic
 from ...problem import Dirichlet
 from ...solver import LINEAR_SOLVERS
 from ..meshes.mindlin3d import cap_on_block
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 from .mindlin import ShearProblem, check_loading, stick_figures, worst_ratio
 
-__all__ = ["build", "hertz_a", "mindlin_c", "mindlin_traction", "stick_radii", "contact_size", "default_omega_t",
+__all__ = ["OPTIONS",
+           "build", "hertz_a", "mindlin_c", "mindlin_traction", "stick_radii", "contact_size", "default_omega_t",
            "H_CONTACT", "REFINE", "DEFAULT_K", "DEFAULT_OMEGA_T", "BENCH", "ITERATIVE"]
 
 R, E, NU = 1.0, 1000.0, 0.3
-APPROACH = 5e-3  # gives a ~ 0.068 R with the default bodies
+APPROACH = 5e-3  # per unit R (default: APPROACH R): gives a ~ 0.068 R with the default bodies
 RATIOS = (0.2, 0.5, 0.8)
 # The contact mesh size at refinement 0 (in units of R): about 10 elements across a. R/100 (7 across a) gave the
 # stick radius at Q/(mu P) = 0.8 6.5 % below Cattaneo-Mindlin (0.28 elements): within one element, not within 5 %.
@@ -153,22 +154,39 @@ class _Problem(ShearProblem):
         super().set_load(t)
 
 
+OPTIONS = {
+    "R": Option("radius of the spherical cap (length)"),
+    "E": Option("Young's modulus of both bodies (stress)"),
+    "nu": Option("Poisson's ratio of both bodies", "poisson"),
+    "approach": Option(f"pressing displacement of the cap (length; default: {APPROACH:g} R)"),
+    "cap_height": Option("cap's height (length; default: R / 2)"),
+    "width": Option("block's half-width L, y in [0, L] (length; default: R)"),
+    "depth": Option("block's depth (length; default: R / 2)"),
+    "h_contact": Option(f"mesh size at the contact (length; default: {H_CONTACT:g} R, divided by sqrt(2) per "
+                        f"--refinement)"),
+    "contact_width": Option("radius of the zone of mesh size --h-contact (length; default: 0.1 R)"),
+    "h_far": Option("mesh size far from the contact (length; default: 0.1 R)"),
+}
+
+
 def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MPI.Comm = MPI.COMM_WORLD,
-          R: float = R, E: float = E, nu: float = NU, approach: float = APPROACH, press_steps: int = 4,
+          R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int | None = None,
           cap_height: float | None = None, width: float | None = None, depth: float | None = None,
           h_contact: float | None = None, contact_width: float | None = None, h_far: float | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` divides the contact mesh size (default
     ``h_contact = H_CONTACT R``) by ``REFINE = sqrt(2)`` that many times; ``press_steps`` load steps for the
-    (frictionless) pressing.
+    (frictionless) pressing (default 4).
     Bodies: the cap's height ``cap_height`` (default ``R / 2``), the block's half ``width`` ``L`` (default
     ``R``; it spans ``y`` in ``[0, L]``) and ``depth`` (default ``R / 2``); the mesh: size ``h_contact`` within
     ``contact_width`` (default ``0.1 R``) of the contact point, growing to ``h_far`` (default ``0.1 R``)."""
+    approach = APPROACH * R if approach is None else approach
     positive(R=R, E=E, approach=approach, cap_height=cap_height, width=width, depth=depth, h_contact=h_contact,
              contact_width=contact_width, h_far=h_far)
     poisson(nu=nu)
     if not isinstance(law, Friction) or "mu" not in law.scalars or not law.scalars["mu"] > 0:
         raise ValueError(f"mindlin3d needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
+    press_steps = 4 if press_steps is None else press_steps
     ratios = check_loading(ratios, refinement, press_steps)
     H = 0.5 * R if cap_height is None else cap_height
     if not H < R:

@@ -47,10 +47,10 @@ from ...laws import ContactLaw
 from ...materials import MODELS, LinearElastic, Materials
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import stacked_blocks
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 
 __all__ = ["E_LOWER", "E_UPPER", "NU", "PRESSURE", "OVERLAP", "WIDTH", "H_LOWER", "H_UPPER", "uniform_stretches",
-           "build"]
+           "OPTIONS", "build"]
 
 E_LOWER, E_UPPER, NU, PRESSURE, OVERLAP = 1000.0, 1000.0, 0.3, 10.0, 1e-6
 WIDTH, H_LOWER, H_UPPER = 1.0, 1.0, 1.0  # the blocks' width (and depth in 3D) and heights
@@ -83,6 +83,19 @@ def uniform_stretches(pressure: float, material: str, dim: int, E: float = E_LOW
         if np.max(np.abs(step)) < 1e-15:
             break
     return float(x[0]), float(x[1])
+
+
+OPTIONS = {
+    "pressure": Option("pressure on the upper block's top (stress)"),
+    "E_lower": Option("lower block's Young's modulus (stress)"),
+    "E_upper": Option("upper block's Young's modulus (stress)"),
+    "nu_lower": Option("lower block's Poisson's ratio", "poisson"),
+    "nu_upper": Option("upper block's Poisson's ratio", "poisson"),
+    "width": Option("blocks' width (and depth in 3D) (length)"),
+    "h_lower": Option("lower block's height (length)"),
+    "h_upper": Option("upper block's height (length)"),
+    "overlap": Option("initial overlap of the upper block into the lower one (length; < 0.1 of the lower height)"),
+}
 
 
 def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "gauss", passes: str = "one",

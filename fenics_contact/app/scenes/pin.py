@@ -62,11 +62,11 @@ from ...materials import PLANES, LinearElastic
 from ...obstacles import Cylinder
 from ...problem import Dirichlet
 from ..meshes import pin_plate
-from . import Setup, Stabilised, nonnegative, poisson, positive, refuse_size
+from . import Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_size
 
 __all__ = [
     "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "STABILISATION", "DEFAULT_K", "LOADED_FORCE",
-    "pressure_along_pin", "contact_angle", "GAPS", "build", "BENCH"
+    "pressure_along_pin", "contact_angle", "GAPS", "OPTIONS", "build", "BENCH"
 ]
 
 R, HALF_WIDTH, BELOW, ABOVE = 1.0, 5.0, 5.0, 5.0
@@ -116,20 +116,37 @@ def contact_angle(theta: np.ndarray, p: np.ndarray, rel_tol: float = 1e-8) -> fl
 GAPS = ("linearized", "current")
 
 
+OPTIONS = {
+    "h_contact": Option("mesh size at the hole (length; default: R / 50, halved per --refinement)"),
+    "R": Option("radius of the hole and pin (length)", below=("half_width", "below", "above")),
+    "half_width": Option(f"plate's half-width (length; default: {HALF_WIDTH / R:g} R)"),
+    "below": Option(f"plate's extent below the pin's centre (length; default: {BELOW / R:g} R)"),
+    "above": Option(f"plate's extent above the pin's centre (length; default: {ABOVE / R:g} R)"),
+    "E": Option("plate's Young's modulus (stress)"),
+    "nu": Option("plate's Poisson's ratio", "poisson"),
+    "P0": Option("traction on the plate's top (stress)"),
+    "stabilisation": Option("the vanishing spring's k R^2 / E (dimensionless)", "nonnegative"),
+}
+
+
 def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_contact: float | None = None,
           steps: int = 2, gap: str = "linearized", comm: MPI.Comm = MPI.COMM_WORLD, R: float = R,
-          half_width: float = HALF_WIDTH, below: float = BELOW, above: float = ABOVE, E: float = E, nu: float = NU,
+          half_width: float | None = None, below: float | None = None, above: float | None = None, E: float = E,
+          nu: float = NU,
           P0: float = P0, stabilisation: float = STABILISATION, plane: str = "strain") -> Setup:
     """``refinement`` halves the mesh size at the hole (``h_contact``, default ``R/50``) that many times; ``steps``
     load steps (>= 2: the vanishing spring acts before the last); ``gap``: ``linearized`` (small displacements,
     default) or ``current`` (exact gap of the deformed position). The plate ``2 half_width`` wide, from ``below``
-    under to ``above`` over the pin's centre, the hole
+    under to ``above`` over the pin's centre (defaults: the module constants in units of ``R``), the hole
     of radius ``R``, ``E``, ``nu``, the traction ``P0`` on its top; ``stabilisation``: the vanishing spring's
     ``k R^2 / E`` (module docstring). Defaults: the module constants. ``plane``: ``strain`` (the
     paper's, default; its figures are plane strain) or ``stress``."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     positive(R=R, half_width=half_width, below=below, above=above, E=E, P0=P0, h_contact=h_contact)
+    # the plate's size in units of the hole's radius: a larger pin keeps the same plate around it
+    half_width, below, above = (v * R / globals()["R"] if g is None else g for v, g in
+                                ((HALF_WIDTH, half_width), (BELOW, below), (ABOVE, above)))
     nonnegative(stabilisation=stabilisation)
     poisson(nu=nu)
     if not (R < half_width and R < below and R < above):

@@ -37,10 +37,11 @@ from ...materials import PLANES, LinearElastic
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import ring_quarter
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 
 __all__ = [
-    "R_OUT", "R_IN", "E", "NU", "APPROACH", "K", "PAPER_PENETRATION", "PAPER_RESIDUAL_6", "build", "VARIANTS", "BENCH"
+    "R_OUT", "R_IN", "E", "NU", "APPROACH", "K", "PAPER_PENETRATION", "PAPER_RESIDUAL_6", "build", "VARIANTS", "BENCH",
+    "OPTIONS"
 ]
 
 R_OUT, R_IN, E, NU, APPROACH = 8.0, 6.0, 1000.0, 0.3, 1.0
@@ -50,14 +51,25 @@ PAPER_PENETRATION = (0.19e-3, 0.13e-3)
 PAPER_RESIDUAL_6 = 0.9e-10
 
 
+OPTIONS = {
+    "R_out": Option("ring's outer radius (length)"),
+    "R_in": Option("ring's inner radius, < --R-out (length)", below=("R_out",)),
+    "E": Option("Young's modulus (stress)"),
+    "nu": Option("Poisson's ratio", "poisson"),
+    "approach": Option(f"upper plate's downward displacement (length; default: {APPROACH / R_OUT:g} R_out, the "
+                       f"paper's {APPROACH:g} at R_out {R_OUT:g})"),
+}
+
+
 def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: int = 4, quadrilateral: bool = True,
           comm: MPI.Comm = MPI.COMM_WORLD, R_out: float = R_OUT, R_in: float = R_IN, E: float = E, nu: float = NU,
-          approach: float = APPROACH, plane: str = "strain") -> Setup:
+          approach: float | None = None, plane: str = "strain") -> Setup:
     """The quarter ring (radii ``R_in < R_out``, ``E``, ``nu``); one load step (upper plate down by ``approach``);
     ``plane``: ``strain`` or ``stress``. Defaults: the module constants, the paper's."""
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     positive(R_out=R_out, R_in=R_in, E=E, approach=approach)
+    approach = APPROACH * R_out / R_OUT if approach is None else approach  # the same squeeze of a larger ring
     poisson(nu=nu)
     if not R_in < R_out:
         raise ValueError(f"ring: R_in must be < R_out, got R_in = {R_in}, R_out = {R_out}")

@@ -107,11 +107,11 @@ from ...materials import LinearElastic
 from ...multipliers import unknown
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.rings import concentric_rings
-from . import Setup
+from . import Option, Setup, poisson, positive
 
 __all__ = [
     "A", "B", "C", "E_DEFAULT", "NU_DEFAULT", "Q_DEFAULT", "PLANES", "RADIUS", "lame_pressure", "lame_displacements",
-    "RingsElastic", "build"
+    "RingsElastic", "OPTIONS", "build"
 ]
 
 A, B, C = 0.2, 0.6, 1.0
@@ -175,17 +175,37 @@ class RingsElastic(LinearElastic):
         return {"model": type(self).__name__, **self.rings}
 
 
+OPTIONS = {
+    "E": Option("inner ring's Young's modulus (stress)"),
+    "nu": Option("inner ring's Poisson's ratio", "poisson"),
+    "E_outer": Option("outer ring's Young's modulus (stress; default: --E)"),
+    "nu_outer": Option("outer ring's Poisson's ratio (default: --nu)", "poisson"),
+    "q": Option("external pressure on the outer ring (stress)"),
+    "a": Option("inner ring's inner radius (length)", below=("b",)),
+    "b": Option("interface radius, between --a and --c (length)", below=("c",)),
+    "c": Option("outer ring's outer radius (length)"),
+}
+
+
 def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quadrature: str = "nodal",
           passes: str = "one", n: int = 16, n_outer: int | None = None, plane: str = "strain",
-          E: tuple[float, float] = (E_DEFAULT, E_DEFAULT), nu: tuple[float, float] = (NU_DEFAULT, NU_DEFAULT),
-          q: float = Q_DEFAULT, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
+          E: float = E_DEFAULT, nu: float = NU_DEFAULT, E_outer: float | None = None, nu_outer: float | None = None,
+          q: float = Q_DEFAULT, a: float = A, b: float = B, c: float = C, comm: MPI.Comm = MPI.COMM_WORLD) -> Setup:
     """``degree`` 1 (P1 triangles, flat facets: ``quadrature`` ``nodal``, ``gauss`` or ``segment``) or 2
     (6-node triangles of a quadratic geometry, curved 3-node facets: ``nodal`` or ``simpson``); ``passes``
     ``one`` (the inner ring's arc is the slave) or ``two``. Method ``lagrange`` (``law`` a
     :class:`~fenics_contact.laws.LagrangeMultiplier`): the constraint at the vertices, the work with
     ``quadrature`` (P2: ``simpson`` is the two-point element); ``collocated`` (P2, ``lagrange`` or
     ``penalty_multiplier``): Papadopoulos & Solberg's collocated element (``passes`` not used: both
-    surfaces carry a pressure). One load step ``t = 1``."""
+    surfaces carry a pressure). One load step ``t = 1``. The inner ring's ``E``, ``nu``, the outer ring's
+    ``E_outer``, ``nu_outer`` (default: the inner ring's), the external pressure ``q``; the radii ``a < b < c``
+    (inner, interface, outer); the two-body search radius ``RADIUS c``."""
+    positive(E=E, E_outer=E_outer, a=a, b=b, c=c)
+    if not a < b < c:
+        raise ValueError(f"the radii must satisfy a < b < c, got a = {a!r}, b = {b!r}, c = {c!r}")
+    poisson(nu=nu, nu_outer=nu_outer)
+    E = (E, E if E_outer is None else E_outer)
+    nu = (nu, nu if nu_outer is None else nu_outer)
     if degree not in (1, 2):
         raise ValueError(f"degree must be 1 or 2, got {degree!r}")
     if plane not in PLANES:
@@ -202,7 +222,7 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     multipliers = isinstance(first, LagrangeMultiplier)
     if n_outer is None:
         n_outer = max(3 * int(n) // 4, 2)
-    mesh, cell_tags, facet_tags = concentric_rings(comm, A, B, C, int(n), int(n_outer), order=degree)
+    mesh, cell_tags, facet_tags = concentric_rings(comm, a, b, c, int(n), int(n_outer), order=degree)
     u, V = unknown(mesh, degree, first)
     material = RingsElastic(mesh, cell_tags, E, nu, plane)  # validates E and nu
     load = fem.Constant(mesh, 0.0)
@@ -214,25 +234,25 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
                              f"'lagrange' or 'penalty_multiplier', got degree {degree!r}, method {first.name!r}")
         from ...collocation import collocated_surfaces
 
-        contacts = collocated_surfaces(u, facet_tags, "inner_surface", "outer_surface", first, load, RADIUS,
+        contacts = collocated_surfaces(u, facet_tags, "inner_surface", "outer_surface", first, load, RADIUS * c,
                                        "interface")
     elif multipliers:
         if quadrature not in (("nodal",) if degree == 1 else ("nodal", "simpson")):
             raise ValueError(f"method {first.name!r} on degree-{degree} facets: quadrature must be 'nodal'"
                              f"{'' if degree == 1 else ' or simpson'}, got {quadrature!r}")
         contacts = two_body_multipliers(u, facet_tags, "inner_surface", "outer_surface", first, load,
-                                        RADIUS, "interface", passes=passes, work_quadrature=quadrature)
+                                        RADIUS * c, "interface", passes=passes, work_quadrature=quadrature)
     else:
         contacts = two_body_surfaces(u, facet_tags, "inner_surface", "outer_surface", law_factory, load,
-                                     quadrature, passes, RADIUS, "interface")
+                                     quadrature, passes, RADIUS * c, "interface")
     for cs in contacts:  # one name per field in the XDMF file
         cs.gap_out.name, cs.pressure_out.name = f"gap_{cs.name}", f"contact_pressure_{cs.name}"
     n_ref = ufl.FacetNormal(mesh)
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)
     problem = ContactProblem(u, material, load, rollers, contacts, tractions=[(-q * n_ref, ds(facet_tags["loaded"]))])
 
-    p_lame = lame_pressure(q, E[0], nu[0], E[1], nu[1], plane)
-    ua_lame, uc_lame = lame_displacements(q, E[0], nu[0], E[1], nu[1], plane)
+    p_lame = lame_pressure(q, E[0], nu[0], E[1], nu[1], plane, a, b, c)
+    ua_lame, uc_lame = lame_displacements(q, E[0], nu[0], E[1], nu[1], plane, a, b, c)
     # Radial displacement at the nodes of r = a and r = c (owned, gathered).
     if is_mixed(u.function_space):
         Vd, to_parent = u.function_space.sub(0).collapse()
@@ -275,7 +295,7 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
         ps = [constrained(cs) for cs in contacts]
         dev = np.abs(np.concatenate(ps) - p_lame) / p_lame
         ura, urc = radial("a"), radial("c")
-        p_reaction = problem.reaction(rollers[1].dofs) / B
+        p_reaction = problem.reaction(rollers[1].dofs) / b
         return {"p_lame": p_lame, "p_max_deviation": float(dev.max()), "p_mean_deviation": float(dev.mean()),
                 "p_min": float(min(p.min() for p in ps)), "p_max": float(max(p.max() for p in ps)),
                 "p_reaction": p_reaction, "p_reaction_deviation": abs(p_reaction - p_lame) / p_lame,
@@ -286,7 +306,7 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
                 "points": int(sum(len(p) for p in ps)),
                 "pairing_changes": int(sum(cs.pairing_changes for cs in contacts))}
 
-    params = {"a": A, "b": B, "c": C, "q": q, "E": tuple(E), "nu": tuple(nu), "plane": plane, "degree": degree,
+    params = {"a": a, "b": b, "c": c, "q": q, "E": tuple(E), "nu": tuple(nu), "plane": plane, "degree": degree,
               "n": int(n), "n_outer": int(n_outer), "quadrature": quadrature, "passes": passes,
               "material": "linear elastic per ring"}
     return Setup("rings", problem, contacts, [1.0], params, figures, [contacts[0].displacement_out])

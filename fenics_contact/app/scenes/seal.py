@@ -68,11 +68,11 @@ from ...materials import PLANES, NeoHookean
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import seal_s_geometry, seal_s_section, seal_section, seal_wave_section
-from . import Setup, poisson, positive
+from . import Option, Setup, poisson, positive
 
 __all__ = [
     "E", "NU", "R_OUT", "R_IN", "GAP", "K_HAT", "F_HAT", "SOLVER_OPTIONS", "PREDICTOR", "SHAPES", "LOADS", "build",
-    "BENCH"
+    "BENCH", "OPTIONS"
 ]
 
 E, NU, R_OUT, R_IN, GAP = 1000.0, 0.3, 10.0, 9.0, 7.0
@@ -84,6 +84,16 @@ SOLVER_OPTIONS = {"snes_linesearch_type": "basic"}  # full Newton steps (module 
 PREDICTOR = {"wave": "tangent", "U": "tangent", "S": "secant"}
 SHAPES = {"wave": seal_wave_section, "S": seal_s_section, "U": seal_section}
 LOADS = [0.5 * k for k in range(1, 12)] + [5.5 + 0.1 * k for k in range(1, 6)]
+
+
+OPTIONS = {
+    "h": Option("cell size of the quadrilaterals (length; 0.5: 2 cells through the thickness)"),
+    "E": Option("Young's modulus (stress)"),
+    "nu": Option("Poisson's ratio", "poisson"),
+    "R_out": Option("section's outer radius (length)"),
+    "R_in": Option("section's inner radius, < --R-out (length)", below=("R_out",)),
+    "plate_distance": Option("distance between the two plates at the start (length)"),
+}
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: list[float] | None = None,

@@ -118,11 +118,11 @@ from ...obstacles import Cylinder
 from ...problem import ContactProblem, Dirichlet
 from ...projection import SurfaceProjector
 from ..meshes import sheet_over_cylinder
-from . import Setup, positive
+from . import Option, Setup, positive
 
 __all__ = [
     "R", "THICKNESS", "LMBDA", "MU", "LEG", "PULL", "R_IN", "RATIO", "RADIUS", "CYLINDERS", "arc_length",
-    "total_variation", "oscillation", "build", "Scaled"
+    "total_variation", "oscillation", "OPTIONS", "build", "Scaled"
 ]
 
 R, THICKNESS, LMBDA, MU, LEG = 3.0, 1.0, 1e3, 5e2, 2.0
@@ -149,6 +149,19 @@ def oscillation(p: np.ndarray) -> float:
     the total variation over all nodes minus that over the vertices alone (0 when every midpoint value
     lies between its facet's end values, e.g. a pressure linear on each facet)."""
     return total_variation(p) - total_variation(p[::2])
+
+
+OPTIONS = {
+    "ratio": Option("cylinder's Lame constants / the sheet's (dimensionless)"),
+    "R": Option("cylinder's outer radius (length)"),
+    "thickness": Option("sheet thickness (length)"),
+    "leg": Option("length of the sheet's legs (length)"),
+    "R_in": Option("cylinder's fixed inner radius, < --R (length)", below=("R",)),
+    "lmbda": Option("sheet's first Lame constant (stress)"),
+    "mu": Option("sheet's shear modulus (stress)"),
+    "radius": Option("two-body search radius (length)"),
+    "pull": Option("downward displacement of the sheet's ends at t = 1 (length)"),
+}
 
 
 def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick: int = 2, n_leg: int = 8,

@@ -43,12 +43,12 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import rectangle
-from . import Setup, nonnegative, poisson, positive, refuse_size
+from . import Option, Setup, nonnegative, poisson, positive, refuse_size
 
 __all__ = [
     "WIDTH", "HEIGHT", "E", "NU", "TOP_PRESSURE", "SIDE_PRESSURE", "NX", "NY", "SIGMA_XX", "SIGMA_YY",
     "UX_A_FRICTIONLESS", "TOP_LOAD", "SIDE_LOAD", "STATES", "profile", "tributary_lengths", "zones", "build", "BENCH",
-    "ux_a_frictionless", "K_DEMO", "OMEGA_T", "LAM0", "SOLVER_OPTIONS"
+    "ux_a_frictionless", "K_DEMO", "OMEGA_T", "LAM0", "SOLVER_OPTIONS", "OPTIONS"
 ]
 
 WIDTH, HEIGHT, E, NU = 40.0, 40.0, 13000.0, 0.2
@@ -108,6 +108,16 @@ def zones(x: np.ndarray, state: np.ndarray, width: float = WIDTH) -> dict:
     bounds = [float((s[i] + s[i + 1]) / 2) for i in change]
     pattern = [STATES[state[0]]] + [STATES[state[i + 1]] for i in change]
     return {**lengths, "boundaries": bounds, "pattern": pattern}
+
+
+OPTIONS = {
+    "width": Option("half slab width (length)"),
+    "height": Option("slab height (length)"),
+    "E": Option("Young's modulus (stress)"),
+    "nu": Option("Poisson's ratio", "poisson"),
+    "top_pressure": Option("pressure on the slab's top (stress)"),
+    "side_pressure": Option("pressure on the slab's free side (stress)", "nonnegative"),
+}
 
 
 def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY, refinement: int = 0,

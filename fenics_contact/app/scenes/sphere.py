@@ -44,16 +44,16 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import sphere_octant
-from . import Setup, Stabilised, nonnegative, poisson, positive, refuse_size
+from . import GIVEN, Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_size
 
-__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "BENCHES", "hertz3d", "build"]
+__all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "BENCH", "BENCHES", "hertz3d", "OPTIONS", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
-APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1
+APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1, per unit R (default: APPROACH R)
 DEFAULT_K = 1e6  # ~ 10 E / h_contact at level 0
-CONTACT_WIDTH = 0.15 * R  # the refined zone around the contact point
+CONTACT_WIDTH = 0.15  # the refined zone around the contact point, per unit R
 STABILISATION = 1.0  # force control: the vanishing spring's k R^2 / E
-PLATE_SIZE = (0.5 * R, 0.5 * R)  # the meshed block (plate="meshed"): width (x and y), depth
+PLATE_SIZE = (0.5, 0.5)  # the meshed block (plate="meshed"): width (x and y), depth, per unit R
 # Mesh-size factor per level: h_contact = 0.02 f, h_far = 0.15 f (dofs 11931, 68208, 230964, 1178016).
 LEVELS = (0.5, 0.25, 0.16, 0.09)
 # The benchmark's view of this scene (fenics_contact.app.bench): level 0 only in the quick sweep.
@@ -84,18 +84,40 @@ def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU, plate_E: float
     return float(a), float(3 * P / (2 * np.pi * a**2))
 
 
+OPTIONS = {
+    "R": Option("sphere radius (length)"),
+    "E": Option("sphere's Young's modulus (stress)"),
+    "nu": Option("sphere's Poisson's ratio", "poisson"),
+    "approach": Option(f"displacement control: the equator's displacement toward the plate (length; default: "
+                       f"{APPROACH:g} R, when --load is not given)", excludes="load"),
+    "load": Option("force control instead of --approach: the sphere's total force (force; rigid plate; "
+                   "default: not used)", needs=("plate", "rigid")),
+    "stabilisation": Option(f"force control: the vanishing spring's k R^2 / E (dimensionless; default: "
+                            f"{STABILISATION:g})", "nonnegative", needs=("load", GIVEN)),
+    "contact_width": Option(f"radius of the refined zone at the contact (length; default: {CONTACT_WIDTH:g} R)"),
+    "size": Option("mesh-size factor instead of the level's (dimensionless; default: the level's)"),
+    "plate_E": Option("meshed plate's Young's modulus (stress; default: --E)", needs=("plate", "meshed")),
+    "plate_nu": Option("meshed plate's Poisson's ratio (default: --nu)", "poisson", needs=("plate", "meshed")),
+    "plate_width": Option(f"meshed plate's width in x and y (length; default: {PLATE_SIZE[0]:g} R)",
+                          needs=("plate", "meshed")),
+    "plate_depth": Option(f"meshed plate's depth (length; default: {PLATE_SIZE[1]:g} R)", needs=("plate", "meshed")),
+}
+
+
 def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int = 1,
-          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float = APPROACH, R: float = R,
+          comm: MPI.Comm = MPI.COMM_WORLD, model: str = "linear", approach: float | None = None, R: float = R,
           E: float = E, nu: float = NU, load: float | None = None, contact_width: float | None = None,
-          stabilisation: float = STABILISATION, size: float | None = None, plate: str = "rigid",
+          stabilisation: float | None = None, size: float | None = None, plate: str = "rigid",
           plate_E: float | None = None, plate_nu: float | None = None, plate_width: float | None = None,
           plate_depth: float | None = None) -> Setup:
     """``level`` in ``0 .. len(LEVELS) - 1`` picks the mesh size (about 1e4 to 1e6 dofs); ``size``, if given,
     is the mesh-size factor instead (``LEVELS[0] = 0.5``; e.g. 1.0 for a tiny smoke-test mesh); ``approach``
     (displacement control) or ``load`` (force control: the sphere's total force); ``contact_width``: the
     refined zone (default ``0.15 R``). ``plate``: ``rigid`` (the half-space z <= 0, default) or ``meshed`` (the
-    block ``plate_width^2 x plate_depth``, default ``PLATE_SIZE``, of ``plate_E``, ``plate_nu``, default ``E``,
-    ``nu``: two-body contact, displacement control only)."""
+    block ``plate_width^2 x plate_depth``, default ``PLATE_SIZE`` times ``R``, of ``plate_E``, ``plate_nu``,
+    default ``E``, ``nu``: two-body contact, displacement control only). ``OPTIONS`` describes each parameter."""
+    if approach is not None and load is not None:
+        raise ValueError(f"give approach or load, not both (got approach {approach!r}, load {load!r})")
     positive(R=R, E=E, approach=approach, load=load, contact_width=contact_width, plate_E=plate_E,
              plate_width=plate_width, plate_depth=plate_depth)
     if plate not in ("rigid", "meshed"):
@@ -109,7 +131,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     poisson(nu=nu, plate_nu=plate_nu)
     if int(steps) < 1:
         raise ValueError(f"steps must be >= 1, got {steps!r}")
-    contact_width = 0.15 * R if contact_width is None else contact_width
+    approach = APPROACH * R if approach is None and load is None else approach
+    stabilisation = STABILISATION if stabilisation is None else stabilisation
+    contact_width = CONTACT_WIDTH * R if contact_width is None else contact_width
     if not (isinstance(level, int) and 0 <= level < len(LEVELS)):
         raise ValueError(f"sphere level must be an integer in [0, {len(LEVELS) - 1}], got {level!r}")
     if size is not None and not (np.isfinite(size) and size > 0):
@@ -122,8 +146,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
     h = 0.02 * f * R
     meshed = plate == "meshed"
     plate_E, plate_nu = (E if plate_E is None else plate_E), (nu if plate_nu is None else plate_nu)
-    plate_size = (PLATE_SIZE[0] if plate_width is None else plate_width,
-                  PLATE_SIZE[1] if plate_depth is None else plate_depth)
+    plate_size = (PLATE_SIZE[0] * R if plate_width is None else plate_width,
+                  PLATE_SIZE[1] * R if plate_depth is None else plate_depth)
     mesh, cell_tags, facet_tags = sphere_octant(comm, R, h_contact=h, h_far=0.15 * f * R, contact_width=contact_width,
                                                 plate=plate_size if meshed else None)
     u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange

@@ -1,0 +1,71 @@
+"""Dense solves with a matrix that changes in a few rows from one solve to the next (the semismooth Newton's).
+
+The semismooth Newton's Jacobian (:mod:`.newton`) has a row per contact condition; from one iteration to the
+next, and from a converged step to the next step's first iteration, only the rows of the vertices whose contact
+state changed differ. :class:`RowUpdatedSolve` keeps the inverse of a base matrix ``J0`` and solves with
+``J = J0 + U V`` (``U``: the identity's columns of the ``k`` changed rows, ``V``: their change) by the Sherman-
+Morrison-Woodbury formula, ``x = y - Z (I + V Z)^-1 V y`` with ``y = J0^-1 b`` and ``Z = J0^-1 U`` (columns of
+the inverse): ``O(n^2 + k^2 n)`` instead of the ``O(n^3)`` of a new factorization. It inverts ``J`` instead (and
+makes it the base) when more than ``REFACTOR`` of the rows changed or when the updated solution's residual is
+above round-off; a solution from a new inverse with a residual above round-off is solved again by LU.
+numpy's LAPACK (OpenBLAS) does the dense algebra: SciPy's may be the reference one, several times slower.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["RowUpdatedSolve", "SingularMatrix", "REFACTOR"]
+
+REFACTOR = 0.5  # the largest fraction of changed rows updated (the k x k system costs (k / n)^3 of an inverse)
+
+
+class SingularMatrix(ValueError):
+    """The matrix is singular (an exact zero pivot)."""
+
+
+class RowUpdatedSolve:
+    """``solve(J, b)``: ``J^-1 b`` from the inverse of a base matrix updated in the rows that differ (see the
+    module). ``factorizations``, ``updates``: how many solves inverted and how many updated."""
+
+    def __init__(self):
+        self._J0, self._inv = None, None
+        self.factorizations, self.updates = 0, 0
+
+    def solve(self, J: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """``J^-1 b``. Raises :class:`SingularMatrix` if ``J`` is exactly singular."""
+        n = len(b)
+        if self._J0 is not None and self._J0.shape == J.shape:
+            rows = np.flatnonzero(np.any(J != self._J0, axis=1))
+            if len(rows) <= REFACTOR * n:
+                x = self._updated(J, b, rows)
+                if x is not None and _accurate(J, x, b):
+                    self.updates += 1
+                    return x
+        try:
+            inv = np.linalg.inv(J)
+        except np.linalg.LinAlgError:
+            self._J0 = None
+            raise SingularMatrix("exactly singular matrix") from None
+        self._J0, self._inv = J.copy(), inv
+        self.factorizations += 1
+        x = inv @ b
+        return x if _accurate(J, x, b) else np.linalg.solve(J, b)
+
+    def _updated(self, J: np.ndarray, b: np.ndarray, rows: np.ndarray) -> np.ndarray | None:
+        """The Woodbury solution (see the module); None if the ``k x k`` system is singular."""
+        y = self._inv @ b
+        if not len(rows):
+            return y
+        V = J[rows] - self._J0[rows]
+        Z = self._inv[:, rows]
+        try:
+            return y - Z @ np.linalg.solve(np.eye(len(rows)) + V @ Z, V @ y)
+        except np.linalg.LinAlgError:
+            return None
+
+
+def _accurate(J: np.ndarray, x: np.ndarray, b: np.ndarray) -> bool:
+    """The residual of ``J x = b`` at round-off against the sizes of ``J x`` and ``b``."""
+    return bool(np.all(np.isfinite(x))) and \
+        float(np.max(np.abs(J @ x - b))) <= 1e-12 * (float(np.max(np.abs(J))) * float(np.max(np.abs(x)))
+                                                     + float(np.max(np.abs(b))))
