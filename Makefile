@@ -4,6 +4,7 @@
 #            under mpirun -n 2, and those on Debian 13's dolfinx (mpirun -n 2); within 20 minutes on 2 cores
 # make test-fast: the library's unit and closed-form tests (not slow, no scene), under 2 minutes
 # make test-all: every test serially, under mpirun -n 2 and on Debian 13 (serial and mpirun -n 2)
+# make bench: the quick benchmark sweep into results/bench and its pages into docs/bench/ (make bench-pages)
 # make docs: regenerate the generated pages (also docs/tutorials/ from tutorials/), build the HTML documentation into docs/_build/html (warnings are errors)
 # Lanes: the markers slow, scene and mpi, given in tests/conftest.py
 VENV   ?= .venv
@@ -24,7 +25,7 @@ XDIST  := -n $(NP) --dist loadfile
 # in parallel, make test runs what is not a slow study, and every comparison of ranks
 PARALLEL_LANE := not slow or mpi
 
-.PHONY: setup demo demo-all bench scaling docs test test-fast test-all lint test-serial test-mpi test-mpi-all \
+.PHONY: setup demo demo-all bench bench-pages scaling docs test test-fast test-all lint test-serial test-mpi test-mpi-all \
         test-debian13 clean
 
 setup:
@@ -36,9 +37,14 @@ demo: setup
 demo-all: setup
 	@PY=$(PY) NP=$(NP) bash scripts/demos.sh all results/all
 
-# speed against accuracy, every method on the same scene (quick sweep of every scene with a BENCH entry)
+# speed against accuracy, every method on the same scene (quick sweep of every scene with a BENCH entry), then
+# its pages in docs/bench/ (make bench-pages: the pages alone, from results/bench; make docs does not need them)
 bench: setup
 	$(PY) demos/bench.py --quick --out results/bench
+	$(MAKE) bench-pages
+
+bench-pages: setup
+	$(PY) -m fenics_contact.app.bench_pages results/bench docs/bench $(if $(wildcard results/*/summary.json),--demos results)
 
 # 3D Hertz (sphere on a rigid plane, on a deformable block) from ~1e4 to ~1e6 dofs, serial and mpirun -n 2:
 # peak memory, time per Newton iteration, slope, speed-up -> results/scaling/scaling.json (heavy: see docs/benchmarks.md)

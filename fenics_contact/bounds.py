@@ -63,7 +63,20 @@ class PlaneVertices:
 
 class BoundContact(ContactSurface):
     """A contact surface enforced exactly by bounds; same figures and output as :class:`ContactSurface`, its
-    pressure (> 0 compression) the nodal reaction over the vertex weight."""
+    pressure (> 0 compression) the nodal reaction over the vertex weight.
+
+    Args:
+        u: the problem's unknown: the displacement, or the mixed unknown of :func:`unknown` (method ``lagrange``).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the contact boundary: a tag value, or a region name of ``facet_tags``.
+        obstacle: the rigid :class:`Obstacle`.
+        law: a :class:`SnesVI`.
+        load: the load parameter ``t`` (a scalar ``Constant``); the obstacle moves by ``t * motion``.
+        quadrature: the surface's rule: ``nodal``, ``gauss`` or ``simpson`` (the capability grid says which).
+        name: the surface's name, in messages and output.
+        linearized: the small-displacement gap ``g(X) - n(X) . u`` (normal at the reference point) instead of the
+            gap of the current position ``X + u``.
+    """
 
     bounded = True
 

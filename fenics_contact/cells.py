@@ -112,7 +112,12 @@ def _folded(mesh, degenerate: np.ndarray) -> np.ndarray:
 def check_cells(mesh, what: str = "the mesh") -> None:
     """Raise :class:`MeshError` (on every rank) if ``mesh`` has inverted or degenerate cells (module docstring);
     the message counts them and says where they are (the centroid of the one cell, or the box around the
-    centroids). ``what`` names the mesh in the message. Collective."""
+    centroids). Collective.
+
+    Args:
+        mesh: the dolfinx mesh.
+        what: how the message names the mesh.
+    """
     comm = mesh.comm
     tdim, gdim = mesh.topology.dim, mesh.geometry.dim
     det, h = corner_jacobians(mesh)

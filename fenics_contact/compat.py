@@ -26,7 +26,17 @@ __all__ = [
 
 
 def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None = None):
-    """Lagrange-type space; ``shape=(gdim,)`` for a vector space."""
+    """Lagrange-type space; ``shape=(gdim,)`` for a vector space.
+
+    Args:
+        mesh: the mesh.
+        family: the element family (``Lagrange``, ``DG``).
+        degree: the polynomial degree.
+        shape: the value shape (None: scalar).
+
+    Returns:
+        The dolfinx ``FunctionSpace``.
+    """
     if hasattr(fem, "functionspace"):  # dolfinx >= 0.8
         return fem.functionspace(mesh, (family, degree, *([shape] if shape else [])))
     if shape:
@@ -92,8 +102,16 @@ def compile_expression(expr, V) -> fem.Expression:
 
 
 def interpolate_expression(f: fem.Function, expr) -> fem.Function:
-    """``f`` = ``expr`` (UFL, or compiled by :func:`compile_expression` for ``f``'s space) evaluated at the
-    interpolation points of ``f``'s space, cell by cell."""
+    """``f`` = ``expr`` evaluated at the interpolation points of ``f``'s space, cell by cell.
+
+    Args:
+        f: the Function to set.
+        expr: the UFL expression, or one compiled by :func:`compile_expression` for ``f``'s space (compiled once,
+            evaluated many times).
+
+    Returns:
+        ``f``.
+    """
     f.interpolate(expr if isinstance(expr, fem.Expression) else compile_expression(expr, f.function_space))
     f.x.scatter_forward()
     return f

@@ -43,7 +43,17 @@ _SIMPSON = (((0.0,), (0.5,), (1.0,)), (1 / 6, 4 / 6, 1 / 6))
 def contact_measure(mesh, facet_tags, tag: int | str, quadrature: str) -> ufl.Measure:
     """``ds`` on the tagged facets (``tag``: a value, or a name of :class:`domain.NamedTags`) with the vertex
     rule (``nodal``), the degree-2 Gauss rule, or Simpson's rule (``simpson``, 2D: the three nodes of a quadratic
-    facet)."""
+    facet).
+
+    Args:
+        mesh: the mesh.
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: a tag value, or a region name of ``facet_tags``.
+        quadrature: ``nodal``, ``gauss`` or ``simpson``.
+
+    Returns:
+        The ``ufl.Measure``.
+    """
     facet_tags, tag = tag_value(facet_tags, tag)
     if quadrature == "simpson":
         if mesh.topology.dim != 2:
@@ -99,6 +109,18 @@ class ContactSurface(Surface):
     Why one class of this size: it is the base of every enforcement on a contact surface (the gap, the law's
     parameters as Constants and fields, the output fields and the results all share its measure and state
     space); the parts of one job each (projection, measure) are composed from :mod:`projection`.
+
+    Args:
+        u: the problem's unknown: the displacement, or the mixed unknown of :func:`unknown` (method ``lagrange``).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the contact boundary: a tag value, or a region name of ``facet_tags``.
+        obstacle: the rigid :class:`Obstacle`.
+        law: the contact law.
+        load: the load parameter ``t`` (a scalar ``Constant``); the obstacle moves by ``t * motion``.
+        quadrature: the surface's rule: ``nodal``, ``gauss`` or ``simpson`` (the capability grid says which).
+        name: the surface's name, in messages and output.
+        linearized: the small-displacement gap ``g(X) - n(X) . u`` (normal at the reference point) instead of the
+            gap of the current position ``X + u``.
     """
 
     material = None  # the bulk material next to the surface (bind_material): its da/dA gives the Cauchy pressure

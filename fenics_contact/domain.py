@@ -27,7 +27,12 @@ __all__ = ["NamedTags", "read_gmsh", "tag_value", "check_tags", "tag_boundary"]
 class NamedTags:
     """Mesh tags (dolfinx ``MeshTags``) with a name for each value: ``tags["contact"]`` is the value of the
     physical group named ``contact``; ``indices``, ``values``, ``dim`` as on ``MeshTags``; ``meshtags`` is the
-    dolfinx object (for ``ufl.Measure(subdomain_data=...)``)."""
+    dolfinx object (for ``ufl.Measure(subdomain_data=...)``).
+
+    Args:
+        meshtags: the dolfinx ``MeshTags``.
+        names: region name -> tag value.
+    """
 
     def __init__(self, meshtags, names: Mapping[str, int]):
         self.meshtags = meshtags
@@ -87,7 +92,16 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
     of this process (rank 0's). Returns ``(mesh, cells, facets)`` (:class:`NamedTags`). ``gdim``: the geometric
     dimension, the model's own (2 for a planar mesh in the plane z = 0, 3 for a solid); another is a
     ``ValueError`` naming both. Inverted (tangled) or degenerate cells: :class:`~fenics_contact.cells.MeshError`
-    naming how many and where."""
+    naming how many and where.
+
+    Args:
+        source: a ``.msh`` or ``.geo`` file, or None for the gmsh model of this process (rank 0's).
+        comm: the communicator of the mesh.
+        gdim: the geometric dimension, 2 or 3 (the model's own).
+
+    Returns:
+        ``(mesh, cells, facets)``: the mesh and its named cell and facet tags (:class:`NamedTags`).
+    """
     import gmsh
 
     from .cells import check_cells

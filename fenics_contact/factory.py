@@ -34,7 +34,24 @@ def contact_surface(u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, l
     :class:`~fenics_contact.condensed.CondensedCoulomb` given to the problem), or a
     :class:`~fenics_contact.nitsche.NitscheContact` for method ``nitsche`` (which needs the bulk ``material``).
     ``linearized``: the small-displacement gap (see :class:`ContactSurface`). A combination the capability matrix
-    refuses raises :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly."""
+    refuses raises :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly.
+
+    Args:
+        u: the problem's unknown: the displacement, or the mixed unknown of :func:`unknown` (method ``lagrange``).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the contact boundary: a tag value, or a region name of ``facet_tags``.
+        obstacle: the rigid :class:`Obstacle`.
+        law: the method's law (:func:`make_law`).
+        load: the load parameter ``t`` (a scalar ``Constant``); the obstacle moves by ``t * motion``.
+        quadrature: the surface's rule: ``nodal``, ``gauss`` or ``simpson`` (the capability grid says which).
+        name: the surface's name, in messages and output.
+        linearized: the small-displacement gap ``g(X) - n(X) . u`` (normal at the reference point) instead of the
+            gap of the current position ``X + u``.
+        material: the bulk material (needed by ``nitsche``; ignored otherwise).
+
+    Returns:
+        The surface (a :class:`Surface`), to pass to :class:`ContactProblem`.
+    """
     check(**of(law, u, material), kind="rigid", quadrature=quadrature, passes="one", obstacle=obstacle.shape)
     method = methods.of_law(law)
     build = law_surface if method is None else method.build_rigid
@@ -56,7 +73,25 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     quadratures (default :class:`TwoBodySurface`, or
     :class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface` for a law with friction).
     A combination the capability matrix refuses raises
-    :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly."""
+    :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly.
+
+    Args:
+        u: the problem's unknown: the displacement, or the mixed unknown of :func:`unknown` (method ``lagrange``).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag_a: the slave surface of the first pass: a tag value, or a region name.
+        tag_b: the master surface of the first pass (likewise).
+        law_factory: a callable returning a fresh law for each surface (``lambda: fc.make_law(...)``).
+        load: the load parameter ``t`` (a scalar ``Constant``).
+        quadrature: ``nodal``, ``gauss``, ``simpson`` (quadratic facets) or ``segment``.
+        passes: ``one`` or ``two``.
+        radius: the search radius (length; default twice the longest master facet); farther points have no pair.
+        name: the surface's name, in messages and output.
+        work_quadrature: the rule of the pressure's work term, if not ``quadrature``.
+        cls: the surface class of the pointwise quadratures (None: chosen from the law).
+
+    Returns:
+        The surfaces (one per pass), to pass to :class:`ContactProblem`.
+    """
     if passes not in PASSES:
         raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
     if quadrature not in QUADRATURES + ("simpson",):
@@ -78,6 +113,22 @@ def two_body_multipliers(w: fem.Function, facet_tags, slave_tag: int, master_tag
     vertices against the current master facets (:mod:`~fenics_contact.twobody`'s projection and coupling).
     ``passes="two"``: each surface slave once (weight 1/2), a pressure on both surfaces. Quadratic
     displacements: the constraint at the end nodes of each slave facet, the pressure P1 (linear along the
-    facet) and its work integrated with ``work_quadrature`` (``simpson``: the two-point element)."""
+    facet) and its work integrated with ``work_quadrature`` (``simpson``: the two-point element).
+
+    Args:
+        w: the mixed unknown of :func:`unknown` (method ``lagrange``).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        slave_tag: the slave surface: a tag value, or a region name of ``facet_tags``.
+        master_tag: the master surface (likewise).
+        law: a :class:`LagrangeMultiplier` (or :class:`PenaltyMultiplier`).
+        load: the load parameter ``t`` (a scalar ``Constant``).
+        radius: the search radius (length; default twice the longest master facet); farther points have no pair.
+        name: the surface's name, in messages and output.
+        passes: ``one`` or ``two``.
+        work_quadrature: the rule of the pressure's work (quadratic facets: ``simpson``).
+
+    Returns:
+        The surfaces (one per pass).
+    """
     return two_body_surfaces(w, facet_tags, slave_tag, master_tag, lambda: law,
                              load, "nodal", passes, radius, name, work_quadrature)

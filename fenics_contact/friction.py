@@ -67,6 +67,14 @@ class Friction(ContactLaw):
     ``tresca >= 0`` (Tresca: the fixed bound ``tresca`` where the normal force is positive).
     ``omega_t > 0``: tangential penalty (traction per unit slip) of the stick state.
     Pressures in the units of the normal law; the normal part (force, augmentation) is the normal law's.
+
+    Args:
+        normal: the normal law (a :class:`ContactLaw`).
+        mu: the Coulomb coefficient, >= 0.
+        omega_t: the tangential penalty (traction per length of slip), > 0.
+        c_t: the normal-compliance bound's coefficient (pressure per length^m_t), > 0.
+        m_t: the normal-compliance bound's exponent, >= 1.
+        tresca: the Tresca bound (traction), >= 0.
     """
 
     name = "friction"
@@ -332,6 +340,18 @@ class FrictionalContact(FrictionHistory, ContactSurface):
     History (traction ``q_old`` and relative position ``r_old = x - o(t)`` at the last converged step, one
     scalar Function per global component) lives in the law's state space ``S`` (exact values at the
     contact quadrature points); see :class:`FrictionHistory`.
+
+    Args:
+        u: the problem's unknown: the displacement, or the mixed unknown of :func:`unknown` (method ``lagrange``).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the contact boundary: a tag value, or a region name of ``facet_tags``.
+        obstacle: the rigid :class:`Obstacle`.
+        law: a :class:`Friction`.
+        load: the load parameter ``t`` (a scalar ``Constant``); the obstacle moves by ``t * motion``.
+        quadrature: the surface's rule: ``nodal``, ``gauss`` or ``simpson`` (the capability grid says which).
+        name: the surface's name, in messages and output.
+        linearized: the small-displacement gap ``g(X) - n(X) . u`` (normal at the reference point) instead of the
+            gap of the current position ``X + u``.
     """
 
     def __init__(self, u: fem.Function, facet_tags, tag: int, obstacle, law: Friction,

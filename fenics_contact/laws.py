@@ -133,6 +133,10 @@ class Penalty(ContactLaw):
     open one, and ``lam <- F(g)`` per point after a converged solve. Once ``lam > 0`` the force
     jumps from ``lam`` to 0 when the point opens (unlike ``auglag``'s continuous ``<lam + K g>``):
     the discontinuity that makes the Newton iteration cycle on the ring.
+
+    Args:
+        K: the penalty stiffness (pressure per length), > 0.
+        augmented: the penalty method with augmentation (gap status decides), as above.
     """
 
     name = "penalty"
@@ -163,6 +167,10 @@ class AugmentedLagrangian(ContactLaw):
     """Augmented Lagrangian (Uzawa): ``F = <lam + K g>``, then ``lam <- F(g)`` after each solve.
 
     ``lam`` is a pressure field on the contact surface (initially ``lam0``).
+
+    Args:
+        K: the penalty stiffness (pressure per length), > 0.
+        lam0: the initial multiplier (pressure, > 0 compression).
     """
 
     name = "auglag"
@@ -200,6 +208,12 @@ class CrossConstraints(ContactLaw):
     evaluated at ``min(g, 0)`` and ``A`` is bounded, so nothing overflows and
     ``F_hat -> 0`` gives the penalty law without a division by zero.
     Augmentation: ``F_hat <- max(F(g), 0)`` per point, ``K_hat <- tau K_hat``.
+
+    Args:
+        K_hat: the stiffness at ``g = 0`` (pressure per length), > 0.
+        F_hat: the target pressure at ``g = 0`` (pressure), >= 0; 0 is the penalty law.
+        a: the shape parameter, in [0, 1).
+        tau: the factor on ``K_hat`` at each augmentation, >= 1.
     """
 
     name = "cross"
@@ -256,6 +270,10 @@ class NormalCompliance(ContactLaw):
     ``c_n > 0`` in pressure per length^m_n, exponent ``m_n >= 1`` (``m_n = 1`` is the penalty law
     with ``K = c_n``, but with the tangent ``c_n`` at ``g = 0``: a body that only rests on the surface
     can start Newton from the touching state). The exponent is fixed for a run (part of the compiled form).
+
+    Args:
+        c_n: the compliance coefficient (pressure per length^m_n), > 0.
+        m_n: the exponent, >= 1.
     """
 
     name = "compliance"
@@ -302,7 +320,11 @@ def _check_exponent(name: str, value: float) -> float:
 class ExactCoulomb(Formulation):
     """Method ``coulomb``: exact Signorini contact with Coulomb friction (coefficient ``mu >= 0``), solved on
     the stiffness condensed onto the contact dofs (:mod:`fenics_contact.condensed`). Linear elasticity, nodal
-    contact, 2D: a flat rigid obstacle, or two bodies in small sliding. No penalty parameter."""
+    contact, 2D: a flat rigid obstacle, or two bodies in small sliding. No penalty parameter.
+
+    Args:
+        mu: the Coulomb friction coefficient, >= 0 (0: frictionless).
+    """
 
     name = "coulomb"
 
@@ -327,6 +349,9 @@ class LagrangeMultiplier(Formulation):
     complementarity function ``C(p, g) = p - max(0, p + c g)`` (zero iff they
     hold, for any ``c > 0``). ``c`` (pressure per length, like a penalty)
     only steers the semismooth Newton iterates, not the converged solution.
+
+    Args:
+        c: the complementarity parameter (pressure per length), > 0; steers the iterates only.
     """
 
     name = "lagrange"
@@ -345,7 +370,11 @@ class PenaltyMultiplier(LagrangeMultiplier):
     """Penalty regularization of the multipliers (Papadopoulos & Solberg's ``p = eps <g>``): the
     pressure stays an unknown, now with ``p = eps <g>`` at the contact vertices instead of the exact
     complementarity, i.e. ``C(p, g) = p - eps max(0, g)``. ``eps`` (``K`` on the command line) in
-    pressure per length; ``eps -> infinity`` gives the multipliers' solution."""
+    pressure per length; ``eps -> infinity`` gives the multipliers' solution.
+
+    Args:
+        K: the regularization ``eps`` (pressure per length), > 0.
+    """
 
     name = "penalty_multiplier"
 
@@ -360,7 +389,11 @@ class PenaltyMultiplier(LagrangeMultiplier):
 class Nitsche(Formulation):
     """Method ``nitsche``: symmetric Nitsche (:mod:`fenics_contact.nitsche`). The pressure is
     ``<gamma g - sigma_n(u)>`` with ``gamma = gamma0 E / h``, not a law of the gap alone; ``gamma0``
-    (dimensionless, > 0) is its only parameter. The surface needs the bulk material (for ``sigma_n``)."""
+    (dimensionless, > 0) is its only parameter. The surface needs the bulk material (for ``sigma_n``).
+
+    Args:
+        gamma0: the dimensionless Nitsche parameter, > 0 (``gamma = gamma0 E / h``).
+    """
 
     name = "nitsche"
 

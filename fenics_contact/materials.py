@@ -28,7 +28,15 @@ PLANES = ("strain", "stress")
 
 
 def lame(E: float, nu: float) -> tuple[float, float]:
-    """Lamé constants ``(lambda, mu)`` of Young's modulus and Poisson's ratio (3D values)."""
+    """Lamé constants ``(lambda, mu)`` of Young's modulus and Poisson's ratio (3D values).
+
+    Args:
+        E: Young's modulus (stress), > 0.
+        nu: Poisson's ratio, in (-1, 0.5).
+
+    Returns:
+        ``(lambda, mu)``, stress (3D values; a plane-stress material uses its own ``lambda*``).
+    """
     E, nu = float(E), float(nu)
     if not (math.isfinite(E) and E > 0):
         raise ValueError(f"Young's modulus E must be > 0, got {E!r}")
@@ -39,7 +47,13 @@ def lame(E: float, nu: float) -> tuple[float, float]:
 
 class Material:
     """Isotropic material given by ``E`` and ``nu``; ``plane``: ``strain`` or ``stress``, the 2D
-    assumption (a 3D displacement with ``plane="stress"`` is refused)."""
+    assumption (a 3D displacement with ``plane="stress"`` is refused).
+
+    Args:
+        E: Young's modulus (stress), > 0.
+        nu: Poisson's ratio, in (-1, 0.5).
+        plane: the 2D assumption, ``strain`` or ``stress`` (3D: ``strain``, a 3D body with ``stress`` is refused).
+    """
 
     linear = False  # True: small strain (a constant stiffness; reference and current configurations are one)
 
@@ -94,7 +108,13 @@ SMALL_STRAIN = 0.05
 class LinearElastic(Material):
     """Small-strain isotropic elasticity: ``W = mu eps:eps + lambda/2 (tr eps)^2``; plane stress in 2D with
     ``lambda* = 2 lambda mu / (lambda + 2 mu)`` (``sigma_zz = 0`` eliminates ``eps_zz``). Valid for strains
-    (and rotations) well below :data:`SMALL_STRAIN`; the solver flags a run that goes past it."""
+    (and rotations) well below :data:`SMALL_STRAIN`; the solver flags a run that goes past it.
+
+    Args:
+        E: Young's modulus (stress), > 0.
+        nu: Poisson's ratio, in (-1, 0.5).
+        plane: the 2D assumption, ``strain`` or ``stress`` (3D: ``strain``, a 3D body with ``stress`` is refused).
+    """
 
     linear = True
 
@@ -126,7 +146,13 @@ class NeoHookean(Material):
     ``mu (lambda_3^2 - 1) + lambda/2 (J^2 - 1) = 0`` with ``J = J_2 lambda_3``, solved in closed form per
     point: ``lambda_3^2 = (mu + lambda/2) / (mu + lambda J_2^2 / 2)``. ``W(F_2, lambda_3(F_2))`` is then the
     plane-stress energy: its derivative is ``P_2`` (``dW/dlambda_3 = P_33 = 0``), and UFL differentiates
-    through ``lambda_3`` for the consistent tangent."""
+    through ``lambda_3`` for the consistent tangent.
+
+    Args:
+        E: Young's modulus (stress), > 0.
+        nu: Poisson's ratio, in (-1, 0.5).
+        plane: the 2D assumption, ``strain`` or ``stress`` (3D: ``strain``, a 3D body with ``stress`` is refused).
+    """
 
     def _kinematics(self, u):
         d = self._dim(u)
@@ -167,7 +193,13 @@ class Materials:
 
     The bulk energy is ``sum over tags of int W_tag dx(tag)``; every cell must carry one of the tags. The
     stress, Piola stress, area ratio and ``E`` (for Nitsche's parameter) are the tag's, through a DG0
-    indicator per tag, so they evaluate on cells and on boundary facets alike. ``linear`` if every body is."""
+    indicator per tag, so they evaluate on cells and on boundary facets alike. ``linear`` if every body is.
+
+    Args:
+        mesh: the mesh.
+        cell_tags: the cell tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        by_tag: cell tag (value or region name) -> its :class:`Material`.
+    """
 
     def __init__(self, mesh, cell_tags, by_tag: Mapping[int | str, Material]):
         from dolfinx import fem

@@ -112,6 +112,15 @@ def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement") -> t
     ``(u, V)`` with ``u`` on the vector Lagrange space ``V`` of ``degree``, or,
     for method ``lagrange``, ``(w, W.sub(0))`` with ``w`` on the mixed space
     (displacement of ``degree``, pressure P1). ``V.sub(i)`` are the components either way.
+
+    Args:
+        mesh: the mesh.
+        degree: the displacement's polynomial degree (1 or 2).
+        law: the method's law (a mixed unknown for ``lagrange`` and ``penalty_multiplier``).
+        name: the Function's name (output).
+
+    Returns:
+        ``(u, V)``: the unknown and the displacement (sub)space.
     """
     check(**of(law), dim=mesh.geometry.dim, degree=degree)
     if isinstance(law, LagrangeMultiplier):
@@ -258,7 +267,18 @@ class PressureUnknown:
 class MultiplierContact(PressureUnknown, ContactSurface):
     """A contact surface (rigid obstacle) whose pressure (> 0 compression) is the second field of the mixed
     unknown ``w``; the results of :class:`~fenics_contact.contact.ContactSurface`, the force and the mean
-    pressure with the quadrature of the work term (``quadrature``: ``nodal`` or ``simpson``)."""
+    pressure with the quadrature of the work term (``quadrature``: ``nodal`` or ``simpson``).
+
+    Args:
+        w: the mixed unknown of :func:`unknown`.
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the contact boundary: a tag value, or a region name of ``facet_tags``.
+        obstacle: the rigid :class:`Obstacle`.
+        law: a :class:`LagrangeMultiplier` (or :class:`PenaltyMultiplier`).
+        load: the load parameter ``t`` (a scalar ``Constant``); the obstacle moves by ``t * motion``.
+        quadrature: ``nodal`` or ``simpson``.
+        name: the surface's name, in messages and output.
+    """
 
     def __init__(self, w: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: LagrangeMultiplier,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact"):
@@ -287,7 +307,13 @@ class MultiplierContact(PressureUnknown, ContactSurface):
 class TwoBodyMultiplier(PressureUnknown, TwoBodySurface):
     """Two-body contact (:class:`~fenics_contact.twobody.TwoBodySurface`) with the slave pressure (> 0
     compression) in the mixed unknown: nodal Signorini conditions of the slave vertices against the current
-    master facets; the results of the two-body surface, the pressure the unknown's."""
+    master facets; the results of the two-body surface, the pressure the unknown's.
+
+    Args:
+        args: the arguments of :class:`~fenics_contact.twobody.TwoBodySurface`, in its order; ``u`` is the mixed
+            unknown of :func:`unknown`, ``law`` a :class:`~fenics_contact.laws.LagrangeMultiplier`.
+        kwargs: its keyword arguments.
+    """
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)

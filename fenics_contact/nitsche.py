@@ -50,7 +50,19 @@ __all__ = ["NitscheContact"]
 
 class NitscheContact(ContactSurface):
     """Contact by symmetric Nitsche; same results, output and hooks as :class:`ContactSurface`, its pressure
-    the nominal ``<gamma g + p_s(u)>`` (> 0 compression). ``material``: the bulk material (for ``P``)."""
+    the nominal ``<gamma g + p_s(u)>`` (> 0 compression). ``material``: the bulk material (for ``P``).
+
+    Args:
+        u: the problem's unknown: the displacement, or the mixed unknown of :func:`unknown` (method ``lagrange``).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the contact boundary: a tag value, or a region name of ``facet_tags``.
+        obstacle: the rigid :class:`Obstacle`.
+        law: a :class:`Nitsche`.
+        load: the load parameter ``t`` (a scalar ``Constant``); the obstacle moves by ``t * motion``.
+        quadrature: the surface's rule: ``nodal``, ``gauss`` or ``simpson`` (the capability grid says which).
+        name: the surface's name, in messages and output.
+        material: the bulk material(s).
+    """
 
     def __init__(self, u, facet_tags, tag, obstacle, law, load, quadrature: str = "nodal", name: str = "contact",
                  material: Material | Materials | None = None):

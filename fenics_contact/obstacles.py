@@ -18,7 +18,12 @@ __all__ = ["Obstacle", "HalfPlane", "Ball", "Cylinder", "Sphere"]
 class Obstacle:
     """Base class. ``bind(load)`` must be called before ``gap``/``normal``. ``shape``: the obstacle's value on
     the capability grid's ``obstacle`` axis (``aligned``: a half-plane with an axis-aligned normal,
-    ``plane``: another half-plane, ``curved``)."""
+    ``plane``: another half-plane, ``curved``).
+
+    Args:
+        point: a reference point of the obstacle (length).
+        motion: the obstacle's displacement at ``t = 1`` (length; it moves by ``t * motion``); None: fixed.
+    """
 
     shape = "curved"
 
@@ -50,7 +55,13 @@ class Obstacle:
 
 
 class HalfPlane(Obstacle):
-    """Rigid half-space ``(x - p) . n < 0``; ``n`` (any orientation) points into the body."""
+    """Rigid half-space ``(x - p) . n < 0``; ``n`` (any orientation) points into the body.
+
+    Args:
+        point: a point on the boundary plane (length).
+        normal: the plane's normal, pointing into the body (normalized here).
+        motion: the obstacle's displacement at ``t = 1`` (length; it moves by ``t * motion``); None: fixed.
+    """
 
     def __init__(self, point, normal, motion=None):
         super().__init__(point, motion)
@@ -79,6 +90,13 @@ class Ball(Obstacle):
 
     ``body_outside=True``: the body lies outside the obstacle (a pin, a
     punch); ``False``: the body lies inside a rigid cavity.
+
+    Args:
+        center: the centre (a point on the axis for a cylinder), length.
+        radius: the radius (length), > 0.
+        motion: the obstacle's displacement at ``t = 1`` (length; it moves by ``t * motion``); None: fixed.
+        axis: the cylinder's axis (3D cylinder only; None: a disk or a sphere).
+        body_outside: True if the body lies outside the obstacle (a pin, a punch), False inside a rigid cavity.
     """
 
     def __init__(self, center, radius: float, motion=None, axis=None, body_outside: bool = True):
@@ -109,7 +127,15 @@ class Ball(Obstacle):
 
 
 class Cylinder(Ball):
-    """A rigid disk (2D) or, in 3D, a cylinder about ``axis`` (required), of radius ``radius``."""
+    """A rigid disk (2D) or, in 3D, a cylinder about ``axis`` (required), of radius ``radius``.
+
+    Args:
+        center: the centre (a point on the axis for a cylinder), length.
+        radius: the radius (length), > 0.
+        motion: the obstacle's displacement at ``t = 1`` (length; it moves by ``t * motion``); None: fixed.
+        axis: the axis (3D, required; 2D: None).
+        body_outside: True if the body lies outside the obstacle (a pin, a punch), False inside a rigid cavity.
+    """
 
     def __init__(self, center, radius: float, motion=None, axis=None, body_outside: bool = True):
         if len(center) == 3 and axis is None:
@@ -118,7 +144,14 @@ class Cylinder(Ball):
 
 
 class Sphere(Ball):
-    """A rigid sphere (3D) of radius ``radius``."""
+    """A rigid sphere (3D) of radius ``radius``.
+
+    Args:
+        center: the centre (a point on the axis for a cylinder), length.
+        radius: the radius (length), > 0.
+        motion: the obstacle's displacement at ``t = 1`` (length; it moves by ``t * motion``); None: fixed.
+        body_outside: True if the body lies outside the obstacle (a pin, a punch), False inside a rigid cavity.
+    """
 
     def __init__(self, center, radius: float, motion=None, body_outside: bool = True):
         if len(center) != 3:

@@ -70,7 +70,13 @@ def on_rank0(comm: MPI.Comm, what: str, action: Callable[[], object]):
 
 def write_summary(path: str | os.PathLike, summary: dict, comm: MPI.Comm) -> None:
     """``summary`` (identical on every rank) as JSON, written by rank 0 through :func:`write_atomically`.
-    :class:`OutputError` on every rank if it cannot be written. Collective."""
+    :class:`OutputError` on every rank if it cannot be written. Collective.
+
+    Args:
+        path: the JSON file.
+        summary: the figures (JSON-serializable, identical on every rank).
+        comm: the communicator.
+    """
     def write() -> None:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         write_atomically(path, json.dumps(summary, indent=1, default=float))
@@ -82,7 +88,14 @@ class XDMFWriter:
     """The given P1 functions at every :meth:`write` (time = load parameter) as an XDMF time series ``path``
     (``<name>.xdmf``): the mesh once into ``<name>.h5`` (where dolfinx reads it from), each step into a file of
     its own in the folder ``<name>_fields``, which the index ``path`` lists once complete. ``resume=n``: go on
-    after step n of an earlier writer into ``path`` (its later steps are dropped). Collective."""
+    after step n of an earlier writer into ``path`` (its later steps are dropped). Collective.
+
+    Args:
+        path: the index file ``<name>.xdmf``.
+        mesh: the mesh.
+        functions: the P1 Functions written at every step.
+        resume: go on after step ``resume`` of an earlier writer (0: a new series).
+    """
 
     def __init__(self, path: str | os.PathLike, mesh, functions: Sequence[fem.Function], resume: int = 0):
         self.path, self.comm, self.functions = Path(path), mesh.comm, list(functions)

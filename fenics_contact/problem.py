@@ -1,12 +1,12 @@
 """The nonlinear problem: bulk energy, loads, Dirichlet data and contact surfaces.
 
-All forms are compiled once here; the load parameter ``t`` is a ``Constant``
-and Dirichlet values are ``Constant``s rescaled by :meth:`set_load`.
+All forms are compiled once here; the load parameter ``t`` is a ``Constant``,
+and Dirichlet values and traction factors are ``Constant``s set from their load paths by :meth:`set_load`.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import Callable, Sequence, Union
 
 import dolfinx.fem.petsc as fem_petsc
 import numpy as np
@@ -29,58 +29,118 @@ from .domain import tag_value
 from .materials import Material, Materials
 from .surface import StepSolver, Surface
 
-__all__ = ["Dirichlet", "ContactProblem", "Stabilised"]
+__all__ = ["load_factor", "Dirichlet", "ContactProblem", "Stabilised"]
+
+# a load path: None (f(t) = t), a callable f(t), or piecewise linear (t_k, f_k)
+LoadPath = Union[tuple[Sequence[float], Sequence[float]], Callable[[float], float], None]
+
+
+def check_path(path: LoadPath, name: str = "path") -> None:
+    """``ValueError`` (one line, naming ``name``) unless ``path`` is None, a callable or ``(t_k, f_k)`` with
+    increasing ``t_k`` and as many values."""
+    if path is None or callable(path):
+        return
+    try:
+        tk, fk = (np.asarray(a, dtype=float) for a in path)
+    except (TypeError, ValueError):
+        tk = fk = None
+    if tk is None or tk.ndim != 1 or tk.shape != fk.shape or tk.size == 0 or np.any(np.diff(tk) <= 0):
+        raise ValueError(f"{name} must be a callable f(t) or (t_k, f_k) with increasing t_k and as many values, "
+                         f"got {path!r}")
+
+
+def load_factor(path: LoadPath, t: float) -> float:
+    """The factor ``f(t)`` of a load path at load parameter ``t``: ``t`` for ``None``; ``path(t)`` for a
+    callable; the piecewise-linear interpolation of ``path = (t_k, f_k)`` (constant beyond its ends)."""
+    if path is None:
+        return float(t)
+    if callable(path):
+        return float(path(t))
+    return float(np.interp(t, *path))
 
 
 @dataclass
 class Dirichlet:
-    """``u_i = amplitude * f(t)`` on ``dofs`` of the (sub)space ``V``: ``f(t) = t`` by default, or the
-    piecewise-linear ``path = (t_k, f_k)`` (``t_k`` increasing; constant beyond its ends)."""
+    """``u_i = amplitude * f(t)`` on ``dofs`` of the (sub)space ``V``.
+
+    Args:
+        V: the (sub)space of the constrained component.
+        dofs: its constrained dofs (local indices).
+        amplitude: the value at ``f(t) = 1`` (length).
+        path: the load path ``f`` (:func:`load_factor`): ``None`` for ``f(t) = t``, a callable ``f(t)``, or
+            piecewise linear ``(t_k, f_k)`` (``t_k`` increasing; constant beyond its ends). It may be set after
+            construction; :meth:`at` reads it.
+    """
 
     V: fem.FunctionSpace
     dofs: np.ndarray
     amplitude: float = 0.0
-    path: tuple[Sequence[float], Sequence[float]] | None = None
+    path: LoadPath = None
     value: fem.Constant = field(init=False)
     bc: object = field(init=False)
 
     def __post_init__(self):
-        if self.path is not None and (len(self.path[0]) != len(self.path[1]) or np.any(np.diff(self.path[0]) <= 0)):
-            raise ValueError(f"Dirichlet path needs increasing t_k and as many values, got {self.path!r}")
+        check_path(self.path, "Dirichlet path")
         self.value = fem.Constant(self.V.mesh, 0.0)
         self.bc = fem.dirichletbc(self.value, self.dofs, self.V)
 
     @classmethod
     def on_facets(cls, V: fem.FunctionSpace, facet_tags, tag: int | str, component: int,
                   amplitude: float = 0.0) -> Dirichlet:
-        """``u_component = amplitude * t`` on the facets tagged ``tag`` (a value, or a name of
-        :class:`domain.NamedTags`; amplitude 0: a roller, a symmetry plane)."""
+        """``u_component = amplitude * t`` on the facets tagged ``tag``.
+
+        Args:
+            V: the displacement space (vector).
+            facet_tags: facet tags (dolfinx ``MeshTags`` or :class:`~fenics_contact.domain.NamedTags`).
+            tag: a tag value, or a name of ``facet_tags``.
+            component: the displacement component constrained (0: x, 1: y, 2: z).
+            amplitude: the value at ``t = 1`` (length); 0: a roller, a symmetry plane.
+
+        Returns:
+            The :class:`Dirichlet` (set ``path`` on it for another load path).
+        """
         facet_tags, tag = tag_value(facet_tags, tag)
         Vi = V.sub(component)
         facets = facet_tags.indices[facet_tags.values == tag]
         return cls(Vi, fem.locate_dofs_topological(Vi, V.mesh.topology.dim - 1, facets), amplitude)
 
     def at(self, t: float) -> float:
-        """The prescribed value at load ``t``."""
-        return self.amplitude * (t if self.path is None else float(np.interp(t, *self.path)))
+        """The prescribed value at load ``t``: ``amplitude * f(t)``."""
+        check_path(self.path, "Dirichlet path")
+        return self.amplitude * load_factor(self.path, t)
 
 
 class ContactProblem:
-    """Residual ``F(u; v) = dW[v] - t f_ext[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
+    """Residual ``F(u; v) = dW[v] - sum_k f_k(t) f_ext,k[v] + sum_c F_c(g) dg[v]`` and its Jacobian.
 
-    ``u`` is the unknown: the displacement, or a mixed (displacement, pressure)
-    Function when a contact surface has its pressure as an unknown (:mod:`multipliers`). ``contacts``: the
-    :class:`~fenics_contact.surface.Surface` objects; ``step_solver``: a
-    :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES (required by a
-    surface with ``requires_step_solver``, method ``coulomb``).
+    Args:
+        u: the unknown: the displacement, or a mixed (displacement, pressure) Function when a contact surface
+            has its pressure as an unknown (:func:`~fenics_contact.unknown` makes it).
+        material: the bulk material, or :class:`~fenics_contact.Materials` (one per body).
+        load: the load parameter ``t`` (a scalar ``Constant``; :meth:`set_load` sets it).
+        dirichlet: the :class:`Dirichlet` conditions.
+        contacts: the contact surfaces (:class:`~fenics_contact.surface.Surface`).
+        tractions: external loads, each ``(vector, measure)`` or ``(vector, measure, path)``: the term
+            ``f(t) * vector . v`` integrated over ``measure`` (``ds(tag)``: a traction, force per area of the
+            reference configuration (a dead load at finite strain); ``dx``: a body force, force per volume).
+            ``path`` is the load path of :func:`load_factor`: ``None`` (default) for ``f(t) = t``, a callable
+            ``f(t)``, or piecewise linear ``(t_k, f_k)``, as :attr:`Dirichlet.path`. Sign: ``vector`` is the
+            force on the body (``(0, -q)`` on a top face presses it down).
+        step_solver: a :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES
+            (required by a surface with ``requires_step_solver``, method ``coulomb``).
     """
 
     def __init__(self, u: fem.Function, material: Material | Materials, load: fem.Constant,
                  dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[Surface] = (),
-                 tractions: Sequence[tuple[ufl.core.expr.Expr, ufl.Measure]] = (),
+                 tractions: Sequence[tuple] = (),
                  step_solver: StepSolver | None = None):
         check_cells(u.function_space.mesh)  # a tangled or flat cell: no answer to solve for
         self.u, self.material, self.load = u, material, load
+        for i, entry in enumerate(tractions):
+            if not isinstance(entry, (tuple, list)) or len(entry) not in (2, 3):
+                raise ValueError(f"tractions[{i}] must be (vector, measure) or (vector, measure, path), got {entry!r}")
+            if len(entry) == 3:
+                check_path(entry[2], f"tractions[{i}] path")
         self.dirichlet, self.contacts = list(dirichlet), list(contacts)
         need = [c.name for c in self.contacts if c.requires_step_solver]
         if need and step_solver is None:
@@ -92,8 +152,14 @@ class ContactProblem:
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
         bulk = ufl.derivative(material.energy_form(displacement(u)), u, v)  # per body with Materials
         body = bulk
-        for t, ds in tractions:
-            body -= load * ufl.dot(t, displacement(v)) * ds
+        # each traction with a path has its own factor f(t) (a Constant set by set_load); the others follow t
+        self._traction_factors = []
+        for vector, measure, *path in tractions:
+            factor = load
+            if path and path[0] is not None:
+                factor = fem.Constant(V.mesh, 0.0)
+                self._traction_factors.append((factor, path[0]))
+            body -= factor * ufl.dot(vector, displacement(v)) * measure
         surface = None
         for c in self.contacts:
             c.bind_material(material)  # for the Cauchy pressure (da/dA)
@@ -181,11 +247,13 @@ class ContactProblem:
         return fem_petsc.create_matrix(self._a_parts[0])
 
     def set_load(self, t: float) -> None:
-        """Load parameter ``t``: obstacles move by ``t * motion``, tractions scale by ``t``, Dirichlet values follow
-        their paths (:meth:`Dirichlet.at`)."""
+        """Load parameter ``t``: obstacles move by ``t * motion``; Dirichlet values and tractions follow their load
+        paths (:func:`load_factor`; ``f(t) = t`` without one)."""
         self.load.value = t
         for d in self.dirichlet:
             d.value.value = d.at(t)
+        for factor, path in self._traction_factors:
+            factor.value = load_factor(path, t)
 
     def _cell_jacobians(self) -> np.ndarray:
         """Smallest ``det F`` (``F = I + grad u``) of each owned cell over its DG1 interpolation points (the
@@ -271,7 +339,7 @@ class Stabilised(ContactProblem):
         load: the load parameter ``t`` (a scalar ``Constant``).
         dirichlet: the Dirichlet conditions.
         contacts: the contact surfaces.
-        tractions: ``(vector, measure)`` pairs, scaled by ``t``.
+        tractions: as :class:`ContactProblem`; the spring is 0 at ``t = 1``, where the loads are ``f(1) * vector``.
         k: the spring's stiffness per unit volume (stress per length); about ``E / L^2`` for a body of size
             ``L`` keeps the first steps well conditioned without masking the contact.
         dx_body: the measure of the body the spring holds (``ufl.dx`` for all bodies, or a tagged part).

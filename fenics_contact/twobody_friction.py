@@ -62,7 +62,22 @@ def barycentric(x, xs: list) -> list:
 class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
     """:class:`~fenics_contact.twobody.TwoBodySurface` with friction: ``law`` is a
     :class:`~fenics_contact.friction.Friction` (Coulomb, compliance or Tresca bound on a penalty-type normal law).
-    Arguments as :class:`~fenics_contact.twobody.TwoBodySurface` (degree-1 facets, ``nodal`` or ``gauss``)."""
+    Arguments as :class:`~fenics_contact.twobody.TwoBodySurface` (degree-1 facets, ``nodal`` or ``gauss``).
+
+    Args:
+        u: the displacement.
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        slave_tag: the slave surface: a tag value, or a region name of ``facet_tags``.
+        master_tag: the master surface (likewise).
+        law: a :class:`Friction`.
+        load: the load parameter ``t`` (a scalar ``Constant``).
+        quadrature: ``nodal`` or ``gauss``.
+        weight: factor on the residual (1/2 for each surface of a two-pass pair).
+        radius: the search radius (length; default twice the longest master facet); farther points have no pair.
+        name: the surface's name, in messages and output.
+        work_quadrature: the rule of the work term, if not ``quadrature``.
+        exclude: (k, gdim) reference positions of slave points left without a pair.
+    """
 
     def __init__(self, u: fem.Function, facet_tags, slave_tag, master_tag, law: ContactLaw, load: fem.Constant,
                  quadrature: str = "nodal", weight: float = 1.0, radius: float | None = None, name: str = "twobody",

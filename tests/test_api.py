@@ -318,8 +318,59 @@ def test_public_classes_and_functions_have_docstrings():
             documented = _args_section(inspect.getdoc(f) or "")
             if documented is None:
                 continue
-            params = [p.name for p in inspect.signature(f).parameters.values() if p.name not in ("self", "cls")]
+            params = list(inspect.signature(f).parameters)
+            if label != name and params[:1] in (["self"], ["cls"]):  # a method's own object, not an argument
+                params = params[1:]
             if sorted(documented) != sorted(params):
                 wrong.append(f"{label}: Args {documented}, parameters {params}")
     assert not missing, f"no docstring: {missing}"
     assert not wrong, wrong
+
+
+def _own_args(obj) -> "list[str] | None":
+    """The ``Args:`` names of a class (its docstring or its ``__init__``'s) or a function, None without one."""
+    found = _args_section(inspect.getdoc(obj) or "")
+    init = vars(obj).get("__init__") if inspect.isclass(obj) else None
+    if found is None and init is not None:
+        found = _args_section(inspect.getdoc(init) or "")
+    return found
+
+
+def test_every_public_callable_documents_its_arguments():
+    """Every class and function of ``fc.__all__`` that takes arguments has an ``Args:`` section naming each of
+    them (a class: its docstring or its ``__init__``'s), and every function that returns something a
+    ``Returns:`` section."""
+    missing, returns = [], []
+    for name in fc.__all__:
+        obj = getattr(fc, name)
+        if not (inspect.isclass(obj) or inspect.isfunction(obj)):
+            continue
+        try:
+            params = list(inspect.signature(obj).parameters)  # a class's: its constructor's, without self
+        except (TypeError, ValueError):  # a class without an introspectable constructor takes no arguments here
+            params = []
+        documented = _own_args(obj)
+        if params and (documented is None or sorted(documented) != sorted(params)):
+            missing.append(f"{name}: Args {documented}, parameters {params}")
+        if inspect.isfunction(obj) and inspect.signature(obj).return_annotation not in (None, "None",
+                                                                                        inspect.Signature.empty):
+            if not re.search(r"^Returns:", inspect.getdoc(obj) or "", re.M):
+                returns.append(name)
+    assert not missing, missing
+    assert not returns, f"no Returns section: {returns}"
+
+
+def test_every_public_constant_has_a_described_entry():
+    """A module-level constant of ``fc.__all__`` (not a class, function or module) has an ``autodata`` entry in
+    docs/api.md with a paragraph of its own that says what it holds."""
+    page = (PACKAGE.parent / "docs" / "api.md").read_text()
+    constants = [n for n in fc.__all__ if _kind(getattr(fc, n)) == "data"]
+    assert "MODELS" in constants and "LINEAR_SOLVERS" in constants
+    bare = []
+    for name in constants:
+        entry = re.search(rf"^\.\. autodata:: fenics_contact\.{name}\n((?:   .*\n|\n)*)", page, re.M)
+        text = [line.strip() for line in (entry.group(1) if entry else "").splitlines()
+                if line.strip() and not line.strip().startswith(":")]
+        if len(" ".join(text).split()) < 5:
+            bare.append(name)
+    assert not bare, f"no description in docs/api.md: {bare}"

@@ -194,3 +194,32 @@ def test_collocated_surfaces():
     f = setup.figures()
     pb = f["p_reaction"] * setup.parameters["b"]
     assert np.allclose(-a.total_force(), pb, rtol=1e-3) and np.allclose(b.total_force(), pb, rtol=3e-3)
+
+
+TWO_BODY = [m for m in fc.methods.names() if fc.capabilities.supported(
+    method=m, kind="two-body", dim=2, degree=1, quadrature="nodal", passes="one", model="linear", obstacle="none")]
+
+
+@pytest.mark.parametrize("method", TWO_BODY)
+def test_one_call_builds_every_two_body_method_of_the_grid(method):
+    """``fc.two_body_surfaces`` with nothing but the law builds the contact of every method the capability grid
+    lists for two bodies (no surface class to choose): the stacked blocks solve, and the contact force of the
+    lower block on the upper one balances the reaction at the upper block's top (equilibrium, 1e-8)."""
+    assert {"penalty", "lagrange", "coulomb"} <= set(TWO_BODY)
+    stiff = 1e3 * E  # pressure per length: a penalty of about E / h on these blocks (h ~ 0.2)
+    params = {p.name: (0.0 if p.name == "mu" else stiff) for p in fc.methods.get(method).parameters
+              if p.name in ("K", "K_hat", "c_n", "c", "mu")}
+    law = fc.make_law(method, **params)
+    mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 0.5, 0.5, (4, 2), (3, 2), 0.0)
+    u, V = fc.unknown(mesh, 1, law)
+    load = fem.Constant(mesh, 0.0)
+    top = fc.Dirichlet.on_facets(V, ft, "upper_top", 1, -5e-3)
+    dirichlet = [fc.Dirichlet.on_facets(V, ft, "lower_bottom", 0), fc.Dirichlet.on_facets(V, ft, "lower_bottom", 1),
+                 fc.Dirichlet.on_facets(V, ft, "upper_top", 0), top]
+    contacts = fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law, load)
+    problem = fc.ContactProblem(u, fc.LinearElastic(E, NU), load, dirichlet, contacts,
+                                step_solver=fc.step_solver_for(contacts))
+    fc.Solver(problem, quiet=True, augment_max=20, augment_tol=1e-10).run([1.0])
+    force = contacts[0].total_force()[1]
+    support = -problem.reaction(top.dofs)  # the force of the support on the upper block: downward
+    assert force > 0 and force == pytest.approx(support, rel=1e-8)

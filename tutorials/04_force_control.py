@@ -8,7 +8,8 @@
 # steps before, and the answer at `t = 1` is that of the pure force-controlled problem.
 #
 # Tractions are `ContactProblem(..., tractions=[(vector, ds(tag)), ...])`, scaled by the load parameter
-# `t`. `fc.Stabilised` is the `ContactProblem` with that spring (one more load-scaled term, `(-s u, dx)` with
+# `t` (an entry `(vector, ds(tag), path)` follows another load path: the guide's page on loads).
+# `fc.Stabilised` is the `ContactProblem` with that spring (one more load-scaled term, `(-s u, dx)` with
 # `s = k (1 - t) / t`, updated at every load step).
 
 # %%

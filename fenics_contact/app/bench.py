@@ -894,6 +894,10 @@ def _sweep(argv: Sequence[str]) -> None:
         spec(scene)  # a clear error before anything runs
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if not args.charts_only:  # the machine, date, commit and command of the results (the benchmark pages' header)
+        from .run_record import record_run
+
+        record_run(out, argv, scenes)
     reduced: dict[str, str] = {}  # model-reduction rows per scene, one table at the end
     for scene in scenes:
         start = time.perf_counter()

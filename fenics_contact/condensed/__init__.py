@@ -36,6 +36,12 @@ def step_solver_for(contacts) -> CondensedStepSolver | None:
 
     Raises:
         ValueError: more than one surface requires a step solver (one condensed surface per problem).
+
+    Args:
+        contacts: the problem's contact surfaces.
+
+    Returns:
+        The step solver for :class:`ContactProblem`'s ``step_solver``, or None.
     """
     need = [c for c in contacts if c.requires_step_solver]
     if len(need) > 1:

@@ -23,7 +23,13 @@ class CondensedCoulomb(CondensedStepSolver):
     """Signorini contact with Coulomb friction of ``contact`` against a flat rigid obstacle, solved exactly on the
     condensed system (see the module): the problem's step solver (``ContactProblem(...,
     step_solver=CondensedCoulomb(contact))``). ``max_it`` semismooth Newton iterations at most per try, converged
-    at the relative residual ``tol``."""
+    at the relative residual ``tol``.
+
+    Args:
+        contact: the :class:`CondensedContact`.
+        max_it: semismooth Newton iterations per try.
+        tol: the relative residual at convergence.
+    """
 
     def __init__(self, contact: CondensedContact, max_it: int = 50, tol: float = 1e-11):
         if not isinstance(contact, CondensedContact):

@@ -25,7 +25,18 @@ class CondensedContact(ContactSurface):
 
     Results: :meth:`total_force` the normal force of the obstacle on the body, :meth:`tangential_force` the
     friction force, :meth:`point_values` / :meth:`surface_values` at every vertex of the surface,
-    :meth:`friction_profile` at the condensed vertices (those whose normal component is free)."""
+    :meth:`friction_profile` at the condensed vertices (those whose normal component is free).
+
+    Args:
+        u: the displacement.
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the contact boundary: a tag value, or a region name of ``facet_tags``.
+        obstacle: the rigid :class:`Obstacle`.
+        law: an :class:`ExactCoulomb`.
+        load: the load parameter ``t`` (a scalar ``Constant``); the obstacle moves by ``t * motion``.
+        quadrature: ``nodal``.
+        name: the surface's name, in messages and output.
+    """
 
     requires_step_solver = True
 

@@ -31,7 +31,13 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
     """Signorini contact with Coulomb friction between two linear-elastic bodies (small sliding), solved exactly on
     the system condensed onto both surfaces' contact dofs (see the module): the problem's step solver
     (``ContactProblem(..., step_solver=CondensedTwoBodyCoulomb(contact))``). ``max_it`` semismooth Newton
-    iterations at most per try, converged at the relative residual ``tol``."""
+    iterations at most per try, converged at the relative residual ``tol``.
+
+    Args:
+        contact: the :class:`CondensedTwoBody`.
+        max_it: semismooth Newton iterations per try.
+        tol: the relative residual at convergence.
+    """
 
     def __init__(self, contact: CondensedTwoBody, max_it: int = 50, tol: float = 1e-11):
         if not isinstance(contact, CondensedTwoBody):

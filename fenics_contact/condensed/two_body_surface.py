@@ -35,7 +35,18 @@ class CondensedTwoBody(Surface):
     :class:`~.two_body_solver.CondensedTwoBodyCoulomb` (see the module), which writes the nodal contact forces
     back here (:meth:`set_solution`). Figures as the penalty two-body friction surface's: ``log`` (per committed
     step), :meth:`friction_profile`, :meth:`total_force`, :meth:`tangential_force`, :meth:`point_values`; output
-    Functions ``gap_out``, ``pressure_out``, ``traction_out``, ``state_out``."""
+    Functions ``gap_out``, ``pressure_out``, ``traction_out``, ``state_out``.
+
+    Args:
+        u: the displacement.
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        slave_tag: the slave surface: a tag value, or a region name of ``facet_tags``.
+        master_tag: the master surface (likewise).
+        law: an :class:`ExactCoulomb`.
+        load: the load parameter ``t`` (a scalar ``Constant``).
+        radius: the search radius (length; default twice the longest master facet); farther points have no pair.
+        name: the surface's name, in messages and output.
+    """
 
     requires_step_solver = True
 

@@ -28,7 +28,15 @@ _plugins_loaded = False
 
 
 def register(method: Method, replace: bool = False) -> Method:
-    """Add ``method`` to the registry (``ValueError`` if its name is taken, unless ``replace``). Returns it."""
+    """Add ``method`` to the registry (``ValueError`` if its name is taken, unless ``replace``). Returns it.
+
+    Args:
+        method: the :class:`~fenics_contact.methods.Method` declaration.
+        replace: replace a method of the same name instead of refusing it.
+
+    Returns:
+        ``method``.
+    """
     if not isinstance(method, Method):
         raise TypeError(f"register takes a Method, got {type(method).__name__}")
     if method.name in _REGISTRY and not replace:
@@ -80,7 +88,15 @@ def of_law(law) -> Method | None:
 
 
 def make_law(method: str, **params: float):
-    """The law of method ``method`` from its parameters by name (see the method's ``parameters``)."""
+    """The law of method ``method`` from its parameters by name (see the method's ``parameters``).
+
+    Args:
+        method: a registered method's name (``fc.methods.names()``).
+        params: the method's parameters by name, e.g. ``K=1e6`` (``Method.parameters``).
+
+    Returns:
+        The law (a :class:`Formulation`); ``ValueError`` for an unknown method or parameter.
+    """
     return get(method).make_law(**params)
 
 

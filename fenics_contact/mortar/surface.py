@@ -44,6 +44,17 @@ class SegmentSurface(ContactSurface):
 
     Args and errors as :class:`twobody.TwoBodySurface` (``u`` a displacement: a mixed unknown raises
     ValueError). The law's fields live at the slave vertices, interpolated linearly at the sub-segment points.
+
+    Args:
+        u: the displacement.
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        slave_tag: the slave surface: a tag value, or a region name of ``facet_tags``.
+        master_tag: the master surface (likewise).
+        law: the contact law.
+        load: the load parameter ``t`` (a scalar ``Constant``).
+        weight: factor on the residual (1/2 for each surface of a two-pass pair).
+        radius: the search radius (length; default twice the longest master facet); farther points have no pair.
+        name: the surface's name, in messages and output.
     """
 
     exchange: str | None = None  # the master exchange (see TwoBodySurface); None: TwoBodySurface.exchange's

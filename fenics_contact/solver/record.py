@@ -11,7 +11,13 @@ __all__ = ["ConvergenceError", "RunRecord", "StepRecord", "describe", "progress_
 
 
 class ConvergenceError(RuntimeError):
-    """A load step failed even after the allowed cutbacks; ``failure`` says why (see :mod:`failure`)."""
+    """A load step failed even after the allowed cutbacks; ``failure`` says why (see :mod:`failure`).
+
+    Args:
+        message: the one-line message.
+        failure: the diagnosis (:mod:`failure`), or None.
+        newton_iterations: Newton iterations spent, or None.
+    """
 
     def __init__(self, message: str, failure: dict | None = None, newton_iterations: int | None = None):
         super().__init__(message)
@@ -21,7 +27,24 @@ class ConvergenceError(RuntimeError):
 
 @dataclass
 class StepRecord:
-    """One converged (or failed) load step: Newton residual histories per solve (one per augmentation)."""
+    """One converged (or failed) load step: Newton residual histories per solve (one per augmentation).
+
+    Args:
+        step: the step's number (from 1).
+        load: the load parameter ``t`` of the step.
+        residuals: the Newton residual norms, one list per solve (augmentation).
+        constraint_change: the augmentations' ``||g_new - g_old||`` (length).
+        augmentations: the augmentations made.
+        augmentation_converged: the augmentation met its tolerance.
+        converged: the step converged.
+        reason: the last SNES converged reason.
+        wall_time_s: the step's wall time (s).
+        closed_points: the number of closed contact points (all surfaces) at each Newton iterate, per solve.
+        failure: the diagnosis of a failed step (:mod:`failure`), else None.
+        message: the one-line message of a failed step.
+        predictor_scale: the tangent predictor's scale, None without one.
+        stalled: the solves that stopped at the round-off floor.
+    """
 
     step: int
     load: float

@@ -62,6 +62,18 @@ class Solver:
 
     PETSc options (``prefix``, ``options``): see :mod:`.options`. The solver owns its PETSc objects (the SNES,
     ``A``, ``b``): :meth:`destroy` them, or use the solver as a context manager.
+
+    Args:
+        problem: the :class:`ContactProblem`.
+        prefix: the PETSc options prefix.
+        options: PETSc options (name -> value) on top of the defaults.
+        augment_max: augmentations at most per load step (0: none).
+        augment_tol: the augmentation's tolerance on ``||g_new - g_old||`` (length).
+        max_cutbacks: step halvings at most per load step.
+        quiet: log the steps at DEBUG, not INFO.
+        on_step: called with ``t`` after every converged step.
+        on_iterate: called with the iteration number after every Newton iterate.
+        predictor: ``False``, ``"secant"`` (or ``True``) or ``"tangent"``.
     """
 
     snes = _Delegated("newton")  # the SNES

@@ -1,0 +1,120 @@
+"""The benchmark pages: written from a small fixture of benchmark results (not a benchmark run) with the run's
+machine, date, commit and command; the committed pages in docs/bench/ carry them and no development history."""
+import json
+import math
+import re
+from pathlib import Path
+
+import pytest
+from history import HISTORY
+from mpi4py import MPI
+
+from fenics_contact.app import bench, bench_pages, run_record
+
+ROOT = Path(__file__).resolve().parent.parent
+serial = pytest.mark.skipif(MPI.COMM_WORLD.size > 1, reason="writes files: the serial lane only")
+
+
+
+def _fixture(folder: Path) -> None:
+    """Two hertz runs and an SNES VI run on one mesh, their findings, a chart, the run's record, a demo summary."""
+    rows = [dict(bench.run_config(m, K, 0, "nodal", 0), scene="hertz", dofs=3990, wall_time_s=t,
+                 newton_iterations=n, augmentations=0, linear_iterations=0, converged=True, cutbacks=0,
+                 snes_reason=3, error=e, limit_gap=math.nan, setup_time_s=0.5, linear_solve_floor_s=0.05,
+                 ratio_to_linear_solve=t / 0.05, p0=11.2)
+            for m, K, t, n, e in (("penalty", 1e6, 0.12, 4, 2.1e-2), ("penalty", 1e8, 0.2, 5, 3.2e-3),
+                                  ("vi", 0.0, 0.4, 9, 3.1e-3))]
+    folder.mkdir()
+    bench.write_rows(rows, folder / "hertz.csv", folder / "hertz.json")
+    (folder / "hertz_findings.md").write_text(bench.findings("hertz", rows))
+    bench.plot_pareto(rows, folder / "hertz_pareto.png", title="hertz")
+    run_record.record_run(folder, ["--quick", "--scene", "hertz", "--out", str(folder)], ["hertz"])
+    demo = folder.parent / "demos" / "hertz"
+    demo.mkdir(parents=True)
+    (demo / "summary.json").write_text(json.dumps({
+        "scene": "hertz", "method": "auglag", "ranks": 2, "dofs": 3990, "wall_time_s": 0.3,
+        "check": {"figure": "p0", "value": 11.235, "reference": 11.2, "rel_error": 3.1e-3, "tolerance": 0.01,
+                  "passed": True, "source": "Hertz"}}))
+
+
+@serial
+def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
+    results, out = tmp_path / "bench", tmp_path / "docs"
+    _fixture(results)
+    pages = bench_pages.write_pages(results, out, demos=tmp_path / "demos")
+    assert [p.name for p in pages] == ["index.md", "hertz.md"]
+    [run] = json.loads((results / "run.json").read_text())["runs"]
+    machine = run_record.machine()
+    assert run["machine"] == machine and machine["cores"] >= 1
+    for page in pages:
+        text = page.read_text()
+        assert machine["cpu"] in text and f"{machine['cores']} cores" in text and "GB memory" in text
+        assert run["date"] in text and run["commit"] in text
+        assert "command `python demos/bench.py --quick --scene hertz" in text and "; scenes hertz." in text
+        assert not HISTORY.search(text), HISTORY.search(text)
+    scene = (out / "hertz.md").read_text()
+    assert "| 0 | 3990 | penalty | K 1e+08 | 0.0032 |" in scene  # the fastest penalty run within the 1 % target
+    assert "![hertz: Error against solver time](hertz_pareto.png)" in scene
+    assert (out / "hertz_pareto.png").read_bytes() == (results / "hertz_pareto.png").read_bytes()
+    index = (out / "index.md").read_text()
+    assert "| hertz | auglag | 2 | 3990 | p0 | 11.235 | 11.2 | 3.10e-03 | 0.01 | yes | 0.3 |" in index
+    assert "hertz\n```" in index  # the scene page in the toctree
+
+
+@serial
+def test_pages_refuse_a_folder_without_a_run_record(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        bench_pages.main([str(tmp_path), str(tmp_path / "out")])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "run.json" in err and str(tmp_path) in err
+
+
+def test_committed_pages_state_the_machine_and_date_and_no_history():
+    pages = sorted((ROOT / "docs" / "bench").glob("*.md"))
+    assert pages and pages[0].name != "index.md" or len(pages) > 1
+    for page in pages:
+        text = page.read_text()
+        first = next(line for line in text.splitlines() if line.startswith("Measured on "))
+        assert re.search(r", \d+ cores, [\d.]+ GB memory, .*; \d{4}-\d\d-\d\d \d\d:\d\d UTC; commit `[\w ,]+`; "
+                         r"command `python demos/bench.py [^`]*--quick", first), first
+        assert not HISTORY.search(text), (page.name, HISTORY.search(text))
+        for image in re.findall(r"\]\(([^)]+\.png)\)", text):
+            assert (page.parent / image).exists(), image
+    explained = (ROOT / "docs" / "benchmarks.md").read_text()
+    assert not HISTORY.search(explained), HISTORY.search(explained)
+
+
+def test_time_split_of_two_body_runs_only():
+    """The time split lists the fastest converged run per method variant and quadrature, with its search,
+    exchange and coupling times; rigid-obstacle rows (no search time) give no table."""
+    base = dict(bench.run_config("penalty", 2.5e4, 0, "nodal", 0), scene="hertz_twobody", dofs=9868, converged=True,
+                newton_iterations=20, error=1.7e-3, assembly_s=0.76, linear_solve_s=1.39, exchange_s=0.033,
+                coupling_s=0.018, ratio_to_linear_solve=15.9)
+    rows = [dict(base, wall_time_s=2.16, search_s=0.233), dict(base, wall_time_s=3.0, search_s=0.3),
+            dict(base, wall_time_s=1.0, search_s=0.1, converged=False),
+            dict(base, quadrature="segment", wall_time_s=2.04, search_s=0.17)]
+    table = bench_pages.time_split(rows).splitlines()
+    assert len(table) == 4  # header, rule, nodal's fastest converged run, segment's
+    assert table[2] == "| 0 | 9868 | penalty | nodal | K 2.5e+04 | 0.0017 | 20 | 2.16 | 0.233 | 0.033 | 0.018 | " \
+                       "0.76 | 1.39 | 15.9 |"
+    assert "| segment |" in table[3]
+    assert bench_pages.time_split([dict(r, search_s=math.nan) for r in rows]) == ""
+
+
+@serial
+def test_each_page_names_the_run_of_its_scene(tmp_path):
+    """Two runs into one folder, the second rerunning one scene of the first: each scene's page carries the run
+    that produced its results; the index lists both runs."""
+    results = tmp_path / "bench"
+    _fixture(results)
+    (results / "block_findings.md").write_text("block's findings\n")
+    first = run_record.record_run(results, ["--quick", "--scene", "block", "--scene", "hertz"], ["block", "hertz"])
+    second = run_record.record_run(results, ["--quick", "--scene", "hertz"], ["hertz"])
+    runs = run_record.read_runs(results)
+    assert [r["scenes"] for r in runs] == [["block"], ["hertz"]]
+    bench_pages.write_pages(results, tmp_path / "docs")
+    block, hertz, index = ((tmp_path / "docs" / f"{n}.md").read_text() for n in ("block", "hertz", "index"))
+    assert first["command"] in block and second["command"] not in block and "; scenes block." in block
+    assert second["command"] in hertz and "; scenes hertz." in hertz
+    assert first["command"] in index and second["command"] in index
