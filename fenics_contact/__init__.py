@@ -32,6 +32,7 @@ from .contact import ContactSurface, contact_measure
 from .domain import NamedTags, read_gmsh, tag_boundary
 from .factory import contact_surface, two_body_multipliers, two_body_surfaces
 from .friction import Friction, FrictionalContact
+from .incompressible import Kinematics, MixedLinearElastic, MixedNeoHookean
 from .laws import (
     AugmentedLagrangian,
     ContactLaw,
@@ -45,8 +46,9 @@ from .laws import (
     PenaltyMultiplier,
     SnesVI,
 )
-from .materials import MODELS, PLANES, LinearElastic, Material, Materials, NeoHookean, lame
+from .materials import PLANES, LinearElastic, Material, Materials, NeoHookean, lame
 from .methods import METHODS, Method, Parameter, Sweep, make_law, register
+from .models import MODELS
 from .mortar import SegmentSurface
 from .multipliers import MultiplierContact, TwoBodyMultiplier, unknown
 from .nitsche import NitscheContact
@@ -60,7 +62,8 @@ from .twobody_friction import FrictionalTwoBodySurface
 
 __all__ = [
     # materials
-    "Material", "LinearElastic", "NeoHookean", "Materials", "MODELS", "PLANES", "lame",
+    "Material", "LinearElastic", "NeoHookean", "MixedNeoHookean", "MixedLinearElastic",
+    "Kinematics", "Materials", "MODELS", "PLANES", "lame",
     # contact laws (method name -> class: METHODS, make_law)
     "Formulation", "ContactLaw", "Penalty", "CrossConstraints", "AugmentedLagrangian", "NormalCompliance", "SnesVI",
     "ExactCoulomb", "LagrangeMultiplier", "PenaltyMultiplier", "Nitsche", "Friction",

@@ -21,8 +21,11 @@ from typing import Any, Iterator, Mapping
 
 from . import methods as _methods
 from .methods.spec import Rule, rule
+from .models import MODELS
 
-__all__ = ["AXES", "Rule", "UnsupportedCombination", "axes", "cells", "cells_like", "check", "describe",
+MIXED_MODELS = tuple(name for name, cls in MODELS.items() if cls.mixed)  # the unknown is (displacement, pressure)
+
+__all__ = ["AXES", "MIXED_MODELS", "Rule", "UnsupportedCombination", "axes", "cells", "cells_like", "check", "describe",
            "markdown", "of", "refusal", "rules", "supported"]
 
 _FIXED_AXES: dict[str, tuple] = {
@@ -32,7 +35,7 @@ _FIXED_AXES: dict[str, tuple] = {
     "passes": ("one", "two"),
     "dim": (2, 3),
     "degree": (1, 2),
-    "model": ("linear", "neohookean"),
+    "model": tuple(MODELS),
     "solver": ("direct", "iterative"),
     "friction": (False, True),
 }
@@ -100,9 +103,18 @@ _QUADRATURE = (
 )
 
 
+_MIXED = (
+    rule("degree 2", "the mixed model's unknown is Taylor-Hood: P2 displacement, P1 pressure (equal orders are not "
+         "inf-sup stable)", model=MIXED_MODELS, degree=1),
+    rule("solver 'direct'", "the mixed model's Jacobian is a saddle point (no near-nullspace of the pressure "
+         "field for algebraic multigrid)", model=MIXED_MODELS, solver="iterative"),
+)
+
+
 def rules() -> tuple[Rule, ...]:
     """Every rule, in the order they are tried: the kind, the methods without two-body surfaces, two-body
-    friction, the methods without friction, each method's own rules (registry order), quadrature and degree."""
+    friction, the methods without friction, each method's own rules (registry order), the mixed model,
+    quadrature and degree."""
     ms = _methods.methods()
     two_body = [m.name for m in ms if m.two_body is not None]
     with_friction = [m.name for m in ms if m.friction != "none"]
@@ -114,7 +126,7 @@ def rules() -> tuple[Rule, ...]:
                         "these methods have no tangential law", friction=True, method=frictionless),) if frictionless \
         else ()
     own = tuple(r for m in ms for r in m.rules)
-    return _KIND + no_two_body + _TWO_BODY_FRICTION + no_friction + own + _QUADRATURE
+    return _KIND + no_two_body + _TWO_BODY_FRICTION + no_friction + own + _MIXED + _QUADRATURE
 
 
 def _fmt(axis: str, value: Any) -> str:
@@ -191,7 +203,7 @@ def of(law, u=None, material=None) -> dict:
         out["dim"] = V.mesh.geometry.dim
         out["degree"] = 2 if len(Vd.dofmap.dof_layout.entity_dofs(1, 0)) else 1  # Lagrange: edge dofs from P2
     if material is not None:
-        out["model"] = "linear" if material.linear else "neohookean"  # per-body Materials: linear if every body is
+        out["model"] = material.model  # per-body Materials: linear if every body is
     return out
 
 

@@ -74,7 +74,8 @@ def contact_measure(mesh, facet_tags, tag: int | str, quadrature: str) -> ufl.Me
 
 
 def is_mixed(V) -> bool:
-    """True for a mixed (displacement, pressure) space (:mod:`multipliers`), False for a displacement space."""
+    """True for a mixed (displacement, pressure) space (the contact pressure of :mod:`multipliers`, or the bulk
+    pressure of :class:`~fenics_contact.materials.MixedNeoHookean`), False for a displacement space."""
     return V.num_sub_spaces > 0 and V.sub(0).num_sub_spaces > 0
 
 
@@ -133,6 +134,9 @@ class ContactSurface(Surface):
         self.ds = contact_measure(mesh, facet_tags, tag, quadrature)
         obstacle.bind(load)
         self.displacement_out = u  # the displacement Function for output (a collapsed copy if u is mixed)
+        if is_mixed(u.function_space):
+            Vd, self._v_to_w = u.function_space.sub(0).collapse()
+            self.displacement_out = fem.Function(Vd, name="displacement")
         X = ufl.SpatialCoordinate(mesh)
         if linearized:  # first order in u: dg/du = -n (n points from the obstacle into the body)
             self.normal = obstacle.normal(X)
@@ -294,7 +298,10 @@ class ContactSurface(Surface):
         return np.array([self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in self._force_forms])
 
     def update_output(self) -> None:
-        """Nodal gap and pressure into ``gap_out`` and ``pressure_out``."""
+        """Nodal gap and pressure into ``gap_out`` and ``pressure_out`` (and a mixed unknown's displacement into
+        ``displacement_out``)."""
+        if self.displacement_out is not self.u:
+            self.displacement_out.x.array[:] = self.u.x.array[self._v_to_w]
         for rhs, f in self._out_rhs:
             self._out.project(rhs, f)
         self._recover.project(self._pressure_rhs, self.pressure_out)

@@ -33,7 +33,7 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from .compat import function_space, interpolate_expression
-from .contact import ContactSurface
+from .contact import ContactSurface, displacement
 from .laws import NUMPY, ContactLaw, NormalCompliance, _check_exponent, ufl_ops
 
 __all__ = ["OPEN", "SLIP", "STICK", "friction_ops", "Friction", "FrictionHistory", "FrictionalContact"]
@@ -359,12 +359,12 @@ class FrictionalContact(FrictionHistory, ContactSurface):
         if not isinstance(law, Friction):
             raise ValueError("FrictionalContact needs a Friction law")
         super().__init__(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized)
-        r = ufl.SpatialCoordinate(u.function_space.mesh) + u - obstacle.origin()
+        r = ufl.SpatialCoordinate(u.function_space.mesh) + displacement(u) - obstacle.origin()
         self._init_friction(law, load, r, lambda r_old: r - r_old)
 
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """``F(g) dg[v] ds - q . v ds``."""
-        return super().residual(v) - ufl.dot(self.traction, v) * self.ds
+        return super().residual(v) - ufl.dot(self.traction, displacement(v)) * self.ds
 
     def _normal_at(self, x: np.ndarray) -> np.ndarray:
         """Obstacle normal at the vertices (half-planes: constant; else the reference direction)."""

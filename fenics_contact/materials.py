@@ -12,6 +12,11 @@ the small-strain model, whose reference and current configurations are one)
 and the area ratio ``da/dA`` of a surface with reference normal ``N``
 (Nanson: ``J |F^-T N|``; 1 in small strain): the contact pressures are
 nominal (per reference area), their Cauchy (true) value is nominal ``/ (da/dA)``.
+
+:meth:`Material.density` is the energy density of the problem's unknown ``w`` (a displacement, or a mixed
+Function whose first field is the displacement): what :class:`~fenics_contact.problem.ContactProblem`
+differentiates. The mixed displacement-pressure models of nearly incompressible bodies are in
+:mod:`~fenics_contact.incompressible`; every model by name in :data:`~fenics_contact.models.MODELS`.
 """
 from __future__ import annotations
 
@@ -22,7 +27,7 @@ import numpy as np
 import ufl
 from mpi4py import MPI
 
-__all__ = ["PLANES", "lame", "Material", "LinearElastic", "NeoHookean", "Materials", "MODELS"]
+__all__ = ["PLANES", "lame", "Material", "LinearElastic", "NeoHookean", "Materials"]
 
 PLANES = ("strain", "stress")
 
@@ -56,6 +61,8 @@ class Material:
     """
 
     linear = False  # True: small strain (a constant stiffness; reference and current configurations are one)
+    mixed = False  # True: the unknown is (displacement, pressure), :meth:`density` reads both
+    model = ""  # the capability grid's name of the model (:data:`~fenics_contact.models.MODELS`)
 
     def __init__(self, E: float, nu: float, plane: str = "strain"):
         if plane not in PLANES:
@@ -81,6 +88,16 @@ class Material:
     def energy_form(self, u: ufl.core.expr.Expr) -> ufl.Form:
         """The bulk stored energy ``int W(u) dx``."""
         return self.energy(u) * ufl.dx
+
+    def density(self, w) -> ufl.core.expr.Expr:
+        """The stored energy per ``dx`` of the problem's unknown ``w`` (its displacement field)."""
+        from .contact import displacement
+
+        return self.energy(displacement(w))
+
+    def bulk_form(self, w) -> ufl.Form:
+        """``int density(w) dx``: the bulk energy :class:`~fenics_contact.problem.ContactProblem` differentiates."""
+        return self.density(w) * ufl.dx
 
     def stress(self, u: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
         """Cauchy stress (in-plane components in 2D)."""
@@ -117,6 +134,7 @@ class LinearElastic(Material):
     """
 
     linear = True
+    model = "linear"
 
     def _lambda(self, d: int):
         return 2 * self.lmbda * self.mu / (self.lmbda + 2 * self.mu) if self.plane == "stress" else self.lmbda
@@ -153,6 +171,8 @@ class NeoHookean(Material):
         nu: Poisson's ratio, in (-1, 0.5).
         plane: the 2D assumption, ``strain`` or ``stress`` (3D: ``strain``, a 3D body with ``stress`` is refused).
     """
+
+    model = "neohookean"
 
     def _kinematics(self, u):
         d = self._dim(u)
@@ -237,6 +257,11 @@ class Materials:
             chi.x.scatter_forward()
             self.indicator[tag] = chi
         self.linear = all(m.linear for m in self.by_tag.values())
+        self.mixed = any(m.mixed for m in self.by_tag.values())
+        if self.mixed and not all(m.mixed for m in self.by_tag.values()):
+            raise ValueError("Materials: a mixed model on some bodies only; the pressure field spans the mesh, give "
+                             "every body a mixed model or none")
+        self.model = "linear" if self.linear else next(m.model for m in self.by_tag.values() if not m.linear)
 
     def _sum(self, f):
         return sum(self.indicator[t] * f(m) for t, m in self.by_tag.items())
@@ -244,6 +269,11 @@ class Materials:
     def energy_form(self, u) -> ufl.Form:
         """``sum over tags of int W_tag dx(tag)`` (what :class:`~fenics_contact.problem.ContactProblem` uses)."""
         return sum(m.energy(u) * self.dx(t) for t, m in self.by_tag.items())
+
+    def bulk_form(self, w) -> ufl.Form:
+        """``sum over tags of int density_tag(w) dx(tag)`` (what :class:`~fenics_contact.problem.ContactProblem`
+        differentiates)."""
+        return sum(m.density(w) * self.dx(t) for t, m in self.by_tag.items())
 
     def energy(self, u):
         """The energy density per body (through the indicators): ``energy(u) * dx`` equals :meth:`energy_form`."""
@@ -265,6 +295,3 @@ class Materials:
 
     def describe(self) -> dict:
         return {"model": "Materials", "bodies": {str(t): m.describe() for t, m in self.by_tag.items()}}
-
-
-MODELS = {"linear": LinearElastic, "neohookean": NeoHookean}

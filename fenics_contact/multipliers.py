@@ -106,25 +106,31 @@ from .twobody import TwoBodySurface
 __all__ = ["unknown", "PressureUnknown", "MultiplierContact", "TwoBodyMultiplier"]
 
 
-def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement") -> tuple[fem.Function, object]:
+def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement",
+            model: str | None = None) -> tuple[fem.Function, object]:
     """The problem's unknown and the displacement (sub)space for Dirichlet data.
 
-    ``(u, V)`` with ``u`` on the vector Lagrange space ``V`` of ``degree``, or,
-    for method ``lagrange``, ``(w, W.sub(0))`` with ``w`` on the mixed space
-    (displacement of ``degree``, pressure P1). ``V.sub(i)`` are the components either way.
+    ``(u, V)`` with ``u`` on the vector Lagrange space ``V`` of ``degree``, or ``(w, W.sub(0))`` with ``w`` on a
+    mixed space: for method ``lagrange`` (displacement of ``degree``, contact pressure P1), or for a mixed bulk
+    ``model`` (``neohookean-mixed``, ``linear-mixed``; Taylor-Hood: displacement of ``degree``, the bulk pressure
+    of ``degree - 1``). ``V.sub(i)`` are the components either way.
 
     Args:
         mesh: the mesh.
         degree: the displacement's polynomial degree (1 or 2).
         law: the method's law (a mixed unknown for ``lagrange`` and ``penalty_multiplier``).
         name: the Function's name (output).
+        model: the bulk model's name (:data:`~fenics_contact.models.MODELS`), checked with the law on the
+            capability grid; a mixed model makes the Taylor-Hood unknown; None: a displacement model.
 
     Returns:
         ``(u, V)``: the unknown and the displacement (sub)space.
     """
-    check(**of(law), dim=mesh.geometry.dim, degree=degree)
-    if isinstance(law, LagrangeMultiplier):
-        W = mixed_space(mesh, degree)
+    from .models import MODELS
+
+    check(**of(law), dim=mesh.geometry.dim, degree=degree, model=model)
+    if isinstance(law, LagrangeMultiplier) or (model is not None and MODELS[model].mixed):
+        W = mixed_space(mesh, degree, 1 if isinstance(law, LagrangeMultiplier) else degree - 1)
         return fem.Function(W, name="displacement_pressure"), W.sub(0)
     V = function_space(mesh, "Lagrange", degree, (mesh.geometry.dim,))
     return fem.Function(V, name=name), V
@@ -132,9 +138,9 @@ def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement") -> t
 
 class PressureUnknown:
     """What every surface with its pressure in the mixed unknown ``w`` shares: the pressure dofs off all
-    such surfaces fixed to 0 (one Dirichlet condition, carried by the first surface built on ``w``), and
-    the displacement for output. ``self.u`` is the mixed unknown (``self.w`` is two-body's mirror field).
-    A vertex on two such surfaces has one pressure (their rows add)."""
+    such surfaces fixed to 0 (one Dirichlet condition, carried by the first surface built on ``w``).
+    ``self.u`` is the mixed unknown (``self.w`` is two-body's mirror field). A vertex on two such surfaces has
+    one pressure (their rows add)."""
 
     pinned_dofs = 0  # global number of pressure dofs fixed to 0 off the surfaces (set on the first surface)
     # Full semismooth Newton steps: the l2 line search damps the active-set changes (cylinders: 9 iterations
@@ -165,8 +171,6 @@ class PressureUnknown:
         surfaces = w.__dict__.setdefault("_fc_pressure_surfaces", [])  # all multiplier surfaces on w
         surfaces.append(self)
         self._bcs = None
-        V, self._v_to_w = W.sub(0).collapse()
-        self.displacement_out = fem.Function(V, name="displacement")
 
     @property
     def bcs(self) -> tuple:
@@ -258,10 +262,6 @@ class PressureUnknown:
         """``-int C(p, g)/c q ds`` (vertex rule): the pressure rows."""
         C = self.law.complementarity(self.pressure, self.gap, self.params, ufl_ops())
         return -C / self.constants["c"] * ufl.split(v)[1] * self.ds
-
-    def update_output(self) -> None:
-        self.displacement_out.x.array[:] = self.u.x.array[self._v_to_w]
-        super().update_output()
 
 
 class MultiplierContact(PressureUnknown, ContactSurface):

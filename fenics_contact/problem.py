@@ -15,6 +15,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .capabilities import check, of
 from .cells import check_cells
 from .compat import (
     cell_dofs,
@@ -24,7 +25,7 @@ from .compat import (
     lift_and_set_bc,
     petsc_vec,
 )
-from .contact import displacement
+from .contact import displacement, is_mixed
 from .domain import tag_value
 from .materials import Material, Materials
 from .surface import StepSolver, Surface
@@ -115,7 +116,8 @@ class ContactProblem:
 
     Args:
         u: the unknown: the displacement, or a mixed (displacement, pressure) Function when a contact surface
-            has its pressure as an unknown (:func:`~fenics_contact.unknown` makes it).
+            has its pressure as an unknown or the material is mixed (:mod:`~fenics_contact.incompressible`;
+            :func:`~fenics_contact.unknown` makes it; the contact terms act on its displacement field).
         material: the bulk material, or :class:`~fenics_contact.Materials` (one per body).
         load: the load parameter ``t`` (a scalar ``Constant``; :meth:`set_load` sets it).
         dirichlet: the :class:`Dirichlet` conditions.
@@ -149,8 +151,14 @@ class ContactProblem:
         self.step_solver = step_solver  # solves whole load steps instead of SNES (None: SNES)
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
+        if material.mixed and not is_mixed(V):
+            raise ValueError(f"model {material.model!r} needs the mixed unknown of unknown(mesh, 2, law, "
+                             f"model={material.model!r}), got a displacement")
+        for c in self.contacts:  # the capability grid with the model (a surface built without the material)
+            if getattr(c, "law", None) is not None:
+                check(**of(c.law, material=material))
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        bulk = ufl.derivative(material.energy_form(displacement(u)), u, v)  # per body with Materials
+        bulk = ufl.derivative(material.bulk_form(u), u, v)  # per body with Materials
         body = bulk
         # each traction with a path has its own factor f(t) (a Constant set by set_load); the others follow t
         self._traction_factors = []

@@ -151,7 +151,8 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_checkpoint.py::test_restart_gives_the_uninterrupted_figures[ironing]",  # a restart on every rank
     "test_collocation.py::test_serial_equals_ranks", "test_condensed_twobody.py::test_parallel_equals_serial",
     "test_cylinders.py::test_ranks_agree*", "test_friction.py::test_compliance3d_parallel_equals_serial",
-    "test_friction.py::test_slab_parallel_equals_serial", "test_ironing.py::test_parallel_equals_serial",
+    "test_friction.py::test_slab_parallel_equals_serial", "test_incompressible.py::test_parallel_equals_serial",
+    "test_ironing.py::test_parallel_equals_serial",
     "test_mindlin.py::test_parallel_equals_serial", "test_mindlin3d.py::test_parallel_equals_serial",
     "test_multipliers.py::test_parallel_equals_serial*",
     "test_multipliers.py::test_two_body_multipliers_parallel_equals_serial", "test_parallel.py::*",

@@ -51,10 +51,11 @@ from fenics_contact.app.scenes.patch import uniform_stretches
 
 E, NU, H, MU = 1000.0, 0.3, 1.0, 0.2
 K = 1e6  # penalty-type laws: the regularized closed form includes the penetration p / K
-D = {"linear": 0.01, "neohookean": 0.15}  # rigid: top displacement (neo-Hookean: finite strain)
-P = {"linear": 10.0, "neohookean": 100.0}  # two-body: pressure on the top
+# rigid: top displacement (neo-Hookean: finite strain); two-body: pressure on the top
+D = {"linear": 0.01, "neohookean": 0.15, "neohookean-mixed": 0.15, "linear-mixed": 0.01}
+P = {"linear": 10.0, "neohookean": 100.0, "neohookean-mixed": 100.0, "linear-mixed": 10.0}
 # friction: sideways top motion, beyond the stick limit mu p / omega_t, the elastic shear and the lateral expansion
-SLIDE = {"linear": 0.05, "neohookean": 0.3}
+SLIDE = {"linear": 0.05, "neohookean": 0.3, "neohookean-mixed": 0.3, "linear-mixed": 0.05}
 EXACT = ("auglag", "vi", "lagrange", "nitsche", "coulomb")
 LAWS = tuple(m.name for m in fc.methods.methods() if m.friction == "law")  # laws of the gap, friction on top
 MULTIPLIERS = ("lagrange", "penalty_multiplier")  # the pressure an unknown
@@ -74,8 +75,12 @@ def law_for(method: str, friction: bool):
 def uniaxial_pressure(stretch: float, model: str, dim: int) -> float:
     """Nominal pressure of the uniform uniaxial state at axial stretch ``stretch`` (lateral faces free;
     plane strain in 2D)."""
-    if model == "linear":
+    if model in ("linear", "linear-mixed"):  # linear-mixed: its eliminated energy is the linear one
         return (E if dim == 3 else E / (1 - NU**2)) * (1.0 - stretch)
+    if model == "neohookean-mixed":  # free sides: P_lateral(a, stretch) = 0
+        m = fc.MixedNeoHookean(E, NU)
+        a = brentq(lambda a: m.uniaxial(a, stretch, dim)[0], 1.0, 2.0 / stretch)
+        return -m.uniaxial(a, stretch, dim)[1]
     return brentq(lambda p: uniform_stretches(p, model, dim)[1] - stretch, 1e-9, 0.9 * E)
 
 
@@ -107,7 +112,7 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction) -> tuple
     """(measured, reference): the mean contact pressure, or with friction the ratio tangential / normal force."""
     law = law_for(method, friction)
     mesh, ft = rigid_mesh(dim)
-    u, V = fc.unknown(mesh, degree, law)
+    u, V = fc.unknown(mesh, degree, law, model=model)
     load = fem.Constant(mesh, 0.0)
     material = fc.MODELS[model](E, NU)
     v = dim - 1
@@ -146,7 +151,7 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
     law = law_for(method, friction)
     n = (2, 2) if dim == 2 else (2, 2, 1)
     mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, n, n, 1e-6)
-    u, V = fc.unknown(mesh, degree, law)
+    u, V = fc.unknown(mesh, degree, law, model=model)
     load = fem.Constant(mesh, 0.0)
     dirichlet = [fc.Dirichlet.on_facets(V, ft, "lower_bottom", dim - 1), fc.Dirichlet.on_facets(V, ft, "left", 0)]
     if dim == 3:
@@ -210,7 +215,8 @@ def covering_cells() -> list[dict]:
     for method in LAWS + ("coulomb",):  # friction: every law; structural variants with penalty
         cells.append(_first_supported(method=method, friction=True))
     cells += [c for s in _structural("rigid") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
-    cells.append(_first_supported(method="penalty", friction=True, model="neohookean"))
+    for model in ("neohookean", "neohookean-mixed"):  # friction on the displacement field of a mixed unknown too
+        cells.append(_first_supported(method="penalty", friction=True, model=model))
     for method in LAWS + ("coulomb",):  # two-body friction: every law; structural variants with penalty
         cells.append(_first_supported(method=method, kind="two-body", friction=True))
     cells += [c for s in _structural("two-body") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]

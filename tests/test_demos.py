@@ -79,3 +79,13 @@ def test_hertz_two_body_exact_in_one_step_from_the_demo(tmp_path_factory, comm):
                                   "--no-xdmf", "--quiet"])
     assert summary["converged"] and summary["load_steps"] == 1
     assert summary["p0_error"] < 5e-3 and summary["load_error"] < 1e-10, (summary["p0_error"], summary["load_error"])
+
+
+def test_block_demo_with_the_mixed_model_meets_the_closed_form(tmp_path_factory, comm):
+    """``--model neohookean-mixed`` (rubber, nu = 0.4999): the demo's own check, the closed-form pressure to 1e-8
+    with converged augmentation."""
+    out = comm.bcast(str(tmp_path_factory.mktemp("block_mixed")) if comm.rank == 0 else None)
+    summary = load("block").main(["--model", "neohookean-mixed", "--nu", "0.4999", "--quadrature", "gauss",
+                                  "--method", "auglag", "--augment", "30", "--out", out, "--no-pictures",
+                                  "--no-xdmf", "--quiet"])
+    assert summary["check"]["passed"] and summary["check"]["tolerance"] == 1e-8, summary["check"]

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from fenics_contact.app.scenes import hertz
-from fenics_contact.laws import AugmentedLagrangian, CrossConstraints
+from fenics_contact.laws import AugmentedLagrangian, CrossConstraints, Penalty
 from fenics_contact.solver import Solver
 
 
@@ -247,3 +247,20 @@ def test_demo_flags_hertz_beyond_its_range(tmp_path_factory, comm):
     assert flag and flag.startswith(f"a/R = {summary['a_hertz'] / hertz.R:.3g} > {HERTZ_RANGE:g}")
     assert f"check: {flag}" in summary["warnings"]
     assert any(w.startswith("small-strain model past its range") for w in summary["warnings"])
+
+
+@pytest.mark.parametrize("mixed_model, model", [("neohookean-mixed", "neohookean"), ("linear-mixed", "linear")])
+def test_mixed_model_does_not_lock_where_the_displacement_model_does(mixed_model, model):
+    """Rubber, ``nu = 0.4999``, neo-Hookean at finite strain (or linear) under a small load (``a/R = 0.02``), on
+    one mesh (refined zone 0.04 R, ``h = R/800``), penalty ``1e5 E/R`` (penetration ~1e-4 of the approach): the
+    mixed model (Taylor-Hood P2-P1, Simpson contact points) is within 2 % of Hertz in ``p0`` and ``a`` and in
+    equilibrium; the displacement-only one (P1) locks: stiffer for the same approach, its contact too narrow and
+    its peak too high for its own force."""
+    kw = dict(nu=0.4999, refinement=1, contact_width=0.04, steps=1)
+    K = 1e5 * hertz.E / hertz.R
+    mixed = solve(Penalty(K), model=mixed_model, quadrature="simpson", **kw)
+    locked = solve(Penalty(K), model=model, quadrature="nodal", **kw)
+    assert mixed["p0_error"] < 0.02 and mixed["a_error"] < 0.02, mixed
+    assert np.isclose(mixed["total_force"], mixed["reaction_top"], rtol=1e-8)
+    assert locked["a"] < 0.8 * locked["a_hertz"] and locked["p0"] > 1.3 * locked["p0_hertz"], locked
+    assert locked["total_force"] > 1.1 * mixed["total_force"]

@@ -55,7 +55,7 @@ _COMMON_PETSC = ("snes_monitor", "snes_converged_reason", "snes_view", "snes_lin
                  "pc_factor_mat_solver_type", "mat_mumps_icntl_14", "ksp_gmres_restart", "pc_gamg_threshold")
 
 __all__ = ["parser", "parse", "refuse_unsupported", "one_line_errors", "has_friction", "law_from_args",
-           "method_parameters",
+           "method_parameters", "model_option", "model_degree",
            "method_options", "FRICTION_OPTIONS", "RANGE_TYPES",
            "solver_options", "StrictParser",
            "UsageError", "HelpFormatter", "GIVEN",
@@ -244,6 +244,26 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
                         "(Eisenstat-Walker, at most 1e-2)")
     output_options(p)
     return p
+
+
+def model_option(p: argparse.ArgumentParser, default: str = "linear", mixed: bool = False,
+                 help: str = "bulk material") -> None:
+    """``--model``: the bulk models of :data:`~fenics_contact.materials.MODELS`, the displacement ones and, with
+    ``mixed`` (a scene whose builder takes them), the mixed displacement-pressure ones."""
+    from ..models import MODELS
+
+    choices = [name for name, cls in MODELS.items() if mixed or not cls.mixed]
+    p.add_argument("--model", choices=choices, default=default,
+                   help=help + ("; the -mixed models: nearly incompressible, Taylor-Hood P2-P1 (u, p), contact "
+                                "quadrature gauss or simpson" if mixed else ""))
+
+
+def model_degree(model: str, degree: int = 1) -> int:
+    """The displacement degree a scene of displacement ``degree`` runs ``model`` with: 2 (Taylor-Hood) for a
+    mixed model."""
+    from ..models import MODELS
+
+    return 2 if MODELS[model].mixed else degree
 
 
 FRICTION_OPTIONS = ("mu", "c_t", "m_t", "tresca", "omega_t")  # options of the friction on top of a law

@@ -53,7 +53,8 @@ def plot_deformed(u: Function, scalar: Function, path: str | Path, title: str = 
                   scale: float = 1.0, clim: Sequence[float] | None = None) -> None:
     """Save a picture of the mesh warped by ``scale * u``, coloured by ``scalar``.
 
-    ``u``: vector P1 Function (2D or 3D); ``scalar``: scalar P1 Function on the
+    ``u``: vector Lagrange Function (2D or 3D; of a higher degree: its P1 interpolant is drawn);
+    ``scalar``: scalar P1 Function on the
     same mesh, its name titles the scalar bar; ``clim``: colour range (default:
     data range). 2D meshes are viewed from +z. Collective: every rank calls it;
     the owned cells are gathered to rank 0, which renders and writes ``path``.
@@ -62,6 +63,14 @@ def plot_deformed(u: Function, scalar: Function, path: str | Path, title: str = 
     V, S = u.function_space, scalar.function_space
     comm = V.mesh.comm
     u.x.scatter_forward()
+    if V.ufl_element().degree() > 1:  # the picture's cells are the mesh's: the vertex values
+        from dolfinx import fem
+
+        from fenics_contact import function_space
+
+        u1 = fem.Function(function_space(V.mesh, "Lagrange", 1, (V.dofmap.index_map_bs,)))
+        u1.interpolate(u)
+        u, V = u1, u1.function_space
     scalar.x.scatter_forward()
     cells, cell_types, x = _cell_nodes(V)
     scalar_cells, _, _ = _cell_nodes(S)

@@ -19,6 +19,7 @@ METHOD = Method(
                 quadrature=("gauss", "segment", "simpson")),
            rule("degree 1", "coulomb condenses onto the contact vertices", method="coulomb", degree=2),
            rule("dim 2", "coulomb has one tangential direction", method="coulomb", dim=3),
-           rule("model 'linear'", "coulomb condenses a constant stiffness", method="coulomb", model="neohookean"),
+           rule("model 'linear'", "coulomb condenses a constant stiffness", method="coulomb",
+                model=("neohookean", "neohookean-mixed")),
            rule("solver 'direct'", "coulomb factors the stiffness itself (MUMPS)", method="coulomb",
                 solver="iterative")))

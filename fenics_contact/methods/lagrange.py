@@ -2,7 +2,14 @@
 from ..laws import LagrangeMultiplier
 from .spec import Method, Parameter, Sweep, rule
 
-__all__ = ["METHOD", "multiplier_rules"]
+__all__ = ["METHOD", "mixed_models", "multiplier_rules"]
+
+
+def mixed_models() -> tuple:
+    """The bulk models whose unknown is (displacement, pressure)."""
+    from ..models import MODELS
+
+    return tuple(name for name, cls in MODELS.items() if cls.mixed)
 
 
 def multiplier_rules(method: str) -> tuple:
@@ -12,6 +19,9 @@ def multiplier_rules(method: str) -> tuple:
             rule("degree 1", "the multipliers' quadratic (two-point) element is 2D", method=method, degree=2, dim=3),
             rule("quadrature 'simpson' (the two-point element)", "the vertex rule alone leaves the mid-side nodes of "
                  "quadratic facets without the pressure's work", method=method, degree=2, quadrature="nodal"),
+            rule("model 'linear' or 'neohookean' (or another method)", "its unknown already holds the contact "
+                 "pressure as its second field, where a mixed model has its own", method=method,
+                 model=mixed_models()),
             rule("passes 'one'", "two passes of exact constraints over-constrain the surface (surface locking, "
                  "a pressure split arbitrarily between the passes)", method=method, passes="two"))
 

@@ -43,7 +43,7 @@ class LinearSolver:
         if self.ksp.getPC().getType() in MULTIGRID:
             u = self.problem.u
             for c in self.problem.contacts:  # the capability matrix, before any assembly
-                check(**of(c.law, u), solver="iterative")
+                check(**of(c.law, u, self.problem.material), solver="iterative")
             modes = rigid_body_modes(u.function_space)
             A.setNearNullSpace(modes)
             modes.destroy()  # A holds its own reference

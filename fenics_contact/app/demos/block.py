@@ -2,10 +2,12 @@
 
     python demos/block.py --method cross --F-hat 100
     mpirun -n 2 python demos/block.py --method auglag --out results/block
+    python demos/block.py --model neohookean-mixed --nu 0.4999 --quadrature gauss --method auglag --augment 30
 
 Height 2, E = 1000, nu = 0.3, top moved down by 0.32; the exact pressure
 is E/(1-nu^2) * 0.32/2 = 175.8243 (plane strain, linear; ``--plane stress``: 160;
-``--model neohookean``: the closed-form homogeneous state, nominal and Cauchy). Writes block.xdmf, summary.json,
+``--model neohookean`` or ``neohookean-mixed`` (nearly incompressible rubber, Taylor-Hood P2-P1): the
+closed-form homogeneous state, nominal and Cauchy). Writes block.xdmf, summary.json,
 block_deformed.png and block_pressure.png to --out. Check: the contact pressure against the exact
 (nominal) one, to 1e-8 with an exact method (or converged augmentation), to 1e-2 with a plain
 penalty-type law (its penetration p/K).
@@ -28,10 +30,11 @@ def main(argv=None) -> dict:
     p = cli.parser(__doc__.splitlines()[0], default_K=1e5)
     p.add_argument("--steps", type=cli.COUNT, default=1, help="load steps")
     p.add_argument("--plane", choices=["strain", "stress"], default="strain", help="2D assumption")
-    p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
+    cli.model_option(p, mixed=True)
     scene = add_scene_options(p, block.build)  # --height, --width, --E, --nu, --displacement
     args = cli.parse(p, argv)
     out = Path(args.out or "results/block")
+    cli.refuse_unsupported(args, kind="rigid", dim=2, degree=cli.model_degree(args.model), model=args.model)
 
     # 2. The scene: mesh, material, Dirichlet data, the rigid foundation and the contact law.
     setup = build("block", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps,

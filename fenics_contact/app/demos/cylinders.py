@@ -36,8 +36,7 @@ def main(argv=None) -> dict:
     p.add_argument("--t-end", type=cli.POSITIVE, default=cylinders.T_END, help="final plate motion (length)")
     p.add_argument("--dt", type=cli.POSITIVE, default=0.5,
                    help="plate motion per load step after the Hertz step (length)")
-    p.add_argument("--model", choices=["neohookean", "linear"], default="neohookean",
-                   help="bulk material (linear: small t only, the model-reduction check)")
+    cli.model_option(p, "neohookean", help="bulk material (linear: small t only, the model-reduction check)")
     p.add_argument("--symmetry", choices=["half", "full"], default="half", help="right halves (x >= 0) or whole disks")
     scene = add_scene_options(p, cylinders.build)  # --R-lower, --R-upper, --E, --nu, --h-far, --contact-width
     args = cli.parse(p, argv)

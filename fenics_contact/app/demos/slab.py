@@ -52,8 +52,7 @@ def main(argv=None) -> dict:
     p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the cells this many times (32 x 16 at 0)")
     p.add_argument("--steps", type=cli.COUNT, default=1, help="proportional load steps (friction is path dependent)")
     p.add_argument("--sweep", action="store_true", help=f"run mu in {SWEEP} and plot the zones against mu")
-    p.add_argument("--model", choices=["linear", "neohookean"], default="linear",
-                   help="bulk material (coulomb: linear only)")
+    cli.model_option(p, help="bulk material (coulomb: linear only)")
     scene = add_scene_options(p, slab.build)  # --width, --height, --E, --nu, --top-pressure, --side-pressure
     # auglag's lam0 > 0: the resting slab's first Jacobian needs it
     p.set_defaults(method="coulomb", omega_t=slab.OMEGA_T, F_hat=slab.LAM0, lam0=slab.LAM0)

@@ -27,7 +27,7 @@ def main(argv=None) -> dict:
     p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)),
                    help="mesh level: 0 to 3, about 1e4 to 1e6 dofs")
     p.add_argument("--steps", type=cli.COUNT, default=None, help="load steps (default: 1, or 2 with --load)")
-    p.add_argument("--model", choices=["linear", "neohookean"], default="linear", help="bulk material")
+    cli.model_option(p)
     p.add_argument("--plate", choices=["rigid", "meshed"], default="rigid",
                    help="the plane: rigid, or a meshed block of the sphere's material (two-body contact)")
     p.add_argument("--size", type=cli.POSITIVE, default=None,

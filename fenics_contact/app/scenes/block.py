@@ -10,7 +10,10 @@ pressure is ``175.8243 (1 - d/0.32)``.
 
 Options: ``plane="stress"`` (``sigma_zz = 0``: exact pressure ``E * 0.32/2 = 160``) and
 ``model="neohookean"`` (finite strain, same E and nu), whose exact state is the homogeneous
-``F = diag(a, c, l3)`` of :func:`homogeneous_state`. Pressures are nominal (per reference area);
+``F = diag(a, c, l3)`` of :func:`homogeneous_state`, and ``model="neohookean-mixed"`` (nearly
+incompressible rubber, plane strain: the mixed displacement-pressure model on Taylor-Hood P2-P1, contact
+quadrature ``gauss`` or ``simpson``; ``linear-mixed``: Herrmann's small-strain form, the linear state), whose
+exact state is homogeneous too. Pressures are nominal (per reference area);
 neo-Hookean runs also report the Cauchy (true) pressure, per current area. The constants are keyword
 arguments of :func:`build` (``height``, ``width``, ``E``, ``nu``, ``displacement``), their defaults the
 paper's; the exact state is then :func:`homogeneous_state` of ``strain = displacement / height``.
@@ -24,7 +27,8 @@ from mpi4py import MPI
 from ...condensed import step_solver_for
 from ...factory import contact_surface
 from ...laws import ContactLaw
-from ...materials import MODELS, PLANES, lame
+from ...materials import PLANES, lame
+from ...models import MODELS
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
@@ -56,16 +60,29 @@ def homogeneous_state(model: str = "linear", plane: str = "strain", E: float = E
     - plane stress (``l3 = a``): ``s = a^2`` solves ``lambda c^2/2 s^2 + mu s - (mu + lambda/2) = 0``.
 
     Then ``p_nominal = -(mu (c - 1/c) + lambda/2 (J^2 - 1)/c)``, and ``da/dA = J |F^-T N| = a l3`` for the
-    base (``N = -e_y``): ``p_cauchy = p_nominal / (a l3)``."""
+    base (``N = -e_y``): ``p_cauchy = p_nominal / (a l3)``.
+
+    ``neohookean-mixed`` (plane strain, ``l3 = 1``): ``P_xx(a, c) = 0`` of
+    :meth:`~fenics_contact.materials.MixedNeoHookean.uniaxial` solved for ``a`` (Brent's method), then
+    ``p_nominal = -P_yy``, ``p_cauchy = p_nominal / a``."""
     if model not in MODELS:
         raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
+    if MODELS[model].mixed and plane != "strain":
+        raise ValueError(f"model {model!r} is plane strain, got plane {plane!r}")
     lam, mu = lame(E, nu)
     c = 1.0 - strain
-    if model == "linear":
+    if MODELS[model].linear:  # linear-mixed: the same state (its eliminated energy is LinearElastic's)
         p = (E if plane == "stress" else E / (1 - nu**2)) * strain
         return {"a": 1.0, "c": c, "l3": 1.0, "p_nominal": p, "p_cauchy": p}
+    if model == "neohookean-mixed":
+        from scipy.optimize import brentq
+
+        m = MODELS[model](E, nu)
+        a = brentq(lambda s: m.uniaxial(s, c, 2)[0], 1.0, 2.0 / c)  # P_xx < 0 at a = 1, > 0 at J = 2
+        p = -m.uniaxial(a, c, 2)[1]
+        return {"a": float(a), "c": c, "l3": 1.0, "p_nominal": float(p), "p_cauchy": float(p / a)}
     if plane == "strain":
         a = np.sqrt((mu + lam / 2) / (mu + lam * c**2 / 2))
         l3 = 1.0
@@ -91,14 +108,16 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
           comm: MPI.Comm = MPI.COMM_WORLD, quadrilateral: bool = False, model: str = "linear",
           steps: int = 1, plane: str = "strain", height: float = HEIGHT, width: float = 2 * HALF_WIDTH, E: float = E,
           nu: float = NU, displacement: float = DISPLACEMENT) -> Setup:
-    """``model``: ``linear`` (the paper's) or ``neohookean`` (finite strain, same E and nu); ``plane``:
+    """``model``: ``linear`` (the paper's), ``neohookean`` (finite strain, same E and nu) or
+    ``neohookean-mixed`` or ``linear-mixed`` (P2-P1, quadrature ``gauss`` or ``simpson``); ``plane``:
     ``strain`` (the paper's) or ``stress``; the block ``width`` x ``height`` (the right half modelled), its top
     moved down by ``displacement``."""
     positive(height=height, width=width, E=E, displacement=displacement)
     poisson(nu=nu)
     homogeneous_state(model, plane)  # checks model and plane before any work
     mesh, _, facet_tags = rectangle(comm, width / 2, height, nx, ny, quadrilateral)
-    u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
+    mixed = MODELS[model].mixed
+    u, V = unknown(mesh, 2 if mixed else 1, law, model=model)  # (displacement, pressure): lagrange, or mixed model
     load = fem.Constant(mesh, 0.0)
     fdim = mesh.topology.dim - 1
     top = facet_tags.find("top")

@@ -56,7 +56,8 @@ from mpi4py import MPI
 from ...condensed import step_solver_for
 from ...factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ...laws import ContactLaw, ExactCoulomb, LagrangeMultiplier
-from ...materials import MODELS, PLANES, Materials
+from ...materials import PLANES, Materials
+from ...models import MODELS
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
@@ -215,7 +216,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
           plate_width: float | None = None, plate_depth: float | None = None, contact_width: float | None = None,
           stabilisation: float | None = None) -> Setup:
     """``refinement`` halves the mesh size that many times (default: h = R/400 at the contact);
-    ``model``: ``linear`` (default: strains ~1e-3) or ``neohookean`` (the model-reduction check);
+    ``model``: ``linear`` (default: strains ~1e-3), ``neohookean`` (the model-reduction check) or
+    ``neohookean-mixed`` or ``linear-mixed`` (nearly incompressible: Taylor-Hood P2-P1, quadrature ``gauss`` or
+    ``simpson``);
     ``symmetry``: ``quarter`` (default), ``half`` (the lower half disk, ``u_x = 0`` at the centre
     only: the same problem without the mirror about ``x = 0``) or ``full`` (the whole disk between the
     lower plate and an upper rigid plate that moves down by ``2 approach``: no mirror at all; the rigid
@@ -265,6 +268,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:
         raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
+    MODELS[model](E, nu, plane=plane)  # a plane the model refuses (the mixed one: plane strain), before any work
     if symmetry not in ("quarter", "half", "full"):
         raise ValueError(f"hertz symmetry must be 'quarter', 'half' or 'full', got {symmetry!r}")
     if plate not in ("rigid", "meshed"):
@@ -281,7 +285,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     mesh, cell_tags, facet_tags = hertz_quarter_disk(comm, R, h_contact=h, h_far=R / 10, contact_width=contact_width,
                                                      half=symmetry == "half", full=symmetry == "full",
                                                      plate=plate_size if plate == "meshed" else None)
-    u, V = unknown(mesh, 1, law)  # displacement, or (displacement, pressure) for method lagrange
+    # displacement P1, or (displacement, pressure): P1-P1 for method lagrange, Taylor-Hood P2-P1 for the mixed model
+    u, V = unknown(mesh, 2 if MODELS[model].mixed else 1, law, model=model)
     t = fem.Constant(mesh, 0.0)  # the load parameter
     fdim = mesh.topology.dim - 1
     # the full disk has no top side (its u_y is held at the centre, below)

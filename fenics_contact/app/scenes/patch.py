@@ -44,7 +44,8 @@ from mpi4py import MPI
 from ...compat import function_space
 from ...factory import two_body_surfaces
 from ...laws import ContactLaw
-from ...materials import MODELS, LinearElastic, Materials
+from ...materials import LinearElastic, Materials
+from ...models import MODELS
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import stacked_blocks
 from . import Option, Setup, poisson, positive

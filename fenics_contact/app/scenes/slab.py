@@ -38,7 +38,8 @@ from ...condensed import CondensedContact, step_solver_for
 from ...factory import contact_surface
 from ...friction import FrictionalContact
 from ...laws import ContactLaw
-from ...materials import MODELS, PLANES
+from ...materials import PLANES
+from ...models import MODELS
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet

@@ -39,7 +39,8 @@ from mpi4py import MPI
 
 from ...factory import contact_surface, two_body_surfaces
 from ...laws import ContactLaw
-from ...materials import MODELS, Materials
+from ...materials import Materials
+from ...models import MODELS
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
