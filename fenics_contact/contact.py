@@ -175,7 +175,7 @@ class ContactSurface(Surface):
         P1 = function_space(mesh, "Lagrange", 1)
         self._out = self.projector if quadrature == "nodal" else SurfaceProjector(
             P1, contact_measure(mesh, facet_tags, tag, "nodal"))
-        self._recover = self._out if quadrature == "nodal" else LumpedProjector(P1, self.ds)
+        self._recover = LumpedProjector(P1, self.ds) if quadrature == "gauss" else self._out
         self.gap_out = fem.Function(P1, name="gap")
         self.pressure_out = fem.Function(P1, name="contact_pressure")
         self._out_rhs = [(self._out.compile(self.gap), self.gap_out)]
