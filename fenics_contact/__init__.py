@@ -22,9 +22,10 @@ benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :fu
 (:mod:`~fenics_contact.app.plotting`), meshes (:mod:`~fenics_contact.app.meshes`, gmsh imported only by the
 builders that use it) and tables are public too. Importing the package does not import gmsh.
 """
-from . import capabilities, compat, domain, failure, kinematics, laws, methods, search
+from . import capabilities, cells, compat, domain, failure, kinematics, laws, methods, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
+from .cells import MeshError, check_cells
 from .compat import function_space, interpolate_expression
 from .condensed import CondensedContact, CondensedCoulomb, CondensedTwoBody, CondensedTwoBodyCoulomb, step_solver_for
 from .contact import ContactSurface, contact_measure
@@ -77,7 +78,7 @@ __all__ = [
     "CondensedTwoBodyCoulomb", "TwoBodySurface", "SegmentSurface",
     "TwoBodyMultiplier", "FrictionalTwoBodySurface",
     # your own mesh: gmsh physical names
-    "read_gmsh", "NamedTags", "tag_boundary",
+    "read_gmsh", "NamedTags", "tag_boundary", "check_cells", "MeshError",
     # problem, boundary conditions, solver
     "ContactProblem", "Dirichlet", "Stabilised", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
     "INEXACT_NEWTON",
@@ -88,7 +89,7 @@ __all__ = [
     # the capability matrix: a refused combination of options (capabilities.check, docs/capabilities.md)
     "UnsupportedCombination",
     # public submodules
-    "capabilities", "compat", "domain", "failure", "methods", "search",
+    "capabilities", "cells", "compat", "domain", "failure", "methods", "search",
 ]
 
 # Former names, kept for one release: each use warns (DeprecationWarning) and gives the new object.

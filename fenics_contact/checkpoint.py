@@ -62,8 +62,8 @@ def save(solver, folder: str | Path, extra: object = None) -> int:
             "stateful": [{"state": c.state(), **({"log": list(c.log)} if isinstance(getattr(c, "log", None), list)
                                                  else {})} for c in solver.stateful()],
             "predictor": solver.prediction.converged, "records": solver.records, "failures": solver.failures,
-            "newton_spent": solver.newton_spent, "linear_iterations": solver.linear_iterations,
-            "force_scale": solver.newton.force_scale, "extra": extra}
+            "warnings": solver.record.warnings, "newton_spent": solver.newton_spent,
+            "linear_iterations": solver.linear_iterations, "force_scale": solver.newton.force_scale, "extra": extra}
     error = None
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -112,6 +112,7 @@ def restore(solver, folder: str | Path) -> dict | None:
     solver.t, solver.pending = data["t"], data["pending"]
     solver.prediction.converged = data["predictor"]
     solver.records[:], solver.failures[:] = data["records"], data["failures"]
+    solver.record.warnings[:] = data.get("warnings", [])
     solver.newton_spent, solver.linear_iterations = data["newton_spent"], data["linear_iterations"]
     solver.newton.force_scale = data.get("force_scale")  # the absolute tolerance of the run it goes on
     return {"step": data["step"], "t": data["t"], "pending": list(data["pending"]), "extra": data["extra"]}

@@ -19,9 +19,9 @@ if typing.TYPE_CHECKING:
     from petsc4py import PETSc
 
 __all__ = [
-    "function_space", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "interpolate_expression", "cell_sizes",
-    "entities_to_geometry", "cell_dofs", "cell_partitioner", "model_to_mesh", "create_mesh",
-    "release_free_memory", "schur_complement", "petsc_library"
+    "function_space", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "compile_expression",
+    "interpolate_expression", "cell_sizes", "entities_to_geometry", "cell_dofs", "geometry_dofs", "cell_partitioner",
+    "model_to_mesh", "create_mesh", "release_free_memory", "schur_complement", "petsc_library"
 ]
 
 
@@ -94,18 +94,25 @@ def _petsc():
     return PETSc
 
 
+def compile_expression(expr, V) -> fem.Expression:
+    """``expr`` (UFL) compiled for evaluation at the interpolation points of the space ``V`` (for
+    :func:`interpolate_expression`: compiled once, evaluated many times)."""
+    pts = V.element.interpolation_points
+    return fem.Expression(expr, pts() if callable(pts) else pts)
+
+
 def interpolate_expression(f: fem.Function, expr) -> fem.Function:
-    """``f`` = ``expr`` (UFL) evaluated at the interpolation points of ``f``'s space, cell by cell.
+    """``f`` = ``expr`` evaluated at the interpolation points of ``f``'s space, cell by cell.
 
     Args:
         f: the Function to set.
-        expr: the UFL expression.
+        expr: the UFL expression, or one compiled by :func:`compile_expression` for ``f``'s space (compiled once,
+            evaluated many times).
 
     Returns:
         ``f``.
     """
-    pts = f.function_space.element.interpolation_points
-    f.interpolate(fem.Expression(expr, pts() if callable(pts) else pts))
+    f.interpolate(expr if isinstance(expr, fem.Expression) else compile_expression(expr, f.function_space))
     f.x.scatter_forward()
     return f
 
@@ -118,6 +125,16 @@ def cell_dofs(V) -> typing.Any:
     if hasattr(dofs, "offsets"):  # dolfinx 0.5: an AdjacencyList
         return np.asarray(dofs.array).reshape(len(dofs.offsets) - 1, -1)
     return np.asarray(dofs)
+
+
+def geometry_dofs(mesh) -> typing.Any:
+    """The geometry dofmap as an array (local cells, nodes per cell) of rows of ``mesh.geometry.x``."""
+    import numpy as np
+
+    dofs = mesh.geometry.dofmap
+    if hasattr(dofs, "offsets"):  # dolfinx 0.5: an AdjacencyList
+        return np.asarray(dofs.array).reshape(len(dofs.offsets) - 1, -1)
+    return np.asarray(dofs[0] if isinstance(dofs, (list, tuple)) else dofs)
 
 
 def cell_sizes(mesh, dim: int, entities):

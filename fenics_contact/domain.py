@@ -7,7 +7,8 @@ and returns ``(mesh, cells, facets)``: :class:`NamedTags` that give each
 physical group by its name (``facets["contact"]``) and work wherever the
 library takes facet or cell tags. A name that the mesh does not have is an
 error naming the names it has; so is a ``gdim`` other than the mesh's
-dimension (raised on every rank).
+dimension (raised on every rank). A mesh with inverted or degenerate cells is refused
+(:class:`~fenics_contact.cells.MeshError`, :func:`~fenics_contact.cells.check_cells`).
 
 Everything here is collective on ``comm``; gmsh is imported only when a
 mesh is read.
@@ -90,7 +91,8 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
     """Mesh and named cell and facet tags from a gmsh ``.msh``/``.geo`` file or (``source=None``) the gmsh model
     of this process (rank 0's). Returns ``(mesh, cells, facets)`` (:class:`NamedTags`). ``gdim``: the geometric
     dimension, the model's own (2 for a planar mesh in the plane z = 0, 3 for a solid); another is a
-    ``ValueError`` naming both.
+    ``ValueError`` naming both. Inverted (tangled) or degenerate cells: :class:`~fenics_contact.cells.MeshError`
+    naming how many and where.
 
     Args:
         source: a ``.msh`` or ``.geo`` file, or None for the gmsh model of this process (rank 0's).
@@ -102,6 +104,7 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
     """
     import gmsh
 
+    from .cells import check_cells
     from .compat import model_to_mesh
 
     if gdim not in (2, 3):
@@ -145,6 +148,7 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
     finally:
         if own:
             gmsh.finalize()
+    check_cells(mesh, "read_gmsh: " + ("the gmsh model" if path is None else repr(str(path))))
     tdim = mesh.topology.dim
     return mesh, NamedTags(cell_tags, names.get(tdim, {})), NamedTags(facet_tags, names.get(tdim - 1, {}))
 

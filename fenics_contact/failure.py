@@ -37,8 +37,9 @@ in this order of precedence:
 ``max_iterations``
     none of the above: still converging, too slowly for the iteration limit.
 ``inverted_elements``
-    (set by the solver, not by :func:`classify`) Newton converged, but to a finite-strain state with
-    ``det F <= 0`` somewhere (:meth:`ContactProblem.min_jacobian`): not an answer; the step is cut back.
+    (set by the solver, not by :func:`classify`) Newton converged, but to a state with ``det F <= 0``
+    (``F = I + grad u``) somewhere (:meth:`ContactProblem.min_jacobian`), for any material (a small-strain
+    model converges to such a state without complaint): not an answer; the step is cut back.
 ``exploded_geometry``
     (set by the solver from :meth:`Surface.take_failure`) an iterate stretched a two-body facet past
     :data:`~fenics_contact.search.STRETCH_LIMIT` times its reference size: the surface rejected it (a

@@ -137,9 +137,15 @@ class Material:
                 "plane": self.plane}
 
 
+# The strain (largest principal value of sym(grad u)) past which a small-strain model is out of its depth: the
+# quadratic term it drops from the Green-Lagrange strain, grad u^T grad u / 2, is then 2.5 % of it or more.
+SMALL_STRAIN = 0.05
+
+
 class LinearElastic(Material):
     """Small-strain isotropic elasticity: ``W = mu eps:eps + lambda/2 (tr eps)^2``; plane stress in 2D with
-    ``lambda* = 2 lambda mu / (lambda + 2 mu)`` (``sigma_zz = 0`` eliminates ``eps_zz``).
+    ``lambda* = 2 lambda mu / (lambda + 2 mu)`` (``sigma_zz = 0`` eliminates ``eps_zz``). Valid for strains
+    (and rotations) well below :data:`SMALL_STRAIN`; the solver flags a run that goes past it.
 
     Args:
         E: Young's modulus (stress), > 0.

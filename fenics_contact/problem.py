@@ -16,7 +16,15 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .capabilities import check, of
-from .compat import function_space, interpolate_expression, lift_and_set_bc, petsc_vec
+from .cells import check_cells
+from .compat import (
+    cell_dofs,
+    compile_expression,
+    function_space,
+    interpolate_expression,
+    lift_and_set_bc,
+    petsc_vec,
+)
 from .contact import displacement, is_mixed
 from .domain import tag_value
 from .kinematics import AXISYMMETRIC, hoop_stretch
@@ -139,6 +147,7 @@ class ContactProblem:
                  dirichlet: Sequence[Dirichlet] = (), contacts: Sequence[Surface] = (),
                  tractions: Sequence[tuple] = (),
                  step_solver: StepSolver | None = None):
+        check_cells(u.function_space.mesh)  # a tangled or flat cell: no answer to solve for
         self.u, self.material, self.load = u, material, load
         for i, entry in enumerate(tractions):
             if not isinstance(entry, (tuple, list)) or len(entry) not in (2, 3):
@@ -310,23 +319,62 @@ class ContactProblem:
             self._mesh_size = float(np.linalg.norm(hi - lo))
         return self._mesh_size
 
-    def min_jacobian(self) -> float | None:
-        """Smallest ``J = det F`` at the current displacement over every cell's DG1 interpolation points (the
-        vertices), over all ranks; None for a small-strain material (no such constraint). ``J <= 0``: an
-        inverted element, an inadmissible finite-strain state even if Newton converged to it. Axisymmetric: the
-        hoop stretch ``1 + u_r / r`` is a factor of ``J``."""
-        if self.material.linear:
-            return None
+    def _cell_jacobians(self) -> np.ndarray:
+        """Smallest ``det F`` (``F = I + grad u``; axisymmetric: times the hoop stretch ``1 + u_r / r``) of each
+        owned cell over its DG1 interpolation points (the vertices), at the current displacement."""
         if not hasattr(self, "_detF"):
             w = displacement(self.u)
             detF = ufl.det(ufl.Identity(len(w)) + ufl.grad(w))
             if getattr(self.material, "axisymmetric", False):
                 detF = detF * hoop_stretch(w, AXISYMMETRIC)
-            self._detF = (fem.Function(function_space(self.u.function_space.mesh, "DG", 1)), detF)
+            f = fem.Function(function_space(self.u.function_space.mesh, "DG", 1))
+            self._detF = (f, compile_expression(detF, f.function_space))
         f, expr = self._detF
         interpolate_expression(f, expr)
-        local = f.x.array[: f.function_space.dofmap.index_map.size_local]
+        V = f.function_space
+        return f.x.array[cell_dofs(V)[: V.mesh.topology.index_map(V.mesh.topology.dim).size_local]].min(axis=1)
+
+    def min_jacobian(self) -> float:
+        """Smallest ``J = det F`` (``F = I + grad u``) at the current displacement over every cell's DG1
+        interpolation points (the vertices), over all ranks. ``J <= 0``: an inverted element, no answer even
+        if Newton converged to it (a finite-strain material has no such state; a small-strain one gives it
+        without complaint, its displacement overlapping itself)."""
+        local = self._cell_jacobians()
         return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
+
+    def inverted_cells(self) -> tuple[int, int]:
+        """``(cells with det F <= 0 at a vertex, cells)`` at the current displacement, over all ranks."""
+        local = self._cell_jacobians()
+        return (self.comm.allreduce(int(np.count_nonzero(local <= 0.0)), op=MPI.SUM),
+                self.comm.allreduce(local.size, op=MPI.SUM))
+
+    def max_strain(self) -> float:
+        """Largest absolute principal value of the small strain ``sym(grad u)`` at the current displacement over
+        every cell's DG1 interpolation points (the vertices), over all ranks: how far a small-strain model is
+        from its premise (strains, and rotations, much below 1)."""
+        if not hasattr(self, "_strain"):
+            w = displacement(self.u)
+            d = len(w)
+            eps = ufl.sym(ufl.grad(w))
+            pairs = [(i, j) for i in range(d) for j in range(i, d)]
+            f = fem.Function(function_space(self.u.function_space.mesh, "DG", 1, (len(pairs),)))
+            self._strain = (f, compile_expression(ufl.as_vector([eps[i, j] for i, j in pairs]), f.function_space),
+                            d, pairs)
+        f, expr, d, pairs = self._strain
+        interpolate_expression(f, expr)
+        V = f.function_space
+        owned = V.dofmap.index_map.size_local
+        values = f.x.array.reshape(-1, len(pairs))[:owned]
+        # The spectral norm is at least the Frobenius norm / sqrt(d) and at most the Frobenius norm: only the points
+        # whose Frobenius norm reaches the largest one / sqrt(d) can hold the largest principal value.
+        frobenius = np.sqrt(sum((1.0 if i == j else 2.0) * values[:, k] ** 2 for k, (i, j) in enumerate(pairs)))
+        if not owned:
+            return self.comm.allreduce(0.0, op=MPI.MAX)
+        candidates = values[frobenius >= frobenius.max() / np.sqrt(d)]
+        tensor = np.zeros((len(candidates), d, d))
+        for k, (i, j) in enumerate(pairs):
+            tensor[:, i, j] = tensor[:, j, i] = candidates[:, k]
+        return self.comm.allreduce(float(np.abs(np.linalg.eigvalsh(tensor)).max()), op=MPI.MAX)
 
     def internal_force(self) -> np.ndarray:
         """Internal forces ``dW[phi_i]`` at the current state, local array (owned and ghost dofs)."""

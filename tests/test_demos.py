@@ -65,6 +65,7 @@ def test_hertz_demo_at_its_defaults_passes_its_check(method, tmp_path_factory, c
     out = comm.bcast(str(tmp_path_factory.mktemp(method)) if comm.rank == 0 else None)
     summary = load("hertz").main(["--method", method, "--out", out, "--no-pictures", "--no-xdmf", "--quiet"])
     assert summary["check"]["passed"], summary["check"]
+    assert summary["warnings"] == [] and summary["check"]["flag"] is None  # small strain, a/R ~ 0.09
 
 
 def test_hertz_two_body_exact_in_one_step_from_the_demo(tmp_path_factory, comm):

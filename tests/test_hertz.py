@@ -1,4 +1,6 @@
 """Cylinder on a rigid plane against Hertz (plane strain)."""
+import re
+
 import numpy as np
 import pytest
 
@@ -171,6 +173,80 @@ def test_meshed_plate_with_multipliers():
     f = setup.figures()
     assert f["p0_error"] < 0.02 and f["a_error"] < 0.02, (f["p0_error"], f["a_error"])
     assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-8)
+
+
+def test_linear_elastic_inversion_is_a_failure_not_an_answer(tmp_path_factory, comm, capsys):
+    """An approach of 2 R (the quarter disk pushed through the plate by twice its radius) with linear elasticity:
+    the small-strain solve converges at every load, to a displacement that turns cells over (det(I + grad u) <= 0)
+    past an approach of R. Each such solve fails as ``inverted_elements``; the step is cut back, and after the
+    cutbacks the demo ends with exit status 1 and one line naming the cause."""
+    import importlib.util
+    from pathlib import Path
+
+    from fenics_contact.app import cli
+
+    path = Path(__file__).resolve().parent.parent / "fenics_contact" / "app" / "demos" / "hertz.py"
+    spec = importlib.util.spec_from_file_location("demo_hertz", path)
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    out = comm.bcast(str(tmp_path_factory.mktemp("approach")) if comm.rank == 0 else None)
+    with pytest.raises(SystemExit) as ended:
+        cli.main(demo.main, ["--approach", "2.0", "--steps", "1", "--method", "penalty", "--out", out,
+                             "--no-pictures", "--no-xdmf", "--quiet"])
+    assert ended.value.code == cli.EXIT_ERROR
+    err = capsys.readouterr().err.strip().splitlines()
+    if comm.rank == 0:
+        line = err[-1]
+        assert "did not converge" in line and "inverted_elements" in line, line
+        found = re.search(r"with (\d+) of (\d+) cells inverted", line)
+        assert found and int(found[1]) > 0, line
+        last = float(re.search(r"the last converged state is t = ([0-9.e-]+)", line)[1])
+        assert last <= 0.5  # an approach of R at most: beyond it the disk's top has passed its bottom
+
+
+def test_small_strain_model_past_its_range_is_flagged_not_failed():
+    """Linear elasticity at an approach of 0.1 R: the mean vertical strain of the quarter is t x approach / R, 0.05
+    at the first of two steps, so the largest principal strain is at least that and the run is flagged there (a
+    warning in the record and the summary, not a failure); at the default approach (1e-3 R) it is not."""
+    from fenics_contact.laws import Penalty
+    from fenics_contact.materials import SMALL_STRAIN
+
+    setup = hertz.build(Penalty(hertz.DEFAULT_K), approach=0.1, steps=2)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    warnings = solver.summary()["warnings"]
+    assert all(r.converged for r in solver.records) and len(warnings) == 1, warnings
+    found = re.search(r"^small-strain model past its range: strain ([0-9.e+-]+) .* at step 1 \(t = 0.5\)", warnings[0])
+    assert found and SMALL_STRAIN < float(found[1]) and 0.5 * 0.1 <= float(found[1])
+    assert setup.problem.max_strain() >= 0.1
+
+    setup = hertz.build(Penalty(hertz.DEFAULT_K), steps=1)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert solver.summary()["warnings"] == []
+    assert hertz.APPROACH / hertz.R <= setup.problem.max_strain() < SMALL_STRAIN
+
+
+def test_demo_flags_hertz_beyond_its_range(tmp_path_factory, comm):
+    """The demo at an approach of 0.1 R: a/R = 0.31, past the Hertz range (0.2): the check says so (and still
+    passes within its tolerance), the summary's warnings carry the flag and the small-strain warning."""
+    import importlib.util
+    from pathlib import Path
+
+    from fenics_contact.app.checks import HERTZ_RANGE
+
+    path = Path(__file__).resolve().parent.parent / "fenics_contact" / "app" / "demos" / "hertz.py"
+    spec = importlib.util.spec_from_file_location("demo_hertz", path)
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    out = comm.bcast(str(tmp_path_factory.mktemp("far")) if comm.rank == 0 else None)
+    summary = demo.main(["--approach", "0.1", "--method", "penalty", "--out", out, "--no-pictures", "--no-xdmf",
+                         "--quiet"])
+    assert summary["a_hertz"] / hertz.R > HERTZ_RANGE
+    flag = summary["check"]["flag"]
+    assert flag and flag.startswith(f"a/R = {summary['a_hertz'] / hertz.R:.3g} > {HERTZ_RANGE:g}")
+    assert f"check: {flag}" in summary["warnings"]
+    assert any(w.startswith("small-strain model past its range") for w in summary["warnings"])
 
 
 @pytest.mark.parametrize("mixed_model, model", [("neohookean-mixed", "neohookean"), ("linear-mixed", "linear")])

@@ -93,6 +93,29 @@ def test_sphere_hertz_3d_iterative():
     assert f["p0_error"] < 0.05 and f["a_error"] < 0.05
 
 
+@pytest.mark.parametrize("method", ["penalty", "auglag"])
+def test_sphere_gauss_pressure_peak_against_hertz(method):
+    """Gauss-point contact on the sphere (--size 1.0): the peak of the pressure recovered at the vertices (the
+    weighted mean of its Gauss-point values) within the scene's 5 % of Hertz and within 2 % of the nodal rule's
+    peak (measured: penalty 0.5 % / 1.6 % nodal, auglag 2.9 % both); the law evaluated at a vertex, where Gauss
+    points do not enforce it, is 14 % (penalty) and 30 % (auglag) high."""
+    figures = {}
+    for quadrature in ("nodal", "gauss"):
+        setup = sphere.build(make_law(method, K=sphere.DEFAULT_K), size=1.0, quadrature=quadrature)
+        Solver(setup.problem, quiet=True, options=LINEAR_SOLVERS["iterative"], augment_max=20,
+               augment_tol=1e-8).run(setup.loads)
+        figures[quadrature] = f = setup.figures()
+        assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-6)
+    f = figures["gauss"]
+    assert f["p0_error"] < 0.05, f["p0_error"]
+    assert abs(f["p0"] - figures["nodal"]["p0"]) < 0.02 * f["p0_hertz"]
+    contact = setup.contacts[0]
+    at_vertices = contact.pressure_out.copy()
+    contact._out.project(contact._out.compile(contact.pressure), at_vertices)
+    peak = MPI.COMM_WORLD.allreduce(float(at_vertices.x.array.max(initial=0.0)), op=MPI.MAX)
+    assert peak > 1.1 * f["p0_hertz"]  # what the recovery avoids: the law at the vertices
+
+
 def test_sphere_level_is_checked():
     with pytest.raises(ValueError, match="level"):
         sphere.build(make_law("penalty", K=1.0), level=len(sphere.LEVELS))

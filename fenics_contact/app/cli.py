@@ -600,8 +600,9 @@ def _failed_check(result: object) -> str | None:
     if c.get("value") is None or c.get("rel_error") is None:
         return f"check failed: {c.get('figure')} has no value (the run gave none)"
     source = f" ({c['source']})" if c.get("source") else ""
+    flag = f"; reference out of its range: {c['flag']}" if c.get("flag") else ""
     return (f"check failed: {c['figure']} = {c['value']:.6g}, reference {c['reference']:.6g}{source}, "
-            f"rel. error {c['rel_error']:.2e} > tolerance {c['tolerance']:.0e}")
+            f"rel. error {c['rel_error']:.2e} > tolerance {c['tolerance']:.0e}{flag}")
 
 
 def _agree(comm: MPI.Comm, status: int, line: str | None, prog: str) -> int:

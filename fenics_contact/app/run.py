@@ -120,6 +120,8 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
         summary = _summary(setup, solver, record.head, wall, error)
         if check is not None:
             summary["check"] = check(summary)
+            if summary["check"].get("flag"):  # the reference out of its range
+                summary["warnings"].append(f"check: {summary['check']['flag']}")
         record.write(summary)
         on_rank0(comm, str(lock.path), lock.release)  # every rank returns with the folder free
     except BaseException as exc:
@@ -158,6 +160,7 @@ def _summary(setup: Setup, solver: Solver, head: dict, wall: float, error: str |
             **{k: record[k] for k in ("stalled_solves", "residual_final", "condition_estimate")},
             "load_steps": record["load_steps"], "converged": converged,
             "error": error, "failure": record["failure"], "failures": record["failures"],
+            "warnings": record["warnings"],
             **(setup.figures() if solver.records and solver.t > 0 else {}),
             "steps": record["steps"]}
 

@@ -18,7 +18,9 @@ Modules, one job each:
 - :mod:`.newton`: the SNES, its callbacks and convergence test, the per-iterate log, the diagnosis of a failure;
 - :mod:`.predictor`: the secant and tangent predictors;
 - :mod:`.stepping`: :class:`Solver`, load stepping with cutback and rollback, and the augmentation loop;
-- :mod:`.record`: :class:`StepRecord`, :class:`ConvergenceError`, the summary of a run.
+- :mod:`.record`: :class:`StepRecord`, :class:`ConvergenceError`, the summary of a run;
+- :mod:`.validity`: a converged state with inverted cells (a failure), a small-strain model past its range (a
+  warning).
 """
 import logging
 

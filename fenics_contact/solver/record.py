@@ -78,18 +78,22 @@ class StepRecord:
 
 def _timings() -> dict[str, float]:
     # Seconds on this rank: forms assembled in the SNES callbacks, the whole SNES solves
-    # (their difference is the linear solves and SNES's vector work), augmentation updates.
-    return {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0, "predictor_s": 0.0}
+    # (their difference is the linear solves and SNES's vector work), augmentation updates, the check of every
+    # converged solve for inverted cells (det F).
+    return {"assembly_s": 0.0, "snes_s": 0.0, "augmentation_s": 0.0, "active_set_s": 0.0, "predictor_s": 0.0,
+            "validity_s": 0.0}
 
 
 @dataclass
 class RunRecord:
     """The load steps' records (converged, and the last failed one), every failed solve (also those rescued by a
-    cutback), seconds per activity on this rank (``timings``: the parts of a solver add to it) and the Newton
-    iterations of every solve (``newton_spent``, failed attempts included)."""
+    cutback), the warnings of the run (a model past its range: not failures), seconds per activity on this rank
+    (``timings``: the parts of a solver add to it) and the Newton iterations of every solve (``newton_spent``,
+    failed attempts included)."""
 
     records: list[StepRecord] = field(default_factory=list)
     failures: list[dict] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)  # a model or a reference out of its range (not a failure)
     timings: dict[str, float] = field(default_factory=_timings)
     newton_spent: int = 0
 
@@ -103,7 +107,7 @@ class RunRecord:
         split = {"assembly_s": t["assembly_s"],
                  "linear_solve_s": max(t["snes_s"] - t["assembly_s"] - t["active_set_s"], 0.0),
                  "augmentation_s": t["augmentation_s"], "active_set_s": t["active_set_s"],
-                 "predictor_s": t["predictor_s"]}
+                 "predictor_s": t["predictor_s"], "validity_s": t["validity_s"]}
         # the surfaces' own work (two-body search, exchange, coupling: inside assembly_s), summed over surfaces
         own: dict[str, float] = {}
         for c in contacts:
@@ -118,7 +122,7 @@ class RunRecord:
                 "condition_estimate": condition,
                 "converged": bool(self.records) and all(r.converged for r in self.records),
                 "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,
-                "failures": self.failures,
+                "failures": self.failures, "warnings": list(self.warnings),
                 "steps": [r.as_dict() for r in self.records]}
 
 

@@ -18,6 +18,7 @@ from .newton import Newton
 from .options import ScopedOptions, solver_options
 from .predictor import PREDICTORS, Predictor
 from .record import ConvergenceError, RunRecord, StepRecord, describe, progress_line, reason_text
+from .validity import inverted_failure, strain_warning
 
 __all__ = ["Solver"]
 
@@ -172,6 +173,7 @@ class Solver:
                     for c in self.stateful():
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
+                    strain_warning(self.problem, rec.step, rec.load, self.record.warnings, self.timings)
                     self.options.refuse_unused_later(self.linear_iterations > 0)
                     self.t, self.pending = t, loads[i + 1:] if t == target else loads[i:]
                     self.prediction.accept(t)
@@ -262,12 +264,11 @@ class Solver:
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
                                **newton.diagnose(rec.reason), **({"message": rec.message} if rec.message else {})}
                 break
-            J = self.problem.min_jacobian()  # finite strain: a converged state with an inverted element is no answer
-            if J is not None and not J > 0.0:
-                rec.message = f"converged to a state with an inverted element (min det F = {J:.3g})"
+            inverted = inverted_failure(self.problem, self.timings)  # a state that overlaps itself is no answer
+            if inverted is not None:
+                rec.message = inverted["message"]
                 rec.failure = {"step": rec.step, "load": t, "augmentation": rec.augmentations,
-                               "kind": "inverted_elements", "iterations": max(len(newton.history) - 1, 0),
-                               "min_jacobian": J, "message": rec.message}
+                               "iterations": max(len(newton.history) - 1, 0), **inverted}
                 break
             for c in self.problem.contacts:
                 c.after_solve(self.problem)

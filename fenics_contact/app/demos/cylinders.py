@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import reference_check
+from fenics_contact.app.checks import hertz_range, reference_check
 from fenics_contact.app.scenes import add_scene_options, cylinders, scene_arguments
 from fenics_contact.twobody import QUADRATURES
 
@@ -63,7 +63,9 @@ def main(argv=None) -> dict:
                   args.augment, args.augment_tol, args.quiet, on_step=after_step, keep=(history, profiles),
                   check=lambda s: reference_check("p0 (Hertz step)", history[0]["p0"] if history else None,
                                         history[0]["p0_hertz"] if history else None, TOLERANCE,
-                                        f"Hertz for two cylinders at t = {cylinders.T_HERTZ:g}"),
+                                        f"Hertz for two cylinders at t = {cylinders.T_HERTZ:g}",
+                                        hertz_range(history[0]["a_hertz"] if history else None,
+                                                    min(setup.parameters["R_lower"], setup.parameters["R_upper"]))),
                   xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
 
     # 4. Tables and pictures (rank 0; every figure is already reduced over ranks).

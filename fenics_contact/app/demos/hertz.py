@@ -19,7 +19,7 @@ from dolfinx import fem
 
 from fenics_contact import function_space, interpolate_expression
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import reference_check
+from fenics_contact.app.checks import hertz_range, reference_check
 from fenics_contact.app.scenes import add_scene_options, hertz, scene_arguments
 
 TOLERANCE = 2e-2  # p0 of the nodal maximum on the default mesh (README: within 0.32 % with cross); a (mixed model)
@@ -62,7 +62,8 @@ def main(argv=None) -> dict:
                   args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf,
                   restart=args.restart, overwrite=args.overwrite,
                   check=lambda s: reference_check(figure, s.get(figure), s.get(f"{figure}_hertz"), TOLERANCE,
-                                                  f"Hertz {figure} for the computed load"))
+                                                  f"Hertz {figure} for the computed load",
+                                                  hertz_range(s.get("a_hertz"), setup.parameters["R"])))
 
     # 4. Pictures: von Mises stress on the deformed quarter disk; pressure against Hertz.
     if not args.no_pictures:

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import reference_check
+from fenics_contact.app.checks import hertz_range, reference_check
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, sphere
 
 # p0 is the nodal maximum on a mesh of h = a/7 at level 0: within 5 % (tests/test_sphere.py); 2.6 % at level 0
@@ -70,7 +70,8 @@ def main(argv=None) -> dict:
                   args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf,
                   restart=args.restart, overwrite=args.overwrite,
                   check=lambda s: reference_check("p0", s.get("p0"), s.get("p0_hertz"), TOLERANCE,
-                                        "Hertz p0 = 3P/(2 pi a^2) for the computed load"))
+                                        "Hertz p0 = 3P/(2 pi a^2) for the computed load",
+                                        hertz_range(s.get("a_hertz"), setup.parameters["R"])))
 
     # 4. Picture: contact pressure against the distance from the axis, with Hertz.
     if not args.no_pictures:

@@ -133,12 +133,14 @@ def check_ratios_option(ratios: list) -> None:
 
 def worst_ratio_check(ratios: list, tolerance: float, source: str) -> Callable[[dict], dict]:
     """The demos' self-check of a summary: the stick size ``c_<r>`` at the ratio with the largest ``c_error_<r>``
-    (a ratio without one counts as the worst) against ``c_ref_<r>`` within ``tolerance`` (relative)."""
-    from ..checks import reference_check
+    (a ratio without one counts as the worst) against ``c_ref_<r>`` within ``tolerance`` (relative); flagged when
+    the Hertz contact it stands on is out of its range (:func:`~fenics_contact.app.checks.hertz_range`)."""
+    from ..checks import hertz_range, reference_check
 
     def self_check(s: dict) -> dict:
         worst = max(ratios, key=lambda r: s.get(f"c_error_{r:g}", np.inf))
-        return reference_check(f"c_{worst:g}", s.get(f"c_{worst:g}"), s.get(f"c_ref_{worst:g}"), tolerance, source)
+        return reference_check(f"c_{worst:g}", s.get(f"c_{worst:g}"), s.get(f"c_ref_{worst:g}"), tolerance, source,
+                               hertz_range(s.get("a_hertz"), s["parameters"]["R"]))
 
     return self_check
 
