@@ -348,34 +348,6 @@ class ContactProblem:
         return (self.comm.allreduce(int(np.count_nonzero(local <= 0.0)), op=MPI.SUM),
                 self.comm.allreduce(local.size, op=MPI.SUM))
 
-    def max_strain(self) -> float:
-        """Largest absolute principal value of the small strain ``sym(grad u)`` at the current displacement over
-        every cell's DG1 interpolation points (the vertices), over all ranks: how far a small-strain model is
-        from its premise (strains, and rotations, much below 1)."""
-        if not hasattr(self, "_strain"):
-            w = displacement(self.u)
-            d = len(w)
-            eps = ufl.sym(ufl.grad(w))
-            pairs = [(i, j) for i in range(d) for j in range(i, d)]
-            f = fem.Function(function_space(self.u.function_space.mesh, "DG", 1, (len(pairs),)))
-            self._strain = (f, compile_expression(ufl.as_vector([eps[i, j] for i, j in pairs]), f.function_space),
-                            d, pairs)
-        f, expr, d, pairs = self._strain
-        interpolate_expression(f, expr)
-        V = f.function_space
-        owned = V.dofmap.index_map.size_local
-        values = f.x.array.reshape(-1, len(pairs))[:owned]
-        # The spectral norm is at least the Frobenius norm / sqrt(d) and at most the Frobenius norm: only the points
-        # whose Frobenius norm reaches the largest one / sqrt(d) can hold the largest principal value.
-        frobenius = np.sqrt(sum((1.0 if i == j else 2.0) * values[:, k] ** 2 for k, (i, j) in enumerate(pairs)))
-        if not owned:
-            return self.comm.allreduce(0.0, op=MPI.MAX)
-        candidates = values[frobenius >= frobenius.max() / np.sqrt(d)]
-        tensor = np.zeros((len(candidates), d, d))
-        for k, (i, j) in enumerate(pairs):
-            tensor[:, i, j] = tensor[:, j, i] = candidates[:, k]
-        return self.comm.allreduce(float(np.abs(np.linalg.eigvalsh(tensor)).max()), op=MPI.MAX)
-
     def internal_force(self) -> np.ndarray:
         """Internal forces ``dW[phi_i]`` at the current state, local array (owned and ghost dofs)."""
         r = fem.Function(self.u.function_space)

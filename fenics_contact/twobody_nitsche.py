@@ -89,8 +89,8 @@ class NitscheTwoBody(TwoBodySurface):
     def _point_pressure(self, g: np.ndarray) -> np.ndarray:
         """Nitsche's pressure at the slave points (nf, nq): projected on the surface space (it is not a law of the
         gap alone); 0 where unpaired."""
-        if not hasattr(self, "_pressure_rhs"):
-            self._pressure_rhs = self.projector.compile(self.pressure)
+        if not hasattr(self, "_nitsche_rhs"):
+            self._nitsche_rhs = self.projector.compile(self.pressure)
             self._pressure_now = fem.Function(self.S)
-        self.projector.project(self._pressure_rhs, self._pressure_now)
+        self.projector.project(self._nitsche_rhs, self._pressure_now)
         return np.where(np.isfinite(g), self.report.field_values(self._pressure_now), 0.0)
