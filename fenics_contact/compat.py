@@ -19,10 +19,17 @@ if typing.TYPE_CHECKING:
     from petsc4py import PETSc
 
 __all__ = [
-    "function_space", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "compile_expression",
+    "function_space", "space_degree", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "compile_expression",
     "interpolate_expression", "cell_sizes", "entities_to_geometry", "cell_dofs", "geometry_dofs", "cell_partitioner",
     "model_to_mesh", "create_mesh", "release_free_memory", "schur_complement", "petsc_library"
 ]
+
+
+def space_degree(V) -> int:
+    """The polynomial degree of the function space ``V``'s element (UFL's ``degree()`` in dolfinx 0.5, basix's
+    ``degree`` property in 0.9)."""
+    degree = V.ufl_element().degree
+    return int(degree() if callable(degree) else degree)
 
 
 def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None = None):

@@ -15,7 +15,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .compat import entities_to_geometry, function_space, interpolate_expression, petsc_vec
+from .compat import entities_to_geometry, function_space, interpolate_expression, petsc_vec, space_degree
 from .domain import check_tags, tag_value
 from .laws import ContactLaw, ufl_ops
 from .obstacles import Obstacle
@@ -137,7 +137,7 @@ class ContactSurface(Surface):
         # Function, so that forms compiled before the bulk material is bound (the two-body couplings) weight by
         # the ring too; the projections stay unweighted (a node on the axis has r = 0).
         Vu = u.function_space.sub(0) if is_mixed(u.function_space) else u.function_space
-        self.ring = fem.Function(function_space(mesh, "Lagrange", Vu.ufl_element().degree()), name="ring")
+        self.ring = fem.Function(function_space(mesh, "Lagrange", space_degree(Vu)), name="ring")
         self.ring.x.array[:] = 1.0
         obstacle.bind(load)
         self.displacement_out = u  # the displacement Function for output (a collapsed copy if u is mixed)

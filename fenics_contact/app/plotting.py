@@ -63,7 +63,9 @@ def plot_deformed(u: Function, scalar: Function, path: str | Path, title: str = 
     V, S = u.function_space, scalar.function_space
     comm = V.mesh.comm
     u.x.scatter_forward()
-    if V.ufl_element().degree() > 1:  # the picture's cells are the mesh's: the vertex values
+    from fenics_contact.compat import space_degree
+
+    if space_degree(V) > 1:  # the picture's cells are the mesh's: the vertex values
         from dolfinx import fem
 
         from fenics_contact import function_space
