@@ -163,8 +163,13 @@ def test_hertz_reference_beyond_its_range_is_flagged(caplog):
     assert hertz_range(0.35e-3, 1e-3) == flag  # a ratio: any length unit
     c = reference_check("p0", 1.01, 1.0, 2e-2, "Hertz", flag)
     assert c["passed"] and c["flag"] == flag
-    with caplog.at_level(logging.INFO, logger="fenics_contact.app.checks"):
-        log_check(c)
+    checks_logger = logging.getLogger("fenics_contact.app.checks")
+    checks_logger.addHandler(caplog.handler)  # the command line's set-up may have stopped its propagation
+    try:
+        with caplog.at_level(logging.INFO, logger="fenics_contact.app.checks"):
+            log_check(c)
+    finally:
+        checks_logger.removeHandler(caplog.handler)
     assert caplog.records[-1].levelno == logging.WARNING
     assert caplog.records[-1].getMessage().endswith(f"passed (reference out of its range: {flag})")
 
