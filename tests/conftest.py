@@ -129,7 +129,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_cylinders.py::test_hertz_both_surfaces_and_equilibrium[segment]",
     "test_docs.py::test_html_documentation_builds_without_warnings",  # a Sphinx build of the documentation
     "test_demos.py::test_demo_passes_its_check[sheet]", "test_demos.py::test_demo_passes_its_check[ironing]",
-    "test_demos.py::test_demo_passes_its_check[mindlin]",
+    "test_demos.py::test_demo_passes_its_check[mindlin]", "test_demos.py::test_demo_passes_its_check[oring]",
     "test_friction.py::test_tangent_matches_finite_differences[2-*",
     "test_materials.py::test_two_body_cauchy_pressure_is_nominal_over_the_slave_stretch*",
     "test_mindlin3d.py::test_stick_radius_against_cattaneo_mindlin",

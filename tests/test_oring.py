@@ -79,3 +79,34 @@ def test_refusals():
                       (dict(pressure_arc=85.0), "pressure_arc must be"), (dict(steps=0), "steps must be")):
         with pytest.raises(ValueError, match=match):
             build("oring", law=law, **kw)
+
+
+def _demo():
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent.parent / "fenics_contact" / "app" / "demos" / "oring.py"
+    spec = importlib.util.spec_from_file_location("demo_oring", path)
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    return demo
+
+
+@pytest.mark.parametrize("argv,code,words", [
+    (["--squeeze", "0.9"], 2, ["--squeeze", "0.9"]),
+    (["--gland-width", "0.5"], 1, ["gland_width", "above d"]),
+    (["--method", "coulomb", "--mu", "0.2"], 1, ["coulomb", "axisymmetric"]),  # the grid: no coulomb in axisymmetry
+    (["--method", "vi"], 1, ["vi", "axisymmetric"]),
+    (["--model", "neohookean-mixed", "--quadrature", "nodal"], 1, ["nodal"]),  # P2: gauss or simpson
+])
+def test_demo_refuses_bad_options_in_one_line(argv, code, words, capsys, tmp_path):
+    """Bad options and refused combinations end before any solve: one line naming what was given, exit 2 (the
+    command line) or 1 (the builder, the capability grid)."""
+    from fenics_contact.app import cli
+
+    with pytest.raises(SystemExit) as ended:
+        cli.main(_demo().main, [*argv, "--out", str(tmp_path), "--no-pictures", "--no-xdmf", "--quiet"])
+    assert ended.value.code == code
+    if MPI.COMM_WORLD.rank == 0:
+        line = capsys.readouterr().err.strip().splitlines()[-1]
+        assert all(w in line for w in words), line

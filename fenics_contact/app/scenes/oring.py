@@ -190,20 +190,28 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     fluid_form = fem.form(nominal[1] * arc * material.weight(wu) * ds)
     spring_forms = [fem.form(k * wu[i] * material.weight(wu) * ufl.dx) for i in range(2)]
 
-    def wall_figures(name: str) -> dict:
+    def wall_values(name: str, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray]:
+        """The wall's contact pressure at the cord's surface vertices (the P2 facets' mid-side nodes, inside the
+        circle, carry none of the recovered pressure) and their current coordinate along the wall, sorted by it."""
         c = contacts[name]
-        xr, _, p = c.point_values(reference=False)
-        _, _, pc = c.point_values(reference=False, kind="cauchy")
-        along = 1 if name in ("bottom", "bore") else 0  # the coordinate along the wall
-        force = float(abs(c.total_force()[0 if along == 1 else 1]))
+        X, _, _ = c.point_values(reference=True)
+        x, _, p = c.point_values(reference=False, kind=kind)
+        on_circle = np.hypot(X[:, 0] - rc, X[:, 1]) >= 0.5 * d * (1 - 1e-9)
+        along = x[on_circle, 1 if name in ("bottom", "bore") else 0]
+        order = np.argsort(along)
+        return along[order], p[on_circle][order]
+
+    def wall_figures(name: str) -> dict:
+        s, p = wall_values(name)
+        _, pc = wall_values(name, "cauchy")
+        c = contacts[name]
+        force = float(abs(c.total_force()[0 if name in ("bottom", "bore") else 1]))
         if plane == AXISYMMETRIC:  # per unit circumference
             r_wall = r_in if name == "bottom" else (r_in + d - bore.factor(float(t.value)) * squeeze * d) \
                 if name == "bore" else rc
             force /= 2 * math.pi * r_wall
-        order = np.argsort(xr[:, along])
         return {f"force_{name}": force, f"p0_{name}": float(p.max(initial=0.0)),
-                f"p0_cauchy_{name}": float(pc.max(initial=0.0)),
-                f"width_{name}": _profile_width(xr[order, along], p[order])}
+                f"p0_cauchy_{name}": float(pc.max(initial=0.0)), f"width_{name}": _profile_width(s, p)}
 
     def figures() -> dict:
         s = bore.factor(float(t.value)) * squeeze
@@ -223,14 +231,9 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         return out
 
     def profiles() -> dict:
-        """Per wall: the current position along the wall and the nominal contact pressure, sorted."""
-        out = {}
-        for name in WALLS:
-            xr, _, p = contacts[name].point_values(reference=False)
-            along = 1 if name in ("bottom", "bore") else 0
-            order = np.argsort(xr[:, along])
-            out[name] = (xr[order, along], p[order])
-        return out
+        """Per wall: the current position along the wall and the nominal contact pressure at the surface
+        vertices, sorted."""
+        return {name: wall_values(name) for name in WALLS}
 
     loads_t = [(i + 1) / steps for i in range(int(steps))]
     if p_fluid > 0:
