@@ -17,9 +17,10 @@ reference section (the surface the fluid reaches; it stays clear of the walls), 
 to the current surface per current area, i.e. the nominal traction ``-p J F^-T N`` (``F`` with the hoop stretch;
 its linearisation is in the Jacobian). A spring of stiffness ``SPRING E / d^2`` per unit volume holds the
 cord's rigid motions, which the frictionless gland leaves free before contact (its force is reported:
-``spring_share``, its resultant over the bore's contact force); under pressure the spring is ``SPRING_PRESSURE E /
-d^2`` at ``t = 1`` falling linearly to exactly 0 at ``t = 2``: it holds the cord while the fluid pushes it toward
-the side wall ``z = w/2`` and leaves the last state the unsprung one (the wall holds it then).
+``spring_share``, its resultant over the bore's contact force, below 1e-6); under pressure the spring is
+``SPRING_PRESSURE E / d^2`` at ``t = 1`` falling linearly to exactly 0 at ``t = 2``: it holds the cord while the
+fluid pushes it toward the side wall ``z = w/2`` and leaves the last state the unsprung one (the wall holds it
+then).
 
 Figures of each wall (``bore``, ``bottom``: groove bottom, ``side``: the wall ``z = w/2``): the contact force per
 unit circumference (axisymmetric: the ring's radial force ``int p 2 pi r ds`` over ``2 pi r_wall``; plane strain:
@@ -191,15 +192,17 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     spring_forms = [fem.form(k * wu[i] * material.weight(wu) * ufl.dx) for i in range(2)]
 
     def wall_values(name: str, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray]:
-        """The wall's contact pressure at the cord's surface vertices (the P2 facets' mid-side nodes, inside the
-        circle, carry none of the recovered pressure) and their current coordinate along the wall, sorted by it."""
+        """The wall's contact pressure at the cord's surface vertices on the wall's half of the circle (the P2
+        facets' mid-side nodes, inside the circle, carry none of the recovered pressure) and their current
+        coordinate along the wall, sorted by it."""
         c = contacts[name]
         X, _, _ = c.point_values(reference=True)
         x, _, p = c.point_values(reference=False, kind=kind)
-        on_circle = np.hypot(X[:, 0] - rc, X[:, 1]) >= 0.5 * d * (1 - 1e-9)
-        along = x[on_circle, 1 if name in ("bottom", "bore") else 0]
+        facing = {"bottom": rc - X[:, 0], "bore": X[:, 0] - rc, "upstream": -X[:, 1], "side": X[:, 1]}[name]
+        keep = (np.hypot(X[:, 0] - rc, X[:, 1]) >= 0.5 * d * (1 - 1e-9)) & (facing >= 0)
+        along = x[keep, 1 if name in ("bottom", "bore") else 0]
         order = np.argsort(along)
-        return along[order], p[on_circle][order]
+        return along[order], p[keep][order]
 
     def wall_figures(name: str) -> dict:
         s, p = wall_values(name)
