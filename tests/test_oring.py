@@ -45,7 +45,20 @@ def test_squeeze_then_pressure_converges_and_balances(plane):
     assert end["force_side"] > 0 and end["force_upstream"] == 0
     assert end["fluid_axial_force"] > 0
     assert abs(end["walls_axial_force"] + end["fluid_axial_force"]) <= 1e-6 * end["fluid_axial_force"], end
+    assert end["friction_axial_force"] == 0
     assert end["force_bore"] > history[2]["force_bore"]  # the pressure adds to the squeeze's contact stress
+
+
+def test_friction_holds_the_cord_against_the_pressure():
+    """mu = 0.2 on every wall (penalty, stick penalty E / h): the squeeze and the pressure converge, and the friction
+    of the radial walls carries the fluid's whole axial force (the cord does not reach the side wall) to the solver's
+    tolerance."""
+    h = COARSE["h"]
+    law = fc.Friction(fc.make_law("penalty", K=oring.DEFAULT_K * oring.E / h), mu=0.2,
+                      omega_t=oring.OMEGA_T * oring.E / h)
+    end = solve(law=law, **COARSE)[-1]
+    assert end["fluid_axial_force"] > 0 and end["force_side"] == 0
+    assert abs(end["friction_axial_force"] + end["fluid_axial_force"]) <= 1e-6 * end["fluid_axial_force"], end
 
 
 def test_parallel_equals_serial():

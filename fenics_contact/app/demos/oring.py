@@ -2,7 +2,7 @@
 
     python demos/oring.py                                  # squeeze 10, 20, 30 % of d, then 0.1 E on the side z < 0
     python demos/oring.py --plane strain                   # the same cross-section in plane strain
-    python demos/oring.py --mu 0.2                         # friction on every wall
+    python demos/oring.py --mu 0.2                         # friction on every wall (stick penalty E / h)
     mpirun -n 2 python demos/oring.py --h 0.04 --squeeze 0.2 --steps 4
 
 The cord (d = 1) on the groove bottom r = 5 of a gland 1.5 d wide; neo-Hookean rubber (E = 1000, nu = 0.4999),
@@ -14,6 +14,7 @@ Contact Mechanics, 1985, section 4.2). Writes oring.xdmf, summary.json, oring_fi
 oring_pressure.png to --out.
 """
 import csv
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -40,6 +41,9 @@ def main(argv=None) -> dict:
     scene = add_scene_options(p, oring.build)  # --d, --r-in, --E, --nu, --squeeze, --gland-width, --pressure, ...
     args = cli.parse(p, argv)
     out = Path(args.out or "results/oring")
+    given = argv if argv is not None else sys.argv[1:]
+    if not any(a.startswith("--omega-t") for a in given):  # the stick penalty: K (100 E / h) diverges with friction
+        args.omega_t = oring.OMEGA_T * args.E / (args.h or oring.H * args.d)
     # Refused combinations: one line, before any work (P2: the mixed models are Taylor-Hood).
     cli.refuse_unsupported(args, kind="rigid", dim=2, degree=2, model=args.model,
                            geometry="axisymmetric" if args.plane == oring.PLANES[0] else "cartesian")

@@ -27,8 +27,9 @@ unit circumference (axisymmetric: the ring's radial force ``int p 2 pi r ds`` ov
 per unit length), the peak contact stress (nominal, per reference area; ``_cauchy``: per current area) and the
 contact width (the loaded zone along the wall in the current configuration, its ends extrapolated as Hertz's
 ``p^2`` linear in the squared distance, :func:`~fenics_contact.app.scenes.hertz.contact_half_width`). The balance
-of axial forces: ``fluid_axial_force`` (the fluid pressure's axial resultant) and ``walls_axial_force`` (the side
-walls' normal forces; ring totals in axisymmetry), opposite at the end of the pressure phase on frictionless walls.
+of axial forces: ``fluid_axial_force`` (the fluid pressure's axial resultant), ``walls_axial_force`` (the side
+walls' normal forces) and ``friction_axial_force`` (the friction of every wall; ring totals in axisymmetry) add up to
+0 at the end of the pressure phase (no spring left).
 
 References (small strain, plane strain, a cylinder of radius ``R = d/2`` between two rigid planes, ``E* = E / (1 -
 nu^2)``): Hertz's half-width ``a = sqrt(4 P R / (pi E*))`` and peak ``p0 = 2 P / (pi a)`` for the computed force
@@ -62,8 +63,8 @@ from ..meshes import cord_section
 from . import Option, Setup, poisson, positive
 from .hertz import approach_half_width, contact_half_width, hertz
 
-__all__ = ["D", "E", "NU", "DEFAULT_K", "SQUEEZE", "PRESSURE", "PLANES", "SPRING", "WALLS", "OPTIONS", "build",
-           "references"]
+__all__ = ["D", "E", "NU", "DEFAULT_K", "OMEGA_T", "SQUEEZE", "PRESSURE", "PLANES", "SPRING", "WALLS", "OPTIONS",
+           "build", "references"]
 
 D, E, NU = 1.0, 1000.0, 0.4999
 R_IN = 5.0  # the groove bottom's radius, per d (ring inner diameter 10 d)
@@ -72,6 +73,7 @@ SQUEEZE = 0.3  # of d
 PRESSURE = 0.1  # per E
 PRESSURE_ARC = 40.0  # degrees about -z
 H, H_FAR = 1.0 / 16, 1.0 / 6  # mesh sizes on the circle and at the centre, per d
+OMEGA_T = 1.0  # the demo's stick penalty per E / h with friction (100 E / h, the normal K, diverges from the start)
 DEFAULT_K = 100.0  # penalty per E / h: the penetration ~1e-3 d, below the P2 chords' own sag (max_penetration)
 SPRING = 1e-6  # per E / d^2, while squeezed (module docstring)
 SPRING_PRESSURE = 1e-2  # per E / d^2, at the start of the pressure phase, falling to 0 at its end
@@ -228,8 +230,9 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         fluid = out["pressure"] / p_fluid * comm.allreduce(fem.assemble_scalar(fluid_form), op=MPI.SUM) \
             if p_fluid > 0 else 0.0
         walls_axial = sum(float(contacts[n].total_force()[1]) for n in ("upstream", "side"))
+        friction_axial = sum(float(c.tangential_force()[1]) for c in contacts.values())
         out.update({**ref, "spring_share": spring / total if total > 0 else 0.0, "fluid_axial_force": fluid,
-                    "walls_axial_force": walls_axial,
+                    "walls_axial_force": walls_axial, "friction_axial_force": friction_axial,
                     "max_penetration": max(c.max_penetration() for c in contacts.values())})
         return out
 
