@@ -27,7 +27,8 @@ TOLERANCE = 3e-2
 
 def main(argv=None) -> dict:
     # 1. Options: penalty two-pass with Gauss points by default (see the scene's docstring for why).
-    p = cli.parser(__doc__.splitlines()[0], default_K=cylinders.DEFAULT_K, quadratures=QUADRATURES)
+    K = cli.scene_scaled(cylinders.DEFAULT_K, cylinders.build, length="R_upper", E0=cylinders.reference_E())
+    p = cli.parser(__doc__.splitlines()[0], default_K=K, quadratures=QUADRATURES)
     p.set_defaults(method="penalty", quadrature="gauss")
     p.add_argument("--passes", choices=["one", "two"], default="two", help="one-pass or two-pass two-body contact")
     p.add_argument("--h-contact", type=cli.POSITIVE, default=0.05, help="mesh size at the contacts (length)")

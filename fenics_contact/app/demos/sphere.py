@@ -26,7 +26,7 @@ TOLERANCE = 5e-2
 
 def main(argv=None) -> dict:
     # 1. Options: formulation, mesh level (about 1e4 to 1e6 dofs), linear solver.
-    p = cli.parser(__doc__.splitlines()[0], default_K=sphere.DEFAULT_K)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(sphere.DEFAULT_K, sphere.build))
     p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)),
                    help="mesh level: 0 to 3, about 1e4 to 1e6 dofs")
     p.add_argument("--steps", type=cli.COUNT, default=None, help="load steps (default: 1, or 2 with --load)")
