@@ -28,7 +28,7 @@ def main(argv=None) -> dict:
     p.add_argument("--press-steps", type=cli.COUNT, default=2, help="load steps of the pressing phase")
     p.add_argument("--drag-steps", type=cli.COUNT, default=8, help="load steps of the drag phase")
     p.set_defaults(method="compliance", c_n=compliance3d.C_N, m_n=compliance3d.M_N, mu=None)
-    scene = add_scene_options(p, compliance3d.build)  # --lx, --ly, --height, --E, --nu, --press
+    scene = add_scene_options(p, compliance3d.build, shared=("drag",))  # --lx, --ly, --height, --E, --nu, --press
     args = cli.parse(p, argv)
     if args.mu is None:  # mu = 0.3 unless the compliance bound c_t <g>^m_t is asked for
         args.mu = 0.0 if args.c_t is not None else compliance3d.MU

@@ -39,7 +39,8 @@ def main(argv=None) -> dict:
                    help="plate motion per load step after the Hertz step (length)")
     cli.model_option(p, "neohookean", help="bulk material (linear: small t only, the model-reduction check)")
     p.add_argument("--symmetry", choices=["half", "full"], default="half", help="right halves (x >= 0) or whole disks")
-    scene = add_scene_options(p, cylinders.build)  # --R-lower, --R-upper, --E, --nu, --h-far, --contact-width
+    # --R-lower, --R-upper, --E, --nu, --h-far, --contact-width
+    scene = add_scene_options(p, cylinders.build, shared=("h_contact", "grading"))
     args = cli.parse(p, argv)
     out = Path(args.out or "results/cylinders")
 

@@ -41,7 +41,7 @@ def main(argv=None) -> dict:
     p.add_argument("--h", type=cli.POSITIVE, default=0.5, help="cell size (0.5: 2 cells through the thickness)")
     p.add_argument("--shape", choices=list(seal.SHAPES), default="wave", help="seal cross-section (see the scene)")
     p.set_defaults(F_hat=seal.F_HAT)
-    scene = add_scene_options(p, seal.build)  # --E, --nu, --R-out, --R-in, --plate-distance
+    scene = add_scene_options(p, seal.build, shared=("h",))  # --E, --nu, --R-out, --R-in, --plate-distance
     args = cli.parse(p, argv)
     out = Path(args.out or "results/seal")
     comm = MPI.COMM_WORLD

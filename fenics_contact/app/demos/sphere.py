@@ -39,7 +39,8 @@ def main(argv=None) -> dict:
     p.add_argument("--geometry", choices=["3d", "axisymmetric"], default="3d",
                    help="3d: the octant; axisymmetric: the meridian section (r, z) with the same mesh size at the "
                         "contact (scene axisphere; rigid plate, displacement control)")
-    scene = add_scene_options(p, sphere.build)  # --R, --E, --nu, --approach, --load (force control), ...
+    # --R, --E, --nu, --approach, --load (force control), ...
+    scene = add_scene_options(p, sphere.build, shared=("size",))
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)
     if args.steps is None:
