@@ -13,6 +13,8 @@ from typing import Sequence
 import numpy as np
 import ufl
 
+from .paths import check_path
+
 __all__ = ["Obstacle", "HalfPlane", "Ball", "Cylinder", "Sphere"]
 
 
@@ -49,8 +51,8 @@ class Obstacle:
         return float(t) if self.path is None else float(np.interp(t, *self._path()))
 
     def _path(self) -> tuple[np.ndarray, np.ndarray]:
-        from .problem import check_path
-
+        if callable(self.path):  # the gap is UFL of t: a piecewise-linear path is, a callable is not
+            raise ValueError(f"obstacle path must be (t_k, f_k) with increasing t_k, got the callable {self.path!r}")
         check_path(self.path, "obstacle path")
         return tuple(np.asarray(a, dtype=float) for a in self.path)
 
