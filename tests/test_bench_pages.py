@@ -62,6 +62,22 @@ def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
 
 
 @serial
+def test_pages_keep_and_list_the_peer_page(tmp_path):
+    """The side-by-side page with the peer (written by scripts/peer/run.py, which needs the peer's build) survives
+    a rewrite of the scene pages and is in the index's toctree; a scene page of an earlier run does not survive."""
+    results, out = tmp_path / "bench", tmp_path / "docs"
+    _fixture(results)
+    out.mkdir()
+    (out / "peer.md").write_text("# peer\n")
+    (out / "peer_hertz2d.png").write_bytes(b"png")
+    (out / "sphere.md").write_text("# an earlier run\n")
+    bench_pages.write_pages(results, out)
+    assert (out / "peer.md").read_text() == "# peer\n" and (out / "peer_hertz2d.png").exists()
+    assert not (out / "sphere.md").exists()
+    assert "hertz\npeer\n```" in (out / "index.md").read_text()
+
+
+@serial
 def test_pages_refuse_a_folder_without_a_run_record(tmp_path, capsys):
     with pytest.raises(SystemExit) as exit_:
         bench_pages.main([str(tmp_path), str(tmp_path / "out")])
