@@ -8,7 +8,8 @@ chart per case (scripts/peer/page.py).
 The peer is not built here: it must be installed in the root (its C++ library and Python package under
 ``--peer-prefix``, as its own README describes) before this runs; ``--peer-src`` is its source checkout, whose
 demos are run unchanged (scripts/peer/peer_case.py). Each job is a fresh serial process; its figures go to
-``--out``/rows.json, the machine and date to ``--out``/run.json.
+``--out``/rows.json with the run's record (machine, date, load average, command); the rows of cases a run does
+not redo are kept with their own run's record.
 """
 from __future__ import annotations
 
@@ -51,7 +52,7 @@ CASES = {
                 "figure": ("p0", "p0_error")},
     "hertz3d": {"title": "Two-body Hertz, 3D (sphere on a block, R 8, E 200, nu 0.3, load 10)",
                 "peer": ("python/demos/hertz_contact/demo_hertzian_contact.py", ["--3D"], "--res",
-                         [2.0, 1.0, 0.5], [1.0, 0.5]),
+                         [2.0, 1.0, 0.5], [2.0, 1.0]),
                 "ours": ("sphere", HERTZ3D, "--level", [0, 1], [0], {"nitsche": [], "auglag": []}),
                 "figure": ("p0", "p0_error")},
     "cylinders": {"title": "Cattaneo-Mindlin friction cylinders, 2D (R 8, E 200, nu 0.3, mu 0.3)",
@@ -150,6 +151,12 @@ def main(argv: list[str] | None = None) -> int:
               "peer": _peer_version(args.peer_src),
               "dolfinx": _chroot("python3 -c 'import dolfinx; print(dolfinx.__version__)'", {}, 300)
               .stdout.strip().splitlines()[-1:]}
+    record["cases"] = list(args.cases)
+    # Rows of cases this run does not redo are kept, with the record of the run that measured them.
+    earlier = json.loads((out / "rows.json").read_text()) if (out / "rows.json").exists() else {"runs": [], "rows": []}
+    runs = [dict(r, cases=[c for c in r["cases"] if c not in args.cases]) for r in earlier["runs"]]
+    runs = [r for r in runs if r["cases"]] + [record]
+    kept = [r for r in earlier["rows"] if r["case"] not in args.cases]
     rows = []
     for case in args.cases:
         spec = CASES[case]
@@ -170,7 +177,7 @@ def main(argv: list[str] | None = None) -> int:
                        "--overwrite --no-xdmf --no-pictures --quiet")
                 rows.append(_job("fenics_contact", case, method, level, cmd, {}, args.timeout,
                                  lambda r=run, v=value, e=error: _ours(dst / r / "summary.json", v, e)))
-        (out / "rows.json").write_text(json.dumps({"run": record, "rows": rows}, indent=1) + "\n")
+        (out / "rows.json").write_text(json.dumps({"runs": runs, "rows": kept + rows}, indent=1) + "\n")
     from page import write_page  # scripts/peer/page.py (this script's folder is on sys.path)
 
     write_page(out / "rows.json", Path(args.docs))
