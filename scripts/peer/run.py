@@ -49,22 +49,22 @@ CASES = {
                          [0.4, 0.2, 0.1], [0.4, 0.2]),
                 "ours": ("hertz", HERTZ2D, "--refinement", [0, 1, 2], [0, 1],
                          {"nitsche": [], "coulomb": ["--steps", "1"]}),
-                "figure": ("p0", "p0_error")},
+                "figure": ("p0", "p0_error", "p0_hertz")},
     "hertz3d": {"title": "Two-body Hertz, 3D (sphere on a block, R 8, E 200, nu 0.3, load 10)",
                 "peer": ("python/demos/hertz_contact/demo_hertzian_contact.py", ["--3D"], "--res",
                          [2.0, 1.0, 0.5], [2.0, 1.0]),
-                "ours": ("sphere", HERTZ3D, "--level", [0, 1], [0], {"nitsche": [], "auglag": []}),
-                "figure": ("p0", "p0_error")},
+                "ours": ("sphere", HERTZ3D, "--level", [0, 1], [0], {"nitsche": []}),
+                "figure": ("p0", "p0_error", "p0_hertz")},
     "cylinders": {"title": "Cattaneo-Mindlin friction cylinders, 2D (R 8, E 200, nu 0.3, mu 0.3)",
                   "peer": ("python/demos/hertz_contact/demo_friction_cylinders.py", [], "--res", [0.4, 0.2],
                            [0.4]),
                   "ours": ("mindlin", MINDLIN, "--refinement", [0, 1], [0],
                            {"nitsche": [], "coulomb": []}),
-                  "figure": ("c", "c_error_max")},
+                  "figure": ("c_worst", "c_error_max", "c_ref_{ratio_worst:g}")},
     "wedges": {"title": "Sliding wedges, 2D (mu 0.5, alpha = atan 0.1, E 200, nu 0.3)",
                "peer": ("python/demos/demo_sliding_wedges.py", [], "--res", [0.4, 0.2, 0.1], [0.4, 0.2]),
                "ours": ("wedges", WEDGES, None, [None], [None], {"nitsche": [], "cross": []}),
-               "figure": ("Rx/Ry", "ratio_error")},
+               "figure": ("ratio", "ratio_error", "ratio_reference")},
 }
 
 
@@ -137,8 +137,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     out = Path(args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
-    # The project and the peer's demos are copied into the root (no bind mount needed).
-    project = f"peer-project-{hashlib.md5(str(ROOT).encode()).hexdigest()[:8]}"
+    # The project and the peer's demos are copied into the root (no bind mount needed), one folder per checkout
+    # and output folder, so that two runs do not share one.
+    project = f"peer-project-{hashlib.md5(f'{ROOT}:{out}'.encode()).hexdigest()[:8]}"
     dst = DEB13 / project
     shutil.rmtree(dst, ignore_errors=True)
     dst.mkdir(parents=True)
@@ -168,7 +169,7 @@ def main(argv: list[str] | None = None) -> int:
             rows.append(_job("dolfinx_contact", case, "nitsche", res, cmd, _peer_env(args.peer_prefix),
                              args.timeout, lambda n=name: json.loads((dst / "results" / n).read_text())))
         scene, oargs, oopt, olevels, oquick, methods = spec["ours"]
-        value, error = spec["figure"]
+        value, error, reference = spec["figure"]
         for method, margs in methods.items():
             for level in (oquick if args.quick else olevels):
                 run = f"results/ours-{case}-{method}-{level}"
@@ -176,7 +177,8 @@ def main(argv: list[str] | None = None) -> int:
                        f"{' '.join(oargs + margs)} {'' if oopt is None else f'{oopt} {level}'} --out {run} "
                        "--overwrite --no-xdmf --no-pictures --quiet")
                 rows.append(_job("fenics_contact", case, method, level, cmd, {}, args.timeout,
-                                 lambda r=run, v=value, e=error: _ours(dst / r / "summary.json", v, e)))
+                                 lambda r=run, v=value, e=error, f=reference: _ours(dst / r / "summary.json", v, e,
+                                                                                      f)))
         (out / "rows.json").write_text(json.dumps({"runs": runs, "rows": kept + rows}, indent=1) + "\n")
     from page import write_page  # scripts/peer/page.py (this script's folder is on sys.path)
 
@@ -184,14 +186,16 @@ def main(argv: list[str] | None = None) -> int:
     return 0 if all(r["status"] == "done" for r in rows) else 3
 
 
-def _ours(summary: Path, value: str, error: str) -> dict:
+def _ours(summary: Path, value: str, error: str, reference: str) -> dict:
+    """A row from this suite's demo summary: ``value``, ``error`` and ``reference`` (a key, formatted with the
+    summary's figures) name the case's figure, its relative error and its closed form."""
     s = json.loads(summary.read_text())
     if not s.get("converged", s.get("status") == "converged"):
         raise ValueError(f"status {s.get('status')}")
     return {"dofs": s["dofs"], "newton_iterations": s["newton_iterations_spent"],
             "linear_solves": s["newton_iterations_spent"], "krylov_iterations": s.get("linear_iterations"),
             "wall_time_s": s["wall_time_s"], "total_time_s": s["wall_time_s"] + s.get("setup_time_s", 0.0),
-            "figure": value, "value": s.get(value, s.get(value + "_worst")), "error": s[error]}
+            "figure": value, "value": s[value], "reference": s.get(reference.format(**s)), "error": s[error]}
 
 
 def _peer_version(src: str) -> str:
