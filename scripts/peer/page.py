@@ -98,7 +98,8 @@ def write_page(rows_json: Path, docs: Path) -> Path:
                   "reference | error |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in crow:
             if r["status"] != "done":
-                reason = r.get("log", "").strip().splitlines()[-1:] or ["?"]
+                log = [line.strip() for line in r.get("log", "").splitlines() if line.strip()]
+                reason = [line for line in log if "Error" in line][-1:] or log[-1:] or ["?"]
                 lines.append(f"| {r['code']} | {r['method']} | {_fmt(r['level'])} | failed: "
                              f"{reason[0][:120].replace('|', '/')} |||||||||")
                 continue
@@ -106,7 +107,9 @@ def write_page(rows_json: Path, docs: Path) -> Path:
                                             str(r["newton_iterations"]), str(r["linear_solves"]),
                                             _fmt(r.get("krylov_iterations")), _fmt(r["wall_time_s"]),
                                             _fmt(r.get("total_time_s")), _fmt(r.get("value"), 5),
-                                            _fmt(r.get("reference"), 5), _fmt(r["error"])]) + " |")
+                                            _fmt(r.get("reference"), 5),
+                                            _fmt(r["error"]) + (" (its check failed)" if r.get("check") else "")])
+                         + " |")
         done = [r for r in crow if r["status"] == "done"]
         if done:
             fig, ax = plt.subplots(figsize=(5.5, 4))
@@ -121,8 +124,10 @@ def write_page(rows_json: Path, docs: Path) -> Path:
             fig.tight_layout()
             fig.savefig(docs / f"peer_{case}.png", dpi=110)
             plt.close(fig)
+            ratios = _ratios(done)
             lines += ["", f"![{TITLES[case]}: error against solver time](peer_{case}.png)", "",
-                      "Time at equal or better accuracy:", ""] + [f"- {s}" for s in _ratios(done)]
+                      *(["Time at equal or better accuracy:", "", *[f"- {s}" for s in ratios]] if ratios else
+                        ["No run of the peer finished: no ratio."])]
         lines.append("")
     lines += ["## Summary", "", "Per case, the peer's most accurate run against the fastest run of this suite with "
               "equal or better error (same run, same machine):", ""]
