@@ -86,8 +86,24 @@ def test_pages_refuse_a_folder_without_a_run_record(tmp_path, capsys):
     assert err.count("\n") == 1 and "run.json" in err and str(tmp_path) in err
 
 
+def test_committed_peer_page_states_its_runs_and_no_history():
+    """The side-by-side page with the peer (scripts/peer/run.py): each run's cases, command, date and machine,
+    a table and an existing chart per case, no development history."""
+    page = ROOT / "docs" / "bench" / f"{bench_pages.PEER_PAGE}.md"
+    if not page.exists():
+        pytest.skip("no peer page committed")
+    text = page.read_text()
+    runs = re.findall(r"^Cases [\w, ]+: `python scripts/peer/run\.py [^`]+` on \d{4}-\d\d-\d\d \d\d:\d\d UTC, .+, "
+                      r"\d+ cores, [\d.]+ GB", text, flags=re.M)
+    assert runs, text[:400]
+    assert not HISTORY.search(text), HISTORY.search(text)
+    images = re.findall(r"\]\(([^)]+\.png)\)", text)
+    assert images and all((page.parent / image).exists() for image in images)
+    assert text.count("| code | method | mesh | dofs | Newton |") == len(images)
+
+
 def test_committed_pages_state_the_machine_and_date_and_no_history():
-    pages = sorted((ROOT / "docs" / "bench").glob("*.md"))
+    pages = sorted(p for p in (ROOT / "docs" / "bench").glob("*.md") if p.stem != bench_pages.PEER_PAGE)
     assert pages and pages[0].name != "index.md" or len(pages) > 1
     for page in pages:
         text = page.read_text()
