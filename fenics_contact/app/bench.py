@@ -567,7 +567,7 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
                 f"{'' if within else ' (target not reached)'} | {best.get('limit_gap', float('nan')):.2g} | "
                 f"{best['newton_iterations']} | {best['augmentations']} | {best['wall_time_s']:.3f} | "
                 f"{best['ratio_to_linear_solve']:.1f} | "
-                f"{best['wall_time_s'] / vi['wall_time_s'] if vi else float('nan'):.2f} | "
+                f"{'-' if vi is None else format(best['wall_time_s'] / vi['wall_time_s'], '.2f')} | "
                 f"{'yes' if id(best) in front else 'no'} |")
         for who, keep in (("the suite's methods", lambda m: m not in references()),
                           ("the references", references().__contains__)):
@@ -581,7 +581,8 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
             headline.append(f"- mesh {'-' if level is None else level} ({b['dofs']} dofs): fastest of {who} within "
                             f"the target: {_variant(b)} ({parameter_label(b['method'])} {b['K']:.3g}),"
                             f" {b['wall_time_s']:.3f} s (+ set-up {b['setup_time_s']:.2f} s), error {b['error']:.3g} "
-                            f"(gap to VI {b['limit_gap']:.2g}), {b['ratio_to_linear_solve']:.1f} x one linear solve "
+                            f"(gap to {s.get('reference', 'VI')} {b['limit_gap']:.2g}), "
+                            f"{b['ratio_to_linear_solve']:.1f} x one linear solve "
                             f"({b['linear_solve_floor_s']:.3f} s){vs}.")
     on_front = [r for r in ok if id(r) in front]
     lines += ["", *headline, "- Pareto front (fastest first): " + ", ".join(
