@@ -215,6 +215,7 @@ def test_axisphere_bench_entries_are_what_the_grid_offers_on_the_ring(tmp_path):
         assert set(s["methods"]) == offered, (scene, offered)
         runs = bench.sweep(scene, quick=True)
         assert sorted({r["refinement"] for r in runs}) == [0.005, 0.01]
+        assert bench._markers(runs) == {None: "o", 0.01: "o", 0.005: "^"}  # the coarser mesh first, as levels
         cmd = bench.command(scene, runs[0], tmp_path)
         assert cmd[cmd.index("--h-contact") + 1] == "0.01"
     rows = [dict(_row("penalty", 1e6, 0.02, 0.1), refinement=0.005), _row("penalty", 1e6, 0.02, 0.1, refinement=2)]

@@ -630,6 +630,16 @@ def pareto_front(times: Sequence[float], errors: Sequence[float]) -> np.ndarray:
 MARKERS = {None: "o", 0: "o", 1: "^", 2: "s", 3: "D"}  # by refinement
 
 
+def _markers(rows: Sequence[dict]) -> dict:
+    """Marker per mesh of ``rows``: ``MARKERS`` for levels, else (a mesh size, e.g. ``--h-contact``) by size,
+    coarsest first."""
+    levels = {r["refinement"] for r in rows}
+    if all(k is None or isinstance(k, int) for k in levels):
+        return {k: MARKERS.get(k, "o") for k in levels}
+    sizes = sorted((k for k in levels if k is not None), reverse=True)
+    return {None: "o", **{k: "o^sDv<>"[i % 7] for i, k in enumerate(sizes)}}
+
+
 def _variant(r: dict) -> str:
     return r.get("label") or r["method"] + (" augmented" if r["augment"] > 0 else "")
 
@@ -664,7 +674,8 @@ def _legend_handles(rows: Sequence[dict]):
                               mfc=_colour(m) if "augmented" in v else "none", label=v))
     refinements = sorted({r["refinement"] for r in rows if r["refinement"] is not None})
     if len(refinements) > 1:
-        handles += [Line2D([], [], ls="", marker=MARKERS.get(k, "o"), color="grey", mfc="none", label=f"mesh {k}")
+        markers = _markers(rows)
+        handles += [Line2D([], [], ls="", marker=markers[k], color="grey", mfc="none", label=f"mesh {k}")
                     for k in refinements]
     return handles
 
@@ -690,9 +701,10 @@ def plot_pareto(rows: Sequence[dict], path: str | Path, title: str = "") -> None
     ok = [r for r in rows if r["converged"] and not math.isnan(r["error"]) and not math.isnan(r["wall_time_s"])]
     t = np.array([r["wall_time_s"] for r in ok])
     e = np.maximum([r["error"] for r in ok], ERROR_FLOOR)
+    markers = _markers(rows)
     for r, ti, ei in zip(ok, t, e):
         c = _colour(r["method"])
-        ax.plot(ti, ei, ls="", marker=MARKERS.get(r["refinement"], "o"), ms=7, mec=c,
+        ax.plot(ti, ei, ls="", marker=markers[r["refinement"]], ms=7, mec=c,
                 mfc=c if r["augment"] > 0 else "none", alpha=0.85)
     front = pareto_front(t, e)
     if len(front):
@@ -778,6 +790,7 @@ def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> 
 
     fig, ax = figure()
     rows = [r for r in rows if parameter_label(r["method"]) == "K"]
+    markers = _markers(rows)
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
         groups.setdefault((r["method"], r["augment"] > 0, r["refinement"]), []).append(r)
@@ -786,7 +799,7 @@ def plot_iterations(rows: Sequence[dict], path: str | Path, title: str = "") -> 
         c = _colour(method)
         ok = [r for r in rs if r["converged"]]
         ax.plot([r["K"] for r in ok], [r["newton_iterations"] for r in ok], color=c, lw=1.5,
-                ls="-" if augmented else "--", marker=MARKERS.get(refinement, "o"), ms=_size(method),
+                ls="-" if augmented else "--", marker=markers[refinement], ms=_size(method),
                 mfc=c if augmented else "none", mec=c, alpha=0.85)
         bad = [r for r in rs if not r["converged"]]
         ax.plot([r["K"] for r in bad], [r["newton_iterations"] for r in bad], ls="", marker="x", color=c, ms=9)
