@@ -1,4 +1,5 @@
 """The speed-against-accuracy harness: the Pareto front, and a two-run sweep on the block."""
+import csv
 import math
 
 import numpy as np
@@ -190,17 +191,26 @@ def test_reduction_rows_and_chart(tmp_path):
                 a_error=0.01, wall_time_s=0.5, memory_peak_mb=200.0, converged=True, newton_iterations=5)
     octant = dict(used, variant="sphere: 3D octant", dofs=12000, p0=19.0, error=0.046, a_error=0.02, wall_time_s=25.0,
                   memory_peak_mb=900.0)
-    text, table = bench.reduction_table([used, octant], ["p0", "a", "total_force"])
+    finer = dict(octant, variant="sphere: 3D octant, level 1", wall_time_s=250.0)
+    text, table = bench.reduction_table([used, octant, finer], ["p0", "a", "total_force"])
     lines = text.splitlines()
     assert lines[0] == ("| sphere: axisymmetric (used) | 1000 | 20 | 0.06 | 0.144 | 2.000% / 1.000% | "
                         "0.00% / 0.00% / 0.00% | 0.500 | 200 | - |")
     assert lines[1] == ("| sphere: 3D octant | 12000 | 19 | 0.06 | 0.144 | 4.600% / 2.000% | 5.00% / 0.00% / 0.00% | "
                         "25.000 | 900 | 98% (1/50) |")
     assert all(line.count("|") == bench.REDUCTION_HEADER[0].count("|") for line in lines)
+    assert lines[2].endswith("| 250.000 | 900 | 99.8% (1/500) |")  # never a rounded 100 %
     assert table[1]["time_saved"] == pytest.approx(0.98) and table[1]["a_error"] == 0.02
-    path = tmp_path / f"reduction{MPI.COMM_WORLD.rank}.png"
-    bench.plot_reduction(table, path, title="sphere")
-    assert path.stat().st_size > 1000
+    # the page's rows and chart again from the table's CSV (bench --charts-only)
+    out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
+    out.mkdir()
+    with open(out / "sphere_reduction.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, list(table[0]))
+        w.writeheader()
+        w.writerows(table)
+    assert bench.reduction_report("sphere", out) == text
+    assert (out / "sphere_reduction.md").read_text().splitlines()[2:] == lines
+    assert (out / "sphere_reduction.png").stat().st_size > 1000
 
 
 def test_axisphere_bench_entries_are_what_the_grid_offers_on_the_ring(tmp_path):
