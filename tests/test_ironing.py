@@ -108,5 +108,7 @@ def test_bad_input():
         app.build("ironing", law=_law(), depth=0.6)
     with pytest.raises(ValueError, match="Coulomb friction law with mu > 0"):
         app.build("ironing", law=fc.make_law("penalty", K=1e5))
+    with pytest.raises(ValueError, match="method nitsche is refused on ironing"):
+        app.build("ironing", law=fc.Friction(fc.make_law("nitsche", gamma0=10.0), mu=MU))
     with pytest.raises(ValueError, match="drag_steps must be an integer"):
         app.build("ironing", law=_law(), drag_steps=0)
