@@ -76,7 +76,9 @@ T_PRESS = 0.9  # the pressing ends at this load; friction comes on at t = 1
 # lands on the old contact set alone and Newton wanders over the contact edge. Measured at h_contact = 0.015 R,
 # Newton iterations per step: 4 equal steps from the last state 8, 11, 9, 8 and the shear steps 8, 9, 11 (66 in 8
 # steps); 8 equal steps from the tangent 11 in the first, 3-5 in the others; 8 graded steps from the tangent 2, 3,
-# 4, 4, 6, 3, 4, 8, friction on 2, the shear steps 5, 6, 6 (53 in 12); the same stick radii.
+# 4, 4, 6, 3, 4, 8, friction on 2, the shear steps 5, 6, 6 (53 in 12); the same stick radii. At the default mesh:
+# 4 equal steps from the last state 62 in 8 steps (10, 10, 6, 5 in the pressing); 8 graded from the tangent 56 in
+# 12 (4-5 in the pressing, 5, 7, 8 in the shear steps), the same stick radii to 1e-6.
 PRESS_STEPS = 8
 PREDICTOR = "tangent"
 # k R^2 / E of the spring on the cap's u_x during the frictionless pressing: stiff enough to fix the cap's
