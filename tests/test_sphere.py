@@ -263,10 +263,10 @@ def test_sphere_on_block_p0_converges_to_hertz():
     """The octant on a block of its own material (one-pass two-body penalty, K = 1e6, GMRES + GAMG, inexact
     Newton as in the scaling run): the Hertz peak of the contact forces' first two moments approaches Hertz's p0
     for the measured force (1/E* of the pair) as the mesh is refined, at order about 1.5 in the mesh size
-    (measured: 6.0 %, 3.6 %, 2.1 % above at sizes 1.0, 0.7, 0.5: order 1.5), while the nodal maximum of the one-pass
-    pressure scatters (2-11 % above) and a Hertz profile fitted to the pointwise pressures does not converge (4.8 %,
-    0.80 %, 0.67 % below; 0.86 %, 0.91 % at 0.35, 0.25). The default block follows the approach: 7 sqrt(R approach)
-    wide and deep, at least 0.5 R."""
+    (measured: 6.0 %, 3.6 %, 2.1 % above at sizes 1.0, 0.7, 0.5; 0.11 % at 0.25), while the nodal maximum of the
+    one-pass pressure scatters (2-11 % above) and a Hertz profile fitted to the pointwise pressures does not
+    converge (4.8 %, 0.80 %, 0.67 % below; 0.86 %, 0.91 % at 0.35, 0.25). The default block follows the approach:
+    7 sqrt(R approach) wide and deep, at least 0.5 R."""
     sizes, errors = (1.0, 0.7, 0.5), []
     for size in sizes:
         setup = sphere.build(make_law("penalty", K=sphere.DEFAULT_K), size=size, plate="meshed", steps=2)
