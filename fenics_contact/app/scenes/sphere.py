@@ -231,12 +231,14 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
         problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds)], stabilisation * E / R**2,
                              ufl.dx(domain=mesh))
 
-    moments: list = []  # the two-body contact force's moments int p dA, int p r^2 dA (forms compiled when needed)
+    # The two-body contact pressure's moments int p dA, int p r^2 dA over the ball's surface (forms compiled when
+    # needed): the pressure of the ball's pass, not its weighted share of two passes.
+    moments: list = []
 
     def force_moments() -> tuple[float, float]:
         if not moments:
             X = ufl.SpatialCoordinate(mesh)
-            p = contact.weight * contact.ring * contact.pressure
+            p = contact.ring * contact.pressure
             moments.extend([fem.form(p * contact.ds_work), fem.form(p * (X[0] ** 2 + X[1] ** 2) * contact.ds_work)])
         return tuple(comm.allreduce(fem.assemble_scalar(m), op=MPI.SUM) for m in moments)
 
