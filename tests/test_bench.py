@@ -75,11 +75,11 @@ def test_friction_scene_specs(tmp_path):
     """The two-body friction scenes declare an entry: the friction-capable laws the capability matrix
     offers on their axes, a K sweep around the scene's default; mindlin3d on the tests' coarse contact mesh, one
     ratio; mindlin with the exact condensed Coulomb law once (no --K)."""
-    from fenics_contact.app.scenes import ironing, mindlin, mindlin3d
+    from fenics_contact.app.scenes import ironing, mindlin, mindlin3d, wedges
     from fenics_contact.capabilities import supported
 
-    assert {"ironing", "mindlin", "mindlin3d"} <= set(bench.bench_scenes())
-    for scene, module in (("ironing", ironing), ("mindlin", mindlin), ("mindlin3d", mindlin3d)):
+    assert {"ironing", "mindlin", "mindlin3d", "wedges"} <= set(bench.bench_scenes())
+    for scene, module in (("ironing", ironing), ("mindlin", mindlin), ("mindlin3d", mindlin3d), ("wedges", wedges)):
         s = bench.spec(scene)
         assert s["axes"]["friction"] and s["axes"]["kind"] == "two-body"
         assert all(supported(method=m, quadrature="nodal", **s["axes"]) for m in s["methods"])
@@ -89,9 +89,10 @@ def test_friction_scene_specs(tmp_path):
     assert "coulomb" not in bench.spec("mindlin3d")["methods"]  # coulomb: one tangential direction (2D)
     (exact,) = [r for r in bench.sweep("mindlin", quick=True) if r["method"] == "coulomb"]
     assert "--K" not in bench.command("mindlin", exact, tmp_path)
+    assert bench.reference_method("mindlin") == ("coulomb", "the exact coulomb") and "coulomb" in bench.references()
     # mindlin3d's quick sweep: plain runs only (a 3D run costs a minute and more); the full sweep augments too
     quick, full = bench.sweep("mindlin3d", quick=True), bench.sweep("mindlin3d")
-    assert len(quick) == 5 and {r["augment"] for r in quick} == {0}
+    assert len(quick) == 6 and {r["augment"] for r in quick} == {0}
     assert {r["augment"] for r in full} == {0, bench.AUGMENT}
     cmd = bench.command("mindlin3d", bench.run_config("penalty", mindlin3d.DEFAULT_K, refinement=0), tmp_path)
     assert cmd[cmd.index("--h-contact") + 1] == "0.015" and cmd[cmd.index("--ratios") + 1:][:2] == ["0.5", "--solver"]
@@ -120,6 +121,20 @@ def test_findings_pick_the_fastest_run_within_the_target(tmp_path):
             for m in ("penalty", "nitsche") for K in (1e6, 1e8, 1e10) for n in (1, 4)]
     bench.plot_stability(grid, tmp_path / "map.png")
     assert (tmp_path / "map.png").stat().st_size > 1000
+
+
+def test_friction_runs_are_measured_against_the_exact_method(tmp_path):
+    """mindlin: each run's stick half-width is compared with the exact condensed Coulomb's on the same mesh (its
+    gap), the findings give the time per the exact method's, and the Pareto chart draws it."""
+    rows = [{**_row("penalty", 1e7, 0.03, 0.5), "scene": "mindlin", "c_worst": 1.02},
+            {**_row("coulomb", 0.0, 0.02, 0.25), "scene": "mindlin", "c_worst": 1.0}]
+    bench.add_limit_gap(rows, "mindlin")
+    assert np.isclose(rows[0]["limit_gap"], 0.02) and rows[1]["limit_gap"] == 0.0
+    text = bench.findings("mindlin", rows)
+    assert "gap to coulomb" in text and "| /coulomb |" in text
+    assert "the exact coulomb 0.250 s (error 0.02): 2.00 x its time" in text, text
+    bench.plot_pareto(rows, tmp_path / "pareto.png")
+    assert (tmp_path / "pareto.png").stat().st_size > 1000
 
 
 def test_ring_through_the_scene_runner(tmp_path):

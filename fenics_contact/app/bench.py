@@ -20,7 +20,9 @@ Charts: ``<scene>_pareto.png`` (error against solver wall time, Pareto
 front, one linear solve as the cost floor), ``<scene>_dofs.png`` (error
 against dofs), ``<scene>_iterations.png`` (Newton iterations against K);
 ``<scene>_findings.md`` (per method the fastest run within the scene's
-target, its ratios to one linear solve and to SNES VI, Pareto membership).
+target, its ratios to one linear solve and to the scene's reference method -- SNES VI unless ``BENCH['reference']``
+names another, e.g. the exact ``coulomb`` of the friction scenes --, Pareto membership). The reference method's run
+on each mesh is drawn on the Pareto chart as a line at its error and one at its time.
 With ``stability`` in BENCH: ``<scene>_stability.csv|png|md`` (status -- converged, ill-conditioned,
 failed with its kind --, Newton and Krylov iterations, condition estimate and distance from the
 augmentation limit over parameter x load steps, per method) and ``<scene>_stability_accuracy.png`` (that
@@ -47,7 +49,8 @@ from .. import methods
 from .cli import EXIT_CHECK
 
 __all__ = [
-    "DEMOS", "COLUMNS", "AUGMENT", "ERROR_FLOOR", "PETSC_DTOL", "DTOL", "references", "parameter_label",
+    "DEMOS", "COLUMNS", "AUGMENT", "ERROR_FLOOR", "PETSC_DTOL", "DTOL", "reference_method", "references",
+    "parameter_label",
     "GAMMA0", "spec", "bench_scenes", "run_config", "sweep", "stability_sweep", "status", "run_name", "child_env",
     "command", "run_one", "run_all", "add_limit_gap", "bench", "report", "STABILITY_TITLE", "stability",
     "add_stability_limit", "stability_summary", "REDUCTIONS", "REDUCTION_HEADER", "reduction", "reduction_report",
@@ -69,6 +72,13 @@ ERROR_FLOOR = 1e-16  # errors are drawn at least this large on the log axis (an 
 PETSC_DTOL = ["-fc_snes_convergence_test", "default", "-fc_snes_divergence_tolerance", "1e4"]  # PETSc's own test
 DTOL = "penalty, PETSc divergence test on"  # the stability map's control runs (dtol 1e4, PETSc's default)
 GAMMA0 = {"quick": (10.0, 100.0), "full": (3.0, 10.0, 30.0, 100.0, 1000.0)}  # nitsche: in the K column
+
+
+def reference_method(scene: str) -> tuple[str, str]:
+    """The method the scene's runs are measured against (``BENCH['reference']``, default SNES VI) and its name in
+    the findings."""
+    ref = spec(scene).get("reference", "vi")
+    return ref, "SNES VI" if ref == "vi" else f"the exact {ref}" if methods.get(ref).sweep.kind == "once" else ref
 
 
 def references() -> tuple[str, ...]:
@@ -556,22 +566,25 @@ def read_rows(csv_path: str | Path) -> list[dict]:
 
 def findings(scene: str, rows: Sequence[dict]) -> str:
     """Markdown: per mesh level and method variant, the fastest converged run within the scene's target
-    error (else its most accurate run), with its ratios to one linear solve and to SNES VI, and whether
-    it is on the Pareto front; then the headline (the fastest method within the target against SNES VI)."""
+    error (else its most accurate run), with its ratios to one linear solve and to the reference method
+    (:func:`reference_method`), and whether it is on the Pareto front; then the headline (the fastest method within
+    the target against the reference)."""
     s = spec(scene)
     if s["error"] is None:
         return convergence_findings(rows)
     target = s.get("target", 0.01)
     ok = [r for r in rows if r["converged"] and not math.isnan(r["error"])]
     front = {id(ok[i]) for i in pareto_front([r["wall_time_s"] for r in ok], [r["error"] for r in ok])}
+    ref, ref_name = reference_method(scene)
+    short = "VI" if ref == "vi" else ref
     lines = [f"Target: {s['error']} <= {target:g}. Time: solver wall time (no output), set-up excluded; "
-             f"ratios to one linear solve (assembly + factorisation + solve) and to SNES VI on the same mesh.", "",
-             f"| mesh | dofs | method | parameter | error | gap to {s.get('reference', 'VI')} | Newton | aug | "
-             "time [s] | /linear | /VI | Pareto |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             f"ratios to one linear solve (assembly + factorisation + solve) and to {ref_name} on the same mesh.", "",
+             f"| mesh | dofs | method | parameter | error | gap to {short} | Newton | aug | "
+             f"time [s] | /linear | /{short} | Pareto |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     headline = []
     for level in dict.fromkeys(r["refinement"] for r in rows):
         here = [r for r in ok if r["refinement"] == level]
-        vi = next((r for r in here if r["method"] == "vi"), None)
+        vi = next((r for r in here if r["method"] == ref), None)
         for variant in dict.fromkeys(_variant(r) for r in here):
             runs = [r for r in here if _variant(r) == variant]
             within = [r for r in runs if r["error"] <= target]
@@ -592,14 +605,13 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
                 headline.append(f"- mesh {'-' if level is None else level}: none of {who} reaches the target.")
                 continue
             b = min(cands, key=lambda r: r["wall_time_s"])
-            vs = (f"; SNES VI {vi['wall_time_s']:.3f} s (error {vi['error']:.3g}): "
+            vs = (f"; {ref_name} {vi['wall_time_s']:.3f} s (error {vi['error']:.3g}): "
                   f"{b['wall_time_s'] / vi['wall_time_s']:.2f} x its time") if vi and b is not vi else ""
             headline.append(f"- mesh {'-' if level is None else level} ({b['dofs']} dofs): fastest of {who} within "
                             f"the target: {_variant(b)} ({parameter_label(b['method'])} {b['K']:.3g}),"
                             f" {b['wall_time_s']:.3f} s (+ set-up {b['setup_time_s']:.2f} s), error {b['error']:.3g} "
-                            f"(gap to {s.get('reference', 'VI')} {b['limit_gap']:.2g}), "
-                            f"{b['ratio_to_linear_solve']:.1f} x one linear solve "
-                            f"({b['linear_solve_floor_s']:.3f} s){vs}.")
+                            f"(gap to {short} {b['limit_gap']:.2g}), {b['ratio_to_linear_solve']:.1f} x one linear "
+                            f"solve ({b['linear_solve_floor_s']:.3f} s){vs}.")
     on_front = [r for r in ok if id(r) in front]
     lines += ["", *headline, "- Pareto front (fastest first): " + ", ".join(
         f"{_variant(r)} {r['K']:.3g} r{r['refinement']} ({r['wall_time_s']:.3f} s, {r['error']:.2g})"
@@ -723,6 +735,14 @@ def plot_pareto(rows: Sequence[dict], path: str | Path, title: str = "") -> None
         ax.plot(ti, ei, ls="", marker=markers[r["refinement"]], ms=7, mec=c,
                 mfc=c if r["augment"] > 0 else "none", alpha=0.85)
     front = pareto_front(t, e)
+    if ok and "reference" in spec(ok[0]["scene"]):  # the scene's exact method: its error and time on each mesh
+        ref, ref_name = reference_method(ok[0]["scene"])
+        for r, ti, ei in zip(ok, t, e):
+            if r["method"] == ref:
+                mesh = "" if r["refinement"] is None else f", mesh {r['refinement']}"
+                ax.axhline(ei, color=_colour(ref), ls="--", lw=1.0, zorder=0,
+                           label=f"{ref_name}{mesh}: error {r['error']:.2g} in {ti:.3g} s")
+                ax.axvline(ti, color=_colour(ref), ls="--", lw=1.0, zorder=0)
     if len(front):
         ft, fe = np.append(t[front], t.max() * 1.15), np.append(e[front], e[front[-1]])
         ax.step(ft, fe, where="post", color="black", lw=1.2, zorder=0, label="Pareto front")
