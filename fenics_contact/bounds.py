@@ -58,7 +58,7 @@ class PlaneVertices:
 
     def origin(self, t: float) -> float:
         """Coordinate ``k`` of the obstacle's surface at load ``t`` (it moves with ``motion``)."""
-        return self.obstacle.point[self.k] + t * self.obstacle.motion[self.k]
+        return self.obstacle.point[self.k] + self.obstacle.factor(t) * self.obstacle.motion[self.k]
 
 
 class BoundContact(ContactSurface):

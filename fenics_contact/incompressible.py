@@ -9,7 +9,8 @@ of ``int W dV`` in ``(u, p)``: a symmetric saddle point (MUMPS LU). :class:`Mixe
 (``g = J - 1``), :class:`MixedLinearElastic` in small strain (Herrmann's, ``g = tr eps``).
 
 The kinematics come from the body (:class:`Kinematics`): the 3 x 3 deformation gradient and the volume weight;
-plane strain and 3D by default. Plane stress is refused (``F_33`` is then not kinematic). Without ``p``, the
+plane strain and 3D by default, axisymmetric with ``plane="axisymmetric"`` (hoop stretch ``1 + u_r / r``, every
+integral weighted by ``2 pi r``). Plane stress is refused (``F_33`` is then not kinematic). Without ``p``, the
 energy and stresses use the eliminated ``p``, the value at the stationary point.
 """
 from __future__ import annotations
@@ -17,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 import ufl
 
+from . import kinematics as _kinematics
 from .materials import Material
 
 __all__ = ["Kinematics", "MixedNeoHookean", "MixedLinearElastic"]
@@ -24,20 +26,28 @@ __all__ = ["Kinematics", "MixedNeoHookean", "MixedLinearElastic"]
 
 class Kinematics:
     """How a body's displacement ``u`` deforms it, for the mixed models: the deformation gradient as a
-    3 x 3 tensor and the weight of the volume element over ``dx``. This one: 3D, or plane strain in 2D
-    (``F = diag(F_2, 1)``), weight 1. A body of other kinematics gives its own (axisymmetric: ``F_33`` the hoop
-    stretch ``1 + u_r / r``, weight ``2 pi r``); the energy and stresses are written on the 3 x 3 ``F``."""
+    3 x 3 tensor and the weight of the volume element over ``dx`` (:mod:`~fenics_contact.kinematics`). 3D, or
+    plane strain in 2D (``plane="strain"``: ``F = diag(F_2, 1)``, weight 1), or axisymmetric
+    (``plane="axisymmetric"``: ``F_33`` the hoop stretch ``1 + u_r / r``, weight ``2 pi r``); the energy and
+    stresses are written on the 3 x 3 ``F``.
+
+    Args:
+        plane: ``strain`` (3D or plane strain) or ``axisymmetric`` (the meridian section ``(r, z)``).
+    """
+
+    def __init__(self, plane: str = "strain"):
+        if plane not in _kinematics.KINEMATICS:
+            raise ValueError(f"Kinematics plane must be one of {_kinematics.KINEMATICS}, got {plane!r}")
+        self.plane = plane
 
     def deformation_gradient(self, u) -> ufl.core.expr.Expr:
         """``F`` (3 x 3) of the displacement ``u`` (2 or 3 components)."""
-        F = ufl.Identity(len(u)) + ufl.grad(u)
-        if len(u) == 3:
-            return F
-        return ufl.as_matrix([[F[0, 0], F[0, 1], 0], [F[1, 0], F[1, 1], 0], [0, 0, 1]])
+        return _kinematics.deformation_gradient(u, self.plane)
 
     def weight(self, u) -> ufl.core.expr.Expr:
-        """The volume element over ``dx`` (1: the mesh's own measure; per unit thickness in plane strain)."""
-        return ufl.as_ufl(1.0)
+        """The volume element over ``dx``: 1 (the mesh's own measure; per unit thickness in plane strain) or
+        ``2 pi r`` (axisymmetric: the whole ring)."""
+        return _kinematics.weight(u, self.plane)
 
 
 def _in_plane(T, d: int):
@@ -51,20 +61,23 @@ class _Mixed(Material):
     mixed = True
 
     def __init__(self, E: float, nu: float, plane: str = "strain", kinematics: Kinematics | None = None):
-        if plane != "strain":
-            raise ValueError(f"model {self.model!r} is plane strain or 3D, got plane {plane!r}")
+        if plane not in _kinematics.KINEMATICS:
+            raise ValueError(f"model {self.model!r} is plane strain, 3D or axisymmetric, got plane {plane!r}")
+        if kinematics is not None and kinematics.plane != plane:
+            raise ValueError(f"model {self.model!r}: kinematics of plane {kinematics.plane!r} given for plane "
+                             f"{plane!r}")
         super().__init__(E, nu, plane)
         self.kappa = self.lmbda + 2.0 * self.mu / 3.0
-        self.kinematics = kinematics or Kinematics()
+        self.kinematics = kinematics or Kinematics(plane)
+
+    def weight(self, u) -> ufl.core.expr.Expr:
+        """The kinematics' volume weight (``2 pi r`` if axisymmetric, else 1): every integral over the body."""
+        return self.kinematics.weight(u)
 
     def density(self, w):
-        """``W(u, p) weight`` of the mixed unknown ``w = (u, p)``."""
+        """``W(u, p)`` of the mixed unknown ``w = (u, p)`` (per ``dx``; :meth:`bulk_form` weights it)."""
         u, p = ufl.split(w)
-        return self.energy(u, p) * self.kinematics.weight(u)
-
-    def energy_form(self, u):
-        """``int W(u) weight dx`` with ``p`` eliminated."""
-        return self.energy(u) * self.kinematics.weight(u) * ufl.dx
+        return self.energy(u, p)
 
     def describe(self) -> dict:
         return {**super().describe(), "kappa": self.kappa}
@@ -85,8 +98,9 @@ class MixedNeoHookean(_Mixed):
     Args:
         E: Young's modulus (stress), > 0.
         nu: Poisson's ratio, in (-1, 0.5); up to 0.4999 and beyond without locking.
-        plane: ``strain`` (plane strain in 2D; 3D); ``stress`` is refused.
-        kinematics: the body's :class:`Kinematics` (None: plane strain or 3D).
+        plane: ``strain`` (plane strain in 2D; 3D) or ``axisymmetric`` (the meridian section ``(r, z)``);
+            ``stress`` is refused.
+        kinematics: the body's :class:`Kinematics` (None: that of ``plane``).
     """
 
     model = "neohookean-mixed"
@@ -149,8 +163,9 @@ class MixedLinearElastic(_Mixed):
     Args:
         E: Young's modulus (stress), > 0.
         nu: Poisson's ratio, in (-1, 0.5); up to 0.4999 and beyond without locking.
-        plane: ``strain`` (plane strain in 2D; 3D); ``stress`` is refused.
-        kinematics: the body's :class:`Kinematics` (None: plane strain or 3D).
+        plane: ``strain`` (plane strain in 2D; 3D) or ``axisymmetric`` (the meridian section ``(r, z)``);
+            ``stress`` is refused.
+        kinematics: the body's :class:`Kinematics` (None: that of ``plane``).
     """
 
     linear = True

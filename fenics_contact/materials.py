@@ -70,6 +70,7 @@ class Material:
     linear = False  # True: small strain (a constant stiffness; reference and current configurations are one)
     mixed = False  # True: the unknown is (displacement, pressure), :meth:`density` reads both
     model = ""  # the capability grid's name of the model (:data:`~fenics_contact.models.MODELS`)
+    quadrature_degree: int | None = None  # of the bulk integrals; None: UFL's estimate from the energy's form
 
     def __init__(self, E: float, nu: float, plane: str = "strain"):
         if plane not in PLANES:
@@ -104,7 +105,7 @@ class Material:
 
     def energy_form(self, u: ufl.core.expr.Expr) -> ufl.Form:
         """The bulk stored energy ``int W(u) dx`` (axisymmetric: ``int W(u) 2 pi r dx``, the whole ring's)."""
-        return self.energy(u) * self.weight(u) * ufl.dx
+        return self.energy(u) * self.weight(u) * self._dx()
 
     def density(self, w) -> ufl.core.expr.Expr:
         """The stored energy per ``dx`` of the problem's unknown ``w`` (its displacement field)."""
@@ -117,7 +118,13 @@ class Material:
         (axisymmetric: weighted by ``2 pi r``)."""
         from .contact import displacement
 
-        return self.density(w) * self.weight(displacement(w)) * ufl.dx
+        return self.density(w) * self.weight(displacement(w)) * self._dx()
+
+    def _dx(self) -> ufl.Measure:
+        """The bulk measure, with :attr:`quadrature_degree` when set (UFL's estimate for a non-polynomial energy,
+        ``J^(-2/3)`` or the hoop term ``u_r / r``, is far above what the displacement's degree needs)."""
+        q = self.quadrature_degree
+        return ufl.dx if q is None else ufl.dx(metadata={"quadrature_degree": int(q)})
 
     def stress(self, u: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
         """Cauchy stress (in-plane components in 2D; axisymmetric: the (r, z) components)."""

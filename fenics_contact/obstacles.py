@@ -3,7 +3,8 @@
 An obstacle gives the normal gap ``g(x)`` (positive = penetration, see
 :mod:`fenics_contact.laws`) and the unit normal ``n(x)`` pointing from the
 obstacle into the body's admissible side. It may move rigidly with the load
-parameter ``t``: its reference point is ``point + t * motion``.
+parameter ``t``: its reference point is ``point + f(t) * motion``, ``f(t) = t`` or the piecewise-linear load
+path ``path = (t_k, f_k)`` set on it (as :attr:`~fenics_contact.problem.Dirichlet.path`; constant beyond its ends).
 """
 from __future__ import annotations
 
@@ -11,6 +12,8 @@ from typing import Sequence
 
 import numpy as np
 import ufl
+
+from .paths import check_path
 
 __all__ = ["Obstacle", "HalfPlane", "Ball", "Cylinder", "Sphere"]
 
@@ -23,9 +26,14 @@ class Obstacle:
     Args:
         point: a reference point of the obstacle (length).
         motion: the obstacle's displacement at ``t = 1`` (length; it moves by ``t * motion``); None: fixed.
+
+    ``path``: None (it moves by ``t * motion``) or ``(t_k, f_k)``, increasing ``t_k``: it moves by
+    ``f(t) * motion``, ``f`` interpolated linearly and constant beyond the ends (e.g. ``([0, 1, 2], [0, 1, 1])``:
+    moves up to ``t = 1``, then holds). Set it before the obstacle's surface is built.
     """
 
     shape = "curved"
+    path = None
 
     def __init__(self, point: Sequence[float], motion: Sequence[float] | None = None):
         self.point = np.asarray(point, dtype=float)
@@ -38,11 +46,33 @@ class Obstacle:
         """Attach the load parameter (a scalar ``Constant``) that moves the obstacle."""
         self._load = load
 
+    def factor(self, t: float) -> float:
+        """``f(t)``: the fraction of ``motion`` the obstacle has moved at load ``t``."""
+        return float(t) if self.path is None else float(np.interp(t, *self._path()))
+
+    def _path(self) -> tuple[np.ndarray, np.ndarray]:
+        if callable(self.path):  # the gap is UFL of t: a piecewise-linear path is, a callable is not
+            raise ValueError(f"obstacle path must be (t_k, f_k) with increasing t_k, got the callable {self.path!r}")
+        check_path(self.path, "obstacle path")
+        return tuple(np.asarray(a, dtype=float) for a in self.path)
+
+    def _factor(self) -> ufl.core.expr.Expr:
+        """``f(t)`` of the bound load parameter (UFL: the piecewise-linear path as nested conditionals)."""
+        t = self._load
+        if self.path is None:
+            return t
+        tk, fk = self._path()
+        f = ufl.as_ufl(fk[0])
+        for i in range(len(tk) - 1):
+            segment = fk[i] + (fk[i + 1] - fk[i]) * (t - tk[i]) / (tk[i + 1] - tk[i])
+            f = ufl.conditional(ufl.gt(t, tk[i]), segment, f)
+        return ufl.conditional(ufl.gt(t, tk[-1]), fk[-1], f)
+
     def origin(self) -> ufl.core.expr.Expr:
-        """Current reference point of the obstacle, ``point + t * motion`` (UFL)."""
+        """Current reference point of the obstacle, ``point + f(t) * motion`` (UFL)."""
         if self._load is None:
             raise RuntimeError("obstacle is not bound to a load parameter: call bind(load) first")
-        return ufl.as_vector(list(self.point)) + self._load * ufl.as_vector(list(self.motion))
+        return ufl.as_vector(list(self.point)) + self._factor() * ufl.as_vector(list(self.motion))
 
     def gap(self, x: ufl.core.expr.Expr) -> ufl.core.expr.Expr:
         raise NotImplementedError
@@ -51,7 +81,8 @@ class Obstacle:
         raise NotImplementedError
 
     def describe(self) -> dict:
-        return {"type": type(self).__name__, "point": self.point.tolist(), "motion": self.motion.tolist()}
+        out = {"type": type(self).__name__, "point": self.point.tolist(), "motion": self.motion.tolist()}
+        return out if self.path is None else {**out, "path": [list(map(float, a)) for a in self.path]}
 
 
 class HalfPlane(Obstacle):

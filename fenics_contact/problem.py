@@ -6,7 +6,7 @@ and Dirichlet values and traction factors are ``Constant``s set from their load 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Sequence, Union
+from typing import Sequence
 
 import dolfinx.fem.petsc as fem_petsc
 import numpy as np
@@ -29,6 +29,7 @@ from .contact import displacement, is_mixed
 from .domain import tag_value
 from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
+from .paths import LoadPath, check_path, load_factor
 from .surface import StepSolver, Surface
 
 __all__ = ["DIRICHLET_WEIGHT", "load_factor", "Dirichlet", "ContactProblem", "Stabilised"]
@@ -37,34 +38,6 @@ __all__ = ["DIRICHLET_WEIGHT", "load_factor", "Dirichlet", "ContactProblem", "St
 # along the step) follows the equilibrium rows; a Dirichlet row is linear and met by any full step (weight 1 took
 # the mindlin scene 22 Newton iterations in its first step instead of 7).
 DIRICHLET_WEIGHT = 1e-3
-
-# a load path: None (f(t) = t), a callable f(t), or piecewise linear (t_k, f_k)
-LoadPath = Union[tuple[Sequence[float], Sequence[float]], Callable[[float], float], None]
-
-
-def check_path(path: LoadPath, name: str = "path") -> None:
-    """``ValueError`` (one line, naming ``name``) unless ``path`` is None, a callable or ``(t_k, f_k)`` with
-    increasing ``t_k`` and as many values."""
-    if path is None or callable(path):
-        return
-    try:
-        tk, fk = (np.asarray(a, dtype=float) for a in path)
-    except (TypeError, ValueError):
-        tk = fk = None
-    if tk is None or tk.ndim != 1 or tk.shape != fk.shape or tk.size == 0 or np.any(np.diff(tk) <= 0):
-        raise ValueError(f"{name} must be a callable f(t) or (t_k, f_k) with increasing t_k and as many values, "
-                         f"got {path!r}")
-
-
-def load_factor(path: LoadPath, t: float) -> float:
-    """The factor ``f(t)`` of a load path at load parameter ``t``: ``t`` for ``None``; ``path(t)`` for a
-    callable; the piecewise-linear interpolation of ``path = (t_k, f_k)`` (constant beyond its ends)."""
-    if path is None:
-        return float(t)
-    if callable(path):
-        return float(path(t))
-    return float(np.interp(t, *path))
-
 
 @dataclass
 class Dirichlet:

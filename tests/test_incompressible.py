@@ -152,7 +152,7 @@ def test_refusals():
         fc.capabilities.check(method="penalty", model="neohookean-mixed", degree=2, solver="iterative")
     with pytest.raises(UnsupportedCombination):
         fc.capabilities.check(method="nitsche", model="neohookean-mixed", degree=2)
-    with pytest.raises(ValueError, match="plane strain or 3D"):
+    with pytest.raises(ValueError, match="plane strain, 3D or axisymmetric"):
         MixedNeoHookean(E, NU, plane="stress")
     with pytest.raises(UnsupportedCombination, match="pressure field"):
         fc.capabilities.check(method="nitsche", model="linear-mixed", degree=2)

@@ -41,6 +41,26 @@ def test_gap_and_normal(obstacle, x, t, gap, normal):
     assert np.allclose(values[1:], normal, atol=1e-14)
 
 
+@pytest.mark.parametrize("t,f", [(0.0, 0.0), (0.25, 0.25), (1.0, 1.0), (1.5, 1.0), (2.0, 1.0), (2.5, 0.5),
+                                 (3.0, 0.0), (4.0, 0.0)])
+def test_obstacle_load_path(t, f):
+    """An obstacle with the path ``(t_k, f_k)`` has moved by ``f(t) motion`` (piecewise linear, constant beyond the
+    ends): the UFL gap and the numeric ``factor`` agree with the interpolation."""
+    plane = HalfPlane([0.0, 1.0], [0.0, -1.0], motion=[0.0, -0.4])
+    plane.path = ([0.0, 1.0, 2.0, 3.0], [0.0, 1.0, 1.0, 0.0])
+    assert plane.factor(t) == pytest.approx(f, abs=1e-15)
+    gap = _evaluate(plane, [0.0, 0.5], t)[0]  # the plane at y = 1 - 0.4 f(t), the point at y = 0.5 below it
+    assert gap == pytest.approx(0.5 - (1.0 - 0.4 * f), abs=1e-14)
+
+
+def test_obstacle_path_refused():
+    """A load path that is not ``(t_k, f_k)`` with increasing ``t_k``: one line naming it."""
+    plane = HalfPlane([0.0, 0.0], [0.0, 1.0], motion=[0.0, 1.0])
+    plane.path = ([1.0, 0.0], [0.0, 1.0])
+    with pytest.raises(ValueError, match="obstacle path"):
+        plane.factor(0.5)
+
+
 def test_3d_box_on_a_plane_gauss_and_augmentation():
     """Unit cube pressed 0.01 onto z = 0, free lateral faces (symmetry on x = 0, y = 0):
     uniaxial stress, p = E (0.01 - d) with d = p / K for penalty; exact with augmentation."""

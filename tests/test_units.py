@@ -60,6 +60,9 @@ CASES = {
                     law=("penalty", {"K": (1e7, "S/L")}), friction=(0.3, 1e6)),
     "mindlin3d": dict(kw=dict(press_steps=1, ratios=(0.5,), h_contact=0.03), lengths=("R", "approach", "h_contact"),
                       stresses=("E",), law=("penalty", {"K": (2e6, "S/L")}), friction=(0.3, 1e4 / 0.007)),
+    "oring": dict(kw=dict(h=0.125, h_far=0.25, steps=1, pressure_steps=1, squeeze=0.2),
+                  lengths=("d", "r_in", "gland_width", "h", "h_far"), stresses=("E", "pressure"),
+                  law=("penalty", {"K": (8e5, "S/L")})),
     "patch": dict(kw=dict(), lengths=("width", "h_lower", "h_upper", "overlap"),
                   stresses=("pressure", "E_lower", "E_upper"), law=("auglag", {"K": (1e6, "S/L")}),
                   solver=dict(augment_max=10, augment_tol=1e-9)),
@@ -81,7 +84,7 @@ CASES = {
     "wedges": dict(kw=dict(), lengths=("length", "push"), stresses=("E", "load"),
                    law=("penalty", {"K": (1e6, "S/L")}), friction=(0.3, 1e4)),
 }
-SLOW_CASES = ("compliance3d", "cylinders", "hertz.nitsche", "ironing", "mindlin", "mindlin3d", "patch",
+SLOW_CASES = ("compliance3d", "cylinders", "hertz.nitsche", "ironing", "mindlin", "mindlin3d", "oring", "patch",
               "rings.collocated", "seal", "sheet", "sphere", "wedges")
 
 

@@ -68,7 +68,7 @@ class CondensedCoulomb(CondensedStepSolver):
         self._tpos = nv + np.arange(len(self._it))
         obstacle = self.contact.obstacle
         self._d0 = self.sign * (self._vx[:, self.k] - obstacle.point[self.k])
-        self._dmotion = -self.sign * obstacle.motion[self.k]  # d0(t) = d0 + t * dmotion
+        self._dmotion = -self.sign * obstacle.motion[self.k]  # d0(t) = d0 + f(t) * dmotion (the obstacle's path)
         self._ref = np.zeros(len(self._it))  # tangential displacement at the last converged step
         return np.concatenate([self._gn, self._gt[self._it]])
 
@@ -78,7 +78,7 @@ class CondensedCoulomb(CondensedStepSolver):
         sgn, mu, nv, S = self.sign, self.mu, len(self._gn), self.S
         R = S @ uc + self._r
         Rn = sgn * R[:nv]
-        d = self._d0 + t * self._dmotion + sgn * uc[:nv]
+        d = self._d0 + self.contact.obstacle.factor(t) * self._dmotion + sgn * uc[:nv]
         Rt, s = R[self._tpos], uc[self._tpos] - self._ref
         F, J = np.zeros_like(uc), np.zeros((len(uc), len(uc)))
         lam = Rn - c * d
@@ -115,7 +115,7 @@ class CondensedCoulomb(CondensedStepSolver):
         pn = self.sign * R[:nv] / self._w
         pt = np.zeros(nv)
         pt[self._it] = R[self._tpos] / self._w[self._it]
-        gap = -(self._d0 + t * self._dmotion + self.sign * uc[:nv])
+        gap = -(self._d0 + self.contact.obstacle.factor(t) * self._dmotion + self.sign * uc[:nv])
         self.contact.set_solution(self._vx, self._w, pn, pt, gap, self._mine)
 
     def _slip_reference(self, uc: np.ndarray) -> np.ndarray:
