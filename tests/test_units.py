@@ -254,7 +254,7 @@ DEMO_SCALES = {
     "axisphere": ("E", "R"), "block": ("E", "height"), "compliance3d": ("E", "height"), "cylinders": ("E", "R-upper"),
     "ironing": ("E", "H"), "mindlin": ("E", "R"), "mindlin3d": ("E", "R"), "patch": ("E-lower", "h-lower"),
     "pin": ("E", "R"), "ring": ("E", "R-out", "R-in"), "seal": ("E", "R-out", "R-in", "h", "plate-distance"),
-    "slab": ("E", "width"), "sphere": ("E", "R"), "wedges": ("E", "length"),
+    "slab": ("E", "width"), "sphere": ("E", "R"), "wedges": ("E", "length"), "oring": ("E", "d"),
 }
 
 
