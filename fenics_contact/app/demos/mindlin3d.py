@@ -14,8 +14,9 @@ The stick radius c (from the stick area by the vertex rule, sqrt(2 A / pi); also
 compared with Cattaneo-Mindlin c = a (1 - Q/(mu P))^(1/3) (a: Hertz for P, 1/E* = 2 (1 - nu^2) / E), the
 traction along the x axis with Mindlin's q(r). Writes mindlin3d.xdmf, summary.json and mindlin3d.png (the
 traction along x against Mindlin, and the stick/slip map of the last step) to --out. The linear solver is
-GMRES + GAMG by default (--solver iterative; --method coulomb factors with MUMPS: --solver direct): MUMPS's LU of this 3D Jacobian grows like dofs^2 (Debian's MUMPS
-orders with PORD: 4.7 GFlop at 12k dofs), GAMG about linearly, with the same Newton iterations and figures.
+GMRES + GAMG by default (--solver iterative; --method coulomb factors with MUMPS, --solver direct): MUMPS's LU
+of this 3D Jacobian grows like dofs^2 (Debian's MUMPS orders with PORD: 4.7 GFlop at 12k dofs), GAMG about
+linearly, with the same Newton iterations and figures.
 """
 import sys
 from pathlib import Path

@@ -15,10 +15,11 @@ cap holds its free motion along ``x``). At ``t = 1`` (the top held) friction com
 ``beta = 0`` the pressing carries no tangential traction, so pressing with or without friction is the same problem
 (Mindlin's), and frictionless pressing avoids Newton cycling at the contact edge, where tiny tractions under
 tiny pressures turn the 3D slip direction at every iterate. The exact method presses with friction in one step
-to ``t = 1`` (``beta = 0``: the same problem; the contact holds the cap along ``x``, no spring). The force ``P`` is the whole sphere's (twice the half
-model's contact force at ``t = 1``). Then ``t = 1 + r`` for each ratio ``r`` of ``ratios`` (increasing): the
-tangential force ``Q = r mu P`` along ``+x`` on the top (a uniform traction, force control: the cap's position
-along ``x`` is held by friction alone). The cap is placed ``overlap`` (``1e-9 R``) into the block.
+to ``t = 1`` (``beta = 0``: the same problem; the contact holds the cap along ``x``, no spring). The force ``P``
+is the whole sphere's (twice the half model's contact force at ``t = 1``). Then ``t = 1 + r`` for each ratio
+``r`` of ``ratios`` (increasing): the tangential force ``Q = r mu P`` along ``+x`` on the top (a uniform
+traction, force control: the cap's position along ``x`` is held by friction alone). The cap is placed
+``overlap`` (``1e-9 R``) into the block.
 
 Reference (two identical bodies: ``1/E* = 2 (1 - nu^2) / E``): Hertz ``a^3 = 3 P R / (4 E*)``,
 ``p0 = 3 P / (2 pi a^2)``; Cattaneo-Mindlin: the stick zone ``r < c`` with ``c = a (1 - Q / (mu P))^(1/3)`` and
@@ -45,9 +46,9 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
+from ...condensed import step_solver_for
 from ...factory import two_body_surfaces
 from ...friction import STICK, Friction
-from ...condensed import step_solver_for
 from ...laws import ContactLaw, ExactCoulomb
 from ...materials import LinearElastic
 from ...problem import Dirichlet
@@ -73,10 +74,12 @@ DEFAULT_K = 2e6
 # Tangential penalty at refinement 0: the interface layer E* / omega_t ~ 3.8e-4 R is 5.5 % of h_contact.
 DEFAULT_OMEGA_T = 1e4 / H_CONTACT
 T_PRESS = 0.9  # the pressing ends at this load; friction comes on at t = 1
-# Method coulomb pairs the slave vertices within EXACT_RADIUS x the approach of the block (the others stay open):
-# Hertz's contact edge is at a distance of about half the approach, so 2 pairs out to about twice the contact radius
-# (n_c = 4191 contact dofs at the default mesh, 3.8 times fewer than the penalty laws' radius 0.1 R).
-EXACT_RADIUS = 2.0
+# Method coulomb pairs the slave vertices within EXACT_RADIUS x the approach of the block (the others stay open, no
+# force): two surface points approach each other by less than the cap's top moves (the bodies are compressed), and
+# Hertz's contact edge is at a distance of about half the approach, so 1.25 pairs out to 1.5 contact radii. The
+# default mesh: 460 paired slave vertices, n_c = 2780 contact dofs (radius 2 x approach: 3332, the same stick
+# radii to round-off; the penalty laws' radius 0.1 R would pair 930).
+EXACT_RADIUS = 1.25
 # k R^2 / E of the spring on the cap's u_x during the frictionless pressing: stiff enough to fix the cap's
 # position (1e-2 let the contact set wander); its force k u_x ~ 1e-3 E / R is antisymmetric in x (no net force).
 PRESS_SPRING = 1.0
