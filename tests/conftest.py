@@ -166,6 +166,7 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_ironing.py::test_parallel_equals_serial",
     "test_mindlin.py::test_parallel_equals_serial", "test_mindlin3d.py::test_parallel_equals_serial",
     "test_mindlin3d.py::test_exact_coulomb_parallel_equals_serial",
+    "test_coulomb3d.py::test_parallel_equals_serial",
     "test_multipliers.py::test_parallel_equals_serial*",
     "test_multipliers.py::test_two_body_multipliers_parallel_equals_serial", "test_parallel.py::*",
     "test_pin.py::test_parallel_equals_serial", "test_rings.py::test_serial_equals_ranks",

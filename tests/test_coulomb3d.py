@@ -153,3 +153,19 @@ def test_condensed_size_is_bounded(monkeypatch):
         _on_plane(0.3, PRESS)
     with pytest.raises(ValueError, match=r"^method 'coulomb': twobody: \d+ slave vertices within the search radius"):
         _blocks3d(0.3)
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="compares a parallel run with the serial one")
+def test_parallel_equals_serial():
+    """Under mpirun -n 2: the box dragged on the plane (partial slip after one drag step) and on the box give the
+    serial contact forces and friction profile to 1e-8."""
+    out = []
+    for comm in (MPI.COMM_WORLD, MPI.COMM_SELF):
+        problem, c = _on_plane(0.3, 2 * PRESS, comm)
+        fc.Solver(problem, quiet=True).run([1.0, 1.5])
+        prof = c.friction_profile()
+        problem2, c2 = _blocks3d(0.3, comm)
+        fc.Solver(problem2, quiet=True).run([1.0, 1.5])
+        out.append(np.concatenate([c.contact_force(), prof["pressure"], prof["traction"].ravel(), c2.total_force(),
+                                   c2.tangential_force(), c2.friction_profile()["traction"].ravel()]))
+    assert np.allclose(out[0], out[1], rtol=0, atol=1e-8 * np.abs(out[1]).max())

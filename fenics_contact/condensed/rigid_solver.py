@@ -60,7 +60,8 @@ class CondensedCoulomb(CondensedStepSolver):
             gts = tuple(lt + r0 if (lt < n_owned and lt not in dirichlet_local) else -1 for lt in lts)
             rows.append((tuple(Xall[dof]), ln + r0, gts, plane.weight[j], comm.rank, int(dof)))
         rows = [r for part in comm.allgather(rows) for r in part]
-        rows.sort(key=lambda r: r[0])
+        # by position, rounded: a vertex's coordinates may differ in the last bit between partitions
+        rows.sort(key=lambda r: tuple(np.round(r[0], 12)))
         self._vx = np.array([r[0] for r in rows]).reshape(-1, self.dim)
         self._gn = np.array([r[1] for r in rows], dtype=np.int64)
         self._gt = np.array([r[2] for r in rows], dtype=np.int64).reshape(-1, self.dim - 1)  # -1: prescribed
