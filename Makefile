@@ -1,13 +1,13 @@
 # make demo: set up (apt packages, venv), run every scene's demo at a small size under mpirun -n 2 into results/
 #            and print one table of their checks (figure, reference, error, passed); make demo-all: default sizes
-# make test: set up and run ruff, every test serially (two at a time), the tests that are not slow or compare ranks
-#            under mpirun -n 2, and on Debian 13's dolfinx (mpirun -n 2) the library's unit and closed-form tests and
-#            every comparison of ranks; within 20 minutes on 2 cores
+# make test: set up and run ruff, every test but the studies serially (two at a time), and under mpirun -n 2 (on
+#            dolfinx 0.5 and on Debian 13's 0.9) the library's unit and closed-form tests and every comparison of
+#            ranks; within 20 minutes on 2 cores
 # make test-fast: the library's unit and closed-form tests (not slow, no scene), under 2 minutes
 # make test-all: every test serially, under mpirun -n 2 and on Debian 13 (serial and mpirun -n 2)
 # make bench: the quick benchmark sweep into results/bench and its pages into docs/bench/ (make bench-pages)
 # make docs: regenerate the generated pages (also docs/tutorials/ from tutorials/), build the HTML documentation into docs/_build/html (warnings are errors)
-# Lanes: the markers slow, scene and mpi, given in tests/conftest.py
+# Lanes: the markers slow, scene, mpi and study, given in tests/conftest.py
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 NP     ?= 2
@@ -23,10 +23,12 @@ MPIRUN := mpirun -n $(NP)
 
 PYTEST := $(PY) -m pytest -q -p no:cacheprovider
 XDIST  := -n $(NP) --dist loadfile
-# in parallel, make test runs what is not a slow study, and every comparison of ranks
-PARALLEL_LANE := not slow or mpi
+# in parallel (and on Debian 13), make test runs the library's unit and closed-form tests and every comparison
+# of ranks; the demos run under mpirun -n 2 in make demo, every test in parallel in make test-all
+PARALLEL_LANE := (not slow and not scene) or mpi
 
-.PHONY: setup demo demo-all bench bench-pages scaling docs test test-fast test-all lint test-serial test-mpi test-mpi-all \
+.PHONY: setup demo demo-all bench bench-pages scaling docs test test-fast test-all lint test-serial test-serial-all test-mpi \
+        test-mpi-all \
         test-debian13 clean
 
 setup:
@@ -69,6 +71,9 @@ test-fast: setup
 	ulimit -v $(MEM_CAP_KB) && $(PYTEST) $(XDIST) -m "not slow and not scene" tests
 
 test-serial: setup
+	ulimit -v $(MEM_CAP_KB) && $(PYTEST) $(XDIST) -m "not study" tests
+
+test-serial-all: setup
 	ulimit -v $(MEM_CAP_KB) && $(PYTEST) $(XDIST) tests
 
 test-mpi: setup
@@ -81,13 +86,10 @@ test-mpi-all: setup
 test-debian13: setup
 	bash scripts/debian13.sh
 
-# on Debian 13, make test runs the library's unit and closed-form tests and every comparison of ranks (test-all: all)
-DEB13_LANE := (not slow and not scene) or mpi
-
 test: lint test-serial test-mpi
-	@OPTIONAL=1 SERIAL=0 DEB13_MARK="$(DEB13_LANE)" bash scripts/debian13.sh
+	@OPTIONAL=1 SERIAL=0 DEB13_MARK="$(PARALLEL_LANE)" bash scripts/debian13.sh
 
-test-all: lint test-serial test-mpi-all test-debian13
+test-all: lint test-serial-all test-mpi-all test-debian13
 
 clean:
 	rm -rf results .pytest_cache docs/_build

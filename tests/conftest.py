@@ -67,7 +67,9 @@ def pytest_configure(config):
     for marker, what in (("slow", "a study of more than a few seconds (not in make test-fast; serial only in make "
                                    "test unless also mpi)"),
                          ("scene", "a benchmark scene, its demo or the application (not in make test-fast)"),
-                         ("mpi", "compares a parallel run with the serial one (in every parallel lane)")):
+                         ("mpi", "compares a parallel run with the serial one (in every parallel lane)"),
+                         ("study", "a study of many solves whose subject a lighter test covers (only in make "
+                                   "test-all)")):
         config.addinivalue_line("markers", f"{marker}: {what}")
     # Under mpirun every rank runs pytest: give each its own base temporary folder, or the
     # ranks clean up each other's folders. Tests that write from all ranks broadcast rank 0's path.
@@ -97,8 +99,9 @@ def _petsc_options_unchanged():
 
 # --- lanes --------------------------------------------------------------------------------------------------
 # Which lane runs a test (Makefile): `make test-fast` runs what is neither `slow` nor `scene` (the library's
-# unit and closed-form tests, under 2 minutes), `make test` runs everything serially and, in parallel, what is
-# not `slow` or is `mpi`; `make test-all` runs everything in parallel too. The tables below are the one place
+# unit and closed-form tests, under 2 minutes), `make test` runs everything but `study` serially and, in
+# parallel (and on Debian 13), what is neither `slow` nor `scene`, and every `mpi`; `make test-all` runs
+# everything, serially and in parallel. The tables below are the one place
 # that says so, by node id (file::test[parameters]; ``*`` matches anything). A pattern of a collected file that matches
 # no test is an error: a renamed test cannot silently leave its lane.
 SCENE = (  # a benchmark scene, its demo, or the application around it (harness, command line)
@@ -180,6 +183,19 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
 )
 
 
+STUDY = (  # studies of many solves (refinement series, heavy scenes rescaled): slow, and only in make test-all
+    "test_twobody_nitsche.py::test_mindlin_stick_zone",  # make test: the wedges and two-body Hertz with it
+    "test_records.py::test_killed_demo_keeps_its_steps_and_restarts_to_the_same_figures[SIGTERM-mpirun-2]",
+    "test_sphere.py::test_sphere_on_block_inexact_newton", "test_sphere.py::test_sphere_on_block_p0_converges_to_hertz",
+    "test_sphere.py::test_sphere_multipliers_equal_snes_vi",  # make test: the same equality in 2D
+    "test_units.py::test_slow_scene_any_units[mindlin3d]", "test_units.py::test_slow_scene_any_units[wedges]",
+    "test_units.py::test_slow_scene_any_units[sphere]",  # make test: every other scene rescaled
+    "test_model_reduction.py::test_axisymmetric_section_is_the_octants_limit",
+    "test_slab.py::test_regularized_friction_methods_converge_over_mu[compliance]",  # make test: [cross]
+    "test_slab.py::test_regularized_friction_methods_converge_over_mu[auglag]",
+)
+
+
 def _lane_patterns(table: tuple) -> list[str]:
     return [p if "::" in p else f"{p}::*" for p in table]
 
@@ -192,7 +208,8 @@ def _matches(name: str, pattern: str) -> bool:
 
 @pytest.hookimpl(tryfirst=True)  # before -m deselects: every collected test gets its markers
 def pytest_collection_modifyitems(config, items):
-    tables = {"scene": _lane_patterns(SCENE), "slow": _lane_patterns(SLOW), "mpi": _lane_patterns(MPI_COMPARED)}
+    tables = {"scene": _lane_patterns(SCENE), "slow": _lane_patterns(SLOW + STUDY), "mpi": _lane_patterns(MPI_COMPARED),
+              "study": _lane_patterns(STUDY)}
     used = {p: False for ps in tables.values() for p in ps}
     for item in items:
         name = item.nodeid.split("/")[-1]
@@ -202,6 +219,10 @@ def pytest_collection_modifyitems(config, items):
                 used[p] = True
             if hits:
                 item.add_marker(getattr(pytest.mark, marker))
+    # make test runs every comparison of ranks: none of them may be left to make test-all
+    both = [i.nodeid for i in items if i.get_closest_marker("mpi") and i.get_closest_marker("study")]
+    if both:
+        raise pytest.UsageError(f"tests in both MPI_COMPARED and STUDY of tests/conftest.py: {both}")
     # Files collected whole (not single tests of them, no -k): each of their patterns must match a test.
     partial = {a.split("::")[0].split("/")[-1] for a in config.args if "::" in a}
     whole = {i.nodeid.split("/")[-1].split("::")[0] for i in items} - partial
