@@ -93,23 +93,24 @@ class Dirichlet:
 
     @classmethod
     def on_facets(cls, V: fem.FunctionSpace, facet_tags, tag: int | str, component: int,
-                  amplitude: float = 0.0) -> Dirichlet:
-        """``u_component = amplitude * t`` on the facets tagged ``tag``.
+                  amplitude: float = 0.0, path: LoadPath = None) -> Dirichlet:
+        """``u_component = amplitude * f(t)`` on the facets tagged ``tag``.
 
         Args:
             V: the displacement space (vector).
             facet_tags: facet tags (dolfinx ``MeshTags`` or :class:`~fenics_contact.domain.NamedTags`).
             tag: a tag value, or a name of ``facet_tags``.
             component: the displacement component constrained (0: x, 1: y, 2: z).
-            amplitude: the value at ``t = 1`` (length); 0: a roller, a symmetry plane.
+            amplitude: the value at ``f = 1`` (length); 0: a roller, a symmetry plane.
+            path: the load path ``f`` (:func:`load_factor`); None: ``f(t) = t``.
 
         Returns:
-            The :class:`Dirichlet` (set ``path`` on it for another load path).
+            The :class:`Dirichlet`.
         """
         facet_tags, tag = tag_value(facet_tags, tag)
         Vi = V.sub(component)
         facets = facet_tags.indices[facet_tags.values == tag]
-        return cls(Vi, fem.locate_dofs_topological(Vi, V.mesh.topology.dim - 1, facets), amplitude)
+        return cls(Vi, fem.locate_dofs_topological(Vi, V.mesh.topology.dim - 1, facets), amplitude, path)
 
     def at(self, t: float) -> float:
         """The prescribed value at load ``t``: ``amplitude * f(t)``."""

@@ -15,9 +15,10 @@ from fenics_contact.contact import displacement
 E, NU, W, H = 1000.0, 0.3, 1.0, 2.0
 
 
-def _block(tractions_of, n=(2, 4)):
+def _block(tractions_of, n=(2, 4), top=None):
     """A W x H block on the rigid plane y = 0, left side a roller, exact contact (Lagrange multipliers); the
-    tractions from ``tractions_of(mesh, ds)``. Returns (contact, problem, V, facets)."""
+    tractions from ``tractions_of(mesh, ds)``; ``top``: the top's ``(u_y amplitude, path)`` if prescribed.
+    Returns (contact, problem, V, facets)."""
     mesh = dmesh.create_rectangle(MPI.COMM_WORLD, [np.zeros(2), np.array([W, H])], list(n))
     facets = fc.tag_boundary(mesh, [("base", lambda x: np.isclose(x[1], 0.0)),
                                      ("top", lambda x: np.isclose(x[1], H)),
@@ -27,8 +28,11 @@ def _block(tractions_of, n=(2, 4)):
     u, V = fc.unknown(mesh, 1, law)
     load = fem.Constant(mesh, 0.0)
     contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
-    problem = fc.ContactProblem(u, fc.LinearElastic(E, NU), load, [fc.Dirichlet.on_facets(V, facets, "left", 0)],
-                                [contact], tractions=tractions_of(mesh, ds, facets))
+    dirichlet = [fc.Dirichlet.on_facets(V, facets, "left", 0)]
+    if top is not None:
+        dirichlet.append(fc.Dirichlet.on_facets(V, facets, "top", 1, top[0], path=top[1]))
+    problem = fc.ContactProblem(u, fc.LinearElastic(E, NU), load, dirichlet, [contact],
+                                tractions=tractions_of(mesh, ds, facets))
     return contact, problem, V, facets
 
 
@@ -61,6 +65,25 @@ def test_traction_follows_its_path_at_every_step():
 
     fc.Solver(problem, quiet=True, on_step=check).run([0.5, 1.0, 1.5, 2.0, 2.5, 3.0])
     assert seen == [0.5, 1.0, 1.3, 1.6, 1.0, 0.4]
+
+
+def test_prescribed_displacement_follows_its_path_at_every_step():
+    """The top moved down by d f(t) (``Dirichlet.on_facets`` with a path: up, over, back down): the plane carries
+    p = E d f(t) / ((1 - nu^2) H) uniformly at every load step (plane strain, free to expand sideways)."""
+    d = 0.01
+    path = ([0.0, 1.0, 2.0], [0.0, 1.5, 0.5])
+    contact, problem, _, _ = _block(lambda mesh, ds, facets: [], top=(-d, path))
+    seen = []
+
+    def check(t):
+        f = float(np.interp(t, *path))
+        p = E * d * f / ((1 - NU**2) * H)
+        np.testing.assert_allclose(contact.surface_values()[2], p, rtol=1e-9)
+        assert np.isclose(contact.total_force()[1], p * W, rtol=1e-9)
+        seen.append(f)
+
+    fc.Solver(problem, quiet=True, on_step=check).run([1.0, 1.5, 2.0])
+    assert seen == [1.5, 1.0, 0.5]
 
 
 def test_body_force_and_traction_on_separate_paths():

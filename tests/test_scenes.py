@@ -40,7 +40,7 @@ def test_demo_options_from_the_builder():
     from fenics_contact.app.scenes import hertz
 
     p = argparse.ArgumentParser()
-    p.add_argument("--mu", type=float, default=0.0)  # a shared option of the same name is left alone
+    p.add_argument("--mu", type=float, default=0.0)  # an option the scene does not have
     names = add_scene_options(p, hertz.build)
     assert {"R", "E", "nu", "approach", "load", "plate_E", "plate_nu", "plate_width", "plate_depth",
             "contact_width", "stabilisation"} <= set(names)
@@ -48,6 +48,18 @@ def test_demo_options_from_the_builder():
     kw = scene_arguments(args, names)
     assert kw["E"] == 200.0 and kw["R"] == 8.0 and kw["load"] == 10.0 and kw["plate_E"] == 200.0
     assert kw["plate_width"] is None and kw["approach"] is None  # force control: no approach
+
+
+def test_a_scene_option_the_demo_already_has_is_refused_unless_shared():
+    """A builder keyword whose flag the demo already has would be set by that other option: an error naming both,
+    unless the demo declares it shared (the same quantity, given to the builder from its own option)."""
+    from fenics_contact.app.scenes import hertz
+
+    p = argparse.ArgumentParser()
+    p.add_argument("--E", type=float, default=1.0, help="a demo's own E")
+    with pytest.raises(ValueError, match=r"--E of fenics_contact.app.scenes.hertz is already an option"):
+        add_scene_options(p, hertz.build)
+    assert "E" not in add_scene_options(p, hertz.build, shared=("E",))
 
 
 @pytest.mark.parametrize("scene, kw, match", [

@@ -243,3 +243,49 @@ def test_rings_in_any_units_match_lame(E, q):
 
 
 RINGS_ITERATIONS: dict = {}
+
+
+# Per demo: the options of its modulus and its size that its default penalties follow (K, omega_t: stiffnesses
+# per unit area, scaling as stress / length), and its other lengths that must stay below or beside the size.
+DEMO_SCALES = {
+    "axisphere": ("E", "R"), "block": ("E", "height"), "compliance3d": ("E", "height"), "cylinders": ("E", "R-upper"),
+    "ironing": ("E", "H"), "mindlin": ("E", "R"), "mindlin3d": ("E", "R"), "patch": ("E-lower", "h-lower"),
+    "pin": ("E", "R"), "ring": ("E", "R-out", "R-in"), "seal": ("E", "R-out", "R-in", "h", "plate-distance"),
+    "slab": ("E", "width"), "sphere": ("E", "R"), "wedges": ("E", "length"),
+}
+
+
+class _Parsed(Exception):
+    pass
+
+
+@pytest.mark.parametrize("demo", sorted(DEMO_SCALES))
+def test_demo_default_penalties_follow_the_scene_units(demo, monkeypatch):
+    """A demo's default ``K`` and ``omega_t`` are its scene's in the options' units: with the modulus x 2^30 and
+    the lengths x 2^-10 they are x 2^40 (exactly), so a scene given in other units is the same problem."""
+    import importlib
+
+    from fenics_contact.app import cli
+    from fenics_contact.app.scenes import cylinders
+
+    module = importlib.import_module(f"fenics_contact.app.demos.{demo}")
+    parsed = []
+    parse = cli.parse
+
+    def parse_and_stop(p, argv=None):
+        parsed.append(parse(p, argv))
+        raise _Parsed
+
+    monkeypatch.setattr(cli, "parse", parse_and_stop)
+    with pytest.raises(_Parsed):
+        module.main([])
+    modulus, *lengths = DEMO_SCALES[demo]
+    E = getattr(parsed[0], modulus.replace("-", "_"))
+    E = cylinders.reference_E() if E is None and demo == "cylinders" else E  # its default E: of its Lame constants
+    argv = [f"--{modulus}", repr(E * STRESS)]
+    for name in lengths:
+        argv += [f"--{name}", repr(getattr(parsed[0], name.replace("-", "_")) * LENGTH)]
+    with pytest.raises(_Parsed):
+        module.main(argv)
+    for k in ("K", "omega_t"):
+        assert getattr(parsed[1], k) == getattr(parsed[0], k) * STRESS / LENGTH, (k, getattr(parsed[0], k))

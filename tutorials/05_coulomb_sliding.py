@@ -32,10 +32,8 @@ law = fc.ExactCoulomb(mu)
 u, V = fc.unknown(mesh, 1, law)
 load = fem.Constant(mesh, 0.0)
 contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
-down = fc.Dirichlet.on_facets(V, facets, "top", 1, -d)
-down.path = ([0.0, 1.0], [0.0, 1.0])   # down by d at t = 1, then held
-along = fc.Dirichlet.on_facets(V, facets, "top", 0, s)
-along.path = ([1.0, 2.0], [0.0, 1.0])  # then along by s
+down = fc.Dirichlet.on_facets(V, facets, "top", 1, -d, path=([0.0, 1.0], [0.0, 1.0]))  # down by d at t = 1, held
+along = fc.Dirichlet.on_facets(V, facets, "top", 0, s, path=([1.0, 2.0], [0.0, 1.0]))  # then along by s
 problem = fc.ContactProblem(u, fc.LinearElastic(E, nu), load, [down, along], [contact],
                             step_solver=fc.step_solver_for([contact]))
 fc.Solver(problem, quiet=True).run([0.5, 1.0, 1.25, 1.5, 1.75, 2.0])

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import inspect
 import logging
 import math
 import re
@@ -204,12 +205,41 @@ LEVEL = number(int, 0)  # refinements, augmentations: >= 0
 EXPONENT = number(float, 1.0)
 
 
+def scene_scaled(value: float, builder: Callable, modulus: str | None = "E", length: str = "R",
+                 E0: float | None = None) -> Callable[[argparse.Namespace], float]:
+    """A stiffness per unit area (pressure per length: a penalty ``K``, a tangential ``omega_t``) chosen for a
+    scene at its default modulus and size, as a function of the parsed options: ``value (E / E0) (L0 / L)``.
+
+    Args:
+        value: the stiffness at the builder's defaults.
+        builder: the scene's builder; its keyword defaults give ``E0`` and ``L0``.
+        modulus: the builder keyword (and option) of the modulus; None: the stiffness does not follow it.
+        length: the builder keyword (and option) of the scene's size.
+        E0: the default modulus where the builder's default is None (derived from other constants).
+
+    Returns:
+        A function of the parsed options giving the stiffness in the options' units.
+    """
+    defaults = {k: v.default for k, v in inspect.signature(builder).parameters.items()}
+    E_ref = defaults.get(modulus) if E0 is None else E0
+    L_ref = defaults[length]
+
+    def derive(args: argparse.Namespace) -> float:
+        E = getattr(args, modulus, None) if modulus is not None else None
+        L = getattr(args, length, None)
+        return value * (E / E_ref if E is not None and E_ref else 1.0) * (L_ref / L if L is not None else 1.0)
+    return derive
+
+
 def parser(description: str, default_K: float | Callable[[argparse.Namespace], float],
-           quadratures: Sequence[str] = QUADRATURES) -> StrictParser:
+           quadratures: Sequence[str] = QUADRATURES,
+           default_omega_t: float | Callable[[argparse.Namespace], float] | None = None) -> StrictParser:
     """The shared options; ``default_K``: a number, or a function of the parsed options (a K that scales with
-    the scene's E and size); ``quadratures``: the accepted ``--quadrature`` values (two-body scenes add
-    ``segment``)."""
+    the scene's E and size, :func:`scene_scaled`); ``quadratures``: the accepted ``--quadrature`` values
+    (two-body scenes add ``segment``); ``default_omega_t``: the tangential penalty's default, a number or such
+    a function (None: ``--K``)."""
     p = StrictParser(description=description)
+    p.set_defaults(derive_omega_t=default_omega_t if callable(default_omega_t) else None)
     p.add_argument("--method", choices=methods.names(), default="cross",
                    help="contact formulation: " + "; ".join(f"{m.name}: {m.summary}" for m in methods.methods()))
     derived = callable(default_K)
@@ -220,7 +250,7 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
             None if isinstance(param.default, str) else param.default
         helps = "; ".join(f"{', '.join(names)}: {text}" for text, names in _grouped_help(declared))
         if option == "K" and derived:
-            helps += "; default: the scene's K, scaled with E / h"
+            helps += "; default: the scene's K, scaled with E / size"
         p.add_argument(f"--{option.replace('_', '-')}", dest=option, type=RANGE_TYPES[param.range], default=default,
                        help=helps)
     p.add_argument("--augment", type=LEVEL, default=None,
@@ -236,7 +266,9 @@ def parser(description: str, default_K: float | Callable[[argparse.Namespace], f
     p.add_argument("--m-t", type=EXPONENT, default=None, help="exponent m_t >= 1 of the bound (default: m_n)")
     p.add_argument("--tresca", type=NONNEGATIVE, default=None,
                    help="Tresca friction: the fixed bound (traction) on the closed points instead of mu F(g)")
-    p.add_argument("--omega-t", type=POSITIVE, default=None, help="tangential penalty of stick (default: --K)")
+    p.add_argument("--omega-t", type=POSITIVE, default=None if callable(default_omega_t) else default_omega_t,
+                   help="tangential penalty of stick (pressure per length; default: " + (
+                       "--K)" if default_omega_t is None else "the scene's, scaled with E / size)"))
     p.add_argument("--quadrature", choices=list(quadratures), default="nodal", help="contact quadrature")
     p.add_argument("--solver", choices=list(LINEAR_SOLVERS), default="direct",
                    help="linear solver: direct (MUMPS LU) or iterative (GMRES + GAMG, rigid-body modes; 3D; "
@@ -342,6 +374,8 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
             other = declared[0][1].default
             if isinstance(other, str) and getattr(args, option, 0) is None:
                 setattr(args, option, getattr(args, other))
+        if getattr(args, "omega_t", 0) is None and getattr(args, "derive_omega_t", None) is not None:
+            args.omega_t = float(args.derive_omega_t(args))
         if getattr(args, "omega_t", 0) is None:
             args.omega_t = args.K
     return args

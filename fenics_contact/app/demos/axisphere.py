@@ -23,7 +23,7 @@ TOLERANCE = 1e-2
 
 def main(argv=None) -> dict:
     # 1. Options: formulation, partner (rigid plane or a second sphere), the sphere(s) and the mesh.
-    p = cli.parser(__doc__.splitlines()[0], default_K=axisphere.DEFAULT_K)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(axisphere.DEFAULT_K, axisphere.build))
     p.add_argument("--partner", choices=list(axisphere.PARTNERS), default="plane",
                    help="what the sphere is pressed on: the rigid plane, or a second elastic sphere (two-body)")
     p.add_argument("--steps", type=cli.COUNT, default=1, help="load steps")

@@ -27,7 +27,7 @@ EXACT_METHODS = ("vi", "lagrange", "nitsche", "coulomb", "penalty_multiplier")
 
 def main(argv=None) -> dict:
     # 1. Options: the formulation and its parameters (K = 1e5 as in the paper).
-    p = cli.parser(__doc__.splitlines()[0], default_K=1e5)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(1e5, block.build, length="height"))
     p.add_argument("--steps", type=cli.COUNT, default=1, help="load steps")
     p.add_argument("--plane", choices=["strain", "stress"], default="strain", help="2D assumption")
     cli.model_option(p, mixed=True)

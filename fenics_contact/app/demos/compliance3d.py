@@ -20,15 +20,15 @@ from fenics_contact.app.scenes import add_scene_options, compliance3d, scene_arg
 
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction (mu = 0.3) on normal compliance c_n = 5e5, m_n = 1.5 unless told otherwise.
-    p = cli.parser(__doc__.splitlines()[0], default_K=1e5)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(1e5, compliance3d.build, length="height"),
+                   default_omega_t=cli.scene_scaled(compliance3d.OMEGA_T, compliance3d.build, length="height"))
     p.add_argument("--drag", type=cli.NONNEGATIVE, default=compliance3d.DRAG, help="sideways platen displacement")
     p.add_argument("--mesh", type=cli.COUNT, nargs=3, default=[16, 8, 4], metavar=("NX", "NY", "NZ"),
                    help="cells of the half box")
     p.add_argument("--press-steps", type=cli.COUNT, default=2, help="load steps of the pressing phase")
     p.add_argument("--drag-steps", type=cli.COUNT, default=8, help="load steps of the drag phase")
-    p.set_defaults(method="compliance", c_n=compliance3d.C_N, m_n=compliance3d.M_N, mu=None,
-                   omega_t=compliance3d.OMEGA_T)
-    scene = add_scene_options(p, compliance3d.build)  # --lx, --ly, --height, --E, --nu, --press
+    p.set_defaults(method="compliance", c_n=compliance3d.C_N, m_n=compliance3d.M_N, mu=None)
+    scene = add_scene_options(p, compliance3d.build, shared=("drag",))  # --lx, --ly, --height, --E, --nu, --press
     args = cli.parse(p, argv)
     if args.mu is None:  # mu = 0.3 unless the compliance bound c_t <g>^m_t is asked for
         args.mu = 0.0 if args.c_t is not None else compliance3d.MU

@@ -27,7 +27,8 @@ TOLERANCE = 3e-2
 
 def main(argv=None) -> dict:
     # 1. Options: penalty two-pass with Gauss points by default (see the scene's docstring for why).
-    p = cli.parser(__doc__.splitlines()[0], default_K=cylinders.DEFAULT_K, quadratures=QUADRATURES)
+    K = cli.scene_scaled(cylinders.DEFAULT_K, cylinders.build, length="R_upper", E0=cylinders.reference_E())
+    p = cli.parser(__doc__.splitlines()[0], default_K=K, quadratures=QUADRATURES)
     p.set_defaults(method="penalty", quadrature="gauss")
     p.add_argument("--passes", choices=["one", "two"], default="two", help="one-pass or two-pass two-body contact")
     p.add_argument("--h-contact", type=cli.POSITIVE, default=0.05, help="mesh size at the contacts (length)")
@@ -38,7 +39,8 @@ def main(argv=None) -> dict:
                    help="plate motion per load step after the Hertz step (length)")
     cli.model_option(p, "neohookean", help="bulk material (linear: small t only, the model-reduction check)")
     p.add_argument("--symmetry", choices=["half", "full"], default="half", help="right halves (x >= 0) or whole disks")
-    scene = add_scene_options(p, cylinders.build)  # --R-lower, --R-upper, --E, --nu, --h-far, --contact-width
+    # --R-lower, --R-upper, --E, --nu, --h-far, --contact-width
+    scene = add_scene_options(p, cylinders.build, shared=("h_contact", "grading"))
     args = cli.parse(p, argv)
     out = Path(args.out or "results/cylinders")
 

@@ -25,10 +25,12 @@ TOLERANCE = 0.02  # the steady-sliding ratio within 2 % of mu (every step of the
 
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction mu = 0.3 on a penalty normal law unless told otherwise.
-    p = cli.parser(__doc__.splitlines()[0], default_K=ironing.DEFAULT_K, quadratures=("nodal", "gauss"))
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(ironing.DEFAULT_K, ironing.build, length="H"),
+                   default_omega_t=cli.scene_scaled(ironing.DEFAULT_OMEGA_T, ironing.build, length="H"),
+                   quadratures=("nodal", "gauss"))
     p.add_argument("--steps", type=cli.COUNT, default=70, help="load steps of the drag")
     p.add_argument("--press-steps", type=cli.COUNT, default=4, help="load steps of the pressing")
-    p.set_defaults(method="penalty", mu=0.3, omega_t=ironing.DEFAULT_OMEGA_T)
+    p.set_defaults(method="penalty", mu=0.3)
     scene = add_scene_options(p, ironing.build)  # --E, --nu, --stiffness, --depth, --drag, --h, ...
     args = cli.parse(p, argv)
     if args.c_t is not None or args.tresca is not None or args.mu <= 0:

@@ -24,9 +24,10 @@ TOLERANCE = 0.05  # the stick-zone half-width at every ratio, against Cattaneo-M
 
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction mu = 0.3 on a penalty normal law unless told otherwise.
-    p = cli.parser(__doc__.splitlines()[0], default_K=mindlin.DEFAULT_K, quadratures=("nodal",))
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(mindlin.DEFAULT_K, mindlin.build),
+                   default_omega_t=cli.scene_scaled(mindlin.DEFAULT_OMEGA_T, mindlin.build), quadratures=("nodal",))
     mindlin.add_shear_options(p, mindlin.RATIOS, "halve the contact mesh size this many times")
-    p.set_defaults(method="penalty", mu=0.3, omega_t=mindlin.DEFAULT_OMEGA_T)
+    p.set_defaults(method="penalty", mu=0.3)
     scene = add_scene_options(p, mindlin.build)  # --R, --E, --nu, --approach, --width, --height, --depth, ...
     args = cli.parse(p, argv)
     mindlin.check_ratios_option(args.ratios)

@@ -31,7 +31,8 @@ TOLERANCE = 0.05  # the stick radius at every ratio, against Cattaneo-Mindlin
 
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction mu = 0.3 on a penalty normal law unless told otherwise.
-    p = cli.parser(__doc__.splitlines()[0], default_K=mindlin3d.DEFAULT_K, quadratures=("nodal",))
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(mindlin3d.DEFAULT_K, mindlin3d.build),
+                   quadratures=("nodal",))
     mindlin.add_shear_options(p, mindlin3d.RATIOS, "divide the contact mesh size by sqrt(2) this many times")
     p.set_defaults(method="penalty", mu=0.3, solver="iterative")
     scene = add_scene_options(p, mindlin3d.build)  # --R, --E, --nu, --approach, --width, --h-contact, ...
@@ -43,7 +44,7 @@ def main(argv=None) -> dict:
     if args.c_t is not None or args.tresca is not None or args.mu <= 0:
         raise ValueError(f"--mu: mindlin3d needs Coulomb friction with mu > 0 (no --c-t, --tresca), got mu={args.mu}")
     if args.omega_t is None:  # the interface layer E* / omega_t a fixed fraction of the contact element
-        args.omega_t = mindlin3d.default_omega_t(args.refinement, args.h_contact, args.R)
+        args.omega_t = mindlin3d.default_omega_t(args.refinement, args.h_contact, args.R, args.E)
     out = Path(args.out or "results/mindlin3d")
     cli.refuse_unsupported(args, kind="two-body", dim=3, degree=1, model="linear")
 

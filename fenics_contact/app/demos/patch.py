@@ -32,7 +32,8 @@ def patch_check(s: dict, pressure: float = patch.PRESSURE) -> dict:
 
 def main(argv=None) -> dict:
     # 1. Options of the main run.
-    p = cli.parser(__doc__.splitlines()[0], default_K=1e6, quadratures=QUADRATURES)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(1e6, patch.build, modulus="E_lower",
+                                                                      length="h_lower"), quadratures=QUADRATURES)
     p.set_defaults(method="auglag", quadrature="segment", augment_tol=1e-9)
     p.add_argument("--passes", choices=["one", "two"], default="one",
                    help="one-pass (one slave surface) or two-pass (both surfaces slave in turn) two-body contact")

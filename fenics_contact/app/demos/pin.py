@@ -32,7 +32,7 @@ TOLERANCE = 3e-3
 
 def main(argv=None) -> dict:
     # 1. Options: formulation, parameters, mesh refinement, load steps, convergence study.
-    p = cli.parser(__doc__.splitlines()[0], default_K=pin.DEFAULT_K)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(pin.DEFAULT_K, pin.build))
     p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the mesh size at the hole this many times")
     p.add_argument("--steps", type=cli.COUNT, default=2,
                    help="load steps (>= 2: the plate starts from rest, held by a vanishing spring before the last)")

@@ -49,7 +49,7 @@ TOLERANCE = 1e-1
 
 def main(argv=None) -> dict:
     # 1. Options: mesh and the paper's data (K = K^ = 1e5, F^ = 0, one augmentation).
-    p = cli.parser(__doc__.splitlines()[0], default_K=ring.K)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(ring.K, ring.build, length="R_out"))
     p.add_argument("--n-theta", type=cli.COUNT, default=44, help="cells along the quarter circle")
     p.add_argument("--n-r", type=cli.COUNT, default=4, help="cells through the thickness")
     p.set_defaults(augment=1)

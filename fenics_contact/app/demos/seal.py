@@ -37,11 +37,11 @@ from fenics_contact.app.scenes import add_scene_options, scene_arguments, seal
 
 def main(argv=None) -> dict:
     # 1. Options: mesh size, contact data (K^ = 1e5 as in the paper).
-    p = cli.parser(__doc__.splitlines()[0], default_K=seal.K_HAT)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(seal.K_HAT, seal.build, length="R_out"))
     p.add_argument("--h", type=cli.POSITIVE, default=0.5, help="cell size (0.5: 2 cells through the thickness)")
     p.add_argument("--shape", choices=list(seal.SHAPES), default="wave", help="seal cross-section (see the scene)")
     p.set_defaults(F_hat=seal.F_HAT)
-    scene = add_scene_options(p, seal.build)  # --E, --nu, --R-out, --R-in, --plate-distance
+    scene = add_scene_options(p, seal.build, shared=("h",))  # --E, --nu, --R-out, --R-in, --plate-distance
     args = cli.parse(p, argv)
     out = Path(args.out or "results/seal")
     comm = MPI.COMM_WORLD

@@ -84,7 +84,8 @@ def main(argv=None) -> dict:
                         "complement field split)")
     p.add_argument("--no-one-pass", action="store_true", help="leave out the one-pass two-point multipliers")
     cli.output_options(p, out="results/sheet")
-    scene = add_scene_options(p, sheet.build)  # --R, --thickness, --leg, --R-in, --lmbda, --mu, --radius
+    # --R, --thickness, --leg, --R-in, --lmbda, --mu, --radius
+    scene = add_scene_options(p, sheet.build, shared=("ratio",))
     args = cli.parse(p, argv)
     if args.steps % 2:
         raise cli.UsageError(f"--steps must be even (t = 0.5 must be a load step), got {args.steps}")

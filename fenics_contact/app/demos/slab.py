@@ -48,14 +48,15 @@ def main(argv=None) -> dict:
     # nitsche (no normal stiffness at g = 0 and zero stress: a singular first Jacobian) are not offered (compliance
     # is the penalty closed at g = 0); auglag and cross start from lam0 = F_hat = the mean contact pressure
     # (scenes/slab.py: K_DEMO, OMEGA_T, LAM0). vi, lagrange, penalty_multiplier: frictionless only (--mu 0).
-    p = cli.parser(__doc__.splitlines()[0], default_K=slab.K_DEMO)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(slab.K_DEMO, slab.build, length="width"),
+                   default_omega_t=cli.scene_scaled(slab.OMEGA_T, slab.build, length="width"))
     p.add_argument("--refinement", type=cli.LEVEL, default=0, help="halve the cells this many times (32 x 16 at 0)")
     p.add_argument("--steps", type=cli.COUNT, default=1, help="proportional load steps (friction is path dependent)")
     p.add_argument("--sweep", action="store_true", help=f"run mu in {SWEEP} and plot the zones against mu")
     cli.model_option(p, help="bulk material (coulomb: linear only)")
     scene = add_scene_options(p, slab.build)  # --width, --height, --E, --nu, --top-pressure, --side-pressure
     # auglag's lam0 > 0: the resting slab's first Jacobian needs it
-    p.set_defaults(method="coulomb", omega_t=slab.OMEGA_T, F_hat=slab.LAM0, lam0=slab.LAM0)
+    p.set_defaults(method="coulomb", F_hat=slab.LAM0, lam0=slab.LAM0)
     for action in p._actions:
         if action.dest == "method":
             action.choices = [m for m in action.choices if m not in ("penalty", "nitsche")]

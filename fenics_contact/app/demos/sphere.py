@@ -26,7 +26,7 @@ TOLERANCE = 5e-2
 
 def main(argv=None) -> dict:
     # 1. Options: formulation, mesh level (about 1e4 to 1e6 dofs), linear solver.
-    p = cli.parser(__doc__.splitlines()[0], default_K=sphere.DEFAULT_K)
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(sphere.DEFAULT_K, sphere.build))
     p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)),
                    help="mesh level: 0 to 3, about 1e4 to 1e6 dofs")
     p.add_argument("--steps", type=cli.COUNT, default=None, help="load steps (default: 1, or 2 with --load)")
@@ -39,7 +39,8 @@ def main(argv=None) -> dict:
     p.add_argument("--geometry", choices=["3d", "axisymmetric"], default="3d",
                    help="3d: the octant; axisymmetric: the meridian section (r, z) with the same mesh size at the "
                         "contact (scene axisphere; rigid plate, displacement control)")
-    scene = add_scene_options(p, sphere.build)  # --R, --E, --nu, --approach, --load (force control), ...
+    # --R, --E, --nu, --approach, --load (force control), ...
+    scene = add_scene_options(p, sphere.build, shared=("size",))
     p.set_defaults(augment_tol=1e-10)
     args = cli.parse(p, argv)
     if args.steps is None:

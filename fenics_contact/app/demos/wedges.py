@@ -21,9 +21,11 @@ TOLERANCE = 0.01  # the force ratio against its closed form
 
 def main(argv=None) -> dict:
     # 1. Options: Coulomb friction mu = 0.3 on a penalty normal law unless told otherwise.
-    p = cli.parser(__doc__.splitlines()[0], default_K=wedges.DEFAULT_K, quadratures=("nodal",))
+    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(wedges.DEFAULT_K, wedges.build, length="length"),
+                   default_omega_t=cli.scene_scaled(wedges.DEFAULT_OMEGA_T, wedges.build, length="length"),
+                   quadratures=("nodal",))
     p.add_argument("--slide-steps", type=cli.COUNT, default=wedges.SLIDE_STEPS, help="load steps of the push")
-    p.set_defaults(method="penalty", mu=0.3, omega_t=wedges.DEFAULT_OMEGA_T)
+    p.set_defaults(method="penalty", mu=0.3)
     scene = add_scene_options(p, wedges.build)  # --alpha, --E, --nu, --load, --push
     args = cli.parse(p, argv)
     if args.c_t is not None or args.mu <= 0:

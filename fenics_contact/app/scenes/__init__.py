@@ -153,18 +153,31 @@ def _flag(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
-def add_scene_options(parser: argparse.ArgumentParser, builder: Callable) -> list[str]:
+def add_scene_options(parser: argparse.ArgumentParser, builder: Callable, shared: Sequence[str] = ()) -> list[str]:
     """One ``--name`` option (``_`` written ``-``) per numeric keyword argument of ``builder``
-    (:func:`scene_options`) that ``parser`` does not have yet, range-checked when parsed, with its help text and
-    default; returns their names. Two options one of which ``excludes`` the other are mutually exclusive; an
-    option that ``needs`` another's value is refused without it, one not ``below`` the others it must be below
-    is refused (checked when parsed, :class:`cli.StrictParser`)."""
+    (:func:`scene_options`), range-checked when parsed, with its help text and default; returns their names.
+    Two options one of which ``excludes`` the other are mutually exclusive; an option that ``needs`` another's
+    value is refused without it, one not ``below`` the others it must be below is refused (checked when parsed,
+    :class:`cli.StrictParser`).
+
+    Args:
+        parser: the demo's parser.
+        builder: the scene's builder.
+        shared: keywords of ``builder`` that the parser already has as options of the same meaning (given to the
+            builder from those); any other keyword the parser already has is a ``ValueError`` (one option would
+            silently set another quantity).
+    """
     options = scene_options(builder)
     names: list[str] = []
     groups: dict[str, argparse._MutuallyExclusiveGroup] = {}
+    for name in numeric_parameters(builder):  # before adding any: a refused call leaves the parser as it was
+        flag = _flag(name)
+        if flag in parser._option_string_actions and name not in shared:
+            raise ValueError(f"scene option {flag} of {builder.__module__} is already an option of the demo "
+                             f"({parser._option_string_actions[flag].help}); rename one, or name it in shared")
     for name, default in numeric_parameters(builder).items():
         flag = _flag(name)
-        if flag in parser._option_string_actions:  # e.g. the shared --mu (friction) or --K
+        if flag in parser._option_string_actions:
             continue
         opt = options[name]
         if opt.excludes is not None and opt.excludes not in groups:

@@ -55,6 +55,7 @@ from .hertz import contact_half_width
 
 __all__ = [
     "R_LOWER", "R_UPPER", "LAMBDA", "MU", "T_END", "OVERLAP", "DEFAULT_K", "T_HERTZ", "hertz_two_cylinders", "build",
+    "reference_E",
     "BENCH", "OPTIONS"
 ]
 
@@ -62,6 +63,11 @@ R_LOWER, R_UPPER, LAMBDA, MU, T_END = 18.0, 8.0, 288.0, 192.0, 15.0
 OVERLAP = 1e-4
 DEFAULT_K = 1e4  # penalty: large against E*/a (~500 at t = 0.2), small against p0 / (sagitta of a P1 chord)
 T_HERTZ = 0.2  # a/R = 0.1 at t = 0.2: small enough for Hertz (half-space error O((a/R)^2))
+
+
+def reference_E() -> float:
+    """Young's modulus of the scene's Lame constants ``LAMBDA``, ``MU`` (the default material)."""
+    return float(Material.from_lame(LAMBDA, MU).E)
 
 
 def hertz_two_cylinders(P: float, R1: float = R_LOWER, R2: float = R_UPPER, plane: str = "strain",

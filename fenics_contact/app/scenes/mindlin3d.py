@@ -90,10 +90,11 @@ def contact_size(refinement: int = 0, h_contact: float | None = None, R: float =
     return (H_CONTACT * R if h_contact is None else h_contact) / REFINE ** int(refinement)
 
 
-def default_omega_t(refinement: int = 0, h_contact: float | None = None, R: float = R) -> float:
+def default_omega_t(refinement: int = 0, h_contact: float | None = None, R: float = R, E: float = E) -> float:
     """The tangential penalty that keeps the interface layer ``E* / omega_t`` the same fraction of the contact
-    mesh size as ``DEFAULT_OMEGA_T`` at the default mesh: ``DEFAULT_OMEGA_T H_CONTACT R / h``."""
-    return DEFAULT_OMEGA_T * H_CONTACT * R / contact_size(refinement, h_contact, R)
+    mesh size as ``DEFAULT_OMEGA_T`` at the default mesh and modulus: ``DEFAULT_OMEGA_T (E / E0) H_CONTACT R / h``
+    (pressure per length)."""
+    return DEFAULT_OMEGA_T * (E / globals()["E"]) * H_CONTACT * R / contact_size(refinement, h_contact, R)
 
 
 def hertz_a(P: float, R: float, E: float, nu: float) -> float:
