@@ -29,7 +29,7 @@ PARALLEL_LANE := (not slow and not scene) or mpi
 
 .PHONY: setup demo demo-all bench bench-pages scaling docs test test-fast test-all lint test-serial test-serial-all test-mpi \
         test-mpi-all \
-        test-debian13 clean
+        test-debian13 clean peer
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
@@ -54,6 +54,16 @@ bench-pages: setup
 SCALING_ARGS ?=
 scaling: setup
 	$(PY) demos/scaling.py --out results/scaling $(SCALING_ARGS)
+
+# the peer side by side: dolfinx_contact (installed in the Debian 13 root under PEER_PREFIX, default /opt/peer; its
+# demos from the checkout PEER_SRC) and this suite on the same four cases, one run -> docs/bench/peer.md (needs root;
+# not part of make test; see docs/benchmarks.md)
+PEER_SRC ?=
+PEER_PREFIX ?= /opt/peer
+PEER_ARGS ?=
+peer: setup
+	@test -n "$(PEER_SRC)" || { echo "make peer: give PEER_SRC=/path/to/asimov-contact (its source checkout)" >&2; exit 2; }
+	$(PY) scripts/peer/run.py --peer-src "$(PEER_SRC)" --peer-prefix "$(PEER_PREFIX)" $(PEER_ARGS)
 
 # the generated pages (capability matrix, methods, layout; tests check the committed files), then the HTML
 # documentation with the API reference in docs/_build/html (warnings are errors)

@@ -62,6 +62,22 @@ def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
 
 
 @serial
+def test_pages_keep_and_list_the_peer_page(tmp_path):
+    """The side-by-side page with the peer (written by scripts/peer/run.py, which needs the peer's build) survives
+    a rewrite of the scene pages and is in the index's toctree; a scene page of an earlier run does not survive."""
+    results, out = tmp_path / "bench", tmp_path / "docs"
+    _fixture(results)
+    out.mkdir()
+    (out / "peer.md").write_text("# peer\n")
+    (out / "peer_hertz2d.png").write_bytes(b"png")
+    (out / "sphere.md").write_text("# an earlier run\n")
+    bench_pages.write_pages(results, out)
+    assert (out / "peer.md").read_text() == "# peer\n" and (out / "peer_hertz2d.png").exists()
+    assert not (out / "sphere.md").exists()
+    assert "hertz\npeer\n```" in (out / "index.md").read_text()
+
+
+@serial
 def test_pages_refuse_a_folder_without_a_run_record(tmp_path, capsys):
     with pytest.raises(SystemExit) as exit_:
         bench_pages.main([str(tmp_path), str(tmp_path / "out")])
@@ -70,8 +86,24 @@ def test_pages_refuse_a_folder_without_a_run_record(tmp_path, capsys):
     assert err.count("\n") == 1 and "run.json" in err and str(tmp_path) in err
 
 
+def test_committed_peer_page_states_its_runs_and_no_history():
+    """The side-by-side page with the peer (scripts/peer/run.py): each run's cases, command, date and machine,
+    a table and an existing chart per case, no development history."""
+    page = ROOT / "docs" / "bench" / f"{bench_pages.PEER_PAGE}.md"
+    if not page.exists():
+        pytest.skip("no peer page committed")
+    text = page.read_text()
+    runs = re.findall(r"^Cases [\w, ]+: `python scripts/peer/run\.py [^`]+` on \d{4}-\d\d-\d\d \d\d:\d\d UTC, .+, "
+                      r"\d+ cores, [\d.]+ GB", text, flags=re.M)
+    assert runs, text[:400]
+    assert not HISTORY.search(text), HISTORY.search(text)
+    images = re.findall(r"\]\(([^)]+\.png)\)", text)
+    assert images and all((page.parent / image).exists() for image in images)
+    assert text.count("| code | method | mesh | dofs | Newton |") == len(images)
+
+
 def test_committed_pages_state_the_machine_and_date_and_no_history():
-    pages = sorted((ROOT / "docs" / "bench").glob("*.md"))
+    pages = sorted(p for p in (ROOT / "docs" / "bench").glob("*.md") if p.stem != bench_pages.PEER_PAGE)
     assert pages and pages[0].name != "index.md" or len(pages) > 1
     for page in pages:
         text = page.read_text()

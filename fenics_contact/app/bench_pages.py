@@ -113,9 +113,15 @@ def demo_checks(folder: str | Path) -> str:
                       "wall time [s] |", "|---|---|---|---|---|---|---|---|---|---|---|", *rows]) + "\n"
 
 
+# The side-by-side page with the peer (dolfinx_contact), written by scripts/peer/run.py: kept and listed here.
+PEER_PAGE = "peer"
+
+
 def write_pages(results: str | Path, out: str | Path, demos: str | Path | None = None) -> list[Path]:
     """Write ``out/index.md`` and a page per scene with results in ``results``; returns the pages written.
-    Pages and charts of an earlier run in ``out`` are removed first."""
+    Pages and charts of an earlier run in ``out`` are removed first, except the side-by-side page with the peer
+    (``peer.md``, ``peer_*.png``: written by scripts/peer/run.py, which needs the peer's build), which the index
+    lists when present."""
     results, out = Path(results), Path(out)
     runs = read_runs(results)
     by_scene = {scene: run for run in runs for scene in run["scenes"]}
@@ -125,7 +131,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
         raise ValueError(f"{results} holds no <scene>_findings.md of a recorded run: no benchmark results")
     out.mkdir(parents=True, exist_ok=True)
     for old in [*out.glob("*.md"), *out.glob("*.png")]:
-        old.unlink()
+        if not old.name.startswith(PEER_PAGE):
+            old.unlink()
     pages = []
     for scene in scenes:
         page = out / f"{scene}.md"
@@ -134,7 +141,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     used = [run for run in runs if any(scene in scenes for scene in run["scenes"])]
     index = ["# Benchmark results", "", *(header(run) for run in used),
              "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
-             "```{toctree}", ":maxdepth: 1", "", *scenes, "```", ""]
+             "```{toctree}", ":maxdepth: 1", "", *scenes, *([PEER_PAGE] if (out / f"{PEER_PAGE}.md").exists() else []),
+             "```", ""]
     reductions = sorted(results.glob("*_reduction.md"))
     if reductions:  # one table: each scene's rows under the common header
         rows = [line for path in reductions for line in path.read_text().splitlines()[2:] if line.strip()]

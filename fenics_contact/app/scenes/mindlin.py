@@ -230,6 +230,8 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
 
     def figures() -> dict:
         P = problem.P if problem.P is not None else float(contact.total_force()[1])
+        if P <= 0:  # nothing pressed yet (a run stopped in its first steps): no Hertz figures
+            return {"P": P, "h_contact": h, "mu": mu}
         a_h = math.sqrt(4 * P * R / (math.pi * Es))
         p0_h = 2 * P / (math.pi * a_h)
         prof = profile()

@@ -44,7 +44,7 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ...factory import contact_surface, two_body_surfaces
-from ...laws import ContactLaw
+from ...laws import ContactLaw, Nitsche
 from ...materials import Materials
 from ...models import MODELS
 from ...multipliers import unknown
@@ -201,19 +201,23 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
         material = Materials(mesh, cell_tags, {"ball": material, "plate": MODELS[model](plate_E, plate_nu)})
         dirichlet += [Dirichlet(V.sub(i), fem.locate_dofs_topological(V.sub(i), fdim, facet_tags.find("plate_bottom")))
                       for i in range(3)]
-        contact = two_body_surfaces(u, facet_tags, "contact", "plate_top", lambda: law, t, quadrature,
-                                    radius=0.1 * R, name="plate")[0]
+        # Nitsche: unbiased (each side slave once, its own stress); the ball's pass gives the figures
+        contacts = two_body_surfaces(u, facet_tags, "contact", "plate_top", lambda: law, t, quadrature,
+                                     "two" if isinstance(law, Nitsche) else "one", radius=0.1 * R, name="plate",
+                                     material=material)
+        contact = contacts[0]
     else:
         contact = contact_surface(u, facet_tags, "contact", HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, t,
                                   quadrature, material=material)
+        contacts = [contact]
     if load is None:
-        problem = ContactProblem(u, material, t, dirichlet, [contact])
+        problem = ContactProblem(u, material, t, dirichlet, contacts)
     else:  # a quarter of P on the octant's equator; the vanishing spring on the body
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)(facet_tags["top"])
         # per the meshed equator's area (a polygon: ~1e-3 below pi R^2 / 4), so that the octant carries P / 4
         area = comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ds)), op=MPI.SUM)
         traction = fem.Constant(mesh, np.array([0.0, 0.0, -load / (4 * area)]))
-        problem = Stabilised(u, material, t, dirichlet, [contact], [(traction, ds)], stabilisation * E / R**2,
+        problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds)], stabilisation * E / R**2,
                              ufl.dx(domain=mesh))
 
     def figures() -> dict:
@@ -242,5 +246,5 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
               **({"plate_E": plate_E, "plate_nu": plate_nu, "plate_width": plate_size[0], "plate_depth": plate_size[1]}
                  if meshed else {}),
               "model": "octant (symmetry x = 0, y = 0, z = R)" + (f", meshed block E = {plate_E:g}" if meshed else "")}
-    return Setup("sphere", problem, [contact], np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
+    return Setup("sphere", problem, contacts, np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [contact.displacement_out, contact.gap_out, contact.pressure_out])
