@@ -1,4 +1,5 @@
 """The speed-against-accuracy harness: the Pareto front, and a two-run sweep on the block."""
+import csv
 import math
 
 import numpy as np
@@ -74,11 +75,11 @@ def test_friction_scene_specs(tmp_path):
     """The two-body friction scenes declare an entry: the friction-capable laws the capability matrix
     offers on their axes, a K sweep around the scene's default; mindlin3d on the tests' coarse contact mesh, one
     ratio; mindlin with the exact condensed Coulomb law once (no --K)."""
-    from fenics_contact.app.scenes import ironing, mindlin, mindlin3d
+    from fenics_contact.app.scenes import ironing, mindlin, mindlin3d, wedges
     from fenics_contact.capabilities import supported
 
-    assert {"ironing", "mindlin", "mindlin3d"} <= set(bench.bench_scenes())
-    for scene, module in (("ironing", ironing), ("mindlin", mindlin), ("mindlin3d", mindlin3d)):
+    assert {"ironing", "mindlin", "mindlin3d", "wedges"} <= set(bench.bench_scenes())
+    for scene, module in (("ironing", ironing), ("mindlin", mindlin), ("mindlin3d", mindlin3d), ("wedges", wedges)):
         s = bench.spec(scene)
         assert s["axes"]["friction"] and s["axes"]["kind"] == "two-body"
         assert all(supported(method=m, quadrature="nodal", **s["axes"]) for m in s["methods"])
@@ -88,9 +89,10 @@ def test_friction_scene_specs(tmp_path):
     assert "coulomb" not in bench.spec("mindlin3d")["methods"]  # coulomb: one tangential direction (2D)
     (exact,) = [r for r in bench.sweep("mindlin", quick=True) if r["method"] == "coulomb"]
     assert "--K" not in bench.command("mindlin", exact, tmp_path)
+    assert bench.reference_method("mindlin") == ("coulomb", "the exact coulomb") and "coulomb" in bench.references()
     # mindlin3d's quick sweep: plain runs only (a 3D run costs a minute and more); the full sweep augments too
     quick, full = bench.sweep("mindlin3d", quick=True), bench.sweep("mindlin3d")
-    assert len(quick) == 5 and {r["augment"] for r in quick} == {0}
+    assert len(quick) == 6 and {r["augment"] for r in quick} == {0}
     assert {r["augment"] for r in full} == {0, bench.AUGMENT}
     cmd = bench.command("mindlin3d", bench.run_config("penalty", mindlin3d.DEFAULT_K, refinement=0), tmp_path)
     assert cmd[cmd.index("--h-contact") + 1] == "0.015" and cmd[cmd.index("--ratios") + 1:][:2] == ["0.5", "--solver"]
@@ -119,6 +121,20 @@ def test_findings_pick_the_fastest_run_within_the_target(tmp_path):
             for m in ("penalty", "nitsche") for K in (1e6, 1e8, 1e10) for n in (1, 4)]
     bench.plot_stability(grid, tmp_path / "map.png")
     assert (tmp_path / "map.png").stat().st_size > 1000
+
+
+def test_friction_runs_are_measured_against_the_exact_method(tmp_path):
+    """mindlin: each run's stick half-width is compared with the exact condensed Coulomb's on the same mesh (its
+    gap), the findings give the time per the exact method's, and the Pareto chart draws it."""
+    rows = [{**_row("penalty", 1e7, 0.03, 0.5), "scene": "mindlin", "c_worst": 1.02},
+            {**_row("coulomb", 0.0, 0.02, 0.25), "scene": "mindlin", "c_worst": 1.0}]
+    bench.add_limit_gap(rows, "mindlin")
+    assert np.isclose(rows[0]["limit_gap"], 0.02) and rows[1]["limit_gap"] == 0.0
+    text = bench.findings("mindlin", rows)
+    assert "gap to coulomb" in text and "| /coulomb |" in text
+    assert "the exact coulomb 0.250 s (error 0.02): 2.00 x its time" in text, text
+    bench.plot_pareto(rows, tmp_path / "pareto.png")
+    assert (tmp_path / "pareto.png").stat().st_size > 1000
 
 
 def test_ring_through_the_scene_runner(tmp_path):
@@ -180,3 +196,67 @@ def test_stability_harness_classifies_the_ring(tmp_path):
     assert "| penalty augmented | K | - | - | 1e+05 (cycling) |" in text
     bench.plot_stability(rows, out / "map.png", title="ring")
     assert (out / "map.png").stat().st_size > 1000
+
+
+def test_reduction_rows_and_chart(tmp_path):
+    """The model-reduction rows: p0 and a errors against Hertz, differences from the reduced model (the first row),
+    solver time, peak memory and the time saved with its ratio; the chart draws both errors of each variant against
+    time and memory."""
+    used = dict(variant="sphere: axisymmetric (used)", dofs=1000, p0=20.0, a=0.06, total_force=0.144, error=0.02,
+                a_error=0.01, wall_time_s=0.5, memory_peak_mb=200.0, converged=True, newton_iterations=5)
+    octant = dict(used, variant="sphere: 3D octant", dofs=12000, p0=19.0, error=0.046, a_error=0.02, wall_time_s=25.0,
+                  memory_peak_mb=900.0)
+    finer = dict(octant, variant="sphere: 3D octant, level 1", wall_time_s=250.0)
+    text, table = bench.reduction_table([used, octant, finer], ["p0", "a", "total_force"])
+    lines = text.splitlines()
+    assert lines[0] == ("| sphere: axisymmetric (used) | 1000 | 20 | 0.06 | 0.144 | 2.000% / 1.000% | "
+                        "0.00% / 0.00% / 0.00% | 0.500 | 200 | - |")
+    assert lines[1] == ("| sphere: 3D octant | 12000 | 19 | 0.06 | 0.144 | 4.600% / 2.000% | 5.00% / 0.00% / 0.00% | "
+                        "25.000 | 900 | 98% (1/50) |")
+    assert all(line.count("|") == bench.REDUCTION_HEADER[0].count("|") for line in lines)
+    assert lines[2].endswith("| 250.000 | 900 | 99.8% (1/500) |")  # never a rounded 100 %
+    assert table[1]["time_saved"] == pytest.approx(0.98) and table[1]["a_error"] == 0.02
+    # the page's rows and chart again from the table's CSV (bench --charts-only)
+    out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
+    out.mkdir()
+    with open(out / "sphere_reduction.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, list(table[0]))
+        w.writeheader()
+        w.writerows(table)
+    assert bench.reduction_report("sphere", out) == text
+    assert (out / "sphere_reduction.md").read_text().splitlines()[2:] == lines
+    assert (out / "sphere_reduction.png").stat().st_size > 1000
+
+
+def test_axisphere_bench_entries_are_what_the_grid_offers_on_the_ring(tmp_path):
+    """The axisymmetric sphere's benchmarks (rigid plane; two spheres): every method the capability grid offers on
+    the ring and no other, over the mesh size at the contact (a float level, read back as such)."""
+    from fenics_contact.capabilities import supported
+
+    for scene, kind in (("axisphere", "rigid"), ("axisphere_spheres", "two-body")):
+        s = bench.spec(scene)
+        offered = {m for m in methods.names() if methods.get(m).sweep.kind != "once" and m != "compliance"
+                   and supported(method=m, quadrature="nodal", kind=kind, dim=2, geometry="axisymmetric")}
+        assert set(s["methods"]) == offered, (scene, offered)
+        runs = bench.sweep(scene, quick=True)
+        assert sorted({r["refinement"] for r in runs}) == [0.005, 0.01]
+        assert bench._markers(runs) == {None: "o", 0.01: "o", 0.005: "^"}  # the coarser mesh first, as levels
+        cmd = bench.command(scene, runs[0], tmp_path)
+        assert cmd[cmd.index("--h-contact") + 1] == "0.01"
+    rows = [dict(_row("penalty", 1e6, 0.02, 0.1), refinement=0.005), _row("penalty", 1e6, 0.02, 0.1, refinement=2)]
+    csv_path = tmp_path / f"rows{MPI.COMM_WORLD.rank}.csv"
+    bench.write_rows(rows, csv_path, csv_path.with_suffix(".json"))
+    assert [r["refinement"] for r in bench.read_rows(csv_path)] == [0.005, 2]
+
+
+def test_reduction_only_refuses_a_scene_without_rows(capsys):
+    from fenics_contact.app.cli import EXIT_ERROR
+
+    with pytest.raises(SystemExit) as exit_:
+        bench.main(["--reduction-only", "--scene", "block", "--out", "/nonexistent/never-written"])
+    assert exit_.value.code == EXIT_ERROR
+    err = capsys.readouterr().err  # one line, from rank 0
+    if MPI.COMM_WORLD.rank == 0:
+        assert err.count("\n") == 1 and "block" in err and "sphere" in err
+    else:
+        assert err == ""

@@ -150,3 +150,39 @@ def test_each_page_names_the_run_of_its_scene(tmp_path):
     assert first["command"] in block and second["command"] not in block and "; scenes block." in block
     assert second["command"] in hertz and "; scenes hertz." in hertz
     assert first["command"] in index and second["command"] in index
+
+
+@serial
+def test_added_reduction_rows_replace_that_section_and_keep_other_pages(tmp_path):
+    """A run of the model-reduction rows alone (``bench --reduction-only``) added to existing pages: the other
+    scenes' pages are kept as they are, the rerun scene's page keeps its other sections and gets the new rows
+    under the new run's header; the index lists every page and each model-reduction row once."""
+    results, out = tmp_path / "bench", tmp_path / "docs"
+    results.mkdir()
+    out.mkdir()
+    old_header = ("Measured on somewhere, 2 cores, 1 GB memory, Linux; 2026-01-01 00:00 UTC; commit `abc`; "
+                  "command `x`.\n")
+    block = f"# block\n\n{old_header}\n## Fastest run of each method\n\nblock's findings\n"
+    (out / "block.md").write_text(block)
+    old_rows = "\n".join([*bench.REDUCTION_HEADER, "| hertz: quarter disk (used) | 3990 | old |"])
+    (out / "hertz.md").write_text(f"# hertz\n\n{old_header}\n## Fastest run of each method\n\nhertz's findings\n\n"
+                                  f"## Model reduction\n\n{old_rows}\n\n## Error against solver time\n\n"
+                                  "![hertz: Error against solver time](hertz_pareto.png)\n")
+    (out / "hertz_pareto.png").write_bytes(b"png")
+    new_rows = "\n".join([*bench.REDUCTION_HEADER, "| hertz: quarter disk (used) | 3990 | new |", ""])
+    (results / "hertz_reduction.md").write_text(new_rows)
+    (results / "model_reduction.md").write_text(new_rows)  # the run's one table: not a scene's rows
+    (results / "hertz_reduction.png").write_bytes(b"chart")
+    run = run_record.record_run(results, ["--reduction-only", "--scene", "hertz"], ["hertz"])
+    with pytest.raises(ValueError, match="no benchmark results"):
+        bench_pages.write_pages(results, tmp_path / "fresh")  # without --add: findings are needed
+    bench_pages.write_pages(results, out, add=True)
+    assert (out / "block.md").read_text() == block
+    hertz = (out / "hertz.md").read_text()
+    assert "hertz's findings" in hertz and "| old |" not in hertz and hertz.count("| new |") == 1
+    assert hertz.index(run["command"]) > hertz.index("## Model reduction") > hertz.index(old_header)
+    assert "](hertz_reduction.png)" in hertz and (out / "hertz_reduction.png").read_bytes() == b"chart"
+    assert hertz.index("## Model reduction") < hertz.index("## Error against solver time")
+    index = (out / "index.md").read_text()
+    assert "block\nhertz\n```" in index and index.count("| new |") == 1 and "| old |" not in index
+    assert index.index(old_header) < index.index(run["command"])  # the runs oldest first

@@ -33,15 +33,18 @@ def _run(comm=MPI.COMM_WORLD):
 
 
 def test_drag_converges_and_the_steady_force_ratio_is_mu():
-    """No cutback, every step within 15 Newton iterations; in the steady window every step's tangential over normal
-    force on the punch (its frame) is within 2 % of mu, every closed point slides, and the ratio is the pressure
-    resultant's tilt psi turned by Coulomb's angle, (mu + tan psi) / (1 - mu tan psi), to round-off."""
+    """At the scene's defaults (penalty, predictor, the demo's drag step): no failed Newton attempt (no cutback), at
+    most 5 Newton iterations per step on average (measured 4.6 on this short drag, 4.3 on the demo's) and 10 in any
+    step; in the steady window every step's tangential over normal force on the punch (its frame) is within 2 % of
+    mu, every closed point slides, and the ratio is the pressure resultant's tilt psi turned by Coulomb's angle,
+    (mu + tan psi) / (1 - mu tan psi), to round-off."""
     setup, solver, f = _run()
     its = [r.newton_iterations for r in solver.records]
-    print(f"ironing: Newton iterations per step {its}; window ratio mean {f['ratio_mean']:.6f}, peak to peak "
-          f"{f['ratio_peak_to_peak']:.2e}, farthest from mu {f['ratio_worst']:.6f}")
+    print(f"ironing: Newton iterations per step {its} (mean {np.mean(its):.2f}); window ratio mean "
+          f"{f['ratio_mean']:.6f}, peak to peak {f['ratio_peak_to_peak']:.2e}, farthest from mu {f['ratio_worst']:.6f}")
     assert all(r.converged for r in solver.records) and len(solver.records) == len(setup.loads)
-    assert max(its) <= 15, its
+    assert not solver.failures, solver.failures
+    assert np.mean(its) <= 5 and max(its) <= 10, its
     assert f["window_steps"] >= 4
     assert f["ratio_max_error"] <= 0.02, f
     assert f["slip_fraction"] == 1.0
@@ -105,5 +108,7 @@ def test_bad_input():
         app.build("ironing", law=_law(), depth=0.6)
     with pytest.raises(ValueError, match="Coulomb friction law with mu > 0"):
         app.build("ironing", law=fc.make_law("penalty", K=1e5))
+    with pytest.raises(ValueError, match="method nitsche is refused on ironing"):
+        app.build("ironing", law=fc.Friction(fc.make_law("nitsche", gamma0=10.0), mu=MU))
     with pytest.raises(ValueError, match="drag_steps must be an integer"):
         app.build("ironing", law=_law(), drag_steps=0)

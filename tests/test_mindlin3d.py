@@ -28,8 +28,22 @@ def _build(comm):
 def _run(comm=MPI.COMM_WORLD):
     """The coarse scene at Q / (mu P) = 0.5, solved once per communicator size: setup, figures."""
     # the demo's default linear solver (GMRES + GAMG with the rigid-body modes)
-    setup, _, figures = solved("mindlin3d coarse", _build, comm, options=mindlin3d.ITERATIVE)
+    setup, _, figures = solved("mindlin3d coarse", _build, comm, options=mindlin3d.ITERATIVE,
+                               predictor=mindlin3d.PREDICTOR)
     return setup, figures
+
+
+def test_default_steps_waste_no_newton_iteration():
+    """The scene's load steps and predictor (the demo's): every step converges at the first attempt (no cutback), in
+    at most 5 Newton iterations per step on average."""
+    _run()
+    _, solver, _ = solved("mindlin3d coarse", _build, MPI.COMM_WORLD)  # the cached solve of _run
+    summary = solver.summary()
+    its = [r.newton_iterations for r in solver.records]
+    print(f"mindlin3d: Newton iterations per step {its} (mean {np.mean(its):.2f})")
+    assert not summary["failures"], summary["failures"]
+    assert summary["load_steps"] == mindlin3d.PRESS_STEPS + 1 + 1  # the pressing, friction on, one ratio
+    assert summary["newton_iterations"] <= 5 * summary["load_steps"], its
 
 
 def test_stick_radius_against_cattaneo_mindlin():

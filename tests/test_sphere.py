@@ -248,14 +248,27 @@ def test_hertz_fit_recovers_the_profile():
     assert np.isnan(sphere.hertz_fit(x[:2], p[:2], a))
 
 
+def test_hertz_peak_from_the_moments_of_a_hertz_profile():
+    """The peak from the force and the second moment of an exact Hertz profile on a quarter disk (midpoint rule on a
+    fine polar grid) is its p0."""
+    a, p0 = 0.07, 25.0
+    r = (np.arange(4000) + 0.5) * a / 4000
+    dA = (np.pi / 2) * r * (a / 4000)  # the quarter ring's area
+    p = p0 * np.sqrt(1 - (r / a) ** 2)
+    assert np.isclose(sphere.hertz_peak_from_moments(np.sum(p * dA), np.sum(p * r**2 * dA)), p0, rtol=1e-5)
+    assert np.isnan(sphere.hertz_peak_from_moments(1.0, 0.0))
+
+
 def test_sphere_on_block_p0_converges_to_hertz():
     """The octant on a block of its own material (one-pass two-body penalty, K = 1e6, GMRES + GAMG, inexact
-    Newton as in the scaling run): the fitted peak pressure approaches Hertz's for the measured force (1/E* of the
-    pair) as the mesh is refined (measured: 4.8 %, 0.80 %, 0.67 % below at sizes 1.0, 0.7, 0.5; 0.86 %, 0.91 % at
-    0.35, 0.25), while the nodal maximum of the one-pass pressure scatters (2-11 % above). The default block
-    follows the approach: 7 sqrt(R approach) wide and deep, at least 0.5 R."""
-    errors = []
-    for size in (1.0, 0.7, 0.5):
+    Newton as in the scaling run): the Hertz peak of the contact forces' first two moments approaches Hertz's p0
+    for the measured force (1/E* of the pair) as the mesh is refined, at order about 1.5 in the mesh size
+    (measured: 6.0 %, 3.6 %, 2.1 % above at sizes 1.0, 0.7, 0.5; 0.11 % at 0.25), while the nodal maximum of the
+    one-pass pressure scatters (2-11 % above) and a Hertz profile fitted to the pointwise pressures does not
+    converge (4.8 %, 0.80 %, 0.67 % below; 0.86 %, 0.91 % at 0.35, 0.25). The default block follows the approach:
+    7 sqrt(R approach) wide and deep, at least 0.5 R."""
+    sizes, errors = (1.0, 0.7, 0.5), []
+    for size in sizes:
         setup = sphere.build(make_law("penalty", K=sphere.DEFAULT_K), size=size, plate="meshed", steps=2)
         solver = Solver(setup.problem, quiet=True, options={**LINEAR_SOLVERS["iterative"], **INEXACT_NEWTON})
         solver.run(setup.loads)
@@ -263,7 +276,10 @@ def test_sphere_on_block_p0_converges_to_hertz():
         f = setup.figures()
         assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-6)
         errors.append(f["p0_error"])
-    assert errors[0] > 3 * max(errors[1:]) and max(errors[1:]) < 0.02, errors
+    print(f"sphere on block: p0 errors {errors} at sizes {sizes}")
+    assert errors[0] > errors[1] > errors[2], errors
+    order = np.log(errors[0] / errors[2]) / np.log(sizes[0] / sizes[2])
+    assert 0.8 < order < 2.5, (order, errors)
     params = sphere.build(make_law("penalty", K=1.0), size=1.0, plate="meshed", approach=0.02).parameters
     assert np.isclose(params["plate_width"], 7 * np.sqrt(0.02)) and params["plate_depth"] == params["plate_width"]
     assert sphere.build(make_law("penalty", K=1.0), size=1.0, plate="meshed").parameters["plate_width"] == 0.5

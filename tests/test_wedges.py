@@ -27,6 +27,8 @@ def test_force_ratio_of_a_block_sliding_up_a_wedge(mu, alpha):
 
 
 def test_bad_input():
+    with pytest.raises(ValueError, match="method coulomb is refused on wedges"):
+        app.build("wedges", law=fc.make_law("coulomb", mu=0.3))
     law = fc.Friction(fc.make_law("penalty", K=1e6), mu=0.3, omega_t=1e4)
     with pytest.raises(ValueError, match="alpha must be in"):
         app.build("wedges", law=law, alpha=75.0)

@@ -2,18 +2,24 @@
 
     python -m fenics_contact.app.bench_pages results/bench docs/bench [--demos results]
 
+    python -m fenics_contact.app.bench_pages results/bench docs/bench --add   # a run of some scenes only
+
 Reads what :mod:`fenics_contact.app.bench` writes into its output folder (``run.json``: the machine, date,
 commit and command of the run, :mod:`~fenics_contact.app.run_record`; per scene ``<scene>_findings.md``,
 ``<scene>_stability.md``, ``<scene>_reduction.md`` and the charts ``<scene>_*.png``) and, with ``--demos``, the
 ``<demo>/summary.json`` of every demo in that folder (their checks against the scenes' references). Writes
-``index.md`` (the run's header, the demos' checks, a page per scene) and ``<scene>.md`` with the charts copied
-next to them. Every page starts with the header: machine (CPU model, cores, memory, from /proc), date, commit,
-command. The pages hold numbers only; docs/benchmarks.md explains how to read them.
+``<scene>.md`` with the charts copied next to them and ``index.md`` (the runs' headers, a page per scene, the
+model-reduction rows of every page, the demos' checks). Every page starts with the header: machine (CPU model,
+cores, memory, from /proc), date, commit, command. ``--add``: the pages of scenes the results do not hold are
+kept, and a scene whose model-reduction rows alone were rerun (``bench --reduction-only``) keeps its page with
+that section replaced (headed by its own run). The pages hold numbers only; docs/benchmarks.md explains how to
+read them.
 """
 from __future__ import annotations
 
 import json
 import math
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -22,7 +28,7 @@ from typing import Sequence
 from . import bench
 from .run_record import read_runs
 
-__all__ = ["header", "time_split", "scene_page", "demo_checks", "write_pages", "main"]
+__all__ = ["header", "time_split", "reduction_section", "scene_page", "demo_checks", "write_pages", "main"]
 
 CHARTS = ("pareto", "dofs", "iterations", "stability", "stability_accuracy")
 CHART_TITLES = {"pareto": "Error against solver time", "dofs": "Error against dofs",
@@ -70,6 +76,37 @@ def time_split(rows: Sequence[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def reduction_section(scene: str, results: Path, out: Path, run: dict | None = None) -> list[str]:
+    """The model-reduction section of ``scene``'s page: its rows and chart (copied into ``out``), headed by
+    ``run``'s header when the page's other sections come from another run; empty without rows."""
+    rows = results / f"{scene}_reduction.md"
+    if not rows.exists():
+        return []
+    lines = ["## Model reduction", "", *([header(run)] if run is not None else []), rows.read_text().rstrip(), ""]
+    png = results / f"{scene}_reduction.png"
+    if png.exists():
+        shutil.copyfile(png, out / png.name)
+        lines += [f"![{scene}: model reduction, error against solver time and peak memory]({png.name})", ""]
+    return lines
+
+
+def _replace_reduction(page: str, section: list[str]) -> str:
+    """``page`` with its model-reduction section replaced by ``section`` (or, without one, inserted before the
+    first chart)."""
+    lines = page.rstrip().splitlines()
+    heads = [i for i, line in enumerate(lines) if line.startswith("## ")]
+    if "## Model reduction" in lines:
+        start = lines.index("## Model reduction")
+        end = next((i for i in heads if i > start), len(lines))
+    else:
+        charts = {f"## {t}" for t in CHART_TITLES.values()}
+        start = end = next((i for i in heads if lines[i] in charts), len(lines))
+        if start == len(lines):
+            lines.append("")
+            start = end = len(lines)
+    return "\n".join([*lines[:start], *section, *lines[end:]]).rstrip() + "\n"
+
+
 def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
     """The page of one scene: findings, time split (two bodies), stability summary, model reduction and charts
     (copied into ``out``)."""
@@ -80,7 +117,7 @@ def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
         lines += ["## Where the time goes", "", "The fastest converged run of each method and quadrature; times in s.",
                   "", split]
     lines += _section("Stability over the parameter and the load steps", results / f"{scene}_stability.md")
-    lines += _section("Model reduction", results / f"{scene}_reduction.md")
+    lines += reduction_section(scene, results, out)
     for chart in CHARTS:
         png = results / f"{scene}_{chart}.png"
         if png.exists():
@@ -113,39 +150,74 @@ def demo_checks(folder: str | Path) -> str:
                       "wall time [s] |", "|---|---|---|---|---|---|---|---|---|---|---|", *rows]) + "\n"
 
 
+def _table_rows(page: str, title: str) -> list[str]:
+    """The rows of the table under ``## title`` in ``page`` (without its header and rule)."""
+    lines = page.splitlines()
+    if f"## {title}" not in lines:
+        return []
+    rows = []
+    for line in lines[lines.index(f"## {title}") + 1:]:
+        if line.startswith("## "):
+            break
+        if line.startswith("|"):
+            rows.append(line)
+    return rows[2:]
+
+
+def _date(header_line: str) -> str:
+    """The date and time of a page's header line (``YYYY-MM-DD HH:MM``; empty if it has none)."""
+    found = re.search(r"\d{4}-\d\d-\d\d \d\d:\d\d", header_line)
+    return found.group() if found else ""
+
+
 # The side-by-side page with the peer (dolfinx_contact), written by scripts/peer/run.py: kept and listed here.
 PEER_PAGE = "peer"
 
 
-def write_pages(results: str | Path, out: str | Path, demos: str | Path | None = None) -> list[Path]:
-    """Write ``out/index.md`` and a page per scene with results in ``results``; returns the pages written.
-    Pages and charts of an earlier run in ``out`` are removed first, except the side-by-side page with the peer
-    (``peer.md``, ``peer_*.png``: written by scripts/peer/run.py, which needs the peer's build), which the index
-    lists when present."""
+def write_pages(results: str | Path, out: str | Path, demos: str | Path | None = None,
+                add: bool = False) -> list[Path]:
+    """Write a page per scene with results in ``results`` and ``out/index.md``; returns the pages written.
+    Pages and charts of an earlier run in ``out`` are removed first, unless ``add`` (see the module), except the
+    side-by-side page with the peer (``peer.md``, ``peer_*.png``: written by scripts/peer/run.py, which needs the
+    peer's build), which the index lists when present."""
     results, out = Path(results), Path(out)
     runs = read_runs(results)
     by_scene = {scene: run for run in runs for scene in run["scenes"]}
-    scenes = sorted(p.name[: -len("_findings.md")] for p in results.glob("*_findings.md")
-                    if p.name[: -len("_findings.md")] in by_scene)
-    if not scenes:
+
+    def held(suffix: str) -> list[str]:
+        return sorted(n for n in (p.name[: -len(suffix)] for p in results.glob(f"*{suffix}")) if n in by_scene)
+
+    scenes, reduced = held("_findings.md"), held("_reduction.md")
+    if not scenes and not (add and reduced):
         raise ValueError(f"{results} holds no <scene>_findings.md of a recorded run: no benchmark results")
     out.mkdir(parents=True, exist_ok=True)
-    for old in [*out.glob("*.md"), *out.glob("*.png")]:
-        if not old.name.startswith(PEER_PAGE):
-            old.unlink()
+    if not add:
+        for old in [*out.glob("*.md"), *out.glob("*.png")]:
+            if not old.name.startswith(PEER_PAGE):
+                old.unlink()
     pages = []
     for scene in scenes:
         page = out / f"{scene}.md"
         page.write_text(scene_page(scene, results, by_scene[scene], out))
         pages.append(page)
-    used = [run for run in runs if any(scene in scenes for scene in run["scenes"])]
-    index = ["# Benchmark results", "", *(header(run) for run in used),
+    for scene in (n for n in reduced if n not in scenes):  # the model-reduction rows alone were rerun
+        page = out / f"{scene}.md"
+        if page.exists():
+            page.write_text(_replace_reduction(page.read_text(), reduction_section(scene, results, out,
+                                                                                   by_scene[scene])))
+        else:
+            page.write_text(scene_page(scene, results, by_scene[scene], out))
+        pages.append(page)
+    # the index: every page in `out`, the runs that measured them (oldest first), their model-reduction rows
+    texts = {p.stem: p.read_text() for p in sorted(out.glob("*.md")) if p.stem not in ("index", PEER_PAGE)}
+    headers = sorted(dict.fromkeys(line + "\n" for t in texts.values() for line in t.splitlines()
+                                   if line.startswith("Measured on ")), key=_date)
+    index = ["# Benchmark results", "", *headers,
              "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
-             "```{toctree}", ":maxdepth: 1", "", *scenes, *([PEER_PAGE] if (out / f"{PEER_PAGE}.md").exists() else []),
+             "```{toctree}", ":maxdepth: 1", "", *texts, *([PEER_PAGE] if (out / f"{PEER_PAGE}.md").exists() else []),
              "```", ""]
-    reductions = sorted(results.glob("*_reduction.md"))
-    if reductions:  # one table: each scene's rows under the common header
-        rows = [line for path in reductions for line in path.read_text().splitlines()[2:] if line.strip()]
+    rows = [row for t in texts.values() for row in _table_rows(t, "Model reduction")]
+    if rows:  # one table: each scene's rows under the common header
         index += ["## Model reduction", "", *bench.REDUCTION_HEADER, *rows, ""]
     checks = demo_checks(demos) if demos is not None else ""
     if checks:
@@ -162,9 +234,11 @@ def main(argv: Sequence[str] | None = None) -> None:
     p.add_argument("results", help="the benchmark's output folder (make bench: results/bench)")
     p.add_argument("out", help="the folder of the pages (docs/bench)")
     p.add_argument("--demos", default=None, help="a folder of demo results (summary.json) to tabulate")
+    p.add_argument("--add", action="store_true",
+                   help="keep the pages of scenes these results do not hold (a run of some scenes only)")
     args = p.parse_args(argv)
     try:
-        pages = write_pages(args.results, args.out, args.demos)
+        pages = write_pages(args.results, args.out, args.demos, add=args.add)
     except ValueError as exc:
         sys.stderr.write(f"error: {exc}\n")
         raise SystemExit(2) from None

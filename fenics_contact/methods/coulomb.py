@@ -9,7 +9,7 @@ METHOD = Method(
     parameters=(Parameter("mu", "mu", "Coulomb friction coefficient (0: frictionless)", "nonnegative", 0.0),),
     rigid="fenics_contact.methods.builders:condensed_surface",
     two_body="fenics_contact.methods.builders:condensed_two_body",
-    friction="own", sweep=Sweep("once", None),
+    friction="own", sweep=Sweep("once", None, colour="tab:brown", size=8.0, reference=True),
     rules=(rule("an axis-aligned half-plane (or another method)",
                 "coulomb condenses the displacement component along an axis-aligned normal",
                 method="coulomb", obstacle=("plane", "curved")),

@@ -6,7 +6,7 @@
 Block 1 high (neo-Hookean E = 1000, nu = 0.3, plane strain, base clamped); punch 100 times stiffer with a flat
 face (width 1) and round corners (radius 0.5), pressed 0.1 into the block, then dragged 3 along it (70 steps:
 0.86 of the block's node spacing each, so that the steps sample every position of the punch between two nodes).
-Node-to-segment Coulomb friction (mu = 0.3, penalty K = 1e5, omega_t = 1e4), the block's top the slave. The
+Node-to-segment Coulomb friction (mu = 0.3, penalty K = 5e4, omega_t = 1e4), the block's top the slave. The
 tangential over normal force on the punch (the punch's frame) against mu over the second half of the drag.
 Writes ironing.xdmf, summary.json (with the per-step history: forces, ratio, Newton iterations) and
 ironing_forces.png (the forces on the punch and their ratio against the drag).

@@ -32,7 +32,8 @@ from ..meshes import hertz_quarter_disk, two_half_disks
 from . import Option, Setup, poisson, positive
 from .hertz import contact_half_width
 
-__all__ = ["R", "E", "NU", "APPROACH", "H_CONTACT", "DEFAULT_K", "PARTNERS", "hertz_spheres", "OPTIONS", "build"]
+__all__ = ["R", "E", "NU", "APPROACH", "H_CONTACT", "DEFAULT_K", "PARTNERS", "BENCH", "BENCHES", "hertz_spheres",
+           "OPTIONS", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # the equator's displacement at t = 1, per R (as the sphere scene's)
@@ -42,6 +43,22 @@ H_FAR = 0.05  # the mesh size far from the contact, per R
 DEFAULT_K = 1e6  # penalty scale ~ E / h_contact
 PARTNERS = ("plane", "sphere")
 OVERLAP = 1e-9  # the two spheres' initial overlap, per R (they touch at one point)
+# The benchmark's view (fenics_contact.app.bench): the methods the capability grid offers on the ring (SNES VI and
+# the condensed Coulomb law carry no 2 pi r; two-body Nitsche neither; normal compliance, a constitutive law of the
+# interface rather than an enforcement, is left out as on hertz), the mesh size at the contact refined from
+# a / 7 (p0 about 2 % off Hertz) to a / 14 (quick) and a / 28 (full, the scene's default); the distance from the
+# converged augmented Lagrangian on the same mesh is the limit gap (no SNES VI here).
+_BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", "total_force"], "target": 0.01,
+          "K": DEFAULT_K, "reference": "auglag augmented",
+          "mesh": ("h-contact", {"quick": [0.01, 0.005], "full": [0.01, 0.005, 0.0025]}),
+          "quick_sweep": {"penalty": (0, 1), "other": (0,), "gamma0": (10.0,)}}
+BENCH = {**_BENCH, "methods": ["penalty", "cross", "auglag", "lagrange", "penalty_multiplier", "nitsche"],
+         "axes": {"kind": "rigid", "dim": 2, "geometry": "axisymmetric"}}
+# Two elastic spheres (R and 2 R, the second of half the modulus: E* and R* of the pair), one-pass two-body contact
+BENCHES = {"axisphere_spheres": {
+    **_BENCH, "demo": "axisphere", "methods": ["penalty", "cross", "auglag", "lagrange", "penalty_multiplier"],
+    "axes": {"kind": "two-body", "dim": 2, "geometry": "axisymmetric"},
+    "demo_args": ["--partner", "sphere", "--R2", "2", "--E2", "500"]}}
 
 
 def hertz_spheres(P: float, R: float = R, E: float = E, nu: float = NU, R2: float = np.inf,
