@@ -320,7 +320,7 @@ def _check_exponent(name: str, value: float) -> float:
 class ExactCoulomb(Formulation):
     """Method ``coulomb``: exact Signorini contact with Coulomb friction (coefficient ``mu >= 0``), solved on
     the stiffness condensed onto the contact dofs (:mod:`fenics_contact.condensed`). Linear elasticity, nodal
-    contact, 2D: a flat rigid obstacle, or two bodies in small sliding. No penalty parameter.
+    contact, 2D or 3D: a flat rigid obstacle, or two bodies in small sliding. No penalty parameter.
 
     Args:
         mu: the Coulomb friction coefficient, >= 0 (0: frictionless).

@@ -171,6 +171,8 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_oring.py::test_parallel_equals_serial",
     "test_ironing.py::test_parallel_equals_serial",
     "test_mindlin.py::test_parallel_equals_serial", "test_mindlin3d.py::test_parallel_equals_serial",
+    "test_mindlin3d.py::test_exact_coulomb_parallel_equals_serial",
+    "test_coulomb3d.py::test_parallel_equals_serial",
     "test_multipliers.py::test_parallel_equals_serial*",
     "test_multipliers.py::test_two_body_multipliers_parallel_equals_serial", "test_parallel.py::*",
     "test_pin.py::test_parallel_equals_serial", "test_rings.py::test_serial_equals_ranks",
@@ -198,6 +200,7 @@ STUDY = (  # studies of many solves (refinement series, heavy scenes rescaled): 
     "test_oring.py::test_squeeze_then_pressure_converges_and_balances[strain]",  # make test: [axisymmetric]
     "test_oring.py::test_friction_holds_the_cord_against_the_pressure",
     "test_units.py::test_slow_scene_any_units[oring]",
+    "test_mindlin3d.py::test_exact_coulomb_stick_radius_against_cattaneo_mindlin",  # make test: its ranks, coarse
 )
 
 

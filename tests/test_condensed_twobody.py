@@ -209,7 +209,7 @@ def test_rigid_force_controlled_is_condensed_at_each_stiffness():
 
 
 def test_refusals():
-    """One-line errors before any solve: two passes, Gauss quadrature, 3D (capability matrix); a paired slave
+    """One-line errors before any solve: two passes, Gauss quadrature (capability matrix); a paired slave
     vertex whose normal motion is prescribed; the wrong law or surface for the classes."""
     law = fc.make_law("coulomb", mu=MU)
     mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 0.5, 0.5, (2, 1), (2, 1), 0.0)
@@ -219,10 +219,6 @@ def test_refusals():
         fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law, load, passes="two")
     with pytest.raises(fc.UnsupportedCombination, match="gauss"):
         fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law, load, quadrature="gauss")
-    mesh3, _, ft3 = stacked_blocks(MPI.COMM_WORLD, 1.0, 0.5, 0.5, (1, 1, 1), (1, 1, 1), 0.0)
-    u3 = fem.Function(fc.function_space(mesh3, "Lagrange", 1, (3,)))
-    with pytest.raises(fc.UnsupportedCombination, match="3D"):
-        fc.two_body_surfaces(u3, ft3, "upper_bottom", "lower_top", lambda: law, fem.Constant(mesh3, 0.0))
     with pytest.raises(ValueError, match="Coulomb law"):
         fc.CondensedTwoBody(u, ft, "upper_bottom", "lower_top", fc.make_law("penalty", K=1.0), load)
     with pytest.raises(ValueError, match="CondensedTwoBody"):

@@ -1,10 +1,11 @@
 """Exact Signorini-Coulomb contact on the stiffness condensed onto the contact dofs (method ``coulomb``).
 
 Formulation 1.6 (Renaud & Feng 2003), for linear elasticity, small displacements, nodal (vertex) contact, in
-2D, against a flat rigid obstacle or between two deformable bodies in small sliding. The stiffness is condensed
-onto the contact dofs (a Schur complement, :mod:`.operator`); each load step, Alart-Curnier's semismooth Newton
-solves the contact conditions on the contact dofs alone (:mod:`.newton`), and the displacement is recovered by
-one solve. No penalty: the contact conditions hold exactly.
+2D or 3D, against a flat rigid obstacle or between two deformable bodies in small sliding. The stiffness is
+condensed onto the contact dofs (a Schur complement, :mod:`.operator`); each load step, Alart-Curnier's
+semismooth Newton solves the contact conditions on the contact dofs alone (:mod:`.newton`; the Coulomb disk of
+:mod:`.disk`, an interval in 2D), and the displacement is recovered by one solve. No penalty: the contact
+conditions hold exactly.
 
 - :class:`CondensedContact` (:mod:`.rigid_surface`) and its step solver :class:`CondensedCoulomb`
   (:mod:`.rigid_solver`): a half-plane with an axis-aligned normal.

@@ -33,7 +33,22 @@ from petsc4py import PETSc
 from ..compat import bc_dofs, schur_complement
 from .loadmodes import LoadModes
 
-__all__ = ["CondensedStiffness"]
+__all__ = ["CondensedStiffness", "MAX_CONDENSED", "check_size"]
+
+# The largest condensed system held dense: S, the semismooth Newton's matrix, its inverse and the blocks of the
+# Jacobian are n_c x n_c arrays of 8 bytes on every rank (about 6 of them: 1.7 GB at 6000), and the Newton's
+# inverse costs O(n_c^3) (about 20 s at 6000 on one core). Beyond, the method is refused before any work.
+MAX_CONDENSED = 6000
+DENSE_ARRAYS = 6
+
+
+def check_size(n_c: int, where: str) -> None:
+    """Refuse (``ValueError``, one line) a condensed system of more than :data:`MAX_CONDENSED` dofs: ``n_c`` the
+    contact dofs (an upper bound is enough), ``where`` what sets them (the contact surface and how to have fewer)."""
+    if n_c > MAX_CONDENSED:
+        gb = DENSE_ARRAYS * 8.0 * n_c**2 / 1e9
+        raise ValueError(f"method 'coulomb': {where} gives {n_c} contact dofs, more than the {MAX_CONDENSED} its "
+                         f"dense condensed system allows (about {gb:.3g} GB per rank)")
 
 
 class CondensedStiffness:

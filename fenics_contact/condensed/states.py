@@ -13,7 +13,7 @@ P_TOL, T_TOL = 1e-10, 1e-8
 
 def classify(pressure: np.ndarray, traction: np.ndarray, mu: float) -> np.ndarray:
     """Vertex states (0 open, 1 slip, 2 stick) from the pressure (> 0 compression) and the tangential traction
-    (either sign) with the friction coefficient ``mu``."""
+    (2D: either sign; 3D: its magnitude) with the friction coefficient ``mu``."""
     pressure, traction = np.asarray(pressure, float), np.asarray(traction, float)
     pmax = float(np.max(pressure)) if pressure.size else 0.0
     loaded = pressure > P_TOL * pmax

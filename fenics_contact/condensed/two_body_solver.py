@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import sparse
 
+from .disk import disk_rows
 from .operator import CondensedStiffness
 from .states import OPEN, classify
 from .step import CondensedStepSolver
@@ -48,44 +49,64 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
     def _contact_dofs(self, problem, K: CondensedStiffness) -> np.ndarray:
         """The free components of every paired slave vertex, then those of the vertices of the master facets they
         are paired with (each sorted by position). A prescribed component (Dirichlet) is not condensed: its
-        value enters the relative displacement as data. A paired slave vertex with one prescribed component
-        (a symmetry plane across the contact surface) carries no friction force (``q = 0``: its support takes
-        the tangential force), ``p`` from its free component; two prescribed components are refused."""
-        c = self.contact
+        value enters the relative displacement as data. A paired slave vertex with prescribed components (a
+        symmetry plane across the contact surface) slips only in its free directions (see the module); one whose
+        free components cannot carry its normal motion is refused."""
+        c, dim = self.contact, self.contact.dim
         ps = np.flatnonzero(c.paired)
         if not len(ps):
             raise ValueError(f"{c.name}: no slave vertex is within the search radius {c.radius:g} of the master "
                              "surface (nothing to condense)")
-        sdofs = (2 * c.slave_dofs[ps][:, None] + np.arange(2)).astype(np.int64)  # (ns, 2) global components
+        sdofs = (dim * c.slave_dofs[ps][:, None] + np.arange(dim)).astype(np.int64)  # (ns, dim) global components
         sfree = ~np.isin(sdofs, K.dir_all)
-        roller = sfree.sum(axis=1) == 1
-        bad = ~sfree.all(axis=1) & ~(roller & (np.abs(np.where(sfree, c.normal[ps], 0.0)).sum(axis=1) > 0.1))
+        bad = np.linalg.norm(np.where(sfree, c.normal[ps], 0.0), axis=1) <= 0.1
         if bad.any():
             i = ps[np.flatnonzero(bad)[0]]
             raise ValueError(f"{c.name}: slave vertex at {tuple(np.round(c.X[i], 12))} is within the search radius "
                              "of the master and its normal motion is prescribed (Dirichlet): method 'coulomb' needs "
                              "a free normal component at every paired slave vertex (or pass a smaller radius)")
         mverts, minv = np.unique(c.master_facets[c.facet[ps]], return_inverse=True)  # global block dofs
-        minv = minv.reshape(-1, 2)
-        pos = np.zeros((len(mverts), 2))  # master vertex positions, for a partition-independent order
-        pos[minv.ravel()] = c.master_X[c.facet[ps]].reshape(-1, 2)
+        minv = minv.reshape(-1, dim)
+        pos = np.zeros((len(mverts), dim))  # master vertex positions, for a partition-independent order
+        pos[minv.ravel()] = c.master_X[c.facet[ps]].reshape(-1, dim)
         morder = np.lexsort(np.round(pos, 12).T[::-1])
         rank = np.empty(len(mverts), np.int64)
         rank[morder] = np.arange(len(mverts))
         mverts, minv = mverts[morder], rank[minv]
-        mdofs = (2 * mverts[:, None] + np.arange(2)).astype(np.int64)  # (nm, 2)
+        mdofs = (dim * mverts[:, None] + np.arange(dim)).astype(np.int64)  # (nm, dim)
         mfree = ~np.isin(mdofs, K.dir_all)
-        self._maps(ps, sdofs, sfree, roller, mdofs, mfree, minv)
+        self._maps(ps, sdofs, sfree, mdofs, mfree, minv)
         return np.concatenate([sdofs[sfree], mdofs[mfree]])
 
-    def _maps(self, ps: np.ndarray, sdofs: np.ndarray, sfree: np.ndarray, roller: np.ndarray, mdofs: np.ndarray,
-              mfree: np.ndarray, minv: np.ndarray) -> None:
+    def _tangents(self, ps: np.ndarray, sfree: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Tangent basis (ns, m, dim) of the paired slave vertices ``ps`` and the directions each has (ns, m):
+        the surface's basis where every component is free; with one prescribed component ``e_P`` in 3D the one
+        direction ``e_P x n`` (normalized); none in 2D with one prescribed component or in 3D with two."""
+        c, dim = self.contact, self.contact.dim
+        T = c.tangent[ps].copy()
+        nfree = sfree.sum(axis=1)
+        has = np.repeat((nfree == dim)[:, None], dim - 1, axis=1)
+        if dim == 3:
+            one = np.flatnonzero(nfree == 2)
+            if len(one):
+                eP = (~sfree[one]).astype(float)
+                t = np.cross(eP, c.normal[ps[one]])
+                T[one, 0] = t / np.linalg.norm(t, axis=1)[:, None]
+                T[one, 1] = 0.0
+                has[one, 0] = True
+        T[~has] = 0.0
+        return T, has
+
+    def _maps(self, ps: np.ndarray, sdofs: np.ndarray, sfree: np.ndarray, mdofs: np.ndarray, mfree: np.ndarray,
+              minv: np.ndarray) -> None:
         """The linear maps of the rows from the condensed dofs: the paired slave vertices ``ps``, their global
-        components ``sdofs`` (ns, 2) (``sfree``: not prescribed; ``roller``: one prescribed), the master vertices'
-        ``mdofs`` (nm, 2) (``mfree``) and the master vertex of each paired vertex's facet ends ``minv`` (ns, 2)."""
-        c = self.contact
+        components ``sdofs`` (ns, dim) (``sfree``: not prescribed), the master vertices' ``mdofs`` (nm, dim)
+        (``mfree``) and the master vertex of each paired vertex's facet corners ``minv`` (ns, dim)."""
+        c, dim = self.contact, self.contact.dim
         ns = len(ps)
-        n, t, N = c.normal[ps], c.tangent[ps], c.N[ps]
+        n, N = c.normal[ps], c.N[ps]
+        T, has = self._tangents(ps, sfree)
+        m = dim - 1
         # Positions in u_c (-1: prescribed) and in the list of prescribed components (-1: free).
         nsf = int(sfree.sum())
         scol, mcol = np.full(sdofs.shape, -1, np.int64), np.full(mdofs.shape, -1, np.int64)
@@ -95,47 +116,48 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         spc, mpc = np.full(sdofs.shape, -1, np.int64), np.full(mdofs.shape, -1, np.int64)
         spc[~sfree] = np.arange(int((~sfree).sum()))
         mpc[~mfree] = int((~sfree).sum()) + np.arange(int((~mfree).sum()))
-        self._ps, self._ns, self._nc, self._fric = ps, ns, nc, np.flatnonzero(~roller)
-        # w_i = u_s,i - sum_k N_ik u_m(i,k) = Gw u_c + Pw u_presc: (ns, 2, nc) and (ns, 2, n_presc)
-        Gw, Pw = np.zeros((ns, 2, nc)), np.zeros((ns, 2, len(self._presc)))
+        self._ps, self._ns, self._nc, self._T, self._has = ps, ns, nc, T, has
+        # w_i = u_s,i - sum_k N_ik u_m(i,k) = Gw u_c + Pw u_presc: (ns, dim, nc) and (ns, dim, n_presc)
+        Gw, Pw = np.zeros((ns, dim, nc)), np.zeros((ns, dim, len(self._presc)))
         rows = np.arange(ns)
-        for j in range(2):
+        for j in range(dim):
             f = sfree[:, j]
             Gw[rows[f], j, scol[f, j]] = 1.0
             Pw[rows[~f], j, spc[~f, j]] = 1.0
-            for k in range(2):
-                m = minv[:, k]
-                f = mfree[m, j]
-                np.add.at(Gw, (rows[f], j, mcol[m[f], j]), -N[f, k])
-                np.add.at(Pw, (rows[~f], j, mpc[m[~f], j]), -N[~f, k])
-        self._Gn, self._Gt = np.einsum("ij,ijc->ic", n, Gw), np.einsum("ij,ijc->ic", t, Gw)
-        self._Pn, self._Pt = np.einsum("ij,ijc->ic", n, Pw), np.einsum("ij,ijc->ic", t, Pw)
-        # Contact forces from R: p_i = n_i . R_s,i, q_i = t_i . R_s,i; a roller: p_i = R_s,i[free] / n_i[free],
-        # q_i = 0. Rows of the maps (ns, nc).
-        self._Nn, self._Nt = np.zeros((ns, nc)), np.zeros((ns, nc))
-        for j in range(2):
-            f = sfree[:, j] & ~roller
-            self._Nn[rows[f], scol[f, j]] = n[f, j]
-            self._Nt[rows[f], scol[f, j]] = t[f, j]
-            f = sfree[:, j] & roller
-            self._Nn[rows[f], scol[f, j]] = 1.0 / n[f, j]
-        # Master rows: R_m + sum_i N_im (p_i n_i + q_i t_i) = 0 for each free master component (action and
-        # reaction); for a slave vertex without a prescribed component p_i n_i + q_i t_i = R_s,i.
-        self._M = np.zeros((int(mfree.sum()), nc))
-        self._M[np.arange(self._M.shape[0]), mcol[mfree]] = 1.0
-        for k in range(2):
-            m = minv[:, k]
-            for j in range(2):
-                f = np.flatnonzero(mfree[m, j])
-                np.add.at(self._M, mcol[m[f], j] - nsf,
-                          N[f, k, None] * (n[f, j, None] * self._Nn[f] + t[f, j, None] * self._Nt[f]))
+            for k in range(dim):
+                mk = minv[:, k]
+                f = mfree[mk, j]
+                np.add.at(Gw, (rows[f], j, mcol[mk[f], j]), -N[f, k])
+                np.add.at(Pw, (rows[~f], j, mpc[mk[~f], j]), -N[~f, k])
+        Gn, Gt = np.einsum("ij,ijc->ic", n, Gw), np.einsum("imj,ijc->imc", T, Gw)  # (ns, nc), (ns, m, nc)
+        self._Pn, self._Pt = np.einsum("ij,ijc->ic", n, Pw), np.einsum("imj,ijc->imc", T, Pw)
+        # Contact forces from R (force f_i = p_i n_i + T_i q_i, its free components R_s,i): the tangents lie in
+        # the free components and are orthogonal to n, so p_i = n_F . R_s,i / |n_F|^2 (n_F: n's free
+        # components; n_F = n when all are free) and q_i = T_i R_s,i. Rows of the maps (ns, nc), (ns, m, nc).
+        nF = np.where(sfree, n, 0.0)
+        nF /= np.einsum("ij,ij->i", nF, nF)[:, None]
+        Nn, Nt = np.zeros((ns, nc)), np.zeros((ns, m, nc))
+        for j in range(dim):
+            f = sfree[:, j]
+            Nn[rows[f], scol[f, j]] = nF[f, j]
+            Nt[rows[f], :, scol[f, j]] = T[f, :, j]
+        # Master rows: R_m + sum_i N_im f_i = 0 for each free master component (action and reaction).
+        M = np.zeros((int(mfree.sum()), nc))
+        M[np.arange(M.shape[0]), mcol[mfree]] = 1.0
+        for k in range(dim):
+            mk = minv[:, k]
+            for j in range(dim):
+                f = np.flatnonzero(mfree[mk, j])
+                np.add.at(M, mcol[mk[f], j] - nsf,
+                          N[f, k, None] * (n[f, j, None] * Nn[f] + np.einsum("im,imc->ic", T[f, :, j], Nt[f])))
         self._d0 = c.d0[ps]
-        self._ref = np.zeros(ns)  # t . w at the last converged step
-        self._w0n, self._w0t = np.zeros(ns), np.zeros(ns)
+        self._ref = np.zeros((ns, m))  # T . w at the last converged step
+        self._w0n, self._w0t = np.zeros(ns), np.zeros((ns, m))
         # The maps have a few entries per row: sparse products (the dense ones, O(n_c^3) each, cost as much as
-        # the semismooth Newton's solves).
-        self._sNn, self._sNt, self._sM = (sparse.csr_matrix(a) for a in (self._Nn, self._Nt, self._M))
-        self._sGn, self._sGt = sparse.csr_matrix(self._Gn), sparse.csr_matrix(self._Gt)
+        # the semismooth Newton's solves). Tangential maps direction by direction: (m ns, nc).
+        Nt, Gt = (a.transpose(1, 0, 2).reshape(m * ns, nc) for a in (Nt, Gt))
+        self._sNn, self._sNt, self._sM = (sparse.csr_matrix(a) for a in (Nn, Nt, M))
+        self._sGn, self._sGt = sparse.csr_matrix(Gn), sparse.csr_matrix(Gt)
         self._blocks_of = None  # the S the Jacobian's fixed blocks were formed with
 
     def _step_data(self) -> None:
@@ -147,62 +169,73 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
             self._PnS, self._PtS, self._MS = (np.asarray(m @ self.S) for m in (self._sNn, self._sNt, self._sM))
             self._blocks_of = self.S
 
+    def _by_vertex(self, v: np.ndarray) -> np.ndarray:
+        """(m ns,) direction by direction -> (ns, m)."""
+        return v.reshape(-1, self._ns).T
+
     def _kinematics(self, uc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Distance ``d`` (> 0 open) and ``t . w`` of every paired slave vertex at ``uc``."""
-        return self._d0 + self._sGn @ uc + self._w0n, self._sGt @ uc + self._w0t
+        """Distance ``d`` (> 0 open) (ns,) and ``T . w`` (ns, m) of every paired slave vertex at ``uc``."""
+        return self._d0 + self._sGn @ uc + self._w0n, self._by_vertex(self._sGt @ uc) + self._w0t
 
     def _residual(self, uc: np.ndarray, t: float, c: float):
-        """Alart-Curnier rows of the slave vertices (normal, tangential) and the master rows; generalized
-        Jacobian; state per slave vertex (0 open, +-1 slip and its direction, 2 stick); ``R``."""
-        mu = self.mu
+        """Alart-Curnier rows of the slave vertices (normal, tangential direction by direction) and the master
+        rows; generalized Jacobian; state per slave vertex (0 open, 1 slip, in 2D -1 for a slip along -t, 2
+        stick); ``R``."""
+        ns, has = self._ns, self._has
         R = self.S @ uc + self._r
-        p, q = self._sNn @ R, self._sNt @ R
+        p, q = self._sNn @ R, self._by_vertex(self._sNt @ R)
         d, tw = self._kinematics(uc)
-        s = tw - self._ref
         PnS, PtS = self._PnS, self._PtS
         lam = p - c * d
         active = lam > 0
-        bound = mu * np.maximum(lam, 0.0)
-        qtr = q - c * s
-        stick = active & (np.abs(qtr) <= bound)
-        direction = np.sign(qtr)
-        Fn = np.where(active, c * d, p)
-        Ft = np.where(stick, c * s, q - bound * direction)
-        fr = self._fric  # the vertices with a tangential row (not the rollers: q = 0 there)
-        F = np.concatenate([Fn, Ft[fr], self._sM @ R])
-        # J row by row into one array: normal rows, tangential rows of fr, master rows.
-        ns, nf = len(p), len(fr)
-        J = np.empty((ns + nf + self._MS.shape[0], len(uc)))
-        Jn, Jt = J[:ns], J[ns:ns + nf]
+        Ft, A, B, g, stick, e = disk_rows(q, tw - self._ref, lam, self.mu, c, has)
+        j, v = np.nonzero(has.T)  # tangential rows, direction by direction: (direction, vertex)
+        F = np.concatenate([np.where(active, c * d, p), Ft[v, j], self._sM @ R])
+        # J row by row into one array: normal rows, tangential rows, master rows.
+        nt = len(v)
+        J = np.empty((ns + nt + self._MS.shape[0], len(uc)))
+        Jn, Jt = J[:ns], J[ns:ns + nt]
         Jn[:] = PnS
-        Jn[active] = c * self._Gn[active]
-        Jt[:] = PtS[fr]
-        slipping = np.flatnonzero(active[fr] & ~stick[fr])
+        Jn[active] = c * self._Gn_dense(active)
+        # dF_t = A dq + B ds + g dlam, dq_k = PtS[k ns + v], ds_k = Gt[k ns + v], dlam = PnS - c Gn
+        m = has.shape[1]
+        Jt[:] = 0.0
+        for k in range(m):
+            on = np.flatnonzero(has[v, k])
+            if len(on):
+                rows = k * ns + v[on]
+                Jt[on] += A[v[on], j[on], k][:, None] * PtS[rows]
+                Jt[on] += B[v[on], j[on], k][:, None] * self._sGt[rows].toarray()
+        slipping = np.flatnonzero(g[v, j] != 0.0)
         if len(slipping):
-            v = fr[slipping]
-            Jt[slipping] -= (mu * direction[v])[:, None] * (PnS[v] - c * self._Gn[v])
-        sticking = np.flatnonzero(stick[fr])
-        Jt[sticking] = c * self._Gt[fr[sticking]]
-        J[ns + nf:] = self._MS
-        state = active.astype(np.int64)
-        state[fr] = np.where(active[fr], np.where(stick[fr], 2, np.where(direction[fr] < 0, -1, 1)), 0)
+            vs = v[slipping]
+            Jt[slipping] += g[vs, j[slipping]][:, None] * (PnS[vs] - c * self._Gn_dense(vs))
+        J[ns + nt:] = self._MS
+        state = np.where(active, np.where(stick, 2, 1), 0)
+        if m == 1:  # 2D: the slip direction too
+            state = np.where(active & ~stick & has[:, 0] & (e[:, 0] < 0), -1, state)
         return F, J, state, R
+
+    def _Gn_dense(self, which: np.ndarray) -> np.ndarray:
+        """Rows ``which`` (a mask or indices) of the normal kinematic map, dense."""
+        return self._sGn[np.flatnonzero(which) if which.dtype == bool else which].toarray()
 
     def _set_output(self, uc: np.ndarray, t: float) -> None:
         """Nodal forces, gaps (> 0 penetration; ``-radius`` unpaired), states and slip increments of every slave
         vertex to the surface."""
-        c = self.contact
+        c, dim = self.contact, self.contact.dim
         R = self.S @ uc + self._r
-        p, q = self._sNn @ R, self._sNt @ R
+        p, q = self._sNn @ R, self._by_vertex(self._sNt @ R)
         d, tw = self._kinematics(uc)
         nv = len(c.X)
-        fn, ft, gap, slip = np.zeros(nv), np.zeros(nv), np.full(nv, -c.radius), np.zeros(nv)
+        fn, ft, gap, slip = np.zeros(nv), np.zeros((nv, dim)), np.full(nv, -c.radius), np.zeros((nv, dim))
         ps = self._ps
-        fn[ps], ft[ps], gap[ps], slip[ps] = p, q, -d, tw - self._ref
+        fn[ps], gap[ps] = p, -d
+        ft[ps] = np.einsum("im,imj->ij", q, self._T)
+        slip[ps] = np.einsum("im,imj->ij", tw - self._ref, self._T)
         state = np.full(nv, OPEN)
-        state[ps] = classify(p, q, self.mu)
+        state[ps] = classify(p, np.linalg.norm(q, axis=1), self.mu)
         c.set_solution(fn, ft, gap, state, slip)
 
     def _slip_reference(self, uc: np.ndarray) -> np.ndarray:
         return self._kinematics(uc)[1]
-

@@ -1,12 +1,13 @@
 """The two-body contact surface of method ``coulomb``: slave vertices paired once with the master facets.
 
-Small sliding (2D, P1, nodal, one pass, linear elasticity): each slave vertex ``i`` is paired once, in the
+Small sliding (2D or 3D, P1, nodal, one pass, linear elasticity): each slave vertex ``i`` is paired once, in the
 reference configuration, with its closest point on the master surface (:func:`~fenics_contact.search.project`):
-master facet, shape-function weights ``N_ik`` of its two vertices, the facet's outward normal ``n_i`` and tangent
-``t_i = (n_{i,y}, -n_{i,x})``, and the reference distance ``d0_i`` of the vertex from the facet's line (> 0
-open). Pairing, normals and weights stay those of the reference configuration, so the method is exact for the
-linearized (small-sliding) problem, not for slips comparable with the facets. Unpaired slave vertices (farther
-than the search radius) are open: no force. The step solver is :class:`~.two_body_solver.CondensedTwoBodyCoulomb`.
+master facet, shape-function weights ``N_ik`` of its vertices (two in 2D, three in 3D), the facet's outward normal
+``n_i`` and tangent basis ``t_i`` (:func:`~.disk.tangent_basis`: ``(n_{i,y}, -n_{i,x})`` in 2D, two directions
+in 3D), and the reference distance ``d0_i`` of the vertex from the facet's plane (> 0 open). Pairing, normals
+and weights stay those of the reference configuration, so the method is exact for the linearized (small-sliding)
+problem, not for slips comparable with the facets. Unpaired slave vertices (farther than the search radius) are
+open: no force. The step solver is :class:`~.two_body_solver.CondensedTwoBodyCoulomb`.
 """
 from __future__ import annotations
 
@@ -20,17 +21,20 @@ from ..laws import ContactLaw, ExactCoulomb
 from ..search import facet_normals, project
 from ..surface import Surface
 from ..twobody import FacetData
+from .disk import tangent_basis
+from .operator import check_size
 from .states import OPEN, SLIP, STICK
 
 __all__ = ["CondensedTwoBody"]
 
 
 class CondensedTwoBody(Surface):
-    """The two-body contact surface of method ``coulomb`` (2D, P1, nodal; small sliding): the slave vertices of
-    ``slave_tag`` paired once, in the reference configuration, with their closest point on the master facets of
+    """The two-body contact surface of method ``coulomb`` (2D or 3D, P1, nodal; small sliding): the slave vertices
+    of ``slave_tag`` paired once, in the reference configuration, with their closest point on the master facets of
     ``master_tag`` (:func:`~fenics_contact.search.project` within ``radius``, default twice the longest master
-    facet): master facet, shape-function weights ``N``, its outward normal ``n`` and tangent ``t = (n_y, -n_x)``
-    (+x on a master facing +y), the reference distance ``d0`` of the vertex from the facet's line (> 0 open).
+    facet edge): master facet, shape-function weights ``N``, its outward normal ``n`` and tangent basis
+    ``tangent`` (n, dim - 1, dim) (:func:`~.disk.tangent_basis`: +x on a master facing +y in 2D; +x, +y on a
+    master facing +z in 3D), the reference distance ``d0`` of the vertex from the facet's plane (> 0 open).
     No residual term and no bounds: its load steps are solved by a
     :class:`~.two_body_solver.CondensedTwoBodyCoulomb` (see the module), which writes the nodal contact forces
     back here (:meth:`set_solution`). Figures as the penalty two-body friction surface's: ``log`` (per committed
@@ -57,9 +61,10 @@ class CondensedTwoBody(Surface):
         check(**of(law, u), kind="two-body", quadrature="nodal", passes="one")  # before any assembly
         V = u.function_space
         mesh = V.mesh
-        if mesh.geometry.dim != 2 or V.num_sub_spaces != 2 or V.sub(0).num_sub_spaces != 0:
-            raise ValueError("method 'coulomb' between two bodies is implemented in 2D for a displacement unknown "
-                             "(one tangential direction)")
+        dim = mesh.geometry.dim
+        if V.num_sub_spaces != dim or V.sub(0).num_sub_spaces != 0:
+            raise ValueError("method 'coulomb' between two bodies needs a displacement unknown (a vector space, "
+                             "one component per axis)")
         if len(V.dofmap.dof_layout.entity_dofs(1, 0)):
             raise ValueError("method 'coulomb' between two bodies needs degree-1 (P1) displacements")
         if slave_tag == master_tag:
@@ -69,16 +74,21 @@ class CondensedTwoBody(Surface):
         slave = check_facet_tag(mesh, facet_tags, slave_tag, f"{name} slave_tag")
         master = check_facet_tag(mesh, facet_tags, master_tag, f"{name} master_tag")
         self.u, self.law, self.load, self.name, self.comm = u, law, load, name, mesh.comm
-        self.mu = float(law.mu)
+        self.mu, self.dim = float(law.mu), dim
         comm = self.comm
         sd, md = FacetData(V, slave), FacetData(V, master)
         # This rank's (owned and ghost) vertex block dofs of the slave and of the master surface.
         self.local_dofs = (np.unique(sd.dofs), np.unique(md.dofs))
 
-        # Slave vertices (every rank's, on every rank): global block dof, reference position, weight int phi ds.
+        # Slave vertices (every rank's, on every rank): global block dof, reference position, weight int phi ds
+        # (a P1 facet's measure shared equally by its vertices: half a segment, a third of a triangle).
         own = sd.owned
-        length = np.linalg.norm(sd.X[own, 1] - sd.X[own, 0], axis=1)
-        parts = comm.allgather((sd.global_dofs[own].ravel(), sd.X[own].reshape(-1, 2), np.repeat(0.5 * length, 2)))
+        Xo = sd.X[own]
+        if dim == 2:
+            size = np.linalg.norm(Xo[:, 1] - Xo[:, 0], axis=1)
+        else:
+            size = 0.5 * np.linalg.norm(np.cross(Xo[:, 1] - Xo[:, 0], Xo[:, 2] - Xo[:, 0]), axis=1)
+        parts = comm.allgather((sd.global_dofs[own].ravel(), Xo.reshape(-1, dim), np.repeat(size / dim, dim)))
         g, X, w = (np.concatenate(a) for a in zip(*parts))
         g, first, inverse = np.unique(g, return_index=True, return_inverse=True)
         w = np.bincount(inverse.ravel(), weights=w, minlength=len(g))
@@ -92,21 +102,27 @@ class CondensedTwoBody(Surface):
         key = np.lexsort(np.round(mX.mean(axis=1), 12).T[::-1])
         self.master_facets, self.master_X = mG[key], mX[key]
         if radius is None:
-            radius = 2.0 * float(np.max(np.linalg.norm(np.diff(self.master_X, axis=1), axis=2)))
+            edges = self.master_X - np.roll(self.master_X, 1, axis=1)
+            radius = 2.0 * float(np.max(np.linalg.norm(edges, axis=2)))
         self.radius = float(radius)
         if np.intersect1d(self.slave_dofs, self.master_facets).size:
             raise ValueError(f"{name}: the slave and master surfaces share vertices (two bodies do not)")
 
-        # The pairing, fixed (small sliding): closest master facet, weights N, normal, tangent, distance d0.
+        # The pairing, fixed (small sliding): closest master facet, weights N, normal, tangents, distance d0.
         facet, bary, _ = project(self.X, self.master_X, self.radius)
         self.facet, self.N = facet, bary
         self.paired = facet >= 0
-        self.normal = np.zeros((len(facet), 2))
+        self.normal = np.zeros((len(facet), dim))
+        self.normal[:, -1] = 1.0  # unpaired vertices: any unit normal (no force)
         self.normal[self.paired] = facet_normals(self.master_X[facet[self.paired]])
-        self.tangent = np.stack([self.normal[:, 1], -self.normal[:, 0]], axis=1)
+        self.tangent = tangent_basis(self.normal)
         self.d0 = np.full(len(facet), np.inf)
         self.d0[self.paired] = np.einsum("ij,ij->i", self.X[self.paired] - self.master_X[facet[self.paired], 0],
                                          self.normal[self.paired])
+        nm = len(np.unique(self.master_facets[facet[self.paired]]))
+        check_size(dim * (int(self.paired.sum()) + nm),
+                   f"{name}: {int(self.paired.sum())} slave vertices within the search radius {self.radius:g} of "
+                   f"{nm} master vertices (a coarser contact mesh or a smaller radius has fewer)")
 
         # Output fields on this rank's slave vertices (local dofs of a scalar P1 space and of V).
         P1 = function_space(mesh, "Lagrange", 1)
@@ -135,18 +151,19 @@ class CondensedTwoBody(Surface):
     def set_solution(self, fn: np.ndarray, ft: np.ndarray, gap: np.ndarray, state: np.ndarray,
                      slip: np.ndarray) -> None:
         """A solved step, per slave vertex (the same on every rank): nodal normal force ``fn`` (> 0 compression)
-        and tangential force ``ft`` (along the tangent) of the master on the slave, ``gap`` (> 0 penetration;
-        ``-radius`` unpaired), ``state`` (0 open, 1 slip, 2 stick) and slip increment of the step."""
+        and tangential force vector ``ft`` (n, dim) of the master on the slave, ``gap`` (> 0 penetration;
+        ``-radius`` unpaired), ``state`` (0 open, 1 slip, 2 stick) and the slip increment vector of the step
+        (n, dim)."""
         self._solution = (fn, ft, gap, state, slip)
         a, b, i = self._out.T
         for f, v in ((self.gap_out, gap), (self.pressure_out, fn / self.weight), (self.state_out, state)):
             f.x.array[:] = 0.0
             f.x.array[a] = v[i]
             f.x.scatter_forward()
-        q = (ft / self.weight)[:, None] * self.tangent
+        q = ft / self.weight[:, None]
         self.traction_out.x.array[:] = 0.0
-        for k in range(2):
-            self.traction_out.x.array[2 * b + k] = q[i, k]
+        for k in range(self.dim):
+            self.traction_out.x.array[self.dim * b + k] = q[i, k]
         self.traction_out.x.scatter_forward()
 
     def _need(self) -> tuple:
@@ -156,26 +173,28 @@ class CondensedTwoBody(Surface):
 
     # --- results ----------------------------------------------------------------
     def friction_profile(self) -> dict[str, np.ndarray]:
-        """Slave vertices sorted by reference position (the same on every rank): ``x`` (n, 2) reference position,
-        ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction`` (of the master on the slave along
-        the tangent ``(n_y, -n_x)`` of the master normal: +x on a master facing +y), ``state`` (0 open, 1 slip,
-        2 stick)."""
+        """Slave vertices sorted by reference position (the same on every rank): ``x`` (n, dim) reference
+        position, ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction`` (of the master on the
+        slave: 2D the scalar along the tangent ``(n_y, -n_x)`` of the master normal, +x on a master facing +y;
+        3D the vector (n, 3)), ``state`` (0 open, 1 slip, 2 stick)."""
         fn, ft, gap, state, _ = self._need()
-        return {"x": self.X.copy(), "gap": gap.copy(), "pressure": fn / self.weight, "traction": ft / self.weight,
+        q = ft / self.weight[:, None]
+        traction = np.einsum("ij,ij->i", q, self.tangent[:, 0]) if self.dim == 2 else q
+        return {"x": self.X.copy(), "gap": gap.copy(), "pressure": fn / self.weight, "traction": traction,
                 "state": state.astype(int)}
 
     def displacement(self) -> np.ndarray:
-        """The displacement of every slave vertex (n, 2), in the order of :attr:`X`, the same on every rank."""
+        """The displacement of every slave vertex (n, dim), in the order of :attr:`X`, the same on every rank."""
         _, b, i = self._out.T
         ua = self.u.x.array
-        out = np.zeros((len(self.X), 2))
-        for idx, v in self.comm.allgather((i, np.stack([ua[2 * b], ua[2 * b + 1]], axis=1))):
+        out = np.zeros((len(self.X), self.dim))
+        for idx, v in self.comm.allgather((i, np.stack([ua[self.dim * b + k] for k in range(self.dim)], axis=1))):
             out[idx] = v
         return out
 
     def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
                                                                                      np.ndarray]:
-        """Current position (n, 2) (``reference=True``: reference position), gap (> 0 penetration) and pressure
+        """Current position (n, dim) (``reference=True``: reference position), gap (> 0 penetration) and pressure
         (> 0 compression) of the slave vertices, sorted by reference position (as the penalty two-body surfaces';
         small strain: the nominal and Cauchy pressures are the same)."""
         if kind not in PRESSURE_KINDS:
@@ -184,22 +203,22 @@ class CondensedTwoBody(Surface):
         return (self.X.copy() if reference else self.X + self.displacement()), gap.copy(), fn / self.weight
 
     def total_force(self) -> np.ndarray:
-        """Normal contact force of the master on the slave body, ``sum_i f_n,i n_i``, shape (2,) (per unit
-        thickness; the friction force is :meth:`tangential_force`)."""
+        """Normal contact force of the master on the slave body, ``sum_i f_n,i n_i``, shape (dim,) (per unit
+        thickness in 2D; the friction force is :meth:`tangential_force`)."""
         fn = self._need()[0]
         return np.sum(fn[:, None] * self.normal, axis=0)
 
     def tangential_force(self) -> np.ndarray:
-        """Tangential (friction) force of the master on the slave body, ``sum_i f_t,i t_i``, shape (2,)."""
-        ft = self._need()[1]
-        return np.sum(ft[:, None] * self.tangent, axis=0)
+        """Tangential (friction) force of the master on the slave body, the sum of the nodal ones, shape (dim,)."""
+        return np.sum(self._need()[1], axis=0)
 
     def capacity(self) -> float:
         """``mu sum_i f_n,i``: the largest tangential force the surface can carry at the current contact forces."""
         return self.mu * float(np.sum(self._need()[0]))
 
     def state_areas(self) -> dict[str, float]:
-        """Length of the slave surface in each state by the vertex rule (sum of the vertex weights)."""
+        """Length (2D) or area (3D) of the slave surface in each state by the vertex rule (sum of the vertex
+        weights)."""
         state = self._need()[3]
         return {k: float(np.sum(self.weight[state == v])) for k, v in (("open", OPEN), ("slip", SLIP),
                                                                        ("stick", STICK))}

@@ -94,7 +94,7 @@ def law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, pas
 
 def condensed_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
                        work_quadrature, cls, material=None):
-    """Exact Coulomb between two bodies on the condensed system (2D, P1, nodal, one pass): one
+    """Exact Coulomb between two bodies on the condensed system (2D or 3D, P1, nodal, one pass): one
     :class:`CondensedTwoBody`."""
     if cls is not None or work_quadrature is not None:
         raise ValueError("method 'coulomb' takes neither cls nor work_quadrature")

@@ -18,7 +18,6 @@ METHOD = Method(
            rule("quadrature 'nodal'", "coulomb is nodal contact on the condensed stiffness", method="coulomb",
                 quadrature=("gauss", "segment", "simpson")),
            rule("degree 1", "coulomb condenses onto the contact vertices", method="coulomb", degree=2),
-           rule("dim 2", "coulomb has one tangential direction", method="coulomb", dim=3),
            rule("model 'linear'", "coulomb condenses a constant stiffness", method="coulomb",
                 model=("neohookean", "neohookean-mixed")),
            rule("geometry 'cartesian' (or another method)", "coulomb's contact vertices carry unweighted nodal "

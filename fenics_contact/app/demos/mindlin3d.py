@@ -4,17 +4,21 @@
     mpirun -n 2 python demos/mindlin3d.py --ratios 0.5
     python demos/mindlin3d.py --refinement 1
     python demos/mindlin3d.py --solver direct   # MUMPS LU: the same answer, 2.6 x the time at 12k dofs, 7 x at 68k
+    python demos/mindlin3d.py --method coulomb  # exact Signorini-Coulomb, condensed (small sliding; MUMPS LU)
 
 The half y >= 0 of a spherical cap (R = 1, height 0.5) on a block, both E = 1000, nu = 0.3, node-to-triangle
-Coulomb friction (penalty K = 2e6, mu = 0.3, omega_t = 1e6 at the default mesh, scaled with 1 / h_contact). The
+Coulomb friction (penalty K = 2e6, mu = 0.3, omega_t = 1e6 at the default mesh, scaled with 1 / h_contact; or
+exact with --method coulomb, on the Coulomb disk, pressed with friction in one step). The
 top moves down (force P measured), then carries the tangential force Q = r mu P along x for each r of --ratios.
 The stick radius c (from the stick area by the vertex rule, sqrt(2 A / pi); also along the +x, -x and +y rays) is
 compared with Cattaneo-Mindlin c = a (1 - Q/(mu P))^(1/3) (a: Hertz for P, 1/E* = 2 (1 - nu^2) / E), the
 traction along the x axis with Mindlin's q(r). Writes mindlin3d.xdmf, summary.json and mindlin3d.png (the
 traction along x against Mindlin, and the stick/slip map of the last step) to --out. The linear solver is
-GMRES + GAMG by default (--solver iterative): MUMPS's LU of this 3D Jacobian grows like dofs^2 (Debian's MUMPS
-orders with PORD: 4.7 GFlop at 12k dofs), GAMG about linearly, with the same Newton iterations and figures.
+GMRES + GAMG by default (--solver iterative; --method coulomb factors with MUMPS, --solver direct): MUMPS's LU
+of this 3D Jacobian grows like dofs^2 (Debian's MUMPS orders with PORD: 4.7 GFlop at 12k dofs), GAMG about
+linearly, with the same Newton iterations and figures.
 """
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -33,6 +37,9 @@ def main(argv=None) -> dict:
     p.set_defaults(method="penalty", mu=0.3, solver="iterative")
     scene = add_scene_options(p, mindlin3d.build)  # --R, --E, --nu, --approach, --width, --h-contact, ...
     args = cli.parse(p, argv)
+    given = sys.argv[1:] if argv is None else argv
+    if args.method == "coulomb" and not any(a == "--solver" or a.startswith("--solver=") for a in given):
+        args.solver = "direct"  # the exact method factors the stiffness itself (MUMPS)
     mindlin.check_ratios_option(args.ratios)
     if args.c_t is not None or args.tresca is not None or args.mu <= 0:
         raise ValueError(f"--mu: mindlin3d needs Coulomb friction with mu > 0 (no --c-t, --tresca), got mu={args.mu}")
@@ -58,7 +65,7 @@ def main(argv=None) -> dict:
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,
                   args.augment_tol, args.quiet, options=options, on_step=on_step, keep=(profiles,),
                   xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, check=self_check,
-                  predictor=mindlin3d.PREDICTOR)
+                  predictor=False if setup.problem.step_solver else mindlin3d.PREDICTOR)  # the exact method's own
 
     # 4. Pictures: the traction along x against Mindlin; the stick/slip map of the last step.
     if not args.no_pictures and setup.problem.comm.rank == 0 and summary.get("P") and profiles:

@@ -5,17 +5,21 @@ base; both ``E``, ``nu``: Dundurs' ``beta = 0``, so the normal and tangential pr
 stays Hertz's while the tangential load grows. Half model: the plane ``y = 0`` is a symmetry plane of both
 bodies (``u_y = 0``; the tangential load is along ``x``). Two-body contact, one pass, the cap's surface the
 slave (node-to-triangle, nodal quadrature), Coulomb friction ``mu`` on a penalty-type normal law
-(:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`).
+(:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`), or exact Signorini-Coulomb on the condensed
+system (method ``coulomb``: :class:`~fenics_contact.condensed.CondensedTwoBody`, small sliding; the slave
+vertices within ``EXACT_RADIUS`` times the approach of the block paired, each on its Coulomb disk).
 
 Loading. ``t`` in (0, ``T_PRESS``]: the cap's top moves down by ``t / T_PRESS * approach`` (displacement
 control; ``u_x`` free) without friction (``mu = 0``; a spring ``k u_x``, ``k = PRESS_SPRING E / R^2``, on the
 cap holds its free motion along ``x``). At ``t = 1`` (the top held) friction comes on and the spring goes: for
 ``beta = 0`` the pressing carries no tangential traction, so pressing with or without friction is the same problem
 (Mindlin's), and frictionless pressing avoids Newton cycling at the contact edge, where tiny tractions under
-tiny pressures turn the 3D slip direction at every iterate. The force ``P`` is the whole sphere's (twice the half
-model's contact force at ``t = 1``). Then ``t = 1 + r`` for each ratio ``r`` of ``ratios`` (increasing): the
-tangential force ``Q = r mu P`` along ``+x`` on the top (a uniform traction, force control: the cap's position
-along ``x`` is held by friction alone). The cap is placed ``overlap`` (``1e-9 R``) into the block.
+tiny pressures turn the 3D slip direction at every iterate. The exact method presses with friction in one step
+to ``t = 1`` (``beta = 0``: the same problem; the contact holds the cap along ``x``, no spring). The force ``P``
+is the whole sphere's (twice the half model's contact force at ``t = 1``). Then ``t = 1 + r`` for each ratio
+``r`` of ``ratios`` (increasing): the tangential force ``Q = r mu P`` along ``+x`` on the top (a uniform
+traction, force control: the cap's position along ``x`` is held by friction alone). The cap is placed
+``overlap`` (``1e-9 R``) into the block.
 
 Reference (two identical bodies: ``1/E* = 2 (1 - nu^2) / E``): Hertz ``a^3 = 3 P R / (4 E*)``,
 ``p0 = 3 P / (2 pi a^2)``; Cattaneo-Mindlin: the stick zone ``r < c`` with ``c = a (1 - Q / (mu P))^(1/3)`` and
@@ -42,9 +46,10 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
+from ...condensed import step_solver_for
 from ...factory import two_body_surfaces
 from ...friction import STICK, Friction
-from ...laws import ContactLaw
+from ...laws import ContactLaw, ExactCoulomb
 from ...materials import LinearElastic
 from ...problem import Dirichlet
 from ...solver import LINEAR_SOLVERS
@@ -54,7 +59,8 @@ from .mindlin import ShearProblem, check_loading, stick_figures, worst_ratio
 
 __all__ = ["OPTIONS",
            "build", "hertz_a", "mindlin_c", "mindlin_traction", "stick_radii", "contact_size", "default_omega_t",
-           "H_CONTACT", "REFINE", "DEFAULT_K", "DEFAULT_OMEGA_T", "PRESS_STEPS", "PREDICTOR", "BENCH", "ITERATIVE"]
+           "H_CONTACT", "REFINE", "EXACT_RADIUS", "DEFAULT_K", "DEFAULT_OMEGA_T", "PRESS_STEPS", "PREDICTOR", "BENCH",
+           "ITERATIVE"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 5e-3  # per unit R (default: APPROACH R): gives a ~ 0.068 R with the default bodies
@@ -69,6 +75,12 @@ DEFAULT_K = 2e6
 # Tangential penalty at refinement 0: the interface layer E* / omega_t ~ 3.8e-4 R is 5.5 % of h_contact.
 DEFAULT_OMEGA_T = 1e4 / H_CONTACT
 T_PRESS = 0.9  # the pressing ends at this load; friction comes on at t = 1
+# Method coulomb pairs the slave vertices within EXACT_RADIUS x the approach of the block (the others stay open, no
+# force): two surface points approach each other by less than the cap's top moves (the bodies are compressed), and
+# Hertz's contact edge is at a distance of about half the approach, so 1.25 pairs out to 1.5 contact radii. The
+# default mesh: 460 paired slave vertices, n_c = 2780 contact dofs (radius 2 x approach: 3332, the same stick
+# radii to round-off; the penalty laws' radius 0.1 R would pair 930).
+EXACT_RADIUS = 1.25
 # Load steps of the pressing and each step's start. The steps are t = T_PRESS (i / n)^2, the approach ~ t^2, so that
 # each grows the Hertz contact radius a ~ sqrt(approach) by the same a / n (equal steps grow it most in the first:
 # from one closed vertex to a third of a); each starts from the solver's tangent predictor (PREDICTOR), scaled back
@@ -147,9 +159,9 @@ class _Problem(ShearProblem):
 
     scene = "mindlin3d"
 
-    def __init__(self, *args, measure, spring: fem.Constant, k: float, **kw):
+    def __init__(self, *args, measure, spring: fem.Constant, k: float, exact: bool, **kw):
         super().__init__(*args, axis=2, **kw)
-        self._measure, self._spring, self._k = measure, spring, k
+        self._measure, self._spring, self._k, self._exact = measure, spring, k, exact
         self.radii = {}
 
     def record(self) -> None:
@@ -161,9 +173,10 @@ class _Problem(ShearProblem):
     def set_load(self, t: float) -> None:
         if t > 1.0:
             self.record()
-        # Frictionless pressing held along x by the spring (its term is scaled by t: k / t); then Coulomb.
-        self.contacts[0].constants["mu"].value = self._mu if t >= 1.0 else 0.0
-        self._spring.value = self._k / t if 0.0 < t < 1.0 else 0.0
+        if not self._exact:  # the exact method presses with friction, held along x by it (no spring)
+            # Frictionless pressing held along x by the spring (its term is scaled by t: k / t); then Coulomb.
+            self.contacts[0].constants["mu"].value = self._mu if t >= 1.0 else 0.0
+            self._spring.value = self._k / t if 0.0 < t < 1.0 else 0.0
         super().set_load(t)
 
 
@@ -186,11 +199,12 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
           R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int | None = None,
           cap_height: float | None = None, width: float | None = None, depth: float | None = None,
           h_contact: float | None = None, contact_width: float | None = None, h_far: float | None = None) -> Setup:
-    """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``). ``ratios``: the
+    """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``), or the exact
+    :class:`~fenics_contact.laws.ExactCoulomb` (method ``coulomb``, ``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` divides the contact mesh size (default
     ``h_contact = H_CONTACT R``) by ``REFINE = sqrt(2)`` that many times; ``press_steps`` load steps for the
-    (frictionless) pressing, at ``t = T_PRESS (i / press_steps)^2`` (default :data:`PRESS_STEPS`; solve the steps
-    with the predictor :data:`PREDICTOR`).
+    pressing, at ``t = T_PRESS (i / press_steps)^2`` (default :data:`PRESS_STEPS`, frictionless, solved with the
+    predictor :data:`PREDICTOR`; method ``coulomb``: 1 step with friction to ``t = 1``).
     Bodies: the cap's height ``cap_height`` (default ``R / 2``), the block's half ``width`` ``L`` (default
     ``R``; it spans ``y`` in ``[0, L]``) and ``depth`` (default ``R / 2``); the mesh: size ``h_contact`` within
     ``contact_width`` (default ``0.1 R``) of the contact point, growing to ``h_far`` (default ``0.1 R``)."""
@@ -198,14 +212,15 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     positive(R=R, E=E, approach=approach, cap_height=cap_height, width=width, depth=depth, h_contact=h_contact,
              contact_width=contact_width, h_far=h_far)
     poisson(nu=nu)
-    if not isinstance(law, Friction) or "mu" not in law.scalars or not law.scalars["mu"] > 0:
+    exact = isinstance(law, ExactCoulomb)  # method coulomb: exact Coulomb on the condensed system
+    if not (exact and law.mu > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
         raise ValueError(f"mindlin3d needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
-    press_steps = PRESS_STEPS if press_steps is None else press_steps
+    press_steps = (1 if exact else PRESS_STEPS) if press_steps is None else press_steps
     ratios = check_loading(ratios, refinement, press_steps)
     H = 0.5 * R if cap_height is None else cap_height
     if not H < R:
         raise ValueError(f"cap_height must be in (0, R), got {H!r}")
-    mu = float(law.scalars["mu"])
+    mu = float(law.mu if exact else law.scalars["mu"])
     L = R if width is None else width
     D = 0.5 * R if depth is None else depth
     h = contact_size(refinement, h_contact, R)
@@ -222,9 +237,10 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     dirichlet += [Dirichlet.on_facets(V, facets, "symmetry", 1),
                   Dirichlet(V.sub(2), fem.locate_dofs_topological(V.sub(2), fdim, facets.find("cap_top")), 1.0,
                             ([0.0, T_PRESS], [0.0, -approach]))]
-    contact = two_body_surfaces(u, facets, "cap_surface", "block_top", lambda: law, t, "nodal", radius=0.1 * R,
-                                name="interface")[0]
     material = LinearElastic(E, nu)
+    contact = two_body_surfaces(u, facets, "cap_surface", "block_top", lambda: law, t, "nodal",
+                                radius=EXACT_RADIUS * approach if exact else 0.1 * R, name="interface",
+                                material=material if exact else None)[0]
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facets.meshtags)
     area = comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ds(facets["cap_top"]))),
                           op=MPI.SUM)
@@ -251,9 +267,12 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
                        [(traction, ds(facets["cap_top"])),
                         (ufl.as_vector((-spring * cap * u[0], 0.0, 0.0)), ufl.dx(domain=mesh))],
                        amplitude=amplitude, mu=mu, area=area, measure=measure, spring=spring,
-                       k=PRESS_SPRING * E / R**2)
-    # The pressing's steps grow the Hertz contact radius a ~ sqrt(approach) by the same amount: approach ~ t^2.
-    loads = [T_PRESS * ((i + 1) / press_steps) ** 2 for i in range(press_steps)] + [1.0] + [1.0 + r for r in ratios]
+                       k=PRESS_SPRING * E / R**2, exact=exact, step_solver=step_solver_for([contact]))
+    if exact:  # pressed with friction to t = 1
+        loads = [(i + 1) / press_steps for i in range(press_steps)] + [1.0 + r for r in ratios]
+    else:
+        # The pressing's steps grow the Hertz contact radius a ~ sqrt(approach) by the same amount: approach ~ t^2.
+        loads = [T_PRESS * ((i + 1) / press_steps) ** 2 for i in range(press_steps)] + [1.0] + [1.0 + r for r in ratios]
 
     def figures() -> dict:
         problem.record()
@@ -301,7 +320,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
               "h_contact": h, "contact_width": cw, "h_far": hf, "refinement": refinement, "ratios": list(ratios),
               "mu": mu, "quadrature": "nodal",
               "model": "half spherical cap on a block (symmetry y = 0), same material, node-to-triangle Coulomb "
-                       "friction"}
+                       "friction", "pairing_radius": contact.radius if exact else 0.1 * R}
     setup = Setup("mindlin3d", problem, [contact], loads, params, figures,
                   [u, contact.gap_out, contact.pressure_out, contact.traction_out, contact.state_out])
     setup.profile = profile  # the friction profile at the current state (the demo's pictures)
