@@ -70,7 +70,8 @@ def test_a_scene_option_the_demo_already_has_is_refused_unless_shared():
     ("compliance3d", {"press": 0.0}, "press must be"), ("cylinders", {"nu": 0.6}, "nu must be in"),
     ("sheet", {"R_in": 3.0}, "R_in must be < R"), ("sheet", {"lmbda": -1.0}, "lmbda must be"),
     ("sheet", {"thickness": float("nan")}, "thickness must be"), ("patch", {"width": 0.0}, "width must be"),
-    ("patch", {"nu_upper": 0.5}, "nu_upper must be in"), ("patch", {"overlap": 0.5}, "overlap must be <")])
+    ("patch", {"nu_upper": 0.5}, "nu_upper must be in"), ("patch", {"overlap": 0.5}, "overlap must be <"),
+    ("compliance3d", {"law": "coulomb"}, "method coulomb is not offered on compliance3d")])
 def test_bad_parameters_are_refused_before_any_work(scene, kw, match, monkeypatch):
     import fenics_contact.app.meshes as meshes
 
@@ -90,6 +91,9 @@ def test_bad_parameters_are_refused_before_any_work(scene, kw, match, monkeypatc
     law = make_law("auglag", K=1e5)
     if scene == "compliance3d":
         law = None
+    if kw.get("law") == "coulomb":
+        law = make_law("coulomb", mu=0.3)
+        kw = {}
     args = {"law_factory": lambda: law} if scene == "cylinders" else {"law": law}
     with pytest.raises(ValueError, match=match):
         build(scene, **args, **kw)

@@ -29,7 +29,7 @@ from ...compat import cell_partitioner, function_space
 from ...domain import NamedTags
 from ...factory import contact_surface
 from ...friction import Friction, FrictionalContact
-from ...laws import ContactLaw, NormalCompliance
+from ...laws import ContactLaw, ExactCoulomb, NormalCompliance
 from ...materials import LinearElastic
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
@@ -86,6 +86,9 @@ def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16
     nonnegative(drag=drag)
     poisson(nu=nu)
     law = default_law() if law is None else law
+    if isinstance(law, ExactCoulomb):  # its figures (slip areas, dissipation) are the friction surface's
+        raise ValueError("method coulomb is not offered on compliance3d (its figures are those of a regularised "
+                         "friction law); use compliance, penalty, cross or auglag with --mu")
     if not isinstance(law, Friction):
         raise ValueError("compliance3d needs a law with friction (--mu > 0 or --c-t)")
     for name, n in (("nx", nx), ("ny", ny), ("nz", nz), ("press_steps", press_steps), ("drag_steps", drag_steps)):
