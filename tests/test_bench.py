@@ -74,7 +74,7 @@ def test_scene_specs_and_commands(tmp_path):
 def test_friction_scene_specs(tmp_path):
     """The two-body friction scenes declare an entry: the friction-capable laws the capability matrix
     offers on their axes, a K sweep around the scene's default; mindlin3d on the tests' coarse contact mesh, one
-    ratio; mindlin with the exact condensed Coulomb law once (no --K)."""
+    ratio; mindlin and mindlin3d with the exact condensed Coulomb law once (no --K), their reference."""
     from fenics_contact.app.scenes import ironing, mindlin, mindlin3d, wedges
     from fenics_contact.capabilities import supported
 
@@ -86,13 +86,14 @@ def test_friction_scene_specs(tmp_path):
         Ks = sorted({r["K"] for r in bench.sweep(scene, quick=True) if r["method"] == "penalty"})
         assert Ks[0] < module.DEFAULT_K < Ks[-1] and module.DEFAULT_K in Ks
     assert bench.spec("mindlin")["error"] == bench.spec("mindlin3d")["error"] == "c_error_max"
-    assert "coulomb" not in bench.spec("mindlin3d")["methods"]  # coulomb: one tangential direction (2D)
-    (exact,) = [r for r in bench.sweep("mindlin", quick=True) if r["method"] == "coulomb"]
-    assert "--K" not in bench.command("mindlin", exact, tmp_path)
-    assert bench.reference_method("mindlin") == ("coulomb", "the exact coulomb") and "coulomb" in bench.references()
+    for scene in ("mindlin", "mindlin3d"):  # the exact condensed Coulomb once (no --K), the reference line
+        (exact,) = [r for r in bench.sweep(scene, quick=True) if r["method"] == "coulomb"]
+        assert "--K" not in bench.command(scene, exact, tmp_path)
+        assert bench.reference_method(scene) == ("coulomb", "the exact coulomb")
+    assert "coulomb" in bench.references()
     # mindlin3d's quick sweep: plain runs only (a 3D run costs a minute and more); the full sweep augments too
     quick, full = bench.sweep("mindlin3d", quick=True), bench.sweep("mindlin3d")
-    assert len(quick) == 6 and {r["augment"] for r in quick} == {0}
+    assert len(quick) == 7 and {r["augment"] for r in quick} == {0}
     assert {r["augment"] for r in full} == {0, bench.AUGMENT}
     cmd = bench.command("mindlin3d", bench.run_config("penalty", mindlin3d.DEFAULT_K, refinement=0), tmp_path)
     assert cmd[cmd.index("--h-contact") + 1] == "0.015" and cmd[cmd.index("--ratios") + 1:][:2] == ["0.5", "--solver"]

@@ -341,7 +341,7 @@ ITERATIVE = {**LINEAR_SOLVERS["iterative"], "ksp_gmres_restart": 100, "ksp_max_i
 
 BENCH = {"error": "c_error_max", "value": "c_worst", "figures": ["ratio_worst", "a_error", "traction_rms_error", "P"],
          "target": 0.05, "K": DEFAULT_K, "mesh": ("refinement", {"quick": [0], "full": [0, 1]}),
-         "methods": ["penalty", "cross", "auglag", "compliance"],
+         "methods": ["penalty", "cross", "auglag", "compliance", "coulomb"], "reference": "coulomb",
          "axes": {"kind": "two-body", "dim": 3, "friction": True},
          "demo_args": ["--h-contact", "0.015", "--ratios", "0.5", "--solver", "direct"],  # as docs/benchmarks.md
          "quick_sweep": {"penalty": (-1, 0, 1), "other": (0,), "augment": (0,)}, "quadratures": ["nodal"]}
