@@ -1,6 +1,5 @@
 """mindlin3d: a sphere pressed on a block of its own material, then sheared below sliding (Cattaneo-Mindlin partial
 slip in 3D), node-to-triangle Coulomb friction between the two deformable bodies; a coarse mesh, one ratio."""
-import dolfinx
 import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import pytest
@@ -104,8 +103,6 @@ def test_bad_input_is_refused():
 
 
 @pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="compares a parallel run with the serial one")
-@pytest.mark.xfail(int(dolfinx.__version__.split(".")[1]) >= 9, strict=False,
-                   reason="dolfinx 0.9: the total force of 2 ranks differs from 1 rank's by 8e-7 (open)")
 def test_parallel_equals_serial():
     """Under mpirun -n 2: the figures equal the serial ones (each rank also solves alone) to 1e-8."""
     _, parallel = _run(MPI.COMM_WORLD)
