@@ -20,8 +20,9 @@ if typing.TYPE_CHECKING:
 
 __all__ = [
     "function_space", "space_degree", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "compile_expression",
-    "interpolate_expression", "cell_sizes", "entities_to_geometry", "cell_dofs", "geometry_dofs", "cell_partitioner",
-    "model_to_mesh", "create_mesh", "release_free_memory", "schur_complement", "SchurFactor", "petsc_library"
+    "interpolate_expression", "vertex_expression", "evaluate_expression", "cell_sizes", "entities_to_geometry",
+    "cell_dofs", "geometry_dofs", "cell_partitioner", "model_to_mesh", "create_mesh", "release_free_memory",
+    "schur_complement", "SchurFactor", "petsc_library"
 ]
 
 
@@ -106,6 +107,25 @@ def compile_expression(expr, V) -> fem.Expression:
     :func:`interpolate_expression`: compiled once, evaluated many times)."""
     pts = V.element.interpolation_points
     return fem.Expression(expr, pts() if callable(pts) else pts)
+
+
+def vertex_expression(expr, mesh) -> fem.Expression:
+    """``expr`` (UFL) compiled for evaluation at the vertices of the reference cell of ``mesh`` (no function
+    space: :func:`evaluate_expression` returns its values)."""
+    import basix
+
+    return fem.Expression(expr, basix.geometry(getattr(basix.CellType, mesh.topology.cell_name())))
+
+
+def evaluate_expression(expr: fem.Expression, mesh, cells: np.ndarray) -> np.ndarray:
+    """The compiled ``expr`` at its points in each of the local ``cells``: shape (cells, points, value size)."""
+    import inspect
+
+    if "mesh" in inspect.signature(expr.eval).parameters:  # dolfinx 0.9: eval(mesh, entities)
+        values = expr.eval(mesh, cells)
+    else:
+        values = expr.eval(cells)
+    return np.asarray(values).reshape(len(cells), -1, expr.value_size)
 
 
 def interpolate_expression(f: fem.Function, expr) -> fem.Function:
