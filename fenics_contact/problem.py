@@ -173,6 +173,7 @@ class ContactProblem:
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
+        self._vertex_expr = self._vertex_kinematics_expression()  # compiled with the forms: the checks of every step
 
     def _reference_stiffness(self) -> float:
         """:data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its
@@ -292,23 +293,25 @@ class ContactProblem:
             self._mesh_size = float(np.linalg.norm(hi - lo))
         return self._mesh_size
 
+    def _vertex_kinematics_expression(self) -> tuple:
+        """The compiled expression of :meth:`vertex_kinematics`, its mesh and the owned cells."""
+        w = displacement(self.u)
+        d = len(w)
+        detF = ufl.det(ufl.Identity(d) + ufl.grad(w))
+        if getattr(self.material, "axisymmetric", False):
+            detF = detF * hoop_stretch(w, AXISYMMETRIC)
+        eps = ufl.sym(ufl.grad(w))
+        values = [detF] + [eps[i, j] for i in range(d) for j in range(i, d)]
+        mesh = self.u.function_space.mesh
+        cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
+        return vertex_expression(ufl.as_vector(values), mesh), mesh, cells
+
     def vertex_kinematics(self) -> tuple[np.ndarray, np.ndarray]:
         """At the vertices of every owned cell, at the current displacement: ``det F`` (``F = I + grad u``;
         axisymmetric: times the hoop stretch ``1 + u_r / r``), shape (cells, vertices), and the components
         ``(i, j)``, ``i <= j`` in row order, of the small strain ``sym(grad u)``, shape (cells, vertices, pairs).
-        One expression, compiled on first use, serves both (the solver's checks after every step)."""
-        if not hasattr(self, "_kinematics"):
-            w = displacement(self.u)
-            d = len(w)
-            detF = ufl.det(ufl.Identity(d) + ufl.grad(w))
-            if getattr(self.material, "axisymmetric", False):
-                detF = detF * hoop_stretch(w, AXISYMMETRIC)
-            eps = ufl.sym(ufl.grad(w))
-            values = [detF] + [eps[i, j] for i in range(d) for j in range(i, d)]
-            mesh = self.u.function_space.mesh
-            cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
-            self._kinematics = (vertex_expression(ufl.as_vector(values), mesh), mesh, cells)
-        expr, mesh, cells = self._kinematics
+        One expression, compiled with the problem's forms, serves both (the solver's checks after every step)."""
+        expr, mesh, cells = self._vertex_expr
         values = evaluate_expression(expr, mesh, cells)
         return values[:, :, 0], values[:, :, 1:]
 
