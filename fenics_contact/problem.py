@@ -89,6 +89,21 @@ class Dirichlet:
         return self.amplitude * load_factor(self.path, t)
 
 
+def _vertex_kinematics(u: fem.Function, material) -> tuple:
+    """The compiled expression of :meth:`ContactProblem.vertex_kinematics` (``det F`` and the small strain's
+    components of ``u``'s displacement), its mesh and the owned cells."""
+    w = displacement(u)
+    d = len(w)
+    detF = ufl.det(ufl.Identity(d) + ufl.grad(w))
+    if getattr(material, "axisymmetric", False):
+        detF = detF * hoop_stretch(w, AXISYMMETRIC)
+    eps = ufl.sym(ufl.grad(w))
+    values = [detF] + [eps[i, j] for i in range(d) for j in range(i, d)]
+    mesh = u.function_space.mesh
+    cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
+    return vertex_expression(ufl.as_vector(values), mesh), mesh, cells
+
+
 class ContactProblem:
     """Residual ``F(u; v) = dW[v] - sum_k f_k(t) f_ext,k[v] + sum_c F_c(g) dg[v]`` and its Jacobian; on an
     axisymmetric body (``material.axisymmetric``) every integral, the loads' too, is weighted by ``2 pi r``.
@@ -173,7 +188,7 @@ class ContactProblem:
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
-        self._vertex_expr = self._vertex_kinematics_expression()  # compiled with the forms: the checks of every step
+        self._vertex_expr = _vertex_kinematics(u, material)  # compiled with the forms: the checks of every step
 
     def _reference_stiffness(self) -> float:
         """:data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its
@@ -292,19 +307,6 @@ class ContactProblem:
             self.comm.Allreduce(x.max(axis=0) if len(x) else hi.copy(), hi, op=MPI.MAX)
             self._mesh_size = float(np.linalg.norm(hi - lo))
         return self._mesh_size
-
-    def _vertex_kinematics_expression(self) -> tuple:
-        """The compiled expression of :meth:`vertex_kinematics`, its mesh and the owned cells."""
-        w = displacement(self.u)
-        d = len(w)
-        detF = ufl.det(ufl.Identity(d) + ufl.grad(w))
-        if getattr(self.material, "axisymmetric", False):
-            detF = detF * hoop_stretch(w, AXISYMMETRIC)
-        eps = ufl.sym(ufl.grad(w))
-        values = [detF] + [eps[i, j] for i in range(d) for j in range(i, d)]
-        mesh = self.u.function_space.mesh
-        cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
-        return vertex_expression(ufl.as_vector(values), mesh), mesh, cells
 
     def vertex_kinematics(self) -> tuple[np.ndarray, np.ndarray]:
         """At the vertices of every owned cell, at the current displacement: ``det F`` (``F = I + grad u``;
