@@ -59,9 +59,12 @@ class LinearSolver:
         the last bits from run to run (2-3 distinct ones in 300 solves of a 920-dof wedges Jacobian on 2 ranks).
         A Newton path that decides stick or slip, open or closed, on such bits then takes another branch (wedges
         on 2 ranks: 18 and 21 iterations in one step of two runs). Sequential MUMPS is repeatable; the price is
-        the factorization's time and memory of one rank on every rank."""
+        the factorization's memory of one rank on every rank. The option ``distributed_lu`` (``options=
+        {"distributed_lu": True}``, ``-fc_distributed_lu``) keeps MUMPS distributed: less memory per rank, not
+        repeatable to the last bit. Call inside ``options.active()``."""
+        distributed = self.options.get_bool("distributed_lu", False)  # read on any number of ranks: used
         pc = self.ksp.getPC()
-        if self.problem.comm.size == 1 or pc.getType() != "lu" or pc.getFactorSolverType() != "mumps":
+        if distributed or self.problem.comm.size == 1 or pc.getType() != "lu" or pc.getFactorSolverType() != "mumps":
             return
         prefix = pc.getOptionsPrefix() or ""
         pc.setType("redundant")  # as many sub-communicators as ranks: one rank each
