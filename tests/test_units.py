@@ -219,10 +219,7 @@ def test_scene_any_units(name):
     assert base[1:] == scaled[1:]
 
 
-@pytest.mark.parametrize("name", [pytest.param(
-    n, marks=pytest.mark.xfail(MPI.COMM_WORLD.size > 1 and n == "wedges", strict=False,
-                               reason="wedges under mpirun -n 2: the Newton path is not repeatable from run to run "
-                                      "(open)")) for n in SLOW_CASES])
+@pytest.mark.parametrize("name", SLOW_CASES)
 def test_slow_scene_any_units(name):
     base, scaled = solve_scene(name), solve_scene(name, LENGTH, STRESS)
     assert_same_figures(base[0], scaled[0])
