@@ -27,7 +27,8 @@ With ``stability`` in BENCH: ``<scene>_stability.csv|png|md`` (status -- converg
 failed with its kind --, Newton and Krylov iterations, condition estimate and distance from the
 augmentation limit over parameter x load steps, per method) and ``<scene>_stability_accuracy.png`` (that
 distance against K: the K each method needs, and whether it converges there); with ``reduction``:
-``<scene>_reduction.csv|md`` and, for all such scenes, ``model_reduction.md`` (one table).
+``<scene>_reduction.csv|md`` and, for all such scenes, ``model_reduction.md`` (one table); with ``locking``:
+``<scene>_locking.csv|md|png`` (the bulk models over Poisson's ratio, :mod:`~fenics_contact.app.bench_locking`).
 """
 from __future__ import annotations
 
@@ -169,16 +170,18 @@ def _offered(s: dict, run: dict) -> bool:
 
 
 def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
-    """Parameter x load steps on the coarsest mesh: penalty (K), cross and auglag augmented (K), nitsche
-    (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full). ``BENCH``'s
-    ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``, ``variants``: (method,
-    augmentations[, F_hat]) tuples, ``dtol``: the control runs with PETSc's divergence test (fewest load steps
+    """Parameter x load steps on the coarsest mesh, the scene's first quadrature: penalty (K), cross and auglag
+    augmented (K), nitsche (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full).
+    ``BENCH``'s ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``, ``variants``:
+    (method, augmentations[, F_hat]) tuples, ``dtol``: the control runs with PETSc's divergence test (fewest load steps
     only), ``skip``: (method, K exponent) pairs left out, e.g. a slow failure);
-    ``stability_variants``: the full grid's variants. Every run asks for the condition estimate of its last
-    Jacobian (direct solvers)."""
+    ``stability_variants``: the full grid's variants; ``stability_args``: demo options of the map's runs (after
+    ``demo_args``: they win, e.g. a heavier load than the accuracy rows'). Every run asks for the condition
+    estimate of its last Jacobian (direct solvers)."""
     s = spec(scene)
     K0 = s["K"]
     level = None if s.get("mesh") is None else s["mesh"][1]["quick"][0]
+    quad = s.get("quadratures", ["nodal"])[0]  # the scene's first (a P2 mixed scene refuses nodal)
     q = s.get("quick_stability", {})
     if quick:
         exps, steps = q.get("K", (0, 2, 4, 6, 8)), q.get("steps", (1, 4))
@@ -192,16 +195,17 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
         for method, aug, *F in variants:
             F_hat = F[0] if F else 0.0
             label = {"label": f"{method} F^ = {F_hat:g}" + (" augmented" if aug else "")} if F_hat else {}
-            runs += [dict(run_config(method, K0 * 10.0**e, aug, "nodal", level, F_hat, steps=n), **label) for e in exps
+            runs += [dict(run_config(method, K0 * 10.0**e, aug, quad, level, F_hat, steps=n), **label) for e in exps
                      if not quick or (method, e) not in q.get("skip", ())]
-        runs += [run_config(m, g, 0, "nodal", level, steps=n) for m in methods.names()
+        runs += [run_config(m, g, 0, quad, level, steps=n) for m in methods.names()
                  if methods.get(m).sweep.kind == "gamma0" for g in gammas]
         # the control: penalty with PETSc's own divergence test (residual > 1e4 x the first one at any iterate stops
         # SNES; the solver's test also asks for growth), which stops every K-based method at its first iterate
         # when K is very large
-        runs += [dict(run_config("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=DTOL, args=PETSC_DTOL)
+        runs += [dict(run_config("penalty", K0 * 10.0**e, 0, quad, level, steps=n), label=DTOL, args=PETSC_DTOL)
                  for e in exps                 if q.get("dtol", True) and n == steps[0]]
-    return [dict(r, args=[*r.get("args", []), "-fc_condition_estimate"]) for r in runs if r["method"] in s["methods"]]
+    return [dict(r, args=[*s.get("stability_args", []), *r.get("args", []), "-fc_condition_estimate"]) for r in runs
+            if r["method"] in s["methods"]]
 
 
 def status(row: dict) -> str:
@@ -544,7 +548,7 @@ def read_rows(csv_path: str | Path) -> list[dict]:
     """The rows of a ``<scene>.csv`` with their types back."""
     ints = {"augment", "dofs", "newton_iterations", "linear_iterations", "augmentations", "cutbacks", "snes_reason",
             "stalled_solves"}
-    texts = {"scene", "method", "quadrature", "label", "failure_kind", "status"}
+    texts = {"scene", "method", "quadrature", "label", "variant", "failure_kind", "status"}
     rows = []
     with open(csv_path, newline="") as f:
         for r in csv.DictReader(f):
@@ -986,7 +990,7 @@ def main(argv: Sequence[str] | None = None) -> None:
 
 
 def _sweep(argv: Sequence[str]) -> None:
-    from . import cli
+    from . import bench_locking, cli
 
     p = cli.StrictParser(description=__doc__.splitlines()[0], epilog=None)
     p.add_argument("--scene", action="append", help="scene (repeatable; default: every scene with BENCH)")
@@ -996,6 +1000,7 @@ def _sweep(argv: Sequence[str]) -> None:
     p.add_argument("--charts-only", action="store_true", help="redraw charts and findings from <out>/<scene>.csv")
     p.add_argument("--no-stability", action="store_true", help="skip the stability maps")
     p.add_argument("--no-reduction", action="store_true", help="skip the model-reduction tables")
+    p.add_argument("--no-locking", action="store_true", help="skip the locking maps (bulk models over nu)")
     p.add_argument("--reduction-only", action="store_true",
                    help="the model-reduction tables alone (no sweep, no stability map)")
     p.add_argument("--quiet", action="store_true", help="no line per run")
@@ -1027,6 +1032,8 @@ def _sweep(argv: Sequence[str]) -> None:
                 plot_stability(st, out / f"{scene}_stability.png", title=STABILITY_TITLE.format(scene=scene))
                 plot_stability_accuracy(st, out / f"{scene}_stability_accuracy.png",
                                         title=f"{scene}: the K each method needs, and whether it converges there")
+            if s.get("locking") and (out / f"{scene}_locking.csv").exists():
+                bench_locking.report(scene, read_rows(out / f"{scene}_locking.csv"), out)
             continue
         if args.reduction_only:
             reduced[scene] = reduction(scene, out, quiet=args.quiet, timeout=args.timeout)
@@ -1042,6 +1049,10 @@ def _sweep(argv: Sequence[str]) -> None:
             rows = stability(scene, out, args.quick, quiet=args.quiet)
             _say(f"{scene} stability map: {len(rows)} runs, {sum(not r['converged'] for r in rows)} failed -> "
                  f"{out / scene}_stability.csv, {scene}_stability.png")
+        if s.get("locking") and not args.no_locking:
+            rows = bench_locking.locking(scene, out, quiet=args.quiet, timeout=args.timeout)
+            _say(f"{scene} locking map: {len(rows)} runs, {sum(not r['converged'] for r in rows)} failed -> "
+                 f"{out / scene}_locking.csv, {scene}_locking.png\n" + (out / f"{scene}_locking.md").read_text())
         if s.get("reduction") and not args.no_reduction and scene in REDUCTIONS:
             reduced[scene] = reduction(scene, out, quiet=args.quiet)
             _say(f"{scene} model reduction:\n" + reduced[scene])
