@@ -291,6 +291,10 @@ def test_oring_bench_entries_are_what_the_grid_offers_on_the_mixed_ring(tmp_path
         assert cmd[len(cmd) - 1 - cmd[::-1].index("--nu") + 1] == repr(r["nu"])
     h = {r["variant"]: float(r["args"][len(r["args"]) - 1 - r["args"][::-1].index("--h") + 1]) for r in locking}
     assert h[lk["reference"][0]] < min(v for k, v in h.items() if k != lk["reference"][0])
+    # the reference is a variant of a method (auglag with augmentations): the findings' ratios are to its run
+    assert bench.reference_method("oring") == ("auglag augmented", "auglag augmented")
+    text = bench.findings("oring", [_row("penalty", 1e7, 0.02, 0.1), _row("auglag", 1e6, 0.01, 0.4, augment=10)])
+    assert "| 0 | 100 | penalty | K 1e+07 | 0.02 | 0 | 3 | 0 | 0.100 | 1.0 | 0.25 |" in text
 
 
 def test_locking_errors_are_against_the_reference_at_the_same_nu(tmp_path):

@@ -79,7 +79,10 @@ def reference_method(scene: str) -> tuple[str, str]:
     """The method the scene's runs are measured against (``BENCH['reference']``, default SNES VI) and its name in
     the findings."""
     ref = spec(scene).get("reference", "vi")
-    return ref, "SNES VI" if ref == "vi" else f"the exact {ref}" if methods.get(ref).sweep.kind == "once" else ref
+    if ref == "vi":
+        return ref, "SNES VI"
+    # a method, or a variant of one such as "auglag augmented" (its name is the method's and "augmented")
+    return ref, f"the exact {ref}" if ref in methods.names() and methods.get(ref).sweep.kind == "once" else ref
 
 
 def references() -> tuple[str, ...]:
@@ -588,7 +591,7 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
     headline = []
     for level in dict.fromkeys(r["refinement"] for r in rows):
         here = [r for r in ok if r["refinement"] == level]
-        vi = next((r for r in here if r["method"] == ref), None)
+        vi = next((r for r in here if ref in (r["method"], _variant(r))), None)
         for variant in dict.fromkeys(_variant(r) for r in here):
             runs = [r for r in here if _variant(r) == variant]
             within = [r for r in runs if r["error"] <= target]
@@ -742,7 +745,7 @@ def plot_pareto(rows: Sequence[dict], path: str | Path, title: str = "") -> None
     if ok and "reference" in spec(ok[0]["scene"]):  # the scene's exact method: its error and time on each mesh
         ref, ref_name = reference_method(ok[0]["scene"])
         for r, ti, ei in zip(ok, t, e):
-            if r["method"] == ref:
+            if ref in (r["method"], _variant(r)):
                 mesh = "" if r["refinement"] is None else f", mesh {r['refinement']}"
                 ax.axhline(ei, color=_colour(ref), ls="--", lw=1.0, zorder=0,
                            label=f"{ref_name}{mesh}: error {r['error']:.2g} in {ti:.3g} s")
