@@ -267,7 +267,6 @@ def test_oring_bench_entries_are_what_the_grid_offers_on_the_mixed_ring(tmp_path
     """The O-ring's benchmark: every K-type method the capability grid offers on the axisymmetric P2 mixed section
     with Gauss points, the accuracy rows over the mesh size, the stability map at the whole load with the scene's
     quadrature, and the locking runs: every variant and the reference at every nu, the reference finer."""
-    from fenics_contact.app import bench_locking
     from fenics_contact.app.scenes import oring
     from fenics_contact.capabilities import supported
 
@@ -284,7 +283,7 @@ def test_oring_bench_entries_are_what_the_grid_offers_on_the_mixed_ring(tmp_path
     cmd = bench.command("oring", stab[0], tmp_path)
     assert cmd[len(cmd) - 1 - cmd[::-1].index("--squeeze") + 1] == repr(oring.SQUEEZE)  # the map's load wins
     lk = s["locking"]
-    locking = bench_locking.runs("oring")
+    locking = bench.locking_runs("oring")
     assert len(locking) == len(lk["nu"]) * (len(lk["variants"]) + 1)
     for r in locking:
         cmd = bench.command("oring", r, tmp_path)
@@ -300,7 +299,6 @@ def test_oring_bench_entries_are_what_the_grid_offers_on_the_mixed_ring(tmp_path
 def test_locking_errors_are_against_the_reference_at_the_same_nu(tmp_path):
     """The locking table: each variant's figures against the reference run at its own nu; a failed run is named,
     never an error figure; the rows survive the CSV."""
-    from fenics_contact.app import bench_locking
 
     lk = bench.spec("oring")["locking"]
     (v1, _), (v2, _), (v3, _) = lk["variants"]
@@ -315,12 +313,12 @@ def test_locking_errors_are_against_the_reference_at_the_same_nu(tmp_path):
     csv_path = tmp_path / f"locking{MPI.COMM_WORLD.rank}.csv"
     bench.write_rows(rows, csv_path, csv_path.with_suffix(".json"))
     back = bench.read_rows(csv_path)
-    err = {(r["variant"], r["nu"]): r for r in bench_locking.errors(back, "oring")}
+    err = {(r["variant"], r["nu"]): r for r in bench.locking_errors(back, "oring")}
     assert err[(v1, 0.4999)]["force_bore_error"] == pytest.approx(0.1)  # 22 against 20, not against 10
     assert err[(v1, 0.45)]["p0_bore_error"] == pytest.approx(0.5)
     assert err[(v2, 0.4999)]["force_bore_error"] == 0.0
     assert math.isnan(err[(v3, 0.45)]["force_bore_error"])
-    text = bench_locking.table(back, "oring")
+    text = bench.locking_table(back, "oring")
     line = next(t for t in text.splitlines() if t.startswith(f"| {v3} |"))
     assert line.count("failed (divergence)") == 2
     assert "10.0% / 50.0%" in next(t for t in text.splitlines() if t.startswith(f"| {v1} |"))

@@ -89,7 +89,7 @@ WALLS = ("bottom", "bore", "upstream", "side")  # the groove bottom, the bore, t
 # law of the interface, is left out as on hertz). The accuracy rows: 10 % squeeze in one step, no pressure (the
 # closest to Hertz's range), h = 0.1 d and 0.07 d (quick), 0.05 d (full); error: the bore's p0 against Hertz's for its
 # force (Hertz's own error at a/R = 0.32 is ~(a/R)^2/4 = 2.6 %: the target). The stability map: the whole load (30 %
-# squeeze, then the pressure) on 0.1 d. The locking map (fenics_contact.app.bench_locking): P1 and P2
+# squeeze, then the pressure) on 0.1 d. The locking map (bench.locking): P1 and P2
 # displacement-only neo-Hookean and the mixed model on 0.07 d, each against the mixed model on 0.04 d at its nu.
 BENCH = {"error": "p0_error", "value": "p0_bore", "target": 0.03, "K": 1e6, "reference": "auglag augmented",
          "figures": ["force_bore", "force_error", "width_bore", "width_error", "p0_hertz", "force_side"],
