@@ -90,7 +90,8 @@ def test_refusals():
     law = fc.make_law("penalty", K=1e5)
     for kw, match in ((dict(squeeze=0.6), "squeeze must be in"), (dict(gland_width=0.9), "gland_width must be above"),
                       (dict(pressure=-1.0), "pressure must be"), (dict(plane="stress"), "oring plane must be"),
-                      (dict(pressure_arc=85.0), "pressure_arc must be"), (dict(steps=0), "steps must be")):
+                      (dict(pressure_arc=85.0), "pressure_arc must be"), (dict(steps=0), "steps must be"),
+                      (dict(degree=3), "degree must be 1 or 2"), (dict(degree=1), "degree must be 1 or 2")):
         with pytest.raises(ValueError, match=match):
             build("oring", law=law, **kw)
 
@@ -112,6 +113,7 @@ def _demo():
     (["--method", "coulomb", "--mu", "0.2"], 1, ["coulomb", "axisymmetric"]),  # the grid: no coulomb in axisymmetry
     (["--method", "vi"], 1, ["vi", "axisymmetric"]),
     (["--model", "neohookean-mixed", "--quadrature", "nodal"], 1, ["nodal"]),  # P2: gauss or simpson
+    (["--degree", "1"], 1, ["degree", "neohookean-mixed"]),  # Taylor-Hood: P2 displacement
 ])
 def test_demo_refuses_bad_options_in_one_line(argv, code, words, capsys, tmp_path):
     """Bad options and refused combinations end before any solve: one line naming what was given, exit 2 (the
