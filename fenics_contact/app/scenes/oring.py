@@ -74,7 +74,7 @@ GLAND_WIDTH = 1.5  # per d: the squeezed cord clears the side walls up to 30 % s
 SQUEEZE = 0.3  # of d
 PRESSURE = 0.1  # per E
 PRESSURE_ARC = 40.0  # degrees about -z
-H, H_FAR = 1.0 / 16, 1.0 / 6  # mesh sizes on the circle and at the centre, per d
+H = 1.0 / 16  # the mesh size, per d
 OMEGA_T = 1.0  # the demo's stick penalty per E / h with friction (100 E / h, the normal K, diverges from the start)
 DEFAULT_K = 100.0  # penalty per E / h: the penetration ~1e-3 d, below the P2 chords' own sag (max_penetration)
 SPRING = 1e-6  # per E / d^2, while squeezed (module docstring)
@@ -120,7 +120,6 @@ OPTIONS = {
     "pressure_arc": Option(f"half-angle of the arc the pressure acts on, about -z (degrees; default "
                            f"{PRESSURE_ARC:g})", (5.0, 80.0)),
     "h": Option(f"mesh size on the cord's surface (length; default: d / {1 / H:g})"),
-    "h_far": Option(f"mesh size at the cord's centre (length; default: d / {1 / H_FAR:g})"),
 }
 
 
@@ -159,7 +158,7 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "neohookean-mixed", plane: str = AXISYMMETRIC,
           degree: int = 2, d: float = D, r_in: float | None = None, E: float = E, nu: float = NU,
           squeeze: float = SQUEEZE, gland_width: float | None = None, pressure: float | None = None,
-          pressure_arc: float = PRESSURE_ARC, h: float | None = None, h_far: float | None = None) -> Setup:
+          pressure_arc: float = PRESSURE_ARC, h: float | None = None) -> Setup:
     """``steps`` squeeze steps up to ``squeeze`` (t in (0, 1]), then ``pressure_steps`` pressure steps (t in
     (1, 2]; none if ``pressure`` is 0); ``plane``: ``axisymmetric`` or ``strain``; ``model``: a bulk model of
     :data:`~fenics_contact.models.MODELS` (P2: Taylor-Hood for the mixed ones); ``degree``: the displacement's
@@ -174,7 +173,7 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     for name, n in (("steps", steps), ("pressure_steps", pressure_steps)):
         if int(n) != n or n < 1:
             raise ValueError(f"{name} must be an integer >= 1, got {n!r}")
-    positive(d=d, E=E, r_in=r_in, gland_width=gland_width, h=h, h_far=h_far)
+    positive(d=d, E=E, r_in=r_in, gland_width=gland_width, h=h)
     poisson(nu=nu)
     if not 0.01 <= squeeze <= 0.45:
         raise ValueError(f"squeeze must be in [0.01, 0.45], got {squeeze!r}")
@@ -188,10 +187,9 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     if w <= d:
         raise ValueError(f"gland_width must be above d = {d:g} (the cord fits the groove), got {w!r}")
     h = H * d if h is None else h
-    h_far = H_FAR * d if h_far is None else h_far
     rc = r_in + 0.5 * d
 
-    mesh, _, facets = cord_section(comm, d, (rc, 0.0), h, h_far, pressure_arc)
+    mesh, _, facets = cord_section(comm, d, (rc, 0.0), h, pressure_arc)
     u, V = unknown(mesh, degree, law, model=model)
     t = fem.Constant(mesh, 0.0)
     material = MODELS[model](E, nu, plane)
@@ -280,7 +278,7 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     if p_fluid > 0:
         loads_t += [1.0 + (i + 1) / pressure_steps for i in range(int(pressure_steps))]
     params = {"d": d, "r_in": r_in, "E": E, "nu": nu, "squeeze": squeeze, "gland_width": w, "pressure": p_fluid,
-              "pressure_arc": pressure_arc, "h": h, "h_far": h_far, "plane": plane, "material": model,
+              "pressure_arc": pressure_arc, "h": h, "plane": plane, "material": model,
               "quadrature": quadrature, "degree": degree,
               "model": ("axisymmetric (r, z)" if plane == AXISYMMETRIC else "plane strain") + ": the cord's whole "
               "cross-section in a rigid rectangular gland"}
