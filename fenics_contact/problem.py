@@ -18,12 +18,10 @@ from petsc4py import PETSc
 from .capabilities import check, of
 from .cells import check_cells
 from .compat import (
-    cell_dofs,
-    compile_expression,
-    function_space,
-    interpolate_expression,
+    evaluate_expression,
     lift_and_set_bc,
     petsc_vec,
+    vertex_expression,
 )
 from .contact import displacement, is_mixed
 from .domain import tag_value
@@ -89,6 +87,21 @@ class Dirichlet:
         """The prescribed value at load ``t``: ``amplitude * f(t)``."""
         check_path(self.path, "Dirichlet path")
         return self.amplitude * load_factor(self.path, t)
+
+
+def _vertex_kinematics(u: fem.Function, material) -> tuple:
+    """The compiled expression of :meth:`ContactProblem.vertex_kinematics` (``det F`` and the small strain's
+    components of ``u``'s displacement), its mesh and the owned cells."""
+    w = displacement(u)
+    d = len(w)
+    detF = ufl.det(ufl.Identity(d) + ufl.grad(w))
+    if getattr(material, "axisymmetric", False):
+        detF = detF * hoop_stretch(w, AXISYMMETRIC)
+    eps = ufl.sym(ufl.grad(w))
+    values = [detF] + [eps[i, j] for i in range(d) for j in range(i, d)]
+    mesh = u.function_space.mesh
+    cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
+    return vertex_expression(ufl.as_vector(values), mesh), mesh, cells
 
 
 class ContactProblem:
@@ -175,6 +188,7 @@ class ContactProblem:
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
+        self._vertex_expr = _vertex_kinematics(u, material)  # compiled with the forms: the checks of every step
 
     def _reference_stiffness(self) -> float:
         """:data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its
@@ -211,7 +225,7 @@ class ContactProblem:
         """The whole residual as one form (dolfinx's ``NonlinearProblem.L``), compiled on first use; :meth:`F`
         assembles its parts."""
         if not hasattr(self, "_L"):
-            self._L = fem.form(self._residual_ufl)
+            self._L = self._L_parts[0] if len(self._L_parts) == 1 else fem.form(self._residual_ufl)
         return self._L
 
     @property
@@ -219,7 +233,8 @@ class ContactProblem:
         """The Jacobian of :attr:`L` as one form (``NonlinearProblem.a``), compiled on first use; :meth:`J`
         assembles its parts."""
         if not hasattr(self, "_a"):
-            self._a = fem.form(ufl.derivative(self._residual_ufl, self.u, self._du))
+            self._a = self._a_parts[0] if len(self._a_parts) == 1 else \
+                fem.form(ufl.derivative(self._residual_ufl, self.u, self._du))
         return self._a
 
     def jacobian_inputs(self) -> tuple[list, list]:
@@ -293,24 +308,22 @@ class ContactProblem:
             self._mesh_size = float(np.linalg.norm(hi - lo))
         return self._mesh_size
 
+    def vertex_kinematics(self) -> tuple[np.ndarray, np.ndarray]:
+        """At the vertices of every owned cell, at the current displacement: ``det F`` (``F = I + grad u``;
+        axisymmetric: times the hoop stretch ``1 + u_r / r``), shape (cells, vertices), and the components
+        ``(i, j)``, ``i <= j`` in row order, of the small strain ``sym(grad u)``, shape (cells, vertices, pairs).
+        One expression, compiled with the problem's forms, serves both (the solver's checks after every step)."""
+        expr, mesh, cells = self._vertex_expr
+        values = evaluate_expression(expr, mesh, cells)
+        return values[:, :, 0], values[:, :, 1:]
+
     def _cell_jacobians(self) -> np.ndarray:
-        """Smallest ``det F`` (``F = I + grad u``; axisymmetric: times the hoop stretch ``1 + u_r / r``) of each
-        owned cell over its DG1 interpolation points (the vertices), at the current displacement."""
-        if not hasattr(self, "_detF"):
-            w = displacement(self.u)
-            detF = ufl.det(ufl.Identity(len(w)) + ufl.grad(w))
-            if getattr(self.material, "axisymmetric", False):
-                detF = detF * hoop_stretch(w, AXISYMMETRIC)
-            f = fem.Function(function_space(self.u.function_space.mesh, "DG", 1))
-            self._detF = (f, compile_expression(detF, f.function_space))
-        f, expr = self._detF
-        interpolate_expression(f, expr)
-        V = f.function_space
-        return f.x.array[cell_dofs(V)[: V.mesh.topology.index_map(V.mesh.topology.dim).size_local]].min(axis=1)
+        """Smallest ``det F`` of each owned cell over its vertices (:meth:`vertex_kinematics`)."""
+        return self.vertex_kinematics()[0].min(axis=1)
 
     def min_jacobian(self) -> float:
-        """Smallest ``J = det F`` (``F = I + grad u``) at the current displacement over every cell's DG1
-        interpolation points (the vertices), over all ranks. ``J <= 0``: an inverted element, no answer even
+        """Smallest ``J = det F`` (``F = I + grad u``) at the current displacement over every cell's vertices,
+        over all ranks. ``J <= 0``: an inverted element, no answer even
         if Newton converged to it (a finite-strain material has no such state; a small-strain one gives it
         without complaint, its displacement overlapping itself)."""
         local = self._cell_jacobians()

@@ -119,7 +119,8 @@ def _build_exact(comm, h=None, ratios=(RATIO,)):
 def test_exact_coulomb_stick_radius_against_cattaneo_mindlin():
     """Method coulomb (exact, the Coulomb disk on the condensed system) on the default mesh: the stick radius
     (from the stick area) within 5 % of Cattaneo-Mindlin at Q / (mu P) = 0.2, 0.5, 0.8; the applied Q the one
-    asked for; each step in a few semismooth Newton iterations."""
+    asked for; each step in a few semismooth Newton iterations; the stiffness (linear bodies) assembled and
+    factored once for the whole load path."""
     setup, solver, f = solved("mindlin3d exact default", lambda comm: _build_exact(comm, ratios=mindlin3d.RATIOS))
     assert isinstance(setup.contacts[0], fc.CondensedTwoBody)
     for r in mindlin3d.RATIOS:
@@ -128,6 +129,8 @@ def test_exact_coulomb_stick_radius_against_cattaneo_mindlin():
         assert f[f"c_error_{r:g}"] <= 0.05, (r, f[f"c_{r:g}"], f[f"c_ref_{r:g}"])
         assert f[f"Q_{r:g}"] == pytest.approx(r * f["mu"] * f["P"], rel=1e-8)
     assert all(r.newton_iterations <= 15 for r in solver.records), [r.newton_iterations for r in solver.records]
+    K = setup.problem.step_solver.K
+    assert (K.assemblies, K.factorizations) == (1, 1)
 
 
 @pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="compares a parallel run with the serial one")

@@ -1,27 +1,26 @@
 """The stiffness condensed onto the contact dofs (Schur complement), the load of a step and the recovery.
 
-``K`` is the stiffness (the problem's Jacobian, constant for linear elasticity). With the contact dofs ``c``
-and the Dirichlet dofs prescribed, ``K_D`` (``K`` with those rows and columns replaced by the identity) is
-regular even when the body floats without its contact (the slab): the base is clamped. One MUMPS factorization
-of ``K_D`` serves every solve. The Schur complement ``S = K_cc - K_ci K_ii^-1 K_ic`` (``i``: the free dofs off
-the contact) comes from one more MUMPS factorization, of ``K`` with the Dirichlet rows and columns the
-identity, that eliminates all but the contact dofs (:func:`~fenics_contact.compat.schur_complement`, MUMPS's
-ICNTL(19)): about the cost of one factorization. ``S`` is singular for a floating body; nothing here inverts it.
+``K`` is the stiffness (the problem's Jacobian, constant for linear elasticity). With the Dirichlet rows and
+columns of ``K`` replaced by the identity, one MUMPS ``LDL^T`` factorization that eliminates every dof but the
+contact dofs ``c`` (:class:`~fenics_contact.compat.SchurFactor`, MUMPS's ICNTL(19)) gives both the dense Schur
+complement ``S = K_cc - K_ci K_ii^-1 K_ic`` (``i``: the dofs off the contact, the Dirichlet ones the identity)
+and every solve with ``K_ii``, which is regular even when the body floats without its contact (the slab): the
+base is clamped. ``S`` is singular for a floating body; nothing here inverts it.
 
 Each load step, the load as the problem has set it at ``t`` (tractions, body forces and Dirichlet values: any
 path, not only ``t`` times a load): one solve gives the load mode ``u_0(t)`` (``u_c = 0``, the load ``f(t)``,
 the Dirichlet data at ``t``; no solve when the load is a combination of earlier steps', :mod:`.loadmodes`), and
 the force the contact dofs need (the contact force on the body) is
-``R(u_c) = S u_c + r(t)``, ``r(t) = (K u_0(t) - f(t))_c``. Recovery: one solve of ``K_D u = ...`` with ``u_c``
+``R(u_c) = S u_c + r(t)``, ``r(t) = (K u_0(t) - f(t))_c``. Recovery: one solve with ``K_ii``, ``u_c``
 prescribed. ``K`` is re-assembled at a step where a value its form depends on (a Constant, a Function) has
 changed, and compared with the condensed one: a stiffness that changes with the load (the vanishing spring of a
 force-controlled scene) is condensed again for that step.
 
-Parallel: ``K`` and its factorization for the solves are distributed (MUMPS); PETSc does not hand out MUMPS's
-distributed Schur complement, so ``K`` is gathered on rank 0 for ``S`` (its ``nnz`` entries once) and ``S``
-(``n_c x n_c``, a few hundred) is broadcast: every rank holds the same dense ``S`` (``O(n_c^2)`` memory,
-8 n_c^2 bytes). Cost: two factorizations; per step at most one solve for the load mode, and one for the
-recovery.
+Parallel: ``K`` is distributed; PETSc does not hand out MUMPS's distributed Schur complement, so ``K`` is
+gathered on rank 0 and factored there (its ``nnz`` entries once), ``S`` (``n_c x n_c``, a few hundred to a few
+thousand) is broadcast: every rank holds the same dense ``S`` (``O(n_c^2)`` memory, 8 n_c^2 bytes), and the
+right-hand sides of the solves are gathered on rank 0. Cost: one factorization; per step at most one solve for
+the load mode, and one for the recovery.
 """
 from __future__ import annotations
 
@@ -30,7 +29,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from ..compat import bc_dofs, schur_complement
+from ..compat import SchurFactor, bc_dofs
 from .loadmodes import LoadModes
 
 __all__ = ["CondensedStiffness", "MAX_CONDENSED", "check_size"]
@@ -53,14 +52,14 @@ def check_size(n_c: int, where: str) -> None:
 
 class CondensedStiffness:
     """``K`` of a linear-elastic ``problem`` (on ``comm``) and its Dirichlet dofs; after :meth:`condense`, the
-    factorization of ``K_D`` and the dense Schur complement ``S`` onto the contact dofs ``cidx`` (global
-    numbers, the same order on every rank).
+    factorization of ``K`` that eliminates all but the contact dofs ``cidx`` (global numbers, the same order on
+    every rank) and the dense Schur complement ``S`` onto them.
 
     Attributes: ``A`` (``K``, no boundary conditions), ``dir_idx`` (this rank's owned Dirichlet dofs, global),
     ``dir_all`` (every rank's, sorted), ``cidx``, ``S`` (symmetrized, the same on every rank), ``diag`` (the mean
     absolute diagonal of ``S``: the scale of the semismooth Newton's ``c``), ``x`` (after :meth:`load`: the load
-    mode ``u_0(t)``; the work vector of :meth:`displacement`), ``assemblies`` and ``factorizations`` (of ``K``
-    and of ``K_D`` with its ``S``, so far)."""
+    mode ``u_0(t)``; the work vector of :meth:`displacement`), ``assemblies`` and ``factorizations`` (of ``K``,
+    each with its ``S``, so far)."""
 
     def __init__(self, problem, comm):
         if not problem.material.linear:
@@ -77,7 +76,7 @@ class CondensedStiffness:
         # when one of them has changed (a re-assembly per step costs about a third of a factorization).
         self._u, self._inputs = problem.u, problem.jacobian_inputs()
         self._seen = self._input_values()
-        self.assemblies, self.factorizations = 1, 0  # of K, of K_D (each with its S)
+        self.assemblies, self.factorizations = 1, 0  # of K (each factorization with its S)
         self.modes = LoadModes(comm)  # earlier steps' load modes (their combinations need no solve)
         self._f = fem_petsc.create_vector(problem.L)
         lo, hi = self.A.getOwnershipRange()
@@ -88,47 +87,30 @@ class CondensedStiffness:
             self._dirichlet.append((d, (local[local < n_owned] + lo).astype(PETSc.IntType)))
         self.dir_idx = np.concatenate([i for _, i in self._dirichlet] + [np.empty(0, PETSc.IntType)])
         self.dir_all = np.unique(np.concatenate(comm.allgather(self.dir_idx))).astype(np.int64)  # every rank's
-        self._ksp = None
+        self._factor = None
 
     def condense(self, cidx: np.ndarray) -> None:
-        """Factor ``K_D`` and form ``S`` for the contact dofs ``cidx``."""
+        """Factor ``K`` and form ``S`` for the contact dofs ``cidx``."""
         lo, hi = self.A.getOwnershipRange()
         self.cidx = np.asarray(cidx, dtype=PETSc.IntType)
         self._cmine = np.flatnonzero((self.cidx >= lo) & (self.cidx < hi))
-        fixed = np.unique(np.concatenate([self.dir_idx, self.cidx]))
-        self._fixed = fixed[(fixed >= lo) & (fixed < hi)].astype(PETSc.IntType)
         self.x, self._b, self._y = self._f.duplicate(), self._f.duplicate(), self._f.duplicate()
         self.factor()
 
     def factor(self) -> None:
-        """Factor ``K_D`` (``K`` with the rows and columns of the contact and Dirichlet dofs replaced by the
-        identity) and form the dense Schur complement ``S`` (every rank)."""
+        """Factor ``K`` with the Dirichlet rows and columns replaced by the identity, eliminating all but the
+        contact dofs, and form the dense Schur complement ``S`` (every rank): one factorization serves ``S`` and
+        the solves (:class:`~fenics_contact.compat.SchurFactor`)."""
         nc = len(self.cidx)
         self.factorizations += 1
         self.modes.clear()  # the load modes of another stiffness
-        if self._ksp is not None:
-            self._ksp.destroy()
-            self._KD.destroy()
-        KD = self.A.duplicate(copy=True)
-        KD.zeroRowsColumns(self._fixed, diag=1.0)
-        self._ksp = PETSc.KSP().create(self.comm)
-        self._ksp.setOptionsPrefix("fc_condensed_")
-        self._ksp.setType("preonly")
-        self._ksp.getPC().setType("lu")
-        self._ksp.getPC().setFactorSolverType("mumps")
-        self._ksp.setFromOptions()
-        self._ksp.setOperators(KD)
-        self._KD = KD
-        self._ksp.setUp()
-        # S from MUMPS's partial factorization of K with the Dirichlet rows and columns the identity, which
-        # eliminates all but the contact dofs (about one factorization: 0.41 s instead of 2.96 s for n_c = 390 at
-        # 2.9e4 dofs, 2.3 s instead of 18 s for n_c = 768 at 1.0e5, by one solve per contact dof; the same S to
-        # 3e-15). In parallel the matrix is gathered on rank 0 for it (compat.schur_complement).
+        if self._factor is not None:
+            self._factor.destroy()
         M = self.A.duplicate(copy=True)
         M.zeroRowsColumns(self.dir_idx, diag=1.0)
-        S = schur_complement(M, self.cidx)
-        M.destroy()
-        self.S = 0.5 * (S + S.T)
+        self._factor = SchurFactor(M, self.cidx)
+        M.destroy()  # the factorization keeps what it needs (on rank 0 its own copy in parallel)
+        self.S = 0.5 * (self._factor.S + self._factor.S.T)
         self.diag = float(np.mean(np.abs(np.diag(self.S)))) if nc else 1.0
 
     def _input_values(self) -> list[np.ndarray] | None:
@@ -193,7 +175,7 @@ class CondensedStiffness:
 
     def displacement(self, uc: np.ndarray, x: PETSc.Vec) -> None:
         """``x``: the displacement with contact dofs ``uc``, the step's Dirichlet data and load (:meth:`load`),
-        in equilibrium elsewhere (one solve with the factorization of ``K_D``)."""
+        in equilibrium elsewhere (one solve with ``K_ii``)."""
         lo, hi = self.A.getOwnershipRange()
         g = self._y
         g.set(0.0)
@@ -204,8 +186,9 @@ class CondensedStiffness:
         self.A.mult(g, self._b)
         self._b.scale(-1.0)
         self._b.axpy(1.0, self._f)
-        self._b.array[idx[keep] - lo] = val[keep]
-        self._ksp.solve(self._b, x)
+        self._b.array[idx[keep] - lo] = val[keep]  # the Dirichlet rows are the identity
+        self._factor.solve(self._b, x)
+        x.array[self.cidx[self._cmine] - lo] = uc[self._cmine]
 
     def values(self, dofs: np.ndarray, x: PETSc.Vec) -> np.ndarray:
         """The entries ``dofs`` (global numbers, the same on every rank) of the distributed vector ``x``, on every

@@ -66,6 +66,7 @@ class RowUpdatedSolve:
 
 def _accurate(J: np.ndarray, x: np.ndarray, b: np.ndarray) -> bool:
     """The residual of ``J x = b`` at round-off against the sizes of ``J x`` and ``b``."""
-    return bool(np.all(np.isfinite(x))) and \
-        float(np.max(np.abs(J @ x - b))) <= 1e-12 * (float(np.max(np.abs(J))) * float(np.max(np.abs(x)))
-                                                     + float(np.max(np.abs(b))))
+    if not np.all(np.isfinite(x)):
+        return False
+    size = max(float(J.max()), -float(J.min())) * float(np.max(np.abs(x)))  # max |J| without a copy of J
+    return float(np.max(np.abs(J @ x - b))) <= 1e-12 * (size + float(np.max(np.abs(b))))

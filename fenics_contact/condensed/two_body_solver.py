@@ -159,6 +159,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         self._sNn, self._sNt, self._sM = (sparse.csr_matrix(a) for a in (Nn, Nt, M))
         self._sGn, self._sGt = sparse.csr_matrix(Gn), sparse.csr_matrix(Gt)
         self._blocks_of = None  # the S the Jacobian's fixed blocks were formed with
+        self._jacobian = None  # the last Jacobian and its rows' coefficients (c, active, coef, J)
 
     def _step_data(self) -> None:
         """The prescribed components' values at the step (read from the load mode ``u_0(t)``), the Jacobian's
@@ -168,6 +169,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         if self._blocks_of is not self.S:
             self._PnS, self._PtS, self._MS = (np.asarray(m @ self.S) for m in (self._sNn, self._sNt, self._sM))
             self._blocks_of = self.S
+            self._jacobian = None
 
     def _by_vertex(self, v: np.ndarray) -> np.ndarray:
         """(m ns,) direction by direction -> (ns, m)."""
@@ -180,41 +182,61 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
     def _residual(self, uc: np.ndarray, t: float, c: float):
         """Alart-Curnier rows of the slave vertices (normal, tangential direction by direction) and the master
         rows; generalized Jacobian; state per slave vertex (0 open, 1 slip, in 2D -1 for a slip along -t, 2
-        stick); ``R``."""
+        stick); ``R``. The Jacobian is the previous call's array with only the rows whose coefficients changed
+        formed again (a row of a sticking or open vertex stays; the semismooth Newton's solver reads it before
+        the next call)."""
         ns, has = self._ns, self._has
         R = self.S @ uc + self._r
         p, q = self._sNn @ R, self._by_vertex(self._sNt @ R)
         d, tw = self._kinematics(uc)
-        PnS, PtS = self._PnS, self._PtS
         lam = p - c * d
         active = lam > 0
         Ft, A, B, g, stick, e = disk_rows(q, tw - self._ref, lam, self.mu, c, has)
         j, v = np.nonzero(has.T)  # tangential rows, direction by direction: (direction, vertex)
         F = np.concatenate([np.where(active, c * d, p), Ft[v, j], self._sM @ R])
-        # J row by row into one array: normal rows, tangential rows, master rows.
-        nt = len(v)
-        J = np.empty((ns + nt + self._MS.shape[0], len(uc)))
-        Jn, Jt = J[:ns], J[ns:ns + nt]
-        Jn[:] = PnS
-        Jn[active] = c * self._Gn_dense(active)
-        # dF_t = A dq + B ds + g dlam, dq_k = PtS[k ns + v], ds_k = Gt[k ns + v], dlam = PnS - c Gn
-        m = has.shape[1]
-        Jt[:] = 0.0
-        for k in range(m):
-            on = np.flatnonzero(has[v, k])
-            if len(on):
-                rows = k * ns + v[on]
-                Jt[on] += A[v[on], j[on], k][:, None] * PtS[rows]
-                Jt[on] += B[v[on], j[on], k][:, None] * self._sGt[rows].toarray()
-        slipping = np.flatnonzero(g[v, j] != 0.0)
-        if len(slipping):
-            vs = v[slipping]
-            Jt[slipping] += g[vs, j[slipping]][:, None] * (PnS[vs] - c * self._Gn_dense(vs))
-        J[ns + nt:] = self._MS
+        # Each row's coefficients: normal rows c Gn (active) or PnS; tangential rows dF_t = A dq + B ds + g dlam
+        # (dq_k = PtS[k ns + v], ds_k = Gt[k ns + v], dlam = PnS - c Gn).
+        coef = np.concatenate([A[v, j], B[v, j], g[v, j][:, None]], axis=1)
+        cached = self._jacobian
+        if cached is None or cached[0] != c or cached[1].shape != active.shape or cached[2].shape != coef.shape:
+            nt = len(v)
+            J = np.empty((ns + nt + self._MS.shape[0], len(uc)))
+            J[ns + nt:] = self._MS
+            normal, tangential = np.arange(ns), np.arange(nt)
+        else:
+            J = cached[3]
+            normal = np.flatnonzero(active != cached[1])
+            tangential = np.flatnonzero(np.any(coef != cached[2], axis=1))
+        if len(normal):
+            J[normal] = self._PnS[normal]
+            on = normal[active[normal]]
+            J[on] = c * self._Gn_dense(on)
+        if len(tangential):
+            J[ns + tangential] = self._tangential_rows(tangential, v, coef, c)
+        self._jacobian = (c, active, coef, J)
         state = np.where(active, np.where(stick, 2, 1), 0)
-        if m == 1:  # 2D: the slip direction too
+        if has.shape[1] == 1:  # 2D: the slip direction too
             state = np.where(active & ~stick & has[:, 0] & (e[:, 0] < 0), -1, state)
         return F, J, state, R
+
+    def _tangential_rows(self, rows: np.ndarray, v: np.ndarray, coef: np.ndarray, c: float) -> np.ndarray:
+        """The Jacobian's tangential ``rows`` (dense, (rows, n_c)) from their coefficients ``coef`` (A (m), B (m),
+        g per row; ``v`` the vertex of every tangential row)."""
+        ns, m = self._ns, self._has.shape[1]
+        vr, cr = v[rows], coef[rows]
+        out = np.zeros((len(rows), self._PnS.shape[1]))
+        for k in range(m):  # A and B vanish in a direction a vertex lacks (its PtS and Gt rows are zero too)
+            a, b = cr[:, k], cr[:, m + k]
+            on = np.flatnonzero(a)
+            if len(on):
+                out[on] += a[on, None] * self._PtS[k * ns + vr[on]]
+            on = np.flatnonzero(b)
+            if len(on):
+                out[on] += (sparse.diags(b[on]) @ self._sGt[k * ns + vr[on]]).toarray()
+        on = np.flatnonzero(cr[:, 2 * m])
+        if len(on):  # slipping: the disk's radius follows lam
+            out[on] += cr[on, 2 * m, None] * (self._PnS[vr[on]] - c * self._Gn_dense(vr[on]))
+        return out
 
     def _Gn_dense(self, which: np.ndarray) -> np.ndarray:
         """Rows ``which`` (a mask or indices) of the normal kinematic map, dense."""

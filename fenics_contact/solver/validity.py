@@ -5,52 +5,37 @@ from __future__ import annotations
 
 import logging
 import time
-import weakref
 
 import numpy as np
-import ufl
-from dolfinx import fem
 from mpi4py import MPI
 
-from ..compat import compile_expression, function_space, interpolate_expression
-from ..contact import displacement
 from ..materials import SMALL_STRAIN
 from ..problem import ContactProblem
 
 __all__ = ["inverted_failure", "max_strain", "strain_warning"]
 
 logger = logging.getLogger(__package__)
-_STRAIN = weakref.WeakKeyDictionary()  # a problem's strain field and its compiled expression
 
 
 def max_strain(problem: ContactProblem) -> float:
     """Largest absolute principal value of the small strain ``sym(grad u)`` of ``problem`` at its current
-    displacement over every cell's DG1 interpolation points (the vertices), over all ranks: how far a small-strain
-    model is from its premise (strains, and rotations, much below 1). Collective."""
-    if problem not in _STRAIN:
-        w = displacement(problem.u)
-        d = len(w)
-        eps = ufl.sym(ufl.grad(w))
-        pairs = [(i, j) for i in range(d) for j in range(i, d)]
-        f = fem.Function(function_space(problem.u.function_space.mesh, "DG", 1, (len(pairs),)))
-        _STRAIN[problem] = (f, compile_expression(ufl.as_vector([eps[i, j] for i, j in pairs]), f.function_space),
-                            d, pairs)
-    f, expr, d, pairs = _STRAIN[problem]
-    interpolate_expression(f, expr)
-    V = f.function_space
-    owned = V.dofmap.index_map.size_local
-    values = f.x.array.reshape(-1, len(pairs))[:owned]
+    displacement over every cell's vertices (:meth:`ContactProblem.vertex_kinematics`), over all ranks: how far a
+    small-strain model is from its premise (strains, and rotations, much below 1). Collective."""
+    values = problem.vertex_kinematics()[1]
+    n = values.shape[-1]
+    d = int(round((np.sqrt(8 * n + 1) - 1) / 2))  # n = d (d + 1) / 2 components
+    pairs = [(i, j) for i in range(d) for j in range(i, d)]
+    values = values.reshape(-1, n)
+    if not len(values):
+        return problem.comm.allreduce(0.0, op=MPI.MAX)
     # The spectral norm is at least the Frobenius norm / sqrt(d) and at most the Frobenius norm: only the points
     # whose Frobenius norm reaches the largest one / sqrt(d) can hold the largest principal value.
     frobenius = np.sqrt(sum((1.0 if i == j else 2.0) * values[:, k] ** 2 for k, (i, j) in enumerate(pairs)))
-    if not owned:
-        return problem.comm.allreduce(0.0, op=MPI.MAX)
     candidates = values[frobenius >= frobenius.max() / np.sqrt(d)]
     tensor = np.zeros((len(candidates), d, d))
     for k, (i, j) in enumerate(pairs):
         tensor[:, i, j] = tensor[:, j, i] = candidates[:, k]
     return problem.comm.allreduce(float(np.abs(np.linalg.eigvalsh(tensor)).max()), op=MPI.MAX)
-
 
 
 def inverted_failure(problem: ContactProblem, timings: dict) -> dict | None:
