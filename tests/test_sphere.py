@@ -153,13 +153,26 @@ def test_sphere_multipliers_equal_snes_vi():
 
 def test_sphere_on_block_two_body():
     """The octant on a deformable block of its own material (one-pass two-body contact) with GMRES + GAMG, whose
-    hierarchy is rebuilt when the pairing widens the pattern: the contact force balances the top's reaction."""
-    setup = sphere.build(make_law("penalty", K=sphere.DEFAULT_K), size=1.0, plate="meshed", steps=2)
-    solver = Solver(setup.problem, quiet=True, options=LINEAR_SOLVERS["iterative"])
-    solver.run(setup.loads)
-    assert solver.summary()["converged"]
-    f = setup.figures()
-    assert f["total_force"] > 0 and np.isclose(f["total_force"], f["reaction_top"], rtol=1e-6)
+    hierarchy is rebuilt when the pairing widens the pattern: the contact force balances the top's reaction, and
+    with the default penalty (``E* / h_contact``: its interface layer shrinks with the mesh) the Hertz peak of the
+    contact forces' moments comes closer to Hertz as the mesh is refined. The default penalty is the same problem in
+    any units: modulus x 2^30 and lengths x 2^-10 give K x 2^40 exactly."""
+    errors = []
+    for size in (1.0, 0.8):
+        K = sphere.default_K(plate="meshed", size=size)
+        setup = sphere.build(make_law("penalty", K=K), size=size, plate="meshed", steps=2)
+        solver = Solver(setup.problem, quiet=True, options=LINEAR_SOLVERS["iterative"])
+        solver.run(setup.loads)
+        assert solver.summary()["converged"]
+        f = setup.figures()
+        assert f["total_force"] > 0 and np.isclose(f["total_force"], f["reaction_top"], rtol=1e-6)
+        errors.append(f["p0_error"])
+    print(f"sphere on block, default K: p0 errors {errors} at sizes 1.0, 0.8")
+    assert errors[1] < errors[0] < 0.1, errors
+    assert np.isclose(sphere.default_K(plate="meshed", size=0.5), sphere.BLOCK_PENALTY * sphere.E / 0.91 / 2 / 0.01)
+    E, R = sphere.E * 2.0**30, sphere.R * 2.0**-10
+    scaled = sphere.default_K(E=E, R=R, plate="meshed", level=2, plate_E=2 * E)
+    assert scaled == sphere.default_K(plate="meshed", level=2, plate_E=2 * sphere.E) * 2.0**40
     with pytest.raises(ValueError, match="plate"):
         sphere.build(make_law("penalty", K=1.0), plate="soft")
 
