@@ -16,11 +16,9 @@ complete, tested example)::
     contact.mean_pressure()
 
 Every contact enforcement implements :class:`Surface` (the hooks the solver calls, declared once);
-a :class:`StepSolver` solves whole load steps instead of SNES (method ``coulomb``). Scenes of the
-benchmarks: :func:`build`, :func:`scene_names`; output: :class:`XDMFWriter`, :func:`write_summary`,
-:func:`run`. Submodules for the command line (:mod:`~fenics_contact.app.cli`), plots
-(:mod:`~fenics_contact.app.plotting`), meshes (:mod:`~fenics_contact.app.meshes`, gmsh imported only by the
-builders that use it) and tables are public too. Importing the package does not import gmsh.
+a :class:`StepSolver` solves whole load steps instead of SNES (method ``coulomb``). Output:
+:class:`XDMFWriter`, :func:`write_summary`. Importing the package imports neither gmsh nor the application
+(:mod:`fenics_contact.app`: the benchmark scenes, demos, command line, plots and tables, built on this API).
 """
 from . import capabilities, cells, compat, domain, failure, kinematics, laws, methods, search
 from .bounds import BoundContact

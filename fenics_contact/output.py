@@ -19,6 +19,8 @@ from xml.sax.saxutils import quoteattr
 from dolfinx import fem, io
 from mpi4py import MPI
 
+from . import compat
+
 __all__ = ["OutputError", "XDMFWriter", "write_summary", "write_atomically", "on_rank0", "RunLock", "process_alive"]
 
 # every step's grids take their topology and geometry from the index's first grid, the mesh
@@ -84,8 +86,32 @@ def write_summary(path: str | os.PathLike, summary: dict, comm: MPI.Comm) -> Non
     on_rank0(comm, str(path), write)
 
 
+# the families XDMF output takes (dolfinx writes their values at the vertices, or per cell for degree 0); others
+# (a quadrature element, Nedelec) would crash it
+_WRITABLE = {"lagrange", "p", "q", "discontinuous lagrange", "dg", "dq"}
+
+
+def element_family(V) -> str:
+    """The element family of the space ``V`` (of its blocks for a vector space), lower case."""
+    element = V.ufl_element()
+    family = getattr(element, "family_name", None)  # dolfinx >= 0.7 (basix.ufl)
+    return str(family if family is not None else element.family()).lower()
+
+
+def _written(f: fem.Function) -> fem.Function:
+    """``f`` itself where XDMF takes it (degree 0 or 1), else a function of degree 1 of its family and name that
+    :meth:`XDMFWriter.write` interpolates ``f`` into (its vertex values: exact for a Lagrange field)."""
+    V = f.function_space
+    degree = compat.space_degree(V)
+    if degree <= 1:
+        return f
+    family = "DG" if "discontinuous" in element_family(V) or element_family(V) in ("dg", "dq") else "Lagrange"
+    return fem.Function(compat.function_space(V.mesh, family, 1, f.ufl_shape or None), name=f.name)
+
+
 class XDMFWriter:
-    """The given P1 functions at every :meth:`write` (time = load parameter) as an XDMF time series ``path``
+    """The given Lagrange functions (any degree: their vertex values; degree 0: cell values) at every
+    :meth:`write` (time = load parameter) as an XDMF time series ``path``
     (``<name>.xdmf``): the mesh once into ``<name>.h5`` (where dolfinx reads it from), each step into a file of
     its own in the folder ``<name>_fields``, which the index ``path`` lists once complete. ``resume=n``: go on
     after step n of an earlier writer into ``path`` (its later steps are dropped). Collective.
@@ -93,12 +119,19 @@ class XDMFWriter:
     Args:
         path: the index file ``<name>.xdmf``.
         mesh: the mesh.
-        functions: the P1 Functions written at every step.
+        functions: the Functions written at every step, each of a (discontinuous) Lagrange space of ``mesh``;
+            another family is refused (``ValueError`` naming the function).
         resume: go on after step ``resume`` of an earlier writer (0: a new series).
     """
 
     def __init__(self, path: str | os.PathLike, mesh, functions: Sequence[fem.Function], resume: int = 0):
+        for f in functions:
+            family = element_family(f.function_space)
+            if family not in _WRITABLE:
+                raise ValueError(f"XDMFWriter: function {f.name!r} is of the {family!r} family; XDMF takes "
+                                 f"Lagrange functions (interpolate it into one first)")
         self.path, self.comm, self.functions = Path(path), mesh.comm, list(functions)
+        self._written = [_written(f) for f in self.functions]
         self.folder = self.path.with_name(self.path.stem + "_fields")
         self.steps = resume
         self._mesh, self._grids = "", []  # the index's mesh grid and each step's grids (rank 0)
@@ -128,8 +161,10 @@ class XDMFWriter:
         """The functions at time ``t``: a complete file for the step, then the index that lists it."""
         step = self.steps + 1
         with io.XDMFFile(self.comm, str(self._step_file(step)), "w") as f:
-            for u in self.functions:
-                f.write_function(u, t, mesh_xpath="/Xdmf/Domain")  # the index supplies the mesh
+            for u, w in zip(self.functions, self._written):
+                if w is not u:
+                    w.interpolate(u)
+                f.write_function(w, t, mesh_xpath="/Xdmf/Domain")  # the index supplies the mesh
 
         def index() -> None:
             self._grids.append(self._step_grids(step))

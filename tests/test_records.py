@@ -112,6 +112,39 @@ def test_fields_of_each_step_are_listed_once_complete_and_resumed(tmp_path_facto
     assert sorted(f.name for f in out.iterdir()) == ["x.h5", "x.xdmf", "x_fields"]  # no temporary file left
 
 
+def test_higher_degree_and_cell_fields_are_written_at_vertices_and_cells(tmp_path_factory, comm):
+    h5py = pytest.importorskip("h5py")
+    out = _folder(tmp_path_factory, comm, "degrees")
+    mesh = dmesh.create_unit_square(comm, 3, 4)
+    u = fem.Function(compat.function_space(mesh, "Lagrange", 2, (2,)), name="u")
+    u.interpolate(lambda x: np.vstack([x[0] ** 2 - x[1], 3 * x[0] * x[1]]))
+    c = fem.Function(compat.function_space(mesh, "DG", 0), name="c")
+    c.interpolate(lambda x: 2 * x[0] + x[1])
+    XDMFWriter(out / "x.xdmf", mesh, [u, c]).write(1.0)
+    if comm.rank == 0:
+        with h5py.File(out / "x.h5", "r") as f:
+            x, cells = f["Mesh/mesh/geometry"][...], f["Mesh/mesh/topology"][...]
+        with h5py.File(out / "x_fields" / "step_000001.h5", "r") as f:
+            values = {name: f[f"Function/{name}"][next(iter(f[f"Function/{name}"]))][...] for name in ("u", "c")}
+        exact = np.column_stack([x[:, 0] ** 2 - x[:, 1], 3 * x[:, 0] * x[:, 1]])
+        assert np.allclose(values["u"][:, :2], exact, rtol=0, atol=1e-14)  # P2 exact at the vertices
+        mid = x[cells].mean(axis=1)
+        assert np.allclose(values["c"].ravel(), 2 * mid[:, 0] + mid[:, 1], rtol=0, atol=1e-14)
+
+
+def test_a_field_xdmf_cannot_take_is_refused_by_name(tmp_path_factory, comm):
+    mesh = dmesh.create_unit_square(comm, 2, 2)
+    try:  # dolfinx >= 0.7
+        import basix.ufl
+        space = fem.functionspace(mesh, basix.ufl.quadrature_element(mesh.basix_cell(), value_shape=(), degree=2))
+    except ImportError:
+        import ufl
+        space = fem.FunctionSpace(mesh, ufl.FiniteElement("Quadrature", mesh.ufl_cell(), 2, quad_scheme="default"))
+    q = fem.Function(space, name="stress")
+    with pytest.raises(ValueError, match="function 'stress' is of the 'quadrature' family"):
+        XDMFWriter(_folder(tmp_path_factory, comm, "refused") / "x.xdmf", mesh, [q])
+
+
 # --- the output folder -------------------------------------------------------------------------------------------
 
 def _block(comm, **kw):
