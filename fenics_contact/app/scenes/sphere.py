@@ -59,8 +59,8 @@ from ..meshes import sphere_octant
 from . import GIVEN, Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_size
 
 __all__ = ["R", "E", "NU", "APPROACH", "DEFAULT_K", "LEVELS", "PLATE_SIZE", "PLATE_HALF_WIDTHS", "FIT_INNER",
-           "BLOCK_PENALTY", "BENCH", "BENCHES",
-           "mesh_sizes", "default_K", "hertz3d", "hertz_fit", "hertz_peak_from_moments", "OPTIONS", "build"]
+           "BLOCK_PENALTY", "BENCH", "BENCHES", "mesh_sizes", "pair_modulus", "default_K", "hertz3d", "hertz_fit",
+           "hertz_peak_from_moments", "OPTIONS", "build"]
 
 R, E, NU = 1.0, 1000.0, 0.3
 APPROACH = 0.005  # vertical displacement of the equator z = R at t = 1, per unit R (default: APPROACH R)
@@ -75,9 +75,9 @@ PLATE_HALF_WIDTHS = 7.0
 # pressure scatters by ~15-20 % about its mean at every mesh size and its maximum does not converge; p0_fit is the
 # Hertz profile's peak fitted to the points within FIT_INNER of the contact radius (hertz_fit).
 FIT_INNER = 0.8
-# The meshed block's default penalty K h_contact / E* (dimensionless; E* of the pair): K = 1.1e6 at size 0.5 with the
-# defaults, and the layer E* / K a fixed fraction of the element size, so that it falls with the mesh like the
-# discretisation error instead of bounding it
+# The meshed block's default penalty K h_contact / E* (dimensionless; E* of the pair; K = 1.1e6 at size 0.5 with the
+# defaults). The layer E* / K lowers p0 by about 1.1 E* / (K a) (measured at size 1.0, K = 1e6 to 1e8): with K ~ 1 / h
+# by 0.055 h / a, 0.76 % at size 0.5 and 0.18 % at 0.115, falling with the mesh below the discretisation error
 BLOCK_PENALTY = 20.0
 # Mesh-size factor per level: h_contact = 0.02 f, h_far = 0.15 f (dofs 11931, 68208, 230964, 1178016).
 LEVELS = (0.5, 0.25, 0.16, 0.09)
@@ -108,6 +108,12 @@ def mesh_sizes(f: float, R: float = R) -> tuple[float, float]:
     return 0.02 * f * R, 0.15 * f * R
 
 
+def pair_modulus(E: float, nu: float, plate_E: float | None = None, plate_nu: float = NU) -> float:
+    """Hertz's ``E*`` (stress): ``E / (1 - nu^2)`` on a rigid plane (``plate_E`` None), else
+    ``1 / E* = (1 - nu^2) / E + (1 - plate_nu^2) / plate_E``."""
+    return E / (1 - nu**2) if plate_E is None else 1.0 / ((1 - nu**2) / E + (1 - plate_nu**2) / plate_E)
+
+
 def default_K(E: float = E, R: float = R, nu: float = NU, plate: str = "rigid", level: int = 0,
               size: float | None = None, plate_E: float | None = None, plate_nu: float | None = None) -> float:
     """The default penalty ``K`` (stress per length) of the scene with these :func:`build` arguments: on the rigid
@@ -116,8 +122,7 @@ def default_K(E: float = E, R: float = R, nu: float = NU, plate: str = "rigid", 
     of ``level``)."""
     if plate != "meshed":
         return DEFAULT_K * (E / globals()["E"]) * (globals()["R"] / R)
-    plate_E, plate_nu = (E if plate_E is None else plate_E), (nu if plate_nu is None else plate_nu)
-    Es = 1.0 / ((1 - nu**2) / E + (1 - plate_nu**2) / plate_E)
+    Es = pair_modulus(E, nu, E if plate_E is None else plate_E, nu if plate_nu is None else plate_nu)
     return BLOCK_PENALTY * Es / mesh_sizes(LEVELS[level] if size is None else size, R)[0]
 
 
@@ -125,7 +130,7 @@ def hertz3d(P: float, R: float = R, E: float = E, nu: float = NU, plate_E: float
             plate_nu: float = NU) -> tuple[float, float]:
     """Hertz contact radius ``a`` and peak pressure ``p0`` of a sphere on a rigid plane (``plate_E`` None) or on
     an elastic half-space (``plate_E``, ``plate_nu``) under load ``P``."""
-    Es = E / (1 - nu**2) if plate_E is None else 1.0 / ((1 - nu**2) / E + (1 - plate_nu**2) / plate_E)
+    Es = pair_modulus(E, nu, plate_E, plate_nu)
     a = (3 * P * R / (4 * Es)) ** (1 / 3)
     return float(a), float(3 * P / (2 * np.pi * a**2))
 
