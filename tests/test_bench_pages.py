@@ -90,8 +90,7 @@ def test_committed_peer_page_states_its_runs_and_no_history():
     """The side-by-side page with the peer (scripts/peer/run.py): each run's cases, command, date and machine,
     a table and an existing chart per case, no development history."""
     page = ROOT / "docs" / "bench" / f"{bench_pages.PEER_PAGE}.md"
-    if not page.exists():
-        pytest.skip("no peer page committed")
+    assert page.exists(), f"{page} is committed and must stay"
     text = page.read_text()
     runs = re.findall(r"^Cases [\w, ]+: `python scripts/peer/run\.py [^`]+` on \d{4}-\d\d-\d\d \d\d:\d\d UTC, .+, "
                       r"\d+ cores, [\d.]+ GB", text, flags=re.M)

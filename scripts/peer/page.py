@@ -74,6 +74,7 @@ def _ratios(rows: list[dict]) -> list[str]:
 def write_page(rows_json: Path, docs: Path) -> Path:
     data = json.loads(Path(rows_json).read_text())
     runs, rows = data["runs"], data["rows"]
+    Path(docs).mkdir(parents=True, exist_ok=True)
     lines = ["# The peer side by side: dolfinx_contact and fenics_contact on the same cases", ""]
     for run in runs:
         m = run["machine"]

@@ -49,7 +49,7 @@ def main(argv=None) -> dict:
                                            "Cattaneo-Mindlin c = a sqrt(1 - Q/(mu P)) at the worst ratio")
 
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
-    predictor = False if setup.problem.step_solver else mindlin.PREDICTOR  # the scene's, for Newton's steps
+    predictor = mindlin.predictor_for(args.method, setup.problem)
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,
                   args.augment_tol, args.quiet, options=cli.solver_options(args), on_step=on_step, keep=(profiles,),
                   predictor=predictor,
