@@ -3,7 +3,7 @@
 Chosen by feature checks (does the attribute exist), never by version
 strings. Other modules import dolfinx only for calls that are the same in
 all supported versions. C library calls too: glibc's (:func:`release_free_memory`) and the PETSc ones that
-petsc4py 3.18 does not wrap (:func:`schur_complement`, :func:`petsc_library`).
+petsc4py 3.18 does not wrap (:func:`schur_complement`, :func:`redundant_ksp`, :func:`petsc_library`).
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ if typing.TYPE_CHECKING:
 __all__ = [
     "function_space", "space_degree", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "compile_expression",
     "interpolate_expression", "cell_sizes", "entities_to_geometry", "cell_dofs", "geometry_dofs", "cell_partitioner",
-    "model_to_mesh", "create_mesh", "release_free_memory", "schur_complement", "petsc_library"
+    "model_to_mesh", "create_mesh", "release_free_memory", "schur_complement", "redundant_ksp", "petsc_library"
 ]
 
 
@@ -359,6 +359,16 @@ def _serial_schur(A: PETSc.Mat, rows: np.ndarray) -> np.ndarray:
         index.destroy()
         pc.destroy()
     return out
+
+
+def redundant_ksp(pc: PETSc.PC) -> PETSc.KSP:
+    """The inner KSP of a ``redundant`` preconditioner ``pc`` (``PCRedundantGetKSP``), made if not yet there."""
+    ksp = ctypes.c_void_p()
+    _check(petsc_library().PCRedundantGetKSP(ctypes.c_void_p(pc.handle), ctypes.byref(ksp)), "PCRedundantGetKSP")
+    # petsc4py wraps a raw handle only through an object query: compose it on pc (pc keeps the reference) and query.
+    _check(petsc_library().PetscObjectCompose(ctypes.c_void_p(pc.handle), b"fc_redundant_ksp", ksp),
+           "PetscObjectCompose")
+    return pc.query("fc_redundant_ksp")
 
 
 _PETSC_LIBRARY = None

@@ -62,6 +62,8 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .compat import redundant_ksp
+
 __all__ = [
     "ILL_CONDITIONED", "KINDS", "MUMPS_MEMORY", "MUMPS_WORKSPACE", "NO_CUTBACK", "mumps_factors", "mumps_error",
     "mumps_message", "fingerprint", "find_cycle", "condition_estimate", "classify", "cutback_helps", "stalled",
@@ -123,7 +125,7 @@ def condition_estimate(A, ksp, iterations: int = 15) -> float | None:
     times inverse iteration (with ``ksp``'s factorization of ``A``) for ``||A^-1||``. None unless ``ksp``
     is a direct solve (LU or Cholesky) already set up with ``A`` (not with a part of it: SNES VI factors the rows of
     the inactive set). Collective; a lower bound in general."""
-    if ksp.getPC().getType() not in ("lu", "cholesky") or not A.assembled:  # no Jacobian yet: no estimate
+    if ksp.getPC().getType() not in ("lu", "cholesky", "redundant") or not A.assembled:  # no Jacobian yet
         return None
     if ksp.getOperators()[0].getSize() != A.getSize():  # SNES VI: the factorization is of the reduced system
         return None
@@ -157,6 +159,8 @@ def mumps_factors(ksp) -> list:
         except PETSc.Error:  # not set up yet
             return []
         return [F for sub in subs for F in mumps_factors(sub)]
+    if pc.getType() == "redundant":  # every rank's sequential factorization (solver.linear.repeatable_lu)
+        return mumps_factors(redundant_ksp(pc))
     if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
         return []
     try:

@@ -194,6 +194,7 @@ STUDY = (  # studies of many solves (refinement series, heavy scenes rescaled): 
     "test_sphere.py::test_sphere_multipliers_equal_snes_vi",  # make test: the same equality in 2D
     "test_units.py::test_slow_scene_any_units[mindlin3d]", "test_units.py::test_slow_scene_any_units[wedges]",
     "test_units.py::test_slow_scene_any_units[sphere]",  # make test: every other scene rescaled
+    "test_repeatable.py::test_wedges_twice_the_same",  # make test: the linear solve's same bits, its cause
     "test_model_reduction.py::test_axisymmetric_section_is_the_octants_limit",
     "test_slab.py::test_regularized_friction_methods_converge_over_mu[compliance]",  # make test: [cross]
     "test_slab.py::test_regularized_friction_methods_converge_over_mu[auglag]",

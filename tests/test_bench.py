@@ -261,3 +261,64 @@ def test_reduction_only_refuses_a_scene_without_rows(capsys):
         assert err.count("\n") == 1 and "block" in err and "sphere" in err
     else:
         assert err == ""
+
+
+def test_oring_bench_entries_are_what_the_grid_offers_on_the_mixed_ring(tmp_path):
+    """The O-ring's benchmark: every K-type method the capability grid offers on the axisymmetric P2 mixed section
+    with Gauss points, the accuracy rows over the mesh size, the stability map at the whole load with the scene's
+    quadrature, and the locking runs: every variant and the reference at every nu, the reference finer."""
+    from fenics_contact.app.scenes import oring
+    from fenics_contact.capabilities import supported
+
+    s = bench.spec("oring")
+    axes = dict(kind="rigid", dim=2, degree=2, model="neohookean-mixed", geometry="axisymmetric")
+    offered = {m for m in methods.names() if methods.get(m).sweep.kind != "once" and m != "compliance"
+               and supported(method=m, quadrature="gauss", **axes)}
+    assert set(s["methods"]) == offered
+    runs = bench.sweep("oring", quick=True)
+    assert sorted({r["refinement"] for r in runs}) == [0.07, 0.1]
+    assert all(supported(method=r["method"], quadrature=r["quadrature"], **axes) for r in runs)
+    stab = bench.stability_sweep("oring", quick=True)
+    assert stab and all(r["quadrature"] == "gauss" for r in stab)
+    cmd = bench.command("oring", stab[0], tmp_path)
+    assert cmd[len(cmd) - 1 - cmd[::-1].index("--squeeze") + 1] == repr(oring.SQUEEZE)  # the map's load wins
+    lk = s["locking"]
+    locking = bench.locking_runs("oring")
+    assert len(locking) == len(lk["nu"]) * (len(lk["variants"]) + 1)
+    for r in locking:
+        cmd = bench.command("oring", r, tmp_path)
+        assert cmd[len(cmd) - 1 - cmd[::-1].index("--nu") + 1] == repr(r["nu"])
+    h = {r["variant"]: float(r["args"][len(r["args"]) - 1 - r["args"][::-1].index("--h") + 1]) for r in locking}
+    assert h[lk["reference"][0]] < min(v for k, v in h.items() if k != lk["reference"][0])
+    # the reference is a variant of a method (auglag with augmentations): the findings' ratios are to its run
+    assert bench.reference_method("oring") == ("auglag augmented", "auglag augmented")
+    text = bench.findings("oring", [_row("penalty", 1e7, 0.02, 0.1), _row("auglag", 1e6, 0.01, 0.4, augment=10)])
+    assert "| 0 | 100 | penalty | K 1e+07 | 0.02 | 0 | 3 | 0 | 0.100 | 1.0 | 0.25 |" in text
+
+
+def test_locking_errors_are_against_the_reference_at_the_same_nu(tmp_path):
+    """The locking table: each variant's figures against the reference run at its own nu; a failed run is named,
+    never an error figure; the rows survive the CSV."""
+
+    lk = bench.spec("oring")["locking"]
+    (v1, _), (v2, _), (v3, _) = lk["variants"]
+    ref = lk["reference"][0]
+    rows = []
+    for nu, scale in ((0.45, 1.0), (0.4999, 2.0)):
+        rows += [dict(_row("penalty", 1e6, 0.0, 1.0), variant=ref, nu=nu, force_bore=10.0 * scale, p0_bore=100.0),
+                 dict(_row("penalty", 1e6, 0.0, 1.0), variant=v1, nu=nu, force_bore=11.0 * scale, p0_bore=150.0),
+                 dict(_row("penalty", 1e6, 0.0, 1.0), variant=v2, nu=nu, force_bore=10.0 * scale, p0_bore=100.0),
+                 dict(_row("penalty", 1e6, 0.0, 1.0, converged=False), variant=v3, nu=nu, force_bore=0.0,
+                      p0_bore=0.0, failure_kind="divergence")]
+    csv_path = tmp_path / f"locking{MPI.COMM_WORLD.rank}.csv"
+    bench.write_rows(rows, csv_path, csv_path.with_suffix(".json"))
+    back = bench.read_rows(csv_path)
+    err = {(r["variant"], r["nu"]): r for r in bench.locking_errors(back, "oring")}
+    assert err[(v1, 0.4999)]["force_bore_error"] == pytest.approx(0.1)  # 22 against 20, not against 10
+    assert err[(v1, 0.45)]["p0_bore_error"] == pytest.approx(0.5)
+    assert err[(v2, 0.4999)]["force_bore_error"] == 0.0
+    assert math.isnan(err[(v3, 0.45)]["force_bore_error"])
+    text = bench.locking_table(back, "oring")
+    line = next(t for t in text.splitlines() if t.startswith(f"| {v3} |"))
+    assert line.count("failed (divergence)") == 2
+    assert "10.0% / 50.0%" in next(t for t in text.splitlines() if t.startswith(f"| {v1} |"))

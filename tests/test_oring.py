@@ -15,7 +15,7 @@ from mpi4py import MPI
 import fenics_contact as fc
 from fenics_contact.app.scenes import build, oring
 
-COARSE = dict(h=0.125, h_far=0.25)  # 8 cells across the cord's diameter on its circle: the normal lane's size
+COARSE = dict(h=0.125)  # 8 cells across the cord's diameter on its circle: the normal lane's size
 
 
 def solve(comm=MPI.COMM_WORLD, law=None, **kw) -> list[dict]:
@@ -76,7 +76,7 @@ def test_peak_contact_stress_is_hertz_at_10_percent_and_converges():
     the peak and the contact width at 10, 20, 30 % change by less than 2 %, 5 % and 10 % between the two meshes
     (the width is resolved to about one element)."""
     coarse = solve(pressure=0.0)
-    fine = solve(pressure=0.0, h=oring.H / 2, h_far=oring.H_FAR / 2)
+    fine = solve(pressure=0.0, h=oring.H / 2)
     for run in (coarse, fine):
         assert abs(run[0]["p0_bore"] / run[0]["p0_hertz"] - 1) <= 2e-2, run[0]
     for c, f in zip(coarse, fine):
@@ -90,7 +90,8 @@ def test_refusals():
     law = fc.make_law("penalty", K=1e5)
     for kw, match in ((dict(squeeze=0.6), "squeeze must be in"), (dict(gland_width=0.9), "gland_width must be above"),
                       (dict(pressure=-1.0), "pressure must be"), (dict(plane="stress"), "oring plane must be"),
-                      (dict(pressure_arc=85.0), "pressure_arc must be"), (dict(steps=0), "steps must be")):
+                      (dict(pressure_arc=85.0), "pressure_arc must be"), (dict(steps=0), "steps must be"),
+                      (dict(degree=3), "degree must be 1 or 2"), (dict(degree=1), "degree must be 1 or 2")):
         with pytest.raises(ValueError, match=match):
             build("oring", law=law, **kw)
 
@@ -112,6 +113,7 @@ def _demo():
     (["--method", "coulomb", "--mu", "0.2"], 1, ["coulomb", "axisymmetric"]),  # the grid: no coulomb in axisymmetry
     (["--method", "vi"], 1, ["vi", "axisymmetric"]),
     (["--model", "neohookean-mixed", "--quadrature", "nodal"], 1, ["nodal"]),  # P2: gauss or simpson
+    (["--degree", "1"], 1, ["degree", "neohookean-mixed"]),  # Taylor-Hood: P2 displacement
 ])
 def test_demo_refuses_bad_options_in_one_line(argv, code, words, capsys, tmp_path):
     """Bad options and refused combinations end before any solve: one line naming what was given, exit 2 (the

@@ -27,7 +27,8 @@ With ``stability`` in BENCH: ``<scene>_stability.csv|png|md`` (status -- converg
 failed with its kind --, Newton and Krylov iterations, condition estimate and distance from the
 augmentation limit over parameter x load steps, per method) and ``<scene>_stability_accuracy.png`` (that
 distance against K: the K each method needs, and whether it converges there); with ``reduction``:
-``<scene>_reduction.csv|md`` and, for all such scenes, ``model_reduction.md`` (one table).
+``<scene>_reduction.csv|md`` and, for all such scenes, ``model_reduction.md`` (one table); with ``locking``:
+``<scene>_locking.csv|md|png`` (the bulk models over Poisson's ratio, one contact method: :func:`locking`).
 """
 from __future__ import annotations
 
@@ -55,7 +56,7 @@ __all__ = [
     "command", "run_one", "run_all", "add_limit_gap", "bench", "report", "STABILITY_TITLE", "stability",
     "add_stability_limit", "stability_summary", "REDUCTIONS", "REDUCTION_HEADER", "reduction", "reduction_report",
     "reduction_table",
-    "plot_reduction",
+    "plot_reduction", "locking_runs", "locking_errors", "locking_table", "plot_locking", "locking_report", "locking",
     "write_rows",
     "read_rows", "findings", "convergence_findings", "pareto_front", "MARKERS", "figure",
     "plot_pareto", "plot_dofs", "plot_iterations", "KIND_SHORT", "plot_stability", "plot_stability_accuracy",
@@ -78,7 +79,10 @@ def reference_method(scene: str) -> tuple[str, str]:
     """The method the scene's runs are measured against (``BENCH['reference']``, default SNES VI) and its name in
     the findings."""
     ref = spec(scene).get("reference", "vi")
-    return ref, "SNES VI" if ref == "vi" else f"the exact {ref}" if methods.get(ref).sweep.kind == "once" else ref
+    if ref == "vi":
+        return ref, "SNES VI"
+    # a method, or a variant of one such as "auglag augmented" (its name is the method's and "augmented")
+    return ref, f"the exact {ref}" if ref in methods.names() and methods.get(ref).sweep.kind == "once" else ref
 
 
 def references() -> tuple[str, ...]:
@@ -169,16 +173,18 @@ def _offered(s: dict, run: dict) -> bool:
 
 
 def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
-    """Parameter x load steps on the coarsest mesh: penalty (K), cross and auglag augmented (K), nitsche
-    (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full). ``BENCH``'s
-    ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``, ``variants``: (method,
-    augmentations[, F_hat]) tuples, ``dtol``: the control runs with PETSc's divergence test (fewest load steps
+    """Parameter x load steps on the coarsest mesh, the scene's first quadrature: penalty (K), cross and auglag
+    augmented (K), nitsche (gamma0); K from the scene's K to 1e8 times it (quick) or 1e-2 to 1e8 times it (full).
+    ``BENCH``'s ``quick_stability`` may set the quick grid (``K`` exponents, ``steps``, ``gamma0``, ``variants``:
+    (method, augmentations[, F_hat]) tuples, ``dtol``: the control runs with PETSc's divergence test (fewest load steps
     only), ``skip``: (method, K exponent) pairs left out, e.g. a slow failure);
-    ``stability_variants``: the full grid's variants. Every run asks for the condition estimate of its last
-    Jacobian (direct solvers)."""
+    ``stability_variants``: the full grid's variants; ``stability_args``: demo options of the map's runs (after
+    ``demo_args``: they win, e.g. a heavier load than the accuracy rows'). Every run asks for the condition
+    estimate of its last Jacobian (direct solvers)."""
     s = spec(scene)
     K0 = s["K"]
     level = None if s.get("mesh") is None else s["mesh"][1]["quick"][0]
+    quad = s.get("quadratures", ["nodal"])[0]  # the scene's first (a P2 mixed scene refuses nodal)
     q = s.get("quick_stability", {})
     if quick:
         exps, steps = q.get("K", (0, 2, 4, 6, 8)), q.get("steps", (1, 4))
@@ -192,16 +198,17 @@ def stability_sweep(scene: str, quick: bool = False) -> list[dict]:
         for method, aug, *F in variants:
             F_hat = F[0] if F else 0.0
             label = {"label": f"{method} F^ = {F_hat:g}" + (" augmented" if aug else "")} if F_hat else {}
-            runs += [dict(run_config(method, K0 * 10.0**e, aug, "nodal", level, F_hat, steps=n), **label) for e in exps
+            runs += [dict(run_config(method, K0 * 10.0**e, aug, quad, level, F_hat, steps=n), **label) for e in exps
                      if not quick or (method, e) not in q.get("skip", ())]
-        runs += [run_config(m, g, 0, "nodal", level, steps=n) for m in methods.names()
+        runs += [run_config(m, g, 0, quad, level, steps=n) for m in methods.names()
                  if methods.get(m).sweep.kind == "gamma0" for g in gammas]
         # the control: penalty with PETSc's own divergence test (residual > 1e4 x the first one at any iterate stops
         # SNES; the solver's test also asks for growth), which stops every K-based method at its first iterate
         # when K is very large
-        runs += [dict(run_config("penalty", K0 * 10.0**e, 0, "nodal", level, steps=n), label=DTOL, args=PETSC_DTOL)
+        runs += [dict(run_config("penalty", K0 * 10.0**e, 0, quad, level, steps=n), label=DTOL, args=PETSC_DTOL)
                  for e in exps                 if q.get("dtol", True) and n == steps[0]]
-    return [dict(r, args=[*r.get("args", []), "-fc_condition_estimate"]) for r in runs if r["method"] in s["methods"]]
+    return [dict(r, args=[*s.get("stability_args", []), *r.get("args", []), "-fc_condition_estimate"]) for r in runs
+            if r["method"] in s["methods"]]
 
 
 def status(row: dict) -> str:
@@ -529,6 +536,126 @@ def reduction_table(rows: Sequence[dict], keys: Sequence[str]) -> tuple[str, lis
     return "\n".join(lines) + "\n", table
 
 
+# Volumetric locking: a scene's BENCH["locking"]: ``method`` (one contact method, its K the scene's), ``quadrature``,
+# ``nu`` (the ratios), ``figures`` (summary keys), ``variants`` (label, demo options: the bulk models and degrees
+# compared), ``reference`` (label, demo options: the run each variant is measured against at the same ``nu``, e.g.
+# the mixed model on a fine mesh), ``args`` (demo options of every run). Each run is a fresh serial demo process.
+
+
+def locking_runs(scene: str) -> list[dict]:
+    """The locking runs of ``scene``: every variant and the reference at every ``nu``, each a
+    :func:`run_config` with its ``variant`` (the label of its variant), ``nu``, demo
+    options ``args`` and a ``label`` naming both (its run's folder)."""
+    s = spec(scene)
+    lk = s["locking"]
+    out = []
+    for nu in lk["nu"]:
+        for label, args in (*lk["variants"], lk["reference"]):
+            cfg = run_config(lk["method"], s["K"], 0, lk["quadrature"])
+            out.append(dict(cfg, label=f"{label}, nu = {nu:g}", variant=label, nu=nu,
+                            args=[*lk.get("args", []), *args, "--nu", repr(nu)]))
+    return out
+
+
+def locking_errors(rows: Sequence[dict], scene: str) -> list[dict]:
+    """Per run but the references: its figures' relative errors against the reference run at the same ``nu``
+    (``<figure>_error``; NaN where either did not converge)."""
+    lk = spec(scene)["locking"]
+    ref_label = lk["reference"][0]
+    refs = {r["nu"]: r for r in rows if r["variant"] == ref_label}
+    out = []
+    for r in rows:
+        if r["variant"] == ref_label:
+            continue
+        ref = refs.get(r["nu"])
+        e = {}
+        for f in lk["figures"]:
+            ok = r["converged"] and ref is not None and ref["converged"] and ref[f]
+            e[f"{f}_error"] = abs(r[f] - ref[f]) / abs(ref[f]) if ok else float("nan")
+        out.append({**r, **e})
+    return out
+
+
+def locking_table(rows: Sequence[dict], scene: str) -> str:
+    """Markdown: per variant (rows) and ``nu`` (columns) the errors of the figures against the reference, the
+    Newton iterations and the solver time; then the reference's figures."""
+    lk = spec(scene)["locking"]
+    nus = list(lk["nu"])
+    figs = lk["figures"]
+    head = "| model | " + " | ".join(f"nu = {nu:g}" for nu in nus) + " |"
+    lines = [f"Errors of {' / '.join(figs)} against {lk['reference'][0]} at the same nu; Newton iterations, "
+             "solver time [s]. Method " + f"{lk['method']}, {lk['quadrature']}.", "", head,
+             "|---|" + "---|" * len(nus)]
+    err = locking_errors(rows, scene)
+    for label, _ in lk["variants"]:
+        cells = []
+        for nu in nus:
+            r = next((x for x in err if x["variant"] == label and x["nu"] == nu), None)
+            if r is None:
+                cells.append("-")
+            elif not r["converged"]:
+                cells.append(f"failed ({r.get('failure_kind') or 'exit'})")
+            else:
+                cells.append(" / ".join(f"{r[f + '_error']:.1%}" for f in figs)
+                             + f"; {r['newton_iterations']} it, {r['wall_time_s']:.2g} s")
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    refs = {r["nu"]: r for r in rows if r["variant"] == lk["reference"][0]}
+    lines.append(f"| {lk['reference'][0]}: " + " / ".join(figs) + " | " + " | ".join(
+        " / ".join(f"{refs[nu][f]:.5g}" for f in figs) if nu in refs and refs[nu]["converged"] else "failed"
+        for nu in nus) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def plot_locking(rows: Sequence[dict], scene: str, path: str | Path) -> None:
+    """The errors of each variant's figures against ``1 - 2 nu`` (log-log; one colour per variant, a marker per
+    figure); failed runs as red crosses at the top."""
+    lk = spec(scene)["locking"]
+    fig, ax = figure()
+    err = locking_errors(rows, scene)
+    finite = [r[f + "_error"] for r in err for f in lk["figures"] if not math.isnan(r[f + "_error"])]
+    top = max(finite, default=1.0) * 2
+    for k, (label, _) in enumerate(lk["variants"]):
+        rs = sorted((r for r in err if r["variant"] == label), key=lambda r: -r["nu"])
+        for f, m in zip(lk["figures"], "os^D"):
+            ok = [r for r in rs if not math.isnan(r[f + "_error"])]
+            ax.plot([1 - 2 * r["nu"] for r in ok], [max(r[f + "_error"], ERROR_FLOOR) for r in ok],
+                    color=f"C{k}", marker=m, ls="-", label=f"{label}: {f}")
+        bad = [r for r in rs if not r["converged"]]
+        ax.plot([1 - 2 * r["nu"] for r in bad], [top] * len(bad), ls="", marker="x", color="red", ms=10, mew=2)
+    if any(not r["converged"] for r in err):
+        ax.plot([], [], ls="", marker="x", color="red", ms=10, mew=2, label="failed (drawn at the top)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.invert_xaxis()  # toward incompressibility to the right
+    ax.set_xlabel("1 - 2 nu [-] (0: incompressible)")
+    ax.set_ylabel(f"relative error against {lk['reference'][0]} [-]")
+    ax.set_title(f"{scene}: locking of the displacement-only models", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    fig.savefig(path, dpi=100)
+
+
+def locking_report(scene: str, rows: Sequence[dict], out: str | Path, pictures: bool = True) -> str:
+    """``<scene>_locking.md`` (and ``.png``) from ``rows``; returns the table."""
+    out = Path(out)
+    text = locking_table(rows, scene)
+    (out / f"{scene}_locking.md").write_text(text)
+    if pictures:
+        plot_locking(rows, scene, out / f"{scene}_locking.png")
+    return text
+
+
+def locking(scene: str, out: str | Path, quiet: bool = False, timeout: float = 600.0,
+            pictures: bool = True) -> list[dict]:
+    """Run :func:`locking_runs` into ``out/<scene>/``; write ``<scene>_locking.csv``, ``.json``, ``.md`` and ``.png``
+    (:func:`read_rows` reads the ``.csv`` back)."""
+    out = Path(out)
+    rows = run_all(scene, out, locking_runs(scene), quiet, timeout, tag=" locking")
+    write_rows(rows, out / f"{scene}_locking.csv", out / f"{scene}_locking.json")
+    report(scene, rows, out, pictures)
+    return rows
+
+
 def write_rows(rows: Sequence[dict], csv_path: Path, json_path: Path) -> None:
     columns = COLUMNS + [k for k in dict.fromkeys(k for r in rows for k in r) if k not in COLUMNS]
     with open(csv_path, "w", newline="") as f:
@@ -544,7 +671,7 @@ def read_rows(csv_path: str | Path) -> list[dict]:
     """The rows of a ``<scene>.csv`` with their types back."""
     ints = {"augment", "dofs", "newton_iterations", "linear_iterations", "augmentations", "cutbacks", "snes_reason",
             "stalled_solves"}
-    texts = {"scene", "method", "quadrature", "label", "failure_kind", "status"}
+    texts = {"scene", "method", "quadrature", "label", "variant", "failure_kind", "status"}
     rows = []
     with open(csv_path, newline="") as f:
         for r in csv.DictReader(f):
@@ -584,7 +711,7 @@ def findings(scene: str, rows: Sequence[dict]) -> str:
     headline = []
     for level in dict.fromkeys(r["refinement"] for r in rows):
         here = [r for r in ok if r["refinement"] == level]
-        vi = next((r for r in here if r["method"] == ref), None)
+        vi = next((r for r in here if ref in (r["method"], _variant(r))), None)
         for variant in dict.fromkeys(_variant(r) for r in here):
             runs = [r for r in here if _variant(r) == variant]
             within = [r for r in runs if r["error"] <= target]
@@ -738,7 +865,7 @@ def plot_pareto(rows: Sequence[dict], path: str | Path, title: str = "") -> None
     if ok and "reference" in spec(ok[0]["scene"]):  # the scene's exact method: its error and time on each mesh
         ref, ref_name = reference_method(ok[0]["scene"])
         for r, ti, ei in zip(ok, t, e):
-            if r["method"] == ref:
+            if ref in (r["method"], _variant(r)):
                 mesh = "" if r["refinement"] is None else f", mesh {r['refinement']}"
                 ax.axhline(ei, color=_colour(ref), ls="--", lw=1.0, zorder=0,
                            label=f"{ref_name}{mesh}: error {r['error']:.2g} in {ti:.3g} s")
@@ -996,6 +1123,7 @@ def _sweep(argv: Sequence[str]) -> None:
     p.add_argument("--charts-only", action="store_true", help="redraw charts and findings from <out>/<scene>.csv")
     p.add_argument("--no-stability", action="store_true", help="skip the stability maps")
     p.add_argument("--no-reduction", action="store_true", help="skip the model-reduction tables")
+    p.add_argument("--no-locking", action="store_true", help="skip the locking maps (bulk models over nu)")
     p.add_argument("--reduction-only", action="store_true",
                    help="the model-reduction tables alone (no sweep, no stability map)")
     p.add_argument("--quiet", action="store_true", help="no line per run")
@@ -1027,6 +1155,8 @@ def _sweep(argv: Sequence[str]) -> None:
                 plot_stability(st, out / f"{scene}_stability.png", title=STABILITY_TITLE.format(scene=scene))
                 plot_stability_accuracy(st, out / f"{scene}_stability_accuracy.png",
                                         title=f"{scene}: the K each method needs, and whether it converges there")
+            if s.get("locking") and (out / f"{scene}_locking.csv").exists():
+                locking_report(scene, read_rows(out / f"{scene}_locking.csv"), out)
             continue
         if args.reduction_only:
             reduced[scene] = reduction(scene, out, quiet=args.quiet, timeout=args.timeout)
@@ -1042,6 +1172,10 @@ def _sweep(argv: Sequence[str]) -> None:
             rows = stability(scene, out, args.quick, quiet=args.quiet)
             _say(f"{scene} stability map: {len(rows)} runs, {sum(not r['converged'] for r in rows)} failed -> "
                  f"{out / scene}_stability.csv, {scene}_stability.png")
+        if s.get("locking") and not args.no_locking:
+            rows = locking(scene, out, quiet=args.quiet, timeout=args.timeout)
+            _say(f"{scene} locking map: {len(rows)} runs, {sum(not r['converged'] for r in rows)} failed -> "
+                 f"{out / scene}_locking.csv, {scene}_locking.png\n" + (out / f"{scene}_locking.md").read_text())
         if s.get("reduction") and not args.no_reduction and scene in REDUCTIONS:
             reduced[scene] = reduction(scene, out, quiet=args.quiet)
             _say(f"{scene} model reduction:\n" + reduced[scene])

@@ -6,14 +6,14 @@
 
 Reads what :mod:`fenics_contact.app.bench` writes into its output folder (``run.json``: the machine, date,
 commit and command of the run, :mod:`~fenics_contact.app.run_record`; per scene ``<scene>_findings.md``,
-``<scene>_stability.md``, ``<scene>_reduction.md`` and the charts ``<scene>_*.png``) and, with ``--demos``, the
-``<demo>/summary.json`` of every demo in that folder (their checks against the scenes' references). Writes
-``<scene>.md`` with the charts copied next to them and ``index.md`` (the runs' headers, a page per scene, the
-model-reduction rows of every page, the demos' checks). Every page starts with the header: machine (CPU model,
-cores, memory, from /proc), date, commit, command. ``--add``: the pages of scenes the results do not hold are
-kept, and a scene whose model-reduction rows alone were rerun (``bench --reduction-only``) keeps its page with
-that section replaced (headed by its own run). The pages hold numbers only; docs/benchmarks.md explains how to
-read them.
+``<scene>_stability.md``, ``<scene>_locking.md``, ``<scene>_reduction.md`` and the charts ``<scene>_*.png``)
+and, with ``--demos``, the ``<demo>/summary.json`` of every demo in that folder (their checks against the scenes'
+references). Writes ``<scene>.md`` with the charts copied next to them and ``index.md`` (the runs' headers, a
+page per scene, the model-reduction rows of every page, the demos' checks). Every page starts with the header:
+machine (CPU model, cores, memory, from /proc), date, commit, command. ``--add``: the pages of scenes the results do
+not hold are kept, and a scene whose model-reduction rows alone were rerun (``bench --reduction-only``) keeps its
+page with that section replaced (headed by its own run). The pages hold numbers only; docs/benchmarks.md explains
+how to read them.
 """
 from __future__ import annotations
 
@@ -30,10 +30,10 @@ from .run_record import read_runs
 
 __all__ = ["header", "time_split", "reduction_section", "scene_page", "demo_checks", "write_pages", "main"]
 
-CHARTS = ("pareto", "dofs", "iterations", "stability", "stability_accuracy")
+CHARTS = ("pareto", "dofs", "iterations", "stability", "stability_accuracy", "locking")
 CHART_TITLES = {"pareto": "Error against solver time", "dofs": "Error against dofs",
                 "iterations": "Newton iterations against K", "stability": "Stability map",
-                "stability_accuracy": "The K each method needs"}
+                "stability_accuracy": "The K each method needs", "locking": "Locking against Poisson's ratio"}
 
 
 def header(run: dict) -> str:
@@ -108,7 +108,7 @@ def _replace_reduction(page: str, section: list[str]) -> str:
 
 
 def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
-    """The page of one scene: findings, time split (two bodies), stability summary, model reduction and charts
+    """The page of one scene: findings, time split (two bodies), stability summary, locking, model reduction and charts
     (copied into ``out``)."""
     lines = [f"# {scene}", "", header(run)]  # the run that produced this scene's results
     lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
@@ -117,6 +117,7 @@ def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
         lines += ["## Where the time goes", "", "The fastest converged run of each method and quadrature; times in s.",
                   "", split]
     lines += _section("Stability over the parameter and the load steps", results / f"{scene}_stability.md")
+    lines += _section("Locking: the bulk models over Poisson's ratio", results / f"{scene}_locking.md")
     lines += reduction_section(scene, results, out)
     for chart in CHARTS:
         png = results / f"{scene}_{chart}.png"

@@ -1,5 +1,6 @@
-"""The linear solver inside the Newton iteration: field split and Schur complement, near-nullspace, renewal of
-the preconditioner on a new sparsity pattern, growth of MUMPS's work arrays, and the time of one linear solve."""
+"""The linear solver inside the Newton iteration: field split and Schur complement, near-nullspace, a repeatable LU
+on several ranks, renewal of the preconditioner on a new sparsity pattern, growth of MUMPS's work arrays, and the
+time of one linear solve."""
 from __future__ import annotations
 
 import logging
@@ -11,6 +12,7 @@ from petsc4py import PETSc
 
 from .. import failure as _failure
 from ..capabilities import check, of
+from ..compat import redundant_ksp
 from ..nullspace import rigid_body_modes
 from ..problem import ContactProblem
 from .options import MULTIGRID, ScopedOptions, read_at_setup
@@ -47,6 +49,30 @@ class LinearSolver:
             modes = rigid_body_modes(u.function_space)
             A.setNearNullSpace(modes)
             modes.destroy()  # A holds its own reference
+        self.repeatable_lu()
+
+    def repeatable_lu(self) -> None:
+        """On several ranks, make the SNES's MUMPS LU a ``redundant`` preconditioner: every rank factors and solves
+        the whole matrix with sequential MUMPS (the same options prefix, so ``mat_mumps_*`` options apply). MUMPS on
+        several ranks is asynchronous: its solve phase sums the contributions of the ranks in the order they
+        arrive, so the same factorization of the same matrix and right-hand side gives solutions that differ in
+        the last bits from run to run (2-3 distinct ones in 300 solves of a 920-dof wedges Jacobian on 2 ranks).
+        A Newton path that decides stick or slip, open or closed, on such bits then takes another branch (wedges
+        on 2 ranks: 18 and 21 iterations in one step of two runs). Sequential MUMPS is repeatable; the price is
+        the factorization's memory of one rank on every rank. The option ``distributed_lu`` (``options=
+        {"distributed_lu": True}``, ``-fc_distributed_lu``) keeps MUMPS distributed: less memory per rank, not
+        repeatable to the last bit. Call inside ``options.active()``."""
+        distributed = self.options.get_bool("distributed_lu", False)  # read on any number of ranks: used
+        pc = self.ksp.getPC()
+        if distributed or self.problem.comm.size == 1 or pc.getType() != "lu" or pc.getFactorSolverType() != "mumps":
+            return
+        prefix = pc.getOptionsPrefix() or ""
+        pc.setType("redundant")  # as many sub-communicators as ranks: one rank each
+        inner = redundant_ksp(pc)
+        inner.setOptionsPrefix(prefix)
+        inner.setType("preonly")
+        inner.getPC().setType("lu")
+        inner.getPC().setFactorSolverType("mumps")
 
     def split_fields(self, pc: PETSc.PC | None = None) -> None:
         """Give a ``fieldsplit`` preconditioner (default: the SNES's) the index sets of the contact that

@@ -84,7 +84,7 @@ LINEAR_SOLVERS = {
 
 
 # Options the solver reads itself, not PETSc's objects (Solver.summary: the condition estimate of the last Jacobian).
-OWN_OPTIONS = ("condition_estimate",)
+OWN_OPTIONS = ("condition_estimate", "distributed_lu")
 # PETSc options often given (without prefix), besides the library's own: the candidates of "did you mean" for a
 # misspelt one.
 COMMON_OPTIONS = ("snes_atol", "snes_monitor", "snes_converged_reason", "snes_view", "snes_linesearch_monitor",

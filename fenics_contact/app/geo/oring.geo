@@ -2,13 +2,11 @@
 // Open in the gmsh GUI, or mesh with `gmsh -2 oring.geo`. Physical names: "cord" (the surface), "surface" (the
 // circle). The points at the angles -90 +- alpha (degrees from the +x axis) are vertices: the ends of the arc the
 // fluid pressure acts on (the scene tags it).
-// Parameters: h (size on the circle), h_far (size at the centre), alpha (half-angle of the pressurised arc,
-// degrees).
-DefineConstant[ h = {0.0625, Name "Parameters/h"}, h_far = {0.1667, Name "Parameters/h_far"},
-                alpha = {40.0, Name "Parameters/alpha"} ];
+// Parameters: h (the mesh size), alpha (half-angle of the pressurised arc, degrees).
+DefineConstant[ h = {0.0625, Name "Parameters/h"}, alpha = {40.0, Name "Parameters/alpha"} ];
 r = 0.5;
 a = alpha * Pi / 180;
-Point(1) = {0, 0, 0, h_far};
+Point(1) = {0, 0, 0, h};  // the centre: not a vertex of the mesh
 Point(2) = {r, 0, 0, h};
 Point(3) = {0, r, 0, h};
 Point(4) = {-r, 0, 0, h};

@@ -36,10 +36,12 @@ nu^2)``): Hertz's half-width ``a = sqrt(4 P R / (pi E*))`` and peak ``p0 = 2 P /
 ``P`` per unit length, and Johnson's approach of the centre of a compressed cylinder, ``squeeze d / 2 = (a^2 /
 4R) (2 ln(4R/a) - 1)`` with ``P = pi E* a^2 / (4R)`` (K. L. Johnson, Contact Mechanics, 1985, section 4.2 and
 eq. 5.36; :func:`~fenics_contact.app.scenes.hertz.hertz`,
-:func:`~fenics_contact.app.scenes.hertz.approach_half_width`). Kim et al. (Engineering Failure Analysis 14, 2007,
-1680-1692) found the normalised FE contact-stress profiles of a compressed O-ring to follow Hertz's; Green &
-English (14th Int. Conf. on Fluid Sealing, BHR Group, 1994) computed axisymmetric hyperelastic O-rings up to 32 %
-squeeze (peak contact stress and contact width against squeeze).
+:func:`~fenics_contact.app.scenes.hertz.approach_half_width`); ``p0_error`` and ``width_error``: the bore's peak
+and width against Hertz's for its force, ``force_error``: its force against Johnson's for the squeeze
+(relative). Kim et al. (Engineering Failure Analysis 14, 2007, 1680-1692) found the normalised FE
+contact-stress profiles of a compressed O-ring to follow Hertz's; Green & English (14th Int. Conf. on Fluid Sealing, BHR
+Group, 1994) computed axisymmetric hyperelastic O-rings up to 32 % squeeze (peak contact stress and contact width
+against squeeze).
 """
 from __future__ import annotations
 
@@ -63,8 +65,8 @@ from ..meshes import cord_section
 from . import Option, Setup, poisson, positive
 from .hertz import approach_half_width, contact_half_width, hertz
 
-__all__ = ["D", "E", "NU", "DEFAULT_K", "OMEGA_T", "SQUEEZE", "PRESSURE", "PLANES", "SPRING", "WALLS", "OPTIONS",
-           "build", "references"]
+__all__ = ["D", "E", "NU", "DEFAULT_K", "OMEGA_T", "SQUEEZE", "PRESSURE", "PLANES", "SPRING", "WALLS", "BENCH",
+           "OPTIONS", "build", "references"]
 
 D, E, NU = 1.0, 1000.0, 0.4999
 R_IN = 5.0  # the groove bottom's radius, per d (ring inner diameter 10 d)
@@ -72,7 +74,7 @@ GLAND_WIDTH = 1.5  # per d: the squeezed cord clears the side walls up to 30 % s
 SQUEEZE = 0.3  # of d
 PRESSURE = 0.1  # per E
 PRESSURE_ARC = 40.0  # degrees about -z
-H, H_FAR = 1.0 / 16, 1.0 / 6  # mesh sizes on the circle and at the centre, per d
+H = 1.0 / 16  # the mesh size, per d
 OMEGA_T = 1.0  # the demo's stick penalty per E / h with friction (100 E / h, the normal K, diverges from the start)
 DEFAULT_K = 100.0  # penalty per E / h: the penetration ~1e-3 d, below the P2 chords' own sag (max_penetration)
 SPRING = 1e-6  # per E / d^2, while squeezed (module docstring)
@@ -82,6 +84,28 @@ PLANES = (AXISYMMETRIC, "strain")
 # points per cell, several times the cost for figures that agree to 0.4 %: measured on the default mesh)
 QUADRATURE_DEGREE = 4
 WALLS = ("bottom", "bore", "upstream", "side")  # the groove bottom, the bore, the pressurised side's wall, the other
+# The benchmark's view (fenics_contact.app.bench): the methods the capability grid offers on the mixed P2 ring with
+# Gauss points (lagrange, penalty_multiplier and nitsche refuse a mixed model, vi the ring's 2 pi r; compliance, a
+# law of the interface, is left out as on hertz). The accuracy rows: 10 % squeeze in one step, no pressure (the
+# closest to Hertz's range), h = 0.1 d and 0.07 d (quick), 0.05 d (full); error: the bore's p0 against Hertz's for its
+# force (Hertz's own error at a/R = 0.32 is ~(a/R)^2/4 = 2.6 %: the target). The stability map: the whole load (30 %
+# squeeze, then the pressure) on 0.1 d. The locking map (bench.locking): P1 and P2
+# displacement-only neo-Hookean and the mixed model on 0.07 d, each against the mixed model on 0.04 d at its nu.
+BENCH = {"error": "p0_error", "value": "p0_bore", "target": 0.03, "K": 1e6, "reference": "auglag augmented",
+         "figures": ["force_bore", "force_error", "width_bore", "width_error", "p0_hertz", "force_side"],
+         "mesh": ("h", {"quick": [0.1, 0.07], "full": [0.1, 0.07, 0.05]}), "methods": ["penalty", "cross", "auglag"],
+         "axes": {"kind": "rigid", "dim": 2, "degree": 2, "model": "neohookean-mixed", "geometry": AXISYMMETRIC},
+         "quadratures": ["gauss"], "demo_args": ["--squeeze", "0.1", "--steps", "1", "--pressure", "0"],
+         "quick_sweep": {"penalty": (0, 1), "other": (0,)},
+         "stability": True, "stability_args": ["--squeeze", repr(SQUEEZE), "--pressure", repr(PRESSURE * E)],
+         "quick_stability": {"K": (0, 2, 4), "steps": (1, 3), "gamma0": (), "dtol": False,
+                             "variants": (("penalty", 0), ("cross", 10), ("auglag", 10))},
+         "locking": {"method": "penalty", "quadrature": "gauss", "nu": (0.45, 0.49, 0.499, 0.4999),
+                     "figures": ("force_bore", "p0_bore"), "args": ["--h", "0.07"],
+                     "variants": (("P1 displacement (neohookean)", ["--model", "neohookean", "--degree", "1"]),
+                                  ("P2 displacement (neohookean)", ["--model", "neohookean"]),
+                                  ("P2-P1 mixed (neohookean-mixed)", [])),
+                     "reference": ("P2-P1 mixed, h = 0.04 d", ["--h", "0.04"])}}
 
 OPTIONS = {
     "d": Option("cord diameter of the O-ring's cross-section (length)"),
@@ -96,7 +120,6 @@ OPTIONS = {
     "pressure_arc": Option(f"half-angle of the arc the pressure acts on, about -z (degrees; default "
                            f"{PRESSURE_ARC:g})", (5.0, 80.0)),
     "h": Option(f"mesh size on the cord's surface (length; default: d / {1 / H:g})"),
-    "h_far": Option(f"mesh size at the cord's centre (length; default: d / {1 / H_FAR:g})"),
 }
 
 
@@ -110,6 +133,11 @@ def references(squeeze: float, force: float, d: float, E: float, nu: float) -> d
     Es = E / (1 - nu**2)
     return {"width_hertz": 2 * a, "p0_hertz": p0, "force_johnson": math.pi * Es * a_j**2 / (4 * R),
             "width_johnson": 2 * a_j}
+
+
+def _relative(value: float, reference: float) -> float:
+    """``|value - reference| / reference``; NaN for a zero reference."""
+    return abs(value - reference) / reference if reference > 0 else float("nan")
 
 
 def _profile_width(s: np.ndarray, p: np.ndarray) -> float:
@@ -128,21 +156,24 @@ def _profile_width(s: np.ndarray, p: np.ndarray) -> float:
 
 def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_steps: int = 2,
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "neohookean-mixed", plane: str = AXISYMMETRIC,
-          d: float = D, r_in: float | None = None, E: float = E, nu: float = NU, squeeze: float = SQUEEZE,
-          gland_width: float | None = None, pressure: float | None = None, pressure_arc: float = PRESSURE_ARC,
-          h: float | None = None, h_far: float | None = None) -> Setup:
+          degree: int = 2, d: float = D, r_in: float | None = None, E: float = E, nu: float = NU,
+          squeeze: float = SQUEEZE, gland_width: float | None = None, pressure: float | None = None,
+          pressure_arc: float = PRESSURE_ARC, h: float | None = None) -> Setup:
     """``steps`` squeeze steps up to ``squeeze`` (t in (0, 1]), then ``pressure_steps`` pressure steps (t in
     (1, 2]; none if ``pressure`` is 0); ``plane``: ``axisymmetric`` or ``strain``; ``model``: a bulk model of
-    :data:`~fenics_contact.models.MODELS` (P2: Taylor-Hood for the mixed ones). ``OPTIONS`` describes each
-    parameter; the module docstring the model."""
+    :data:`~fenics_contact.models.MODELS` (P2: Taylor-Hood for the mixed ones); ``degree``: the displacement's
+    (1 or 2; the mixed models take 2 only). ``OPTIONS`` describes each parameter; the module docstring the
+    model."""
     if plane not in PLANES:
         raise ValueError(f"oring plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:
         raise ValueError(f"model must be one of {tuple(MODELS)}, got {model!r}")
+    if degree not in (1, 2) or (degree == 1 and MODELS[model].mixed):
+        raise ValueError(f"degree must be 1 or 2 (2 with the mixed model {model!r}), got {degree!r}")
     for name, n in (("steps", steps), ("pressure_steps", pressure_steps)):
         if int(n) != n or n < 1:
             raise ValueError(f"{name} must be an integer >= 1, got {n!r}")
-    positive(d=d, E=E, r_in=r_in, gland_width=gland_width, h=h, h_far=h_far)
+    positive(d=d, E=E, r_in=r_in, gland_width=gland_width, h=h)
     poisson(nu=nu)
     if not 0.01 <= squeeze <= 0.45:
         raise ValueError(f"squeeze must be in [0.01, 0.45], got {squeeze!r}")
@@ -156,11 +187,9 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     if w <= d:
         raise ValueError(f"gland_width must be above d = {d:g} (the cord fits the groove), got {w!r}")
     h = H * d if h is None else h
-    h_far = H_FAR * d if h_far is None else h_far
     rc = r_in + 0.5 * d
 
-    mesh, _, facets = cord_section(comm, d, (rc, 0.0), h, h_far, pressure_arc)
-    degree = 2
+    mesh, _, facets = cord_section(comm, d, (rc, 0.0), h, pressure_arc)
     u, V = unknown(mesh, degree, law, model=model)
     t = fem.Constant(mesh, 0.0)
     material = MODELS[model](E, nu, plane)
@@ -224,6 +253,10 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         for name in WALLS:
             out.update(wall_figures(name))
         ref = references(s, out["force_bore"], d, E, nu)
+        # the bore's figures against the references (relative; NaN before contact)
+        ref.update({"p0_error": _relative(out["p0_bore"], ref["p0_hertz"]),
+                    "width_error": _relative(out["width_bore"], ref["width_hertz"]),
+                    "force_error": _relative(out["force_bore"], ref["force_johnson"])})
         spring = spring_factor(float(t.value)) * np.hypot(*[comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM)
                                                              for f in spring_forms])
         total = out["force_bore"] * (2 * math.pi * (r_in + d - s * d) if plane == AXISYMMETRIC else 1.0)
@@ -245,7 +278,7 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     if p_fluid > 0:
         loads_t += [1.0 + (i + 1) / pressure_steps for i in range(int(pressure_steps))]
     params = {"d": d, "r_in": r_in, "E": E, "nu": nu, "squeeze": squeeze, "gland_width": w, "pressure": p_fluid,
-              "pressure_arc": pressure_arc, "h": h, "h_far": h_far, "plane": plane, "material": model,
+              "pressure_arc": pressure_arc, "h": h, "plane": plane, "material": model,
               "quadrature": quadrature, "degree": degree,
               "model": ("axisymmetric (r, z)" if plane == AXISYMMETRIC else "plane strain") + ": the cord's whole "
               "cross-section in a rigid rectangular gland"}
