@@ -26,7 +26,9 @@ TOLERANCE = 5e-2
 
 def main(argv=None) -> dict:
     # 1. Options: formulation, mesh level (about 1e4 to 1e6 dofs), linear solver.
-    p = cli.parser(__doc__.splitlines()[0], default_K=cli.scene_scaled(sphere.DEFAULT_K, sphere.build))
+    # default K: the scene's, scaled with E / R; on the meshed block E* / h_contact (it follows the mesh)
+    p = cli.parser(__doc__.splitlines()[0], default_K=lambda a: sphere.default_K(
+        a.E, a.R, a.nu, a.plate, a.level, a.size, a.plate_E, a.plate_nu))
     p.add_argument("--level", type=int, default=0, choices=range(len(sphere.LEVELS)),
                    help="mesh level: 0 to 3, about 1e4 to 1e6 dofs")
     p.add_argument("--steps", type=cli.COUNT, default=None, help="load steps (default: 1, or 2 with --load)")
