@@ -19,6 +19,9 @@ export OPENBLAS_NUM_THREADS=1
 export OMP_NUM_THREADS=1
 # each process's address space is capped (KiB): a run that grows is stopped with a MemoryError, not by the kernel
 MEM_CAP_KB ?= 4000000
+# make test-mpi-all: one process per rank runs every test, each rank holding a whole LU factorization (the
+# repeatable LU, docs/guide/parallel.md), the 3D studies' included
+MEM_CAP_ALL_KB ?= 6000000
 MPIRUN := mpirun -n $(NP)
 
 PYTEST := $(PY) -m pytest -q -p no:cacheprovider
@@ -90,7 +93,7 @@ test-mpi: setup
 	ulimit -v $(MEM_CAP_KB) && $(MPIRUN) $(PYTEST) -m "$(PARALLEL_LANE)" tests
 
 test-mpi-all: setup
-	ulimit -v $(MEM_CAP_KB) && $(MPIRUN) $(PYTEST) tests
+	ulimit -v $(MEM_CAP_ALL_KB) && $(MPIRUN) $(PYTEST) tests
 
 # Debian 13 (dolfinx 0.9) lane in a debootstrap root; `make test` skips it, saying so, where it cannot run.
 test-debian13: setup
