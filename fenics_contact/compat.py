@@ -3,7 +3,7 @@
 Chosen by feature checks (does the attribute exist), never by version
 strings. Other modules import dolfinx only for calls that are the same in
 all supported versions. C library calls too: glibc's (:func:`release_free_memory`) and the PETSc ones that
-petsc4py 3.18 does not wrap (:func:`schur_complement`, :func:`redundant_ksp`, :func:`petsc_library`).
+petsc4py 3.18 does not wrap (:class:`SchurFactor`, :func:`redundant_ksp`, :func:`petsc_library`).
 """
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ __all__ = [
     "function_space", "space_degree", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "compile_expression",
     "interpolate_expression", "vertex_expression", "evaluate_expression", "cell_sizes", "entities_to_geometry",
     "cell_dofs", "geometry_dofs", "cell_partitioner", "model_to_mesh", "create_mesh", "release_free_memory",
-    "schur_complement", "SchurFactor", "redundant_ksp", "petsc_library"
+    "SchurFactor", "redundant_ksp", "petsc_library"
 ]
 
 
@@ -324,16 +324,6 @@ def release_free_memory() -> None:
     every residual and Jacobian, it took that run's peak from 1.76 to 1.54 GB (a few ms per call)."""
     if _MALLOC_TRIM is not None:
         _MALLOC_TRIM(0)
-
-
-def schur_complement(A: PETSc.Mat, rows: np.ndarray) -> np.ndarray:
-    """The dense Schur complement ``A_cc - A_ci A_ii^-1 A_ic`` of the symmetric matrix ``A`` onto the global rows
-    and columns ``rows`` (in that order), on every process (:class:`SchurFactor`, destroyed after). Collective."""
-    factor = SchurFactor(A, rows)
-    try:
-        return factor.S
-    finally:
-        factor.destroy()
 
 
 class SchurFactor:

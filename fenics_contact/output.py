@@ -105,7 +105,8 @@ def _written(f: fem.Function) -> fem.Function:
     degree = compat.space_degree(V)
     if degree <= 1:
         return f
-    family = "DG" if "discontinuous" in element_family(V) or element_family(V) in ("dg", "dq") else "Lagrange"
+    discontinuous = element_family(V) in ("discontinuous lagrange", "dg", "dq")
+    family = "DG" if discontinuous else "Lagrange"
     return fem.Function(compat.function_space(V.mesh, family, 1, f.ufl_shape or None), name=f.name)
 
 

@@ -169,12 +169,12 @@ def test_two_identical_bodies_hertz_force_controlled():
 
 
 def test_schur_complement_is_the_dense_one():
-    """compat.schur_complement (MUMPS's partial factorization) against A_cc - A_ci A_ii^-1 A_ic in dense
+    """compat.SchurFactor's S (MUMPS's partial factorization) against A_cc - A_ci A_ii^-1 A_ic in dense
     algebra, rows in the order asked for (not sorted), on one process and, under mpirun, on a matrix distributed
     over all (gathered on rank 0: the same S on every rank)."""
     from petsc4py import PETSc
 
-    from fenics_contact.compat import schur_complement
+    from fenics_contact.compat import SchurFactor
 
     n, rows = 40, np.array([31, 3, 17, 8])
     rng = np.random.default_rng(0)
@@ -189,9 +189,13 @@ def test_schur_complement_is_the_dense_one():
         lo, hi = A.getOwnershipRange()
         A.setValues(range(lo, hi), range(n), D[lo:hi])
         A.assemble()
-        S = schur_complement(A, rows)
+        factor = SchurFactor(A, rows)
+        S = factor.S
+        factor.destroy()
         assert np.allclose(S, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max()), comm.size
-        assert schur_complement(A, np.zeros(0, np.int64)).shape == (0, 0)  # no contact dof: nothing to factor
+        empty = SchurFactor(A, np.zeros(0, np.int64))
+        assert empty.S.shape == (0, 0)  # no contact dof: nothing to factor
+        empty.destroy()
         A.destroy()
 
 
