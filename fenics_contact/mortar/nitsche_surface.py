@@ -16,7 +16,7 @@ from ..search import facet_normals
 from ..twobody_nitsche import NitscheTwoBody
 from .cell_stress import CellStress
 from .element import reference_measure
-from .nitsche_element import NDOF, segment_element, uncovered_element
+from .nitsche_element import segment_element, uncovered_element
 from .surface import SegmentSurface, _same
 
 __all__ = ["NitscheSegmentSurface"]
@@ -29,18 +29,20 @@ class NitscheSegmentSurface(SegmentSurface):
     :class:`~fenics_contact.materials.Materials` for two: the slave cell's).
 
     Raises:
-        ValueError: no material; a mesh that is not 2D P1 triangles.
+        ValueError: no material; a displacement that is not 2D degree 1 (triangles: :class:`FacetData`).
     """
 
     def __init__(self, u: fem.Function, facet_tags, slave_tag, master_tag, law, load, weight: float = 1.0,
                  radius: float | None = None, name: str = "twobody", material=None):
         if material is None:
             raise ValueError("method 'nitsche' needs the bulk material (material=...) for the surface stress")
+        V = u.function_space
+        if V.mesh.geometry.dim != 2 or V.ufl_element().degree() != 1:
+            raise ValueError(f"{name}: segment-to-segment Nitsche needs a 2D degree-1 displacement, got "
+                             f"dimension {V.mesh.geometry.dim}, degree {V.ufl_element().degree()}")
         self.material = material
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, weight, radius, name)
-        V, sd = self.V, self.slave_data
-        if self.gdim != 2 or sd.quadratic:
-            raise ValueError(f"{name}: segment-to-segment Nitsche is 2D with degree-1 triangles")
+        sd = self.slave_data
         self.stress = CellStress(material, u)
         # Per slave facet: its cell's vertices ordered (facet s0, facet s1, opposite), their reference
         # gradients, the local and global displacement dofs.
@@ -72,9 +74,9 @@ class NitscheSegmentSurface(SegmentSurface):
         N, G = self._N[facets], self._grad[facets]
         t = np.einsum("nkm,nm->nk", P, N)
         # dt_k/du_(a,i) = G_al D[i, l, k, m] N_m
-        T = np.einsum("nal,nilkm,nm->nkai", G, D, N).reshape(-1, 2, 6)
+        T = np.einsum("nal,nilkm,nm->nkai", G, D, N, optimize=True).reshape(-1, 2, 6)
         # d^2t_k/du_(a,i)du_(b,p) = G_al G_br D2[i, l, p, r, k, m] N_m
-        T2 = np.einsum("nal,nbr,nilprkm,nm->nkaibp", G, G, D2, N).reshape(-1, 2, 6, 6)
+        T2 = np.einsum("nal,nbr,nilprkm,nm->nkaibp", G, G, D2, N, optimize=True).reshape(-1, 2, 6, 6)
         return t, T, T2, float(self.constants["gamma0"].value) * Eh
 
     def _elements(self, points: bool = False):
@@ -99,7 +101,6 @@ class NitscheSegmentSurface(SegmentSurface):
         r0, K0 = uncovered_element(self._N[owned], t[owned], T[owned], T2[owned], gamma[owned], theta,
                                    self._Jf[owned], weight)
         r, K = np.concatenate([out[0], r0]), np.concatenate([out[1], K0])
-        assert r.shape[1] == NDOF
         if points:
             return (r, K, out[2]), dofs
         self._element_cache = (inputs, (r, K))
