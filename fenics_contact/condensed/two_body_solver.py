@@ -184,7 +184,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         rows; generalized Jacobian; state per slave vertex (0 open, 1 slip, in 2D -1 for a slip along -t, 2
         stick); ``R``. The Jacobian is the previous call's array with only the rows whose coefficients changed
         formed again (a row of a sticking or open vertex stays; the semismooth Newton's solver reads it before
-        the next call)."""
+        the next call, told which rows were formed)."""
         ns, has = self._ns, self._has
         R = self.S @ uc + self._r
         p, q = self._sNn @ R, self._by_vertex(self._sNt @ R)
@@ -213,6 +213,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
             J[on] = c * self._Gn_dense(on)
         if len(tangential):
             J[ns + tangential] = self._tangential_rows(tangential, v, coef, c)
+        self.linear.touched(None if cached is None or J is not cached[3] else np.concatenate([normal, ns + tangential]))
         self._jacobian = (c, active, coef, J)
         state = np.where(active, np.where(stick, 2, 1), 0)
         if has.shape[1] == 1:  # 2D: the slip direction too
