@@ -36,10 +36,10 @@ from .schur import SchurFactor
 __all__ = ["CondensedStiffness", "MAX_CONDENSED", "check_size"]
 
 # The largest condensed system held dense: S, the semismooth Newton's matrix, its inverse and the blocks of the
-# Jacobian are n_c x n_c arrays of 8 bytes on every rank (about 6 of them: 1.7 GB at 6000), and the Newton's
+# Jacobian are n_c x n_c arrays of 8 bytes on every rank (about 7 of them: 2 GB at 6000), and the Newton's
 # inverse costs O(n_c^3) (about 20 s at 6000 on one core). Beyond, the method is refused before any work.
 MAX_CONDENSED = 6000
-DENSE_ARRAYS = 6
+DENSE_ARRAYS = 7
 
 
 def check_size(n_c: int, where: str) -> None:

@@ -158,6 +158,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         Nt, Gt = (a.transpose(1, 0, 2).reshape(m * ns, nc) for a in (Nt, Gt))
         self._sNn, self._sNt, self._sM = (sparse.csr_matrix(a) for a in (Nn, Nt, M))
         self._sGn, self._sGt = sparse.csr_matrix(Gn), sparse.csr_matrix(Gt)
+        self._Gn, self._Gt = Gn, Gt  # dense too: the Jacobian's rows copy them (a sparse row copy costs more)
         self._blocks_of = None  # the S the Jacobian's fixed blocks were formed with
         self._jacobian = None  # the last Jacobian and its rows' coefficients (c, active, coef, J)
 
@@ -233,7 +234,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
                 out[on] += a[on, None] * self._PtS[k * ns + vr[on]]
             on = np.flatnonzero(b)
             if len(on):
-                out[on] += (sparse.diags(b[on]) @ self._sGt[k * ns + vr[on]]).toarray()
+                out[on] += b[on, None] * self._Gt[k * ns + vr[on]]
         on = np.flatnonzero(cr[:, 2 * m])
         if len(on):  # slipping: the disk's radius follows lam
             out[on] += cr[on, 2 * m, None] * (self._PnS[vr[on]] - c * self._Gn_dense(vr[on]))
@@ -241,7 +242,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
 
     def _Gn_dense(self, which: np.ndarray) -> np.ndarray:
         """Rows ``which`` (a mask or indices) of the normal kinematic map, dense."""
-        return self._sGn[np.flatnonzero(which) if which.dtype == bool else which].toarray()
+        return self._Gn[which]
 
     def _set_output(self, uc: np.ndarray, t: float) -> None:
         """Nodal forces, gaps (> 0 penetration; ``-radius`` unpaired), states and slip increments of every slave
