@@ -97,6 +97,54 @@ def _petsc_options_unchanged():
     assert not leaked, f"options left in PETSc's database: {leaked}"
 
 
+# --- PETSc objects a test drops ----------------------------------------------------------------------------
+# petsc4py (>= 3.18) does not destroy an object on a communicator when its last Python reference goes: it puts it on
+# that communicator's garbage list, freed by the collective PETSc.garbage_cleanup(comm). A mesh's communicator is
+# its own duplicate, freed with the mesh: a solver, surface or problem dropped without destroy() leaves its
+# matrices and factorizations on a list nothing can reach any more, resident to the end of the session (one
+# pytest process runs every test under mpirun). So every mesh a test's ContactProblem is built on is held until
+# the test ends, and its garbage is freed then; a mesh something still holds (a module's fixture) is kept to a
+# later test's end.
+_MESHES: list = []
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _hold_problem_meshes():
+    from fenics_contact.problem import ContactProblem
+
+    init = ContactProblem.__init__
+
+    def held(self, u, *args, **kwargs):
+        mesh = u.function_space.mesh
+        if not any(m is mesh for m in _MESHES):
+            _MESHES.append(mesh)
+        init(self, u, *args, **kwargs)
+
+    ContactProblem.__init__ = held
+    yield
+    ContactProblem.__init__ = init
+
+
+@pytest.fixture(autouse=True)
+def _free_dropped_petsc_objects(_hold_problem_meshes):
+    """After the test: the garbage of every held mesh's communicator freed; meshes nothing else holds let go.
+    Collective: every rank builds the same meshes in the same order (a mesh on a rank's own communicator
+    cleans on that rank alone)."""
+    import gc
+    import weakref
+
+    from petsc4py import PETSc
+
+    yield
+    gc.collect()
+    for mesh in _MESHES:
+        PETSc.garbage_cleanup(mesh.comm)
+    held = [weakref.ref(mesh) for mesh in _MESHES]
+    _MESHES.clear()
+    gc.collect()
+    _MESHES.extend(m for m in (r() for r in held) if m is not None)
+
+
 # --- lanes --------------------------------------------------------------------------------------------------
 # Which lane runs a test (Makefile): `make test-fast` runs what is neither `slow` nor `scene` (the library's
 # unit and closed-form tests, under 2 minutes), `make test` runs everything but `study` serially and, in
