@@ -145,6 +145,17 @@ def _free_dropped_petsc_objects(_hold_problem_meshes):
     _MESHES.extend(m for m in (r() for r in held) if m is not None)
 
 
+def pytest_runtest_logfinish(nodeid, location):
+    """With ``$FC_TEST_RSS`` set (a path prefix): each rank appends its resident memory (VmRSS, MB) after every
+    test to ``<prefix>.<rank>``, to find what a session accumulates."""
+    prefix = os.environ.get("FC_TEST_RSS")
+    if prefix:
+        with open("/proc/self/status") as status:
+            rss = next(int(line.split()[1]) for line in status if line.startswith("VmRSS:")) / 1024
+        with open(f"{prefix}.{MPI.COMM_WORLD.rank}", "a") as log:
+            log.write(f"{rss:9.1f} {nodeid}\n")
+
+
 # --- lanes --------------------------------------------------------------------------------------------------
 # Which lane runs a test (Makefile): `make test-fast` runs what is neither `slow` nor `scene` (the library's
 # unit and closed-form tests, under 2 minutes), `make test` runs everything but `study` serially and, in

@@ -116,9 +116,13 @@ class Solver:
         self.pending: list[float] = []  # the load targets of run() still to reach after that step
 
     def destroy(self) -> None:
-        """Destroy the PETSc objects of the solver (the SNES, ``A``, ``b``, work vectors). Collective."""
+        """Destroy the PETSc objects of the solver (the SNES, ``A``, ``b``, work vectors) and free the garbage of
+        the problem's communicator (objects its contacts dropped). Collective. A solver dropped without it leaves
+        its objects on that garbage list (petsc4py >= 3.18), which nothing frees once the mesh, and with it the
+        communicator, is gone."""
         self.prediction.destroy()
         self.newton.destroy()
+        PETSc.garbage_cleanup(self.problem.comm)
 
     def __enter__(self) -> Solver:
         return self
