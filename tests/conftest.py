@@ -144,6 +144,7 @@ def _free_dropped_petsc_objects(_hold_problem_meshes):
     if not _MESHES:
         return
     gc.collect()  # the test's objects, cycles included: their PETSc objects go to their communicators' garbage
+    PETSc.garbage_cleanup(PETSc.COMM_SELF)  # this rank's own objects (a serial reference, a gathered factor)
     kept = []
     for mesh in _MESHES:
         PETSc.garbage_cleanup(mesh.comm)

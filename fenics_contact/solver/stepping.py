@@ -122,7 +122,14 @@ class Solver:
         communicator, is gone."""
         self.prediction.destroy()
         self.newton.destroy()
+        self._free_garbage()
+
+    def _free_garbage(self) -> None:
+        """Destroy the PETSc objects whose last Python reference is gone: petsc4py (>= 3.18) defers that to a
+        garbage list per communicator (destruction is collective), freed here on the problem's communicator and
+        on this rank's own (``PETSC_COMM_SELF``: the condensed method's gathered factorization). Collective."""
         PETSc.garbage_cleanup(self.problem.comm)
+        PETSc.garbage_cleanup(PETSc.COMM_SELF)
 
     def __enter__(self) -> Solver:
         return self
@@ -167,9 +174,7 @@ class Solver:
                 t = target if cuts == 0 else self.t + (target - self.t) / 2**cuts
                 snap = self._snapshot()
                 rec = self._step(t, len(self.records) + 1)
-                # petsc4py (>= 3.18) defers destroying objects whose last Python reference is dropped to a
-                # per-communicator garbage list (destruction is collective): free it here, where every rank is.
-                PETSc.garbage_cleanup(self.problem.comm)
+                self._free_garbage()  # the step's dropped objects, here where every rank is
                 release_free_memory()
                 self.record.newton_spent += rec.newton_iterations
                 if rec.converged:
