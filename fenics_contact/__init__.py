@@ -10,13 +10,13 @@ complete, tested example)::
     contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0, 0], [0, 1]), law, load)
     problem = fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.3), load,
                                 [fc.Dirichlet.on_facets(V, facets, "top", 1, -0.1),  # u_y = -0.1 t
-                                 fc.Dirichlet.on_facets(V, facets, "left", 0)], [contact],  # u_x = 0
-                                step_solver=fc.step_solver_for([contact]))
+                                 fc.Dirichlet.on_facets(V, facets, "left", 0)], [contact])  # u_x = 0
     fc.Solver(problem, augment_max=10).run([0.5, 1.0])
     contact.mean_pressure()
 
 Every contact enforcement implements :class:`Surface` (the hooks the solver calls, declared once);
-a :class:`StepSolver` solves whole load steps instead of SNES (method ``coulomb``). Output:
+a :class:`StepSolver` solves whole load steps instead of SNES (method ``coulomb``; the problem takes the
+one its surface needs). Output:
 :class:`XDMFWriter`, :func:`write_summary`. Importing the package imports neither gmsh nor the application
 (:mod:`fenics_contact.app`: the benchmark scenes, demos, command line, plots and tables, built on this API).
 """

@@ -23,6 +23,7 @@ from .compat import (
     petsc_vec,
     vertex_expression,
 )
+from .condensed import step_solver_for
 from .contact import displacement, is_mixed
 from .domain import tag_value
 from .kinematics import AXISYMMETRIC, hoop_stretch
@@ -126,8 +127,9 @@ class ContactProblem:
             ``path`` is the load path of :func:`load_factor`: ``None`` (default) for ``f(t) = t``, a callable
             ``f(t)``, or piecewise linear ``(t_k, f_k)``, as :attr:`Dirichlet.path`. Sign: ``vector`` is the
             force on the body (``(0, -q)`` on a top face presses it down).
-        step_solver: a :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES
-            (required by a surface with ``requires_step_solver``, method ``coulomb``).
+        step_solver: a :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES;
+            None: the one a surface with ``requires_step_solver`` (method ``coulomb``) needs
+            (:func:`~fenics_contact.condensed.step_solver_for`), else SNES.
     """
 
     def __init__(self, u: fem.Function, material: Material | Materials, load: fem.Constant,
@@ -142,10 +144,8 @@ class ContactProblem:
             if len(entry) == 3:
                 check_path(entry[2], f"tractions[{i}] path")
         self.dirichlet, self.contacts = list(dirichlet), list(contacts)
-        need = [c.name for c in self.contacts if c.requires_step_solver]
-        if need and step_solver is None:
-            raise ValueError(f"contact {', '.join(need)} is solved by a step solver (method 'coulomb'): pass "
-                             "step_solver=CondensedCoulomb(contact) (or condensed.step_solver_for(contacts))")
+        if step_solver is None:
+            step_solver = step_solver_for(self.contacts)
         self.step_solver = step_solver  # solves whole load steps instead of SNES (None: SNES)
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space

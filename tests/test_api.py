@@ -163,17 +163,20 @@ def test_own_mesh_with_public_names(method):
     assert pressure == pytest.approx(exact, rel=1e-8)
 
 
-def test_coulomb_without_its_step_solver_is_refused():
-    """A surface that needs a step solver in a problem without one: a one-line ValueError before any solve."""
+def test_coulomb_takes_its_step_solver():
+    """A surface that needs a step solver (method ``coulomb``) gets it from the problem without being told; two
+    such surfaces in one problem are refused before any solve, naming them."""
     from dolfinx import fem
 
     mesh, _, tags = app.meshes.rectangle(MPI.COMM_WORLD, 1.0, 1.0, 2, 2)
     u = fem.Function(fc.function_space(mesh, "Lagrange", 1, (2,)))
     load = fem.Constant(mesh, 0.0)
-    contact = fc.contact_surface(u, tags, "bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), fc.ExactCoulomb(0.3),
-                                 load)
-    with pytest.raises(ValueError, match="step_solver"):
-        fc.ContactProblem(u, fc.LinearElastic(1.0, 0.3), load, [], [contact])
+    contacts = [fc.contact_surface(u, tags, side, fc.HalfPlane([0.0, y], [0.0, 1.0 - 2 * y]), fc.ExactCoulomb(0.3),
+                                   load, name=side) for side, y in (("bottom", 0.0), ("top", 1.0))]
+    problem = fc.ContactProblem(u, fc.LinearElastic(1.0, 0.3), load, [], contacts[:1])
+    assert isinstance(problem.step_solver, fc.CondensedCoulomb)
+    with pytest.raises(ValueError, match="condenses one contact surface, got 2: bottom, top"):
+        fc.ContactProblem(u, fc.LinearElastic(1.0, 0.3), load, [], contacts)
 
 
 def test_problem_residual_and_jacobian_are_public(tangent_check):

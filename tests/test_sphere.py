@@ -177,6 +177,22 @@ def test_sphere_on_block_two_body():
         sphere.build(make_law("penalty", K=1.0), plate="soft")
 
 
+def test_sphere_on_block_exact_coulomb():
+    """The octant on its block with the exact condensed method (method coulomb, frictionless, no penalty): the
+    vertex forces balance the top's reaction to round-off, and the Hertz peak of their moments comes closer to
+    Hertz as the mesh is refined."""
+    errors = []
+    for size in (1.0, 0.8):
+        setup = sphere.build(make_law("coulomb"), size=size, plate="meshed")
+        solver = Solver(setup.problem, quiet=True)
+        solver.run(setup.loads)
+        assert solver.summary()["converged"]
+        f = setup.figures()
+        assert np.isclose(f["total_force"], f["reaction_top"], rtol=1e-10), (f["total_force"], f["reaction_top"])
+        errors.append(f["p0_error"])
+    assert errors[1] < errors[0] < 0.1, errors
+
+
 def _probe_replaced_preconditioners(solver: Solver) -> dict:
     """At every Newton iterate, tag the preconditioner with a probe object that holds a reference from it (PETSc's
     ``compose``): once a preconditioner is destroyed, its probe's reference count is back to ours alone. Records

@@ -6,9 +6,10 @@
 # path. Once every contact point slips, the friction force is `mu` times the normal force exactly.
 #
 # Method `coulomb` (`fc.ExactCoulomb(mu)`) solves the Signorini-Coulomb conditions exactly on the
-# stiffness condensed onto the contact nodes; it solves whole load steps itself, so the problem gets
-# its step solver, `fc.step_solver_for(contacts)`. It works in 2D with linear elasticity, against a flat
-# rigid obstacle or between two bodies in small sliding. Friction is path dependent: take load steps.
+# stiffness condensed onto the contact nodes; it solves whole load steps itself (the problem takes the
+# step solver the surface needs, `fc.step_solver_for(contacts)`, instead of SNES). It works in 2D and 3D
+# with linear elasticity, against a flat rigid obstacle or between two bodies in small sliding. Friction is
+# path dependent: take load steps.
 
 # %%
 import numpy as np
@@ -34,8 +35,7 @@ load = fem.Constant(mesh, 0.0)
 contact = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load)
 down = fc.Dirichlet.on_facets(V, facets, "top", 1, -d, path=([0.0, 1.0], [0.0, 1.0]))  # down by d at t = 1, held
 along = fc.Dirichlet.on_facets(V, facets, "top", 0, s, path=([1.0, 2.0], [0.0, 1.0]))  # then along by s
-problem = fc.ContactProblem(u, fc.LinearElastic(E, nu), load, [down, along], [contact],
-                            step_solver=fc.step_solver_for([contact]))
+problem = fc.ContactProblem(u, fc.LinearElastic(E, nu), load, [down, along], [contact])
 fc.Solver(problem, quiet=True).run([0.5, 1.0, 1.25, 1.5, 1.75, 2.0])
 
 # %% [markdown]

@@ -28,7 +28,8 @@ SETUP = {
                "--3D` (half sphere on a 20^3 box, tetrahedra, volume force 10 in 4 steps; h = res near the "
                "contact; its Dirichlet vertices flattened, which dolfinx 0.9 needs). Here: the `sphere` scene's "
                "two-body octant, approach 0.0835 (Hertz's for load 10), "
-               "GMRES + GAMG, `--level`. Error: peak pressure p0 against Hertz's at each code's own force.",
+               "`--level`; nitsche with GMRES + GAMG, coulomb (exact, condensed) with MUMPS. Error: peak pressure p0 "
+               "against Hertz's at each code's own force (here from the contact pressure's moments).",
     "cylinders": "Two cylinders (R 8), E 200, nu 0.3, mu 0.3, pressed then sheared. Peer: "
                  "`demo_friction_cylinders.py` (quarter disks, displacement driven: 4 pressing steps, 96 "
                  "shearing steps, Coulomb Nitsche gamma = 10 E). Here: the `mindlin` scene (force driven, "

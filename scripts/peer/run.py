@@ -36,7 +36,7 @@ HERTZ2D = ["--plate", "meshed", "--E", "200", "--nu", "0.3", "--R", "8", "--load
 # E 200, nu 0.3; Hertz: a = 0.82, approach a^2 / R = 0.083. Here the octant is driven by that approach (the
 # sphere scene's two-body case is displacement controlled) and its error is against Hertz at its own force.
 HERTZ3D = ["--plate", "meshed", "--E", "200", "--nu", "0.3", "--R", "8", "--approach", "0.0835",
-           "--plate-width", "10", "--plate-depth", "10", "--solver", "iterative"]
+           "--plate-width", "10", "--plate-depth", "10"]
 # The peer's cylinders: two quarter disks R 8, E 200, nu 0.3, mu 0.3, pressed then sheared (displacement
 # driven); Mindlin's c at the last step's Q / (mu P). Here the mindlin scene at the same material, mu and R.
 MINDLIN = ["--E", "200", "--nu", "0.3", "--R", "8", "--mu", "0.3"]
@@ -53,7 +53,8 @@ CASES = {
     "hertz3d": {"title": "Two-body Hertz, 3D (sphere on a block, R 8, E 200, nu 0.3, load 10)",
                 "peer": ("python/demos/hertz_contact/demo_hertzian_contact.py", ["--3D"], "--res",
                          [2.0, 1.0, 0.5], [2.0, 1.0]),
-                "ours": ("sphere", HERTZ3D, "--level", [0, 1], [0], {"nitsche": []}),
+                "ours": ("sphere", HERTZ3D, "--level", [0, 1], [0],
+                         {"nitsche": ["--solver", "iterative"], "coulomb": []}),
                 "figure": ("p0", "p0_error", "p0_hertz")},
     "cylinders": {"title": "Cattaneo-Mindlin friction cylinders, 2D (R 8, E 200, nu 0.3, mu 0.3)",
                   "peer": ("python/demos/hertz_contact/demo_friction_cylinders.py", [], "--res", [0.4, 0.2],

@@ -24,7 +24,6 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from ...condensed import step_solver_for
 from ...factory import contact_surface
 from ...laws import ContactLaw
 from ...materials import PLANES, lame
@@ -129,7 +128,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = 4, ny: int = 8,
     exact = homogeneous_state(model, plane, E, nu, displacement / height)
     contact = contact_surface(u, facet_tags, "bottom", HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                               material=material)
-    problem = ContactProblem(u, material, load, dirichlet, [contact], step_solver=step_solver_for([contact]))
+    problem = ContactProblem(u, material, load, dirichlet, [contact])
 
     def figures() -> dict:
         """``contact_pressure`` is nominal (per reference area); neo-Hookean: also ``contact_pressure_cauchy``

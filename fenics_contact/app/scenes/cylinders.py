@@ -42,7 +42,6 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ...condensed import step_solver_for
 from ...factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ...laws import ContactLaw, LagrangeMultiplier
 from ...materials import PLANES, LinearElastic, Material, NeoHookean
@@ -161,7 +160,7 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
     reference = Material.from_lame(LAMBDA, MU)  # the paper's constants, exactly, unless E or nu is given
     bulk = Model.from_lame(LAMBDA, MU, plane=plane) if E is None and nu is None else Model(
         reference.E if E is None else E, reference.nu if nu is None else nu, plane=plane)
-    problem = ContactProblem(u, bulk, load, dirichlet, contacts, step_solver=step_solver_for(contacts))
+    problem = ContactProblem(u, bulk, load, dirichlet, contacts)
     copies = 2 if symmetry == "half" else 1  # figures for the whole cylinders
 
     def profiles() -> list[tuple[np.ndarray, np.ndarray]]:

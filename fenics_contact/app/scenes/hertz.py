@@ -53,7 +53,6 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from ...condensed import step_solver_for
 from ...factory import contact_surface, two_body_multipliers, two_body_surfaces
 from ...laws import ContactLaw, ExactCoulomb, LagrangeMultiplier, Nitsche
 from ...materials import PLANES, Materials
@@ -336,7 +335,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
                                   material=material)
     contacts.insert(0, contact)
     if load is None:
-        problem = ContactProblem(u, material, t, dirichlet, contacts, step_solver=step_solver_for(contacts))
+        problem = ContactProblem(u, material, t, dirichlet, contacts)
     else:  # the quarter's half of P on its diameter; the vanishing spring on the disk (module docstring)
         ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags)
         traction = fem.Constant(mesh, np.array([0.0, -load / (2 * R)]))
@@ -345,8 +344,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags.meshtags)(cell_tags["disk"]) \
             if plate == "meshed" else ufl.dx(domain=mesh)
         problem = Stabilised(u, material, t, dirichlet, contacts, [(traction, ds(facet_tags["top"]))],
-                             stabilisation * E / R**2,
-                             dx, step_solver=step_solver_for(contacts))
+                             stabilisation * E / R**2, dx)
 
     def figures() -> dict:
         if plate == "meshed":

@@ -35,7 +35,6 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ...condensed import step_solver_for
 from ...factory import two_body_surfaces
 from ...friction import Friction
 from ...laws import ContactLaw, ExactCoulomb
@@ -234,7 +233,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     # ContactProblem scales tractions by t: this vector times t is (r mu P / (2 L), 0) at t = 1 + r.
     traction = ufl.as_vector((amplitude * ufl.max_value(t - 1.0, 0.0) / t, 0.0))
     problem = ShearProblem(u, material, t, dirichlet, [contact], [(traction, ds(facets["upper_top"]))],
-                           amplitude=amplitude, mu=mu, area=2 * L, axis=1, step_solver=step_solver_for([contact]))
+                           amplitude=amplitude, mu=mu, area=2 * L, axis=1)
     Es = E / (2 * (1 - nu**2))
     loads = [(i + 1) / press_steps for i in range(press_steps)] + [1.0 + r for r in ratios]
 

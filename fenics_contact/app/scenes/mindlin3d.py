@@ -46,7 +46,6 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ...condensed import step_solver_for
 from ...factory import two_body_surfaces
 from ...friction import STICK, Friction
 from ...laws import ContactLaw, ExactCoulomb
@@ -268,7 +267,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     held = [] if exact else [(ufl.as_vector((-spring * cap * u[0], 0.0, 0.0)), ufl.dx(domain=mesh))]
     problem = _Problem(u, material, t, dirichlet, [contact], [(traction, ds(facets["cap_top"]))] + held,
                        amplitude=amplitude, mu=mu, area=area, measure=measure, spring=spring,
-                       k=PRESS_SPRING * E / R**2, exact=exact, step_solver=step_solver_for([contact]))
+                       k=PRESS_SPRING * E / R**2, exact=exact)
     if exact:  # pressed with friction to t = 1
         loads = [(i + 1) / press_steps for i in range(press_steps)] + [1.0 + r for r in ratios]
     else:

@@ -34,7 +34,7 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ...condensed import CondensedContact, step_solver_for
+from ...condensed import CondensedContact
 from ...factory import contact_surface
 from ...friction import FrictionalContact
 from ...laws import ContactLaw
@@ -157,7 +157,7 @@ def build(law: ContactLaw, quadrature: str = "nodal", nx: int = NX, ny: int = NY
     material = MODELS[model](E, nu, plane=plane)
     contact = contact_surface(u, facet_tags, "bottom", HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load, quadrature,
                               material=material)
-    problem = ContactProblem(u, material, load, dirichlet, [contact], tractions, step_solver=step_solver_for([contact]))
+    problem = ContactProblem(u, material, load, dirichlet, [contact], tractions)
     top_load, side_load = top_pressure * width, side_pressure * height  # per unit thickness
     ux_free = ux_a_frictionless(width, E, nu, top_pressure, side_pressure, plane)
 

@@ -48,6 +48,7 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
+from ...condensed import CondensedTwoBody
 from ...factory import contact_surface, two_body_surfaces
 from ...laws import ContactLaw, Nitsche
 from ...materials import Materials
@@ -258,10 +259,15 @@ def build(law: ContactLaw, quadrature: str = "nodal", level: int = 0, steps: int
                              ufl.dx(domain=mesh))
 
     # The two-body contact pressure's moments int p dA, int p r^2 dA over the ball's surface (forms compiled when
-    # needed): the pressure of the ball's pass, not its weighted share of two passes.
+    # needed): the pressure of the ball's pass, not its weighted share of two passes. A nodal condensed surface
+    # (method coulomb) has no pressure field: its vertex forces p_i w_i (w_i = int phi_i dA) are the rule.
     moments: list = []
 
     def force_moments() -> tuple[float, float]:
+        if isinstance(contact, CondensedTwoBody):
+            x, _, p = contact.point_values(reference=True)
+            f = p * contact.weight
+            return float(f.sum()), float(np.sum(f * (x[:, 0] ** 2 + x[:, 1] ** 2)))
         if not moments:
             X = ufl.SpatialCoordinate(mesh)
             p = contact.ring * contact.pressure
