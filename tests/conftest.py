@@ -1,3 +1,4 @@
+import functools
 import logging
 import os
 import tempfile
@@ -119,6 +120,7 @@ def _hold_problem_meshes():
     gc.freeze()
     init = ContactProblem.__init__
 
+    @functools.wraps(init)  # its signature stays the documented one
     def held(self, u, *args, **kwargs):
         mesh = u.function_space.mesh
         if not any(m is mesh for m in _MESHES):
