@@ -23,9 +23,11 @@ pressure 0: the term ``-theta p_s dp_s / gamma`` is the consistent traction-free
 
 Non-matching meshes: the master part ``int_s p v_m(Pi x) ds`` is integrated with the slave's rule across the kinks
 of the master's shape functions, so a uniform pressure is not reproduced exactly (the patch test is passed to
-the quadrature's error, not to round-off; :mod:`mortar` integrates exactly but has no stress term).
+the quadrature's error, not to round-off). Quadrature ``segment`` (2D, P1, frictionless:
+:class:`~fenics_contact.mortar.NitscheSegmentSurface`) integrates each part of a slave facet that projects on
+one master facet with its own rule: the patch test to round-off.
 
-Frictionless, degree 1 (flat facets), ``nodal`` or ``gauss`` quadrature (:mod:`capabilities`).
+Degree 1 (flat facets), ``nodal`` or ``gauss`` quadrature here (:mod:`capabilities`).
 """
 from __future__ import annotations
 

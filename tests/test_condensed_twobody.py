@@ -169,12 +169,12 @@ def test_two_identical_bodies_hertz_force_controlled():
 
 
 def test_schur_complement_is_the_dense_one():
-    """compat.SchurFactor's S (MUMPS's partial factorization) against A_cc - A_ci A_ii^-1 A_ic in dense
+    """condensed.schur.SchurFactor's S (MUMPS's partial factorization) against A_cc - A_ci A_ii^-1 A_ic in dense
     algebra, rows in the order asked for (not sorted), on one process and, under mpirun, on a matrix distributed
     over all (gathered on rank 0: the same S on every rank)."""
     from petsc4py import PETSc
 
-    from fenics_contact.compat import SchurFactor
+    from fenics_contact.condensed.schur import SchurFactor
 
     n, rows = 40, np.array([31, 3, 17, 8])
     rng = np.random.default_rng(0)

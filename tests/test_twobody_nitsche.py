@@ -27,15 +27,26 @@ def _nitsche(theta=1.0, gamma0=10.0, friction=None):
 @pytest.mark.parametrize("quadrature,passes,dim,theta,friction", [
     ("gauss", "two", 2, 1.0, None), ("nodal", "two", 2, -1.0, None), ("gauss", "one", 2, 0.0, None),
     ("nodal", "two", 3, 1.0, None), ("gauss", "two", 2, 1.0, "coulomb"), ("nodal", "one", 2, -1.0, "tresca"),
-    ("nodal", "two", 3, 1.0, "coulomb")])
+    ("nodal", "two", 3, 1.0, "coulomb"), ("segment", "two", 2, 1.0, None), ("segment", "one", 2, -1.0, None)])
 def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, theta, friction, contact_tangent_error):
     """Central differences of the contact residual (slave and master rows: the gap, the stress terms through the
     master normal, the slip) against the assembled tangent, at a sliding, pressed configuration with every node
     perturbed (the master facets rotate), to 1e-6 relative; symmetric, skew-symmetric and incomplete variants,
-    frictionless, Coulomb and Tresca (points in stick and in slip)."""
+    frictionless, Coulomb and Tresca (points in stick and in slip), pointwise and segment-to-segment."""
+    _tangent_check(quadrature, passes, dim, theta, friction, contact_tangent_error)
+
+
+@pytest.mark.parametrize("theta", [1.0, -1.0])
+def test_segment_tangent_neohookean(theta, contact_tangent_error):
+    """Segment-to-segment Nitsche on neo-Hookean blocks: the tangent (the stress's second derivative in the
+    symmetric and skew-symmetric terms) against central differences of the residual, to 1e-6 relative."""
+    _tangent_check("segment", "two", 2, theta, None, contact_tangent_error, material="neohookean")
+
+
+def _tangent_check(quadrature, passes, dim, theta, friction, contact_tangent_error, **scene):
     sizes = {} if dim == 2 else {"n_lower": (2, 2, 1), "n_upper": (3, 3, 1)}
     setup = build("patch", law_factory=_nitsche(theta, friction=friction), quadrature=quadrature, passes=passes,
-                  **sizes)
+                  **sizes, **scene)
     problem = setup.problem
     solver = Solver(problem, quiet=True)
     problem.set_load(1.0)
@@ -111,7 +122,8 @@ def test_patch_non_matching_interface():
     across the kinks of the master's shape functions, so the uniform pressure is reproduced only to that
     quadrature error (measured 6.1e-2 of the pressure, largest point; 1.1e-1 at gamma0 = 1e3, 6.0e-2 skew-symmetric,
     1.4e-1 nodal; converged augmented Lagrangian on the same meshes, two passes: 1.4e-1 Gauss, 4.0e-1 nodal, 2e-11
-    with segment integration, which Nitsche lacks: a property of the pointwise rule, not of Nitsche's terms);
+    with segment integration, and round-off for Nitsche with it, test_patch_non_matching_segment_to_round_off: a
+    property of the pointwise rule, not of Nitsche's terms);
     the force balance stays exact (round-off), the top displacement within 1e-4 of the exact one (measured
     3.8e-5), and Newton converges quadratically (3 iterations)."""
     setup, solver = _patch("gauss", "two")
@@ -122,6 +134,43 @@ def test_patch_non_matching_interface():
     assert f["top_displacement_error"] < 1e-4 and f["pressure_deviation"] < 0.1
     res = solver.records[0].residuals[-1]
     assert len(res) - 1 <= 4 and res[-2] <= 10 * res[-3] ** 2 / res[0]
+
+
+@pytest.mark.parametrize("passes,theta,material", [("two", 1.0, "linear"), ("two", -1.0, "linear"),
+                                                    ("one", 0.0, "linear"), ("two", 1.0, "neohookean")])
+def test_patch_non_matching_segment_to_round_off(passes, theta, material):
+    """Non-matching interface nodes (5 and 7 cells), segment-to-segment integration: each slave facet is cut where
+    the master vertices project and each part integrated exactly, so the uniform state (linear: the exact linear
+    field; neo-Hookean at pressure 100 = E / 10: the exact finite-strain uniaxial state) is the discrete solution:
+    the pressure at every sub-segment Gauss point, every node's displacement and the force balance to round-off
+    (1e-10 of the pressure and of the top displacement), symmetric, skew-symmetric and incomplete, one or two
+    passes; Newton converges quadratically."""
+    kw = {"material": material, "pressure": 100.0} if material == "neohookean" else {}
+    setup, solver = _patch("segment", passes, theta, **kw)
+    f = setup.figures()
+    res = solver.records[0].residuals[-1]
+    print(f"non-matching patch, segment, {passes} passes, theta {theta:g}, {material}: pressure deviation "
+          f"{f['pressure_deviation']:.1e}, displacement error {f['displacement_error']:.1e}, top "
+          f"{f['top_displacement_error']:.1e}, Newton {[f'{r:.1e}' for r in res]}")
+    assert f["pressure_deviation"] < 1e-10 and f["displacement_error"] < 1e-10
+    assert np.isclose(f["reaction_bottom"], f["applied_force"], rtol=1e-10)
+    assert all(res[k + 1] <= 10 * res[k] ** 2 / res[0] for k in range(1, len(res) - 2))
+
+
+def test_segment_serial_equals_two_ranks():
+    """The unbiased patch with segment-to-segment integration under mpirun: every figure and the pressure at every
+    sub-segment Gauss point equal the serial ones to 1e-8."""
+    par, _ = _patch("segment", "two", comm=MPI.COMM_WORLD)
+    ser, _ = _patch("segment", "two", comm=MPI.COMM_SELF)
+    fp, fs = par.figures(), ser.figures()
+    for k in fs:
+        floor = 1.0 if k in ("pressure_deviation", "displacement_error", "top_displacement_error") else 1e-3
+        assert abs(fp[k] - fs[k]) <= 1e-8 * max(abs(fs[k]), floor), (k, fp[k], fs[k])
+    for cp, cs in zip(par.contacts, ser.contacts):
+        xp, _, pp = cp.point_values()
+        xs, _, ps = cs.point_values()
+        assert len(xp) == len(xs) and np.allclose(xp, xs, rtol=0, atol=1e-12)
+        assert np.allclose(pp, ps, rtol=1e-8, atol=1e-8 * ps.max())
 
 
 def test_serial_equals_two_ranks():
@@ -158,8 +207,8 @@ def test_two_body_hertz():
 
 
 def test_bad_input():
-    """theta outside [-1, 1], no material, segment integration, quadratic facets, a normal-compliance friction
-    bound and friction against a rigid obstacle are refused up front with one line."""
+    """theta outside [-1, 1], no material, segment integration with friction or in 3D, quadratic facets, a
+    normal-compliance friction bound and friction against a rigid obstacle are refused up front with one line."""
     from fenics_contact.app.meshes import stacked_blocks
     from fenics_contact.compat import function_space
     from fenics_contact.materials import LinearElastic
@@ -171,8 +220,13 @@ def test_bad_input():
     load = fem.Constant(mesh, 0.0)
     with pytest.raises(ValueError, match="needs the bulk material"):
         two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(), load, "gauss")
-    with pytest.raises(UnsupportedCombination, match="no stress term"):
-        two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(), load, "segment",
+    with pytest.raises(UnsupportedCombination, match="no tangential law"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(friction="coulomb"), load, "segment",
+                          material=LinearElastic(1.0, 0.3))
+    mesh3, _, ft3 = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (1, 1, 1), (2, 1, 1))
+    u3 = fem.Function(function_space(mesh3, "Lagrange", 1, (3,)))
+    with pytest.raises(UnsupportedCombination, match="segment-to-segment element is 2D"):
+        two_body_surfaces(u3, ft3, "upper_bottom", "lower_top", _nitsche(), fem.Constant(mesh3, 0.0), "segment",
                           material=LinearElastic(1.0, 0.3))
     with pytest.raises(ValueError, match="not c_t"):
         two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: Friction(make_law("nitsche"), c_t=1.0), load,

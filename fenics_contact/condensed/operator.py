@@ -2,7 +2,7 @@
 
 ``K`` is the stiffness (the problem's Jacobian, constant for linear elasticity). With the Dirichlet rows and
 columns of ``K`` replaced by the identity, one MUMPS ``LDL^T`` factorization that eliminates every dof but the
-contact dofs ``c`` (:class:`~fenics_contact.compat.SchurFactor`, MUMPS's ICNTL(19)) gives both the dense Schur
+contact dofs ``c`` (:class:`~.schur.SchurFactor`, MUMPS's ICNTL(19)) gives both the dense Schur
 complement ``S = K_cc - K_ci K_ii^-1 K_ic`` (``i``: the dofs off the contact, the Dirichlet ones the identity)
 and every solve with ``K_ii``, which is regular even when the body floats without its contact (the slab): the
 base is clamped. ``S`` is singular for a floating body; nothing here inverts it.
@@ -29,16 +29,17 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from ..compat import SchurFactor, bc_dofs
+from ..compat import bc_dofs
 from .loadmodes import LoadModes
+from .schur import SchurFactor
 
 __all__ = ["CondensedStiffness", "MAX_CONDENSED", "check_size"]
 
 # The largest condensed system held dense: S, the semismooth Newton's matrix, its inverse and the blocks of the
-# Jacobian are n_c x n_c arrays of 8 bytes on every rank (about 6 of them: 1.7 GB at 6000), and the Newton's
+# Jacobian are n_c x n_c arrays of 8 bytes on every rank (about 7 of them: 2 GB at 6000), and the Newton's
 # inverse costs O(n_c^3) (about 20 s at 6000 on one core). Beyond, the method is refused before any work.
 MAX_CONDENSED = 6000
-DENSE_ARRAYS = 6
+DENSE_ARRAYS = 7
 
 
 def check_size(n_c: int, where: str) -> None:
@@ -100,7 +101,7 @@ class CondensedStiffness:
     def factor(self) -> None:
         """Factor ``K`` with the Dirichlet rows and columns replaced by the identity, eliminating all but the
         contact dofs, and form the dense Schur complement ``S`` (every rank): one factorization serves ``S`` and
-        the solves (:class:`~fenics_contact.compat.SchurFactor`)."""
+        the solves (:class:`~.schur.SchurFactor`)."""
         nc = len(self.cidx)
         self.factorizations += 1
         self.modes.clear()  # the load modes of another stiffness

@@ -7,7 +7,10 @@ state changed differ. :class:`RowUpdatedSolve` keeps the inverse of a base matri
 Morrison-Woodbury formula, ``x = y - Z (I + V Z)^-1 V y`` with ``y = J0^-1 b`` and ``Z = J0^-1 U`` (columns of
 the inverse): ``O(n^2 + k^2 n)`` instead of the ``O(n^3)`` of a new factorization. It inverts ``J`` instead (and
 makes it the base) when more than ``REFACTOR`` of the rows changed or when the updated solution's residual is
-above round-off; a solution from a new inverse with a residual above round-off is solved again by LU.
+above round-off; a solution from a new inverse with a residual above round-off is solved again by LU. A caller
+that changes ``J`` in place may say which rows it touched (:meth:`RowUpdatedSolve.touched`): the rows that differ
+from ``J0`` are then looked for among those and the ones that differed at the last solve only (``O(k n)``, not
+``O(n^2)``).
 numpy's LAPACK (OpenBLAS) does the dense algebra: SciPy's may be the reference one, several times slower.
 """
 from __future__ import annotations
@@ -29,27 +32,55 @@ class RowUpdatedSolve:
 
     def __init__(self):
         self._J0, self._inv = None, None
+        self._rowmax0 = None  # max |J0| row by row (the round-off scale of an updated solution's residual)
+        self._differ = None  # the rows of the last solved J that differ from J0
+        self._touched = None  # rows touched since the last solve (None: not known, every row is compared)
         self.factorizations, self.updates = 0, 0
+
+    def touched(self, rows: np.ndarray | None) -> None:
+        """The caller changed ``rows`` of the matrix of the last :meth:`solve` in place (None: any row, or a new
+        matrix); the next :meth:`solve` compares only those and the rows that differed from the base."""
+        if rows is None or self._touched is False:
+            self._touched = False  # unknown until the next solve
+        elif self._touched is None:
+            self._touched = np.asarray(rows, dtype=np.int64)
+        else:
+            self._touched = np.union1d(self._touched, rows)
 
     def solve(self, J: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``J^-1 b``. Raises :class:`SingularMatrix` if ``J`` is exactly singular."""
         n = len(b)
+        touched, self._touched = self._touched, None
         if self._J0 is not None and self._J0.shape == J.shape:
-            rows = np.flatnonzero(np.any(J != self._J0, axis=1))
+            if touched is None or touched is False or self._differ is None:
+                rows = np.flatnonzero(np.any(J != self._J0, axis=1))
+            else:
+                candidates = np.union1d(self._differ, touched)
+                rows = candidates[np.any(J[candidates] != self._J0[candidates], axis=1)]
             if len(rows) <= REFACTOR * n:
                 x = self._updated(J, b, rows)
-                if x is not None and _accurate(J, x, b):
+                if x is not None and _accurate(J, x, b, self._max_abs(J, rows)):
                     self.updates += 1
+                    self._differ = rows
                     return x
         try:
             inv = np.linalg.inv(J)
         except np.linalg.LinAlgError:
-            self._J0 = None
+            self._J0 = self._differ = None
             raise SingularMatrix("exactly singular matrix") from None
         self._J0, self._inv = J.copy(), inv
+        self._rowmax0 = np.max(np.abs(J), axis=1) if n else np.zeros(0)
+        self._differ = np.zeros(0, np.int64)
         self.factorizations += 1
         x = inv @ b
         return x if _accurate(J, x, b) else np.linalg.solve(J, b)
+
+    def _max_abs(self, J: np.ndarray, rows: np.ndarray) -> float:
+        """``max |J|`` from the base's row maxima and the ``rows`` that differ from the base."""
+        if not len(rows):
+            return float(np.max(self._rowmax0, initial=0.0))
+        other = np.max(np.delete(self._rowmax0, rows), initial=0.0)
+        return max(float(other), float(np.max(np.abs(J[rows]))))
 
     def _updated(self, J: np.ndarray, b: np.ndarray, rows: np.ndarray) -> np.ndarray | None:
         """The Woodbury solution (see the module); None if the ``k x k`` system is singular."""
@@ -64,9 +95,12 @@ class RowUpdatedSolve:
             return None
 
 
-def _accurate(J: np.ndarray, x: np.ndarray, b: np.ndarray) -> bool:
-    """The residual of ``J x = b`` at round-off against the sizes of ``J x`` and ``b``."""
+def _accurate(J: np.ndarray, x: np.ndarray, b: np.ndarray, max_abs: float | None = None) -> bool:
+    """The residual of ``J x = b`` at round-off against the sizes of ``J x`` and ``b`` (``max_abs``: ``max |J|``
+    if known)."""
     if not np.all(np.isfinite(x)):
         return False
-    size = max(float(J.max()), -float(J.min())) * float(np.max(np.abs(x)))  # max |J| without a copy of J
+    if max_abs is None:
+        max_abs = max(float(J.max()), -float(J.min()))  # max |J| without a copy of J
+    size = max_abs * float(np.max(np.abs(x)))
     return float(np.max(np.abs(J @ x - b))) <= 1e-12 * (size + float(np.max(np.abs(b))))

@@ -158,6 +158,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         Nt, Gt = (a.transpose(1, 0, 2).reshape(m * ns, nc) for a in (Nt, Gt))
         self._sNn, self._sNt, self._sM = (sparse.csr_matrix(a) for a in (Nn, Nt, M))
         self._sGn, self._sGt = sparse.csr_matrix(Gn), sparse.csr_matrix(Gt)
+        self._Gn, self._Gt = Gn, Gt  # dense too: the Jacobian's rows copy them (a sparse row copy costs more)
         self._blocks_of = None  # the S the Jacobian's fixed blocks were formed with
         self._jacobian = None  # the last Jacobian and its rows' coefficients (c, active, coef, J)
 
@@ -184,7 +185,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         rows; generalized Jacobian; state per slave vertex (0 open, 1 slip, in 2D -1 for a slip along -t, 2
         stick); ``R``. The Jacobian is the previous call's array with only the rows whose coefficients changed
         formed again (a row of a sticking or open vertex stays; the semismooth Newton's solver reads it before
-        the next call)."""
+        the next call, told which rows were formed)."""
         ns, has = self._ns, self._has
         R = self.S @ uc + self._r
         p, q = self._sNn @ R, self._by_vertex(self._sNt @ R)
@@ -213,6 +214,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
             J[on] = c * self._Gn_dense(on)
         if len(tangential):
             J[ns + tangential] = self._tangential_rows(tangential, v, coef, c)
+        self.linear.touched(None if cached is None or J is not cached[3] else np.concatenate([normal, ns + tangential]))
         self._jacobian = (c, active, coef, J)
         state = np.where(active, np.where(stick, 2, 1), 0)
         if has.shape[1] == 1:  # 2D: the slip direction too
@@ -232,7 +234,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
                 out[on] += a[on, None] * self._PtS[k * ns + vr[on]]
             on = np.flatnonzero(b)
             if len(on):
-                out[on] += (sparse.diags(b[on]) @ self._sGt[k * ns + vr[on]]).toarray()
+                out[on] += b[on, None] * self._Gt[k * ns + vr[on]]
         on = np.flatnonzero(cr[:, 2 * m])
         if len(on):  # slipping: the disk's radius follows lam
             out[on] += cr[on, 2 * m, None] * (self._PnS[vr[on]] - c * self._Gn_dense(vr[on]))
@@ -240,7 +242,7 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
 
     def _Gn_dense(self, which: np.ndarray) -> np.ndarray:
         """Rows ``which`` (a mask or indices) of the normal kinematic map, dense."""
-        return self._sGn[np.flatnonzero(which) if which.dtype == bool else which].toarray()
+        return self._Gn[which]
 
     def _set_output(self, uc: np.ndarray, t: float) -> None:
         """Nodal forces, gaps (> 0 penetration; ``-radius`` unpaired), states and slip increments of every slave

@@ -15,7 +15,7 @@ from ..bounds import BoundContact
 from ..condensed import CondensedContact, CondensedTwoBody
 from ..contact import ContactSurface
 from ..friction import Friction, FrictionalContact
-from ..mortar import SegmentSurface
+from ..mortar import NitscheSegmentSurface, SegmentSurface
 from ..multipliers import MultiplierContact, TwoBodyMultiplier
 from ..nitsche import NitscheContact
 from ..twobody import TwoBodySurface
@@ -119,6 +119,16 @@ def nitsche_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature,
         raise ValueError("method 'nitsche' takes no cls")
     if material is None:
         raise ValueError("method 'nitsche' needs the bulk material (material=...) for the surface stress")
+    if quadrature == "segment":  # 2D, P1, frictionless (capabilities)
+        if work_quadrature is not None:
+            raise ValueError("quadrature 'segment' takes no work_quadrature")
+        if passes == "one":
+            return [NitscheSegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 1.0, radius, name,
+                                          material=material)]
+        return [NitscheSegmentSurface(u, facet_tags, tag_a, tag_b, law_factory(), load, 0.5, radius, f"{name}_a",
+                                      material=material),
+                NitscheSegmentSurface(u, facet_tags, tag_b, tag_a, law_factory(), load, 0.5, radius, f"{name}_b",
+                                      material=material)]
     cls = NitscheFrictionTwoBody if isinstance(law_factory(), Friction) else NitscheTwoBody
     return law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
                         work_quadrature, functools.partial(cls, material=material))

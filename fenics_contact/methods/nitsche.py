@@ -23,8 +23,8 @@ METHOD = Method(
            rule("degree 1, model 'linear' or another method", "Nitsche's gamma = gamma0 E / h does not grow with "
                 "the degree (coercivity needs ~p^2): on quadratic elements at finite strain gamma0 = 10 loses the "
                 "solve (found by the full grid)", method="nitsche", degree=2, model="neohookean"),
-           rule("quadrature 'nodal' or 'gauss' (or another method)", "the segment-to-segment element has no "
-                "stress term", method="nitsche", kind="two-body", quadrature="segment"),
+           rule("quadrature 'nodal' or 'gauss' (or dim 2)", "two-body Nitsche's segment-to-segment element is "
+                "2D (the stress of P1 triangles)", method="nitsche", kind="two-body", quadrature="segment", dim=3),
            rule("degree 1 (or another method)", "two-body Nitsche is built and checked on flat (degree-1) facets",
                 method="nitsche", kind="two-body", degree=2),
            rule("kind 'rigid' or geometry 'cartesian' (or another method)", "two-body Nitsche's stress terms carry "

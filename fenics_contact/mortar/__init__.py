@@ -11,7 +11,10 @@ each:
 - :mod:`~.clipping`: the overlap of a slave and a projected master triangle (3D);
 - :mod:`~.element`: residual and tangent of slave/master facet pairs;
 - :mod:`~.pairs`: the slave/master facet pairs with an overlap;
-- :mod:`~.surface`: :class:`SegmentSurface`, composed of these and of the nodal state of :mod:`twobody`.
+- :mod:`~.surface`: :class:`SegmentSurface`, composed of these and of the nodal state of :mod:`twobody`;
+- :mod:`~.cell_stress`: a P1 triangle's traction ``P N`` and its derivatives, from the material;
+- :mod:`~.nitsche_element`: Nitsche's segment element (2D: the slave cell's stress terms);
+- :mod:`~.nitsche_surface`: :class:`NitscheSegmentSurface`, Nitsche's method on :class:`SegmentSurface`.
 """
 from .clipping import (
     MAX_VERTICES,
@@ -25,6 +28,7 @@ from .clipping import (
 )
 from .dual import DUAL_OPS, Dual, dual_exp, dual_max, dual_min, dual_sqrt
 from .element import SEGMENT_RULE, TRIANGLE_RULE, segment_element, triangle_element
+from .nitsche_surface import NitscheSegmentSurface
 from .pairs import overlap, pair_segments, pair_triangles
 from .surface import SegmentSurface
 
@@ -35,5 +39,5 @@ __all__ = [
     "SEGMENT_RULE", "TRIANGLE_RULE", "Dual", "dual_max", "dual_min", "dual_exp", "dual_sqrt", "DUAL_OPS",
     "segment_element", "SLAVE_LINES", "MAX_VERTICES", "master_lines", "clip_arrays", "clip_polygons",
     "intersect_values", "polygon_area", "polygon_areas", "triangle_element", "overlap", "pair_segments",
-    "pair_triangles", "SegmentSurface"
+    "pair_triangles", "SegmentSurface", "NitscheSegmentSurface"
 ]

@@ -192,7 +192,9 @@ class SegmentSurface(ContactSurface):
         with self._seconds.measure("coupling_s"):
             (r, _), dofs = self._elements()
             if len(r):
-                b.setValues(dofs.ravel().astype(PETSc.IntType), r.ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+                keep = dofs.ravel() >= 0  # -1: no dof (an element with fewer entries)
+                b.setValues(dofs.ravel()[keep].astype(PETSc.IntType), r.ravel()[keep],
+                            addv=PETSc.InsertMode.ADD_VALUES)
         b.assemblyBegin()
         b.assemblyEnd()
 

@@ -24,10 +24,11 @@ SETUP = {
                "model), mesh `--res` (contact h = res / 2). "
                "Here: the `hertz` scene's two-body case (quarter disk on a 32 x 16 block, contact h = R / 400 "
                "halved per `--refinement`, MUMPS). Error: peak pressure p0 against Hertz's.",
-    "hertz3d": "Sphere (R 8) on a block, both E 200, nu 0.3, load about 10. Peer: `demo_hertzian_contact.py "
-               "--3D` (half sphere on a 20^3 box, tetrahedra, volume force 10 in 4 steps; h = res near the "
+    "hertz3d": "Sphere (R 8) on a block, both E 200, nu 0.3, load 5. Peer: `demo_hertzian_contact.py "
+               "--3D` (half sphere on a 20^3 box, tetrahedra, a volume force in 4 steps, of the density that would "
+               "put its load 10 on a whole sphere: 5 on the half sphere, integrated from its mesh; h = res near the "
                "contact; its Dirichlet vertices flattened, which dolfinx 0.9 needs). Here: the `sphere` scene's "
-               "two-body octant, approach 0.0835 (Hertz's for load 10), "
+               "two-body octant, approach 0.0526 (Hertz's for load 5), "
                "`--level`; nitsche with GMRES + GAMG, coulomb (exact, condensed) with MUMPS. Error: peak pressure p0 "
                "against Hertz's at each code's own force (here from the contact pressure's moments).",
     "cylinders": "Two cylinders (R 8), E 200, nu 0.3, mu 0.3, pressed then sheared. Peer: "

@@ -14,7 +14,9 @@ problem and closed-form values):
 
 - hertz2d, hertz3d: the peak contact pressure ``p0`` (largest normal traction at the contact quadrature points,
   the peer's own ``compute_contact_forces``) against Hertz's ``p0`` for the demo's load (2D: the demo's ``p0``;
-  3D: ``3 P / (2 pi a^2)``, ``a = (3 P R / (4 E*))^(1/3)``, the demo's loop computing the 2D formulas);
+  3D: ``3 P / (2 pi a^2)``, ``a = (3 P R / (4 E*))^(1/3)``, with ``P`` the force the demo applies, its volume
+  force and traction integrated over its mesh: the 3D demo's ``load`` is the force on a whole sphere, its
+  body the lower half, so ``P`` is about half of it);
 - wedges: the horizontal over vertical contact force ``Rx / Ry`` (the demo's own forms) against
   ``(mu + tan alpha) / (1 - mu tan alpha)``;
 - cylinders: the stick zone's half-width at the last step (quadrature points of the lower surface in contact
@@ -163,6 +165,17 @@ def _tractions(g: dict, pair: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.abs(pn).reshape(-1), pt.reshape(-1), xq
 
 
+def _applied_force(g: dict) -> float:
+    """The downward force the 3D Hertz demo applies at its last step: its volume force over its sphere's cells
+    (``dx(1)``) plus its traction over its loaded facets (``ds(neumann_bdy)``)."""
+    from dolfinx import fem
+    from mpi4py import MPI
+
+    f, t, dx, ds = g["f"], g["t"], g["dx"], g["ds"]
+    form = fem.form(-f[2] * dx(1) - t[2] * ds(g["neumann_bdy"]))
+    return float(MPI.COMM_WORLD.allreduce(fem.assemble_scalar(form), op=MPI.SUM))
+
+
 def _figures(case: str, g: dict) -> dict:
     if case in ("hertz2d", "hertz3d"):
         p0 = max(float(np.max(_tractions(g, i)[0])) for i in range(2))
@@ -170,6 +183,7 @@ def _figures(case: str, g: dict) -> dict:
         if case == "hertz2d":  # the demo's own closed form (its last load step is the whole load)
             a, ref = float(g["a"]), float(g["p0"])
         else:  # the demo's load loop overwrites a and p0 with the 2D formulas: Hertz's sphere here
+            P = _applied_force(g)
             a = float(np.cbrt(3 * P * R / (4 * Es)))
             ref = 3 * P / (2 * np.pi * a**2)
         return {"figure": "p0", "value": p0, "reference": ref, "error": abs(p0 - ref) / ref, "a_hertz": a,

@@ -78,7 +78,7 @@ def main(argv=None) -> dict:
                     r = rows[-1]
                     cli.say(f"{quadrature:7s} {passes}-pass slave={slave:5s} {method:7s} K={K:7.0e}  "
                           f"deviation {r['pressure_deviation']:.3e}  |g|max {r['max_abs_gap']:.1e}  "
-                          f"newton {r['newton_iterations']}", flush=True)
+                          f"newton {r['newton_iterations']}")
 
     # 4. Every option's figures into summary.json too (the main run's summary, extended).
     summary["options"] = rows

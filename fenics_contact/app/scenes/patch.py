@@ -13,7 +13,8 @@ Figure: ``pressure_deviation = max |p - P| / P`` over the slave quadrature point
 surface (sub-segment Gauss points with ``quadrature="segment"``). Measured (5 x 4 against 7 x 5 cell
 pairs, ``demos/patch.py``), with converged multipliers (augmented Lagrangian): segment-to-segment
 integration 2e-11 to 4e-11 (one-pass either slave, two-pass; penalty alone: round-off for every K,
-the uniform state is the exact discrete solution). Pointwise: 0.08 (nodal, one-pass, fine slave),
+the uniform state is the exact discrete solution); Nitsche with segment integration 2e-13 to 3e-13 (symmetric,
+skew-symmetric, incomplete; neo-Hookean at pressure 100: 2e-14). Pointwise: 0.08 (nodal, one-pass, fine slave),
 0.15 (nodal, coarse slave), 0.40 (nodal, two-pass), 0.22 / 0.27 / 0.14 (Gauss one-pass fine / coarse
 slave, two-pass): pointwise enforcement integrates the master forces at the slave points across the
 kinks of the master shape functions, so the uniform state is not the discrete solution. Only a soft
