@@ -91,6 +91,7 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
             record.head["fields"] = f"{setup.name}.xdmf" if xdmf else None
 
             def write(t: float) -> None:
+                begin = time.perf_counter()
                 if not written:  # the set-up and a whole solve are done: a command-line PETSc option unused by
                     written.append(t)  # now is misspelt (checked again at the end by cli.main, for those read later)
                     check_petsc_options(later=LATER_OPTIONS)
@@ -102,8 +103,10 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
                     on_step(t)
                 checkpoint.save(solver, out / CHECKPOINT, extra=list(keep))
                 record.progress(solver)
+                output[0] += time.perf_counter() - begin
 
             written: list[float] = []
+            output = [0.0]  # seconds in write: fields, checkpoint and progress, not the solve
             solver.on_step = write
             record.progress(solver)
             error = failure = None
@@ -117,7 +120,7 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
                         error += (f"; steps 1 to {steps} written to {writer.path}" if steps > 1 else
                                   f"; step 1 written to {writer.path}" if steps else "; no step converged, no fields")
         wall = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
-        summary = _summary(setup, solver, record.head, wall, error)
+        summary = _summary(setup, solver, record.head, wall, comm.allreduce(output[0], op=MPI.MAX), error)
         solver.destroy()  # its matrices and factorization: not left to the end of the process (Solver.destroy)
         if check is not None:
             summary["check"] = check(summary)
@@ -144,8 +147,10 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
     return summary
 
 
-def _summary(setup: Setup, solver: Solver, head: dict, wall: float, error: str | None) -> dict:
-    """The run's summary at its end (figures reduced over the ranks). Collective."""
+def _summary(setup: Setup, solver: Solver, head: dict, wall: float, output: float, error: str | None) -> dict:
+    """The run's summary at its end (figures reduced over the ranks). Collective. ``wall``: the run's seconds;
+    ``output``: of them, those spent writing after each step (fields, checkpoint, progress): the solve is the
+    rest (``solve_time_s``), the time ``ratio_to_linear_solve`` compares with one linear solve."""
     comm = setup.problem.comm
     record = solver.summary()
     floor = solver.linear_solve_time()
@@ -153,8 +158,9 @@ def _summary(setup: Setup, solver: Solver, head: dict, wall: float, error: str |
     converged = record["converged"] and error is None
     return {**{k: head[k] for k in IDENTITY}, "status": "converged" if converged else "failed",
             **{k: v for k, v in head.items() if k not in IDENTITY and k != "status"}, "wall_time_s": wall,
+            "output_time_s": output, "solve_time_s": wall - output,
             "setup_time_s": setup.build_time_s, "time_split": record["time_split"],
-            "linear_solve_floor_s": floor, "ratio_to_linear_solve": wall / floor, "memory_peak_mb": memory,
+            "linear_solve_floor_s": floor, "ratio_to_linear_solve": (wall - output) / floor, "memory_peak_mb": memory,
             "newton_iterations": record["newton_iterations"] if converged else record["newton_iterations_spent"],
             "newton_iterations_spent": record["newton_iterations_spent"],
             "augmentations": record["augmentations"], "linear_iterations": record["linear_iterations"],

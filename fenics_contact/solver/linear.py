@@ -7,6 +7,7 @@ import logging
 import time
 from typing import Callable
 
+import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
@@ -25,6 +26,8 @@ logger = logging.getLogger(__package__)
 # it to after a failed factorization (LinearSolver.grow_mumps_workspace: 20 -> 40 -> ... -> 640, then a cutback).
 MUMPS_WORKSPACE_DEFAULT = 20
 MUMPS_WORKSPACE_MAX = 640
+# The cost floor (LinearSolver.solve_time): a solve this short (s) is timed again, at most this many times
+FLOOR_REPEAT_S, FLOOR_REPEATS = 1.0, 5
 
 
 class LinearSolver:
@@ -154,21 +157,28 @@ class LinearSolver:
         """Seconds for one Jacobian assembly (``assemble_jacobian``, into ``A``) and one solve with a fresh linear
         solver of the same kind (factorization included): the cost floor of one linear elastic solve on this
         mesh (max over ranks). Frees the SNES's own factorization or multigrid hierarchy first (rebuilt if it
-        solves again): two at once would double the peak memory of a large run."""
+        solves again): two at once would double the peak memory of a large run. A solve of less than
+        :data:`FLOOR_REPEAT_S` is timed up to :data:`FLOOR_REPEATS` times and the fastest kept: a single timing of
+        a few milliseconds is mostly the machine's noise."""
         self.ksp.reset()
-        ksp = PETSc.KSP().create(self.problem.comm)
-        # the SNES's linear-solver options (ours and the command line's), under the same prefix
-        ksp.setOptionsPrefix(self.snes.getOptionsPrefix())
-        with self.options.active(lambda k: k.startswith(("ksp_", "pc_", "mg_"))):
-            ksp.setFromOptions()
-            self.split_fields(ksp.getPC())
-        x = b.duplicate()
-        start = time.perf_counter()
-        assemble_jacobian()
-        ksp.setOperators(A)
-        with self.options.active(lambda k: k.startswith("fieldsplit_")):  # a nested split: see read_at_setup
-            ksp.solve(b, x)
-        elapsed = time.perf_counter() - start
-        ksp.destroy()
-        x.destroy()
-        return self.problem.comm.allreduce(elapsed, op=MPI.MAX)
+        best, spent = np.inf, 0.0
+        for _ in range(FLOOR_REPEATS):
+            ksp = PETSc.KSP().create(self.problem.comm)
+            # the SNES's linear-solver options (ours and the command line's), under the same prefix
+            ksp.setOptionsPrefix(self.snes.getOptionsPrefix())
+            with self.options.active(lambda k: k.startswith(("ksp_", "pc_", "mg_"))):
+                ksp.setFromOptions()
+                self.split_fields(ksp.getPC())
+            x = b.duplicate()
+            start = time.perf_counter()
+            assemble_jacobian()
+            ksp.setOperators(A)
+            with self.options.active(lambda k: k.startswith("fieldsplit_")):  # a nested split: see read_at_setup
+                ksp.solve(b, x)
+            elapsed = self.problem.comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
+            ksp.destroy()
+            x.destroy()
+            best, spent = min(best, elapsed), spent + elapsed
+            if spent >= FLOOR_REPEAT_S:  # collective: every rank has the same spent
+                break
+        return best
