@@ -3,7 +3,8 @@
 Chosen by feature checks (does the attribute exist), never by version
 strings. Other modules import dolfinx only for calls that are the same in
 all supported versions. C library calls too: glibc's (:func:`release_free_memory`) and the PETSc ones that
-petsc4py 3.18 does not wrap (:func:`redundant_ksp`, :func:`petsc_library`).
+petsc4py 3.18 does not wrap (:func:`redundant_ksp`, :func:`petsc_library`); and petsc4py's deferred destruction
+(:func:`free_petsc_garbage`).
 """
 from __future__ import annotations
 
@@ -22,7 +23,7 @@ __all__ = [
     "function_space", "space_degree", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "compile_expression",
     "interpolate_expression", "vertex_expression", "evaluate_expression", "cell_sizes", "entities_to_geometry",
     "cell_dofs", "geometry_dofs", "cell_partitioner", "model_to_mesh", "create_mesh", "release_free_memory",
-    "redundant_ksp", "petsc_library", "check_petsc"
+    "free_petsc_garbage", "redundant_ksp", "petsc_library", "check_petsc"
 ]
 
 
@@ -324,6 +325,17 @@ def release_free_memory() -> None:
     every residual and Jacobian, it took that run's peak from 1.76 to 1.54 GB (a few ms per call)."""
     if _MALLOC_TRIM is not None:
         _MALLOC_TRIM(0)
+
+
+def free_petsc_garbage(comm) -> None:
+    """Destroy the PETSc objects whose last Python reference is gone, on ``comm`` and on this rank's own
+    communicator (``PETSC_COMM_SELF``: the condensed method's gathered factorization). petsc4py (>= 3.18) does not
+    destroy them when that reference goes (destruction is collective): it lists them per communicator, until this.
+    Collective on ``comm``."""
+    from petsc4py import PETSc
+
+    PETSc.garbage_cleanup(comm)
+    PETSc.garbage_cleanup(PETSc.COMM_SELF)
 
 
 def redundant_ksp(pc: PETSc.PC) -> PETSc.KSP:

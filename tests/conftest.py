@@ -1,3 +1,4 @@
+import functools
 import logging
 import os
 import tempfile
@@ -95,6 +96,74 @@ def _petsc_options_unchanged():
         if k not in after:
             opts.setValue(k, v)
     assert not leaked, f"options left in PETSc's database: {leaked}"
+
+
+# --- PETSc objects a test drops ----------------------------------------------------------------------------
+# petsc4py (>= 3.18) does not destroy an object on a communicator when its last Python reference goes: it puts it on
+# that communicator's garbage list, freed by the collective PETSc.garbage_cleanup(comm). A mesh's communicator is
+# its own duplicate, freed with the mesh: a solver, surface or problem dropped without destroy() leaves its
+# matrices and factorizations on a list nothing can reach any more, resident to the end of the session (one
+# pytest process runs every test under mpirun). So every mesh a test's ContactProblem is built on is held until
+# the test ends and its communicator's garbage is freed; a mesh something else still holds (a module's fixture)
+# is kept to a later test's end.
+_MESHES: list = []
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _hold_problem_meshes():
+    import gc
+
+    from fenics_contact.problem import ContactProblem
+
+    # What is alive now (the modules, the collected tests) is left out of every later collection: a collection
+    # after each test then costs a fraction of a millisecond, not a tenth of a second.
+    gc.freeze()
+    init = ContactProblem.__init__
+
+    @functools.wraps(init)  # its signature stays the documented one
+    def held(self, u, *args, **kwargs):
+        mesh = u.function_space.mesh
+        if not any(m is mesh for m in _MESHES):
+            _MESHES.append(mesh)
+        init(self, u, *args, **kwargs)
+
+    ContactProblem.__init__ = held
+    yield
+    ContactProblem.__init__ = init
+
+
+@pytest.fixture(autouse=True)
+def _free_dropped_petsc_objects(_hold_problem_meshes):
+    """After the test: the garbage of every held mesh's communicator freed; meshes nothing else holds let go.
+    Collective: every rank builds the same meshes in the same order (a mesh on a rank's own communicator
+    cleans on that rank alone)."""
+    import gc
+    import sys
+
+    from petsc4py import PETSc
+
+    yield
+    if not _MESHES:
+        return
+    gc.collect()  # the test's objects, cycles included: their PETSc objects go to their communicators' garbage
+    PETSc.garbage_cleanup(PETSc.COMM_SELF)  # this rank's own objects (a serial reference, a gathered factor)
+    kept = []
+    for mesh in _MESHES:
+        PETSc.garbage_cleanup(mesh.comm)
+        if sys.getrefcount(mesh) > 3:  # more than _MESHES, `mesh` and the argument: held elsewhere too
+            kept.append(mesh)
+    _MESHES[:] = kept
+
+
+def pytest_runtest_logfinish(nodeid, location):
+    """With ``$FC_TEST_RSS`` set (a path prefix): each rank appends its resident memory (VmRSS, MB) after every
+    test to ``<prefix>.<rank>``, to find what a session accumulates."""
+    prefix = os.environ.get("FC_TEST_RSS")
+    if prefix:
+        with open("/proc/self/status") as status:
+            rss = next(int(line.split()[1]) for line in status if line.startswith("VmRSS:")) / 1024
+        with open(f"{prefix}.{MPI.COMM_WORLD.rank}", "a") as log:
+            log.write(f"{rss:9.1f} {nodeid}\n")
 
 
 # --- lanes --------------------------------------------------------------------------------------------------

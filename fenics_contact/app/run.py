@@ -121,6 +121,7 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
                                   f"; step 1 written to {writer.path}" if steps else "; no step converged, no fields")
         wall = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
         summary = _summary(setup, solver, record.head, wall, comm.allreduce(output[0], op=MPI.MAX), error)
+        solver.destroy()  # its matrices and factorization: not left to the end of the process (Solver.destroy)
         if check is not None:
             summary["check"] = check(summary)
             if summary["check"].get("flag"):  # the reference out of its range

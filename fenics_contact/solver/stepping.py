@@ -8,10 +8,9 @@ from typing import Callable, Sequence
 
 import numpy as np
 from mpi4py import MPI
-from petsc4py import PETSc
 
 from .. import checkpoint as checkpoints
-from ..compat import petsc_vec, release_free_memory
+from ..compat import free_petsc_garbage, petsc_vec, release_free_memory
 from ..failure import cutback_helps
 from ..problem import ContactProblem
 from .newton import Newton
@@ -116,9 +115,11 @@ class Solver:
         self.pending: list[float] = []  # the load targets of run() still to reach after that step
 
     def destroy(self) -> None:
-        """Destroy the PETSc objects of the solver (the SNES, ``A``, ``b``, work vectors). Collective."""
+        """Destroy the solver's PETSc objects (SNES, ``A``, ``b``, work vectors) and the communicator's garbage
+        (:func:`~fenics_contact.compat.free_petsc_garbage`; dropped, they outlive the mesh). Collective."""
         self.prediction.destroy()
         self.newton.destroy()
+        free_petsc_garbage(self.problem.comm)
 
     def __enter__(self) -> Solver:
         return self
@@ -163,9 +164,7 @@ class Solver:
                 t = target if cuts == 0 else self.t + (target - self.t) / 2**cuts
                 snap = self._snapshot()
                 rec = self._step(t, len(self.records) + 1)
-                # petsc4py (>= 3.18) defers destroying objects whose last Python reference is dropped to a
-                # per-communicator garbage list (destruction is collective): free it here, where every rank is.
-                PETSc.garbage_cleanup(self.problem.comm)
+                free_petsc_garbage(self.problem.comm)  # the step's dropped objects, where every rank is
                 release_free_memory()
                 self.record.newton_spent += rec.newton_iterations
                 if rec.converged:

@@ -63,8 +63,8 @@ def main(argv=None) -> dict:
             for method, K, aug in (("penalty", 1e2, 0), ("penalty", 1e4, 0), ("penalty", 1e6, 0), ("auglag", 1e6, 30)):
                 s = build("patch", law_factory=lambda m=method, k=K: make_law(m, K=k), quadrature=quadrature,
                           passes=passes, slave=slave, **kw)
-                solver = Solver(s.problem, augment_max=aug, augment_tol=1e-9, quiet=True)
-                solver.run(s.loads)
+                with Solver(s.problem, augment_max=aug, augment_tol=1e-9, quiet=True) as solver:
+                    solver.run(s.loads)
                 f = s.figures()
                 rows.append({"quadrature": quadrature, "passes": passes, "slave": slave, "method": method, "K": K,
                              "pressure_deviation": f["pressure_deviation"], "contact_force": f["contact_force"],

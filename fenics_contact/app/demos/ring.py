@@ -93,7 +93,8 @@ def main(argv=None) -> dict:
 
     # The first step alone (identical for the three laws: F^ = 0, lam = 0): penetrations against the paper's.
     first = build("ring", law=Penalty(args.K), n_theta=args.n_theta, n_r=args.n_r, **scene_arguments(args, scene))
-    Solver(first.problem, quiet=True, options=OPTIONS).run(first.loads)
+    with Solver(first.problem, quiet=True, options=OPTIONS) as solver:
+        solver.run(first.loads)
     first_step = {**first.figures(), "paper_penetration_centre": ring.PAPER_PENETRATION[0],
                   "paper_penetration_neighbour": ring.PAPER_PENETRATION[1]}
     if comm.rank == 0:
@@ -153,7 +154,8 @@ def main(argv=None) -> dict:
             fig.savefig(str(out / "ring_forces.png"), dpi=150)
         setup = build("ring", law=CrossConstraints(args.K, 0.0), n_theta=args.n_theta, n_r=args.n_r,
                       **scene_arguments(args, scene))
-        Solver(setup.problem, augment_max=args.augment, quiet=True, options=OPTIONS).run(setup.loads)
+        with Solver(setup.problem, augment_max=args.augment, quiet=True, options=OPTIONS) as solver:
+            solver.run(setup.loads)
         u = setup.problem.u
         syy = interpolate_expression(fem.Function(function_space(u.function_space.mesh, "Lagrange", 1),
                                                   name="sigma_yy"), setup.problem.material.stress(u)[1, 1])

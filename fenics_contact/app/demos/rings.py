@@ -83,8 +83,8 @@ def _compare(args, physics: dict, out: Path, comm: MPI.Comm, start: float) -> di
                     setup = build("rings", law_factory=law, degree=degree, quadrature=quadrature,
                                   passes="one" if passes == "both" else passes, n=args.n, plane=args.plane,
                                   comm=comm, **physics)
-                    solver = Solver(setup.problem, quiet=True, augment_max=augment, augment_tol=1e-10)
-                    solver.run(setup.loads)
+                    with Solver(setup.problem, quiet=True, augment_max=augment, augment_tol=1e-10) as solver:
+                        solver.run(setup.loads)
                     f = setup.figures()
                     row.update({k: f[k] for k in ("p_max_deviation", "p_mean_deviation", "p_reaction_deviation",
                                                   "ur_a_deviation", "ur_c_deviation", "points")})
