@@ -29,8 +29,8 @@ ROOT = Path(__file__).resolve().parent.parent
 serial = pytest.mark.skipif(MPI.COMM_WORLD.size > 1, reason="starts its own processes: from the serial lane only")
 # A fast demo of several load steps (demos/quick.txt): 4 pressing and 8 dragging steps of ~0.2 s each
 IRONING = ["--drag", "0.35", "--steps", "8", "--margin", "0.5", "--steady-from", "0.15"]
-TIMES = ("wall_time_s", "time_split", "linear_solve_floor_s", "ratio_to_linear_solve", "memory_peak_mb",
-         "setup_time_s", "residual", "constraint_change")  # of this process, or round-off
+TIMES = ("wall_time_s", "output_time_s", "solve_time_s", "time_split", "linear_solve_floor_s", "ratio_to_linear_solve",
+         "memory_peak_mb", "setup_time_s", "residual", "constraint_change")  # of this process, or round-off
 # Reads the index as a user's script would (h5py, without dolfinx): every dataset it names, and its times.
 READER = """import json, sys, xml.etree.ElementTree as ET
 from pathlib import Path
