@@ -13,6 +13,8 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from ..compat import evaluate_expression
+
 __all__ = ["CellStress"]
 
 
@@ -39,7 +41,7 @@ class CellStress:
         entries += [dP[ij][k, m] for ij in z for k in range(d) for m in range(d)]
         entries += [ufl.derivative(dP[ij], u, z[kl])[k, m] for ij in z for kl in z for k in range(d) for m in range(d)]
         entries.append(material.E / ufl.CellDiameter(V.mesh))
-        self.d = d
+        self.d, self.mesh = d, V.mesh
         self.expression = fem.Expression(ufl.as_vector(entries), np.full((1, d), 1.0 / (d + 1)))
 
     def eval(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -49,7 +51,8 @@ class CellStress:
         if len(cells) == 0:
             v = np.zeros((0, d * d + d ** 4 + d ** 6 + 1))
         else:
-            v = self.expression.eval(np.asarray(cells, dtype=np.int32)).reshape(len(cells), -1)
+            cells = np.asarray(cells, dtype=np.int32)
+            v = evaluate_expression(self.expression, self.mesh, cells).reshape(len(cells), -1)
         n = len(v)
         a, b = d * d, d * d + d ** 4
         return (v[:, :a].reshape(n, d, d), v[:, a:b].reshape((n,) + (d,) * 4),

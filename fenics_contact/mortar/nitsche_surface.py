@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from dolfinx import fem
 
+from ..compat import space_degree
 from ..search import facet_normals
 from ..twobody_nitsche import NitscheTwoBody
 from .cell_stress import CellStress
@@ -37,9 +38,9 @@ class NitscheSegmentSurface(SegmentSurface):
         if material is None:
             raise ValueError("method 'nitsche' needs the bulk material (material=...) for the surface stress")
         V = u.function_space
-        if V.mesh.geometry.dim != 2 or V.ufl_element().degree() != 1:
+        if V.mesh.geometry.dim != 2 or space_degree(V) != 1:
             raise ValueError(f"{name}: segment-to-segment Nitsche needs a 2D degree-1 displacement, got "
-                             f"dimension {V.mesh.geometry.dim}, degree {V.ufl_element().degree()}")
+                             f"dimension {V.mesh.geometry.dim}, degree {space_degree(V)}")
         self.material = material
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, weight, radius, name)
         sd = self.slave_data
