@@ -32,7 +32,8 @@ import numpy as np
 from .clipping import MAX_VERTICES, SLAVE_LINES, clip_arrays, master_lines
 from .dual import DUAL_OPS, Dual, cross, dot, dual_max, dual_min, dual_sqrt
 
-__all__ = ["SEGMENT_RULE", "TRIANGLE_RULE", "reference_measure", "segment_element", "triangle_element"]
+__all__ = ["SEGMENT_RULE", "TRIANGLE_RULE", "reference_measure", "segment_element", "triangle_element", "segment_frame",
+           "segment_gap", "point_table"]
 
 # 2-point Gauss rule on [0, 1] (exact to degree 3).
 SEGMENT_RULE = (np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)]), np.array([0.5, 0.5]))
@@ -63,6 +64,35 @@ def segment_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: di
     n, nd = len(x), 8
     X = [[Dual.seed(x[:, a, i], 2 * a + i, nd) for i in range(2)] for a in range(4)]
     s0, s1, m0, m1 = X
+    L, nm, th, lo, length = segment_frame(s0, s1, m0, m1)
+    R = Dual(np.zeros(n), np.zeros((n, nd)))
+    res = [R] * nd
+    out = {"pair": [], "N": [], "weight": [], "gap": [], "pressure": [], "normal": []}
+    for r, wq in zip(*rule):
+        xi = lo + length * r
+        wt = length * (wq * weight) * J
+        g, dg_slave, dg_master = segment_gap(s0, s1, m0, L, nm, th, xi)
+        c = {**scalars, **{k: f[:, 0] + xi * (f[:, 1] - f[:, 0]) for k, f in fields.items()}}
+        F = law.force(g, c, DUAL_OPS)
+        if not isinstance(F, Dual):  # a law that is constant in g and c
+            F = Dual(np.broadcast_to(F, (n,)), np.zeros((n, nd)))
+        grad = dg_slave + dg_master
+        Fw = F * wt
+        res = [res[k] + Fw * grad[k] for k in range(nd)]
+        if points:
+            point_table(out, np.arange(n), np.stack([1.0 - xi.v, xi.v], 1), wt.v / weight, g.v, F.v,
+                         np.stack([nm[0].v, nm[1].v], axis=1))
+    r = np.stack([e.v for e in res], axis=1)
+    K = np.stack([e.d for e in res], axis=1)
+    if points:
+        return r, K, {k: np.concatenate(v) for k, v in out.items()}
+    return r, K
+
+
+def segment_frame(s0: list, s1: list, m0: list, m1: list):
+    """Of a slave segment ``s0 s1`` and a master facet ``m0 m1`` (current positions, Duals): the master facet's
+    length ``L``, unit normal ``nm`` and unit tangent ``th``, and the part ``[lo, lo + length]`` of the slave
+    segment (parameter 0 at ``s0``, 1 at ``s1``) whose projection falls on the master facet."""
     t = [m1[i] - m0[i] for i in range(2)]
     L = dual_sqrt(t[0] * t[0] + t[1] * t[1])
     nm = [t[1] / L, -t[0] / L]
@@ -74,38 +104,23 @@ def segment_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: di
     xa, xb = -1.0 * eta0 / de, (1.0 - eta0) / de
     lo = dual_max(0.0, dual_min(xa, xb))
     hi = dual_min(1.0, dual_max(xa, xb))
-    length = hi - lo
-    R = Dual(np.zeros(n), np.zeros((n, nd)))
-    res = [R] * nd
-    out = {"pair": [], "N": [], "weight": [], "gap": [], "pressure": [], "normal": []}
-    for r, wq in zip(*rule):
-        xi = lo + length * r
-        wt = length * (wq * weight) * J
-        xq = [s0[i] + xi * (s1[i] - s0[i]) for i in range(2)]
-        d = [xq[i] - m0[i] for i in range(2)]
-        dn = d[0] * nm[0] + d[1] * nm[1]
-        g = -1.0 * dn
-        c = {**scalars, **{k: f[:, 0] + xi * (f[:, 1] - f[:, 0]) for k, f in fields.items()}}
-        F = law.force(g, c, DUAL_OPS)
-        if not isinstance(F, Dual):  # a law that is constant in g and c
-            F = Dual(np.broadcast_to(F, (n,)), np.zeros((n, nd)))
-        # dg/dt = -(R^T d - t_hat (n . d)) / L with R^T d = (-d_y, d_x)
-        gt = [-1.0 * ((-1.0 * d[1]) - th[0] * dn) / L, -1.0 * (d[0] - th[1] * dn) / L]
-        grad = [-1.0 * (1.0 - xi) * nm[0], -1.0 * (1.0 - xi) * nm[1], -1.0 * xi * nm[0], -1.0 * xi * nm[1],
-                nm[0] - gt[0], nm[1] - gt[1], gt[0], gt[1]]
-        Fw = F * wt
-        res = [res[k] + Fw * grad[k] for k in range(nd)]
-        if points:
-            _point_table(out, np.arange(n), np.stack([1.0 - xi.v, xi.v], 1), wt.v / weight, g.v, F.v,
-                         np.stack([nm[0].v, nm[1].v], axis=1))
-    r = np.stack([e.v for e in res], axis=1)
-    K = np.stack([e.d for e in res], axis=1)
-    if points:
-        return r, K, {k: np.concatenate(v) for k, v in out.items()}
-    return r, K
+    return L, nm, th, lo, hi - lo
 
 
-def _point_table(out: dict, pair, N, weight, gap, pressure, normal) -> None:
+def segment_gap(s0: list, s1: list, m0: list, L, nm: list, th: list, xi) -> tuple:
+    """The gap ``g`` (> 0 penetration) at the slave segment's point ``xi`` (:func:`segment_frame`'s ``L``,
+    ``nm``, ``th``) and its variation: derivatives along the slave vertices (``x_s0, y_s0, x_s1, y_s1``) and
+    along the master vertices (``x_m0, y_m0, x_m1, y_m1``), two lists of four."""
+    xq = [s0[i] + xi * (s1[i] - s0[i]) for i in range(2)]
+    d = [xq[i] - m0[i] for i in range(2)]
+    dn = d[0] * nm[0] + d[1] * nm[1]
+    # dg/dt = -(R^T d - t_hat (n . d)) / L with R^T d = (-d_y, d_x)
+    gt = [-1.0 * ((-1.0 * d[1]) - th[0] * dn) / L, -1.0 * (d[0] - th[1] * dn) / L]
+    return (-1.0 * dn, [-1.0 * (1.0 - xi) * nm[0], -1.0 * (1.0 - xi) * nm[1], -1.0 * xi * nm[0], -1.0 * xi * nm[1]],
+            [nm[0] - gt[0], nm[1] - gt[1], gt[0], gt[1]])
+
+
+def point_table(out: dict, pair, N, weight, gap, pressure, normal) -> None:
     """Append Gauss-point data: pair index, slave shape values ``N`` (np, nv), weight (reference measure,
     without the two-pass factor), gap, pressure, master normal."""
     for k, v in (("pair", pair), ("N", N), ("weight", weight), ("gap", gap), ("pressure", pressure),
@@ -191,7 +206,7 @@ def triangle_element(x: np.ndarray, J: np.ndarray, law, scalars: dict, fields: d
         Fw = F * wt
         res = [res[k] + Fw * grad[k] for k in range(nd)]
         if points:
-            _point_table(out, tp, np.stack([e.v for e in N], 1), wt.v / weight, g.v, F.v,
+            point_table(out, tp, np.stack([e.v for e in N], 1), wt.v / weight, g.v, F.v,
                          np.stack([e.v for e in nm], 1))
     np.add.at(r, tp, np.stack([e.v for e in res], axis=1))
     np.add.at(K, tp, np.stack([e.d for e in res], axis=1))

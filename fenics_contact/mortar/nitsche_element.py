@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .dual import Dual, dual_max, dual_min, dual_sqrt
-from .element import SEGMENT_RULE
+from .dual import Dual, dual_max
+from .element import SEGMENT_RULE, point_table, segment_frame, segment_gap
 
 __all__ = ["NDOF", "traction_duals", "segment_element", "uncovered_element"]
 
@@ -56,18 +56,7 @@ def segment_element(x: np.ndarray, N: np.ndarray, t: np.ndarray, T: np.ndarray, 
     X = [[Dual.seed(x[:, a, i], 2 * a + i, nd) for i in range(2)] for a in range(5)]
     s0, s1, _, m0, m1 = X
     tc, Tc = traction_duals(t, T, T2)
-    tv = [m1[i] - m0[i] for i in range(2)]
-    L = dual_sqrt(tv[0] * tv[0] + tv[1] * tv[1])
-    nm = [tv[1] / L, -1.0 * tv[0] / L]
-    th = [tv[0] / L, tv[1] / L]
-    L2 = L * L
-    eta0 = ((s0[0] - m0[0]) * tv[0] + (s0[1] - m0[1]) * tv[1]) / L2
-    eta1 = ((s1[0] - m0[0]) * tv[0] + (s1[1] - m0[1]) * tv[1]) / L2
-    de = eta1 - eta0
-    xa, xb = -1.0 * eta0 / de, (1.0 - eta0) / de
-    lo = dual_max(0.0, dual_min(xa, xb))
-    hi = dual_min(1.0, dual_max(xa, xb))
-    length = hi - lo
+    L, nm, th, lo, length = segment_frame(s0, s1, m0, m1)
     ps = nm[0] * tc[0] + nm[1] * tc[1]
     # dp_s along each test direction: slave vertices through t, master vertices through n.
     dps_t = [((-1.0) * tc[1] - ps * th[0]) / L, (tc[0] - ps * th[1]) / L]  # d p_s / d(m1 - m0)
@@ -79,23 +68,14 @@ def segment_element(x: np.ndarray, N: np.ndarray, t: np.ndarray, T: np.ndarray, 
     for r, wq in zip(*rule):
         xi = lo + length * r
         wt = length * (wq * weight) * J
-        xq = [s0[i] + xi * (s1[i] - s0[i]) for i in range(2)]
-        d = [xq[i] - m0[i] for i in range(2)]
-        dn = d[0] * nm[0] + d[1] * nm[1]
-        g = -1.0 * dn
+        g, dg_slave, dg_master = segment_gap(s0, s1, m0, L, nm, th, xi)
         p = dual_max(gamma * g + ps, 0.0)
-        gt = [-1.0 * ((-1.0 * d[1]) - th[0] * dn) / L, -1.0 * (d[0] - th[1] * dn) / L]  # dg / d(m1 - m0)
-        dg = [-1.0 * (1.0 - xi) * nm[0], -1.0 * (1.0 - xi) * nm[1], -1.0 * xi * nm[0], -1.0 * xi * nm[1], 0.0, 0.0,
-              nm[0] - gt[0], nm[1] - gt[1], gt[0], gt[1]]
+        dg = dg_slave + [0.0, 0.0] + dg_master  # the cell's third vertex moves no gap
         for k in range(nd):
             res[k] = res[k] + wt * (p * (gamma * dg[k] + theta * dps[k]) - theta * ps * dps[k]) / gamma
         if points:
-            out["pair"].append(np.arange(n))
-            out["N"].append(np.stack([1.0 - xi.v, xi.v], 1))
-            out["weight"].append(wt.v / weight)
-            out["gap"].append(g.v)
-            out["pressure"].append(p.v)
-            out["normal"].append(np.stack([nm[0].v, nm[1].v], axis=1))
+            point_table(out, np.arange(n), np.stack([1.0 - xi.v, xi.v], 1), wt.v / weight, g.v, p.v,
+                        np.stack([nm[0].v, nm[1].v], axis=1))
     if theta != 0.0:  # this pair's length is not in the facet's traction-free part
         p0, dp0 = _free_traction(N, tc, Tc)
         for k in range(6):
