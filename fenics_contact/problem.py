@@ -90,6 +90,15 @@ class Dirichlet:
         return self.amplitude * load_factor(self.path, t)
 
 
+def _form_inputs(form) -> tuple[list, list]:
+    """The Constants and the Functions of ``form`` after expanding its derivatives."""
+    from ufl.algorithms import expand_derivatives
+    from ufl.algorithms.analysis import extract_coefficients, extract_constants
+
+    form = expand_derivatives(form)
+    return extract_constants(form), extract_coefficients(form)
+
+
 def _vertex_kinematics(u: fem.Function, material) -> tuple:
     """The compiled expression of :meth:`ContactProblem.vertex_kinematics` (``det F`` and the small strain's
     components of ``u``'s displacement), its mesh and the owned cells."""
@@ -189,6 +198,8 @@ class ContactProblem:
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
         self._vertex_expr = _vertex_kinematics(u, material)  # compiled with the forms: the checks of every step
+        if self.step_solver is not None:
+            self.jacobian_inputs()  # analysed with the forms: a step solver reads it at its first step
 
     def _reference_stiffness(self) -> float:
         """:data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its
@@ -239,12 +250,11 @@ class ContactProblem:
 
     def jacobian_inputs(self) -> tuple[list, list]:
         """The Constants and the Functions the Jacobian form depends on (after expanding the derivative): what
-        can change the Jacobian between two assemblies (``u`` among the Functions: a nonlinear Jacobian)."""
-        from ufl.algorithms import expand_derivatives
-        from ufl.algorithms.analysis import extract_coefficients, extract_constants
-
-        form = expand_derivatives(ufl.derivative(self._residual_ufl, self.u, self._du))
-        return extract_constants(form), extract_coefficients(form)
+        can change the Jacobian between two assemblies (``u`` among the Functions: a nonlinear Jacobian).
+        Analysed once per problem."""
+        if not hasattr(self, "_jacobian_inputs"):
+            self._jacobian_inputs = _form_inputs(ufl.derivative(self._residual_ufl, self.u, self._du))
+        return self._jacobian_inputs
 
     def F(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """The residual at ``x`` into ``b``, as dolfinx's ``NonlinearProblem.F``: sets ``u`` to ``x``, lets every
@@ -312,9 +322,14 @@ class ContactProblem:
         """At the vertices of every owned cell, at the current displacement: ``det F`` (``F = I + grad u``;
         axisymmetric: times the hoop stretch ``1 + u_r / r``), shape (cells, vertices), and the components
         ``(i, j)``, ``i <= j`` in row order, of the small strain ``sym(grad u)``, shape (cells, vertices, pairs).
-        One expression, compiled with the problem's forms, serves both (the solver's checks after every step)."""
-        expr, mesh, cells = self._vertex_expr
-        values = evaluate_expression(expr, mesh, cells)
+        One expression, compiled with the problem's forms, serves both (the solver's checks after every step),
+        evaluated once per displacement (the values of the last call are kept with the displacement they belong to)."""
+        u = self.u.x.array
+        kept = getattr(self, "_kinematics_at", None)
+        if kept is None or not np.array_equal(kept[0], u):
+            expr, mesh, cells = self._vertex_expr
+            kept = self._kinematics_at = (u.copy(), evaluate_expression(expr, mesh, cells))
+        values = kept[1]
         return values[:, :, 0], values[:, :, 1:]
 
     def _cell_jacobians(self) -> np.ndarray:

@@ -252,3 +252,41 @@ def test_parallel_equals_serial():
         fc.Solver(problem, quiet=True).run([1.0, 2.0])
         forces.append(np.concatenate([c.total_force(), c.tangential_force()]))
     assert np.allclose(forces[0], forces[1], rtol=0, atol=1e-8 * np.abs(forces[1]).max()), forces
+
+
+def test_master_rows_eliminated_only_for_a_held_master_body(monkeypatch):
+    """The master rows are solved for the master dofs (the Newton systems halve) only when they can be: two
+    separate bodies (no coupling block in S) and a master body held (S_mm positive definite); a master body held by
+    the contact alone (a rigid mode of S_mm) or coupled surfaces keep the whole system. On the mindlin scene the
+    elimination is taken and the answer is that of the whole system (figures to 1e-10)."""
+    from fenics_contact.condensed.fixedrows import FixedRowsSolve, master_elimination
+
+    rng = np.random.default_rng(1)
+    ns_, nm = 6, 4
+    A = rng.standard_normal((ns_, ns_))
+    B = rng.standard_normal((nm, nm))
+    S = np.zeros((ns_ + nm, ns_ + nm))
+    S[:ns_, :ns_], S[ns_:, ns_:] = A @ A.T + np.eye(ns_), B @ B.T + np.eye(nm)
+    M = np.hstack([rng.standard_normal((nm, ns_)), np.eye(nm)])
+    D, inverse = master_elimination(S, M @ S, ns_)
+    assert np.allclose((M @ S)[:, ns_:] @ D + (M @ S)[:, :ns_], 0.0, atol=1e-12)
+    rigid = S.copy()
+    rigid[ns_:, ns_:] = np.ones((nm, nm))  # a translation of the master surface costs nothing
+    assert master_elimination(rigid, M @ rigid, ns_) is None
+    coupled = S.copy()
+    coupled[0, -1] = coupled[-1, 0] = 0.1
+    assert master_elimination(coupled, M @ coupled, ns_) is None
+
+    setup, f, solver = _run()
+    step_solver = setup.problem.step_solver
+    assert isinstance(step_solver.linear, FixedRowsSolve)
+    import fenics_contact.condensed.two_body_solver as module
+
+    monkeypatch.setattr(module, "master_elimination", lambda *args: None)
+    whole = _build(MPI.COMM_WORLD)
+    fc.Solver(whole.problem, quiet=True).run(whole.loads)
+    assert not isinstance(whole.problem.step_solver.linear, FixedRowsSolve)
+    g = whole.figures()
+    for r in mindlin.RATIOS:
+        assert g[f"c_{r:g}"] == f[f"c_{r:g}"] and g[f"Q_{r:g}"] == pytest.approx(f[f"Q_{r:g}"], rel=1e-10)
+    assert g["P"] == pytest.approx(f["P"], rel=1e-10)

@@ -265,3 +265,27 @@ def test_mixed_model_does_not_lock_where_the_displacement_model_does(mixed_model
     assert np.isclose(mixed["total_force"], mixed["reaction_top"], rtol=1e-8)
     assert locked["a"] < 0.8 * locked["a_hertz"] and locked["p0"] > 1.3 * locked["p0_hertz"], locked
     assert locked["total_force"] > 1.1 * mixed["total_force"]
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_max_strain_is_the_largest_principal_value(d):
+    """The 2D closed form (mean of the diagonal plus Mohr's radius) and the 3D filtered eigenvalues give the
+    largest absolute principal value of random symmetric tensors, as numpy's eigenvalues do."""
+    from mpi4py import MPI
+
+    rng = np.random.default_rng(7)
+    pairs = [(i, j) for i in range(d) for j in range(i, d)]
+    values = rng.normal(size=(50, 3, len(pairs)))
+    values[7, 1] *= 40.0  # one point far above the rest, another whose largest value is negative
+    values[9, 2] = -values[7, 1]
+
+    class Problem:
+        comm = MPI.COMM_SELF
+
+        def vertex_kinematics(self):
+            return np.ones(values.shape[:2]), values
+
+    tensor = np.zeros((values.shape[0] * values.shape[1], d, d))
+    for k, (i, j) in enumerate(pairs):
+        tensor[:, i, j] = tensor[:, j, i] = values.reshape(-1, len(pairs))[:, k]
+    assert np.isclose(max_strain(Problem()), np.abs(np.linalg.eigvalsh(tensor)).max(), rtol=1e-13)

@@ -60,3 +60,30 @@ def test_rows_told_touched_give_the_same_solutions():
         assert np.array_equal(x, blind.solve(J.copy(), b))
         assert np.max(np.abs(x - np.linalg.solve(J, b))) <= 1e-12 * np.max(np.abs(x))
     assert (told.factorizations, told.updates) == (blind.factorizations, blind.updates) == (1, 4)
+
+
+def test_fixed_rows_eliminated_give_the_whole_systems_solutions():
+    """A matrix whose last rows are fixed and solvable for the last unknowns (the two-body method's master rows):
+    solved through the reduced matrix, with rows changed in place and told (or not), every solution equals LU's of
+    the whole matrix to 1e-12; a change in the fixed block is not a case (the rows stay fixed)."""
+    from fenics_contact.condensed.fixedrows import FixedRowsSolve
+
+    rng = np.random.default_rng(3)
+    na, nb = 70, 50
+    n = na + nb
+    J = rng.standard_normal((n, n)) + n * np.eye(n)
+    La, Lb = J[na:, :na], J[na:, na:]
+    inverse = np.linalg.inv(Lb)
+    solver = FixedRowsSolve(-inverse @ La, inverse)
+    for k, tell in ((0, True), (3, True), (8, False), (30, True)):
+        rows = rng.choice(na, size=k, replace=False)
+        J[rows] = rng.standard_normal((k, n)) + n * np.eye(n)[rows]
+        solver.touched(rows if tell else None)
+        b = rng.standard_normal(n)
+        x = solver.solve(J, b)
+        assert np.max(np.abs(x - np.linalg.solve(J, b))) <= 1e-12 * np.max(np.abs(x)), (k, tell)
+    assert solver.factorizations + solver.updates == 4 and solver.updates >= 2
+    J[:na] = 0.0  # the reduced matrix singular exactly when the whole one is
+    solver.touched(None)
+    with pytest.raises(SingularMatrix):
+        solver.solve(J, rng.standard_normal(n))

@@ -20,7 +20,9 @@ import numpy as np
 from scipy import sparse
 
 from .disk import disk_rows
+from .fixedrows import FixedRowsSolve, master_elimination
 from .operator import CondensedStiffness
+from .rowupdate import RowUpdatedSolve
 from .states import OPEN, classify
 from .step import CondensedStepSolver
 from .two_body_surface import CondensedTwoBody
@@ -101,7 +103,9 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
               minv: np.ndarray) -> None:
         """The linear maps of the rows from the condensed dofs: the paired slave vertices ``ps``, their global
         components ``sdofs`` (ns, dim) (``sfree``: not prescribed), the master vertices' ``mdofs`` (nm, dim)
-        (``mfree``) and the master vertex of each paired vertex's facet corners ``minv`` (ns, dim)."""
+        (``mfree``) and the master vertex of each paired vertex's facet corners ``minv`` (ns, dim). The maps
+        have a few entries per row: they are formed sparse, from their entries (a dense product costs
+        ``O(n_c^3)``, as much as the semismooth Newton's solves)."""
         c, dim = self.contact, self.contact.dim
         ns = len(ps)
         n, N = c.normal[ps], c.N[ps]
@@ -113,62 +117,72 @@ class CondensedTwoBodyCoulomb(CondensedStepSolver):
         scol[sfree], mcol[mfree] = np.arange(nsf), nsf + np.arange(int(mfree.sum()))
         nc = nsf + int(mfree.sum())
         self._presc = np.concatenate([sdofs[~sfree], mdofs[~mfree]])  # values from the load mode u_0(t)
+        npc = len(self._presc)
         spc, mpc = np.full(sdofs.shape, -1, np.int64), np.full(mdofs.shape, -1, np.int64)
         spc[~sfree] = np.arange(int((~sfree).sum()))
         mpc[~mfree] = int((~sfree).sum()) + np.arange(int((~mfree).sum()))
         self._ps, self._ns, self._nc, self._T, self._has = ps, ns, nc, T, has
-        # w_i = u_s,i - sum_k N_ik u_m(i,k) = Gw u_c + Pw u_presc: (ns, dim, nc) and (ns, dim, n_presc)
-        Gw, Pw = np.zeros((ns, dim, nc)), np.zeros((ns, dim, len(self._presc)))
+        # w_i = u_s,i - sum_k N_ik u_m(i,k): entries (vertex i, component j, coefficient, column in u_c or in the
+        # prescribed values, free or not), the slave's own component then each master corner's.
         rows = np.arange(ns)
-        for j in range(dim):
-            f = sfree[:, j]
-            Gw[rows[f], j, scol[f, j]] = 1.0
-            Pw[rows[~f], j, spc[~f, j]] = 1.0
-            for k in range(dim):
-                mk = minv[:, k]
-                f = mfree[mk, j]
-                np.add.at(Gw, (rows[f], j, mcol[mk[f], j]), -N[f, k])
-                np.add.at(Pw, (rows[~f], j, mpc[mk[~f], j]), -N[~f, k])
-        Gn, Gt = np.einsum("ij,ijc->ic", n, Gw), np.einsum("imj,ijc->imc", T, Gw)  # (ns, nc), (ns, m, nc)
-        self._Pn, self._Pt = np.einsum("ij,ijc->ic", n, Pw), np.einsum("imj,ijc->imc", T, Pw)
+        vi = np.concatenate([np.repeat(rows, dim)] + [np.repeat(rows, dim)] * dim)
+        comp = np.tile(np.arange(dim), (dim + 1) * ns)
+        coef = np.concatenate([np.ones(ns * dim)] + [np.repeat(-N[:, k], dim) for k in range(dim)])
+        mk = minv.T  # (dim corners, ns)
+        free = np.concatenate([sfree.ravel()] + [mfree[mk[k]].ravel() for k in range(dim)])
+        col = np.concatenate([np.where(sfree, scol, spc).ravel()]
+                             + [np.where(mfree[mk[k]], mcol[mk[k]], mpc[mk[k]]).ravel() for k in range(dim)])
+
+        def project(vectors: np.ndarray, on: np.ndarray, width: int) -> sparse.csr_matrix:
+            """``sum_j vectors[i, ..., j] w_i,j``, row ``r ns + i`` for the ``r``-th vector of vertex ``i``, over
+            the entries ``on``: (vectors per vertex * ns, width), duplicates summed."""
+            per = vectors.reshape(ns, -1, dim)
+            r = per.shape[1]
+            val = per[vi[on], :, comp[on]] * coef[on, None]  # (entries, r)
+            out = sparse.coo_matrix((val.T.ravel(), (np.add.outer(np.arange(r) * ns, vi[on]).ravel(),
+                                                     np.tile(col[on], r))), shape=(r * ns, width))
+            return out.tocsr()
+
+        self._sGn, self._sGt = project(n, free, nc), project(T, free, nc)  # (ns, nc), (m ns, nc)
+        self._Pn = project(n, ~free, npc).toarray()
+        self._Pt = project(T, ~free, npc).toarray().reshape(m, ns, npc).transpose(1, 0, 2)  # (ns, m, n_presc)
         # Contact forces from R (force f_i = p_i n_i + T_i q_i, its free components R_s,i): the tangents lie in
         # the free components and are orthogonal to n, so p_i = n_F . R_s,i / |n_F|^2 (n_F: n's free
-        # components; n_F = n when all are free) and q_i = T_i R_s,i. Rows of the maps (ns, nc), (ns, m, nc).
+        # components; n_F = n when all are free) and q_i = T_i R_s,i. Maps (ns, nc) and (m ns, nc).
         nF = np.where(sfree, n, 0.0)
         nF /= np.einsum("ij,ij->i", nF, nF)[:, None]
-        Nn, Nt = np.zeros((ns, nc)), np.zeros((ns, m, nc))
-        for j in range(dim):
-            f = sfree[:, j]
-            Nn[rows[f], scol[f, j]] = nF[f, j]
-            Nt[rows[f], :, scol[f, j]] = T[f, :, j]
-        # Master rows: R_m + sum_i N_im f_i = 0 for each free master component (action and reaction).
-        M = np.zeros((int(mfree.sum()), nc))
-        M[np.arange(M.shape[0]), mcol[mfree]] = 1.0
-        for k in range(dim):
-            mk = minv[:, k]
-            for j in range(dim):
-                f = np.flatnonzero(mfree[mk, j])
-                np.add.at(M, mcol[mk[f], j] - nsf,
-                          N[f, k, None] * (n[f, j, None] * Nn[f] + np.einsum("im,imc->ic", T[f, :, j], Nt[f])))
+        si, sj = np.nonzero(sfree)
+        self._sNn = sparse.csr_matrix((nF[si, sj], (si, scol[si, sj])), shape=(ns, nc))
+        self._sNt = sparse.csr_matrix((T[si, :, sj].T.ravel(), (np.add.outer(np.arange(m) * ns, si).ravel(),
+                                                                np.tile(scol[si, sj], m))), shape=(m * ns, nc))
+        # Master rows: R_m + sum_i N_im f_i = 0 for each free master component (action and reaction), with
+        # f_i,j = sum_j' (n_i,j nF_i,j' + T_i,j . T_i,j') R_s,i,j' over the free j'.
+        coupling = np.einsum("ij,ik->ijk", n, nF) + np.einsum("imj,imk->ijk", T, np.where(sfree[:, None], T, 0.0))
+        i, k, j, jj = (a.ravel() for a in np.meshgrid(rows, np.arange(dim), np.arange(dim), np.arange(dim),
+                                                        indexing="ij"))
+        on = mfree[minv[i, k], j] & sfree[i, jj]
+        i, k, j, jj = i[on], k[on], j[on], jj[on]
+        nmf = int(mfree.sum())
+        self._sM = sparse.csr_matrix((np.concatenate([np.ones(nmf), N[i, k] * coupling[i, j, jj]]),
+                                      (np.concatenate([np.arange(nmf), mcol[minv[i, k], j] - nsf]),
+                                       np.concatenate([mcol[mfree], scol[i, jj]]))), shape=(nmf, nc))
         self._d0 = c.d0[ps]
         self._ref = np.zeros((ns, m))  # T . w at the last converged step
         self._w0n, self._w0t = np.zeros(ns), np.zeros((ns, m))
-        # The maps have a few entries per row: sparse products (the dense ones, O(n_c^3) each, cost as much as
-        # the semismooth Newton's solves). Tangential maps direction by direction: (m ns, nc).
-        Nt, Gt = (a.transpose(1, 0, 2).reshape(m * ns, nc) for a in (Nt, Gt))
-        self._sNn, self._sNt, self._sM = (sparse.csr_matrix(a) for a in (Nn, Nt, M))
-        self._sGn, self._sGt = sparse.csr_matrix(Gn), sparse.csr_matrix(Gt)
-        self._Gn, self._Gt = Gn, Gt  # dense too: the Jacobian's rows copy them (a sparse row copy costs more)
+        self._Gn, self._Gt = self._sGn.toarray(), self._sGt.toarray()  # dense too: the Jacobian's rows copy them
+        self._nsf = nsf  # u_c = (u_s, u_m): the slave dofs first
         self._blocks_of = None  # the S the Jacobian's fixed blocks were formed with
         self._jacobian = None  # the last Jacobian and its rows' coefficients (c, active, coef, J)
 
     def _step_data(self) -> None:
         """The prescribed components' values at the step (read from the load mode ``u_0(t)``), the Jacobian's
-        fixed blocks (formed again only when S has been condensed again)."""
+        fixed blocks and the solver of the Newton systems (formed again only when S has been condensed again)."""
         vals = self.K.values(self._presc, self.K.x)
         self._w0n, self._w0t = self._Pn @ vals, self._Pt @ vals
         if self._blocks_of is not self.S:
             self._PnS, self._PtS, self._MS = (np.asarray(m @ self.S) for m in (self._sNn, self._sNt, self._sM))
+            eliminated = master_elimination(self.S, self._MS, self._nsf)
+            self.linear = RowUpdatedSolve() if eliminated is None else FixedRowsSolve(*eliminated)
             self._blocks_of = self.S
             self._jacobian = None
 
