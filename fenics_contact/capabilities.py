@@ -40,6 +40,7 @@ _FIXED_AXES: dict[str, tuple] = {
     "solver": ("direct", "iterative"),
     "friction": (False, True),
     "geometry": ("cartesian", "axisymmetric"),
+    "sliding": ("finite", "small"),  # two-body contact kinematics: current configuration, or linearized
 }
 
 
@@ -93,6 +94,16 @@ _TWO_BODY_FRICTION = (
     rule("degree 1 (flat facets) or mu 0", "two-body friction projects the slip on flat master facets",
          kind="two-body", friction=True, degree=2),
 )
+_SLIDING = (
+    rule("linearized=True (a rigid obstacle's small-displacement gap)", "sliding is a two-body option",
+         kind="rigid", sliding="small"),
+    rule("sliding 'finite'", "segment-to-segment integration clips the current facets", sliding="small",
+         quadrature="segment"),
+    rule("sliding 'finite' (or degree 1)", "the small-sliding gap is written on flat facets", sliding="small",
+         degree=2),
+    rule("sliding 'finite' (or the linear material)", "small sliding linearizes the contact kinematics, as the "
+         "linear material linearizes the bulk's", sliding="small", model=tuple(m for m in MODELS if m != "linear")),
+)
 _QUADRATURE = (
     rule("degree 1 (or 2D)", "quadratic master facets are curved segments: 2D only", kind="two-body", degree=2,
          dim=3),
@@ -134,7 +145,7 @@ def rules() -> tuple[Rule, ...]:
                         "these methods have no tangential law", friction=True, method=frictionless),) if frictionless \
         else ()
     own = tuple(r for m in ms for r in m.rules)
-    return _KIND + _GEOMETRY + no_two_body + _TWO_BODY_FRICTION + no_friction + own + _MIXED + _QUADRATURE
+    return _KIND + _GEOMETRY + no_two_body + _TWO_BODY_FRICTION + no_friction + own + _MIXED + _SLIDING + _QUADRATURE
 
 
 def _fmt(axis: str, value: Any) -> str:
@@ -155,6 +166,8 @@ def _fmt(axis: str, value: Any) -> str:
         return f"{value} quadrature"
     if axis == "geometry":
         return f"{value} geometry"
+    if axis == "sliding":
+        return f"{value} sliding"
     return str(value)
 
 
@@ -188,11 +201,11 @@ def supported(**combo: Any) -> bool:
 def check(method: str | None = None, kind: str | None = None, quadrature: str | None = None,
           passes: str | None = None, dim: int | None = None, degree: int | None = None,
           model: str | None = None, solver: str | None = None, friction: bool | None = None,
-          obstacle: str | None = None, geometry: str | None = None) -> None:
+          obstacle: str | None = None, geometry: str | None = None, sliding: str | None = None) -> None:
     """Raise :class:`UnsupportedCombination` (one line: the refused axis values, the whole combination and
     what to use instead) if a rule refuses the combination; ``None``: the axis is not known here."""
     combo = dict(method=method, kind=kind, quadrature=quadrature, passes=passes, dim=dim, degree=degree,
-                 model=model, solver=solver, friction=friction, obstacle=obstacle, geometry=geometry)
+                 model=model, solver=solver, friction=friction, obstacle=obstacle, geometry=geometry, sliding=sliding)
     found = refusal(**combo)
     if found is not None:
         refused = describe(**{a: combo[a] for a in found.when})

@@ -17,7 +17,7 @@ from .materials import Material
 from .methods.builders import law_surface, law_two_body
 from .obstacles import Obstacle
 from .surface import Surface
-from .twobody import PASSES, QUADRATURES
+from .twobody import PASSES, QUADRATURES, SLIDING
 
 __all__ = ["contact_surface", "two_body_surfaces", "two_body_multipliers"]
 
@@ -61,7 +61,8 @@ def contact_surface(u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, l
 def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_factory: Callable[[], ContactLaw],
                       load: fem.Constant, quadrature: str = "nodal", passes: str = "one", radius: float | None = None,
                       name: str = "twobody", work_quadrature: str | None = None,
-                      cls: type | None = None, material: Material | None = None) -> list[Surface]:
+                      cls: type | None = None, material: Material | None = None,
+                      sliding: str | None = None) -> list[Surface]:
     """One-pass (``tag_a`` slave on ``tag_b``) or two-pass (each side slave once, weight 1/2) surfaces.
     ``law_factory()`` returns a fresh law for each surface. ``quadrature``: ``nodal``, ``gauss`` (pointwise
     at the slave points; ``simpson`` too for quadratic facets) or ``segment`` (segment-to-segment integration,
@@ -91,6 +92,9 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
         work_quadrature: the rule of the pressure's work term, if not ``quadrature``.
         cls: the surface class of the pointwise quadratures (None: chosen from the law).
         material: the bulk material (method ``nitsche``; else not used).
+        sliding: ``finite`` (the current configuration; the pointwise surfaces' default) or ``small`` (pairs,
+            weights and normals of the reference configuration, a gap linear in the displacements; flat facets,
+            the linear material; method ``coulomb`` is small sliding by construction); None: the method's own.
 
     Returns:
         The surfaces (one per pass), to pass to :class:`ContactProblem`.
@@ -99,14 +103,16 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
         raise ValueError(f"passes must be one of {PASSES}, got {passes!r}")
     if quadrature not in QUADRATURES + ("simpson",):
         raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
+    if sliding not in SLIDING + (None,):
+        raise ValueError(f"sliding must be one of {SLIDING}, got {sliding!r}")
     # The capability matrix (multipliers: the rule of the work term is the option; the constraint is nodal).
     probe = law_factory()
     check(**of(probe, u, material), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes,
-          obstacle="none")
+          obstacle="none", sliding=sliding)
     method = methods.of_law(probe)
     build = law_two_body if method is None else method.build_two_body
     return build(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name, work_quadrature,
-                 cls, material)
+                 cls, material, sliding)
 
 
 def two_body_multipliers(w: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,

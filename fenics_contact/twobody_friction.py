@@ -12,10 +12,11 @@ in the law's state space), ``w_k`` the displacements of the current master facet
 of :mod:`twobody`), ``w_k_old`` their values at the last accepted step and ``N_k(xi)`` the linear shape
 functions at the closest point, written in UFL from the current vertex positions (2D: ``xi = (x_s - x_1) . t /
 t . t``; 3D: the 2x2 normal equations on the triangle), so UFL differentiates the slip with respect to the
-slave and the master dofs. The return mapping sees ``P_T ds`` (:meth:`Friction.trial`); on the same facet it
-is the convected increment ``(xi - xi_old) t`` to first order, and a point whose master facet changes
-keeps its history (``q_old``, ``r_old`` live with the slave point; ``w_old`` is re-read for the new pair from
-the master displacement at the last accepted step, ``u_old``).
+slave and the master dofs. Small sliding (``sliding="small"``): the weights of the reference closest point, fixed,
+and the reference normal (:class:`~fenics_contact.twobody.mirror.MirrorObstacle`). The return mapping sees ``P_T
+ds`` (:meth:`Friction.trial`); on the same facet it is the convected increment ``(xi - xi_old) t`` to first order,
+and a point whose master facet changes keeps its history (``q_old``, ``r_old`` live with the slave point; ``w_old``
+is re-read for the new pair from the master displacement at the last accepted step, ``u_old``).
 
 Forces. ``q`` (the return-mapped traction, per reference slave area, 0 on unpaired points) acts on the slave
 point, ``-q`` on the master point ``sum_k N_k(xi) x_k``::
@@ -40,23 +41,7 @@ from .friction import Friction, FrictionHistory
 from .laws import ContactLaw
 from .twobody import TwoBodySurface
 
-__all__ = ["FrictionalTwoBodySurface", "barycentric"]
-
-
-def barycentric(x, xs: list) -> list:
-    """UFL weights ``N_k`` of the closest point of the plane (line) of the flat facet with current vertices ``xs``
-    (2 in 2D, 3 in 3D) to ``x``: ``sum_k N_k = 1``, ``sum_k N_k x_k`` the projection of ``x``."""
-    d = x - xs[0]
-    if len(xs) == 2:
-        t = xs[1] - xs[0]
-        a = ufl.dot(d, t) / ufl.dot(t, t)
-        return [1.0 - a, a]
-    e1, e2 = xs[1] - xs[0], xs[2] - xs[0]
-    g11, g12, g22 = ufl.dot(e1, e1), ufl.dot(e1, e2), ufl.dot(e2, e2)
-    r1, r2 = ufl.dot(d, e1), ufl.dot(d, e2)
-    det = g11 * g22 - g12 * g12
-    a, b = (g22 * r1 - g12 * r2) / det, (g11 * r2 - g12 * r1) / det
-    return [1.0 - a - b, a, b]
+__all__ = ["FrictionalTwoBodySurface"]
 
 
 class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
@@ -77,11 +62,12 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
         name: the surface's name, in messages and output.
         work_quadrature: the rule of the work term, if not ``quadrature``.
         exclude: (k, gdim) reference positions of slave points left without a pair.
+        sliding: ``finite`` or ``small`` (see :class:`~fenics_contact.twobody.TwoBodySurface`).
     """
 
     def __init__(self, u: fem.Function, facet_tags, slave_tag, master_tag, law: ContactLaw, load: fem.Constant,
                  quadrature: str = "nodal", weight: float = 1.0, radius: float | None = None, name: str = "twobody",
-                 work_quadrature: str | None = None, exclude: np.ndarray | None = None):
+                 work_quadrature: str | None = None, exclude: np.ndarray | None = None, sliding: str = "finite"):
         if not isinstance(law, Friction):
             raise ValueError(f"FrictionalTwoBodySurface needs a Friction law, got {law!r}")
         if work_quadrature not in (None, quadrature):
@@ -89,7 +75,7 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
                              f"{quadrature!r}, got {work_quadrature!r}")
         self._friction_load = load
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, quadrature, weight, radius, name,
-                         work_quadrature, exclude)
+                         work_quadrature, exclude, sliding=sliding)
         if self.quadratic:  # capabilities refuses it first; kept for a direct construction
             raise ValueError("two-body friction needs degree-1 (flat) facets")
 
@@ -102,7 +88,7 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
         self.u_old = fem.Function(self.u.function_space, name="u_old")  # the displacement at the last accepted step
         self.w_old = fem.Function(self.mirror.space, name="mirror_u_old")  # its values at the current master vertices
         x = ufl.SpatialCoordinate(mesh) + self.u
-        self._N = barycentric(x, self.obstacle.vertices())
+        self._N = self.obstacle.weights(x)
         w = self.mirror.displacement
         dw = [ufl.as_vector([w[k * d + i] - self.w_old[k * d + i] for i in range(d)]) for k in range(self.nv)]
         master_motion = sum(N * v for N, v in zip(self._N, dw))

@@ -79,12 +79,12 @@ class NitscheFrictionTwoBody(FrictionalTwoBodySurface, NitscheTwoBody):
     def __init__(self, u: fem.Function, facet_tags, slave_tag, master_tag, law: ContactLaw, load: fem.Constant,
                  quadrature: str = "nodal", weight: float = 1.0, radius: float | None = None, name: str = "twobody",
                  work_quadrature: str | None = None, exclude: np.ndarray | None = None,
-                 material: Material | Materials | None = None):
+                 material: Material | Materials | None = None, sliding: str = "finite"):
         if isinstance(law, Friction) and "c_t" in law.scalars:
             raise ValueError("Nitsche's friction takes a Coulomb (mu) or Tresca (tresca) bound, not c_t")
         self.material = material  # NitscheTwoBody reads it (FrictionalTwoBodySurface passes its own arguments on)
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, quadrature, weight, radius, name,
-                         work_quadrature, exclude)
+                         work_quadrature, exclude, sliding=sliding)
 
     def _init_friction(self, law, load, r, ds_of_r_old, factor=None) -> None:
         """The frictional state with Nitsche's return mapping; keeps the slip increment's UFL (``_slip``)."""

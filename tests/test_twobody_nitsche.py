@@ -37,6 +37,14 @@ def test_consistent_tangent_with_master_dofs(quadrature, passes, dim, theta, fri
     _tangent_check(quadrature, passes, dim, theta, friction, contact_tangent_error)
 
 
+@pytest.mark.parametrize("passes,dim,friction", [("one", 2, "coulomb"), ("two", 2, None), ("two", 3, "coulomb")])
+def test_small_sliding_tangent_and_fixed_pairs(passes, dim, friction, contact_tangent_error):
+    """Small sliding: the tangent against central differences of the residual at the sliding, pressed
+    configuration of the pointwise check (the reference pairs kept, the gap linear in the displacements), to
+    1e-6 relative, Coulomb points in stick and in slip."""
+    _tangent_check("nodal", passes, dim, 1.0, friction, contact_tangent_error, sliding="small")
+
+
 @pytest.mark.parametrize("theta", [1.0, -1.0])
 def test_segment_tangent_neohookean(theta, contact_tangent_error):
     """Segment-to-segment Nitsche on neo-Hookean blocks: the tangent (the stress's second derivative in the
@@ -105,12 +113,13 @@ def _patch(quadrature="gauss", passes="two", theta=1.0, comm=MPI.COMM_WORLD, **k
     return setup, solver
 
 
-@pytest.mark.parametrize("quadrature,theta", [("gauss", 1.0), ("nodal", -1.0), ("gauss", 0.0)])
-def test_patch_matching_interface_to_round_off(quadrature, theta):
+@pytest.mark.parametrize("quadrature,theta,sliding", [("gauss", 1.0, None), ("nodal", -1.0, None),
+                                                       ("gauss", 0.0, None), ("nodal", 1.0, "small")])
+def test_patch_matching_interface_to_round_off(quadrature, theta, sliding):
     """Two blocks of different E, uniform pressure, unbiased Nitsche: where the interface nodes match, the uniform
     state is reproduced to round-off (pressure at every slave point of both passes, the displacement of every
-    node), for any theta; the force balance is exact."""
-    setup, solver = _patch(quadrature, "two", theta, n_lower=(5, 4), n_upper=(5, 4))
+    node), for any theta and with small sliding; the force balance is exact."""
+    setup, solver = _patch(quadrature, "two", theta, n_lower=(5, 4), n_upper=(5, 4), sliding=sliding)
     f = setup.figures()
     print(f"matching patch, {quadrature}, theta {theta:g}: pressure deviation {f['pressure_deviation']:.1e}, "
           f"displacement error {f['displacement_error']:.1e}")
@@ -174,11 +183,12 @@ def test_segment_serial_equals_two_ranks():
         assert np.allclose(pp, ps, rtol=1e-8, atol=1e-8 * ps.max())
 
 
-def test_serial_equals_two_ranks():
-    """The unbiased patch (two passes, non-matching) under mpirun: every figure and the pressure at every slave
-    point equal the serial ones to 1e-8."""
-    par, _ = _patch("gauss", "two", comm=MPI.COMM_WORLD)
-    ser, _ = _patch("gauss", "two", comm=MPI.COMM_SELF)
+@pytest.mark.parametrize("sliding", [None, "small"])
+def test_serial_equals_two_ranks(sliding):
+    """The unbiased patch (two passes, non-matching; finite and small sliding) under mpirun: every figure and the
+    pressure at every slave point equal the serial ones to 1e-8."""
+    par, _ = _patch("gauss", "two", comm=MPI.COMM_WORLD, sliding=sliding)
+    ser, _ = _patch("gauss", "two", comm=MPI.COMM_SELF, sliding=sliding)
     fp, fs = par.figures(), ser.figures()
     for k in fs:
         floor = 1.0 if k == "pressure_deviation" else 1e-3
@@ -242,6 +252,37 @@ def test_bad_input():
     with pytest.raises(UnsupportedCombination, match="flat"):
         two_body_surfaces(u2, ft, "upper_bottom", "lower_top", _nitsche(), load, "simpson",
                           material=LinearElastic(1.0, 0.3))
+
+
+def test_small_sliding_refusals():
+    """Small sliding is refused up front, with one line naming the option, where it does not hold: an unknown
+    value, segment integration, quadratic facets, a finite-strain material, the multipliers and (finite) the
+    condensed method, which is small sliding by construction."""
+    from fenics_contact.app.meshes import stacked_blocks
+    from fenics_contact.compat import function_space
+    from fenics_contact.materials import LinearElastic, NeoHookean
+
+    mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (3, 2))
+    u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)))
+    load = fem.Constant(mesh, 0.0)
+    elastic = LinearElastic(1.0, 0.3)
+    with pytest.raises(ValueError, match="sliding must be one of"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(), load, material=elastic, sliding="large")
+    with pytest.raises(UnsupportedCombination, match="small sliding.*segment-to-segment"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(), load, "segment", material=elastic,
+                          sliding="small")
+    with pytest.raises(UnsupportedCombination, match="small sliding.*linearizes the contact kinematics"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", _nitsche(), load, material=NeoHookean(1.0, 0.3),
+                          sliding="small")
+    u2 = fem.Function(function_space(mesh, "Lagrange", 2, (2,)))
+    with pytest.raises(UnsupportedCombination, match="small sliding.*flat facets"):
+        two_body_surfaces(u2, ft, "upper_bottom", "lower_top", lambda: make_law("penalty", K=1.0), load, "simpson",
+                          sliding="small")
+    with pytest.raises(UnsupportedCombination, match="multipliers enforce the gap of the current facets"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: make_law("lagrange"), load, sliding="small")
+    with pytest.raises(UnsupportedCombination, match="reference configuration and keeps the pairs"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: make_law("coulomb", mu=0.3), load,
+                          sliding="finite")
 
 
 def _wedges(friction, comm=MPI.COMM_WORLD):
@@ -328,6 +369,33 @@ def test_mindlin_default_mesh_newton():
         assert abs(c - ref) <= 0.7 * h, (r, c, ref)
         if r < 0.8:
             assert abs(c - ref) <= 0.05 * ref, (r, c, ref)
+
+
+def test_mindlin_small_sliding_default_mesh():
+    """Cattaneo-Mindlin on the default mesh with Nitsche's Coulomb friction in small sliding (reference pairs and
+    normals: the kinematics of the linear theory): the stick half-width within 5 % of c = a sqrt(1 - Q / (mu P))
+    at every ratio (measured 3.2 %, 2.5 %, 3.2 %) and within one contact element of the exact condensed method's,
+    which is small sliding too (the same vertices at 0.2 and 0.5); the pairs never change; every step converges
+    at its first try."""
+    from fenics_contact.app.scenes import mindlin
+
+    setup = build("mindlin", law=_nitsche(friction="coulomb")(), sliding="small")
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert all(r.converged for r in solver.records) and solver.newton_spent == sum(
+        r.newton_iterations for r in solver.records)
+    f = setup.figures()
+    exact = build("mindlin", law=make_law("coulomb", mu=0.3))
+    Solver(exact.problem, quiet=True).run(exact.loads)
+    g = exact.figures()
+    h = f["h_contact"]
+    print("mindlin nitsche, small sliding: " + ", ".join(f"{r}: {f[f'c_error_{r:g}']:.2%} (exact "
+                                                          f"{g[f'c_error_{r:g}']:.2%})" for r in mindlin.RATIOS))
+    for r in mindlin.RATIOS:
+        c, ref = f[f"c_{r:g}"], f[f"c_ref_{r:g}"]
+        assert abs(c - ref) <= 0.05 * ref, (r, c, ref)
+        assert abs(c - g[f"c_{r:g}"]) <= h, (r, c, g[f"c_{r:g}"])
+    assert setup.contacts[0].pairing_changes == 1
 
 
 def test_mindlin_two_passes_force_is_the_reaction():

@@ -428,13 +428,13 @@ def one_line_errors() -> None:
 
 def refuse_unsupported(args: argparse.Namespace, **axes) -> None:
     """Check the demo's options against the capability matrix before any work: method, quadrature, linear
-    solver, friction and passes from ``args``, the scene's own axes (``kind``, ``dim``, ``degree``, ``model``)
+    solver, friction, passes and sliding from ``args``, the scene's own axes (``kind``, ``dim``, ``degree``, ``model``)
     as keywords. Raises :class:`~fenics_contact.capabilities.UnsupportedCombination`."""
     from ..capabilities import check as check_combination
 
     combo = {"method": args.method, "quadrature": args.quadrature, "solver": getattr(args, "solver", None),
              "friction": has_friction(args),
-             "passes": getattr(args, "passes", None)}
+             "passes": getattr(args, "passes", None), "sliding": getattr(args, "sliding", None)}
     check_combination(**{**combo, **axes})
 
 

@@ -4,7 +4,8 @@ capability grid first and then call the method's builder.
 
 Rigid builders take ``(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized, material)``;
 two-body builders ``(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-work_quadrature, cls, material)`` and return a list of surfaces.
+work_quadrature, cls, material, sliding)`` and return a list of surfaces (``sliding`` None: the surface's
+default).
 """
 from __future__ import annotations
 
@@ -61,7 +62,7 @@ def nitsche_surface(u, facet_tags, tag, obstacle, law, load, quadrature, name, l
 
 # --- two deformable bodies ---------------------------------------------------------------------------------
 def law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name, work_quadrature,
-                 cls, material=None):
+                 cls, material=None, sliding=None):
     """Pointwise (nodal, Gauss, Simpson) or segment-to-segment two-body surfaces of a law of the gap; one pass
     (``tag_a`` slave) or two (each side slave once, weight 1/2)."""
     if quadrature == "segment":
@@ -73,7 +74,7 @@ def law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, pas
                 SegmentSurface(u, facet_tags, tag_b, tag_a, law_factory(), load, 0.5, radius, f"{name}_b")]
     probe = law_factory()
     cls = cls or (FrictionalTwoBodySurface if isinstance(probe, Friction) else TwoBodySurface)
-    kw = {"work_quadrature": work_quadrature}
+    kw = {"work_quadrature": work_quadrature, **({} if sliding is None else {"sliding": sliding})}
     if passes == "one":
         return [cls(u, facet_tags, tag_a, tag_b, law_factory(), load, quadrature, 1.0, radius, name, **kw)]
     # Flat facets: no node-on-node exclusion. A second-pass point left out where it coincides with a first-pass
@@ -93,7 +94,7 @@ def law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, pas
 
 
 def condensed_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-                       work_quadrature, cls, material=None):
+                       work_quadrature, cls, material=None, sliding=None):
     """Exact Coulomb between two bodies on the condensed system (2D or 3D, P1, nodal, one pass): one
     :class:`CondensedTwoBody`."""
     if cls is not None or work_quadrature is not None:
@@ -102,16 +103,16 @@ def condensed_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadratur
 
 
 def multiplier_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-                        work_quadrature, cls, material=None):
+                        work_quadrature, cls, material=None, sliding=None):
     """The slave pressure as an unknown (:class:`TwoBodyMultiplier`): nodal Signorini conditions of the slave
     vertices against the current master facets; ``work_quadrature`` ``simpson`` on quadratic facets (the
     two-point element)."""
     return law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, "nodal", passes, radius, name,
-                        work_quadrature, cls or TwoBodyMultiplier)
+                        work_quadrature, cls or TwoBodyMultiplier, sliding=sliding)
 
 
 def nitsche_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-                     work_quadrature, cls, material=None):
+                     work_quadrature, cls, material=None, sliding=None):
     """Nitsche between two bodies (:class:`NitscheTwoBody`, with friction :class:`NitscheFrictionTwoBody`; needs
     the bulk ``material``): one pass (the slave's stress) or two (unbiased: each side slave once with its own
     stress, weight 1/2)."""
@@ -131,4 +132,4 @@ def nitsche_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature,
                                       material=material)]
     cls = NitscheFrictionTwoBody if isinstance(law_factory(), Friction) else NitscheTwoBody
     return law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
-                        work_quadrature, functools.partial(cls, material=material))
+                        work_quadrature, functools.partial(cls, material=material), sliding=sliding)

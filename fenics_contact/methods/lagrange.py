@@ -23,7 +23,9 @@ def multiplier_rules(method: str) -> tuple:
                  "pressure as its second field, where a mixed model has its own", method=method,
                  model=mixed_models()),
             rule("passes 'one'", "two passes of exact constraints over-constrain the surface (surface locking, "
-                 "a pressure split arbitrarily between the passes)", method=method, passes="two"))
+                 "a pressure split arbitrarily between the passes)", method=method, passes="two"),
+            rule("sliding 'finite' (or method coulomb)", "the multipliers enforce the gap of the current facets",
+                 method=method, sliding="small"))
 
 
 METHOD = Method(

@@ -20,12 +20,12 @@ the same parts. Flat facets: segments (2D), triangles (3D); quadratic: curved se
 from .coupling import JacobianPattern, MirrorCoupling, dirichlet_columns, interpolation_operator
 from .exchange import LEAVES, MARGIN, MasterExchange, leaf_boxes
 from .facets import POINT_RULES, FacetData, SlavePoints, facet_pair
-from .mirror import MirrorFields, MirrorObstacle, ufl_normal
+from .mirror import MirrorFields, MirrorObstacle, barycentric, ufl_normal
 from .pairing import Pairing
 from .report import PointReport, Timings
-from .surface import PASSES, QUADRATURES, TwoBodySurface
+from .surface import PASSES, QUADRATURES, SLIDING, TwoBodySurface
 
-__all__ = ["LEAVES", "MARGIN", "PASSES", "QUADRATURES", "POINT_RULES", "FacetData", "SlavePoints", "facet_pair",
-           "MasterExchange", "leaf_boxes", "Pairing", "MirrorFields", "MirrorObstacle", "ufl_normal",
-           "MirrorCoupling", "JacobianPattern", "dirichlet_columns", "interpolation_operator", "PointReport",
-           "Timings", "TwoBodySurface"]
+__all__ = ["LEAVES", "MARGIN", "PASSES", "QUADRATURES", "SLIDING", "POINT_RULES", "FacetData", "SlavePoints",
+           "facet_pair", "MasterExchange", "leaf_boxes", "Pairing", "MirrorFields", "MirrorObstacle", "barycentric",
+           "ufl_normal", "MirrorCoupling", "JacobianPattern", "dirichlet_columns", "interpolation_operator",
+           "PointReport", "Timings", "TwoBodySurface"]

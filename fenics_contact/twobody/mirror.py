@@ -38,7 +38,7 @@ from ..compat import function_space
 from ..obstacles import Obstacle
 from .facets import FacetData, SlavePoints
 
-__all__ = ["MirrorFields", "MirrorObstacle", "ufl_normal"]
+__all__ = ["MirrorFields", "MirrorObstacle", "barycentric", "ufl_normal"]
 
 
 class MirrorFields:
@@ -135,6 +135,22 @@ def ufl_normal(xs: Sequence[ufl.core.expr.Expr]) -> ufl.core.expr.Expr:
     return n / ufl.sqrt(ufl.dot(n, n))
 
 
+def barycentric(x, xs: list) -> list:
+    """UFL weights ``N_k`` of the closest point of the plane (line) of the flat facet with vertices ``xs`` (2 in
+    2D, 3 in 3D) to ``x``: ``sum_k N_k = 1``, ``sum_k N_k x_k`` the projection of ``x``."""
+    d = x - xs[0]
+    if len(xs) == 2:
+        t = xs[1] - xs[0]
+        a = ufl.dot(d, t) / ufl.dot(t, t)
+        return [1.0 - a, a]
+    e1, e2 = xs[1] - xs[0], xs[2] - xs[0]
+    g11, g12, g22 = ufl.dot(e1, e1), ufl.dot(e1, e2), ufl.dot(e2, e2)
+    r1, r2 = ufl.dot(d, e1), ufl.dot(d, e2)
+    det = g11 * g22 - g12 * g12
+    a, b = (g22 * r1 - g12 * r2) / det, (g11 * r2 - g12 * r1) / det
+    return [1.0 - a - b, a, b]
+
+
 class MirrorObstacle(Obstacle):
     """The paired master facet seen from the slave points, as an obstacle of :class:`contact.ContactSurface`.
 
@@ -145,14 +161,35 @@ class MirrorObstacle(Obstacle):
         open_gap: gap at unpaired points (negative: open; the search radius).
         local_coordinate: quadratic facets: ``(xi0, free)`` of :class:`MirrorFields` (the curve and one Newton
             correction of the closest point, see the module docstring); None for flat facets.
+        sliding: ``finite`` (the current facet, see the module) or ``small`` (flat facets): the reference
+            facet's normal ``n`` and the reference closest point's weights ``N_k`` (of the slave point's
+            reference position), ``g = -(x_s - sum_k N_k x_k) . n``: linear in the slave and master
+            displacements (the contact kinematics of small strains and small sliding).
     """
 
     def __init__(self, reference: fem.Function, displacement: fem.Function, active: fem.Function, nv: int,
-                 gdim: int, open_gap: float, local_coordinate: fem.Function | None = None):
+                 gdim: int, open_gap: float, local_coordinate: fem.Function | None = None, sliding: str = "finite"):
         super().__init__(np.zeros(gdim))
         self.reference, self.displacement, self.active, self.nv, self.gdim = reference, displacement, active, nv, gdim
         self.open_gap = float(open_gap)
         self.local_coordinate = local_coordinate
+        self.small = sliding == "small"
+        if self.small and local_coordinate is not None:
+            raise ValueError("sliding 'small' needs flat (degree-1) facets")
+
+    def reference_vertices(self) -> list:
+        """The paired facet's reference nodes ``X_k`` (UFL vectors)."""
+        d = self.gdim
+        return [ufl.as_vector([self.reference[k * d + i] for i in range(d)]) for k in range(self.nv)]
+
+    def weights(self, x) -> list:
+        """The weights ``N_k`` of the master point paired with the slave point ``x`` (UFL): of its closest point
+        on the current facet, or with small sliding of the reference closest point to the slave point's
+        reference position."""
+        if self.small:
+            X = ufl.SpatialCoordinate(self.reference.function_space.mesh)
+            return barycentric(X, self.reference_vertices())
+        return barycentric(x, self.vertices())
 
     def vertices(self) -> list:
         """The paired facet's current nodes ``X_k + w_k`` (UFL vectors)."""
@@ -179,7 +216,10 @@ class MirrorObstacle(Obstacle):
     def gap(self, x):
         """``-(x - x_1) . n`` (> 0 penetration) where paired; ``-open_gap`` where not, so that laws and
         augmentations see an open contact there."""
-        if self.local_coordinate is None:
+        if self.small:
+            xm = sum(N * xk for N, xk in zip(self.weights(x), self.vertices()))
+            g = -ufl.dot(x - xm, ufl_normal(self.reference_vertices()))
+        elif self.local_coordinate is None:
             xs = self.vertices()
             g = -ufl.dot(x - xs[0], ufl_normal(xs))
         else:
@@ -188,7 +228,10 @@ class MirrorObstacle(Obstacle):
         return self.active * g - (1.0 - self.active) * self.open_gap
 
     def normal(self, x):
-        """The paired master facet's outward unit normal at the closest point to ``x`` (UFL)."""
+        """The paired master facet's outward unit normal at the closest point to ``x`` (UFL; small sliding: the
+        reference facet's)."""
+        if self.small:
+            return ufl_normal(self.reference_vertices())
         if self.local_coordinate is None:
             return ufl_normal(self.vertices())
         X, dX = self._curve(x)

@@ -7,7 +7,10 @@ the surfaces' size whatever the iterate) and evaluates the normal gap (positive 
 (:class:`~.mirror.MirrorObstacle`). A point keeps its facet while that facet stays nearly as close as the
 closest one (the hysteresis of :func:`search.project`); the pairing is kept in global facet numbers, so it
 survives a re-routing and does not depend on the partition. An iterate that stretched a master facet past
-:data:`search.STRETCH_LIMIT` is rejected (``exploded``), not searched.
+:data:`search.STRETCH_LIMIT` is rejected (``exploded``), not searched. Small sliding (``sliding="small"``): the
+slave points are projected in the reference configuration (the same pair at every iterate) and the gap is
+``-(x_s - sum_k N_k x_k) . n`` with the reference weights ``N_k`` and the reference normal ``n`` (linear in the
+displacements, :class:`~.mirror.MirrorObstacle`).
 """
 from __future__ import annotations
 
@@ -31,6 +34,7 @@ class Pairing:
         radius: search radius (default: 2 x the longest master facet, 1 without master facets); slave points
             farther from the master surface have no pair.
         seconds: the surface's timings; ``exchange_s`` and ``search_s`` are added to it.
+        sliding: ``finite`` (pair the current positions) or ``small`` (pair the reference positions).
 
     After :meth:`update` (unless ``exploded``): ``master`` the received master facets ``{"X", "G", "U", "ids",
     "x"}`` (reference and current coordinates, global displacement dofs, displacements, global facet numbers;
@@ -45,8 +49,9 @@ class Pairing:
     """
 
     def __init__(self, comm, slave: FacetData, master: FacetData, points: SlavePoints, radius: float | None,
-                 seconds):
+                 seconds, sliding: str = "finite"):
         self.comm, self.slave, self.master_facets, self.points = comm, slave, master, points
+        self.small = sliding == "small"
         self.quadratic, self.nv = slave.quadratic, slave.nv
         own = master.owned
         self.exchange = MasterExchange(comm, master.X[own], master.global_comp[own], master.global_facets[own],
@@ -105,13 +110,14 @@ class Pairing:
         return master
 
     def _project(self, u: np.ndarray) -> np.ndarray:
-        """Project the slave points on ``master``; set ``projection`` and ``local_coordinate``. Returns
-        ``facet`` (nf, nq)."""
+        """Project the slave points on ``master`` (small sliding: in the reference configuration); set
+        ``projection`` and ``local_coordinate``. Returns ``facet`` (nf, nq)."""
         xm = self.master["x"]
         pts = self.points.current(u)
         nf, nq, d = pts.shape if pts.size else (0, self.points.per_facet, pts.shape[-1])
         previous = None if self.ids is None else self._local_facets(self.ids.ravel())
-        found = project(pts.reshape(-1, d), xm, self.radius, previous, quadratic=self.quadratic)
+        found = project((self.points.reference() if self.small else pts).reshape(-1, d),
+                        self.master["X"] if self.small else xm, self.radius, previous, quadratic=self.quadratic)
         facet, bary, dist = found[:3]
         facet = facet.reshape(nf, nq)
         facet[self.points.excluded] = -1
@@ -125,6 +131,9 @@ class Pairing:
             if self.quadratic:
                 n = quadratic_normals(xv, xi[ok])
                 q = np.einsum("ik,ikj->ij", quadratic_shape(xi[ok])[0], xv)
+            elif self.small:  # the reference facet's normal at the reference closest point, moving with the facet
+                n = facet_normals(self.master["X"][facet[ok]])
+                q = np.einsum("ik,ikj->ij", bary.reshape(nf, nq, self.nv)[ok], xv)
             else:
                 n = facet_normals(xv)
                 q = xv[:, 0]

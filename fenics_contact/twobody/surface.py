@@ -27,9 +27,10 @@ from .mirror import MirrorFields, MirrorObstacle
 from .pairing import Pairing
 from .report import PointReport, Timings
 
-__all__ = ["PASSES", "QUADRATURES", "TwoBodySurface"]
+__all__ = ["PASSES", "QUADRATURES", "SLIDING", "TwoBodySurface"]
 
 PASSES = ("one", "two")
+SLIDING = ("finite", "small")  # the contact kinematics: current configuration, or linearized at the reference
 QUADRATURES = ("nodal", "gauss", "segment")  # segment: segment-to-segment integration (:mod:`mortar`)
 
 
@@ -53,10 +54,15 @@ class TwoBodySurface(ContactSurface):
             with the constraint at the end nodes).
         name: the surface's name, in its error messages.
         exclude: (k, gdim) reference positions of slave points left without a pair (node on node).
+        sliding: ``finite`` (the current configuration: pairing, normal and gap of the current facets, large
+            sliding) or ``small`` (flat facets: the pair, its weights and the master normal of the reference
+            configuration, the gap linear in the displacements: the kinematics of small strains, as the
+            linear material's).
 
     Raises:
         ValueError: equal or absent tags, ``weight`` or ``radius`` not finite and > 0, a quadrature the facets
-            do not take; ``capabilities.UnsupportedCombination`` for a refused combination.
+            do not take, ``sliding`` not in :data:`SLIDING`; ``capabilities.UnsupportedCombination`` for a
+            refused combination.
     """
 
     ufl_coupling = True  # False: a subclass assembles residual and tangent itself (no coupling forms, no I)
@@ -67,8 +73,11 @@ class TwoBodySurface(ContactSurface):
     def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
                  radius: float | None = None, name: str = "twobody", work_quadrature: str | None = None,
-                 exclude: np.ndarray | None = None):
-        check(**of(law, u), kind="two-body", quadrature=work_quadrature or quadrature)  # before any assembly
+                 exclude: np.ndarray | None = None, sliding: str = "finite"):
+        if sliding not in SLIDING:
+            raise ValueError(f"sliding must be one of {SLIDING}, got {sliding!r}")
+        check(**of(law, u), kind="two-body", quadrature=work_quadrature or quadrature,  # before any assembly
+              sliding=sliding)
         mesh = u.function_space.mesh
         if not (np.isfinite(weight) and weight > 0):
             raise ValueError(f"weight must be a finite number > 0, got {weight!r}")
@@ -83,7 +92,8 @@ class TwoBodySurface(ContactSurface):
         self.points = SlavePoints(self.slave_data, quadrature, exclude)
         self.mirror = MirrorFields(mesh, self.slave_data, self.points, quadrature, name)
         self._seconds = Timings()
-        self.pairs = Pairing(self.comm, self.slave_data, self.master_data, self.points, radius, self._seconds)
+        self.sliding = sliding
+        self.pairs = Pairing(self.comm, self.slave_data, self.master_data, self.points, radius, self._seconds, sliding)
         self.radius = self.pairs.radius
         self.report = PointReport(self.comm, self.slave_data, self.points, self.mirror.scalar_dofs)
         self._dirichlet = np.zeros(0, np.int64)  # global Dirichlet dofs, left out of I (bind_problem)
@@ -92,7 +102,7 @@ class TwoBodySurface(ContactSurface):
         self.weight = fem.Constant(mesh, float(weight))
         m = self.mirror
         obstacle = MirrorObstacle(m.reference, m.displacement, m.active, self.nv, self.gdim, self.radius,
-                                  m.local_coordinate)
+                                  m.local_coordinate, sliding)
         self.ds_work = contact_measure(mesh, facet_tags, slave_tag, work_quadrature or quadrature)
         super().__init__(u, facet_tags, slave_tag, obstacle, law, load, quadrature, name)
         self.coupling = None

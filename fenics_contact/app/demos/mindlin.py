@@ -5,6 +5,7 @@
     python demos/mindlin.py --refinement 1 --mu 0.5
     python demos/mindlin.py --method coulomb           # exact Signorini-Coulomb, condensed (small sliding)
     python demos/mindlin.py --method nitsche --passes two   # unbiased two-body Nitsche
+    python demos/mindlin.py --method nitsche --sliding small  # Nitsche with small-sliding kinematics
 
 A disk segment (circular bottom R = 1) on a block, both E = 1000, nu = 0.3 (plane strain), node-to-segment
 Coulomb friction (penalty K = 1e7, omega_t = 1e6, mu = 0.3; or exact with --method coulomb). The top moves down
@@ -31,6 +32,10 @@ def main(argv=None) -> dict:
     p.set_defaults(method="penalty", mu=0.3)
     p.add_argument("--passes", choices=["one", "two"], default="one",
                    help="one pass (the arc the slave) or two (each surface slave once, weight 1/2)")
+    p.add_argument("--sliding", choices=["finite", "small"], default=None,
+                   help="contact kinematics: finite (current configuration, the pointwise methods' default) or "
+                        "small (reference pairs and normals, a gap linear in u: Cattaneo-Mindlin's; method coulomb "
+                        "is small by construction)")
     scene = add_scene_options(p, mindlin.build)  # --R, --E, --nu, --approach, --width, --height, --depth, ...
     args = cli.parse(p, argv)
     mindlin.check_ratios_option(args.ratios)
@@ -41,7 +46,8 @@ def main(argv=None) -> dict:
 
     # 2. The scene: graded two-body mesh, displacement-controlled press, force-controlled shear.
     setup = build("mindlin", law=cli.law_from_args(args), ratios=tuple(args.ratios), refinement=args.refinement,
-                  press_steps=args.press_steps, passes=args.passes, **scene_arguments(args, scene))
+                  press_steps=args.press_steps, passes=args.passes, sliding=args.sliding,
+                  **scene_arguments(args, scene))
     profiles = []
 
     def on_step(t: float) -> None:  # the traction profile of every shear step (collective)

@@ -209,7 +209,7 @@ OPTIONS = {
 def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MPI.Comm = MPI.COMM_WORLD,
           R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int | None = None,
           width: float | None = None, height: float | None = None, depth: float | None = None,
-          h_contact: float | None = None, passes: str | None = None) -> Setup:
+          h_contact: float | None = None, passes: str | None = None, sliding: str | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``), or the exact
     :class:`~fenics_contact.laws.ExactCoulomb` (method ``coulomb``, ``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` halves the contact mesh size (default
@@ -217,7 +217,9 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     :data:`PRESS_STEPS`, :data:`PRESS_STEPS_EXACT` for method ``coulomb``, :data:`PRESS_STEPS_NITSCHE` for
     ``nitsche``). ``passes``: ``one`` (default: the arc the slave) or ``two`` (each surface slave once, weight
     1/2; ``P`` and ``Q`` the weighted mean of the arc's pass and the reaction of the block's, the stick zone the
-    arc's pass's). Bodies: ``width``
+    arc's pass's). ``sliding``: the contact kinematics (:func:`~fenics_contact.two_body_surfaces`; None: the
+    method's own, ``finite`` for the pointwise surfaces; ``small`` is that of Cattaneo-Mindlin's linear theory).
+    Bodies: ``width``
     ``2 L`` (default ``R``), the upper body's ``height`` (default ``R / 2``), the block's ``depth`` (default
     ``R / 2``)."""
     approach = APPROACH * R if approach is None else approach
@@ -245,7 +247,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     material = LinearElastic(E, nu)
     passes = "one" if passes is None else passes
     contacts = two_body_surfaces(u, facets, "upper_bottom", "lower_top", lambda: law, t, "nodal", passes,
-                                 name="interface", material=material)
+                                 name="interface", material=material, sliding=sliding)
     contact = contacts[0]
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facets.meshtags)
     amplitude = fem.Constant(mesh, 0.0)
@@ -296,7 +298,8 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
 
     params = {"E": E, "nu": nu, "R": R, "approach": approach, "width": 2 * L, "height": H, "depth": D,
               "h_contact": h, "refinement": refinement, "ratios": list(ratios), "mu": mu, "quadrature": "nodal",
-              "passes": passes, "model": "disk segment on a block, same material, node-to-segment Coulomb friction"}
+              "passes": passes, "sliding": "small" if exact else sliding or "finite",
+              "model": "disk segment on a block, same material, node-to-segment Coulomb friction"}
     setup = Setup("mindlin", problem, [contact], loads, params, figures,
                   [u, contact.gap_out, contact.pressure_out, contact.traction_out, contact.state_out])
     setup.profile = profile  # the friction profile at the current state (the demo's per-step pictures)

@@ -105,14 +105,14 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
           by_body: bool = False, material: str = "linear", pressure: float = PRESSURE,
           comm: MPI.Comm = MPI.COMM_WORLD, E_lower: float = E_LOWER, E_upper: float = E_UPPER,
           nu_lower: float = NU, nu_upper: float = NU, width: float = WIDTH, h_lower: float = H_LOWER,
-          h_upper: float = H_UPPER, overlap: float = OVERLAP) -> Setup:
+          h_upper: float = H_UPPER, overlap: float = OVERLAP, sliding: str | None = None) -> Setup:
     """``slave``: ``upper`` or ``lower`` block's interface is the slave surface (one-pass).
     ``law_factory()`` (or ``law`` for one pass) gives the contact law. Three cell counts make the 3D
     version (unit cubes of tetrahedra stacked along z, rollers also on y = 0). ``material``: ``linear``
     or ``neohookean`` (finite strain for a large ``pressure``, a dead load), with ``E`` and ``nu`` per block
     (:class:`~fenics_contact.materials.Materials`). The blocks ``width`` wide (and deep in 3D), ``h_lower`` and
     ``h_upper`` high, the upper one starting ``overlap`` into the lower one (module docstring); defaults: the
-    module constants."""
+    module constants. ``sliding``: the two-body kinematics (:func:`~fenics_contact.two_body_surfaces`)."""
     if slave not in ("upper", "lower"):
         raise ValueError(f"slave must be 'upper' or 'lower', got {slave!r}")
     if material not in ("linear", "neohookean"):
@@ -143,7 +143,7 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
     bulk = Materials(mesh, cell_tags, {"lower": MODELS[material](E_lower, nu_lower),
                                        "upper": MODELS[material](E_upper, nu_upper)})
     contacts = two_body_surfaces(u, facet_tags, *tags, law_factory, load, quadrature, passes, name="interface",
-                                 material=bulk)
+                                 material=bulk, sliding=sliding)
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags.meshtags, subdomain_id=facet_tags["upper_top"])
     traction = (ufl.as_vector((0.0,) * (dim - 1) + (-pressure,)), ds)
     problem = ContactProblem(u, bulk, load, dirichlet, contacts, [traction])
@@ -201,7 +201,7 @@ def build(law: ContactLaw | None = None, law_factory=None, quadrature: str = "ga
               "width": width, "h_lower": h_lower, "h_upper": h_upper,
               "pressure": pressure, "material": material,
               "n_lower": list(n_lower), "n_upper": list(n_upper), "quadrature": quadrature, "passes": passes,
-              "slave": slave,
+              "slave": slave, "sliding": sliding,
               "overlap": overlap, "model": f"two blocks, rollers, {'plane strain' if dim == 2 else '3D'}, {material}"}
     return Setup("patch", problem, contacts, [1.0], params, figures, [u] + [f for c in contacts
                                                                          for f in (c.gap_out, c.pressure_out)])
