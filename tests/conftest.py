@@ -254,7 +254,8 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_sparse.py::test_a_rank_without_rows",
     "test_tutorials.py::test_tutorial_runs[03_two_blocks_patch]",
     "test_twobody.py::test_slave_and_master_on_different_ranks_equal_serial*",
-    "test_twobody_nitsche.py::test_serial_equals_two_ranks*", "test_twobody_nitsche.py::test_wedges_serial_equals_ranks",
+    "test_twobody_nitsche.py::test_serial_equals_two_ranks*",
+    "test_twobody_nitsche.py::test_wedges_serial_equals_ranks",
     "test_twobody_nitsche.py::test_segment_serial_equals_two_ranks",
 )
 
