@@ -215,10 +215,13 @@ def test_failed_check_exits_3_after_writing_its_outputs(name, args, named, tmp_p
     ("sphere", ["--size", "1e-9"], 1, ["--size 1e-09: about", "accepted: --size >= "]),
     ("hertz", ["-fc_mat_mumps_icntl_14", "100000000"], 1,
      ["error: out of memory: ", "a cutback cannot help", "MUMPS INFOG(1) = -13"]),
+    ("mindlin", ["--method", "coulomb", "--sliding", "finite"], 1, ["finite sliding", "use sliding 'small'"]),
+    ("mindlin3d", ["--method", "coulomb", "--sliding", "finite"], 1, ["finite sliding", "use sliding 'small'"]),
 ])
 def test_user_errors_are_one_line_within_seconds(name, args, status, named, tmp_path):
-    """Values PETSc would take silently or fail on later, absurd sizes, MUMPS out of memory: one line naming the
-    option (or what ran out), the exit status, within seconds; the refusals before any work."""
+    """Values PETSc would take silently or fail on later, absurd sizes, MUMPS out of memory, a sliding the method
+    does not do: one line naming the option (or what ran out), the exit status, within seconds; the refusals
+    before any work."""
     start = time.monotonic()
     proc = demo(name, *args, out=tmp_path)
     one_line_error(proc, *named)

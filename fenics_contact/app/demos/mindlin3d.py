@@ -35,6 +35,10 @@ def main(argv=None) -> dict:
                    quadratures=("nodal",))
     mindlin.add_shear_options(p, mindlin3d.RATIOS, "divide the contact mesh size by sqrt(2) this many times")
     p.set_defaults(method="penalty", mu=0.3, solver="iterative")
+    p.add_argument("--sliding", choices=["finite", "small"], default=None,
+                   help="contact kinematics: finite (current configuration, the pointwise methods' default) or "
+                        "small (reference pairs and normals, a gap linear in u: Cattaneo-Mindlin's; method coulomb "
+                        "is small by construction)")
     scene = add_scene_options(p, mindlin3d.build)  # --R, --E, --nu, --approach, --width, --h-contact, ...
     args = cli.parse(p, argv)
     given = sys.argv[1:] if argv is None else argv
@@ -50,7 +54,7 @@ def main(argv=None) -> dict:
 
     # 2. The scene: graded two-body mesh, displacement-controlled press, force-controlled shear.
     setup = build("mindlin3d", law=cli.law_from_args(args), ratios=tuple(args.ratios), refinement=args.refinement,
-                  press_steps=args.press_steps, **scene_arguments(args, scene))
+                  press_steps=args.press_steps, sliding=args.sliding, **scene_arguments(args, scene))
     profiles = []
 
     def on_step(t: float) -> None:  # the friction profile of the last shear step (collective)

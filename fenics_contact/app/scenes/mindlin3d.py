@@ -197,7 +197,8 @@ OPTIONS = {
 def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MPI.Comm = MPI.COMM_WORLD,
           R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int | None = None,
           cap_height: float | None = None, width: float | None = None, depth: float | None = None,
-          h_contact: float | None = None, contact_width: float | None = None, h_far: float | None = None) -> Setup:
+          h_contact: float | None = None, contact_width: float | None = None, h_far: float | None = None,
+          sliding: str | None = None) -> Setup:
     """``law``: a :class:`~fenics_contact.friction.Friction` with a Coulomb bound (``mu > 0``), or the exact
     :class:`~fenics_contact.laws.ExactCoulomb` (method ``coulomb``, ``mu > 0``). ``ratios``: the
     values of ``Q / (mu P)`` in (0, 1), increasing; ``refinement`` divides the contact mesh size (default
@@ -206,7 +207,8 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     predictor :data:`PREDICTOR`; method ``coulomb``: 1 step with friction to ``t = 1``).
     Bodies: the cap's height ``cap_height`` (default ``R / 2``), the block's half ``width`` ``L`` (default
     ``R``; it spans ``y`` in ``[0, L]``) and ``depth`` (default ``R / 2``); the mesh: size ``h_contact`` within
-    ``contact_width`` (default ``0.1 R``) of the contact point, growing to ``h_far`` (default ``0.1 R``)."""
+    ``contact_width`` (default ``0.1 R``) of the contact point, growing to ``h_far`` (default ``0.1 R``).
+    ``sliding``: the contact kinematics (:func:`~fenics_contact.two_body_surfaces`; None: the method's own)."""
     approach = APPROACH * R if approach is None else approach
     positive(R=R, E=E, approach=approach, cap_height=cap_height, width=width, depth=depth, h_contact=h_contact,
              contact_width=contact_width, h_far=h_far)
@@ -239,7 +241,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     material = LinearElastic(E, nu)
     contact = two_body_surfaces(u, facets, "cap_surface", "block_top", lambda: law, t, "nodal",
                                 radius=EXACT_RADIUS * approach if exact else 0.1 * R, name="interface",
-                                material=material if exact else None)[0]
+                                material=material if exact else None, sliding=sliding)[0]
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facets.meshtags)
     area = comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ds(facets["cap_top"]))),
                           op=MPI.SUM)
@@ -318,7 +320,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
 
     params = {"E": E, "nu": nu, "R": R, "approach": approach, "cap_height": H, "width": L, "depth": D,
               "h_contact": h, "contact_width": cw, "h_far": hf, "refinement": refinement, "ratios": list(ratios),
-              "mu": mu, "quadrature": "nodal",
+              "mu": mu, "quadrature": "nodal", "sliding": "small" if exact else sliding or "finite",
               "model": "half spherical cap on a block (symmetry y = 0), same material, node-to-triangle Coulomb "
                        "friction", "pairing_radius": contact.radius if exact else 0.1 * R}
     setup = Setup("mindlin3d", problem, [contact], loads, params, figures,
