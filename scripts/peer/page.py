@@ -34,7 +34,10 @@ SETUP = {
     "cylinders": "Two cylinders (R 8), E 200, nu 0.3, mu 0.3, pressed then sheared. Peer: "
                  "`demo_friction_cylinders.py` (quarter disks, displacement driven: 4 pressing steps, 96 "
                  "shearing steps, Coulomb Nitsche gamma = 10 E). Here: the `mindlin` scene (force driven, "
-                 "Q / (mu P) = 0.2, 0.5, 0.8). Error: the stick zone's half-width c against Mindlin's "
+                 "Q / (mu P) = 0.2, 0.5, 0.8); nitsche in finite sliding (current pairs and normals, the default) "
+                 "and nitsche-small in small sliding (`--sliding small`: reference pairs and normals, the "
+                 "kinematics of Mindlin's linear theory and of the exact coulomb). Error: the stick zone's "
+                 "half-width c against Mindlin's "
                  "a sqrt(1 - Q / (mu P)) (peer: at its last step; here: the worst of the three ratios).",
     "wedges": "A block pushed up an incline, mu 0.5, alpha = atan 0.1, E 200, nu 0.3. Peer: "
               "`demo_sliding_wedges.py` (one load step, Coulomb Nitsche gamma = 10 E, skew-symmetric). Here: "

@@ -61,7 +61,7 @@ CASES = {
                   "peer": ("python/demos/hertz_contact/demo_friction_cylinders.py", [], "--res", [0.4, 0.2],
                            [0.4]),
                   "ours": ("mindlin", MINDLIN, "--refinement", [0, 1], [0],
-                           {"nitsche": [], "coulomb": []}),
+                           {"nitsche": [], "nitsche-small": ["--sliding", "small"], "coulomb": []}),
                   "figure": ("c_worst", "c_error_max", "c_ref_{ratio_worst:g}")},
     "wedges": {"title": "Sliding wedges, 2D (mu 0.5, alpha = atan 0.1, E 200, nu 0.3)",
                "peer": ("python/demos/demo_sliding_wedges.py", [], "--res", [0.4, 0.2, 0.1], [0.4, 0.2]),
@@ -176,10 +176,11 @@ def main(argv: list[str] | None = None) -> int:
                              args.timeout, lambda n=name: json.loads((dst / "results" / n).read_text())))
         scene, oargs, oopt, olevels, oquick, methods = spec["ours"]
         value, error, reference = spec["figure"]
-        for method, margs in methods.items():
+        for method, margs in methods.items():  # a label: the method, then after "-" what its arguments change
             for level in (oquick if args.quick else olevels):
                 run = f"results/ours-{case}-{method}-{level}"
-                cmd = (f"cd /{project} && PYTHONPATH=/{project} python3 demos/{scene}.py --method {method} "
+                cmd = (f"cd /{project} && PYTHONPATH=/{project} python3 demos/{scene}.py "
+                       f"--method {method.split('-')[0]} "
                        f"{' '.join(oargs + margs)} {'' if oopt is None else f'{oopt} {level}'} --out {run} "
                        "--overwrite --no-xdmf --no-pictures --quiet")
                 rows.append(_job("fenics_contact", case, method, level, cmd, {}, args.timeout,
