@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .rowupdate import RowUpdatedSolve
+from .rowupdate import RowUpdatedSolve, add_touched
 
 __all__ = ["FixedRowsSolve", "master_elimination", "ELIMINATE"]
 
@@ -63,12 +63,7 @@ class FixedRowsSolve:
     def touched(self, rows: np.ndarray | None) -> None:
         """The caller changed ``rows`` of the matrix of the last :meth:`solve` in place (None: any row, or a new
         matrix)."""
-        if rows is None or self._touched is False:
-            self._touched = False
-        elif self._touched is None:
-            self._touched = np.asarray(rows, dtype=np.int64)
-        else:
-            self._touched = np.union1d(self._touched, rows)
+        self._touched = add_touched(self._touched, rows)
 
     def solve(self, J: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``J^-1 b``. Raises :class:`~.rowupdate.SingularMatrix` if the reduced matrix is exactly singular."""

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["RowUpdatedSolve", "SingularMatrix", "REFACTOR"]
+__all__ = ["RowUpdatedSolve", "SingularMatrix", "REFACTOR", "add_touched"]
 
 REFACTOR = 0.5  # the largest fraction of changed rows updated (the k x k system costs (k / n)^3 of an inverse)
 
@@ -40,12 +40,7 @@ class RowUpdatedSolve:
     def touched(self, rows: np.ndarray | None) -> None:
         """The caller changed ``rows`` of the matrix of the last :meth:`solve` in place (None: any row, or a new
         matrix); the next :meth:`solve` compares only those and the rows that differed from the base."""
-        if rows is None or self._touched is False:
-            self._touched = False  # unknown until the next solve
-        elif self._touched is None:
-            self._touched = np.asarray(rows, dtype=np.int64)
-        else:
-            self._touched = np.union1d(self._touched, rows)
+        self._touched = add_touched(self._touched, rows)
 
     def solve(self, J: np.ndarray, b: np.ndarray) -> np.ndarray:
         """``J^-1 b``. Raises :class:`SingularMatrix` if ``J`` is exactly singular."""
@@ -93,6 +88,14 @@ class RowUpdatedSolve:
             return y - Z @ np.linalg.solve(np.eye(len(rows)) + V @ Z, V @ y)
         except np.linalg.LinAlgError:
             return None
+
+
+def add_touched(so_far: np.ndarray | None | bool, rows: np.ndarray | None) -> np.ndarray | bool:
+    """The rows touched since the last solve, ``so_far`` (None: none yet; False: not known), with ``rows`` (None:
+    any row) added."""
+    if rows is None or so_far is False:
+        return False
+    return np.asarray(rows, dtype=np.int64) if so_far is None else np.union1d(so_far, rows)
 
 
 def _accurate(J: np.ndarray, x: np.ndarray, b: np.ndarray, max_abs: float | None = None) -> bool:
