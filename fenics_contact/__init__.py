@@ -20,7 +20,7 @@ one its surface needs). Output:
 :class:`XDMFWriter`, :func:`write_summary`. Importing the package imports neither gmsh nor the application
 (:mod:`fenics_contact.app`: the benchmark scenes, demos, command line, plots and tables, built on this API).
 """
-from . import capabilities, cells, compat, domain, failure, kinematics, laws, methods, search
+from . import capabilities, cells, compat, domain, failure, jitlog, kinematics, laws, methods, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
 from .cells import MeshError, check_cells
@@ -103,3 +103,6 @@ def __getattr__(name: str):
                       stacklevel=2)
         return globals()[new]
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+jitlog.quiet_compiler()  # the form compiler's build commands kept out of a script's INFO log

@@ -5,6 +5,7 @@ and Dirichlet values and traction factors are ``Constant``s set from their load 
 """
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -21,6 +22,7 @@ from .compat import (
     evaluate_expression,
     lift_and_set_bc,
     petsc_vec,
+    space_degree,
     vertex_expression,
 )
 from .condensed import step_solver_for
@@ -28,10 +30,13 @@ from .contact import displacement, is_mixed
 from .domain import tag_value
 from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
+from .models import locking_warning
 from .paths import LoadPath, check_path, load_factor
 from .surface import StepSolver, Surface
 
 __all__ = ["DIRICHLET_WEIGHT", "load_factor", "Dirichlet", "ContactProblem", "Stabilised"]
+
+logger = logging.getLogger(__name__)
 
 # The Dirichlet rows' weight against the bodies' stiffness: small, so that the l2 line search (the residual norm
 # along the step) follows the equilibrium rows; a Dirichlet row is linear and met by any full step (weight 1 took
@@ -139,6 +144,10 @@ class ContactProblem:
         step_solver: a :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES;
             None: the one a surface with ``requires_step_solver`` (method ``coulomb``) needs
             (:func:`~fenics_contact.condensed.step_solver_for`), else SNES.
+
+    ``warnings``: what the set-up says about the answer, logged (WARNING) and the first lines of the solver's
+    ``summary()["warnings"]``: a displacement-only model at ``nu >=`` :data:`~fenics_contact.models.LOCKING_NU`
+    locks (:func:`~fenics_contact.models.locking_warning`).
     """
 
     def __init__(self, u: fem.Function, material: Material | Materials, load: fem.Constant,
@@ -166,6 +175,11 @@ class ContactProblem:
                 check(**of(c.law, material=material))
         if getattr(material, "axisymmetric", False):
             self._check_axisymmetric(u, material)
+        # what the set-up already says about the answer (not a failure); the solver's run warnings start with these
+        self.warnings = [w for w in [locking_warning(material, space_degree(V.sub(0) if is_mixed(V) else V))] if w]
+        if V.mesh.comm.rank == 0:
+            for w in self.warnings:
+                logger.warning(w)
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
         bulk = ufl.derivative(material.bulk_form(u), u, v)  # per body with Materials
         body = bulk
@@ -337,10 +351,13 @@ class ContactProblem:
         return self.vertex_kinematics()[0].min(axis=1)
 
     def min_jacobian(self) -> float:
-        """Smallest ``J = det F`` (``F = I + grad u``) at the current displacement over every cell's vertices,
-        over all ranks. ``J <= 0``: an inverted element, no answer even
-        if Newton converged to it (a finite-strain material has no such state; a small-strain one gives it
-        without complaint, its displacement overlapping itself)."""
+        """Smallest ``J = det F`` (``F = I + grad u``; axisymmetric: times the hoop stretch) of the displacement
+        field at the current state, at every cell's vertices, over all ranks: a check that no element is turned
+        inside out. ``J <= 0``: an inverted element, no answer even if Newton converged to it (a finite-strain
+        material has no such state; a small-strain one gives it without complaint, its displacement overlapping
+        itself). Not a measure of incompressibility: a mixed model meets ``J = 1`` only weakly (against its
+        pressure space, on average over a cell), and the pointwise ``J`` of its displacement at the vertices of a
+        nearly incompressible body is a few per cent off 1 (0.93-0.99 under a rigid sphere). Collective."""
         local = self._cell_jacobians()
         return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
 

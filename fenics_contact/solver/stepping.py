@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import logging
 import os
+import sys
 import time
 from typing import Callable, Sequence
 
@@ -22,6 +23,19 @@ from .validity import inverted_failure, strain_warning
 __all__ = ["Solver"]
 
 logger = logging.getLogger(__package__)
+
+
+def show_progress() -> None:
+    """Make the progress lines (INFO) of the package's logger ``fenics_contact`` visible where no one chose its
+    level: FFCx configures the root logger on import (a handler on stderr, level WARNING), which hides them. The
+    package's logger then gets level INFO (and a handler on stderr if none reaches it); a level set by the user
+    (``logging.getLogger("fenics_contact").setLevel(...)``) or by the command line is left alone."""
+    package = logging.getLogger(__package__.rpartition(".")[0])
+    if package.level != logging.NOTSET or package.getEffectiveLevel() <= logging.INFO:
+        return
+    package.setLevel(logging.INFO)
+    if not package.hasHandlers():
+        package.addHandler(logging.StreamHandler(sys.stderr))
 
 
 class _Delegated:
@@ -45,12 +59,16 @@ class Solver:
 
     ``augment_max`` augmentations at most per load step (0: none), stopping
     when ``R = ||g_new - g_old|| <= augment_tol D`` (``R``: the gaps' change; ``D``: the size of the mesh,
-    :meth:`ContactProblem.mesh_size`). A step whose SNES diverges is halved up to ``max_cutbacks`` times.
+    :meth:`ContactProblem.mesh_size`); a step that reaches ``augment_max`` first is accepted with a line in the
+    run's warnings (``summary()["warnings"]``, logged at WARNING). A step whose SNES diverges is halved up to
+    ``max_cutbacks`` times, each cutback a line of the warnings too (the failed solves: :attr:`failures`).
     ``on_step(t)`` is called after every converged step (output); ``on_iterate(it)`` after
     every Newton iterate, with ``problem.u`` at that iterate. Progress: one
     line per load step on rank 0 through ``logging`` (logger
     ``fenics_contact.solver``, INFO; ``quiet``: DEBUG, i.e. silent unless
-    the log asks for it). ``predictor`` chooses the state each load
+    the log asks for it); ``quiet=False`` sets the package's logger to INFO unless its level was chosen
+    (:func:`show_progress`: FFCx sets the root logger to WARNING on import), so a plain script shows them on
+    stderr. ``predictor`` chooses the state each load
     step starts from: ``False`` the last converged state; ``"secant"`` (or
     ``True``) the linear extrapolation in ``t`` of the last two converged
     states; ``"tangent"`` the Euler predictor of :meth:`Predictor.tangent`
@@ -101,9 +119,11 @@ class Solver:
         if max_cutbacks < 0:
             raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
         self.problem, self.quiet, self.on_step = problem, quiet, on_step
+        if not quiet:
+            show_progress()
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
         self.options = ScopedOptions(prefix, solver_options(problem, options), options)
-        self.record = RunRecord()
+        self.record = RunRecord(warnings=list(getattr(problem, "warnings", ())))
         self.newton = Newton(problem, self.options, self.record.timings, on_iterate)
         try:  # a misspelt option of the caller's: refused now, not silently ignored
             self.options.refuse_unused()
@@ -173,6 +193,11 @@ class Solver:
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
                     strain_warning(self.problem, rec.step, rec.load, self.record.warnings, self.timings)
+                    if not rec.augmentation_converged:
+                        self._warn(f"augmentation stopped at augment_max = {self.augment_max} at step {rec.step} "
+                                   f"(t = {t:.6g}): the gaps' change R = {rec.constraint_change[-1]:.3g} > "
+                                   f"augment_tol D = {self.augment_tol * self.problem.mesh_size():.3g}; the "
+                                   "constraint is met only to R (raise augment_max, or K)")
                     self.options.refuse_unused_later(self.linear_iterations > 0)
                     self.t, self.pending = t, loads[i + 1:] if t == target else loads[i:]
                     self.prediction.accept(t)
@@ -191,6 +216,9 @@ class Solver:
                     continue  # the same step again, with more room for MUMPS: not a cutback
                 cuts += 1
                 hopeless = not cutback_helps(rec.failure)  # out of memory: a smaller step factors the same pattern
+                if cuts <= self.max_cutbacks and not hopeless:
+                    self._warn(f"step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) failed: {describe(rec.failure)}"
+                               f"; cut back to t = {self.t + (target - self.t) / 2**cuts:.6g}")
                 if cuts > self.max_cutbacks or hopeless:
                     self.records.append(rec)
                     raise ConvergenceError(
@@ -210,6 +238,13 @@ class Solver:
         if found is None:
             raise ValueError(f"no checkpoint to go on from in {folder}")
         return found["pending"]
+
+    def _warn(self, text: str) -> None:
+        """A line of the run's warnings (``summary()["warnings"]``: a limit the run met, not a failure), logged
+        on rank 0 (WARNING)."""
+        self.record.warnings.append(text)
+        if self.problem.comm.rank == 0:
+            logger.warning(text)
 
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
         """One progress line per load step (and per failed attempt) on rank 0, through ``logging`` (INFO;
