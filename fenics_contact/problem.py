@@ -362,7 +362,7 @@ class ContactProblem:
         return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
 
     def inverted_cells(self) -> tuple[int, int]:
-        """``(cells with det F <= 0 at a vertex, cells)`` at the current displacement, over all ranks."""
+        """``(cells with det F <= 0 at a vertex, cells)`` at the current displacement, over all ranks. Collective."""
         local = self._cell_jacobians()
         return (self.comm.allreduce(int(np.count_nonzero(local <= 0.0)), op=MPI.SUM),
                 self.comm.allreduce(local.size, op=MPI.SUM))
@@ -378,7 +378,7 @@ class ContactProblem:
 
     def reaction(self, dofs: np.ndarray) -> float:
         """Sum of the internal forces over ``dofs`` (local, owned-or-ghost indices of ``u``'s space),
-        summed over ranks: the force the support exerts on the body."""
+        summed over ranks: the force the support exerts on the body. Collective."""
         n_owned = self.u.function_space.dofmap.index_map.size_local * self.u.function_space.dofmap.index_map_bs
         return self.comm.allreduce(float(np.sum(self.internal_force()[dofs[dofs < n_owned]])), op=MPI.SUM)
 

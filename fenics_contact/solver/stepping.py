@@ -159,7 +159,7 @@ class Solver:
     def linear_solve_time(self) -> float:
         """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
         (factorization included): the cost floor of one linear elastic solve on this mesh, max over ranks
-        (:meth:`LinearSolver.solve_time`)."""
+        (:meth:`LinearSolver.solve_time`). Collective."""
         newton = self.newton
         return newton.linear.solve_time(newton.A, newton.b,
                                         lambda: newton.jacobian(newton.snes, newton.x, newton.A, newton.A))
@@ -175,7 +175,7 @@ class Solver:
     def run(self, loads: Sequence[float], checkpoint: str | os.PathLike | None = None) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed). ``checkpoint``: a
         folder that gets the converged state after every step, after ``on_step`` (:func:`checkpoint.save
-        <fenics_contact.checkpoint.save>`; :meth:`restart` goes on from it)."""
+        <fenics_contact.checkpoint.save>`; :meth:`restart` goes on from it). Collective."""
         loads = list(loads)
         self.prediction.start(self.t)
         for i, target in enumerate(loads):
