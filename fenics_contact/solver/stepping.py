@@ -17,7 +17,16 @@ from ..problem import ContactProblem
 from .newton import Newton
 from .options import ScopedOptions, solver_options
 from .predictor import PREDICTORS, Predictor
-from .record import ConvergenceError, RunRecord, StepRecord, describe, progress_line, reason_text
+from .record import (
+    ConvergenceError,
+    RunRecord,
+    StepRecord,
+    augmentation_warning,
+    cutback_warning,
+    describe,
+    progress_line,
+    reason_text,
+)
 from .validity import inverted_failure, strain_warning
 
 __all__ = ["Solver"]
@@ -25,13 +34,14 @@ __all__ = ["Solver"]
 logger = logging.getLogger(__package__)
 
 
-def show_progress() -> None:
-    """Make the progress lines (INFO) of the package's logger ``fenics_contact`` visible where no one chose its
-    level: FFCx configures the root logger on import (a handler on stderr, level WARNING), which hides them. The
-    package's logger then gets level INFO (and a handler on stderr if none reaches it); a level set by the user
+def show_progress(wanted: bool = True) -> None:
+    """If ``wanted`` (a solver not ``quiet``), make the progress lines (INFO) of the package's logger
+    ``fenics_contact`` visible where no one chose its level: FFCx configures the root logger on import (a handler
+    on stderr, level WARNING), which hides them. The package's logger then gets level INFO (and a handler on stderr
+    if none reaches it): a plain script shows them on stderr. A level set by the user
     (``logging.getLogger("fenics_contact").setLevel(...)``) or by the command line is left alone."""
     package = logging.getLogger(__package__.rpartition(".")[0])
-    if package.level != logging.NOTSET or package.getEffectiveLevel() <= logging.INFO:
+    if not wanted or package.level != logging.NOTSET or package.getEffectiveLevel() <= logging.INFO:
         return
     package.setLevel(logging.INFO)
     if not package.hasHandlers():
@@ -57,25 +67,19 @@ class _Delegated:
 class Solver:
     """Drives a :class:`ContactProblem` through a sequence of load values.
 
-    ``augment_max`` augmentations at most per load step (0: none), stopping
-    when ``R = ||g_new - g_old|| <= augment_tol D`` (``R``: the gaps' change; ``D``: the size of the mesh,
-    :meth:`ContactProblem.mesh_size`); a step that reaches ``augment_max`` first is accepted with a line in the
-    run's warnings (``summary()["warnings"]``, logged at WARNING). A step whose SNES diverges is halved up to
-    ``max_cutbacks`` times, each cutback a line of the warnings too (the failed solves: :attr:`failures`).
-    ``on_step(t)`` is called after every converged step (output); ``on_iterate(it)`` after
-    every Newton iterate, with ``problem.u`` at that iterate. Progress: one
-    line per load step on rank 0 through ``logging`` (logger
-    ``fenics_contact.solver``, INFO; ``quiet``: DEBUG, i.e. silent unless
-    the log asks for it); ``quiet=False`` sets the package's logger to INFO unless its level was chosen
-    (:func:`show_progress`: FFCx sets the root logger to WARNING on import), so a plain script shows them on
-    stderr. ``predictor`` chooses the state each load
-    step starts from: ``False`` the last converged state; ``"secant"`` (or
-    ``True``) the linear extrapolation in ``t`` of the last two converged
-    states; ``"tangent"`` the Euler predictor of :meth:`Predictor.tangent`
-    (the tangent of the load path at the last converged state, scaled back
-    to the energy's stationary point along it when the energy rises before
-    its end: a contact that the step closes is not driven far into the
-    obstacle). The tangent needs a force-based contact law (not ``bounded``).
+    ``augment_max`` augmentations at most per load step (0: none), stopping when ``R = ||g_new - g_old|| <=
+    augment_tol D`` (``R``: the gaps' change; ``D``: the size of the mesh, :meth:`ContactProblem.mesh_size`); a step
+    that reaches ``augment_max`` first is accepted with a line in the run's warnings (``summary()["warnings"]``,
+    logged at WARNING). A step whose SNES diverges is halved up to ``max_cutbacks`` times, each cutback a line of
+    the warnings too (the failed solves: :attr:`failures`). ``on_step(t)`` is called after every converged step
+    (output); ``on_iterate(it)`` after every Newton iterate, with ``problem.u`` at that iterate. Progress: one line
+    per load step on rank 0 through ``logging`` (logger ``fenics_contact.solver``, INFO, shown in a plain script:
+    :func:`show_progress`; ``quiet``: DEBUG, silent unless the log asks for it). ``predictor`` chooses the state
+    each load step starts from: ``False`` the last converged state; ``"secant"`` (or ``True``) the linear
+    extrapolation in ``t`` of the last two converged states; ``"tangent"`` the Euler predictor of
+    :meth:`Predictor.tangent` (the tangent of the load path at the last converged state, scaled back to the
+    energy's stationary point along it when the energy rises before its end: a contact that the step closes is
+    not driven far into the obstacle). The tangent needs a force-based contact law (not ``bounded``).
 
     PETSc options (``prefix``, ``options``): see :mod:`.options`. The solver owns its PETSc objects (the SNES,
     ``A``, ``b``): :meth:`destroy` them, or use the solver as a context manager.
@@ -119,8 +123,7 @@ class Solver:
         if max_cutbacks < 0:
             raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
         self.problem, self.quiet, self.on_step = problem, quiet, on_step
-        if not quiet:
-            show_progress()
+        show_progress(not quiet)
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
         self.options = ScopedOptions(prefix, solver_options(problem, options), options)
         self.record = RunRecord(warnings=list(getattr(problem, "warnings", ())))
@@ -152,22 +155,21 @@ class Solver:
         return self.newton.linear.grow_mumps_workspace(failure)
 
     def condition_estimate(self) -> float | None:
-        """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,
-        else None). Collective."""
+        """The last Jacobian's condition estimate (:func:`failure.condition_estimate`; direct solvers, else None).
+        Collective."""
         return self.newton.condition_estimate()
 
     def linear_solve_time(self) -> float:
-        """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
-        (factorization included): the cost floor of one linear elastic solve on this mesh, max over ranks
-        (:meth:`LinearSolver.solve_time`). Collective."""
+        """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind (factorization
+        included): the cost floor of one linear elastic solve here, max over ranks (:meth:`LinearSolver.solve_time`).
+        Collective."""
         newton = self.newton
         return newton.linear.solve_time(newton.A, newton.b,
                                         lambda: newton.jacobian(newton.snes, newton.x, newton.A, newton.A))
 
     def summary(self) -> dict:
-        """Totals over the converged steps; the time split is the maximum over ranks (:meth:`RunRecord.summary`).
-        ``-fc_condition_estimate``: also the condition estimate of the last Jacobian (benchmarks' stability map).
-        Collective."""
+        """Totals over the converged steps; the time split is the maximum over ranks (:meth:`RunRecord.summary`);
+        ``-fc_condition_estimate``: also the last Jacobian's condition estimate (stability map). Collective."""
         condition = self.condition_estimate() if self.options.get_bool("condition_estimate", False) else None
         return self.record.summary(self.problem.comm, self.problem.contacts, self.linear_iterations, condition)
 
@@ -176,7 +178,7 @@ class Solver:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed). ``checkpoint``: a
         folder that gets the converged state after every step, after ``on_step`` (:func:`checkpoint.save
         <fenics_contact.checkpoint.save>`; :meth:`restart` goes on from it). Collective."""
-        loads = list(loads)
+        loads, comm = list(loads), self.problem.comm
         self.prediction.start(self.t)
         for i, target in enumerate(loads):
             cuts = 0
@@ -194,10 +196,7 @@ class Solver:
                     self.records.append(rec)
                     strain_warning(self.problem, rec.step, rec.load, self.record.warnings, self.timings)
                     if not rec.augmentation_converged:
-                        self._warn(f"augmentation stopped at augment_max = {self.augment_max} at step {rec.step} "
-                                   f"(t = {t:.6g}): the gaps' change R = {rec.constraint_change[-1]:.3g} > "
-                                   f"augment_tol D = {self.augment_tol * self.problem.mesh_size():.3g}; the "
-                                   "constraint is met only to R (raise augment_max, or K)")
+                        self.record.warn(augmentation_warning(rec, self.augment_tol * self.problem.mesh_size()), comm)
                     self.options.refuse_unused_later(self.linear_iterations > 0)
                     self.t, self.pending = t, loads[i + 1:] if t == target else loads[i:]
                     self.prediction.accept(t)
@@ -217,8 +216,7 @@ class Solver:
                 cuts += 1
                 hopeless = not cutback_helps(rec.failure)  # out of memory: a smaller step factors the same pattern
                 if cuts <= self.max_cutbacks and not hopeless:
-                    self._warn(f"step {rec.step} (t = {t:.6g}, from t = {self.t:.6g}) failed: {describe(rec.failure)}"
-                               f"; cut back to t = {self.t + (target - self.t) / 2**cuts:.6g}")
+                    self.record.warn(cutback_warning(rec, self.t, self.t + (target - self.t) / 2**cuts), comm)
                 if cuts > self.max_cutbacks or hopeless:
                     self.records.append(rec)
                     raise ConvergenceError(
@@ -231,24 +229,15 @@ class Solver:
 
     def restart(self, folder: str | os.PathLike) -> list[float]:
         """Go back to the last checkpoint in ``folder`` with a step to solve (:func:`checkpoint.restore
-        <fenics_contact.checkpoint.restore>`; this solver made as for the run that wrote it); returns the load
-        targets that run had still to reach: ``solver.run(solver.restart(folder), checkpoint=folder)`` finishes it.
-        ``ValueError`` if there is none. Collective."""
+        <fenics_contact.checkpoint.restore>`; this solver made as for the run that wrote it); returns the loads that
+        run had still to reach (``solver.run(solver.restart(folder), checkpoint=folder)`` finishes it). Collective."""
         found = checkpoints.restore(self, folder)
         if found is None:
             raise ValueError(f"no checkpoint to go on from in {folder}")
         return found["pending"]
 
-    def _warn(self, text: str) -> None:
-        """A line of the run's warnings (``summary()["warnings"]``: a limit the run met, not a failure), logged
-        on rank 0 (WARNING)."""
-        self.record.warnings.append(text)
-        if self.problem.comm.rank == 0:
-            logger.warning(text)
-
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
-        """One progress line per load step (and per failed attempt) on rank 0, through ``logging`` (INFO;
-        ``quiet``: DEBUG)."""
+        """One progress line per load step (and failed attempt) on rank 0, logged (INFO; ``quiet``: DEBUG)."""
         level = logging.DEBUG if self.quiet else logging.INFO
         if self.problem.comm.rank == 0 and logger.isEnabledFor(level):
             logger.log(level, progress_line(rec, failed))
