@@ -16,7 +16,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .capabilities import check, of
-from .cells import check_cells
+from .cells import check_cells, check_meridian
 from .compat import (
     evaluate_expression,
     lift_and_set_bc,
@@ -219,10 +219,11 @@ class ContactProblem:
         return DIRICHLET_WEIGHT * (total / count if count and total > 0 and np.isfinite(total) else 1.0)
 
     def _check_axisymmetric(self, u, material) -> None:
-        """Refuse, before any form is compiled, a contact the capability grid or the surface's integrals do not
-        allow on an axisymmetric body."""
+        """Refuse, before any form is compiled, a mesh reaching past the axis (:func:`~.cells.check_meridian`) and a
+        contact the capability grid or the surface's integrals do not allow on an axisymmetric body."""
         from .capabilities import check, of
 
+        check_meridian(u.function_space.mesh)  # r < 0: the 2 pi r weight turns negative
         for c in self.contacts:
             if c.law is not None:  # the entry points checked the rest; the quadrature matters here for segments
                 segment = getattr(c, "quadrature", None) == "segment"
