@@ -99,6 +99,18 @@ def _form_inputs(form) -> tuple[list, list]:
     return extract_constants(form), extract_coefficients(form)
 
 
+def _scaled_rows(residual: ufl.Form, v: ufl.Argument, material) -> ufl.Form:
+    """The bulk's ``residual`` in the test function ``v``, its pressure rows times the mixed material's
+    ``constraint_scale`` (forces, like the displacement's rows); as it is for a displacement model."""
+    from ufl.algorithms import expand_derivatives
+
+    if not material.mixed:
+        return residual
+    n = v.ufl_shape[0] - 1
+    scale = material.constraint_scale(v.ufl_function_space().mesh)
+    return ufl.replace(expand_derivatives(residual), {v: ufl.as_vector([v[i] for i in range(n)] + [scale * v[n]])})
+
+
 def _vertex_kinematics(u: fem.Function, material) -> tuple:
     """The compiled expression of :meth:`ContactProblem.vertex_kinematics` (``det F`` and the small strain's
     components of ``u``'s displacement), its mesh and the owned cells."""
@@ -167,7 +179,7 @@ class ContactProblem:
         if getattr(material, "axisymmetric", False):
             self._check_axisymmetric(u, material)
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        bulk = ufl.derivative(material.bulk_form(u), u, v)  # per body with Materials
+        bulk = _scaled_rows(ufl.derivative(material.bulk_form(u), u, v), v, material)  # per body with Materials
         body = bulk
         # 2 pi r on an axisymmetric body: loads over the whole ring (a material without weight(): 1)
         ring = material.weight(displacement(u)) if hasattr(material, "weight") else 1.0
@@ -203,13 +215,17 @@ class ContactProblem:
 
     def _reference_stiffness(self) -> float:
         """:data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its
-        nonzero entries (a force per length, ~ ``E h^(d-2)``), over all ranks. Collective."""
+        nonzero entries of the displacement's rows (a force per length, ~ ``E h^(d-2)``), over all ranks.
+        Collective."""
         saved = self.u.x.array.copy()
         self.u.x.array[:] = 0.0
         A = fem_petsc.assemble_matrix(self._a_parts[0])
         A.assemble()
         d = A.getDiagonal()
         diagonal = np.abs(d.array)
+        if is_mixed(self.u.function_space):  # the displacement's rows: forces per length (not a pressure's)
+            rows = np.asarray(self.u.function_space.sub(0).collapse()[1])
+            diagonal = diagonal[rows[rows < len(diagonal)]]
         diagonal = diagonal[diagonal > 0]
         total = self.comm.allreduce(float(diagonal.sum()), op=MPI.SUM)
         count = self.comm.allreduce(diagonal.size, op=MPI.SUM)
