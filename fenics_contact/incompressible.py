@@ -5,8 +5,9 @@ stress ``p`` is a field of its own, the second field of the unknown (P2 displace
 :func:`~fenics_contact.multipliers.unknown` with ``model=`` one of these models' names), and the energy is a
 perturbed Lagrangian ``W(u, p) = W_dev(u) + p g(u) - p^2 / (2 kappa)``, ``kappa = lambda + 2 mu / 3``: its
 ``p`` equation is ``g = p / kappa`` weakly, well posed at ``kappa -> inf``. The residual is the first variation
-of ``int W dV`` in ``(u, p)``, its ``p`` rows (volumes) times ``mu / h`` (:meth:`~MixedNeoHookean.constraint_scale`:
-forces, like the ``u`` rows, so that the residual's norm does not depend on the units): a saddle point (MUMPS LU). :class:`MixedNeoHookean` at finite strain
+of ``int W dV`` in ``(u, p)``, its ``p`` rows (volumes) times ``mu / h``
+(:meth:`~MixedNeoHookean.constraint_scale`: forces, like the ``u`` rows, so that the residual's norm does not depend
+on the units): a saddle point (MUMPS LU). :class:`MixedNeoHookean` at finite strain
 (``g = J - 1``), :class:`MixedLinearElastic` in small strain (Herrmann's, ``g = tr eps``).
 
 The kinematics come from the body (:class:`Kinematics`): the 3 x 3 deformation gradient and the volume weight;
