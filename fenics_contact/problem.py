@@ -111,6 +111,18 @@ def _scaled_rows(residual: ufl.Form, v: ufl.Argument, material) -> ufl.Form:
     return ufl.replace(expand_derivatives(residual), {v: ufl.as_vector([v[i] for i in range(n)] + [scale * v[n]])})
 
 
+def _displacement_diagonal(A: PETSc.Mat, V) -> np.ndarray:
+    """The nonzero absolute values of ``A``'s diagonal in this rank's rows of the displacement (of a mixed unknown
+    on ``V``: its first field; all rows of a displacement)."""
+    d = A.getDiagonal()
+    diagonal = np.abs(d.array)
+    if is_mixed(V):
+        rows = np.asarray(V.sub(0).collapse()[1])
+        diagonal = diagonal[rows[rows < len(diagonal)]]
+    d.destroy()
+    return diagonal[diagonal > 0]
+
+
 def _vertex_kinematics(u: fem.Function, material) -> tuple:
     """The compiled expression of :meth:`ContactProblem.vertex_kinematics` (``det F`` and the small strain's
     components of ``u``'s displacement), its mesh and the owned cells."""
@@ -215,28 +227,21 @@ class ContactProblem:
 
     def _reference_stiffness(self) -> float:
         """:data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its
-        nonzero entries of the displacement's rows (a force per length, ~ ``E h^(d-2)``), over all ranks.
-        Collective."""
+        displacement rows' nonzero entries (a force per length, ~ ``E h^(d-2)``), over all ranks. Collective."""
         saved = self.u.x.array.copy()
         self.u.x.array[:] = 0.0
         A = fem_petsc.assemble_matrix(self._a_parts[0])
         A.assemble()
-        d = A.getDiagonal()
-        diagonal = np.abs(d.array)
-        if is_mixed(self.u.function_space):  # the displacement's rows: forces per length (not a pressure's)
-            rows = np.asarray(self.u.function_space.sub(0).collapse()[1])
-            diagonal = diagonal[rows[rows < len(diagonal)]]
-        diagonal = diagonal[diagonal > 0]
+        diagonal = _displacement_diagonal(A, self.u.function_space)
         total = self.comm.allreduce(float(diagonal.sum()), op=MPI.SUM)
         count = self.comm.allreduce(diagonal.size, op=MPI.SUM)
-        d.destroy()
         A.destroy()
         self.u.x.array[:] = saved
         return DIRICHLET_WEIGHT * (total / count if count and total > 0 and np.isfinite(total) else 1.0)
 
     def _check_axisymmetric(self, u, material) -> None:
-        """Refuse, before any form is compiled, a mesh reaching past the axis (:func:`~.cells.check_meridian`) and a
-        contact the capability grid or the surface's integrals do not allow on an axisymmetric body."""
+        """Refuse, before any form is compiled, a mesh past the axis and a contact the capability grid or the
+        surface's integrals do not allow on an axisymmetric body."""
         from .capabilities import check, of
 
         check_meridian(u.function_space.mesh)  # r < 0: the 2 pi r weight turns negative
