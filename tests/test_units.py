@@ -54,6 +54,9 @@ CASES = {
                           law=("penalty", {"K": (1e7, "S/L")})),
     "hertz.cross": dict(kw=dict(steps=2), lengths=("R", "approach"), stresses=("E",),
                         law=("cross", {"K_hat": (1e6, "S/L")})),
+    # the whole disk between two plates: its centre and pole located to round-off of R
+    "hertz.full": dict(kw=dict(steps=1, symmetry="full"), lengths=("R", "approach"), stresses=("E",),
+                       law=("auglag", {"K": (1e6, "S/L")}), solver=dict(augment_max=10, augment_tol=1e-10)),
     # exact nodal contact by bounds on the unknowns (SNES VI), displacement and force control
     "hertz.vi": dict(kw=dict(steps=2), lengths=("R", "approach"), stresses=("E",), law=("vi", {})),
     "hertz.vi_load": dict(kw=dict(steps=2, load=0.726), lengths=("R",), stresses=("E",), forces=("load",),
@@ -271,13 +274,17 @@ def test_scene_in_decimal_units(name, L, S):
 
 
 @pytest.mark.parametrize("L, S", [(1e-3, 1e9), (1e-6, 1e3)])
-@pytest.mark.parametrize("name", ["hertz.vi", "hertz.vi_load"])
-def test_vi_scene_at_small_lengths(name, L, S):
-    """SNES VI's distance at which an unknown is on its bound follows the mesh: the Hertz scene at R = 1 mm, E =
-    1e12 and at R = 1 um, E = 1e6 (approach 1 nm) has the same figures to 1e-8 and Newton iterations."""
+@pytest.mark.parametrize("name", ["hertz.vi", "hertz.vi_load", "hertz.full"])
+def test_scene_at_small_lengths(name, L, S):
+    """The Hertz scene at R = 1 mm, E = 1e12 and at R = 1 um, E = 1e6 (approach 1 nm) has the same figures to 1e-8
+    and Newton iterations: SNES VI's distance at which an unknown is on its bound follows the mesh, and so do the
+    points the whole disk's supports are located at. The whole disk's ``centre_reaction``, the difference of the
+    two plates' forces (5 % of them), is the same to 1e-8 of the forces: ``reaction_top`` and ``total_force``."""
     if name not in _BASE:
         _BASE[name] = solve_scene(name)
     base, scaled = _BASE[name], solve_scene(name, L, S)
+    for figures in (base[0], scaled[0]):
+        assert figures.pop("centre_reaction", None) in (None, figures["reaction_top"] - figures["total_force"])
     assert_same_figures(base[0], scaled[0], units=(L, S), rtol=1e-8)
     assert base[1:] == scaled[1:]
 
