@@ -76,13 +76,16 @@ class _Mixed(Material):
         """The kinematics' volume weight (``2 pi r`` if axisymmetric, else 1): every integral over the body."""
         return self.kinematics.weight(u)
 
-    def constraint_scale(self, mesh) -> ufl.core.expr.Expr:
+    def constraint_scale(self, domain) -> ufl.core.expr.Expr:
         """The factor of the ``p`` rows of the residual, ``mu / h`` (``h`` the cell's diameter; a stress per
         length): the rows ``int (g - p / kappa) q dx`` are volumes, the displacement rows forces; times it they
         are forces too, of a shear stress over a cell, and the residual's norm (the line search, the convergence
-        test) and the solver's reference stiffness do not depend on the units. Newton's step does not depend on
-        it."""
-        return self.mu / ufl.CellDiameter(mesh)
+        test) does not depend on the units. Newton's step does not depend on it.
+
+        Args:
+            domain: the mesh's UFL domain.
+        """
+        return self.mu / ufl.CellDiameter(domain)
 
     def density(self, w):
         """``W(u, p)`` of the mixed unknown ``w = (u, p)`` (per ``dx``; :meth:`bulk_form` weights it)."""

@@ -107,7 +107,7 @@ def _scaled_rows(residual: ufl.Form, v: ufl.Argument, material) -> ufl.Form:
     if not material.mixed:
         return residual
     n = v.ufl_shape[0] - 1
-    scale = material.constraint_scale(v.ufl_function_space().mesh)
+    scale = material.constraint_scale(v.ufl_domain())
     return ufl.replace(expand_derivatives(residual), {v: ufl.as_vector([v[i] for i in range(n)] + [scale * v[n]])})
 
 
