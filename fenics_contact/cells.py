@@ -9,6 +9,11 @@ too. A cell is *degenerate* when ``|det J| <= DEGENERATE h^d`` at a corner (``h`
 corners, ``d`` the dimension): its area or volume is round-off of its size, and every form divides by it. In
 parallel, a fold across the ranks' boundary is seen where the ranks share ghost cells (dolfinx's default); a surface
 mesh in 3D (``gdim > tdim``) is checked for degenerate cells only.
+
+The meridian section of an axisymmetric body lies in ``r = x[0] >= 0`` (:func:`check_meridian`): every integral
+is weighted by ``2 pi r``, so a vertex at ``r < 0`` makes the ring's energy and forces negative, and a section across
+the axis cancels them. Vertices on the axis within round-off of the mesh's size (``AXIS_ROUNDOFF`` times the
+diagonal of its bounding box) are on it.
 """
 from __future__ import annotations
 
@@ -19,11 +24,14 @@ from mpi4py import MPI
 
 from .compat import entities_to_geometry, geometry_dofs
 
-__all__ = ["DEGENERATE", "MeshError", "corner_jacobians", "check_cells"]
+__all__ = ["AXIS_ROUNDOFF", "DEGENERATE", "MeshError", "corner_jacobians", "check_cells", "check_meridian"]
 
 # |det J| / h^d at or below which a cell is degenerate: a triangle of aspect ratio ~1e10. Far beyond any graded
 # mesh (the scenes' worst is ~1e2), far above round-off (a cell whose corners are collinear: ~1e-16).
 DEGENERATE = 1e-10
+# -r / (the diagonal of the mesh's bounding box) up to which a vertex of an axisymmetric section is on the axis:
+# far above the round-off of coordinates (~1e-16 of the mesh's size), far below any cell of a real mesh.
+AXIS_ROUNDOFF = 1e-10
 
 
 class MeshError(ValueError):
@@ -137,3 +145,30 @@ def check_cells(mesh, what: str = "the mesh") -> None:
             problems.append(f"{count} {name} cell{'s' if count > 1 else ''} of {total} {_where(x, comm)}")
     if problems:
         raise MeshError(f"{what} has {' and '.join(problems)}: fix the mesh")
+
+
+def check_meridian(mesh, what: str = "the axisymmetric mesh") -> None:
+    """Raise :class:`MeshError` (on every rank) if a vertex of ``mesh``, the meridian section ``(r, z) = (x[0],
+    x[1])`` of an axisymmetric body, lies at ``r < 0`` beyond round-off (module docstring); the message counts them
+    and says where they are. Collective.
+
+    Args:
+        mesh: the dolfinx mesh (2D).
+        what: how the message names the mesh.
+    """
+    comm = mesh.comm
+    x = mesh.geometry.x[:, :2]
+    lo, hi = np.full(2, np.inf), np.full(2, -np.inf)  # buffers: allreduce's MIN of arrays is not elementwise
+    comm.Allreduce(x.min(axis=0) if len(x) else lo.copy(), lo, op=MPI.MIN)
+    comm.Allreduce(x.max(axis=0) if len(x) else hi.copy(), hi, op=MPI.MAX)
+    if lo[0] >= -AXIS_ROUNDOFF * float(np.linalg.norm(hi - lo)):
+        return
+    owned = np.arange(mesh.topology.index_map(0).size_local, dtype=np.int32)  # each vertex counted once
+    mesh.topology.create_connectivity(0, mesh.topology.dim)
+    nodes = entities_to_geometry(mesh, 0, owned).reshape(-1)
+    r = x[nodes, 0]
+    bad = r < -AXIS_ROUNDOFF * float(np.linalg.norm(hi - lo))
+    count = comm.allreduce(int(np.count_nonzero(bad)), op=MPI.SUM)
+    total = comm.allreduce(len(owned), op=MPI.SUM)
+    raise MeshError(f"{what} has {count} of {total} vertices at r = x[0] < 0 {_where(x[nodes[bad]], comm)}: the "
+                    f"meridian section (r, z) of an axisymmetric body lies in r >= 0 (the axis at r = 0)")

@@ -5,7 +5,9 @@ stress ``p`` is a field of its own, the second field of the unknown (P2 displace
 :func:`~fenics_contact.multipliers.unknown` with ``model=`` one of these models' names), and the energy is a
 perturbed Lagrangian ``W(u, p) = W_dev(u) + p g(u) - p^2 / (2 kappa)``, ``kappa = lambda + 2 mu / 3``: its
 ``p`` equation is ``g = p / kappa`` weakly, well posed at ``kappa -> inf``. The residual is the first variation
-of ``int W dV`` in ``(u, p)``: a symmetric saddle point (MUMPS LU). :class:`MixedNeoHookean` at finite strain
+of ``int W dV`` in ``(u, p)``, its ``p`` rows (volumes) times ``mu / h``
+(:meth:`~MixedNeoHookean.constraint_scale`: forces, like the ``u`` rows, so that the residual's norm does not depend
+on the units): a saddle point (MUMPS LU). :class:`MixedNeoHookean` at finite strain
 (``g = J - 1``), :class:`MixedLinearElastic` in small strain (Herrmann's, ``g = tr eps``).
 
 The kinematics come from the body (:class:`Kinematics`): the 3 x 3 deformation gradient and the volume weight;
@@ -73,6 +75,17 @@ class _Mixed(Material):
     def weight(self, u) -> ufl.core.expr.Expr:
         """The kinematics' volume weight (``2 pi r`` if axisymmetric, else 1): every integral over the body."""
         return self.kinematics.weight(u)
+
+    def constraint_scale(self, domain) -> ufl.core.expr.Expr:
+        """The factor of the ``p`` rows of the residual, ``mu / h`` (``h`` the cell's diameter; a stress per
+        length): the rows ``int (g - p / kappa) q dx`` are volumes, the displacement rows forces; times it they
+        are forces too, of a shear stress over a cell, and the residual's norm (the line search, the convergence
+        test) does not depend on the units. Newton's step does not depend on it.
+
+        Args:
+            domain: the mesh's UFL domain.
+        """
+        return self.mu / ufl.CellDiameter(domain)
 
     def density(self, w):
         """``W(u, p)`` of the mixed unknown ``w = (u, p)`` (per ``dx``; :meth:`bulk_form` weights it)."""

@@ -315,6 +315,11 @@ class Materials:
     def _sum(self, f):
         return sum(self.indicator[t] * f(m) for t, m in self.by_tag.items())
 
+    def constraint_scale(self, domain) -> ufl.core.expr.Expr:
+        """The mixed bodies' factor of the pressure rows, per body
+        (:meth:`~fenics_contact.incompressible.MixedNeoHookean.constraint_scale`)."""
+        return self._sum(lambda m: m.constraint_scale(domain))
+
     def energy_form(self, u) -> ufl.Form:
         """``sum over tags of int W_tag dx(tag)`` (what :class:`~fenics_contact.problem.ContactProblem` uses;
         axisymmetric: weighted by ``2 pi r``)."""

@@ -17,7 +17,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .capabilities import check, of
-from .cells import check_cells
+from .cells import check_cells, check_meridian
 from .compat import (
     evaluate_expression,
     lift_and_set_bc,
@@ -104,6 +104,30 @@ def _form_inputs(form) -> tuple[list, list]:
     return extract_constants(form), extract_coefficients(form)
 
 
+def _scaled_rows(residual: ufl.Form, v: ufl.Argument, material) -> ufl.Form:
+    """The bulk's ``residual`` in the test function ``v``, its pressure rows times the mixed material's
+    ``constraint_scale`` (forces, like the displacement's rows); as it is for a displacement model."""
+    from ufl.algorithms import expand_derivatives
+
+    if not material.mixed:
+        return residual
+    n = v.ufl_shape[0] - 1
+    scale = material.constraint_scale(v.ufl_domain())
+    return ufl.replace(expand_derivatives(residual), {v: ufl.as_vector([v[i] for i in range(n)] + [scale * v[n]])})
+
+
+def _displacement_diagonal(A: PETSc.Mat, V) -> np.ndarray:
+    """The nonzero absolute values of ``A``'s diagonal in this rank's rows of the displacement (of a mixed unknown
+    on ``V``: its first field; all rows of a displacement)."""
+    d = A.getDiagonal()
+    diagonal = np.abs(d.array)
+    if is_mixed(V):
+        rows = np.asarray(V.sub(0).collapse()[1])
+        diagonal = diagonal[rows[rows < len(diagonal)]]
+    d.destroy()
+    return diagonal[diagonal > 0]
+
+
 def _vertex_kinematics(u: fem.Function, material) -> tuple:
     """The compiled expression of :meth:`ContactProblem.vertex_kinematics` (``det F`` and the small strain's
     components of ``u``'s displacement), its mesh and the owned cells."""
@@ -185,7 +209,7 @@ class ContactProblem:
             self._check_axisymmetric(u, material)
         self.warnings = setup_warnings(material, V)
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        bulk = ufl.derivative(material.bulk_form(u), u, v)  # per body with Materials
+        bulk = _scaled_rows(ufl.derivative(material.bulk_form(u), u, v), v, material)  # per body with Materials
         body = bulk
         # 2 pi r on an axisymmetric body: loads over the whole ring (a material without weight(): 1)
         ring = material.weight(displacement(u)) if hasattr(material, "weight") else 1.0
@@ -221,24 +245,22 @@ class ContactProblem:
 
     def _reference_stiffness(self) -> float:
         """:data:`DIRICHLET_WEIGHT` times the mean absolute diagonal of the bodies' Jacobian at ``u = 0`` over its
-        nonzero entries (a force per length, ~ ``E h^(d-2)``), over all ranks. Collective."""
+        displacement rows' nonzero entries (a force per length, ~ ``E h^(d-2)``), over all ranks. Collective."""
         saved = self.u.x.array.copy()
         self.u.x.array[:] = 0.0
         A = fem_petsc.assemble_matrix(self._a_parts[0])
         A.assemble()
-        d = A.getDiagonal()
-        diagonal = np.abs(d.array)
-        diagonal = diagonal[diagonal > 0]
+        diagonal = _displacement_diagonal(A, self.u.function_space)
         total = self.comm.allreduce(float(diagonal.sum()), op=MPI.SUM)
         count = self.comm.allreduce(diagonal.size, op=MPI.SUM)
-        d.destroy()
         A.destroy()
         self.u.x.array[:] = saved
         return DIRICHLET_WEIGHT * (total / count if count and total > 0 and np.isfinite(total) else 1.0)
 
     def _check_axisymmetric(self, u, material) -> None:
-        """Refuse, before any form is compiled, a contact the capability grid or the surface's integrals do not
-        allow on an axisymmetric body."""
+        """Refuse, before any form is compiled, a mesh past the axis and a contact the capability grid or the
+        surface's integrals do not allow on an axisymmetric body."""
+        check_meridian(u.function_space.mesh)  # r < 0: the 2 pi r weight turns negative
         for c in self.contacts:
             if c.law is not None:  # the entry points checked the rest; the quadrature matters here for segments
                 segment = getattr(c, "quadrature", None) == "segment"

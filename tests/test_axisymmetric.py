@@ -177,3 +177,39 @@ def test_min_jacobian_includes_the_hoop_stretch():
     u.interpolate(lambda x: np.stack([-0.5 * x[0], 0.0 * x[1]]))
     problem = fc.ContactProblem(u, fc.NeoHookean(E, NU, "axisymmetric"), fem.Constant(mesh, 0.0))
     assert problem.min_jacobian() == pytest.approx(0.25, rel=1e-12)
+
+
+def _pressed_section(r0: float, r1: float, scale: float = 1.0, axis_noise: float = 0.0):
+    """The solid cylinder's contact problem on the section ``[r0, r1] x [0, 1]`` (times ``scale``), its vertices
+    on ``r = 0`` moved to ``r = axis_noise``."""
+    mesh = dmesh.create_rectangle(MPI.COMM_WORLD, [np.array([r0, 0.0]), np.array([r1, 1.0])], [4, 4])
+    mesh.geometry.x[np.isclose(mesh.geometry.x[:, 0], 0.0), 0] = axis_noise
+    mesh.geometry.x[:, :2] *= scale
+    ft = fc.tag_boundary(mesh, (("bottom", lambda x: np.isclose(x[1], 0.0)),
+                                ("top", lambda x: np.isclose(x[1], scale))))
+    law = fc.make_law("penalty", K=1e6 / scale)
+    u, V = fc.unknown(mesh, 1, law)
+    load = fem.Constant(mesh, 0.0)
+    material = fc.LinearElastic(E, NU, "axisymmetric")
+    contact = fc.contact_surface(u, ft, "bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]), law, load,
+                                 material=material)
+    return fc.ContactProblem(u, material, load, [fc.Dirichlet.on_facets(V, ft, "top", 1, -0.01 * scale)], [contact])
+
+
+@pytest.mark.parametrize("r0, r1, count, where", [(-2.0, -1.0, 25, r"in the box \(-2, 0\) to \(-1, 1\)"),
+                                                  (-0.5, 0.5, 10, r"in the box \(-0.5, 0\) to \(-0.25, 1\)")])
+def test_a_section_past_the_axis_is_refused(r0, r1, count, where):
+    """An axisymmetric section at ``r < 0`` (its ring force would be negative) or across the axis (the two sides
+    cancel) is refused before any form is compiled: one line counting the vertices at ``r < 0`` and saying where."""
+    with pytest.raises(fc.MeshError, match=rf"^the axisymmetric mesh has {count} of 25 vertices at r = x\[0\] < 0 "
+                                           rf"{where}: the meridian section"):
+        _pressed_section(r0, r1)
+
+
+@pytest.mark.parametrize("scale", [1e-9, 1.0, 1e9])
+def test_the_axis_tolerates_round_off_of_the_mesh_size(scale):
+    """Vertices on the axis within round-off of the mesh's size (1e-15 of it) are on it, in any units; 1e-6 of it
+    past the axis is past it (not an absolute tolerance: at ``scale`` 1e9 that is 1e3 length units, at 1e-9 1e-15)."""
+    _pressed_section(0.0, 1.0, scale, axis_noise=-1e-15)
+    with pytest.raises(fc.MeshError, match="has 5 of 25 vertices at r = x"):
+        _pressed_section(0.0, 1.0, scale, axis_noise=-1e-6)

@@ -58,9 +58,10 @@ def block(dim: int, comm=MPI.COMM_WORLD, nu: float = NU, strain: float = STRAIN)
 
 
 def solve_block(dim: int, comm=MPI.COMM_WORLD, nu: float = NU, strain: float = STRAIN,
-                model: str = "neohookean-mixed"):
+                model: str = "neohookean-mixed", E: float = E, records: list | None = None):
     """The block of the module docstring by converged augmented Lagrangian (penalty ``E / h``); returns the mean
-    nominal contact pressure, the top's reaction per area and the problem."""
+    nominal contact pressure, the top's reaction per area and the problem; ``records``: gets the solver's step
+    records."""
     mesh, ft = block(dim, comm)
     law = fc.make_law("auglag", K=10 * E / 0.5)
     u, V = fc.unknown(mesh, 2, law, model=model)
@@ -75,6 +76,8 @@ def solve_block(dim: int, comm=MPI.COMM_WORLD, nu: float = NU, strain: float = S
     solver = fc.Solver(problem, quiet=True, augment_max=30, augment_tol=1e-12)
     solver.run([1.0])
     assert all(r.converged for r in solver.records)
+    if records is not None:
+        records += solver.records
     return contact.mean_pressure(), -problem.reaction(top.dofs), problem
 
 
@@ -93,6 +96,19 @@ def test_block_at_nu_04999_is_the_closed_form(dim):
     J = lam ** (dim - 1) * (1 - STRAIN)
     pressure = w.x.array[q_to_w]
     assert np.allclose(pressure, m.kappa * (J - 1), rtol=1e-8, atol=1e-10 * exact), (pressure, m.kappa * (J - 1))
+
+
+@pytest.mark.parametrize("model", ["neohookean-mixed", "linear-mixed"])
+def test_block_in_any_stress_unit(model):
+    """The pressure rows are forces like the displacement rows: at E = 1e-3 the block takes the same Newton
+    iterations and augmentations as at E = 1000, its pressure per E the same to 1e-8."""
+    runs = []
+    for modulus in (E, 1e-3):
+        records = []
+        p, _, _ = solve_block(2, model=model, E=modulus, records=records)
+        runs.append((p / modulus, [(r.newton_iterations, r.augmentations) for r in records]))
+    assert runs[1][0] == pytest.approx(runs[0][0], rel=1e-8)
+    assert runs[1][1] == runs[0][1]
 
 
 def test_small_strain_limit_is_linear_elasticity():

@@ -24,8 +24,8 @@ from ..compat import petsc_library
 from ..problem import ContactProblem
 
 __all__ = ["ATOL_RELATIVE", "ROUNDOFF_FACTOR", "COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON",
-           "LINEAR_SOLVERS", "MULTIGRID", "OWN_OPTIONS", "ScopedOptions", "option_used", "read_at_setup",
-           "solver_options"]
+           "LINEAR_SOLVERS", "MULTIGRID", "OWN_OPTIONS", "VI_ZERO_TOLERANCE", "ScopedOptions", "option_used",
+           "read_at_setup", "solver_options"]
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
@@ -53,6 +53,10 @@ DEFAULT_OPTIONS = {
 # augmentation) starts near it and stops there instead of at rtol of its own small first residual, at the
 # round-off floor (~1e-16 x the internal forces x the conditioning of the assembly).
 ATOL_RELATIVE = 1e-11
+# SNES VI: an unknown within this distance of its bound is on it (an active constraint), relative to the size of
+# the mesh (ContactProblem.mesh_size; PETSc's -snes_vi_zero_tolerance, absolute, 1e-8 by default: with R = 1e-6 every
+# contact vertex would be on the plane). Above the round-off of a bound (~1e-16 of the coordinates).
+VI_ZERO_TOLERANCE = 1e-8
 # The round-off floor of a residual (finite strain, current gap) in units of machine epsilon x stiffness
 # diagonal x cell size per row (newton.Newton.roundoff_floor): above the ~10 terms each entry of a stress sums.
 ROUNDOFF_FACTOR = 100.0
@@ -125,7 +129,8 @@ def solver_options(problem: ContactProblem, options: dict | None = None) -> dict
     formulations' ``direct_solver_options``, a multigrid one their ``iterative_solver_options`` (the caller's
     own options still win). Raises ``UnsupportedCombination`` for a law the iterative solver cannot do."""
     bounded = any(c.bounded for c in problem.contacts)
-    defaults = {**DEFAULT_OPTIONS, **({"snes_type": "vinewtonrsls"} if bounded else {})}
+    vi = {"snes_type": "vinewtonrsls", "snes_vi_zero_tolerance": VI_ZERO_TOLERANCE * problem.mesh_size()}
+    defaults = {**DEFAULT_OPTIONS, **(vi if bounded else {})}
     for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
         defaults.update(c.solver_options)
     wanted = {**defaults, **(options or {})}

@@ -69,12 +69,25 @@ def geo_path(name: str) -> Path:
     return path
 
 
+# Significant digits of a .geo parameter. A length over the scale is the same ratio in any units only to round-off
+# (R / 400 over R with R = 0.05: 0.0025000000000000005), and gmsh's mesh is not continuous in its sizes (a graded
+# size field's last layer: 12 more dofs); rounded, the mesh is the same in any units.
+_DIGITS = 12
+
+
+def _rounded(value: float) -> float:
+    """``value`` rounded to :data:`_DIGITS` significant digits (0, infinities and NaN as they are)."""
+    value = float(value)
+    return float(f"{value:.{_DIGITS}g}") if math.isfinite(value) else value
+
+
 def _load_geo(path: Path, **parameters: float) -> None:
     """Merge the gmsh geometry ``path`` into the current model, its ``DefineConstant`` parameters (ONELAB names
-    ``Parameters/<name>``) set to ``parameters``; synchronise the built-in kernel."""
+    ``Parameters/<name>``) set to ``parameters`` (dimensionless: lengths over the model's scale, counts, flags),
+    each rounded to :data:`_DIGITS` significant digits; synchronise the built-in kernel."""
     gmsh.onelab.clear()  # the values of an earlier .geo of this session must not leak into this one
     for name, value in parameters.items():
-        gmsh.onelab.setNumber(f"Parameters/{name}", [float(value)])
+        gmsh.onelab.setNumber(f"Parameters/{name}", [_rounded(value)])
     gmsh.merge(str(path))
     gmsh.model.geo.synchronize()
 

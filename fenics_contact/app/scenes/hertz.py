@@ -299,14 +299,14 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
         copies = 2  # the figures are for the whole contact: the quarter carries half of it
     else:  # the centre (0, R) keeps the half disk from sliding sideways
         mesh.topology.create_connectivity(0, mesh.topology.dim)
-        centre = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], R))
+        centre = dmesh.locate_entities(mesh, 0, lambda x: _at(x, 0.0, R, R))
         fix_x = fem.locate_dofs_topological(V.sub(0), 0, centre)
     dirichlet = [Dirichlet(V.sub(0), fix_x)] if load is not None else [Dirichlet(V.sub(1), top_y, -approach),
                                                                         Dirichlet(V.sub(0), fix_x)]
     material = MODELS[model](E, nu, plane=plane)
     contacts, pair = [], []
     if symmetry == "full":  # the rigid modes: u_y at the centre, u_x at the centre and the upper pole
-        pole = dmesh.locate_entities(mesh, 0, lambda x: np.isclose(x[0], 0.0) & np.isclose(x[1], 2 * R))
+        pole = dmesh.locate_entities(mesh, 0, lambda x: _at(x, 0.0, 2 * R, R))
         top_y = fem.locate_dofs_topological(V.sub(1), 0, centre)  # its reaction: the imbalance of the contacts
         dirichlet = [Dirichlet(V.sub(1), top_y, -approach), Dirichlet(V.sub(0), fix_x),
                      Dirichlet(V.sub(0), fem.locate_dofs_topological(V.sub(0), 0, pole))]
@@ -390,6 +390,11 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
               + (f", meshed plate E = {plate_E:g}" if plate == "meshed" else "")}
     return Setup("hertz", problem, contacts, np.linspace(0, 1, steps + 1)[1:].tolist(), params, figures,
                  [contact.displacement_out, contact.gap_out, contact.pressure_out])
+
+
+def _at(x: np.ndarray, x0: float, y0: float, R: float) -> np.ndarray:
+    """Flags of the points ``x`` (3 x n) at ``(x0, y0)`` to round-off of the disk's radius ``R``."""
+    return (np.abs(x[0] - x0) <= 1e-9 * R) & (np.abs(x[1] - y0) <= 1e-9 * R)
 
 
 def law_twin(law: ContactLaw) -> ContactLaw:
