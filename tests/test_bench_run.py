@@ -85,12 +85,21 @@ def test_a_scene_that_fails_is_one_line_and_the_others_are_written(elsewhere, mo
         assert (out / name).is_file(), name
     pages = bench_pages.write_pages(out, elsewhere / "pages")
     assert [p.name for p in pages] == ["index.md", "slab.md"]
+    # a scene that failed after its findings: its page says so, with what it wrote
+    (out / "block_findings.md").write_text("| mesh |\n")
+    pages = bench_pages.write_pages(out, elsewhere / "pages")
+    text = (elsewhere / "pages" / "block.md").read_text()
+    assert "run failed** (`RuntimeError: the chart could not be drawn`)" in text and "| mesh |" in text
+    assert "failed" not in (elsewhere / "pages" / "slab.md").read_text()
 
 
 def test_the_main_scenes_show_every_method():
     """``make bench`` (``--main``): the main scenes together sweep every declared method, and refuse nothing."""
-    swept = {r["method"] for scene in bench_run.MAIN_SCENES for r in bench.sweep(scene, quick=True)}
+    swept = {r["method"] for scene in bench_run.MAIN_SCENES for r in bench.sweep(scene, main=True)}
     assert swept == set(methods.names())
+    for scene in bench_run.MAIN_SCENES:  # a part of the quick sweep (make bench-all)
+        quick = [bench.run_name(r) for r in bench.sweep(scene, quick=True)]
+        assert set(bench.run_name(r) for r in bench.sweep(scene, main=True)) <= set(quick)
     assert set(bench_run.MAIN_SCENES) <= set(bench.bench_scenes())
 
 

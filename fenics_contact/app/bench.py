@@ -129,13 +129,15 @@ def run_config(method, K, augment=0, quadrature="nodal", refinement=None, F_hat=
                 steps=steps)
 
 
-def sweep(scene: str, quick: bool = False) -> list[dict]:
+def sweep(scene: str, quick: bool = False, main: bool = False) -> list[dict]:
     """The runs for ``scene``: penalty over a log range of K (no augmentation); cross and auglag, each with
     and without augmentation, over a smaller K range; nitsche over ``gamma0`` (in the K column); SNES VI
     once per mesh level. Quick: nodal quadrature, the quick mesh levels; full: nodal and Gauss. ``BENCH``'s
     ``quick_sweep`` may set the quick exponents (``penalty``, ``other``), ``gamma0`` and ``augment`` (the
-    augmentation counts of cross and auglag, e.g. ``(0,)``: plain only)."""
+    augmentation counts of cross and auglag, e.g. ``(0,)``: plain only). Main (``make bench``; a quick sweep):
+    ``BENCH``'s ``main`` may keep fewer mesh ``levels`` and ``quadratures`` of the quick sweep."""
     s = spec(scene)
+    quick = quick or main
     K0, mode, methods_of_scene, F = s["K"], "quick" if quick else "full", s["methods"], s.get("F_hat", 0.0)
     if quick:
         q = {"penalty": (-1, 0, 1, 2), "other": (0, 1), "gamma0": GAMMA0["quick"], "augment": (0, AUGMENT),
@@ -146,6 +148,8 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
              "augment": (0, AUGMENT)}
         quadratures = s.get("quadratures", ["nodal", "gauss"])
     levels = [None] if s.get("mesh") is None else s["mesh"][1][mode]
+    if main:
+        levels, quadratures = s.get("main", {}).get("levels", levels), s.get("main", {}).get("quadratures", quadratures)
     declared = {m: methods.get(m) for m in methods.names() if m in methods_of_scene}
     by_kind = {k: [m for m, d in declared.items() if d.sweep.kind == k] for k in ("wide", "narrow", "gamma0", "once")}
     narrow = [m for m in methods_of_scene if m in by_kind["narrow"]]  # the scene's order

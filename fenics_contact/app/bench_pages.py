@@ -111,6 +111,10 @@ def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
     """The page of one scene: findings, time split (two bodies), stability summary, locking, model reduction and charts
     (copied into ``out``)."""
     lines = [f"# {scene}", "", header(run)]  # the run that produced this scene's results
+    error = results / f"{scene}_error.txt"  # bench_run: the traceback of a scene that failed
+    if error.exists():
+        last = error.read_text().strip().splitlines()[-1:] or ["(no message)"]
+        lines += [f"**This scene's run failed** (`{last[0]}`): the sections below are what it wrote before.", ""]
     lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
     split = time_split(bench.read_rows(results / f"{scene}.csv")) if (results / f"{scene}.csv").exists() else ""
     if split:

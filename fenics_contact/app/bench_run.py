@@ -75,7 +75,7 @@ def sweep_scene(scene: str, args, out: Path, reduced: dict[str, str]) -> None:
         say(f"{scene} model reduction:\n" + reduced[scene])
         return
     start = time.perf_counter()
-    rows = bench.bench(scene, out, bench.sweep(scene, args.quick), quiet=args.quiet, timeout=args.timeout)
+    rows = bench.bench(scene, out, bench.sweep(scene, args.quick, args.main), quiet=args.quiet, timeout=args.timeout)
     charts = f"{scene}_pareto.png, {scene}_dofs.png, " if s["error"] is not None else ""
     failed = sum(not r["converged"] for r in rows)
     say(f"{scene}: {len(rows)} runs ({failed} failed) in {time.perf_counter() - start:.1f} s -> {out / scene}.csv, "
