@@ -1,7 +1,8 @@
 """Speed against accuracy: run every method over a parameter sweep, one fresh process per run.
 
     python -m fenics_contact.app.bench --scene hertz --quick --out results/bench
-    python demos/bench.py --quick                       # every scene with a BENCH entry
+    python demos/bench.py --quick --main                # make bench: the main scenes (bench_run.MAIN_SCENES)
+    python demos/bench.py --quick                       # make bench-all: every scene with a BENCH entry
 
 A scene takes part when its module defines ``BENCH`` (figure, reference
 target, K scale, mesh option and levels, methods, extra demo options; see

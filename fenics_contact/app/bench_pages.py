@@ -203,6 +203,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     pages = []
     for scene in scenes:
         page = out / f"{scene}.md"
+        for chart in (*CHARTS, "reduction"):  # an earlier page's charts that this run may not draw
+            (out / f"{scene}_{chart}.png").unlink(missing_ok=True)
         page.write_text(scene_page(scene, results, by_scene[scene], out))
         pages.append(page)
     for scene in (n for n in reduced if n not in scenes):  # the model-reduction rows alone were rerun
