@@ -120,7 +120,8 @@ def main(argv: Sequence[str]) -> None:
     exits with status 1 after the time table if a scene failed."""
     args = _parser().parse_args(argv)
     if args.main and args.reduction_only:
-        raise ValueError("--main and --reduction-only: the main scenes' sweep has no model-reduction rows; give one")
+        raise ValueError("--main with --reduction-only: the main scenes' sweep has no model-reduction rows; give one "
+                         "of the two")
     if args.main:
         args.no_stability = args.no_locking = args.no_reduction = True
     default = list(bench.REDUCTIONS) if args.reduction_only else list(MAIN_SCENES) if args.main else \
@@ -148,8 +149,8 @@ def main(argv: Sequence[str]) -> None:
             status = "done"
         except Exception as exc:  # noqa: BLE001 - one scene's failure is one line; the other scenes still run
             error.write_text(traceback.format_exc())
-            first = str(exc).splitlines()[0] if str(exc) else ""
-            line = f"bench: scene {scene} failed: {type(exc).__name__}: {first} (traceback: {error})"
+            what = type(exc).__name__ + (f": {str(exc).splitlines()[0]}" if str(exc).strip() else "")
+            line = f"bench: scene {scene} failed: {what} (traceback: {error})"
             if MPI.COMM_WORLD.rank == 0:
                 sys.stderr.write(line + "\n")
                 sys.stderr.flush()
