@@ -185,7 +185,7 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     Pages and charts of an earlier run in ``out`` are removed first, unless ``add`` (see the module), except the
     side-by-side page with the peer (``peer.md``, ``peer_*.png``: written by scripts/peer/run.py, which needs the
     peer's build), which the index lists when present."""
-    results, out = Path(results), Path(out)
+    results, out = Path(results).resolve(), Path(out).resolve()  # absolute from the start
     runs = read_runs(results)
     by_scene = {scene: run for run in runs for scene in run["scenes"]}
 
