@@ -5,7 +5,9 @@
 #            ranks; within 20 minutes on 2 cores
 # make test-fast: the library's unit and closed-form tests (not slow, no scene), under 2 minutes
 # make test-all: every test serially, under mpirun -n 2 and on Debian 13 (serial and mpirun -n 2)
-# make bench: the quick benchmark sweep into results/bench and its pages into docs/bench/ (make bench-pages)
+# make bench: the quick benchmark sweep (the main scenes, every method, within 10 minutes on 2 cores) into
+#             results/bench and its pages into docs/bench/ (make bench-pages); make bench-all: every scene with its
+#             stability map, locking and model reduction into results/bench-all, then every page (docs/benchmarks.md)
 # make docs: regenerate the generated pages (also docs/tutorials/ from tutorials/), build the HTML documentation into docs/_build/html (warnings are errors)
 # Lanes: the markers slow, scene, mpi and study, given in tests/conftest.py
 VENV   ?= .venv
@@ -30,7 +32,7 @@ XDIST  := -n $(NP) --dist loadfile
 # of ranks; the demos run under mpirun -n 2 in make demo, every test in parallel in make test-all
 PARALLEL_LANE := (not slow and not scene) or mpi
 
-.PHONY: setup demo demo-all bench bench-pages scaling docs test test-fast test-all lint test-serial test-serial-all test-mpi \
+.PHONY: setup demo demo-all bench bench-all bench-pages scaling docs test test-fast test-all lint test-serial test-serial-all test-mpi \
         test-mpi-all \
         test-debian13 clean peer
 
@@ -43,14 +45,25 @@ demo: setup
 demo-all: setup
 	@PY=$(PY) NP=$(NP) bash scripts/demos.sh all results/all
 
-# speed against accuracy, every method on the same scene (quick sweep of every scene with a BENCH entry), then
-# its pages in docs/bench/ (make bench-pages: the pages alone, from results/bench; make docs does not need them)
+# speed against accuracy, every method on the same scene: the main scenes (make bench; the pages of the other
+# scenes are kept) or every scene with a BENCH entry and its maps (make bench-all; every page rewritten), then the
+# pages in docs/bench/ (make bench-pages: the pages alone, from BENCH_OUT; make docs does not need them). The pages
+# are written even when a scene failed (one line each); the sweep's exit status is kept.
+BENCH_OUT ?= results/bench
+BENCH_PAGES_ARGS ?= --add
 bench: setup
-	$(PY) demos/bench.py --quick --out results/bench
-	$(MAKE) bench-pages
+	@status=0; $(PY) demos/bench.py --quick --main --out results/bench || status=$$?; \
+	$(MAKE) --no-print-directory bench-pages BENCH_OUT=results/bench BENCH_PAGES_ARGS=--add || status=1; \
+	exit $$status
+
+bench-all: setup
+	@status=0; $(PY) demos/bench.py --quick --out results/bench-all || status=$$?; \
+	$(MAKE) --no-print-directory bench-pages BENCH_OUT=results/bench-all BENCH_PAGES_ARGS= || status=1; \
+	exit $$status
 
 bench-pages: setup
-	$(PY) -m fenics_contact.app.bench_pages results/bench docs/bench $(if $(wildcard results/*/summary.json),--demos results)
+	$(PY) -m fenics_contact.app.bench_pages $(BENCH_OUT) docs/bench $(BENCH_PAGES_ARGS) \
+		$(if $(wildcard results/*/summary.json),--demos results)
 
 # 3D Hertz (sphere on a rigid plane, on a deformable block) from ~1e4 to ~1e6 dofs, serial and mpirun -n 2:
 # peak memory, time per Newton iteration, slope, speed-up -> results/scaling/scaling.json (heavy: see docs/benchmarks.md)

@@ -185,3 +185,19 @@ def test_added_reduction_rows_replace_that_section_and_keep_other_pages(tmp_path
     index = (out / "index.md").read_text()
     assert "block\nhertz\n```" in index and index.count("| new |") == 1 and "| old |" not in index
     assert index.index(old_header) < index.index(run["command"])  # the runs oldest first
+
+
+@serial
+def test_a_rewritten_page_drops_the_charts_its_run_did_not_draw(tmp_path):
+    """``--add`` (make bench: the main scenes' pages rewritten, the others kept): a rewritten scene's charts are
+    this run's (an earlier stability map of it is gone); another scene's, whose name starts alike, are kept."""
+    results, out = tmp_path / "bench", tmp_path / "docs"
+    _fixture(results)
+    out.mkdir()
+    for old in ("hertz_stability.png", "hertz_pareto.png", "hertz_twobody_pareto.png"):
+        (out / old).write_bytes(b"old")
+    (out / "hertz_twobody.md").write_text("# hertz_twobody\n\n![](hertz_twobody_pareto.png)\n")
+    bench_pages.write_pages(results, out, add=True)
+    assert not (out / "hertz_stability.png").exists() and "stability" not in (out / "hertz.md").read_text()
+    assert (out / "hertz_pareto.png").read_bytes() == (results / "hertz_pareto.png").read_bytes()
+    assert (out / "hertz_twobody_pareto.png").read_bytes() == b"old" and (out / "hertz_twobody.md").exists()

@@ -1,7 +1,8 @@
 """Speed against accuracy: run every method over a parameter sweep, one fresh process per run.
 
     python -m fenics_contact.app.bench --scene hertz --quick --out results/bench
-    python demos/bench.py --quick                       # every scene with a BENCH entry
+    python demos/bench.py --quick --main                # make bench: the main scenes (bench_run.MAIN_SCENES)
+    python demos/bench.py --quick                       # make bench-all: every scene with a BENCH entry
 
 A scene takes part when its module defines ``BENCH`` (figure, reference
 target, K scale, mesh option and levels, methods, extra demo options; see
@@ -53,7 +54,7 @@ __all__ = [
     "DEMOS", "COLUMNS", "AUGMENT", "ERROR_FLOOR", "PETSC_DTOL", "DTOL", "reference_method", "references",
     "parameter_label",
     "GAMMA0", "spec", "bench_scenes", "run_config", "sweep", "stability_sweep", "status", "run_name", "child_env",
-    "command", "run_one", "run_all", "add_limit_gap", "bench", "report", "STABILITY_TITLE", "stability",
+    "command", "run_one", "RUNS", "run_all", "add_limit_gap", "bench", "report", "STABILITY_TITLE", "stability",
     "add_stability_limit", "stability_summary", "REDUCTIONS", "REDUCTION_HEADER", "reduction", "reduction_report",
     "reduction_table",
     "plot_reduction", "locking_runs", "locking_errors", "locking_table", "plot_locking", "locking_report", "locking",
@@ -129,13 +130,15 @@ def run_config(method, K, augment=0, quadrature="nodal", refinement=None, F_hat=
                 steps=steps)
 
 
-def sweep(scene: str, quick: bool = False) -> list[dict]:
+def sweep(scene: str, quick: bool = False, main: bool = False) -> list[dict]:
     """The runs for ``scene``: penalty over a log range of K (no augmentation); cross and auglag, each with
     and without augmentation, over a smaller K range; nitsche over ``gamma0`` (in the K column); SNES VI
     once per mesh level. Quick: nodal quadrature, the quick mesh levels; full: nodal and Gauss. ``BENCH``'s
     ``quick_sweep`` may set the quick exponents (``penalty``, ``other``), ``gamma0`` and ``augment`` (the
-    augmentation counts of cross and auglag, e.g. ``(0,)``: plain only)."""
+    augmentation counts of cross and auglag, e.g. ``(0,)``: plain only). Main (``make bench``; a quick sweep):
+    ``BENCH``'s ``main`` may keep fewer mesh ``levels`` and ``quadratures`` of the quick sweep."""
     s = spec(scene)
+    quick = quick or main
     K0, mode, methods_of_scene, F = s["K"], "quick" if quick else "full", s["methods"], s.get("F_hat", 0.0)
     if quick:
         q = {"penalty": (-1, 0, 1, 2), "other": (0, 1), "gamma0": GAMMA0["quick"], "augment": (0, AUGMENT),
@@ -146,6 +149,8 @@ def sweep(scene: str, quick: bool = False) -> list[dict]:
              "augment": (0, AUGMENT)}
         quadratures = s.get("quadratures", ["nodal", "gauss"])
     levels = [None] if s.get("mesh") is None else s["mesh"][1][mode]
+    if main:
+        levels, quadratures = s.get("main", {}).get("levels", levels), s.get("main", {}).get("quadratures", quadratures)
     declared = {m: methods.get(m) for m in methods.names() if m in methods_of_scene}
     by_kind = {k: [m for m, d in declared.items() if d.sweep.kind == k] for k in ("wide", "narrow", "gamma0", "once")}
     narrow = [m for m in methods_of_scene if m in by_kind["narrow"]]  # the scene's order
@@ -302,10 +307,19 @@ def run_one(scene: str, cfg: dict, folder: Path, timeout: float = 1800.0) -> dic
     return {**row, "status": status(row)}
 
 
+RUNS = {"runs": 0, "failed": 0}  # the runs of this process so far and those that failed (the sweep's time table)
+
+
+def _tally(row: dict) -> dict:
+    RUNS["runs"] += 1
+    RUNS["failed"] += not row["converged"]
+    return row
+
+
 def run_all(scene: str, out: Path, runs: Sequence[dict], quiet: bool, timeout: float, tag: str = "") -> list[dict]:
     rows = []
     for i, cfg in enumerate(runs):
-        row = run_one(scene, cfg, out / scene / run_name(cfg), timeout)
+        row = _tally(run_one(scene, cfg, out / scene / run_name(cfg), timeout))
         rows.append(row)
         if not quiet:
             _say(f"[{scene}{tag} {i + 1}/{len(runs)}] {run_name(cfg):44s} converged {row['converged']!s:5s} "
@@ -482,7 +496,8 @@ def reduction(scene: str, out: str | Path, quiet: bool = False, timeout: float =
         cfg = dict(run_config(r0["method"], s["K"], r0["augment"], r0["quadrature"], level), args=[*r0["args"], *args])
         folder = out / scene / ("reduction_" + "".join(c if c.isalnum() else "-" for c in label.split(": ")[1])[:60])
         # the fastest of `repeats` runs: single timings on a shared machine are too noisy to subtract
-        row = min((run_one(scene, cfg, folder, timeout) for _ in range(r0["repeats"])), key=lambda r: r["wall_time_s"])
+        row = min((_tally(run_one(scene, cfg, folder, timeout)) for _ in range(r0["repeats"])),
+                  key=lambda r: r["wall_time_s"])
         rows.append({"variant": label, **row})
         if not quiet:
             _say(f"[{scene} reduction] {label[:60]:60s} converged {row['converged']!s:5s} error {row['error']:.3e}")
@@ -652,7 +667,7 @@ def locking(scene: str, out: str | Path, quiet: bool = False, timeout: float = 6
     out = Path(out)
     rows = run_all(scene, out, locking_runs(scene), quiet, timeout, tag=" locking")
     write_rows(rows, out / f"{scene}_locking.csv", out / f"{scene}_locking.json")
-    report(scene, rows, out, pictures)
+    locking_report(scene, rows, out, pictures)
     return rows
 
 
@@ -1109,80 +1124,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["--run-scene"]:  # one run: bad input and failed solves end in one line (cli.main)
         return cli.main(lambda rest: run_scene(argv[1], rest), argv[2:])
-    return cli.main(_sweep, argv)
+    from . import bench_run
 
-
-def _sweep(argv: Sequence[str]) -> None:
-    from . import cli
-
-    p = cli.StrictParser(description=__doc__.splitlines()[0], epilog=None)
-    p.add_argument("--scene", action="append", help="scene (repeatable; default: every scene with BENCH)")
-    p.add_argument("--quick", action="store_true", help="small sweep")
-    p.add_argument("--out", default="results/bench", help="output folder")
-    p.add_argument("--timeout", type=cli.POSITIVE, default=1800.0, help="seconds per run before it counts as failed")
-    p.add_argument("--charts-only", action="store_true", help="redraw charts and findings from <out>/<scene>.csv")
-    p.add_argument("--no-stability", action="store_true", help="skip the stability maps")
-    p.add_argument("--no-reduction", action="store_true", help="skip the model-reduction tables")
-    p.add_argument("--no-locking", action="store_true", help="skip the locking maps (bulk models over nu)")
-    p.add_argument("--reduction-only", action="store_true",
-                   help="the model-reduction tables alone (no sweep, no stability map)")
-    p.add_argument("--quiet", action="store_true", help="no line per run")
-    args = p.parse_args(argv)
-    scenes = args.scene or (list(REDUCTIONS) if args.reduction_only else bench_scenes())
-    for scene in scenes:
-        spec(scene)  # a clear error before anything runs
-        if args.reduction_only and scene not in REDUCTIONS:
-            raise ValueError(f"--reduction-only: scene {scene!r} has no model-reduction rows; accepted: "
-                             f"{', '.join(REDUCTIONS)}")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    if not args.charts_only:  # the machine, date, commit and command of the results (the benchmark pages' header)
-        from .run_record import record_run
-
-        record_run(out, argv, scenes)
-    reduced: dict[str, str] = {}  # model-reduction rows per scene, one table at the end
-    for scene in scenes:
-        start = time.perf_counter()
-        s = spec(scene)
-        if args.charts_only:
-            if (out / f"{scene}_reduction.csv").exists() and scene in REDUCTIONS:
-                reduced[scene] = reduction_report(scene, out)
-            if not (out / f"{scene}.csv").exists() and scene in reduced:  # the model-reduction rows alone
-                continue
-            _say(report(scene, read_rows(out / f"{scene}.csv"), out))
-            if s.get("stability") and (out / f"{scene}_stability.csv").exists():
-                st = read_rows(out / f"{scene}_stability.csv")
-                plot_stability(st, out / f"{scene}_stability.png", title=STABILITY_TITLE.format(scene=scene))
-                plot_stability_accuracy(st, out / f"{scene}_stability_accuracy.png",
-                                        title=f"{scene}: the K each method needs, and whether it converges there")
-            if s.get("locking") and (out / f"{scene}_locking.csv").exists():
-                locking_report(scene, read_rows(out / f"{scene}_locking.csv"), out)
-            continue
-        if args.reduction_only:
-            reduced[scene] = reduction(scene, out, quiet=args.quiet, timeout=args.timeout)
-            _say(f"{scene} model reduction:\n" + reduced[scene])
-            continue
-        rows = bench(scene, out, sweep(scene, args.quick), quiet=args.quiet, timeout=args.timeout)
-        failed = sum(not r["converged"] for r in rows)
-        charts = f"{scene}_pareto.png, {scene}_dofs.png, " if s["error"] is not None else ""
-        _say(f"{scene}: {len(rows)} runs ({failed} failed) in {time.perf_counter() - start:.1f} s -> "
-             f"{out / scene}.csv, {charts}{scene}_iterations.png")
-        _say((out / f"{scene}_findings.md").read_text())
-        if s.get("stability") and not args.no_stability:
-            rows = stability(scene, out, args.quick, quiet=args.quiet)
-            _say(f"{scene} stability map: {len(rows)} runs, {sum(not r['converged'] for r in rows)} failed -> "
-                 f"{out / scene}_stability.csv, {scene}_stability.png")
-        if s.get("locking") and not args.no_locking:
-            rows = locking(scene, out, quiet=args.quiet, timeout=args.timeout)
-            _say(f"{scene} locking map: {len(rows)} runs, {sum(not r['converged'] for r in rows)} failed -> "
-                 f"{out / scene}_locking.csv, {scene}_locking.png\n" + (out / f"{scene}_locking.md").read_text())
-        if s.get("reduction") and not args.no_reduction and scene in REDUCTIONS:
-            reduced[scene] = reduction(scene, out, quiet=args.quiet)
-            _say(f"{scene} model reduction:\n" + reduced[scene])
-        _say(f"{scene}: done in {time.perf_counter() - start:.1f} s")
-    if reduced:
-        (out / "model_reduction.md").write_text("\n".join(REDUCTION_HEADER) + "\n" + "".join(reduced.values()))
-        _say(f"model reduction -> {out / 'model_reduction.md'}")
+    return cli.main(bench_run.main, argv)
 
 
 if __name__ == "__main__":

@@ -111,6 +111,10 @@ def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
     """The page of one scene: findings, time split (two bodies), stability summary, locking, model reduction and charts
     (copied into ``out``)."""
     lines = [f"# {scene}", "", header(run)]  # the run that produced this scene's results
+    error = results / f"{scene}_error.txt"  # bench_run: the traceback of a scene that failed
+    if error.exists():
+        last = error.read_text().strip().splitlines()[-1:] or ["(no message)"]
+        lines += [f"**This scene's run failed** (`{last[0]}`): the sections below are what it wrote before.", ""]
     lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
     split = time_split(bench.read_rows(results / f"{scene}.csv")) if (results / f"{scene}.csv").exists() else ""
     if split:
@@ -181,7 +185,7 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     Pages and charts of an earlier run in ``out`` are removed first, unless ``add`` (see the module), except the
     side-by-side page with the peer (``peer.md``, ``peer_*.png``: written by scripts/peer/run.py, which needs the
     peer's build), which the index lists when present."""
-    results, out = Path(results), Path(out)
+    results, out = Path(results).resolve(), Path(out).resolve()  # absolute from the start
     runs = read_runs(results)
     by_scene = {scene: run for run in runs for scene in run["scenes"]}
 
@@ -199,6 +203,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     pages = []
     for scene in scenes:
         page = out / f"{scene}.md"
+        for chart in (*CHARTS, "reduction"):  # an earlier page's charts that this run may not draw
+            (out / f"{scene}_{chart}.png").unlink(missing_ok=True)
         page.write_text(scene_page(scene, results, by_scene[scene], out))
         pages.append(page)
     for scene in (n for n in reduced if n not in scenes):  # the model-reduction rows alone were rerun

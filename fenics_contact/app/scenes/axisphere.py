@@ -53,7 +53,8 @@ _BENCH = {"error": "p0_error", "value": "p0", "figures": ["p0", "a", "a_error", 
           "mesh": ("h-contact", {"quick": [0.01, 0.005], "full": [0.01, 0.005, 0.0025]}),
           "quick_sweep": {"penalty": (0, 1), "other": (0,), "gamma0": (10.0,)}}
 BENCH = {**_BENCH, "methods": ["penalty", "cross", "auglag", "lagrange", "penalty_multiplier", "nitsche"],
-         "axes": {"kind": "rigid", "dim": 2, "geometry": "axisymmetric"}}
+         "axes": {"kind": "rigid", "dim": 2, "geometry": "axisymmetric"},
+         "main": {"levels": [0.01]}}  # make bench: the coarser mesh (its runs' time is the set-up's)
 # Two elastic spheres (R and 2 R, the second of half the modulus: E* and R* of the pair), one-pass two-body contact
 BENCHES = {"axisphere_spheres": {
     **_BENCH, "demo": "axisphere", "methods": ["penalty", "cross", "auglag", "lagrange", "penalty_multiplier"],
