@@ -378,3 +378,31 @@ def test_petsc_values_checked_alone_and_named(monkeypatch):
     monkeypatch.setattr(cli, "_PETSC_OPTIONS", [("fc_snes_max_it", "-5"), ("fc_snes_monitor", "")])
     assert cli.error_line(Internal(77)) == "PETSc error 77: Internal error, solver returned without setting " \
         "converged reason (PETSc options given: -fc_snes_max_it -5, -fc_snes_monitor)"
+
+
+@serial
+@pytest.mark.parametrize("leave,status,said", [
+    ("sys.exit(4)", 4, "exit status 4"),
+    ("sys.exit('a message of rank 1')", 1, "a message of rank 1"),
+    ("raise KeyboardInterrupt", cli.EXIT_INTERRUPTED, "interrupted by SIGINT"),
+    ("os.kill(os.getpid(), signal.SIGINT); time.sleep(60)", cli.EXIT_INTERRUPTED, "interrupted by SIGINT"),
+], ids=["exit-code", "exit-message", "KeyboardInterrupt", "SIGINT"])
+def test_a_rank_that_leaves_ends_the_mpi_job(leave, status, said, tmp_path):
+    """Rank 1 leaves (sys.exit, KeyboardInterrupt, SIGINT of that rank alone) while rank 0 waits in a collective:
+    the whole job ends within seconds, with one line saying why from rank 1 and no traceback, instead of rank 0
+    waiting for ever; left by every rank, the job ends with that status."""
+    script = _script(tmp_path, f"""
+        import os, signal, time
+
+        def demo(argv):
+            if sys.argv[1] == "every" or MPI.COMM_WORLD.rank == 1:
+                {leave}
+            MPI.COMM_WORLD.barrier()
+    """)
+    proc, elapsed = _mpirun(script, "one", timeout=60)
+    assert proc.returncode != 0 and elapsed < 20, (elapsed, proc.stderr)
+    assert f"rank 1: {said}" in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+    proc, elapsed = _mpirun(script, "every", timeout=60)
+    assert proc.returncode == status and elapsed < 20, (elapsed, proc.returncode, proc.stderr)
+    assert "Traceback" not in proc.stderr and ("script.py: " + said in proc.stderr or said.startswith("exit")), \
+        proc.stderr

@@ -63,10 +63,11 @@ __all__ = ["parser", "parse", "refuse_unsupported", "one_line_errors", "has_fric
            "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
            "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "check_petsc_values", "error_line",
            "main", "count",
-           "EXIT_ERROR", "EXIT_USAGE", "EXIT_CHECK"]
+           "EXIT_ERROR", "EXIT_USAGE", "EXIT_CHECK", "EXIT_INTERRUPTED"]
 
 GIVEN = "given"  # StrictParser.requirements: the other option must be given (any value)
 EXIT_ERROR, EXIT_USAGE, EXIT_CHECK = 1, 2, 3  # main's exit status: an error, a bad command line, a failed check
+EXIT_INTERRUPTED = 130  # main's exit status after SIGINT (128 + the signal's number, as a shell says)
 # Seconds a rank that failed waits for the others to reach the end of main (a rank still inside a collective of
 # the demo never does: the job is then aborted)
 AGREE_TIMEOUT = 5.0
@@ -651,7 +652,8 @@ def _agree(comm: MPI.Comm, status: int, line: str | None, prog: str) -> int:
     while not request.Test():
         if status and time.monotonic() > deadline:
             sys.stdout.flush()
-            print(f"{prog}: rank {comm.rank}: {line} (the other ranks did not finish: aborting)", file=sys.stderr,
+            said = line or f"exit status {status}"
+            print(f"{prog}: rank {comm.rank}: {said} (the other ranks did not finish: aborting)", file=sys.stderr,
                   flush=True)
             MPI.COMM_WORLD.Abort(status)
         time.sleep(0.005)
@@ -668,9 +670,11 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
     value PETSc rejects, a size the memory cannot hold or running out of memory end in one line on rank 0
     (``<program>: error: ...``) and exit status :data:`EXIT_ERROR` (:data:`EXIT_USAGE` for a bad command line),
     without a Python traceback; so does a PETSc option PETSc never used (checked at the end). A demo that returns
-    a ``check`` that did not pass (its outputs written) exits with :data:`EXIT_CHECK`, one line saying so. Any
-    other exception is a bug: its traceback, and under ``mpirun`` the whole job ends (``MPI_Abort``) rather than
-    leave the other ranks waiting in a collective."""
+    a ``check`` that did not pass (its outputs written) exits with :data:`EXIT_CHECK`, one line saying so.
+    ``sys.exit(code)`` in the demo exits with ``code``, and SIGINT (``KeyboardInterrupt``) with
+    :data:`EXIT_INTERRUPTED`, one line saying so. Any other exception is a bug: its traceback. Under ``mpirun``,
+    every way a rank leaves ends the whole job within seconds (:func:`_agree`, ``MPI_Abort``) rather than leave
+    the other ranks waiting in a collective."""
     prog = sys.argv[0].rsplit("/", 1)[-1] if sys.argv and sys.argv[0] else "demo"
     world = MPI.COMM_WORLD
     comm = world.Dup()  # the agreement at the end must not match a collective a stuck rank is in
@@ -681,6 +685,8 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
         failed = _failed_check(result)
         if failed is not None:
             status, line = EXIT_CHECK, failed
+    except (SystemExit, KeyboardInterrupt) as exc:
+        status, line = _leaving(exc, prog)
     except Exception as exc:  # noqa: BLE001 - only the kinds error_line knows are turned into one line
         line = error_line(exc)
         if line is None:
@@ -699,7 +705,25 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
             line += f"; PETSc options not used: {', '.join(unused)}"
         line = f"error: {line}"
         status = EXIT_USAGE if isinstance(exc, UsageError) else EXIT_ERROR
-    status = _agree(comm, status, line, prog)
+    try:
+        status = _agree(comm, status, line, prog)
+    except KeyboardInterrupt:  # a second SIGINT while waiting for the other ranks: leave at once
+        if world.size > 1:
+            world.Abort(EXIT_INTERRUPTED)
+        status = EXIT_INTERRUPTED
     comm.Free()
     if status:
         sys.exit(status)
+
+
+def _leaving(exc: SystemExit | KeyboardInterrupt, prog: str) -> tuple[int, str | None]:
+    """The exit status and line of a demo that called ``sys.exit`` or was interrupted (SIGINT)."""
+    if isinstance(exc, KeyboardInterrupt):
+        return EXIT_INTERRUPTED, "interrupted by SIGINT"
+    code = exc.code
+    if code is None or isinstance(code, bool) and not code:
+        return 0, None
+    if isinstance(code, int):
+        return code, None  # the demo has said why
+    text = str(code)  # sys.exit("message"): the message, status 1
+    return EXIT_ERROR, text[len(prog) + 2:] if text.startswith(f"{prog}: ") else text
