@@ -61,7 +61,8 @@ __all__ = ["parser", "parse", "refuse_unsupported", "one_line_errors", "has_fric
            "solver_options", "StrictParser",
            "UsageError", "HelpFormatter", "GIVEN",
            "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
-           "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "check_petsc_values", "error_line",
+           "setup_logging", "recorded_options", "OUTPUT_ONLY", "say", "unused_petsc_options", "check_petsc_options",
+           "check_petsc_values", "error_line",
            "main", "count",
            "EXIT_ERROR", "EXIT_USAGE", "EXIT_CHECK", "EXIT_INTERRUPTED"]
 
@@ -380,6 +381,22 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
         if getattr(args, "omega_t", 0) is None:
             args.omega_t = args.K
     return args
+
+
+# options of the output and of the log: a restart may change them (the others shape the problem or its load path)
+OUTPUT_ONLY = ("out", "restart", "overwrite", "no_pictures", "quiet", "verbose")
+
+
+def recorded_options(args: argparse.Namespace) -> dict:
+    """The options of the parsed command line ``args`` that shape the problem or its load path (all but
+    :data:`OUTPUT_ONLY`), by flag (``--steps``), as parsed (defaults and derived values included): what
+    ``summary.json`` records and a restart must give again."""
+    def plain(v: object) -> bool:
+        return v is None or isinstance(v, (bool, int, float, str)) or (
+            isinstance(v, (list, tuple)) and all(plain(x) for x in v))
+
+    return {"--" + k.replace("_", "-"): list(v) if isinstance(v, tuple) else v for k, v in sorted(vars(args).items())
+            if k not in OUTPUT_ONLY and plain(v)}
 
 
 def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
