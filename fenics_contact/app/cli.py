@@ -389,13 +389,13 @@ OUTPUT_ONLY = ("out", "restart", "overwrite", "no_pictures", "quiet", "verbose")
 
 def recorded_options(args: argparse.Namespace) -> dict:
     """The options of the parsed command line ``args`` that shape the problem or its load path (all but
-    :data:`OUTPUT_ONLY`), by flag (``--steps``), as parsed (defaults and derived values included): what
-    ``summary.json`` records and a restart must give again."""
+    :data:`OUTPUT_ONLY`), by flag (``--steps``), as parsed (defaults and derived values included), in the
+    parser's order: what ``summary.json`` records and a restart must give again."""
     def plain(v: object) -> bool:
         return v is None or isinstance(v, (bool, int, float, str)) or (
             isinstance(v, (list, tuple)) and all(plain(x) for x in v))
 
-    return {"--" + k.replace("_", "-"): list(v) if isinstance(v, tuple) else v for k, v in sorted(vars(args).items())
+    return {"--" + k.replace("_", "-"): list(v) if isinstance(v, tuple) else v for k, v in vars(args).items()
             if k not in OUTPUT_ONLY and plain(v)}
 
 

@@ -392,18 +392,20 @@ def _describe(summary: dict | None, holder: dict | None) -> str:
 def _same_run(previous: dict, head: dict, out: Path) -> None:
     """Refuse to go on with another run than ``head``'s."""
     mine = json.loads(json.dumps(head, default=float))
+    before, now = previous.get("options"), mine.get("options")
+    if isinstance(before, dict) and now is not None and previous.get("scene") == mine["scene"]:  # by option
+        differ = [f for f in dict.fromkeys([*now, *before]) if before.get(f) != now.get(f) or
+                  (f in before) != (f in now)]
+        if differ:
+            raise OutputError(f"--restart: {out} holds a run with {', '.join(_shown(f, before) for f in differ)}; "
+                              f"this one has {', '.join(_shown(f, now) for f in differ)}: give that run's options, "
+                              f"or --overwrite to start afresh")
     if previous.get("ranks") != mine["ranks"] and previous.get("ranks") is not None:
         raise OutputError(f"--restart: {out} holds a run on {previous['ranks']} ranks, this one has "
                           f"{mine['ranks']}: restart with the same number of ranks (mpirun -n {previous['ranks']})")
     if (previous.get("scene"), previous.get("method")) != (mine["scene"], mine["method"]):
         raise OutputError(f"--restart: {out} holds a run of {_describe(previous, None)}, not of {mine['scene']} / "
                           f"{mine['method']}: give another --out, or --overwrite")
-    before, now = previous.get("options"), mine.get("options")
-    if isinstance(before, dict) and now is not None:  # the command line's options, by name
-        for flag in sorted(set(before) | set(now), key=lambda f: (f not in now, f)):
-            if before.get(flag) != now.get(flag) or (flag in before) != (flag in now):
-                raise OutputError(f"--restart: {out} holds a run with {_shown(flag, before)}, this one has "
-                                  f"{_shown(flag, now)}: give that run's options, or --overwrite to start afresh")
     differ = [k for k in IDENTITY if previous.get(k) != mine[k]]
     if differ:
         what = [k for k in mine["parameters"] if previous.get("parameters", {}).get(k) != mine["parameters"][k]]
@@ -424,7 +426,9 @@ def _shown(flag: str, options: dict) -> str:
         return f"no {flag}"
     if value is True:
         return flag
-    return f"{flag} {' '.join(map(str, value)) if isinstance(value, list) else value}"
+    def text(v: object) -> str:
+        return f"{v:.12g}" if isinstance(v, float) else str(v)
+    return f"{flag} {' '.join(map(text, value)) if isinstance(value, list) else text(value)}"
 
 
 def _empty(out: Path) -> None:
