@@ -406,3 +406,21 @@ def test_a_rank_that_leaves_ends_the_mpi_job(leave, status, said, tmp_path):
     assert proc.returncode == status and elapsed < 20, (elapsed, proc.returncode, proc.stderr)
     assert "Traceback" not in proc.stderr and ("script.py: " + said in proc.stderr or said.startswith("exit")), \
         proc.stderr
+
+
+@serial
+def test_an_exception_outside_main_on_one_rank_ends_the_mpi_job(tmp_path):
+    """An exception escaping on rank 1 outside cli.main (a script's own code, a late import) while rank 0 waits in
+    a collective: its traceback, and the job ends within seconds."""
+    script = tmp_path / "script.py"
+    script.write_text(textwrap.dedent("""
+        from mpi4py import MPI
+        from fenics_contact.app import cli
+
+        if MPI.COMM_WORLD.rank == 1:
+            raise KeyboardInterrupt
+        MPI.COMM_WORLD.barrier()
+    """))
+    proc, elapsed = _mpirun(script, timeout=60)
+    assert proc.returncode != 0 and elapsed < 20, (elapsed, proc.stderr)
+    assert "KeyboardInterrupt" in proc.stderr

@@ -15,12 +15,14 @@ end of the demo) an option PETSc never read is an error naming it. Counts
 combination, a failed solve, a PETSc value PETSc rejects, a size the memory
 cannot hold, running out of memory) into one line on rank 0 and a non-zero
 exit, on every rank; a demo whose own check failed exits with
-:data:`EXIT_CHECK`; any other exception prints its traceback and, under
-``mpirun``, ends the whole job (``MPI_Abort``) instead of leaving the other
-ranks waiting.
+:data:`EXIT_CHECK`; ``sys.exit`` exits with its status, SIGINT with
+:data:`EXIT_INTERRUPTED`; any other exception prints its traceback. Under
+``mpirun``, a rank that leaves in any of these ways ends the whole job
+within seconds (``MPI_Abort``) instead of leaving the other ranks waiting.
 
 Exit status: 0 done and checked, :data:`EXIT_ERROR` (1) an error, :data:`EXIT_USAGE` (2) a bad command line,
-:data:`EXIT_CHECK` (3) the demo ran and wrote its outputs but its check failed.
+:data:`EXIT_CHECK` (3) the demo ran and wrote its outputs but its check failed, :data:`EXIT_INTERRUPTED` (130)
+SIGINT.
 """
 from __future__ import annotations
 
@@ -30,7 +32,9 @@ import inspect
 import logging
 import math
 import re
+import signal
 import sys
+import threading
 import time
 import traceback
 from typing import Callable, Sequence
@@ -427,6 +431,24 @@ def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
         root_logger.addFilter(quiet_root)
 
 
+def _abort_on_uncaught() -> None:
+    """An exception that ends the program outside :func:`main` (an import, a script that does not use it), on one
+    rank of an ``mpirun`` job: after its traceback, ``MPI_Abort`` ends the whole job (a rank that exited normally
+    would wait in ``MPI_Finalize`` for the others, and they for it)."""
+    previous = sys.excepthook
+
+    def hook(kind, value, tb):
+        previous(kind, value, tb)
+        if MPI.Is_initialized() and not MPI.Is_finalized() and MPI.COMM_WORLD.size > 1:
+            sys.stderr.flush()
+            MPI.COMM_WORLD.Abort(EXIT_INTERRUPTED if issubclass(kind, KeyboardInterrupt) else EXIT_ERROR)
+
+    sys.excepthook = hook
+
+
+_abort_on_uncaught()
+
+
 def one_line_errors() -> None:
     """Make a ``ValueError`` that ends a demo (a refused combination, a bad option value) one line on stderr
     (``error: ...``, from rank 0) and exit status 1, without a traceback; other exceptions keep theirs."""
@@ -694,9 +716,11 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
     the other ranks waiting in a collective."""
     prog = sys.argv[0].rsplit("/", 1)[-1] if sys.argv and sys.argv[0] else "demo"
     world = MPI.COMM_WORLD
-    comm = world.Dup()  # the agreement at the end must not match a collective a stuck rank is in
+    comm, interrupted = _duplicate(world)  # the agreement at the end must not match a collective a stuck rank is in
     status, line = 0, None
     try:
+        if interrupted:
+            raise KeyboardInterrupt
         result = demo(argv)
         check_petsc_options()
         failed = _failed_check(result)
@@ -731,6 +755,20 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
     comm.Free()
     if status:
         sys.exit(status)
+
+
+def _duplicate(world: MPI.Comm) -> tuple[MPI.Comm, bool]:
+    """``world.Dup()``, and whether SIGINT came meanwhile: held back until the duplicate is made on every rank (a
+    ``KeyboardInterrupt`` raised as the collective returns would leave this rank without it). Collective."""
+    if threading.current_thread() is not threading.main_thread():
+        return world.Dup(), False
+    came: list[int] = []
+    before = signal.signal(signal.SIGINT, lambda signum, frame: came.append(signum))
+    try:
+        comm = world.Dup()
+    finally:
+        signal.signal(signal.SIGINT, before if before is not None else signal.SIG_DFL)
+    return comm, bool(came)
 
 
 def _leaving(exc: SystemExit | KeyboardInterrupt, prog: str) -> tuple[int, str | None]:
