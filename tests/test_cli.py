@@ -6,6 +6,7 @@ import json
 import logging
 import os
 import resource
+import signal
 import subprocess
 import sys
 import textwrap
@@ -424,3 +425,47 @@ def test_an_exception_outside_main_on_one_rank_ends_the_mpi_job(tmp_path):
     proc, elapsed = _mpirun(script, timeout=60)
     assert proc.returncode != 0 and elapsed < 20, (elapsed, proc.stderr)
     assert "KeyboardInterrupt" in proc.stderr
+
+
+def _ranks_of(marker: str) -> list[int]:
+    """The pids of the processes whose command line holds ``marker`` (a job's ranks), lowest first."""
+    found = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            words = cmdline.read_bytes().split(b"\0")
+        except OSError:
+            continue
+        if b"python" in words[0] and marker.encode() in b" ".join(words):
+            found.append(int(cmdline.parent.name))
+    return sorted(found)
+
+
+@serial
+@pytest.mark.scene
+def test_sigint_to_one_rank_during_form_compilation_ends_the_job(tmp_path):
+    """SIGINT to one rank of ``mpirun -n 2 block.py`` while the forms are being compiled (an empty JIT cache, the
+    signal sent as its first files appear): the job ends within seconds, with a non-zero status."""
+    if not Path("/proc/self").exists():
+        pytest.skip("no /proc: the ranks cannot be found")
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    env = {**_env(), "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+           "OMPI_MCA_rmaps_base_oversubscribe": "1", "XDG_CACHE_HOME": str(cache)}
+    proc = subprocess.Popen(["mpirun", "-n", "2", sys.executable, str(ROOT / "demos" / "block.py"), "--out", str(out),
+                             "--no-pictures", "--no-xdmf", "--quiet"], env=env, stdin=subprocess.DEVNULL,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not any(cache.rglob("*")) and time.monotonic() < deadline:
+            assert proc.poll() is None, proc.communicate()
+            time.sleep(0.01)
+        ranks = _ranks_of(str(out))
+        assert len(ranks) == 2, ranks
+        os.kill(ranks[-1], signal.SIGINT)
+        start = time.monotonic()
+        _, err = proc.communicate(timeout=60)
+        assert proc.returncode != 0 and time.monotonic() - start < 30, err
+        assert "interrupted by SIGINT" in err, err
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
