@@ -37,6 +37,29 @@ def _fingerprint(problem) -> str:
     return h.hexdigest()
 
 
+# what restore reads from a checkpoint (every checkpoint of this FORMAT has them)
+_KEYS = ("format", "step", "fingerprint", "t", "pending", "u", "stateful", "predictor", "records", "failures",
+         "newton_spent", "linear_iterations", "extra")
+
+
+def _read(folder: Path, step: int, comm) -> dict:
+    """This rank's checkpoint of ``step``; ``ValueError`` on every rank if a rank's cannot be read (truncated,
+    emptied, not a checkpoint). Collective."""
+    path = _file(folder, step, comm)
+    data, error = None, None
+    try:
+        data = pickle.loads(path.read_bytes())
+    except Exception as exc:  # noqa: BLE001 - whatever unpickling a damaged file raises
+        error = f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else 'no data'}"
+    if error is None and not (isinstance(data, dict) and all(k in data for k in _KEYS)):
+        error = "not a checkpoint"
+    errors = [e for e in comm.allgather(None if error is None else f"{path} ({error})") if e]
+    if errors:
+        raise ValueError(f"cannot go on from the checkpoint of step {step}: {errors[0]}; it is damaged (truncated, "
+                         f"emptied or overwritten)")
+    return data
+
+
 def steps(folder: str | Path, comm) -> tuple[list[int], set[int]]:
     """The steps whose checkpoint is complete in ``folder`` for ``comm.size`` ranks, and the other numbers of ranks
     that wrote checkpoints there. Collective."""
@@ -94,11 +117,11 @@ def restore(solver, folder: str | Path) -> dict | None:
             raise ValueError(f"{folder}: the checkpoint was written by {n} ranks, this run has {comm.size}: "
                              f"restart with the same number of ranks (mpirun -n {n})")
         return None
-    data = pickle.loads(_file(folder, done[-1], comm).read_bytes())
+    data = _read(folder, done[-1], comm)
     if not data["pending"]:  # the run had ended
         if len(done) < 2:
             return None
-        data = pickle.loads(_file(folder, done[-2], comm).read_bytes())
+        data = _read(folder, done[-2], comm)
     same = data.get("format") == FORMAT and data["fingerprint"] == _fingerprint(problem)
     if not comm.allreduce(same, op=MPI.LAND):
         raise ValueError(f"{folder}: the checkpoint is of another mesh or partition than this run's")

@@ -21,7 +21,8 @@ from mpi4py import MPI
 
 from . import compat
 
-__all__ = ["OutputError", "XDMFWriter", "write_summary", "write_atomically", "on_rank0", "RunLock", "process_alive"]
+__all__ = ["OutputError", "XDMFWriter", "write_summary", "write_atomically", "on_rank0", "RunLock", "process_alive",
+           "hdf5_incomplete"]
 
 # every step's grids take their topology and geometry from the index's first grid, the mesh
 _MESH = "xpointer(/Xdmf/Domain/Grid[@GridType='Uniform'][1]/*[self::Topology or self::Geometry])"
@@ -150,11 +151,23 @@ class XDMFWriter:
         on_rank0(self.comm, str(self.path), self._start)
 
     def _start(self) -> None:
-        mesh = next(g for g in _xml(self.path).iterfind("Domain/Grid") if g.get("GridType") == "Uniform")
+        """Read the index (and, going on after step n, check steps 1 to n's files), then write it. Rank 0."""
+        try:
+            mesh = next(g for g in _xml(self.path).iterfind("Domain/Grid") if g.get("GridType") == "Uniform")
+        except (ET.ParseError, StopIteration) as exc:
+            raise OutputError(f"cannot go on with {self.path}: not an XDMF index of fields "
+                              f"({str(exc) or 'no mesh in it'})") from None
+        _check_data(mesh, self.path.parent, f"cannot go on with {self.path}: the mesh's")
         self._mesh = self._text(mesh, 2, "")
         for k in range(1, self.steps + 1):
-            if not self._step_file(k).exists():
+            step = self._step_file(k)
+            if not step.exists():
                 raise OutputError(f"cannot go on with {self.path}: the fields of step {k} are missing")
+            try:
+                root = _xml(step)
+            except ET.ParseError as exc:
+                raise OutputError(f"cannot go on with {self.path}: {step} is not an XDMF file ({exc})") from None
+            _check_data(root, self.folder, f"cannot go on with {self.path}: the fields of step {k}:")
             self._grids.append(self._step_grids(k))
         self._write_index()
 
@@ -222,6 +235,49 @@ def _xml(path: Path) -> ET.Element:
     return ET.parse(path).getroot()
 
 
+_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+def hdf5_incomplete(path: str | os.PathLike) -> str | None:
+    """Why ``path`` is not a whole HDF5 file (missing, empty, no HDF5 signature, shorter than the end of file its
+    superblock records: truncated), or None. Reads the superblock alone."""
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+        with open(path, "rb") as f:
+            head = f.read(4096)
+    except FileNotFoundError:
+        return "missing"
+    except OSError as exc:
+        return f"unreadable ({exc.strerror or exc})"
+    if size == 0:
+        return "empty"
+    # the superblock starts at 0, 512, 1024, 2048, ... (HDF5 format specification, section II.A)
+    at = next((k for k in (0, 512, 1024, 2048) if head[k:k + 8] == _HDF5_SIGNATURE), None)
+    if at is None:
+        return "not an HDF5 file"
+    version = head[at + 8]
+    # where the size of addresses and the base and end-of-file addresses are, by superblock version
+    width, base = (head[at + 13], at + (24 if version == 0 else 28)) if version < 2 else (head[at + 9], at + 12)
+    fields = head[base:base + 3 * width]
+    if len(fields) < 3 * width or width not in (2, 4, 8):
+        return "truncated"
+    start, end = (int.from_bytes(fields[i * width:(i + 1) * width], "little") for i in (0, 2))
+    if start + end > size:
+        return f"truncated ({size} of its {start + end} bytes)"
+    return None
+
+
+def _check_data(element: ET.Element, folder: Path, what: str) -> None:
+    """:class:`OutputError` (``what`` + the file and why) if an HDF5 file a ``DataItem`` of ``element`` names is
+    not whole (:func:`hdf5_incomplete`)."""
+    for name in dict.fromkeys((item.text or "").strip().split(":", 1)[0] for item in element.iter("DataItem")
+                              if item.get("Format") == "HDF"):
+        why = hdf5_incomplete(folder / name) if name else "not named"
+        if why is not None:
+            raise OutputError(f"{what} {folder / name} is {why}")
+
+
 # --- the lock of an output folder -------------------------------------------------------------------------------
 
 def _start_ticks(pid: int) -> int | None:
@@ -258,18 +314,26 @@ class RunLock:
                      "since": time.strftime("%Y-%m-%d %H:%M:%S")}
 
     def holder(self) -> dict | None:
-        """The lock's content; None if there is no lock, ``{}`` if it cannot be read (being written)."""
+        """The lock's content; None if there is no lock. A lock that is not one (unreadable, or without a pid and
+        host: not written by :meth:`acquire`, which writes it whole) is stale: ``{"stale": why}``."""
         try:
-            return json.loads(self.path.read_text())
+            text = self.path.read_text()
         except FileNotFoundError:
             return None
-        except (OSError, ValueError):
-            return {}
+        except OSError as exc:
+            return {"stale": f"unreadable: {exc.strerror or exc}"}
+        try:
+            held = json.loads(text)
+        except ValueError:
+            return {"stale": "not a lock's content"}
+        if not (isinstance(held, dict) and isinstance(held.get("pid"), int) and isinstance(held.get("host"), str)):
+            return {"stale": "not a lock's content"}
+        return held
 
     def alive(self, holder: dict) -> bool | None:
-        """Whether the holder runs (:func:`process_alive`); True for a lock being written."""
-        if not holder:
-            return True
+        """Whether the holder runs (:func:`process_alive`); False for a stale lock."""
+        if "stale" in holder:
+            return False
         return process_alive(holder["pid"], holder["host"], holder.get("start"))
 
     def acquire(self, replace: bool = False) -> bool:

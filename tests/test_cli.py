@@ -6,6 +6,7 @@ import json
 import logging
 import os
 import resource
+import signal
 import subprocess
 import sys
 import textwrap
@@ -378,3 +379,93 @@ def test_petsc_values_checked_alone_and_named(monkeypatch):
     monkeypatch.setattr(cli, "_PETSC_OPTIONS", [("fc_snes_max_it", "-5"), ("fc_snes_monitor", "")])
     assert cli.error_line(Internal(77)) == "PETSc error 77: Internal error, solver returned without setting " \
         "converged reason (PETSc options given: -fc_snes_max_it -5, -fc_snes_monitor)"
+
+
+@serial
+@pytest.mark.parametrize("leave,status,said", [
+    ("sys.exit(4)", 4, "exit status 4"),
+    ("sys.exit('a message of rank 1')", 1, "a message of rank 1"),
+    ("raise KeyboardInterrupt", cli.EXIT_INTERRUPTED, "interrupted by SIGINT"),
+    ("os.kill(os.getpid(), signal.SIGINT); time.sleep(60)", cli.EXIT_INTERRUPTED, "interrupted by SIGINT"),
+], ids=["exit-code", "exit-message", "KeyboardInterrupt", "SIGINT"])
+def test_a_rank_that_leaves_ends_the_mpi_job(leave, status, said, tmp_path):
+    """Rank 1 leaves (sys.exit, KeyboardInterrupt, SIGINT of that rank alone) while rank 0 waits in a collective:
+    the whole job ends within seconds, with one line saying why from rank 1 and no traceback, instead of rank 0
+    waiting for ever; left by every rank, the job ends with that status."""
+    script = _script(tmp_path, f"""
+        import os, signal, time
+
+        def demo(argv):
+            if sys.argv[1] == "every" or MPI.COMM_WORLD.rank == 1:
+                {leave}
+            MPI.COMM_WORLD.barrier()
+    """)
+    proc, elapsed = _mpirun(script, "one", timeout=60)
+    assert proc.returncode != 0 and elapsed < 20, (elapsed, proc.stderr)
+    assert f"rank 1: {said}" in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+    proc, elapsed = _mpirun(script, "every", timeout=60)
+    assert proc.returncode == status and elapsed < 20, (elapsed, proc.returncode, proc.stderr)
+    assert "Traceback" not in proc.stderr and ("script.py: " + said in proc.stderr or said.startswith("exit")), \
+        proc.stderr
+
+
+@serial
+def test_an_exception_outside_main_on_one_rank_ends_the_mpi_job(tmp_path):
+    """An exception escaping on rank 1 outside cli.main (a script's own code, a late import) while rank 0 waits in
+    a collective: its traceback, and the job ends within seconds."""
+    script = tmp_path / "script.py"
+    script.write_text(textwrap.dedent("""
+        from mpi4py import MPI
+        from fenics_contact.app import cli
+
+        if MPI.COMM_WORLD.rank == 1:
+            raise KeyboardInterrupt
+        MPI.COMM_WORLD.barrier()
+    """))
+    proc, elapsed = _mpirun(script, timeout=60)
+    assert proc.returncode != 0 and elapsed < 20, (elapsed, proc.stderr)
+    assert "KeyboardInterrupt" in proc.stderr
+
+
+def _ranks_of(marker: str) -> list[int]:
+    """The pids of the processes whose command line holds ``marker`` (a job's ranks), lowest first."""
+    found = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            words = cmdline.read_bytes().split(b"\0")
+        except OSError:
+            continue
+        if b"python" in words[0] and marker.encode() in b" ".join(words):
+            found.append(int(cmdline.parent.name))
+    return sorted(found)
+
+
+@serial
+@pytest.mark.scene
+def test_sigint_to_one_rank_during_form_compilation_ends_the_job(tmp_path):
+    """SIGINT to one rank of ``mpirun -n 2 block.py`` while the forms are being compiled (an empty JIT cache, the
+    signal sent as its first files appear): the job ends within seconds, with a non-zero status."""
+    if not Path("/proc/self").exists():
+        pytest.skip("no /proc: the ranks cannot be found")
+    out, cache = tmp_path / "out", tmp_path / "cache"
+    env = {**_env(), "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+           "OMPI_MCA_rmaps_base_oversubscribe": "1", "XDG_CACHE_HOME": str(cache)}
+    proc = subprocess.Popen(["mpirun", "-n", "2", sys.executable, str(ROOT / "demos" / "block.py"), "--out", str(out),
+                             "--no-pictures", "--no-xdmf", "--quiet"], env=env, stdin=subprocess.DEVNULL,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not any(cache.rglob("*")) and time.monotonic() < deadline:
+            assert proc.poll() is None, proc.communicate()
+            time.sleep(0.01)
+        ranks = _ranks_of(str(out))
+        assert len(ranks) == 2, ranks
+        os.kill(ranks[-1], signal.SIGINT)
+        start = time.monotonic()
+        _, err = proc.communicate(timeout=60)
+        assert proc.returncode != 0 and time.monotonic() - start < 30, err
+        assert "interrupted by SIGINT" in err, err
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()

@@ -1114,7 +1114,7 @@ def run_scene(scene: str, argv: Sequence[str]) -> None:
     run(setup, args.out, args.method, cli.method_parameters(args), args.augment or 0, args.augment_tol, args.quiet,
         options={**cli.solver_options(args), **(s.get("options") or {})}, max_cutbacks=s.get("max_cutbacks", 4),
         predictor=s.get("predictor", False),
-        xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
+        xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args)
 
 
 def main(argv: Sequence[str] | None = None) -> None:

@@ -15,12 +15,14 @@ end of the demo) an option PETSc never read is an error naming it. Counts
 combination, a failed solve, a PETSc value PETSc rejects, a size the memory
 cannot hold, running out of memory) into one line on rank 0 and a non-zero
 exit, on every rank; a demo whose own check failed exits with
-:data:`EXIT_CHECK`; any other exception prints its traceback and, under
-``mpirun``, ends the whole job (``MPI_Abort``) instead of leaving the other
-ranks waiting.
+:data:`EXIT_CHECK`; ``sys.exit`` exits with its status, SIGINT with
+:data:`EXIT_INTERRUPTED`; any other exception prints its traceback. Under
+``mpirun``, a rank that leaves in any of these ways ends the whole job
+within seconds (``MPI_Abort``) instead of leaving the other ranks waiting.
 
 Exit status: 0 done and checked, :data:`EXIT_ERROR` (1) an error, :data:`EXIT_USAGE` (2) a bad command line,
-:data:`EXIT_CHECK` (3) the demo ran and wrote its outputs but its check failed.
+:data:`EXIT_CHECK` (3) the demo ran and wrote its outputs but its check failed, :data:`EXIT_INTERRUPTED` (130)
+SIGINT.
 """
 from __future__ import annotations
 
@@ -30,7 +32,9 @@ import inspect
 import logging
 import math
 import re
+import signal
 import sys
+import threading
 import time
 import traceback
 from typing import Callable, Sequence
@@ -61,12 +65,14 @@ __all__ = ["parser", "parse", "refuse_unsupported", "one_line_errors", "has_fric
            "solver_options", "StrictParser",
            "UsageError", "HelpFormatter", "GIVEN",
            "number", "POSITIVE", "NONNEGATIVE", "COUNT", "LEVEL", "EXPONENT", "output_options",
-           "setup_logging", "say", "unused_petsc_options", "check_petsc_options", "check_petsc_values", "error_line",
+           "setup_logging", "recorded_options", "OUTPUT_ONLY", "say", "unused_petsc_options", "check_petsc_options",
+           "check_petsc_values", "error_line",
            "main", "count",
-           "EXIT_ERROR", "EXIT_USAGE", "EXIT_CHECK"]
+           "EXIT_ERROR", "EXIT_USAGE", "EXIT_CHECK", "EXIT_INTERRUPTED"]
 
 GIVEN = "given"  # StrictParser.requirements: the other option must be given (any value)
 EXIT_ERROR, EXIT_USAGE, EXIT_CHECK = 1, 2, 3  # main's exit status: an error, a bad command line, a failed check
+EXIT_INTERRUPTED = 130  # main's exit status after SIGINT (128 + the signal's number, as a shell says)
 # Seconds a rank that failed waits for the others to reach the end of main (a rank still inside a collective of
 # the demo never does: the job is then aborted)
 AGREE_TIMEOUT = 5.0
@@ -381,6 +387,22 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     return args
 
 
+# options of the output and of the log: a restart may change them (the others shape the problem or its load path)
+OUTPUT_ONLY = ("out", "restart", "overwrite", "no_pictures", "quiet", "verbose")
+
+
+def recorded_options(args: argparse.Namespace) -> dict:
+    """The options of the parsed command line ``args`` that shape the problem or its load path (all but
+    :data:`OUTPUT_ONLY`), by flag (``--steps``), as parsed (defaults and derived values included), in the
+    parser's order: what ``summary.json`` records and a restart must give again."""
+    def plain(v: object) -> bool:
+        return v is None or isinstance(v, (bool, int, float, str)) or (
+            isinstance(v, (list, tuple)) and all(plain(x) for x in v))
+
+    return {"--" + k.replace("_", "-"): list(v) if isinstance(v, tuple) else v for k, v in vars(args).items()
+            if k not in OUTPUT_ONLY and plain(v)}
+
+
 def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
     """The package's log (``fenics_contact.*``) on rank 0's stdout: progress at INFO (``quiet``: warnings only),
     DEBUG with ``verbose``, which also shows the form compiler's log and UFL's warnings (hidden otherwise)."""
@@ -407,6 +429,24 @@ def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
         quiet_root.filter = lambda record: record.levelno >= logging.WARNING
         quiet_root._fenics_contact = True
         root_logger.addFilter(quiet_root)
+
+
+def _abort_on_uncaught() -> None:
+    """An exception that ends the program outside :func:`main` (an import, a script that does not use it), on one
+    rank of an ``mpirun`` job: after its traceback, ``MPI_Abort`` ends the whole job (a rank that exited normally
+    would wait in ``MPI_Finalize`` for the others, and they for it)."""
+    previous = sys.excepthook
+
+    def hook(kind, value, tb):
+        previous(kind, value, tb)
+        if MPI.Is_initialized() and not MPI.Is_finalized() and MPI.COMM_WORLD.size > 1:
+            sys.stderr.flush()
+            MPI.COMM_WORLD.Abort(EXIT_INTERRUPTED if issubclass(kind, KeyboardInterrupt) else EXIT_ERROR)
+
+    sys.excepthook = hook
+
+
+_abort_on_uncaught()
 
 
 def one_line_errors() -> None:
@@ -651,7 +691,8 @@ def _agree(comm: MPI.Comm, status: int, line: str | None, prog: str) -> int:
     while not request.Test():
         if status and time.monotonic() > deadline:
             sys.stdout.flush()
-            print(f"{prog}: rank {comm.rank}: {line} (the other ranks did not finish: aborting)", file=sys.stderr,
+            said = line or f"exit status {status}"
+            print(f"{prog}: rank {comm.rank}: {said} (the other ranks did not finish: aborting)", file=sys.stderr,
                   flush=True)
             MPI.COMM_WORLD.Abort(status)
         time.sleep(0.005)
@@ -668,19 +709,25 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
     value PETSc rejects, a size the memory cannot hold or running out of memory end in one line on rank 0
     (``<program>: error: ...``) and exit status :data:`EXIT_ERROR` (:data:`EXIT_USAGE` for a bad command line),
     without a Python traceback; so does a PETSc option PETSc never used (checked at the end). A demo that returns
-    a ``check`` that did not pass (its outputs written) exits with :data:`EXIT_CHECK`, one line saying so. Any
-    other exception is a bug: its traceback, and under ``mpirun`` the whole job ends (``MPI_Abort``) rather than
-    leave the other ranks waiting in a collective."""
+    a ``check`` that did not pass (its outputs written) exits with :data:`EXIT_CHECK`, one line saying so.
+    ``sys.exit(code)`` in the demo exits with ``code``, and SIGINT (``KeyboardInterrupt``) with
+    :data:`EXIT_INTERRUPTED`, one line saying so. Any other exception is a bug: its traceback. Under ``mpirun``,
+    every way a rank leaves ends the whole job within seconds (:func:`_agree`, ``MPI_Abort``) rather than leave
+    the other ranks waiting in a collective."""
     prog = sys.argv[0].rsplit("/", 1)[-1] if sys.argv and sys.argv[0] else "demo"
     world = MPI.COMM_WORLD
-    comm = world.Dup()  # the agreement at the end must not match a collective a stuck rank is in
+    comm, interrupted = _duplicate(world)  # the agreement at the end must not match a collective a stuck rank is in
     status, line = 0, None
     try:
+        if interrupted:
+            raise KeyboardInterrupt
         result = demo(argv)
         check_petsc_options()
         failed = _failed_check(result)
         if failed is not None:
             status, line = EXIT_CHECK, failed
+    except (SystemExit, KeyboardInterrupt) as exc:
+        status, line = _leaving(exc, prog)
     except Exception as exc:  # noqa: BLE001 - only the kinds error_line knows are turned into one line
         line = error_line(exc)
         if line is None:
@@ -699,7 +746,39 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
             line += f"; PETSc options not used: {', '.join(unused)}"
         line = f"error: {line}"
         status = EXIT_USAGE if isinstance(exc, UsageError) else EXIT_ERROR
-    status = _agree(comm, status, line, prog)
+    try:
+        status = _agree(comm, status, line, prog)
+    except KeyboardInterrupt:  # a second SIGINT while waiting for the other ranks: leave at once
+        if world.size > 1:
+            world.Abort(EXIT_INTERRUPTED)
+        status = EXIT_INTERRUPTED
     comm.Free()
     if status:
         sys.exit(status)
+
+
+def _duplicate(world: MPI.Comm) -> tuple[MPI.Comm, bool]:
+    """``world.Dup()``, and whether SIGINT came meanwhile: held back until the duplicate is made on every rank (a
+    ``KeyboardInterrupt`` raised as the collective returns would leave this rank without it). Collective."""
+    if threading.current_thread() is not threading.main_thread():
+        return world.Dup(), False
+    came: list[int] = []
+    before = signal.signal(signal.SIGINT, lambda signum, frame: came.append(signum))
+    try:
+        comm = world.Dup()
+    finally:
+        signal.signal(signal.SIGINT, before if before is not None else signal.SIG_DFL)
+    return comm, bool(came)
+
+
+def _leaving(exc: SystemExit | KeyboardInterrupt, prog: str) -> tuple[int, str | None]:
+    """The exit status and line of a demo that called ``sys.exit`` or was interrupted (SIGINT)."""
+    if isinstance(exc, KeyboardInterrupt):
+        return EXIT_INTERRUPTED, "interrupted by SIGINT"
+    code = exc.code
+    if code is None or isinstance(code, bool) and not code:
+        return 0, None
+    if isinstance(code, int):
+        return code, None  # the demo has said why
+    text = str(code)  # sys.exit("message"): the message, status 1
+    return EXIT_ERROR, text[len(prog) + 2:] if text.startswith(f"{prog}: ") else text

@@ -8,7 +8,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -18,6 +18,18 @@ if TYPE_CHECKING:
     from dolfinx.fem import Function, FunctionSpace
 
 __all__ = ["plot_deformed", "plot_profile", "STATE_COLOURS", "STATE_NAMES", "plot_contact_face", "plot_curves"]
+
+
+def _save(path: str | Path, write: Callable[[str], object]) -> None:
+    """``write(path)`` into ``path``'s folder (made if missing); an ``OSError`` is an
+    :class:`~fenics_contact.output.OutputError` naming the picture (one line on the command line)."""
+    from ..output import OutputError
+
+    try:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        write(str(path))
+    except OSError as exc:
+        raise OutputError(f"could not write the picture {path}: {exc.strerror or exc}") from None
 
 
 def _vtk_mesh(V: FunctionSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -109,9 +121,10 @@ def _render(gathered: list, name: str, gdim: int, path: str | Path, title: str,
         plotter.add_title(title, font_size=12)
     if gdim == 2:
         plotter.view_xy()
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    plotter.screenshot(str(path))
-    plotter.close()
+    try:
+        _save(path, plotter.screenshot)
+    finally:
+        plotter.close()
 
 
 def plot_profile(x: np.ndarray, p: np.ndarray, path: str | Path, x_ref: np.ndarray | None = None,
@@ -137,8 +150,7 @@ def plot_profile(x: np.ndarray, p: np.ndarray, path: str | Path, x_ref: np.ndarr
     ax.grid(alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(str(path), dpi=150)
+    _save(path, lambda name: fig.savefig(name, dpi=150))
 
 
 STATE_COLOURS = ("0.75", "tab:red", "tab:blue")  # open, slip, stick
@@ -170,8 +182,7 @@ def plot_contact_face(x: np.ndarray, y: np.ndarray, state: np.ndarray, path: str
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=3)
     ax.set(xlabel=xlabel, ylabel=ylabel, title=title, aspect="equal")
     fig.tight_layout()
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(str(path), dpi=150)
+    _save(path, lambda name: fig.savefig(name, dpi=150))
 
 
 def plot_curves(curves: Sequence[tuple[np.ndarray, np.ndarray, str, str]], path: str | Path, xlabel: str = "x",
@@ -189,5 +200,4 @@ def plot_curves(curves: Sequence[tuple[np.ndarray, np.ndarray, str, str]], path:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(str(path), dpi=150)
+    _save(path, lambda name: fig.savefig(name, dpi=150))

@@ -7,6 +7,7 @@ run's status; print the table. A stopped run goes on from its last completed ste
 """
 from __future__ import annotations
 
+import argparse
 import json
 import logging
 import os
@@ -27,7 +28,7 @@ from .. import checkpoint
 from ..output import OutputError, RunLock, XDMFWriter, on_rank0, process_alive, write_atomically, write_summary
 from ..solver import ConvergenceError, Solver
 from .checks import log_check
-from .cli import check_petsc_options
+from .cli import check_petsc_options, recorded_options
 from .scenes import Setup
 
 __all__ = ["run", "claim", "claimed", "CHECKPOINT"]
@@ -38,6 +39,8 @@ logger = logging.getLogger(__name__)
 LATER_OPTIONS = ("condition_estimate",)
 CHECKPOINT = "checkpoint"  # the checkpoints' folder in a run's output folder
 RECORDS = ("summary.json", ".lock")  # a folder holding one of these holds a run's files
+# what the names of a run's files (fields, summary, pictures, tables, logs) end in, and no folder of a run's
+FILE_SUFFIXES = (".json", ".xdmf", ".h5", ".png", ".csv", ".md", ".txt")
 IDENTITY = ("scene", "method", "parameters", "dofs", "ranks")  # what a restart must share with the run it continues
 # On SIGTERM the ranks but rank 0 exit this much later (mpirun kills them about a second after it): rank 0 may be
 # waiting in a collective for them before it can mark the summary ``interrupted``
@@ -50,14 +53,16 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
         on_iterate: Callable[[int], None] | None = None, predictor: bool | str = False,
         on_step: Callable[[float], None] | None = None, xdmf: bool = True,
         check: Callable[[dict], dict] | None = None, restart: bool = False, overwrite: bool = False,
-        keep: Sequence[list | dict] = ()) -> dict:
+        keep: Sequence[list | dict] = (), args: argparse.Namespace | None = None) -> dict:
     """Solve ``setup`` over its loads into the folder ``out`` (:func:`claim`: refused while another run writes
     there, or if it holds another run's files unless ``overwrite`` or ``restart``). After every converged step:
     its fields into ``out/<scene>.xdmf`` (``xdmf=False``: none, e.g. for benchmarks that time the solver alone),
     ``on_step(t)``, a checkpoint (``out/checkpoint``) and ``out/summary.json`` (``running``). ``restart``: go on
-    from the checkpoint of the same run (scene, method, parameters, dofs, ranks) stopped in ``out``, or start if
-    there is none. ``keep``: the lists and dicts that ``on_step`` and ``on_iterate`` fill, checkpointed with the
-    solver and refilled on a restart.
+    from the checkpoint of the same run (scene, method, parameters, dofs, ranks, load path and the command line's
+    options ``args`` that shape them, :func:`~fenics_contact.app.cli.recorded_options`) stopped in ``out``, or
+    start if there is none; a difference is refused naming it, and so are a run whose checkpoint is missing and
+    files it cannot go on with. ``keep``: the lists and dicts that ``on_step`` and ``on_iterate`` fill,
+    checkpointed with the solver and refilled on a restart.
 
     Returns the summary (also in ``out/summary.json``). A step that fails after ``max_cutbacks`` cutbacks writes the
     summary with ``converged: false`` and ``failure`` (kind, step, iterations: :mod:`fenics_contact.failure`)
@@ -72,7 +77,8 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
     comm = setup.problem.comm
     start = time.perf_counter()
     head = {"scene": setup.name, "method": method, "parameters": {**setup.parameters, **method_params},
-            "dofs": setup.dofs, "ranks": comm.size}
+            "dofs": setup.dofs, "ranks": comm.size, "loads": [float(t) for t in setup.loads],
+            **({"options": recorded_options(args)} if args is not None else {})}
     lock, previous = claim(out, comm, head, overwrite=overwrite, restart=restart)
     record = _Record(out / "summary.json", head, comm, lock)
     level = logging.DEBUG if quiet else logging.INFO
@@ -80,6 +86,12 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
         solver = Solver(setup.problem, augment_max=augment_max, augment_tol=augment_tol, quiet=quiet,
                         options=options, max_cutbacks=max_cutbacks, on_iterate=on_iterate, predictor=predictor)
         found = checkpoint.restore(solver, out / CHECKPOINT) if previous is not None else None
+        completed = previous.get("load_steps") if previous is not None else None
+        if found is None and isinstance(completed, int) and completed > 0 and \
+                not checkpoint.steps(out / CHECKPOINT, comm)[0]:
+            raise OutputError(f"--restart: {out} holds a run of {completed} completed load step"
+                              f"{'s' * (completed > 1)} without their checkpoint ({out / CHECKPOINT} is missing or "
+                              f"empty): it cannot go on; --overwrite starts afresh")
         done = len(solver.records)
         if found is not None:
             _refill(keep, found["extra"])
@@ -95,14 +107,15 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
                 if not written:  # the set-up and a whole solve are done: a command-line PETSc option unused by
                     written.append(t)  # now is misspelt (checked again at the end by cli.main, for those read later)
                     check_petsc_options(later=LATER_OPTIONS)
-                if writer is not None:
-                    for c in setup.contacts:
-                        c.update_output()
-                    writer.write(t)
-                if on_step is not None:
-                    on_step(t)
-                checkpoint.save(solver, out / CHECKPOINT, extra=list(keep))
-                record.progress(solver)
+                with record.writing():
+                    if writer is not None:
+                        for c in setup.contacts:
+                            c.update_output()
+                        writer.write(t)
+                    if on_step is not None:
+                        on_step(t)
+                    checkpoint.save(solver, out / CHECKPOINT, extra=list(keep))
+                    record.progress(solver)
                 output[0] += time.perf_counter() - begin
 
             written: list[float] = []
@@ -184,19 +197,25 @@ def _refill(keep: Sequence[list | dict], saved: list) -> None:
 
 
 class _Record:
-    """``summary.json`` of a run under way: ``head`` (what the run is, who writes it) and its status."""
+    """``summary.json`` of a run under way: ``head`` (what the run is, who writes it) and its status. ``last`` is
+    what the file holds, or is being replaced with: a signal handler writing ``last`` never writes an older state.
+    The writes after a step (:meth:`writing`) are one: a signal arriving meanwhile is acted on once they are done,
+    so that the fields, the checkpoint and the summary a stopped run leaves are of the same step."""
 
     def __init__(self, path: Path, head: dict, comm: MPI.Comm, lock: RunLock):
         self.path, self.comm, self.lock = path, comm, lock
         writer = comm.bcast({"pid": os.getpid(), "host": socket.gethostname(),
                              "started": time.strftime("%Y-%m-%d %H:%M:%S")}, root=0)
         self.head = {**head, "status": "running", **writer}
-        self.last: dict | None = None  # the last summary written
+        self.last: dict | None = None  # the last summary written (or being written)
+        self.busy = False  # inside writing()
+        self.deferred: int | None = None  # a signal that came while busy
+        self.interrupt: Callable[[int, object], None] | None = None  # the signal handler (_interruptible)
 
     def write(self, summary: dict) -> None:
         """Write ``summary`` (:func:`write_summary`). Collective."""
+        self.last = summary  # first: the file is never newer than ``last``
         write_summary(self.path, summary, self.comm)
-        self.last = summary
 
     def progress(self, solver: Solver) -> None:
         """``running``, with the steps completed so far. Collective."""
@@ -206,12 +225,27 @@ class _Record:
                     "checkpoint": f"{CHECKPOINT}/step_{len(done):06d}" if done else None,
                     "steps": [r.as_dict() for r in done]})
 
-    def stop(self, status: str, **more) -> None:
-        """The last summary with ``status``, by rank 0 alone and without raising (a run that is ending)."""
-        if self.comm.rank != 0 or self.last is None or self.last["status"] != "running":
-            return
+    @contextmanager
+    def writing(self) -> Iterator[None]:
+        """The writes after a step (fields, checkpoint, summary) as one: SIGTERM or SIGINT meanwhile is acted on
+        when they are done (or have failed)."""
+        self.busy = True
         try:
-            write_atomically(self.path, json.dumps({**self.last, "status": status, **more}, indent=1, default=float))
+            yield
+        finally:
+            self.busy = False
+            if self.deferred is not None and self.interrupt is not None:
+                signum, self.deferred = self.deferred, None
+                self.interrupt(signum, None)
+
+    def stop(self, status: str, **more) -> None:
+        """The last summary with ``status`` if it was ``running`` (else as it is), by rank 0 alone and without
+        raising (a run that is ending)."""
+        if self.comm.rank != 0 or self.last is None:
+            return
+        final = {**self.last, "status": status, **more} if self.last["status"] == "running" else self.last
+        try:
+            write_atomically(self.path, json.dumps(final, indent=1, default=float))
         except OSError:
             pass  # the previous summary stays: ``running``, by a writer that will have ended
 
@@ -223,13 +257,17 @@ class _Record:
 @contextmanager
 def _interruptible(record: _Record):
     """SIGTERM and SIGINT end the run: rank 0 marks the summary ``interrupted``, frees the folder and exits at once;
-    the other ranks exit :data:`RANK_GRACE_S` later. Every completed step is on disk already. Not collective: a rank
+    the other ranks exit :data:`RANK_GRACE_S` later. Every completed step is on disk already; a signal that comes
+    while a step's files are written is acted on once they are (:meth:`_Record.writing`). Not collective: a rank
     acts on its own signal (mpirun sends it to every rank)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
 
     def stop(signum: int, frame) -> None:
+        if record.busy:  # the step's files are being written: stop when they all are
+            record.deferred = signum
+            return
         if record.comm.rank != 0:  # rank 0 writes the summary: go on a moment, to end a collective it may wait in
             end = threading.Timer(RANK_GRACE_S, os._exit, (128 + signum,))
             end.daemon = True
@@ -246,10 +284,12 @@ def _interruptible(record: _Record):
             pass
         os._exit(128 + signum)
 
+    record.interrupt = stop
     before = {s: signal.signal(s, stop) for s in (signal.SIGTERM, signal.SIGINT)}
     try:
         yield
     finally:
+        record.interrupt = None
         for s, handler in before.items():
             signal.signal(s, handler)
 
@@ -270,7 +310,12 @@ def claim(out: str | Path, comm: MPI.Comm, head: dict | None = None, overwrite: 
     lock = RunLock(out)
 
     def take() -> dict | None:
-        out.mkdir(parents=True, exist_ok=True)
+        if out.exists() and not out.is_dir():
+            raise OutputError(f"{out} is a file, not a folder: give a folder as --out")
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputError(f"cannot make the output folder {out}: {exc.strerror or exc}") from None
         holder = lock.holder()
         alive = None if holder is None else lock.alive(holder)
         if alive:
@@ -282,11 +327,18 @@ def claim(out: str | Path, comm: MPI.Comm, head: dict | None = None, overwrite: 
                               f"ended, remove {lock.path}")
         previous = _read_summary(out / "summary.json")
         another = any((out / name).exists() for name in RECORDS)
+        if holder is not None and "stale" in holder and previous is None and not (overwrite or restart):
+            raise OutputError(f"{lock.path} is a stale lock ({holder['stale']}; no run writes into {out}): remove "
+                              f"it, or give --overwrite")
         if another and not (overwrite or restart):
             raise OutputError(f"{out} holds the files of another run ({_describe(previous, holder)}): --overwrite "
                               f"replaces them, --restart goes on with that run; or give another --out")
         if another and overwrite:  # only a run's folder is emptied
             _empty(out)
+        in_the_way = sorted(p.name for p in out.iterdir() if p.is_dir() and p.suffix in FILE_SUFFIXES)
+        if in_the_way:
+            raise OutputError(f"{out / in_the_way[0]} is a folder where the run writes a file: remove it, or give "
+                              f"another --out")
         if restart and previous is not None and head is not None:
             _same_run(previous, head, out)
         if not restart or previous is None:  # a fresh start: an old run's checkpoints are not this run's
@@ -314,16 +366,21 @@ def claimed(out: str | Path, comm: MPI.Comm, overwrite: bool = False, restart: b
 
 
 def _read_summary(path: Path) -> dict | None:
+    """The summary in ``path``; None if there is none; ``{"status": "unreadable summary.json"}`` if it is not a
+    summary (not JSON, not an object, or a folder)."""
     try:
-        return json.loads(path.read_text())
+        found = json.loads(path.read_text())
     except FileNotFoundError:
         return None
-    except ValueError:
+    except (OSError, ValueError):
         return {"status": "unreadable summary.json"}
+    return found if isinstance(found, dict) else {"status": "unreadable summary.json"}
 
 
 def _describe(summary: dict | None, holder: dict | None) -> str:
     """What a folder's run is, in a few words."""
+    if summary is None and holder and "stale" in holder:
+        return f"a stale lock, {holder['stale']}"
     if summary is None:
         return f"a lock of pid {holder.get('pid', '?')} on {holder.get('host', '?')}, which has ended" if holder \
             else "no summary"
@@ -336,6 +393,14 @@ def _describe(summary: dict | None, holder: dict | None) -> str:
 def _same_run(previous: dict, head: dict, out: Path) -> None:
     """Refuse to go on with another run than ``head``'s."""
     mine = json.loads(json.dumps(head, default=float))
+    before, now = previous.get("options"), mine.get("options")
+    if isinstance(before, dict) and now is not None and previous.get("scene") == mine["scene"]:  # by option
+        differ = [f for f in dict.fromkeys([*now, *before]) if before.get(f) != now.get(f) or
+                  (f in before) != (f in now)]
+        if differ:
+            raise OutputError(f"--restart: {out} holds a run with {', '.join(_shown(f, before) for f in differ)}; "
+                              f"this one has {', '.join(_shown(f, now) for f in differ)}: give that run's options, "
+                              f"or --overwrite to start afresh")
     if previous.get("ranks") != mine["ranks"] and previous.get("ranks") is not None:
         raise OutputError(f"--restart: {out} holds a run on {previous['ranks']} ranks, this one has "
                           f"{mine['ranks']}: restart with the same number of ranks (mpirun -n {previous['ranks']})")
@@ -347,6 +412,24 @@ def _same_run(previous: dict, head: dict, out: Path) -> None:
         what = [k for k in mine["parameters"] if previous.get("parameters", {}).get(k) != mine["parameters"][k]]
         raise OutputError(f"--restart: {out} holds another run ({_describe(previous, None)}; it differs in "
                           f"{', '.join(what or differ)}): give that run's options, or --overwrite")
+    loads = previous.get("loads")
+    if loads is not None and loads != mine["loads"]:
+        def path(t: list) -> str:
+            return f"{len(t)} load steps to t = {t[-1]:g}" if t and isinstance(t[-1], (int, float)) else str(t)
+        raise OutputError(f"--restart: {out} holds a run of another load path ({path(loads)}; this one: "
+                          f"{path(mine['loads'])}): give that run's options, or --overwrite to start afresh")
+
+
+def _shown(flag: str, options: dict) -> str:
+    """``flag`` with its value in ``options``, as on a command line (``no --flag``: not given, or off)."""
+    value = options.get(flag)
+    if value is None or value is False:
+        return f"no {flag}"
+    if value is True:
+        return flag
+    def text(v: object) -> str:
+        return f"{v:.12g}" if isinstance(v, float) else str(v)
+    return f"{flag} {' '.join(map(text, value)) if isinstance(value, list) else text(value)}"
 
 
 def _empty(out: Path) -> None:

@@ -53,7 +53,7 @@ def main(argv=None) -> dict:
 
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
                   args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf,
-                  restart=args.restart, overwrite=args.overwrite, check=check)
+                  restart=args.restart, overwrite=args.overwrite, args=args, check=check)
 
     # 4. Picture: contact pressure against r, with Hertz.
     if not args.no_pictures:

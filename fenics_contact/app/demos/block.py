@@ -46,7 +46,7 @@ def main(argv=None) -> dict:
     exact_method = args.method in EXACT_METHODS or args.augment > 0
     summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
                   options=cli.solver_options(args), xdmf=not args.no_xdmf,
-                  restart=args.restart, overwrite=args.overwrite,
+                  restart=args.restart, overwrite=args.overwrite, args=args,
                   check=lambda s: reference_check("contact_pressure", s.get("contact_pressure"), exact,
                                         1e-8 if exact_method else 1e-2,
                                         f"closed form, homogeneous state ({args.model}, plane {args.plane})"))

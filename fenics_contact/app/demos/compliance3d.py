@@ -45,7 +45,7 @@ def main(argv=None) -> dict:
                   check=lambda s: reference_check("normal_force", s.get("normal_force"),
                                         None if s.get("reaction_top_z") is None else -s["reaction_top_z"], 1e-8,
                                         "equilibrium: the platen's vertical reaction"),
-                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args)
 
     # 4. Pictures: the contact face (mirrored to the whole face) by slip state; forces against the drag.
     if not args.no_pictures:

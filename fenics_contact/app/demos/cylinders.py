@@ -68,7 +68,7 @@ def main(argv=None) -> dict:
                                         f"Hertz for two cylinders at t = {cylinders.T_HERTZ:g}",
                                         hertz_range(history[0]["a_hertz"] if history else None,
                                                     min(setup.parameters["R_lower"], setup.parameters["R_upper"]))),
-                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args)
 
     # 4. Tables and pictures (rank 0; every figure is already reduced over ranks).
     if comm.rank == 0:

@@ -60,7 +60,7 @@ def main(argv=None) -> dict:
     # 3. Solve with load stepping (and augmentations), write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
                   args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf,
-                  restart=args.restart, overwrite=args.overwrite,
+                  restart=args.restart, overwrite=args.overwrite, args=args,
                   check=lambda s: reference_check(figure, s.get(figure), s.get(f"{figure}_hertz"), TOLERANCE,
                                                   f"Hertz {figure} for the computed load",
                                                   hertz_range(s.get("a_hertz"), setup.parameters["R"])))

@@ -50,7 +50,7 @@ def main(argv=None) -> dict:
 
     summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
                   options=cli.solver_options(args), xdmf=not args.no_xdmf,
-                  restart=args.restart, overwrite=args.overwrite, check=figures_check,
+                  restart=args.restart, overwrite=args.overwrite, args=args, check=figures_check,
                   predictor=ironing.PREDICTOR)
     iterations = [s["newton_iterations"] for s in summary["steps"] if s["converged"]]
     summary.update({"history": setup.history(), "newton_per_step": iterations,

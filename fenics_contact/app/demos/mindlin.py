@@ -62,7 +62,7 @@ def main(argv=None) -> dict:
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,
                   args.augment_tol, args.quiet, options=cli.solver_options(args), on_step=on_step, keep=(profiles,),
                   predictor=predictor,
-                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, check=self_check)
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args, check=self_check)
 
     # 4. Picture: tangential traction per ratio against Cattaneo-Mindlin.
     if not args.no_pictures and setup.problem.comm.rank == 0 and summary.get("P"):

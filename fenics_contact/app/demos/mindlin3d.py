@@ -68,7 +68,7 @@ def main(argv=None) -> dict:
     options = {**cli.solver_options(args), **(mindlin3d.ITERATIVE if args.solver == "iterative" else {})}
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "ratios": args.ratios}, args.augment,
                   args.augment_tol, args.quiet, options=options, on_step=on_step, keep=(profiles,),
-                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, check=self_check,
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args, check=self_check,
                   predictor=False if setup.problem.step_solver else mindlin3d.PREDICTOR)  # the exact method's own
 
     # 4. Pictures: the traction along x against Mindlin; the stick/slip map of the last step.

@@ -77,7 +77,7 @@ def main(argv=None) -> dict:
                                             "pressure_steps": args.pressure_steps},
                   args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), on_step=after_step,
                   keep=(history, profiles), check=check, xdmf=not args.no_xdmf, restart=args.restart,
-                  overwrite=args.overwrite)
+                  overwrite=args.overwrite, args=args)
     summary["history"] = history
 
     # 4. Tables and the picture (rank 0; every figure is already reduced over ranks).

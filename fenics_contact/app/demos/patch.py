@@ -50,7 +50,7 @@ def main(argv=None) -> dict:
                   passes=args.passes, slave=args.slave, **kw)
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "passes": args.passes, "slave": args.slave},
                   args.augment, args.augment_tol, args.quiet, check=lambda s: patch_check(s, kw["pressure"]),
-                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args)
     comm = setup.problem.comm
 
     if args.main_only:

@@ -64,7 +64,7 @@ def main(argv=None) -> dict:
         # 3. Solve (load steps, augmentations), write XDMF and summary.json.
         summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps, "gap": args.gap},
                       args.augment, args.augment_tol, args.quiet,
-                      check=pin_check, xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
+                      check=pin_check, xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args)
 
         # 4. The pressure along the pin (CSV on rank 0) and the pictures.
         theta, X, g, pr = pin.pressure_along_pin(setup.contacts[0])

@@ -86,7 +86,7 @@ def main(argv=None) -> dict:
             summaries[method] = run(setup, folder, method, {**cli.method_parameters(args), "label": label},
                                     args.augment, args.augment_tol, args.quiet, options=OPTIONS, max_cutbacks=0,
                                     on_iterate=on_iterate, keep=(history,), xdmf=not args.no_xdmf,
-                                    restart=args.restart, overwrite=args.overwrite)
+                                    restart=args.restart, overwrite=args.overwrite, args=args)
         except ConvergenceError as exc:
             summaries[method] = {**json.load(open(folder / "summary.json")), "exception": str(exc)}
         forces[method] = history

@@ -73,7 +73,7 @@ def main(argv=None) -> dict:
                   check=lambda s: reference_check("plate_force_upper", s.get("plate_force_upper"),
                                                   s.get("plate_force_lower"),
                                         1e-6, "equilibrium: the lower plate's force"),
-                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
+                  xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args)
     if comm.rank == 0:
         cli.say(tables.residual_table(summary["steps"], out / "seal_residuals"))
         cli.say(tables.write_table(zones, out / "seal_zones"))
@@ -97,7 +97,7 @@ def main(argv=None) -> dict:
     try:
         penalty_summary = run(penalty, out / "penalty", "penalty", {"K": args.K}, 0, quiet=args.quiet,
                               options=options, predictor=seal.PREDICTOR[args.shape], xdmf=not args.no_xdmf,
-                              restart=args.restart, overwrite=args.overwrite)
+                              restart=args.restart, overwrite=args.overwrite, args=args)
     except ConvergenceError:
         penalty_summary = json.load(open(out / "penalty" / "summary.json")) if comm.rank == 0 else None
     if comm.rank == 0:

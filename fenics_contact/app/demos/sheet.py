@@ -125,7 +125,8 @@ def _compare(args, scene: list[str], out: Path) -> dict:
         stiff = quadrature == "collocated" and eps is not None
         summaries[name] = run(setup, out / name.replace(" ", "_").replace("=", ""), law.name, params, quiet=args.quiet,
                               on_step=after_step, keep=(kept,), xdmf=not args.no_xdmf,
-                              restart=args.restart, overwrite=args.overwrite, options=dict(LINEAR_SOLVERS[solver]),
+                              restart=args.restart, overwrite=args.overwrite, args=args,
+                              options=dict(LINEAR_SOLVERS[solver]),
                               predictor="tangent" if stiff else False, max_cutbacks=8 if stiff else 4)
         profiles[name] = kept
 

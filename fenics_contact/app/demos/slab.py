@@ -81,7 +81,7 @@ def main(argv=None) -> dict:
                       options={**cli.solver_options(args), **slab.SOLVER_OPTIONS},
                       check=lambda s, mu=mu: slab_check(s, mu, args.refinement, args.method,
                                                         args.top_pressure * args.width, default_scene),
-                      xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite)
+                      xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args)
         z = summary["zones"]
         rows.append((mu, summary["ux_A"], summary["uy_A"], z["separated"], z["sliding"], z["sticking"],
                      summary["newton_iterations"]))

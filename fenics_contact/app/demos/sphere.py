@@ -71,7 +71,7 @@ def main(argv=None) -> dict:
     # 3. Solve, write XDMF and summary.json.
     summary = run(setup, out, args.method, {**cli.method_parameters(args), "steps": args.steps},
                   args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args), xdmf=not args.no_xdmf,
-                  restart=args.restart, overwrite=args.overwrite,
+                  restart=args.restart, overwrite=args.overwrite, args=args,
                   check=lambda s: reference_check("p0", s.get("p0"), s.get("p0_hertz"), TOLERANCE,
                                         "Hertz p0 = 3P/(2 pi a^2) for the computed load",
                                         hertz_range(s.get("a_hertz"), setup.parameters["R"])))

@@ -40,7 +40,7 @@ def main(argv=None) -> dict:
     # 3. Solve step by step (history on accepted steps), write XDMF and summary.json.
     summary = run(setup, out, args.method, cli.method_parameters(args), args.augment, args.augment_tol, args.quiet,
                   options=cli.solver_options(args), xdmf=not args.no_xdmf, predictor=wedges.PREDICTOR,
-                  restart=args.restart, overwrite=args.overwrite,
+                  restart=args.restart, overwrite=args.overwrite, args=args,
                   check=lambda s: reference_check("ratio", s.get("ratio"), s.get("ratio_reference"), TOLERANCE,
                                         "(mu + tan alpha) / (1 - mu tan alpha)"))
 
