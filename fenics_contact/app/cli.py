@@ -43,7 +43,7 @@ from .. import methods
 from ..contact import QUADRATURES
 from ..laws import ContactLaw
 from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
-from ..solver.options import option_used
+from ..solver.options import option_used, petsc_complaint, probe_option
 from .memory import BYTES_PER_DOF, available_memory
 
 logger = logging.getLogger(__name__)
@@ -530,40 +530,16 @@ def check_petsc_options(later: Sequence[str] = ()) -> None:
                          f"the fc_ prefix?): {', '.join(unused)}")
 
 
-def _last_line(exc: PETSc.Error) -> str:
-    """PETSc's own complaint: the last line of its error stack, without the rank."""
-    lines = [s.split("] ", 1)[-1].strip() for s in str(exc).splitlines() if s.strip()]
-    return lines[-1] if lines else f"error code {exc.ierr}"
-
-
-# Options prefix of the solvers (Solver's default) and of the probe that checks one option of it alone
-_PREFIX, _PROBE = "fc_", "fc_probe_option_"
+# Options prefix of the solvers (Solver's default)
+_PREFIX = "fc_"
 
 
 def _probe_petsc_option(name: str, value: str) -> str | None:
     """PETSc's complaint about the command line's ``-name value`` alone (an option of the solvers' prefix), or
-    None: a SNES of a probe prefix with only this option reads it with its KSP and line search, then hands its
-    tolerances back to PETSc's checking setters (``SNESSetFromOptions`` stores ``-snes_max_it -5`` unchecked;
-    the solve then fails without a word on it)."""
+    None (:func:`~fenics_contact.solver.options.probe_option`)."""
     if not name.startswith(_PREFIX):
         return None
-    key = _PROBE + name[len(_PREFIX):]
-    opts = PETSc.Options()
-    opts.setValue(key, value)
-    snes = PETSc.SNES().create(PETSc.COMM_SELF)
-    try:
-        snes.setOptionsPrefix(_PROBE)
-        snes.setFromOptions()
-        ksp = snes.getKSP()
-        ksp.setFromOptions()
-        snes.setTolerances(*snes.getTolerances())
-        ksp.setTolerances(*ksp.getTolerances())
-        return None
-    except PETSc.Error as exc:
-        return _last_line(exc)
-    finally:
-        snes.destroy()
-        opts.delValue(key)
+    return probe_option(name[len(_PREFIX):], value)
 
 
 def check_petsc_values(options: Sequence[tuple[str, str]]) -> None:
@@ -578,7 +554,7 @@ def check_petsc_values(options: Sequence[tuple[str, str]]) -> None:
 def _petsc_message(exc: PETSc.Error) -> str:
     """One line for a PETSc error: the command-line options it names (by value or name) with PETSc's complaint;
     when it names none, every PETSc option of the command line, so that the one at fault is among them."""
-    last = _last_line(exc)
+    last = petsc_complaint(exc)
     words = " ".join(str(exc).splitlines()).split()
     bad = [f"-{k} {v}".rstrip() for k, v in _PETSC_OPTIONS if (v and v in words) or f"-{k}" in words]
     if bad:
