@@ -378,3 +378,19 @@ def test_petsc_values_checked_alone_and_named(monkeypatch):
     monkeypatch.setattr(cli, "_PETSC_OPTIONS", [("fc_snes_max_it", "-5"), ("fc_snes_monitor", "")])
     assert cli.error_line(Internal(77)) == "PETSc error 77: Internal error, solver returned without setting " \
         "converged reason (PETSc options given: -fc_snes_max_it -5, -fc_snes_monitor)"
+
+
+def test_augment_is_refused_for_a_method_with_nothing_to_augment():
+    """``--augment N`` with a method whose law has nothing to augment (penalty, compliance, nitsche, ...) is a
+    bad command line naming it and the methods that augment (from their declarations), not a run that records
+    augmentations that never happen; the augmented methods and any method with friction take it."""
+    p = cli.parser("test", 1e5)
+    for argv in (["--method", "penalty", "--augment", "5"], ["--method", "nitsche", "--augment", "1"],
+                 ["--method", "compliance", "--augment", "2"]):
+        with pytest.raises(cli.UsageError, match=r"^--augment [0-9]+: method \w+ has nothing to augment; accepted: "
+                                                 r"--augment 0 \(augmented: methods cross, auglag"):
+            cli.law_from_args(cli.parse(p, argv))
+    for argv in (["--method", "auglag", "--augment", "5"], ["--method", "cross", "--augment", "5"],
+                 ["--method", "penalty", "--mu", "0.3", "--augment", "5"], ["--method", "penalty", "--augment", "0"],
+                 ["--method", "penalty"]):
+        cli.law_from_args(cli.parse(p, argv))

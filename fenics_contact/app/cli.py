@@ -476,7 +476,7 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
                                  "method)")
     law = method.make_law(**{p.name: getattr(args, p.option) for p in method.parameters})
     if method.friction == "own" or not has_friction(args):
-        return law
+        return _augmented(law, args)
     if method.friction == "none":
         raise ValueError(f"method {args.method!r} has no friction: use --mu 0 (or another method)")
     if sum((args.mu != 0.0, c_t is not None, tresca is not None)) > 1:
@@ -484,10 +484,21 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
     from ..friction import Friction
 
     if tresca is not None:
-        return Friction(law, tresca=tresca, omega_t=args.omega_t)
+        return _augmented(Friction(law, tresca=tresca, omega_t=args.omega_t), args)
     if c_t is not None:
-        return Friction(law, c_t=c_t, m_t=args.m_t, omega_t=args.omega_t)
-    return Friction(law, mu=args.mu, omega_t=args.omega_t)
+        return _augmented(Friction(law, c_t=c_t, m_t=args.m_t, omega_t=args.omega_t), args)
+    return _augmented(Friction(law, mu=args.mu, omega_t=args.omega_t), args)
+
+
+def _augmented(law: ContactLaw, args: argparse.Namespace) -> ContactLaw:
+    """``law``, if it reads the augmentations ``--augment`` asks for; :class:`UsageError` if it has nothing to
+    augment (the run would record augmentations that never happen)."""
+    augment = getattr(args, "augment", 0) or 0
+    if augment and not law.augmentable:
+        takers = ", ".join(m.name for m in methods.methods() if m.augment)
+        raise UsageError(f"--augment {augment}: method {args.method} has nothing to augment; accepted: --augment 0 "
+                         f"(augmented: methods {takers}, or any method with friction)")
+    return law
 
 
 def method_parameters(args: argparse.Namespace) -> dict:
