@@ -99,7 +99,8 @@ class StrictParser(argparse.ArgumentParser):
     errors raise :class:`UsageError` (one line, naming the option) instead of printing the usage and exiting.
     ``requirements``: ``(dest, other, value)``, the option ``dest`` given only with the option ``other`` at
     ``value`` (:data:`GIVEN`: given at all); ``orders``: ``(dest, other)``, the value of ``dest`` below that of
-    ``other`` (when both are set); both checked when parsed."""
+    ``other`` (when both are set); ``checks``: functions of the parsed options raising :class:`UsageError` (the
+    values together, e.g. a scene's lengths against each other); all checked when parsed."""
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("allow_abbrev", False)
@@ -108,6 +109,7 @@ class StrictParser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self.requirements: list[tuple[str, str, object]] = []
         self.orders: list[tuple[str, str]] = []
+        self.checks: list[Callable[[argparse.Namespace], None]] = []  # of the parsed values together
 
     def error(self, message: str):
         # "argument --E: must be ..." -> "--E must be ..."; "argument --load: not allowed with argument
@@ -132,6 +134,8 @@ class StrictParser(argparse.ArgumentParser):
             if mine is not None and theirs is not None and not mine < theirs:
                 flag, bound = "--" + dest.replace("_", "-"), "--" + other.replace("_", "-")
                 raise UsageError(f"{flag} must be < {bound} ({theirs:g}), got {mine:g}")
+        for check in self.checks:
+            check(ns)
         return ns, rest
 
     def parse_args(self, args=None, namespace=None):

@@ -13,6 +13,7 @@ import importlib
 import inspect
 import math
 import pkgutil
+import re
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -20,13 +21,15 @@ from typing import Callable, Sequence
 from dolfinx import fem
 from mpi4py import MPI
 
+from ...cells import MeshError
 from ...problem import ContactProblem, Stabilised
 from ...surface import Surface
 from ..cli import GIVEN  # Option.needs: the other option must be given (any value)
 from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
-           "Option", "GIVEN", "scene_options", "add_scene_options", "scene_arguments", "SizeError", "max_dofs",
+           "Option", "GIVEN", "LIMIT", "unit", "scene_options", "add_scene_options", "scene_arguments", "SizeError",
+           "max_dofs",
            "refuse_size"]
 
 
@@ -68,10 +71,27 @@ def build(name: str, **kwargs) -> Setup:
         raise ValueError(f"unknown scene {name!r}; accepted: {', '.join(scene_names())}")
     b = importlib.import_module(f"{__name__}.{name}").build
     start = time.perf_counter()
-    setup = b(**kwargs)
+    try:
+        setup = b(**kwargs)
+    except MeshError as exc:  # the user gave no mesh: the options that made it are at fault
+        raise _mesh_from_options(b, kwargs, exc) from None
     comm = setup.problem.comm
     setup.build_time_s = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
     return setup
+
+
+def _mesh_from_options(builder: Callable, kwargs: dict, exc: MeshError) -> ValueError:
+    """The error of a scene whose mesh, made from its options, has cells it cannot be solved on (``exc``): naming the
+    dimensional options given (those other than the builder's defaults), not asking to fix a mesh the user did not
+    give."""
+    defaults = numeric_parameters(builder)
+    options = scene_options(builder)
+    given = [f"{_flag(n)} {v:g}" for n, v in kwargs.items() if n in defaults and isinstance(v, (int, float))
+             and v != defaults[n] and unit(options[n]) is not None]
+    what = re.sub(r"^.*? has ", "", str(exc)).removesuffix(": fix the mesh")
+    return ValueError(f"the scene's mesh made from {', '.join(given) if given else 'its options'} has {what}: lengths "
+                      "that far apart (or a mesh that fine) are beyond floating point's resolution; give them closer "
+                      "to each other")
 
 
 def positive(**values: float | None) -> None:
@@ -122,6 +142,34 @@ class Option:
     excludes: str | None = None
     needs: tuple[str, object] | None = None
     below: tuple[str, ...] = ()
+
+
+# A scene's dimensional options (a length, a stress, a force) lie within [1 / LIMIT, LIMIT] in magnitude: the products
+# of a few of them that a run forms (areas and volumes, a modulus times a volume, a penalty E / h) then stay within
+# floating point's range (1e308) and above its smallest normal number.
+LIMIT = 1e50
+_UNIT = re.compile(r"\((length|stress|force)[;),]")
+
+
+def unit(option: Option) -> str | None:
+    """The unit an option's help states (``length``, ``stress``, ``force``), or None (dimensionless)."""
+    found = _UNIT.search(option.help)
+    return found.group(1) if found else None
+
+
+def _check_scales(options: dict[str, Option], args: argparse.Namespace) -> None:
+    """:class:`~fenics_contact.app.cli.UsageError` naming the first dimensional option out of ``[1 / LIMIT, LIMIT]``
+    in magnitude (overflow above, underflow below)."""
+    from ..cli import UsageError
+
+    values = {n: getattr(args, n, None) for n, o in options.items() if unit(o) is not None}
+    values = {n: float(v) for n, v in values.items() if isinstance(v, (int, float)) and v != 0}
+    for name, v in values.items():
+        if not 1 / LIMIT <= abs(v) <= LIMIT:
+            what = "overflow" if abs(v) > LIMIT else "underflow"
+            raise UsageError(f"{_flag(name)} {v:g}: {what}: a {unit(options[name])} beyond floating point's range for "
+                             f"the scene's products of it (areas, volumes, stiffnesses); accepted: {_flag(name)} of "
+                             f"magnitude in [{1 / LIMIT:g}, {LIMIT:g}]")
 
 
 def _option_type(range_: str | tuple[float, float]) -> Callable[[str], float]:
@@ -189,6 +237,8 @@ def add_scene_options(parser: argparse.ArgumentParser, builder: Callable, shared
             parser.requirements.append((name, *opt.needs))
         if hasattr(parser, "orders"):
             parser.orders.extend((name, other) for other in opt.below)
+    if hasattr(parser, "checks"):
+        parser.checks.append(lambda args: _check_scales(options, args))
     return names
 
 
