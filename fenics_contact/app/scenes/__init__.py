@@ -29,8 +29,7 @@ from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
            "Option", "GIVEN", "LIMIT", "unit", "scene_options", "add_scene_options", "scene_arguments", "SizeError",
-           "max_dofs",
-           "refuse_size"]
+           "max_dofs", "log_dofs", "refuse_size", "refuse_fine", "refuse_count", "refuse_refined"]
 
 
 @dataclass
@@ -281,3 +280,40 @@ def refuse_size(parameter: str, value, log10_dofs: float, accepted: Callable[[fl
         f"1e{log10_dofs + math.log10(BYTES_PER_DOF) - 9:.0f} GB"
     raise SizeError(parameter, value, f"about {dofs} unknowns, at least {need} of memory, more than {phrase}",
                     accepted(math.log10(most)))
+
+
+def log_dofs(*terms: tuple[float, float, float]) -> float:
+    """``log10`` of a scene's lower estimate of its unknowns, ``sum(c (L / h)^d)`` over ``terms`` ``(c, L / h, d)``:
+    ``c`` unknowns per cell-sized cube of a zone of extent ``L`` meshed at size ``h`` in ``d`` dimensions (computed
+    in logarithms: no overflow at any size)."""
+    logs = [math.log10(c) + d * math.log10(ratio) for c, ratio, d in terms]
+    top = max(logs)
+    return top + math.log10(sum(10 ** (v - top) for v in logs))
+
+
+def refuse_fine(parameter: str, value: float, log10_dofs: float, power: float, comm: MPI.Comm) -> None:
+    """:func:`refuse_size` of a mesh size ``value`` (the builder argument ``parameter``) of which the unknowns, about
+    ``10**log10_dofs``, go as ``value**-power``: the accepted sizes are those from the one that fits. Collective."""
+    refuse_size(parameter, value, log10_dofs, lambda most: f">= {value * 10 ** ((log10_dofs - most) / power):.3g}",
+                comm)
+
+
+def refuse_count(parameter: str, value: int, log10_dofs: float, power: float, comm: MPI.Comm, low: int = 1) -> None:
+    """:func:`refuse_size` of a count of cells ``value`` (the builder argument ``parameter``) of which the unknowns,
+    about ``10**log10_dofs``, go as ``value**power``: the accepted counts are those up to the one that fits.
+    Collective."""
+    refuse_size(parameter, value, log10_dofs, lambda most: f"{low} to "
+                f"{max(low, math.floor(value * 10 ** ((most - log10_dofs) / power)))}", comm)
+
+
+def refuse_refined(parameter: str, size: float, refinement: int, log10_dofs: float, power: float, per_level: float,
+                   comm: MPI.Comm) -> None:
+    """:func:`refuse_size` of a mesh of size ``size`` (builder argument ``parameter``) refined ``refinement`` times,
+    about ``10**log10_dofs`` unknowns (``x 10**per_level`` per refinement, as ``size**-power``): the refinement is
+    named if there is one, else the size. Collective."""
+    if int(refinement) <= 0:
+        refuse_fine(parameter, size, log10_dofs, power, comm)
+        return
+    base = log10_dofs - per_level * int(refinement)
+    refuse_size("refinement", refinement, log10_dofs, lambda most: f"0 to {math.floor((most - base) / per_level)}"
+                if most >= base else f"none with {parameter} {size:g}", comm)
