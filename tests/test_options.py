@@ -148,6 +148,7 @@ def test_a_bad_number_is_one_line_naming_the_option(name, monkeypatch, capsys):
     ("pin", ["--R", "2", "--above", "1.5"], "--R must be < --above (1.5), got 2"),
     ("hertz", ["--load", "1", "--symmetry", "half"], "--load is used only with --symmetry quarter"),
     ("sphere", ["--load", "1", "--plate", "meshed"], "--load is used only with --plate rigid (got --plate meshed)"),
+    ("hertz", ["--contact-width", "2"], "--contact-width must be < --R (1), got 2"),
     ("block", ["--height", "1e-300"], "--height 1e-300: underflow: a length beyond floating point's range"),
     ("block", ["--width", "1e300"], "--width 1e+300: overflow: a length beyond floating point's range"),
     ("hertz", ["--R", "1e-300"], "--R 1e-300: underflow: a length"),

@@ -197,6 +197,8 @@ def test_every_size_option_is_refused_from_the_unknowns_it_implies(scene, kwargs
     for name in MESHERS:
         if hasattr(module, name):
             monkeypatch.setattr(module, name, mesher)
+    for shape in getattr(module, "SHAPES", {}):  # the seal's meshers by shape
+        monkeypatch.setitem(module.SHAPES, shape, mesher)
     monkeypatch.setattr(scenes, "available_memory", lambda: (2e9, "the 2 GB this process may use (ulimit -v)"))
     law = make_law("penalty", K=1e5)
     friction = Friction(law, mu=0.3, omega_t=1e5)
