@@ -143,11 +143,11 @@ class Option:
     below: tuple[str, ...] = ()
 
 
-# A scene's dimensional options (a length, a stress, a force) lie within [1 / LIMIT, LIMIT] in magnitude: the products
-# of a few of them that a run forms (areas and volumes, a modulus times a volume, a penalty E / h) then stay within
-# floating point's range (1e308) and above its smallest normal number.
+# A scene's numeric options (a length, a stress, a force, a factor) lie within [1 / LIMIT, LIMIT] in magnitude: the
+# products of a few of them that a run forms (areas and volumes, a modulus times a volume, a penalty E / h) then stay
+# within floating point's range (1e308) and above its smallest normal number.
 LIMIT = 1e50
-_UNIT = re.compile(r"\((length|stress|force)[;),]")
+_UNIT = re.compile(r"\((length|stress|force)[;), /]")
 
 
 def unit(option: Option) -> str | None:
@@ -157,18 +157,19 @@ def unit(option: Option) -> str | None:
 
 
 def _check_scales(options: dict[str, Option], args: argparse.Namespace) -> None:
-    """:class:`~fenics_contact.app.cli.UsageError` naming the first dimensional option out of ``[1 / LIMIT, LIMIT]``
-    in magnitude (overflow above, underflow below)."""
+    """:class:`~fenics_contact.app.cli.UsageError` naming the first numeric option out of ``[1 / LIMIT, LIMIT]`` in
+    magnitude (overflow above, underflow below; 0 where its range allows it is not checked)."""
     from ..cli import UsageError
 
-    values = {n: getattr(args, n, None) for n, o in options.items() if unit(o) is not None}
-    values = {n: float(v) for n, v in values.items() if isinstance(v, (int, float)) and v != 0}
-    for name, v in values.items():
-        if not 1 / LIMIT <= abs(v) <= LIMIT:
-            what = "overflow" if abs(v) > LIMIT else "underflow"
-            raise UsageError(f"{_flag(name)} {v:g}: {what}: a {unit(options[name])} beyond floating point's range for "
-                             f"the scene's products of it (areas, volumes, stiffnesses); accepted: {_flag(name)} of "
-                             f"magnitude in [{1 / LIMIT:g}, {LIMIT:g}]")
+    for name, option in options.items():
+        v = getattr(args, name, None)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or v == 0 or 1 / LIMIT <= abs(v) <= LIMIT:
+            continue
+        what = "overflow" if abs(v) > LIMIT else "underflow"
+        kind = f"a {unit(option)}" if unit(option) else "a factor"
+        raise UsageError(f"{_flag(name)} {v:g}: {what}: {kind} beyond floating point's range for the scene's products "
+                         f"of it (areas, volumes, stiffnesses); accepted: {_flag(name)} of magnitude in "
+                         f"[{1 / LIMIT:g}, {LIMIT:g}]")
 
 
 def _option_type(range_: str | tuple[float, float]) -> Callable[[str], float]:
