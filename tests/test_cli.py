@@ -394,3 +394,15 @@ def test_augment_is_refused_for_a_method_with_nothing_to_augment():
                  ["--method", "penalty", "--mu", "0.3", "--augment", "5"], ["--method", "penalty", "--augment", "0"],
                  ["--method", "penalty"]):
         cli.law_from_args(cli.parse(p, argv))
+
+
+def test_command_line_petsc_values_checked_as_the_solvers_are():
+    """The command line's PETSc options get the checks of ``Solver(options=...)``: a number that is not finite that
+    PETSc would take (-fc_snes_linesearch_damping nan), no value for an option that takes one (-fc_snes_rtol, which
+    PETSc ignores), each a bad command line naming it; a flag and a finite number pass."""
+    with pytest.raises(cli.UsageError, match=r"^PETSc rejected -fc_snes_linesearch_damping nan: accepted: a finite "
+                                             r"number$"):
+        cli.check_petsc_values([("fc_snes_linesearch_damping", "nan")])
+    with pytest.raises(cli.UsageError, match=r"^PETSc rejected -fc_snes_rtol: this option takes a value"):
+        cli.check_petsc_values([("fc_snes_rtol", "")])
+    cli.check_petsc_values([("fc_snes_converged_reason", ""), ("fc_snes_linesearch_damping", "0.5")])

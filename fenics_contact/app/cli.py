@@ -43,7 +43,7 @@ from .. import methods
 from ..contact import QUADRATURES
 from ..laws import ContactLaw
 from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
-from ..solver.options import option_used, petsc_complaint, probe_option
+from ..solver.options import option_used, petsc_complaint, value_problem
 from .memory import BYTES_PER_DOF, available_memory
 
 logger = logging.getLogger(__name__)
@@ -549,19 +549,15 @@ def check_petsc_options(later: Sequence[str] = ()) -> None:
 _PREFIX = "fc_"
 
 
-def _probe_petsc_option(name: str, value: str) -> str | None:
-    """PETSc's complaint about the command line's ``-name value`` alone (an option of the solvers' prefix), or
-    None (:func:`~fenics_contact.solver.options.probe_option`)."""
-    if not name.startswith(_PREFIX):
-        return None
-    return probe_option(name[len(_PREFIX):], value)
-
-
 def check_petsc_values(options: Sequence[tuple[str, str]]) -> None:
-    """Raise ``UsageError`` naming the first command-line PETSc option (name without dash, value) whose value
-    PETSc rejects on its own (:func:`_probe_petsc_option`), with PETSc's complaint: before any work."""
+    """Raise ``UsageError`` naming the first command-line PETSc option of the solvers' prefix (name without dash,
+    value; ``""`` a flag) whose value cannot be used (:func:`~fenics_contact.solver.options.value_problem`: PETSc
+    rejects it on its own, a number that is not finite, no value for an option that takes one), with the reason:
+    before any work."""
     for name, value in options:
-        complaint = _probe_petsc_option(name, value)
+        if not name.startswith(_PREFIX):
+            continue
+        complaint = value_problem(name[len(_PREFIX):], value if value != "" else None)
         if complaint is not None:
             raise UsageError(f"PETSc rejected -{name} {value}".rstrip() + f": {complaint}")
 

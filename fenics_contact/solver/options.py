@@ -27,7 +27,7 @@ from ..problem import ContactProblem
 
 __all__ = ["ATOL_RELATIVE", "ROUNDOFF_FACTOR", "COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON",
            "LINEAR_SOLVERS", "MULTIGRID", "OWN_OPTIONS", "ScopedOptions", "check_option_values", "option_used",
-           "petsc_complaint", "probe_option", "read_at_setup", "solver_options"]
+           "petsc_complaint", "probe_option", "read_at_setup", "solver_options", "value_problem"]
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
@@ -156,8 +156,7 @@ def _is_number(value: object) -> bool:
 def check_option_values(options: object) -> None:
     """``ValueError`` naming the first of a caller's PETSc ``options`` (name without dash or prefix -> value) that
     PETSc could not use, with the values it accepts: ``options`` not a dict; a name that is not a string of letters,
-    digits and underscores; a value other than a string, number, bool or None (a flag); a number that is not
-    finite; None for an option that takes a value; a value PETSc rejects on its own (:func:`probe_option`)."""
+    digits and underscores; a value :func:`value_problem` finds wrong."""
     if options is None:
         return
     if not isinstance(options, Mapping):
@@ -169,22 +168,28 @@ def check_option_values(options: object) -> None:
                              "letters, digits and underscores (e.g. 'snes_rtol')")
         if name in OWN_OPTIONS:
             continue
-        said = f"Solver option {name} = {value!r}"
-        if value is not None and not isinstance(value, (str, bool, int, float)):
-            raise ValueError(f"{said}: accepted: a string, a number, a bool or None (a flag), got "
-                             f"{type(value).__name__}")
-        if not isinstance(value, bool) and _is_number(value) and not math.isfinite(float(value)):
-            raise ValueError(f"{said}: accepted: a finite number")
-        if value is None and (name.endswith(_VALUED) or (name in DEFAULT_OPTIONS and not isinstance(
-                DEFAULT_OPTIONS[name], bool))):
-            raise ValueError(f"{said}: this option takes a value (None is a flag without one)")
-        complaint = probe_option(name, value)
+        complaint = value_problem(name, value)
         if complaint is not None:
-            if name in _TYPES and "Unable to find" in complaint:
-                kind = _TYPES[name]()
-                known = sorted(str(getattr(kind, k)) for k in dir(kind) if not k.startswith("_"))
-                complaint += f"; accepted: {', '.join(known)}"
-            raise ValueError(f"{said}: {complaint}")
+            raise ValueError(f"Solver option {name} = {value!r}: {complaint}")
+
+
+def value_problem(name: str, value: object) -> str | None:
+    """What is wrong with PETSc option ``name`` (without dash or prefix) ``= value`` (None: a flag without a value),
+    with the values accepted, or None: a value other than a string, number, bool or None; a number that is not
+    finite; None for an option that takes a value; a value PETSc rejects on its own (:func:`probe_option`)."""
+    if value is not None and not isinstance(value, (str, bool, int, float)):
+        return f"accepted: a string, a number, a bool or None (a flag), got {type(value).__name__}"
+    if not isinstance(value, bool) and _is_number(value) and not math.isfinite(float(value)):
+        return "accepted: a finite number"
+    if value is None and (name.endswith(_VALUED) or (name in DEFAULT_OPTIONS and not isinstance(
+            DEFAULT_OPTIONS[name], bool))):
+        return "this option takes a value (None is a flag without one)"
+    complaint = probe_option(name, value)
+    if complaint is not None and name in _TYPES and "Unable to find" in complaint:
+        kind = _TYPES[name]()
+        known = sorted(str(getattr(kind, k)) for k in dir(kind) if not k.startswith("_"))
+        complaint += f"; accepted: {', '.join(known)}"
+    return complaint
 
 
 def _library_option(name: str) -> bool:
