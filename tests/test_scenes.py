@@ -185,6 +185,8 @@ MESHERS = ("cord_section", "hertz_quarter_disk", "two_half_disks", "disk_on_bloc
 def test_every_size_option_is_refused_from_the_unknowns_it_implies(scene, kwargs, parameter, monkeypatch):
     """A mesh size or count far beyond the memory (gmsh would mesh for ever, or the run would end out of memory) is
     refused before any mesh is made, naming the argument (the demos' option) with the sizes that fit."""
+    from mpi4py import MPI
+
     import fenics_contact.app.scenes as scenes
     from fenics_contact.app.cli import error_line
     from fenics_contact.friction import Friction
@@ -209,6 +211,12 @@ def test_every_size_option_is_refused_from_the_unknowns_it_implies(scene, kwargs
     assert info.value.parameter == parameter and "unknowns" in info.value.reason
     line = error_line(info.value)
     assert line.startswith(f"--{parameter.replace('_', '-')} ") and "accepted: " in line, line
+    if MPI.COMM_WORLD.size == 1:  # a demo given it: one line, exit status 2 (a bad command line)
+        from fenics_contact.app import cli
+
+        with pytest.raises(SystemExit) as ended:
+            cli.main(lambda argv: build(scene, **arguments, **kwargs), [])
+        assert ended.value.code == cli.EXIT_USAGE
 
 
 def test_gmsh_never_asks_a_question(monkeypatch):

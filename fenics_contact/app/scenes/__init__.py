@@ -24,7 +24,7 @@ from mpi4py import MPI
 from ...cells import MeshError
 from ...problem import ContactProblem, Stabilised
 from ...surface import Surface
-from ..cli import GIVEN  # Option.needs: the other option must be given (any value)
+from ..cli import GIVEN, UsageError  # GIVEN, Option.needs: the other option must be given (any value)
 from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
@@ -259,10 +259,11 @@ def max_dofs(comm: MPI.Comm) -> tuple[float, str]:
     return total / BYTES_PER_DOF, phrase if comm.size == 1 else f"{comm.size} ranks x {phrase}"
 
 
-class SizeError(ValueError):
+class SizeError(UsageError):
     """A mesh the machine's memory cannot hold: the builder argument ``parameter`` (the demos' option
     ``--parameter``), its ``value``, ``reason`` (the estimate against the memory) and ``accepted`` (the values
-    that fit, e.g. ``"0 to 6"``)."""
+    that fit, e.g. ``"0 to 6"``). A ``ValueError``; the demos' option out of its range, a bad command line (exit
+    status 2), as a count beyond the memory is when parsed."""
 
     def __init__(self, parameter: str, value, reason: str, accepted: str):
         self.parameter, self.value, self.reason, self.accepted = parameter, value, reason, accepted
