@@ -183,7 +183,7 @@ def value_problem(name: str, value: object) -> str | None:
         return "accepted: a finite number"
     if value is None and (name.endswith(_VALUED) or (name in DEFAULT_OPTIONS and not isinstance(
             DEFAULT_OPTIONS[name], bool))):
-        return "this option takes a value (None is a flag without one)"
+        return "this option takes a value, none was given"
     complaint = probe_option(name, value)
     if complaint is not None and name in _TYPES and "Unable to find" in complaint:
         kind = _TYPES[name]()
