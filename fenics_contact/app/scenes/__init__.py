@@ -79,16 +79,16 @@ def build(name: str, **kwargs) -> Setup:
     return setup
 
 
-def _mesh_from_options(builder: Callable, kwargs: dict, exc: MeshError) -> ValueError:
+def _mesh_from_options(builder: Callable, kwargs: dict, exc: MeshError) -> UsageError:
     """The error of a scene whose mesh, made from its options, has cells it cannot be solved on (``exc``): naming the
     dimensional options given (those other than the builder's defaults), not asking to fix a mesh the user did not
-    give."""
+    give (a ``ValueError``; a bad command line for the demos)."""
     defaults = numeric_parameters(builder)
     options = scene_options(builder)
     given = [f"{_flag(n)} {v:g}" for n, v in kwargs.items() if n in defaults and isinstance(v, (int, float))
              and v != defaults[n] and unit(options[n]) is not None]
     what = re.sub(r"^.*? has ", "", str(exc)).removesuffix(": fix the mesh")
-    return ValueError(f"the scene's mesh made from {', '.join(given) if given else 'its options'} has {what}: lengths "
+    return UsageError(f"the scene's mesh made from {', '.join(given) if given else 'its options'} has {what}: lengths "
                       "that far apart (or a mesh that fine) are beyond floating point's resolution; give them closer "
                       "to each other")
 
