@@ -211,8 +211,10 @@ def test_failed_check_exits_3_after_writing_its_outputs(name, args, named, tmp_p
     ("block", ["-fc_snes_max_it", "-5"], 2, ["PETSc rejected -fc_snes_max_it -5:", "must be non-negative"]),
     ("block", ["-fc_ksp_rtol", "2"], 2, ["PETSc rejected -fc_ksp_rtol 2:", "less than 1.0"]),
     ("hertz", ["--steps", "1000000000"], 2, ["--steps", "must be an integer in [1, ", "got '1000000000'"]),
-    ("hertz", ["--refinement", "12"], 1, ["--refinement 12: about", "of memory", "accepted: --refinement 0 to "]),
-    ("sphere", ["--size", "1e-9"], 1, ["--size 1e-09: about", "accepted: --size >= "]),
+    ("hertz", ["--refinement", "12"], 2, ["--refinement 12: about", "of memory", "accepted: --refinement 0 to "]),
+    ("sphere", ["--size", "1e-9"], 2, ["--size 1e-09: about", "accepted: --size >= "]),
+    ("oring", ["--h", "1e-7"], 2, ["--h 1e-07: about", "accepted: --h >= "]),
+    ("block", ["--method", "penalty", "--augment", "5"], 2, ["--augment 5: method penalty has nothing to augment"]),
     ("hertz", ["-fc_mat_mumps_icntl_14", "100000000"], 1,
      ["error: out of memory: ", "a cutback cannot help", "MUMPS INFOG(1) = -13"]),
     ("mindlin", ["--method", "coulomb", "--sliding", "finite"], 1, ["finite sliding", "use sliding 'small'"]),
@@ -236,7 +238,7 @@ def test_user_errors_are_one_line_within_seconds(name, args, status, named, tmp_
 def test_absurd_refinement_under_a_memory_cap_names_the_cap(tmp_path):
     proc = demo("hertz", "--refinement", "12", out=tmp_path, memory=2 * 10**9)
     line = one_line_error(proc, "--refinement 12:", "(ulimit -v)", "accepted: --refinement 0 to ")
-    assert proc.returncode == 1 and "this process may use" in line
+    assert proc.returncode == cli.EXIT_USAGE and "this process may use" in line
 
 
 def _script(tmp_path: Path, body: str) -> Path:
