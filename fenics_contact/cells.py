@@ -1,5 +1,8 @@
 """Cells a mesh cannot be solved on: inverted (tangled) and degenerate (zero area or volume) cells, refused up front.
 
+Before them, coordinates: a node whose coordinate is not finite (NaN, inf), and cells whose areas or volumes
+(``h^d``) overflow or underflow floating point (a mesh in units it cannot be solved in), are refused as such.
+
 A cell is *inverted* when it overlaps its neighbours: two cells that share an interior facet and lie on the same
 side of it fold the mesh there, and of the two the one folded against at least half of its neighbours is blamed (a
 cell whose node was moved through the opposite facet; both, if neither is). The orientation of a cell alone says
@@ -105,7 +108,7 @@ def _folded(mesh, degenerate: np.ndarray) -> np.ndarray:
         return folded  # intervals: a node moved past its neighbour makes a degenerate or overlapping pair
     side1 = np.einsum("fi,fi->f", normal, centroid[c1] - nodes[:, 0])
     side2 = np.einsum("fi,fi->f", normal, centroid[c2] - nodes[:, 0])
-    same = (side1 * side2 > 0) & ~degenerate[c1] & ~degenerate[c2]
+    same = (np.sign(side1) * np.sign(side2) > 0) & ~degenerate[c1] & ~degenerate[c2]  # no overflow
     # The cell that turned over is on a fold with most of its neighbours, the one it overlaps with few of its
     # own: blame a cell on a fold with at least half of its neighbours, and both cells of a fold that blames none.
     n = len(centroid)
@@ -117,8 +120,44 @@ def _folded(mesh, degenerate: np.ndarray) -> np.ndarray:
     return folded
 
 
+_MEASURE = {1: "lengths", 2: "areas", 3: "volumes"}
+
+
+def _check_coordinates(mesh, what: str) -> None:
+    """:class:`MeshError` (on every rank) if a node of ``mesh`` has a coordinate that is not finite (NaN, inf), or
+    if the cells' sizes to the power of the dimension (their areas or volumes) leave the floating-point range
+    (overflow above, underflow to zero below): the mesh is then in units it cannot be solved in. Collective."""
+    comm = mesh.comm
+    tdim, gdim = mesh.topology.dim, mesh.geometry.dim
+    x = mesh.geometry.x[:, :gdim]
+    used = np.unique(geometry_dofs(mesh))
+    bad = int(np.count_nonzero(~np.all(np.isfinite(x[used]), axis=1)))
+    if comm.allreduce(bad, op=MPI.MAX):
+        count = comm.allreduce(bad, op=MPI.SUM)  # a node shared by ranks may be counted on each
+        raise MeshError(f"{what} has {count} node{'s' * (count > 1)} with a coordinate that is not finite (NaN or "
+                        "inf): fix the mesh")
+    local = np.abs(x[used]).max() if len(used) else 0.0
+    reach = comm.allreduce(float(local), op=MPI.MAX)
+    corners = _corner_edges(mesh.topology.cell_type.name)[0]
+    edges = x[geometry_dofs(mesh)[:, :corners]]
+    sizes = np.abs(edges[:, 1:] - edges[:, :1]).max(axis=(1, 2)) if len(edges) else np.zeros(0)  # no overflow
+    finite = sizes[sizes > 0]
+    low = comm.allreduce(float(finite.min()) if len(finite) else np.inf, op=MPI.MIN)
+    high = comm.allreduce(float(sizes.max()) if len(sizes) else 0.0, op=MPI.MAX)
+    with np.errstate(over="ignore", under="ignore"):
+        over = not np.isfinite(high) or not np.isfinite(np.float64(high) ** tdim)
+        under = np.isfinite(low) and np.float64(low) ** tdim < np.finfo(float).tiny / DEGENERATE
+    if over:
+        raise MeshError(f"{what} has coordinates up to {reach:.3g}: its cells' {_MEASURE[tdim]} (size^{tdim}, up to "
+                        f"{high:.3g}^{tdim}) overflow floating point: scale it to other units")
+    if under:
+        raise MeshError(f"{what} has cells of size {low:.3g}: their {_MEASURE[tdim]} (size^{tdim}) underflow floating "
+                        "point: scale it to other units")
+
+
 def check_cells(mesh, what: str = "the mesh") -> None:
-    """Raise :class:`MeshError` (on every rank) if ``mesh`` has inverted or degenerate cells (module docstring);
+    """Raise :class:`MeshError` (on every rank) if ``mesh`` has a coordinate that is not finite, cells whose areas or
+    volumes overflow or underflow floating point, or inverted or degenerate cells (module docstring);
     the message counts them and says where they are (the centroid of the one cell, or the box around the
     centroids). Collective.
 
@@ -128,6 +167,7 @@ def check_cells(mesh, what: str = "the mesh") -> None:
     """
     comm = mesh.comm
     tdim, gdim = mesh.topology.dim, mesh.geometry.dim
+    _check_coordinates(mesh, what)
     det, h = corner_jacobians(mesh)
     owned = mesh.topology.index_map(tdim).size_local
     degenerate = np.any(np.abs(det) <= DEGENERATE * h[:, None] ** tdim, axis=1)

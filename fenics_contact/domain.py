@@ -7,8 +7,9 @@ and returns ``(mesh, cells, facets)``: :class:`NamedTags` that give each
 physical group by its name (``facets["contact"]``) and work wherever the
 library takes facet or cell tags. A name that the mesh does not have is an
 error naming the names it has; so is a ``gdim`` other than the mesh's
-dimension (raised on every rank). A mesh with inverted or degenerate cells is refused
-(:class:`~fenics_contact.cells.MeshError`, :func:`~fenics_contact.cells.check_cells`).
+dimension (raised on every rank). A cell given twice and two bodies covering the same region are refused
+(:mod:`~fenics_contact.gmshmodel`); so is a mesh with a coordinate that is not finite, or with inverted or
+degenerate cells (:class:`~fenics_contact.cells.MeshError`, :func:`~fenics_contact.cells.check_cells`).
 
 Everything here is collective on ``comm``; gmsh is imported only when a
 mesh is read.
@@ -106,6 +107,7 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
 
     from .cells import check_cells
     from .compat import model_to_mesh
+    from .gmshmodel import prepare
 
     if gdim not in (2, 3):
         raise ValueError(f"gdim must be 2 or 3, got {gdim!r}")
@@ -122,6 +124,7 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
     if own:
         gmsh.initialize()
         gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NoPopup", 1)  # gmsh's questions (a very large mesh?) answered, never asked
     try:
         names, error = {}, ""
         if comm.rank == 0:
@@ -138,6 +141,7 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
                 if path is not None and path.suffix == ".geo":
                     gmsh.model.mesh.generate(gdim)
                 names = physical_names(gmsh)
+                prepare(gmsh, "the gmsh model" if path is None else repr(str(path)))
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
                 error = f"read_gmsh: {exc}"
         error = comm.bcast(error, root=0)

@@ -16,10 +16,15 @@ def _not_a_compiler_command(record: logging.LogRecord) -> bool:
     return record.levelno >= logging.WARNING or not any(part in record.pathname for part in _DISTUTILS)
 
 
-def quiet_compiler() -> None:
-    """Install the filter on the root logger (once; :mod:`fenics_contact` does on import)."""
+def quiet_compiler(quiet: bool = True) -> None:
+    """Install the filter on the root logger (once; :mod:`fenics_contact` does on import); ``quiet=False`` removes
+    it (the compiler's commands shown)."""
     root = logging.getLogger()
-    if not any(getattr(f, "_fenics_contact_jit", False) for f in root.filters):
+    ours = [f for f in root.filters if getattr(f, "_fenics_contact_jit", False)]
+    if not quiet:
+        for f in ours:
+            root.removeFilter(f)
+    elif not ours:
         quiet = logging.Filter()
         quiet.filter = _not_a_compiler_command
         quiet._fenics_contact_jit = True

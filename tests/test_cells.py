@@ -137,3 +137,23 @@ def test_a_program_reading_a_tangled_mesh_file_ends_in_one_line(tmp_path_factory
     if comm.rank == 0:
         assert len(err) == 1 and "Traceback" not in err[0], err
         assert f"error: read_gmsh: {path!r} has {flipped} inverted (tangled) cell" in err[0], err
+
+
+@pytest.mark.parametrize("scale, said", [(1e200, r"has coordinates up to 1e\+200: its cells' areas \(size\^2, up to "
+                                                 r"[0-9.e+]+\^2\) overflow floating point: scale it to other units$"),
+                                         (1e-300, r"has cells of size [0-9.e-]+: their areas \(size\^2\) underflow "
+                                                  r"floating point: scale it to other units$"),
+                                         (np.inf, r"has \d+ nodes? with a coordinate that is not finite")])
+def test_coordinates_out_of_floating_point_range_are_said_as_such(scale, said):
+    """A unit square scaled by 1e200 (areas overflow) or 1e-300 (areas underflow), or with infinite coordinates: one
+    line saying so, not "degenerate cells"; scaled by 1e100 or 1e-100 it is a mesh like any other."""
+    comm = MPI.COMM_WORLD
+    for ok in (1e100, 1e-100):
+        msh = dmesh.create_unit_square(comm, 4, 4)
+        msh.geometry.x[:] *= ok
+        check_cells(msh)
+    msh = dmesh.create_unit_square(comm, 4, 4)
+    with np.errstate(invalid="ignore"):  # inf x 0: a NaN, not finite either
+        msh.geometry.x[:, :2] *= scale
+    with pytest.raises(MeshError, match="^the mesh " + said):
+        check_cells(msh)

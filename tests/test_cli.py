@@ -212,8 +212,10 @@ def test_failed_check_exits_3_after_writing_its_outputs(name, args, named, tmp_p
     ("block", ["-fc_snes_max_it", "-5"], 2, ["PETSc rejected -fc_snes_max_it -5:", "must be non-negative"]),
     ("block", ["-fc_ksp_rtol", "2"], 2, ["PETSc rejected -fc_ksp_rtol 2:", "less than 1.0"]),
     ("hertz", ["--steps", "1000000000"], 2, ["--steps", "must be an integer in [1, ", "got '1000000000'"]),
-    ("hertz", ["--refinement", "12"], 1, ["--refinement 12: about", "of memory", "accepted: --refinement 0 to "]),
-    ("sphere", ["--size", "1e-9"], 1, ["--size 1e-09: about", "accepted: --size >= "]),
+    ("hertz", ["--refinement", "12"], 2, ["--refinement 12: about", "of memory", "accepted: --refinement 0 to "]),
+    ("sphere", ["--size", "1e-9"], 2, ["--size 1e-09: about", "accepted: --size >= "]),
+    ("oring", ["--h", "1e-7"], 2, ["--h 1e-07: about", "accepted: --h >= "]),
+    ("block", ["--method", "penalty", "--augment", "5"], 2, ["--augment 5: method penalty has nothing to augment"]),
     ("hertz", ["-fc_mat_mumps_icntl_14", "100000000"], 1,
      ["error: out of memory: ", "a cutback cannot help", "MUMPS INFOG(1) = -13"]),
     ("mindlin", ["--method", "coulomb", "--sliding", "finite"], 1, ["finite sliding", "use sliding 'small'"]),
@@ -237,7 +239,7 @@ def test_user_errors_are_one_line_within_seconds(name, args, status, named, tmp_
 def test_absurd_refinement_under_a_memory_cap_names_the_cap(tmp_path):
     proc = demo("hertz", "--refinement", "12", out=tmp_path, memory=2 * 10**9)
     line = one_line_error(proc, "--refinement 12:", "(ulimit -v)", "accepted: --refinement 0 to ")
-    assert proc.returncode == 1 and "this process may use" in line
+    assert proc.returncode == cli.EXIT_USAGE and "this process may use" in line
 
 
 def _script(tmp_path: Path, body: str) -> Path:
@@ -469,3 +471,31 @@ def test_sigint_to_one_rank_during_form_compilation_ends_the_job(tmp_path):
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
+
+
+def test_augment_is_refused_for_a_method_with_nothing_to_augment():
+    """``--augment N`` with a method whose law has nothing to augment (penalty, compliance, nitsche, ...) is a
+    bad command line naming it and the methods that augment (from their declarations), not a run that records
+    augmentations that never happen; the augmented methods and any method with friction take it."""
+    p = cli.parser("test", 1e5)
+    for argv in (["--method", "penalty", "--augment", "5"], ["--method", "nitsche", "--augment", "1"],
+                 ["--method", "compliance", "--augment", "2"]):
+        with pytest.raises(cli.UsageError, match=r"^--augment [0-9]+: method \w+ has nothing to augment; accepted: "
+                                                 r"--augment 0 \(augmented: methods cross, auglag"):
+            cli.law_from_args(cli.parse(p, argv))
+    for argv in (["--method", "auglag", "--augment", "5"], ["--method", "cross", "--augment", "5"],
+                 ["--method", "penalty", "--mu", "0.3", "--augment", "5"], ["--method", "penalty", "--augment", "0"],
+                 ["--method", "penalty"]):
+        cli.law_from_args(cli.parse(p, argv))
+
+
+def test_command_line_petsc_values_checked_as_the_solvers_are():
+    """The command line's PETSc options get the checks of ``Solver(options=...)``: a number that is not finite that
+    PETSc would take (-fc_snes_linesearch_damping nan), no value for an option that takes one (-fc_snes_rtol, which
+    PETSc ignores), each a bad command line naming it; a flag and a finite number pass."""
+    with pytest.raises(cli.UsageError, match=r"^PETSc rejected -fc_snes_linesearch_damping nan: accepted: a finite "
+                                             r"number$"):
+        cli.check_petsc_values([("fc_snes_linesearch_damping", "nan")])
+    with pytest.raises(cli.UsageError, match=r"^PETSc rejected -fc_snes_rtol: this option takes a value"):
+        cli.check_petsc_values([("fc_snes_rtol", "")])
+    cli.check_petsc_values([("fc_snes_converged_reason", ""), ("fc_snes_linesearch_damping", "0.5")])

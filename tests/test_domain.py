@@ -81,3 +81,65 @@ def test_gdim_other_than_the_mesh_dimension(source, gdim, dim):
     with pytest.raises(ValueError, match=rf"^read_gmsh: gdim={gdim}, but '.*{source.name}' is {dim}D: "
                                          rf"give gdim={dim}$"):
         read_gmsh(source, MPI.COMM_WORLD, gdim=gdim)
+
+
+def _two_squares(shift: float, same_group: bool = False, nan: bool = False, gap_tag: bool = False) -> None:
+    """A gmsh model on rank 0 (initialised; finalise after): the unit square ``a`` and the unit square ``b`` moved
+    up by ``shift``, without shared nodes (no fragment); ``same_group``: the one square in both groups instead;
+    ``nan``: a node of ``a`` at NaN; ``gap_tag``: an extra node of tag 10**6 (node tags not 1..n)."""
+    import gmsh
+
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    if MPI.COMM_WORLD.rank == 0:
+        gmsh.model.add("squares")
+        a = gmsh.model.occ.addRectangle(0, 0, 0, 1, 1)
+        b = a if same_group else gmsh.model.occ.addRectangle(0, shift, 0, 1, 1)
+        gmsh.model.occ.synchronize()
+        for tag, (name, s) in enumerate((("a", a), ("b", b)), start=1):
+            gmsh.model.addPhysicalGroup(2, [s], tag)
+            gmsh.model.setPhysicalName(2, tag, name)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)
+        gmsh.model.mesh.generate(2)
+        if nan:
+            tags, coords, _ = gmsh.model.mesh.getNodes(2, a)
+            gmsh.model.mesh.setNode(int(tags[0]), [float("nan"), 0.5, 0.0], [])
+        if gap_tag:
+            gmsh.model.mesh.addNodes(0, 1, [10**6], [0.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("case, said", [
+    (dict(shift=0.0), r"the bodies 'a' and 'b' cover the same region \(100% of one lies inside the other"),
+    (dict(shift=0.5), r"the bodies 'a' and 'b' cover the same region \((4[5-9]|5[0-5])% of one"),
+    (dict(shift=0.0, same_group=True), r"cells given twice \(the same nodes\), the first at \(.*\) in 'a' and 'b'"),
+    (dict(shift=1.0, nan=True), r"has 1 node with a coordinate that is not finite \(NaN or inf\): fix the mesh$"),
+])
+def test_a_mesh_that_is_not_one_region_once_is_refused(case, said):
+    """Two bodies without shared nodes covering the same region (or half of it), a cell in two groups, a node at
+    NaN: one error naming it, before any form (not twice the force, dolfinx's "Duplicate mesh entity", or a
+    diverged Newton)."""
+    import gmsh
+
+    from fenics_contact.cells import MeshError
+
+    try:
+        _two_squares(**case)
+        with pytest.raises((ValueError, MeshError), match=said):
+            read_gmsh(None, MPI.COMM_WORLD, gdim=2)
+    finally:
+        gmsh.finalize()
+
+
+@pytest.mark.parametrize("case", [dict(shift=1.0), dict(shift=0.99), dict(shift=1.0, gap_tag=True)])
+def test_touching_or_slightly_overlapping_bodies_and_gaps_in_node_tags_are_read(case):
+    """Bodies that touch, or overlap by 1 % of their height (an initial penetration contact resolves), are read;
+    so is a model whose node tags are not 1..n (dolfinx's reader asserts they are: they are renumbered)."""
+    import gmsh
+
+    try:
+        _two_squares(**case)
+        mesh, cells, _ = read_gmsh(None, MPI.COMM_WORLD, gdim=2)
+    finally:
+        gmsh.finalize()
+    area = MPI.COMM_WORLD.allreduce(float(np.sum(cells.find("a") < mesh.topology.index_map(2).size_local)))
+    assert area > 0 and cells.names == {"a": 1, "b": 2}

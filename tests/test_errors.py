@@ -121,3 +121,27 @@ def test_coulomb_with_a_neohookean_body_is_refused_when_the_problem_is_made(body
         contacts = two_body_surfaces(u, tags, "upper_bottom", "lower_top", lambda: ExactCoulomb(0.3), load)
     with pytest.raises(UnsupportedCombination, match="coulomb, neohookean .*use model 'linear'"):
         ContactProblem(u, NeoHookean(1000.0, 0.3), load, [], contacts, step_solver=step_solver_for(contacts))
+
+
+@pytest.mark.parametrize("options, said", [
+    ({123: 1}, r"^Solver option name 123: accepted: a PETSc option name"),
+    ("snes_rtol", r"^Solver options must be a dict .*got str 'snes_rtol'$"),
+    ({"snes_max_it": -5}, r"^Solver option snes_max_it = -5: .*must be non-negative"),
+    ({"snes_type": "notatype"}, r"^Solver option snes_type = 'notatype': .*notatype; accepted: .*newtonls"),
+    ({"snes_rtol": "abc"}, r"^Solver option snes_rtol = 'abc': .*no numeric value"),
+    ({"snes_rtol": True}, r"^Solver option snes_rtol = True: .*no numeric value"),
+    ({"snes_max_it": 2.5}, r"^Solver option snes_max_it = 2.5: .*no integer value"),
+    ({"snes_rtol": float("nan")}, r"^Solver option snes_rtol = nan: accepted: a finite number$"),
+    ({"snes_rtol": -1}, r"^Solver option snes_rtol = -1: .*must be non-negative"),
+    ({"snes_max_it": None}, r"^Solver option snes_max_it = None: this option takes a value"),
+    ({"ksp_type": "notakrylov"}, r"^Solver option ksp_type = 'notakrylov': .*; accepted: .*gmres"),
+])
+def test_a_solver_option_petsc_cannot_use_is_refused_naming_it(options, said, comm):
+    """``Solver(options=...)`` is checked as the command line's PETSc options are, when the solver is made: a value
+    PETSc rejects, a non-finite number, a flag (None) for an option that takes a value, a name or a container that
+    is not one, each one line naming the option and what it accepts (not PETSc's bare error code at ``run``)."""
+    setup = block.build(Penalty(1e5), comm=comm)
+    with pytest.raises(ValueError, match=said):
+        Solver(setup.problem, quiet=True, options=options)
+    Solver(setup.problem, quiet=True, options={"snes_monitor": None, "snes_max_it": 20, "snes_rtol": "1e-10",
+                                               "snes_ksp_ew": False}).destroy()

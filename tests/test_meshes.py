@@ -75,3 +75,28 @@ def test_check_tags_names_missing_tag():
         meshes.check_tags(facet_tags, {"bottom": facet_tags["bottom"], "contact": 7}, comm)
     with pytest.raises(ValueError, match=r"no region named 'contact'; the mesh has \['bottom', 'left', "):
         facet_tags["contact"]
+
+
+@pytest.mark.parametrize("isolate", [False, True])
+def test_a_gmsh_model_whose_node_tags_are_not_1_to_n_gives_a_mesh(isolate):
+    """dolfinx reads a gmsh model's nodes assuming tags 1..n (``gmshio.extract_geometry`` asserts it): a scene's model
+    with a gap in its node tags (here an extra node of tag 10**6; the mindlin3d cap on a block at refinement 2 has
+    one) is renumbered and gives its mesh, meshed here or in a child process."""
+    import gmsh
+    from mpi4py import MPI
+
+    from fenics_contact.app.meshes.gmshutil import _from_gmsh
+
+    def build():
+        gmsh.model.add("square")
+        s = gmsh.model.occ.addRectangle(0, 0, 0, 1, 1)
+        gmsh.model.occ.synchronize()
+        gmsh.model.addPhysicalGroup(2, [s], 1)
+        gmsh.model.setPhysicalName(2, 1, "body")
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 0.25)
+        gmsh.model.mesh.generate(2)
+        gmsh.model.mesh.addNodes(0, 1, [10**6], [0.0, 0.0, 0.0])
+
+    mesh, cells, _ = _from_gmsh(MPI.COMM_WORLD, build, "a square", isolate=isolate)
+    area = MPI.COMM_WORLD.allreduce(mesh.topology.index_map(2).size_local)
+    assert area > 0 and cells.names == {"body": 1}

@@ -148,6 +148,12 @@ def test_a_bad_number_is_one_line_naming_the_option(name, monkeypatch, capsys):
     ("pin", ["--R", "2", "--above", "1.5"], "--R must be < --above (1.5), got 2"),
     ("hertz", ["--load", "1", "--symmetry", "half"], "--load is used only with --symmetry quarter"),
     ("sphere", ["--load", "1", "--plate", "meshed"], "--load is used only with --plate rigid (got --plate meshed)"),
+    ("hertz", ["--contact-width", "2"], "--contact-width must be < --R (1), got 2"),
+    ("block", ["--height", "1e-300"], "--height 1e-300: underflow: a length beyond floating point's range"),
+    ("block", ["--width", "1e300"], "--width 1e+300: overflow: a length beyond floating point's range"),
+    ("hertz", ["--R", "1e-300"], "--R 1e-300: underflow: a length"),
+    ("oring", ["--E", "1e60"], "--E 1e+60: overflow: a stress beyond floating point's range for the scene's products "
+                               "of it (areas, volumes, stiffnesses); accepted: --E of magnitude in [1e-50, 1e+50]"),
 ])
 def test_contradictions_and_ranges_refused_while_parsing(name, argv, named, monkeypatch, capsys):
     end = _run(name, argv, monkeypatch)
@@ -197,3 +203,14 @@ def test_two_identical_bodies_from_options_alone_within_1_percent():
     Solver(rigid.problem, quiet=True).run(rigid.loads)
     g = rigid.figures()
     assert hertz.approach_half_width(hertz.APPROACH) == pytest.approx(g["a_hertz"], rel=0.02)
+
+
+def test_a_scene_mesh_its_lengths_make_degenerate_names_them_not_a_mesh():
+    """Lengths far apart (a block 1e20 wide and 2 high: cells of aspect ratio 1e20, degenerate in floating point)
+    are named as the options given, not as a mesh to fix that the user never gave."""
+    from fenics_contact.app.scenes import build
+    from fenics_contact.laws import Penalty
+
+    with pytest.raises(ValueError, match=r"^the scene's mesh made from --width 1e\+20 has 64 degenerate \(zero area or "
+                                         r"volume\) cells of 64 .*: lengths that far apart .* give them closer"):
+        build("block", law=Penalty(1e5), width=1e20)

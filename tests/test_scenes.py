@@ -160,3 +160,76 @@ def test_mesh_from_a_child_process_is_the_same(monkeypatch):
             meshes.append((mesh.geometry.x, mesh.topology.connectivity(2, 0).array, facets.indices, facets.values,
                            cells.values, facets.names))
         assert all(np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b for a, b in zip(*meshes))
+
+
+MESHERS = ("cord_section", "hertz_quarter_disk", "two_half_disks", "disk_on_block", "cap_on_block", "punch_on_block",
+           "ring_quarter", "concentric_rings", "sheet_over_cylinder", "pin_plate", "half_box")
+
+
+@pytest.mark.parametrize("scene, kwargs, parameter", [
+    ("oring", dict(h=1e-7), "h"),
+    ("axisphere", dict(h_contact=1e-9), "h_contact"),
+    ("mindlin3d", dict(h_contact=1e-9), "h_contact"),
+    ("mindlin3d", dict(refinement=30), "refinement"),
+    ("mindlin", dict(h_contact=1e-9), "h_contact"),
+    ("cylinders", dict(h_contact=1e-9), "h_contact"),
+    ("cylinders", dict(grading=1e-12), "grading"),
+    ("seal", dict(h=1e-9), "h"),
+    ("ironing", dict(h_arc=1e-12), "h_arc"),
+    ("ring", dict(n_theta=10**7), "n_theta"),
+    ("rings", dict(n=10**6), "n"),
+    ("sheet", dict(n_arc=10**7), "n_arc"),
+    ("compliance3d", dict(nx=1000, ny=1000, nz=1000), "mesh"),
+    ("pin", dict(h_contact=1e-9), "h_contact"),
+])
+def test_every_size_option_is_refused_from_the_unknowns_it_implies(scene, kwargs, parameter, monkeypatch):
+    """A mesh size or count far beyond the memory (gmsh would mesh for ever, or the run would end out of memory) is
+    refused before any mesh is made, naming the argument (the demos' option) with the sizes that fit."""
+    from mpi4py import MPI
+
+    import fenics_contact.app.scenes as scenes
+    from fenics_contact.app.cli import error_line
+    from fenics_contact.friction import Friction
+
+    module = importlib.import_module(f"fenics_contact.app.scenes.{scene}")
+
+    def mesher(*a, **k):
+        raise _MeshReached
+
+    for name in MESHERS:
+        if hasattr(module, name):
+            monkeypatch.setattr(module, name, mesher)
+    for shape in getattr(module, "SHAPES", {}):  # the seal's meshers by shape
+        monkeypatch.setitem(module.SHAPES, shape, mesher)
+    monkeypatch.setattr(scenes, "available_memory", lambda: (2e9, "the 2 GB this process may use (ulimit -v)"))
+    law = make_law("penalty", K=1e5)
+    friction = Friction(law, mu=0.3, omega_t=1e5)
+    arguments = {"cylinders": dict(law_factory=lambda: law), "rings": dict(law_factory=lambda: law)}.get(
+        scene, dict(law=friction if scene in ("mindlin", "mindlin3d", "ironing", "compliance3d") else law))
+    with pytest.raises(SizeError) as info:
+        build(scene, **arguments, **kwargs)
+    assert info.value.parameter == parameter and "unknowns" in info.value.reason
+    line = error_line(info.value)
+    assert line.startswith(f"--{parameter.replace('_', '-')} ") and "accepted: " in line, line
+    if MPI.COMM_WORLD.size == 1:  # a demo given it: one line, exit status 2 (a bad command line)
+        from fenics_contact.app import cli
+
+        with pytest.raises(SystemExit) as ended:
+            cli.main(lambda argv: build(scene, **arguments, **kwargs), [])
+        assert ended.value.code == cli.EXIT_USAGE
+
+
+def test_gmsh_never_asks_a_question(monkeypatch):
+    """gmsh asks on standard input before meshing a very large mesh ("Do you really want to continue?"): every gmsh
+    session of the library sets the option that answers it (General.NoPopup)."""
+    from mpi4py import MPI
+
+    from fenics_contact.app.meshes import gmshutil, hertz
+
+    seen = []
+    setter = gmshutil.gmsh.option.setNumber
+    monkeypatch.setattr(gmshutil.gmsh.option, "setNumber", lambda name, value: (seen.append((name, value)),
+                                                                                setter(name, value)))
+    monkeypatch.setattr(hertz, "_from_gmsh", lambda *a, **k: gmshutil._from_gmsh(*a, **{**k, "isolate": False}))
+    hertz.hertz_quarter_disk(MPI.COMM_WORLD, 1.0, h_contact=1 / 50)
+    assert ("General.NoPopup", 1) in seen

@@ -45,9 +45,10 @@ from petsc4py import PETSc
 
 from .. import methods
 from ..contact import QUADRATURES
+from ..jitlog import quiet_compiler
 from ..laws import ContactLaw
 from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
-from ..solver.options import option_used
+from ..solver.options import option_used, petsc_complaint, value_problem
 from .memory import BYTES_PER_DOF, available_memory
 
 logger = logging.getLogger(__name__)
@@ -105,7 +106,8 @@ class StrictParser(argparse.ArgumentParser):
     errors raise :class:`UsageError` (one line, naming the option) instead of printing the usage and exiting.
     ``requirements``: ``(dest, other, value)``, the option ``dest`` given only with the option ``other`` at
     ``value`` (:data:`GIVEN`: given at all); ``orders``: ``(dest, other)``, the value of ``dest`` below that of
-    ``other`` (when both are set); both checked when parsed."""
+    ``other`` (when both are set); ``checks``: functions of the parsed options raising :class:`UsageError` (the
+    values together, e.g. a scene's lengths against each other); all checked when parsed."""
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("allow_abbrev", False)
@@ -114,6 +116,7 @@ class StrictParser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self.requirements: list[tuple[str, str, object]] = []
         self.orders: list[tuple[str, str]] = []
+        self.checks: list[Callable[[argparse.Namespace], None]] = []  # of the parsed values together
 
     def error(self, message: str):
         # "argument --E: must be ..." -> "--E must be ..."; "argument --load: not allowed with argument
@@ -138,6 +141,8 @@ class StrictParser(argparse.ArgumentParser):
             if mine is not None and theirs is not None and not mine < theirs:
                 flag, bound = "--" + dest.replace("_", "-"), "--" + other.replace("_", "-")
                 raise UsageError(f"{flag} must be < {bound} ({theirs:g}), got {mine:g}")
+        for check in self.checks:
+            check(ns)
         return ns, rest
 
     def parse_args(self, args=None, namespace=None):
@@ -418,17 +423,7 @@ def setup_logging(verbose: bool = False, quiet: bool = False) -> None:
     # UFL warns about every custom quadrature rule (the nodal rule is one on purpose); FFCx logs its JIT
     logging.getLogger("UFL").setLevel(logging.DEBUG if verbose else logging.ERROR)
     logging.getLogger("ffcx").setLevel(logging.DEBUG if verbose else logging.WARNING)
-    # setuptools (distutils, run by cffi on a form's first JIT) logs every compiler command to the root logger at
-    # INFO and sets the root's level itself (verbose=True is hard-coded in FFCx): a filter on the root logger
-    # drops those records (a logger's filters see only the records logged to it, not its children's)
-    root_logger = logging.getLogger()
-    for f in [f for f in root_logger.filters if getattr(f, "_fenics_contact", False)]:
-        root_logger.removeFilter(f)
-    if not verbose:
-        quiet_root = logging.Filter()
-        quiet_root.filter = lambda record: record.levelno >= logging.WARNING
-        quiet_root._fenics_contact = True
-        root_logger.addFilter(quiet_root)
+    quiet_compiler(not verbose)  # the compiler's commands of a form's first JIT, shown with verbose
 
 
 def _abort_on_uncaught() -> None:
@@ -516,7 +511,7 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
                                  "method)")
     law = method.make_law(**{p.name: getattr(args, p.option) for p in method.parameters})
     if method.friction == "own" or not has_friction(args):
-        return law
+        return _augmented(law, args)
     if method.friction == "none":
         raise ValueError(f"method {args.method!r} has no friction: use --mu 0 (or another method)")
     if sum((args.mu != 0.0, c_t is not None, tresca is not None)) > 1:
@@ -524,10 +519,21 @@ def law_from_args(args: argparse.Namespace) -> ContactLaw:
     from ..friction import Friction
 
     if tresca is not None:
-        return Friction(law, tresca=tresca, omega_t=args.omega_t)
+        return _augmented(Friction(law, tresca=tresca, omega_t=args.omega_t), args)
     if c_t is not None:
-        return Friction(law, c_t=c_t, m_t=args.m_t, omega_t=args.omega_t)
-    return Friction(law, mu=args.mu, omega_t=args.omega_t)
+        return _augmented(Friction(law, c_t=c_t, m_t=args.m_t, omega_t=args.omega_t), args)
+    return _augmented(Friction(law, mu=args.mu, omega_t=args.omega_t), args)
+
+
+def _augmented(law: ContactLaw, args: argparse.Namespace) -> ContactLaw:
+    """``law``, if it reads the augmentations ``--augment`` asks for; :class:`UsageError` if it has nothing to
+    augment (the run would record augmentations that never happen)."""
+    augment = getattr(args, "augment", 0) or 0
+    if augment and not law.augmentable:
+        takers = ", ".join(m.name for m in methods.methods() if m.augment)
+        raise UsageError(f"--augment {augment}: method {args.method} has nothing to augment; accepted: --augment 0 "
+                         f"(augmented: methods {takers}, or any method with friction)")
+    return law
 
 
 def method_parameters(args: argparse.Namespace) -> dict:
@@ -570,47 +576,19 @@ def check_petsc_options(later: Sequence[str] = ()) -> None:
                          f"the fc_ prefix?): {', '.join(unused)}")
 
 
-def _last_line(exc: PETSc.Error) -> str:
-    """PETSc's own complaint: the last line of its error stack, without the rank."""
-    lines = [s.split("] ", 1)[-1].strip() for s in str(exc).splitlines() if s.strip()]
-    return lines[-1] if lines else f"error code {exc.ierr}"
-
-
-# Options prefix of the solvers (Solver's default) and of the probe that checks one option of it alone
-_PREFIX, _PROBE = "fc_", "fc_probe_option_"
-
-
-def _probe_petsc_option(name: str, value: str) -> str | None:
-    """PETSc's complaint about the command line's ``-name value`` alone (an option of the solvers' prefix), or
-    None: a SNES of a probe prefix with only this option reads it with its KSP and line search, then hands its
-    tolerances back to PETSc's checking setters (``SNESSetFromOptions`` stores ``-snes_max_it -5`` unchecked;
-    the solve then fails without a word on it)."""
-    if not name.startswith(_PREFIX):
-        return None
-    key = _PROBE + name[len(_PREFIX):]
-    opts = PETSc.Options()
-    opts.setValue(key, value)
-    snes = PETSc.SNES().create(PETSc.COMM_SELF)
-    try:
-        snes.setOptionsPrefix(_PROBE)
-        snes.setFromOptions()
-        ksp = snes.getKSP()
-        ksp.setFromOptions()
-        snes.setTolerances(*snes.getTolerances())
-        ksp.setTolerances(*ksp.getTolerances())
-        return None
-    except PETSc.Error as exc:
-        return _last_line(exc)
-    finally:
-        snes.destroy()
-        opts.delValue(key)
+# Options prefix of the solvers (Solver's default)
+_PREFIX = "fc_"
 
 
 def check_petsc_values(options: Sequence[tuple[str, str]]) -> None:
-    """Raise ``UsageError`` naming the first command-line PETSc option (name without dash, value) whose value
-    PETSc rejects on its own (:func:`_probe_petsc_option`), with PETSc's complaint: before any work."""
+    """Raise ``UsageError`` naming the first command-line PETSc option of the solvers' prefix (name without dash,
+    value; ``""`` a flag) whose value cannot be used (:func:`~fenics_contact.solver.options.value_problem`: PETSc
+    rejects it on its own, a number that is not finite, no value for an option that takes one), with the reason:
+    before any work."""
     for name, value in options:
-        complaint = _probe_petsc_option(name, value)
+        if not name.startswith(_PREFIX):
+            continue
+        complaint = value_problem(name[len(_PREFIX):], value if value != "" else None)
         if complaint is not None:
             raise UsageError(f"PETSc rejected -{name} {value}".rstrip() + f": {complaint}")
 
@@ -618,7 +596,7 @@ def check_petsc_values(options: Sequence[tuple[str, str]]) -> None:
 def _petsc_message(exc: PETSc.Error) -> str:
     """One line for a PETSc error: the command-line options it names (by value or name) with PETSc's complaint;
     when it names none, every PETSc option of the command line, so that the one at fault is among them."""
-    last = _last_line(exc)
+    last = petsc_complaint(exc)
     words = " ".join(str(exc).splitlines()).split()
     bad = [f"-{k} {v}".rstrip() for k, v in _PETSC_OPTIONS if (v and v in words) or f"-{k}" in words]
     if bad:
@@ -717,7 +695,7 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
     prog = sys.argv[0].rsplit("/", 1)[-1] if sys.argv and sys.argv[0] else "demo"
     world = MPI.COMM_WORLD
     comm, interrupted = _duplicate(world)  # the agreement at the end must not match a collective a stuck rank is in
-    status, line = 0, None
+    status, line, left = 0, None, False
     try:
         if interrupted:
             raise KeyboardInterrupt
@@ -727,7 +705,7 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
         if failed is not None:
             status, line = EXIT_CHECK, failed
     except (SystemExit, KeyboardInterrupt) as exc:
-        status, line = _leaving(exc, prog)
+        (status, line), left = _leaving(exc, prog), True
     except Exception as exc:  # noqa: BLE001 - only the kinds error_line knows are turned into one line
         line = error_line(exc)
         if line is None:
@@ -753,7 +731,7 @@ def main(demo: Callable[[Sequence[str] | None], object], argv: Sequence[str] | N
             world.Abort(EXIT_INTERRUPTED)
         status = EXIT_INTERRUPTED
     comm.Free()
-    if status:
+    if status or left:  # sys.exit(0) in the demo (its --help) still leaves
         sys.exit(status)
 
 

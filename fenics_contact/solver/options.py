@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import ctypes
 import difflib
+import math
+import re
 from contextlib import contextmanager
-from typing import Callable, Iterator
+from typing import Callable, Iterator, Mapping
 
 from petsc4py import PETSc
 
@@ -24,8 +26,8 @@ from ..compat import petsc_library
 from ..problem import ContactProblem
 
 __all__ = ["ATOL_RELATIVE", "ROUNDOFF_FACTOR", "COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON",
-           "LINEAR_SOLVERS", "MULTIGRID", "OWN_OPTIONS", "VI_ZERO_TOLERANCE", "ScopedOptions", "option_used",
-           "read_at_setup", "solver_options"]
+           "LINEAR_SOLVERS", "MULTIGRID", "OWN_OPTIONS", "VI_ZERO_TOLERANCE", "ScopedOptions", "check_option_values",
+           "option_used", "petsc_complaint", "probe_option", "read_at_setup", "solver_options", "value_problem"]
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
@@ -106,6 +108,92 @@ def option_used(name: str) -> bool:
     if petsc_library().PetscOptionsUsed(None, name.encode(), ctypes.byref(used)) != 0:
         raise RuntimeError(f"PetscOptionsUsed failed for -{name}")
     return bool(used.value)
+
+
+# Prefix of the probe that checks one option alone (probe_option)
+_PROBE = "fc_probe_option_"
+# Options that take a value (a flag without one, ``None``, is ignored by PETSc without a word): by their name's end
+_VALUED = ("_type", "tol", "_max_it", "_max_funcs", "_damping", "_restart", "_threshold", "_levels", "_maxstep")
+# The PETSc object whose types a ``<kind>_type`` option names (for the accepted values of a type it does not know)
+_TYPES = {"snes_type": lambda: PETSc.SNES.Type, "ksp_type": lambda: PETSc.KSP.Type, "pc_type": lambda: PETSc.PC.Type,
+          "pc_factor_mat_solver_type": lambda: PETSc.Mat.SolverType}
+
+
+def petsc_complaint(exc: PETSc.Error) -> str:
+    """PETSc's own complaint: the last line of its error stack, without the rank."""
+    lines = [s.split("] ", 1)[-1].strip() for s in str(exc).splitlines() if s.strip()]
+    return lines[-1] if lines else f"error code {exc.ierr}"
+
+
+def probe_option(name: str, value: object) -> str | None:
+    """PETSc's complaint about option ``name`` (without prefix) ``= value`` alone, or None: a SNES of a probe prefix
+    with only this option reads it with its KSP and line search, then hands its tolerances back to PETSc's checking
+    setters (``SNESSetFromOptions`` stores ``snes_max_it -5`` unchecked; the solve then fails without a word on
+    it). Not collective (a SNES of this process)."""
+    key = _PROBE + name
+    opts = PETSc.Options()
+    opts[key] = value
+    snes = PETSc.SNES().create(PETSc.COMM_SELF)
+    try:
+        snes.setOptionsPrefix(_PROBE)
+        snes.setFromOptions()
+        ksp = snes.getKSP()
+        ksp.setFromOptions()
+        snes.setTolerances(*snes.getTolerances())
+        ksp.setTolerances(*ksp.getTolerances())
+        return None
+    except PETSc.Error as exc:
+        return petsc_complaint(exc)
+    finally:
+        snes.destroy()
+        opts.delValue(key)
+
+
+def _is_number(value: object) -> bool:
+    try:
+        float(value)
+        return True
+    except (TypeError, ValueError):
+        return False
+
+
+def check_option_values(options: object) -> None:
+    """``ValueError`` naming the first of a caller's PETSc ``options`` (name without dash or prefix -> value) that
+    PETSc could not use, with the values it accepts: ``options`` not a dict; a name that is not a string of letters,
+    digits and underscores; a value :func:`value_problem` finds wrong."""
+    if options is None:
+        return
+    if not isinstance(options, Mapping):
+        raise ValueError(f"Solver options must be a dict of PETSc option names (without dash or prefix) to values, got "
+                         f"{type(options).__name__} {options!r}")
+    for name, value in options.items():
+        if not (isinstance(name, str) and re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name)):
+            raise ValueError(f"Solver option name {name!r}: accepted: a PETSc option name without dash or prefix, "
+                             "letters, digits and underscores (e.g. 'snes_rtol')")
+        if name in OWN_OPTIONS:
+            continue
+        complaint = value_problem(name, value)
+        if complaint is not None:
+            raise ValueError(f"Solver option {name} = {value!r}: {complaint}")
+
+
+def value_problem(name: str, value: object) -> str | None:
+    """What is wrong with PETSc option ``name`` (without dash or prefix) ``= value`` (None: a flag without a value),
+    with the values accepted, or None: a value other than a string, number, bool or None; a number that is not
+    finite; None for an option that takes a value; a value PETSc rejects on its own (:func:`probe_option`)."""
+    if value is not None and not isinstance(value, (str, bool, int, float)):
+        return f"accepted: a string, a number, a bool or None (a flag), got {type(value).__name__}"
+    if not isinstance(value, bool) and _is_number(value) and not math.isfinite(float(value)):
+        return "accepted: a finite number"
+    if value is None and (name.endswith(_VALUED) or (name in DEFAULT_OPTIONS and not isinstance(
+            DEFAULT_OPTIONS[name], bool))):
+        return "this option takes a value, none was given"
+    complaint = probe_option(name, value)
+    if complaint is not None and name in _TYPES and "Unable to find" in complaint:
+        kind = _TYPES[name]()
+        known = sorted(str(getattr(kind, k)) for k in dir(kind) if not k.startswith("_"))
+        complaint += f"; accepted: {', '.join(known)}"
+    return complaint
 
 
 def _library_option(name: str) -> bool:

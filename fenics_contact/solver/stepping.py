@@ -15,7 +15,7 @@ from ..compat import free_petsc_garbage, petsc_vec, release_free_memory
 from ..failure import cutback_helps
 from ..problem import ContactProblem
 from .newton import Newton
-from .options import ScopedOptions, solver_options
+from .options import ScopedOptions, check_option_values, solver_options
 from .predictor import PREDICTORS, Predictor
 from .record import (
     ConvergenceError,
@@ -87,7 +87,8 @@ class Solver:
     Args:
         problem: the :class:`ContactProblem`.
         prefix: the PETSc options prefix.
-        options: PETSc options (name -> value) on top of the defaults.
+        options: PETSc options (name without dash or prefix -> value) on top of the defaults; a value PETSc
+            cannot use is a ``ValueError`` naming the option (:func:`~.options.check_option_values`).
         augment_max: augmentations at most per load step (0: none).
         augment_tol: the augmentation's tolerance on ``||g_new - g_old||`` (length).
         max_cutbacks: step halvings at most per load step.
@@ -122,6 +123,7 @@ class Solver:
             raise ValueError(f"augment_tol must be > 0, got {augment_tol}")
         if max_cutbacks < 0:
             raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
+        check_option_values(options)
         self.problem, self.quiet, self.on_step = problem, quiet, on_step
         show_progress(not quiet)
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks

@@ -29,7 +29,7 @@ from fenics_contact import (
 from fenics_contact.app import cli
 from fenics_contact.app.checks import log_check, reference_check
 from fenics_contact.app.run import claimed
-from fenics_contact.app.scenes import add_scene_options, build, rings, scene_arguments
+from fenics_contact.app.scenes import SizeError, add_scene_options, build, rings, scene_arguments
 from fenics_contact.app.tables import write_table
 
 # Penalty parameters per unit E / c (the mesh is fixed relative to the radii, so K ~ E / h scales as E / c): the
@@ -90,6 +90,8 @@ def _compare(args, physics: dict, out: Path, comm: MPI.Comm, start: float) -> di
                                                   "ur_a_deviation", "ur_c_deviation", "points")})
                     row["newton"] = sum(r.newton_iterations for r in solver.records)
                     row["dofs"] = setup.dofs
+                except SizeError:  # the same for every option: the run's, not a row's
+                    raise
                 except Exception as exc:  # noqa: BLE001 (the table records what each option does)
                     row["error"] = f"{type(exc).__name__}: {str(exc).splitlines()[0][:120]}"
                 rows.append(row)

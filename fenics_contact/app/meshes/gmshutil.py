@@ -16,6 +16,7 @@ from mpi4py import MPI
 
 from ...compat import model_to_mesh
 from ...domain import NamedTags, physical_names
+from ...gmshmodel import prepare
 from ..memory import available_memory
 
 if TYPE_CHECKING:
@@ -125,6 +126,7 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = 
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NoPopup", 1)  # gmsh's questions (a very large mesh?) answered, never asked
         error, names = "", {}
         if comm.rank == 0:
             try:
@@ -133,6 +135,7 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = 
                 else:
                     build()
                 names = physical_names(gmsh)
+                prepare(gmsh, what, check=False)  # node tags 1..n, as dolfinx reads them
             except Exception as exc:  # noqa: BLE001 (gmsh raises bare Exception)
                 error = f"gmsh failed to mesh {what}: {exc}"
             finally:
@@ -185,6 +188,7 @@ def _mesh_in_child(build, what: str, key: str) -> Path:
             os.close(fd)
             gmsh.initialize()
             gmsh.option.setNumber("General.Terminal", 0)
+            gmsh.option.setNumber("General.NoPopup", 1)
             build()
             gmsh.option.setNumber("Mesh.Binary", 1)  # exact coordinates
             gmsh.write(str(partial))

@@ -13,6 +13,7 @@ import importlib
 import inspect
 import math
 import pkgutil
+import re
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -20,14 +21,15 @@ from typing import Callable, Sequence
 from dolfinx import fem
 from mpi4py import MPI
 
+from ...cells import MeshError
 from ...problem import ContactProblem, Stabilised
 from ...surface import Surface
-from ..cli import GIVEN  # Option.needs: the other option must be given (any value)
+from ..cli import GIVEN, UsageError  # GIVEN, Option.needs: the other option must be given (any value)
 from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
-           "Option", "GIVEN", "scene_options", "add_scene_options", "scene_arguments", "SizeError", "max_dofs",
-           "refuse_size"]
+           "Option", "GIVEN", "LIMIT", "unit", "scene_options", "add_scene_options", "scene_arguments", "SizeError",
+           "max_dofs", "log_dofs", "refuse_size", "refuse_fine", "refuse_count", "refuse_refined"]
 
 
 @dataclass
@@ -68,10 +70,27 @@ def build(name: str, **kwargs) -> Setup:
         raise ValueError(f"unknown scene {name!r}; accepted: {', '.join(scene_names())}")
     b = importlib.import_module(f"{__name__}.{name}").build
     start = time.perf_counter()
-    setup = b(**kwargs)
+    try:
+        setup = b(**kwargs)
+    except MeshError as exc:  # the user gave no mesh: the options that made it are at fault
+        raise _mesh_from_options(b, kwargs, exc) from None
     comm = setup.problem.comm
     setup.build_time_s = comm.allreduce(time.perf_counter() - start, op=MPI.MAX)
     return setup
+
+
+def _mesh_from_options(builder: Callable, kwargs: dict, exc: MeshError) -> UsageError:
+    """The error of a scene whose mesh, made from its options, has cells it cannot be solved on (``exc``): naming the
+    dimensional options given (those other than the builder's defaults), not asking to fix a mesh the user did not
+    give (a ``ValueError``; a bad command line for the demos)."""
+    defaults = numeric_parameters(builder)
+    options = scene_options(builder)
+    given = [f"{_flag(n)} {v:g}" for n, v in kwargs.items() if n in defaults and isinstance(v, (int, float))
+             and v != defaults[n] and unit(options[n]) is not None]
+    what = re.sub(r"^.*? has ", "", str(exc)).removesuffix(": fix the mesh")
+    return UsageError(f"the scene's mesh made from {', '.join(given) if given else 'its options'} has {what}: lengths "
+                      "that far apart (or a mesh that fine) are beyond floating point's resolution; give them closer "
+                      "to each other")
 
 
 def positive(**values: float | None) -> None:
@@ -122,6 +141,35 @@ class Option:
     excludes: str | None = None
     needs: tuple[str, object] | None = None
     below: tuple[str, ...] = ()
+
+
+# A scene's numeric options (a length, a stress, a force, a factor) lie within [1 / LIMIT, LIMIT] in magnitude: the
+# products of a few of them that a run forms (areas and volumes, a modulus times a volume, a penalty E / h) then stay
+# within floating point's range (1e308) and above its smallest normal number.
+LIMIT = 1e50
+_UNIT = re.compile(r"\((length|stress|force)[;), /]")
+
+
+def unit(option: Option) -> str | None:
+    """The unit an option's help states (``length``, ``stress``, ``force``), or None (dimensionless)."""
+    found = _UNIT.search(option.help)
+    return found.group(1) if found else None
+
+
+def _check_scales(options: dict[str, Option], args: argparse.Namespace) -> None:
+    """:class:`~fenics_contact.app.cli.UsageError` naming the first numeric option out of ``[1 / LIMIT, LIMIT]`` in
+    magnitude (overflow above, underflow below; 0 where its range allows it is not checked)."""
+    from ..cli import UsageError
+
+    for name, option in options.items():
+        v = getattr(args, name, None)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or v == 0 or 1 / LIMIT <= abs(v) <= LIMIT:
+            continue
+        what = "overflow" if abs(v) > LIMIT else "underflow"
+        kind = f"a {unit(option)}" if unit(option) else "a factor"
+        raise UsageError(f"{_flag(name)} {v:g}: {what}: {kind} beyond floating point's range for the scene's products "
+                         f"of it (areas, volumes, stiffnesses); accepted: {_flag(name)} of magnitude in "
+                         f"[{1 / LIMIT:g}, {LIMIT:g}]")
 
 
 def _option_type(range_: str | tuple[float, float]) -> Callable[[str], float]:
@@ -189,6 +237,8 @@ def add_scene_options(parser: argparse.ArgumentParser, builder: Callable, shared
             parser.requirements.append((name, *opt.needs))
         if hasattr(parser, "orders"):
             parser.orders.extend((name, other) for other in opt.below)
+    if hasattr(parser, "checks"):
+        parser.checks.append(lambda args: _check_scales(options, args))
     return names
 
 
@@ -209,10 +259,11 @@ def max_dofs(comm: MPI.Comm) -> tuple[float, str]:
     return total / BYTES_PER_DOF, phrase if comm.size == 1 else f"{comm.size} ranks x {phrase}"
 
 
-class SizeError(ValueError):
+class SizeError(UsageError):
     """A mesh the machine's memory cannot hold: the builder argument ``parameter`` (the demos' option
     ``--parameter``), its ``value``, ``reason`` (the estimate against the memory) and ``accepted`` (the values
-    that fit, e.g. ``"0 to 6"``)."""
+    that fit, e.g. ``"0 to 6"``). A ``ValueError``; the demos' option out of its range, a bad command line (exit
+    status 2), as a count beyond the memory is when parsed."""
 
     def __init__(self, parameter: str, value, reason: str, accepted: str):
         self.parameter, self.value, self.reason, self.accepted = parameter, value, reason, accepted
@@ -231,3 +282,40 @@ def refuse_size(parameter: str, value, log10_dofs: float, accepted: Callable[[fl
         f"1e{log10_dofs + math.log10(BYTES_PER_DOF) - 9:.0f} GB"
     raise SizeError(parameter, value, f"about {dofs} unknowns, at least {need} of memory, more than {phrase}",
                     accepted(math.log10(most)))
+
+
+def log_dofs(*terms: tuple[float, float, float]) -> float:
+    """``log10`` of a scene's lower estimate of its unknowns, ``sum(c (L / h)^d)`` over ``terms`` ``(c, L / h, d)``:
+    ``c`` unknowns per cell-sized cube of a zone of extent ``L`` meshed at size ``h`` in ``d`` dimensions (computed
+    in logarithms: no overflow at any size)."""
+    logs = [math.log10(c) + d * math.log10(ratio) for c, ratio, d in terms]
+    top = max(logs)
+    return top + math.log10(sum(10 ** (v - top) for v in logs))
+
+
+def refuse_fine(parameter: str, value: float, log10_dofs: float, power: float, comm: MPI.Comm) -> None:
+    """:func:`refuse_size` of a mesh size ``value`` (the builder argument ``parameter``) of which the unknowns, about
+    ``10**log10_dofs``, go as ``value**-power``: the accepted sizes are those from the one that fits. Collective."""
+    refuse_size(parameter, value, log10_dofs, lambda most: f">= {value * 10 ** ((log10_dofs - most) / power):.3g}",
+                comm)
+
+
+def refuse_count(parameter: str, value: int, log10_dofs: float, power: float, comm: MPI.Comm, low: int = 1) -> None:
+    """:func:`refuse_size` of a count of cells ``value`` (the builder argument ``parameter``) of which the unknowns,
+    about ``10**log10_dofs``, go as ``value**power``: the accepted counts are those up to the one that fits.
+    Collective."""
+    refuse_size(parameter, value, log10_dofs, lambda most: f"{low} to "
+                f"{max(low, math.floor(value * 10 ** ((most - log10_dofs) / power)))}", comm)
+
+
+def refuse_refined(parameter: str, size: float, refinement: int, log10_dofs: float, power: float, per_level: float,
+                   comm: MPI.Comm) -> None:
+    """:func:`refuse_size` of a mesh of size ``size`` (builder argument ``parameter``) refined ``refinement`` times,
+    about ``10**log10_dofs`` unknowns (``x 10**per_level`` per refinement, as ``size**-power``): the refinement is
+    named if there is one, else the size. Collective."""
+    if int(refinement) <= 0:
+        refuse_fine(parameter, size, log10_dofs, power, comm)
+        return
+    base = log10_dofs - per_level * int(refinement)
+    refuse_size("refinement", refinement, log10_dofs, lambda most: f"0 to {math.floor((most - base) / per_level)}"
+                if most >= base else f"none with {parameter} {size:g}", comm)

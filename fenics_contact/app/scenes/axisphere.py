@@ -29,7 +29,7 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import hertz_quarter_disk, two_half_disks
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_fine
 from .hertz import contact_half_width
 
 __all__ = ["R", "E", "NU", "APPROACH", "H_CONTACT", "DEFAULT_K", "PARTNERS", "BENCH", "BENCHES", "hertz_spheres",
@@ -113,6 +113,11 @@ def build(law: ContactLaw, quadrature: str = "nodal", steps: int = 1, comm: MPI.
     h = H_CONTACT * R if h_contact is None else h_contact
     width = CONTACT_WIDTH * R if contact_width is None else contact_width
     far = max(H_FAR * R if h_far is None else h_far, h)
+    # At least (width / h)^2 unknowns in the refined zone and (R / far)^2 in the rest of the quarter disk (x 3 at
+    # degree 2; x 2 with the partner sphere); 2.5 and 1.3 measured at the defaults
+    per = (3.0 if degree == 2 else 1.0) * (2.0 if sphere else 1.0)
+    refuse_fine("h_contact", h, log_dofs((per, width / h, 2)), 2, comm)
+    refuse_fine("h_far", far, log_dofs((per, R / far, 2)), 2, comm)
     if approach >= 0.5 * R:
         raise ValueError(f"approach must be below R / 2 = {0.5 * R:g}, got {approach!r}")
 

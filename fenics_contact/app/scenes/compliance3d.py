@@ -33,7 +33,7 @@ from ...laws import ContactLaw, ExactCoulomb, NormalCompliance
 from ...materials import LinearElastic
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
-from . import Option, Setup, nonnegative, poisson, positive
+from . import Option, Setup, SizeError, max_dofs, nonnegative, poisson, positive
 
 __all__ = [
     "LX", "LY", "H", "E", "NU", "PRESS", "DRAG", "C_N", "M_N", "MU", "OMEGA_T",
@@ -94,6 +94,12 @@ def build(law: ContactLaw | None = None, quadrature: str = "nodal", nx: int = 16
     for name, n in (("nx", nx), ("ny", ny), ("nz", nz), ("press_steps", press_steps), ("drag_steps", drag_steps)):
         if int(n) < 1:
             raise ValueError(f"compliance3d: {name} must be >= 1, got {n!r}")
+    dofs = 3.0 * (int(nx) + 1) * (int(ny) + 1) * (int(nz) + 1)
+    most, phrase = max_dofs(comm)
+    if dofs > most:  # the demos' --mesh NX NY NZ: the cells it asks for and the most that fit
+        raise SizeError("mesh", int(nx) * int(ny) * int(nz), f"{nx} x {ny} x {nz} cells, about {dofs:.2g} unknowns "
+                        f"(3 per vertex), more than {phrase} holds at 1 kB each",
+                        f"NX NY NZ of at most {most / 3:.2g} cells in all")
     msh, tags = half_box(comm, nx, ny, nz, lx, ly, height)
     V = function_space(msh, "Lagrange", 1, (3,))
     u = fem.Function(V, name="displacement")

@@ -37,6 +37,8 @@ Newton iterations (``P = 2512``, ``p0 = 208`` against Hertz's 199: the deviation
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from dolfinx import fem
 from dolfinx import mesh as dmesh
@@ -49,7 +51,7 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import two_half_disks
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_fine
 from .hertz import contact_half_width
 
 __all__ = [
@@ -126,6 +128,13 @@ def build(law_factory=None, law: ContactLaw | None = None, quadrature: str = "ga
         if law is None:
             raise ValueError("give law_factory (or law)")
         law_factory = lambda: law  # noqa: E731
+    # At least (contact_width / h_contact)^2 unknowns in a contact zone, (R / h_far)^2 in a disk and, where the size
+    # grows by grading per unit distance, (2 / grading^2) ln(1 + grading R / h_contact) (the cells of that annulus)
+    R_max = max(R_lower, R_upper)
+    refuse_fine("h_contact", h_contact, log_dofs((1.0, contact_width / h_contact, 2)), 2, comm)
+    refuse_fine("h_far", h_far, log_dofs((1.0, R_max / h_far, 2)), 2, comm)
+    refuse_fine("grading", grading, log_dofs((2 * math.log1p(min(grading * R_max, h_far) / h_contact), 1 / grading,
+                                              2)), 2, comm)
     mesh, _, facet_tags = two_half_disks(comm, R_lower, R_upper, h_contact, h_far, contact_width, overlap,
                                          grading, full=symmetry == "full")
     u, V = unknown(mesh, 1, law_factory())  # displacement, or (displacement, pressure) for method lagrange

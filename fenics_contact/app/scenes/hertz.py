@@ -206,7 +206,7 @@ OPTIONS = {
     "plate_depth": Option(f"meshed plate's depth (length; default: {PLATE_HALF_WIDTHS:g} contact half-widths a as "
                           f"--plate-width, at least {PLATE_SIZE[1]:g} R)", needs=("plate", "meshed")),
     "contact_width": Option(f"half-width of the refined zone at the contact, mesh size R / 400 within it (length; "
-                            f"default: {CONTACT_WIDTH:g} R)"),
+                            f"< --R; default: {CONTACT_WIDTH:g} R)", below=("R",)),
 }
 
 
@@ -266,6 +266,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, steps
     plate_size = (max(PLATE_SIZE[0] * R, least) if plate_width is None and plate == "meshed" else plate_width,
                   max(PLATE_SIZE[1] * R, least) if plate_depth is None and plate == "meshed" else plate_depth)
     contact_width = CONTACT_WIDTH * R if contact_width is None else contact_width
+    if not contact_width < R:  # a zone beyond the disk meshes all of it at the contact's size
+        raise ValueError(f"contact_width must be in (0, R = {R:g}), got {contact_width!r}")
     if plane not in PLANES:
         raise ValueError(f"plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:

@@ -52,7 +52,7 @@ from ...materials import Materials, NeoHookean
 from ...problem import ContactProblem, Dirichlet
 from ...twobody_friction import FrictionalTwoBodySurface
 from ..meshes.ironing import punch_on_block
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_fine
 
 __all__ = ["OPTIONS",
            "E", "NU", "STIFFNESS", "DEFAULT_K", "DEFAULT_OMEGA_T", "PREDICTOR", "IroningSurface", "build", "BENCH"]
@@ -165,6 +165,10 @@ def build(law: ContactLaw, E: float = E, nu: float = NU, stiffness: float = STIF
     ny = max(6, int(round(4 * math.log2(H / h))))  # graded layers: the top one about h thick
     h_flat = 2 * h if h_flat is None else h_flat
     h_arc = 0.25 * h if h_arc is None else h_arc
+    # At least 2 unknowns per block column and layer, per punch facet along its face (8 layers)
+    refuse_fine("h", h, log_dofs((2.0 * ny, (x1 - x0) / h, 1)), 1, comm)
+    refuse_fine("h_flat", h_flat, log_dofs((16.0, 2 * a / h_flat, 1)), 1, comm)
+    refuse_fine("h_arc", h_arc, log_dofs((16.0, 2 * r * th / h_arc, 1)), 1, comm)
     msh, cells, facets = punch_on_block(comm, x0, x1, H, h, ny, a, r, th, height, h_flat, h_arc, 8, 0.0,
                                         overlap=1e-9 * H)
     V = function_space(msh, "Lagrange", 1, (2,))

@@ -42,7 +42,7 @@ from ...laws import ContactLaw, ExactCoulomb
 from ...materials import LinearElastic
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.mindlin import disk_on_block
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_refined
 from .hertz import contact_half_width
 
 __all__ = ["OPTIONS", "build", "mindlin_c", "mindlin_traction", "check_loading", "stick_figures", "worst_ratio",
@@ -236,6 +236,9 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     H = 0.5 * R if height is None else height
     D = 0.5 * R if depth is None else depth
     h = (R / 600 if h_contact is None else h_contact) / 2 ** int(refinement)
+    # At least the refined zone's columns (0.18 R / h) times its rows (24 per refinement), 2 unknowns each
+    refuse_refined("h_contact", R / 600 if h_contact is None else h_contact, refinement,
+                   log_dofs((2.0 * 24 * 2 ** int(refinement), 0.18 * R / h, 1)), 1, 2 * math.log10(2.0), comm)
     mesh, cells, facets = disk_on_block(comm, R, L, H, D, h, w=0.09 * R, n_coarse=20, ny=24 * 2 ** int(refinement),
                                         overlap=1e-9 * R)
     u = fem.Function(_space(mesh), name="displacement")

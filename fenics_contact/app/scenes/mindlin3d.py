@@ -53,7 +53,7 @@ from ...materials import LinearElastic
 from ...problem import Dirichlet
 from ...solver import LINEAR_SOLVERS
 from ..meshes.mindlin3d import cap_on_block
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_fine, refuse_refined
 from .mindlin import ShearProblem, check_loading, stick_figures, worst_ratio
 from .sphere import FIT_INNER, hertz_fit
 
@@ -228,6 +228,10 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     h = contact_size(refinement, h_contact, R)
     cw = 0.1 * R if contact_width is None else contact_width
     hf = max(0.1 * R if h_far is None else h_far, h)
+    # At least 1.5 (cw / h)^3 unknowns in the refined zone (both bodies) and 0.5 L^2 D / hf^3 in the block
+    refuse_refined("h_contact", contact_size(0, h_contact, R), refinement, log_dofs((1.5, cw / h, 3)), 3,
+                   1.5 * math.log10(2.0), comm)
+    refuse_fine("h_far", hf, log_dofs((0.5, (L * L * D) ** (1 / 3) / hf, 3)), 3, comm)
     mesh, cells, facets = cap_on_block(comm, R, H, L, D, h, hf, cw, overlap=1e-9 * R)
     from ...compat import function_space
 

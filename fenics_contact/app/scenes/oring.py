@@ -62,7 +62,7 @@ from ...multipliers import unknown
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem
 from ..meshes import cord_section
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_fine
 from .hertz import approach_half_width, contact_half_width, hertz
 
 __all__ = ["D", "E", "NU", "DEFAULT_K", "OMEGA_T", "SQUEEZE", "PRESSURE", "PLANES", "SPRING", "WALLS", "BENCH",
@@ -187,6 +187,8 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     if w <= d:
         raise ValueError(f"gland_width must be above d = {d:g} (the cord fits the groove), got {w!r}")
     h = H * d if h is None else h
+    # At least 1.5 (d / h)^2 unknowns on the cord's disk (P1; 6 with P2): 1.8 and 7.6 measured at h = d / 16
+    refuse_fine("h", h, log_dofs((1.5 if degree == 1 else 6.0, d / h, 2)), 2, comm)
     rc = r_in + 0.5 * d
 
     mesh, _, facets = cord_section(comm, d, (rc, 0.0), h, pressure_arc)

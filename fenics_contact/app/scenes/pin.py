@@ -62,7 +62,7 @@ from ...materials import PLANES, LinearElastic
 from ...obstacles import Cylinder
 from ...problem import Dirichlet
 from ..meshes import pin_plate
-from . import Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_size
+from . import Option, Setup, Stabilised, nonnegative, poisson, positive, refuse_refined
 
 __all__ = [
     "R", "HALF_WIDTH", "BELOW", "ABOVE", "E", "NU", "P0", "H_CONTACT", "STABILISATION", "DEFAULT_K", "LOADED_FORCE",
@@ -165,10 +165,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", refinement: int = 0, h_con
     # At least (2 pi R band) / h^2 unknowns in the band of size h around the hole (2.0 x that at refinement 1,
     # 1.6 at 2: measured), band = R / 10
     zone = math.log10(2 * math.pi * R * (R / 10) / h_contact**2)
-    refuse_size("refinement", refinement, zone + 2 * math.log10(2) * int(refinement),
-                lambda most: f"0 to {math.floor((most - zone) / (2 * math.log10(2)))}"
-                if most >= zone else f"none with h_contact {h_contact:g} (it fits from "
-                f"{h_contact * 10 ** ((zone - most) / 2):.3g})", comm)
+    refuse_refined("h_contact", h_contact, refinement, zone + 2 * math.log10(2) * int(refinement), 2,
+                   2 * math.log10(2), comm)
     h = h_contact / 2**refinement
     mesh, _, facet_tags = pin_plate(comm, R, half_width, below, above, h_contact=h, h_far=R / 2, band=R / 10)
     V = function_space(mesh, "Lagrange", 1, (2,))

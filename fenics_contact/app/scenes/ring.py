@@ -26,6 +26,8 @@ tributary length.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
@@ -37,7 +39,7 @@ from ...materials import PLANES, LinearElastic
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import ring_quarter
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_count
 
 __all__ = [
     "R_OUT", "R_IN", "E", "NU", "APPROACH", "K", "PAPER_PENETRATION", "PAPER_RESIDUAL_6", "build", "VARIANTS", "BENCH",
@@ -73,6 +75,9 @@ def build(law: ContactLaw, quadrature: str = "nodal", n_theta: int = 44, n_r: in
     poisson(nu=nu)
     if not R_in < R_out:
         raise ValueError(f"ring: R_in must be < R_out, got R_in = {R_in}, R_out = {R_out}")
+    # 2 (n_theta + 1) (n_r + 1) unknowns: the larger count is refused, the other kept
+    many = log_dofs((2.0, math.sqrt((int(n_theta) + 1) * (int(n_r) + 1)), 2))
+    refuse_count(*(("n_theta", n_theta) if n_theta >= n_r else ("n_r", n_r)), many, 1, comm)
     mesh, _, facet_tags = ring_quarter(comm, R_out, R_in, n_theta, n_r, quadrilateral)
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")

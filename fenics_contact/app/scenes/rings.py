@@ -94,6 +94,8 @@ shrinks by 0.7 %), ``point_table(kind="nominal")``.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import ufl
 from dolfinx import fem
@@ -107,7 +109,7 @@ from ...materials import LinearElastic
 from ...multipliers import unknown
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.rings import concentric_rings
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_count
 
 __all__ = [
     "A", "B", "C", "E_DEFAULT", "NU_DEFAULT", "Q_DEFAULT", "PLANES", "RADIUS", "lame_pressure", "lame_displacements",
@@ -222,6 +224,12 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     multipliers = isinstance(first, LagrangeMultiplier)
     if n_outer is None:
         n_outer = max(3 * int(n) // 4, 2)
+    # Triangles of the interface elements' size h = pi b / (2 n) over both quarter rings: at least 1.5 unknowns per
+    # h^2 (x 4 at P2)
+    per = 1.5 if degree == 1 else 6.0
+    for name, count in (("n", n), ("n_outer", n_outer)):
+        refuse_count(name, count, log_dofs((per, math.sqrt(math.pi / 4 * (c * c - a * a)) / (math.pi * b / (2 * int(
+            count))), 2)), 2, comm, low=2)
     mesh, cell_tags, facet_tags = concentric_rings(comm, a, b, c, int(n), int(n_outer), order=degree)
     u, V = unknown(mesh, degree, first)
     material = RingsElastic(mesh, cell_tags, E, nu, plane)  # validates E and nu

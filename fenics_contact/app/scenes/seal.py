@@ -56,6 +56,8 @@ minimum along it (3-8 iterations).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from dolfinx import fem
 from dolfinx import mesh as dmesh
@@ -68,7 +70,7 @@ from ...materials import PLANES, NeoHookean
 from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes import seal_s_geometry, seal_s_section, seal_section, seal_wave_section
-from . import Option, Setup, poisson, positive
+from . import Option, Setup, log_dofs, poisson, positive, refuse_fine
 
 __all__ = [
     "E", "NU", "R_OUT", "R_IN", "GAP", "K_HAT", "F_HAT", "SOLVER_OPTIONS", "PREDICTOR", "SHAPES", "LOADS", "build",
@@ -113,6 +115,8 @@ def build(law: ContactLaw, quadrature: str = "nodal", h: float = 0.5, loads: lis
     if shape not in SHAPES:
         raise ValueError(f"seal shape must be one of {', '.join(map(repr, SHAPES))}, got {shape!r}")
     half = shape != "S"
+    # At least 1.5 unknowns per cell of a half arc of the section: (pi R_in / h) x ((R_out - R_in) / h)
+    refuse_fine("h", h, log_dofs((1.5, math.sqrt(math.pi * R_in * (R_out - R_in)) / h, 2)), 2, comm)
     mesh, _, facet_tags = SHAPES[shape](comm, h, R_out, R_in, plate_distance)
     V = function_space(mesh, "Lagrange", 1, (2,))
     u = fem.Function(V, name="displacement")

@@ -118,7 +118,7 @@ from ...obstacles import Cylinder
 from ...problem import ContactProblem, Dirichlet
 from ...projection import SurfaceProjector
 from ..meshes import sheet_over_cylinder
-from . import Option, Setup, positive
+from . import Option, Setup, log_dofs, positive, refuse_count
 
 __all__ = [
     "R", "THICKNESS", "LMBDA", "MU", "LEG", "PULL", "R_IN", "RATIO", "RADIUS", "CYLINDERS", "arc_length",
@@ -197,6 +197,9 @@ def build(law: ContactLaw, quadrature: str = "simpson", n_arc: int = 24, n_thick
         passes = "one" if two_point else "two"
     if n_cyl is None:
         n_cyl = max(3 * int(n_arc) // 4, 1)
+    # 9-node quadrilaterals: at least 5 unknowns per cell of the sheet's arc, legs and (n_cyl per quarter) the cylinder
+    cells = (int(n_arc) + int(n_leg)) * int(n_thick) + (4 * int(n_cyl) * int(n_rad) if deformable else 0)
+    refuse_count("n_arc", n_arc, log_dofs((5.0, cells, 1)), 1, comm)
     mesh, cell_tags, facet_tags = sheet_over_cylinder(comm, R, thickness, leg, n_arc, n_thick, n_leg, order=2,
                                                       cylinder=(R_in, n_cyl, n_rad) if deformable else None)
     u, V = unknown(mesh, 2, law)
