@@ -172,13 +172,21 @@ def kept_sections(previous: str, computed: Sequence[str]) -> dict[str, list[str]
         for title in titles if key not in computed else ():
             if title not in sections:
                 continue
-            body = list(sections[title])
-            while body and not body[0].strip():
-                body.pop(0)
+            body = _strip(sections[title])
             if run is not None and not (body and body[0].startswith("Measured on ")):
                 body = [run, "", *body]
-            kept[title] = ["", *body, ""]
+            kept[title] = body
     return kept
+
+
+def _strip(lines: Sequence[str]) -> list[str]:
+    """``lines`` without the blank lines they start and end with."""
+    lines = list(lines)
+    while lines and not lines[0].strip():
+        lines.pop(0)
+    while lines and not lines[-1].strip():
+        lines.pop()
+    return lines
 
 
 def add_sections(page: str, kept: dict[str, list[str]]) -> str:
@@ -193,11 +201,9 @@ def add_sections(page: str, kept: dict[str, list[str]]) -> str:
         titles = list(merged)
         at = next((i for i, t in enumerate(titles) if rank.get(t, -1) > rank[title]), len(titles))
         merged = {t: merged[t] for t in titles[:at]} | {title: body} | {t: merged[t] for t in titles[at:]}
-    lines = [*head]
+    lines = [*_strip(head), ""]
     for title, body in merged.items():
-        if lines and lines[-1].strip():
-            lines.append("")
-        lines += [f"## {title}", *body]
+        lines += [f"## {title}", "", *_strip(body), ""]
     return "\n".join(lines).rstrip() + "\n"
 
 
