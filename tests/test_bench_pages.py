@@ -250,3 +250,30 @@ def test_a_rewritten_page_keeps_the_sections_its_run_did_not_compute(tmp_path):
     assert old_run not in hertz and reduction_run in hertz  # the model reduction still kept
     index = (out / "index.md").read_text()
     assert old_run not in index and reduction_run in index and index.count("| old |") == 1
+
+
+@serial
+def test_a_run_without_a_part_leaves_an_earlier_runs_results_of_it_off_the_page(tmp_path):
+    """Results of an earlier run in the same folder (a stability map, findings) are not the new run's: a sweep
+    without the stability map (``parts`` ``sweep``) keeps the previous page's stability section, not the folder's
+    older one; a run of the model-reduction rows alone keeps the page's findings under their own run."""
+    results, out = tmp_path / "bench", tmp_path / "docs"
+    _fixture(results)
+    (results / "hertz_stability.md").write_text("earlier stability table\n")
+    (results / "hertz_stability.png").write_bytes(b"earlier")
+    bench_pages.write_pages(results, out)  # the fixture's run (every part): its stability map
+    first = (out / "hertz.md").read_text()
+    assert "earlier stability table" in first and (out / "hertz_stability.png").read_bytes() == b"earlier"
+    (out / "hertz.md").write_text(first.replace("earlier stability table", "the page's stability table"))
+    main = run_record.record_run(results, ["--quick", "--main"], ["hertz"], ["sweep"])
+    bench_pages.write_pages(results, out, add=True)
+    hertz = (out / "hertz.md").read_text()
+    assert "the page's stability table" in hertz and "earlier stability table" not in hertz
+    assert hertz.index(main["command"]) < hertz.index("## Fastest run") < hertz.index("## Stability over")
+    assert (out / "hertz_stability.png").read_bytes() == b"earlier"  # the kept section's chart
+    (results / "hertz_reduction.md").write_text("\n".join([*bench.REDUCTION_HEADER, "| hertz: (used) | 1 | new |"]))
+    reduction = run_record.record_run(results, ["--reduction-only", "--scene", "hertz"], ["hertz"], ["reduction"])
+    bench_pages.write_pages(results, out, add=True)
+    page = (out / "hertz.md").read_text()
+    assert page.startswith(hertz.split("## ")[0]) and reduction["command"] not in page.split("## ")[0]
+    assert "| new |" in page[page.index(reduction["command"]):] and "the page's stability table" in page

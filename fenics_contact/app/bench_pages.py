@@ -30,8 +30,8 @@ from typing import Sequence
 from . import bench
 from .run_record import read_runs
 
-__all__ = ["header", "time_split", "reduction_section", "scene_page", "OPTIONAL", "kept_sections", "add_sections",
-           "demo_checks", "write_index", "write_pages", "main"]
+__all__ = ["run_parts", "header", "time_split", "reduction_section", "scene_page", "OPTIONAL", "kept_sections",
+           "add_sections", "demo_checks", "write_index", "write_pages", "main"]
 
 CHARTS = ("pareto", "dofs", "iterations", "stability", "stability_accuracy", "locking")
 CHART_TITLES = {"pareto": "Error against solver time", "dofs": "Error against dofs",
@@ -43,9 +43,17 @@ STABILITY, LOCKING, REDUCTION = ("Stability over the parameter and the load step
 # (``<scene>_<key>.md``): its section and its charts' sections.
 OPTIONAL = {"stability": (STABILITY, CHART_TITLES["stability"], CHART_TITLES["stability_accuracy"]),
             "locking": (LOCKING, CHART_TITLES["locking"]), "reduction": (REDUCTION,)}
+CHART_PARTS = {"pareto": "sweep", "dofs": "sweep", "iterations": "sweep", "stability": "stability",
+               "stability_accuracy": "stability", "locking": "locking"}  # the part of a run that draws each chart
 # The order of a page's sections (scene_page's)
 ORDER = ("Fastest run of each method", "Where the time goes", STABILITY, LOCKING, REDUCTION,
          *(CHART_TITLES[c] for c in CHARTS))
+
+
+def run_parts(run: dict) -> list[str]:
+    """The parts of its scenes' results that ``run`` computed (``sweep`` and the keys of ``OPTIONAL``; a run
+    recorded without them: every part)."""
+    return list(run.get("parts", ["sweep", *OPTIONAL]))
 
 
 def header(run: dict) -> str:
@@ -127,17 +135,23 @@ def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
     if error.exists():
         last = error.read_text().strip().splitlines()[-1:] or ["(no message)"]
         lines += [f"**This scene's run failed** (`{last[0]}`): the sections below are what it wrote before.", ""]
-    lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
-    split = time_split(bench.read_rows(results / f"{scene}.csv")) if (results / f"{scene}.csv").exists() else ""
-    if split:
-        lines += ["## Where the time goes", "", "The fastest converged run of each method and quadrature; times in s.",
-                  "", split]
-    lines += _section(STABILITY, results / f"{scene}_stability.md")
-    lines += _section(LOCKING, results / f"{scene}_locking.md")
-    lines += reduction_section(scene, results, out)
+    parts = run_parts(run)  # the results of an earlier run in the folder are not this page's
+    if "sweep" in parts:
+        lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
+        csv = results / f"{scene}.csv"
+        split = time_split(bench.read_rows(csv)) if csv.exists() else ""
+        if split:
+            lines += ["## Where the time goes", "",
+                      "The fastest converged run of each method and quadrature; times in s.", "", split]
+    if "stability" in parts:
+        lines += _section(STABILITY, results / f"{scene}_stability.md")
+    if "locking" in parts:
+        lines += _section(LOCKING, results / f"{scene}_locking.md")
+    if "reduction" in parts:
+        lines += reduction_section(scene, results, out)
     for chart in CHARTS:
         png = results / f"{scene}_{chart}.png"
-        if png.exists():
+        if png.exists() and CHART_PARTS[chart] in parts:
             shutil.copyfile(png, out / png.name)
             lines += [f"## {CHART_TITLES[chart]}", "", f"![{scene}: {CHART_TITLES[chart]}]({png.name})", ""]
     return "\n".join(lines).rstrip() + "\n"
@@ -268,7 +282,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     def held(suffix: str) -> list[str]:
         return sorted(n for n in (p.name[: -len(suffix)] for p in results.glob(f"*{suffix}")) if n in by_scene)
 
-    scenes, reduced = held("_findings.md"), held("_reduction.md")
+    scenes = [n for n in held("_findings.md") if "sweep" in run_parts(by_scene[n])]
+    reduced = [n for n in held("_reduction.md") if "reduction" in run_parts(by_scene[n])]
     if not scenes and not (add and reduced):
         raise ValueError(f"{results} holds no <scene>_findings.md of a recorded run: no benchmark results")
     out.mkdir(parents=True, exist_ok=True)
@@ -279,7 +294,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     pages = []
     for scene in scenes:
         page = out / f"{scene}.md"
-        computed = [key for key in OPTIONAL if (results / f"{scene}_{key}.md").exists()]
+        computed = [key for key in OPTIONAL if key in run_parts(by_scene[scene])
+                    and (results / f"{scene}_{key}.md").exists()]
         kept = kept_sections(page.read_text(), computed) if add and page.exists() else {}
         shown = set(_images([line for body in kept.values() for line in body]))
         for chart in (*CHARTS, "reduction"):  # an earlier page's charts that this run may not draw, unless kept

@@ -56,15 +56,17 @@ def _commit(root: Path) -> str:
     return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else "unknown"
 
 
-def record_run(out: str | Path, argv: Sequence[str], scenes: Sequence[str]) -> dict:
+def record_run(out: str | Path, argv: Sequence[str], scenes: Sequence[str],
+               parts: Sequence[str] | None = None) -> dict:
     """Add this run to ``<out>/run.json`` (the runs whose results are in ``out``): this machine, the date (UTC),
     the commit of the package's checkout, the command ``python demos/bench.py <argv>``, the load average at the
-    start and the ``scenes`` it runs; an earlier run keeps only the scenes this one does not rerun. Returns the
-    new run's record."""
+    start, the ``scenes`` it runs and, if given, the ``parts`` of their results it computes (``sweep``,
+    ``stability``, ``locking``, ``reduction``: the others in ``out`` are an earlier run's); an earlier run keeps
+    only the scenes this one does not rerun. Returns the new run's record."""
     run = {"date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
            "commit": _commit(Path(__file__).resolve().parents[2]),
            "command": " ".join(["python demos/bench.py", *argv]), "machine": machine(),
-           "load_average": _load_average(), "scenes": list(scenes)}
+           "load_average": _load_average(), "scenes": list(scenes), **({} if parts is None else {"parts": list(parts)})}
     path = Path(out) / RUN_FILE
     earlier = json.loads(path.read_text())["runs"] if path.exists() else []
     kept = [dict(r, scenes=[s for s in r["scenes"] if s not in run["scenes"]]) for r in earlier]
