@@ -5,7 +5,8 @@
     python -m fenics_contact.app.bench_pages results/bench docs/bench --add   # a run of some scenes only
 
 Reads what :mod:`fenics_contact.app.bench` writes into its output folder (``run.json``: the machine, date,
-commit and command of the run, :mod:`~fenics_contact.app.run_record`; per scene ``<scene>_findings.md``,
+commit and command of each run and the parts of its scenes' results it computed,
+:mod:`~fenics_contact.app.run_record`; per scene ``<scene>_findings.md``,
 ``<scene>_stability.md``, ``<scene>_locking.md``, ``<scene>_reduction.md`` and the charts ``<scene>_*.png``)
 and, with ``--demos``, the ``<demo>/summary.json`` of every demo in that folder (their checks against the scenes'
 references). Writes ``<scene>.md`` with the charts copied next to them and ``index.md`` (the runs' headers, a
@@ -344,7 +345,8 @@ def main(argv: Sequence[str] | None = None) -> None:
     p.add_argument("out", help="the folder of the pages (docs/bench)")
     p.add_argument("--demos", default=None, help="a folder of demo results (summary.json) to tabulate")
     p.add_argument("--add", action="store_true",
-                   help="keep the pages of scenes these results do not hold (a run of some scenes only)")
+                   help="keep the pages of scenes these results do not hold and the sections of a rewritten page "
+                        "that the run did not compute (a run of some scenes or parts only: make bench)")
     args = p.parse_args(argv)
     try:
         pages = write_pages(args.results, args.out, args.demos, add=args.add)
