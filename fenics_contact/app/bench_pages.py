@@ -111,23 +111,6 @@ def reduction_section(scene: str, results: Path, out: Path, run: dict | None = N
     return lines
 
 
-def _replace_reduction(page: str, section: list[str]) -> str:
-    """``page`` with its model-reduction section replaced by ``section`` (or, without one, inserted before the
-    first chart)."""
-    lines = page.rstrip().splitlines()
-    heads = [i for i, line in enumerate(lines) if line.startswith("## ")]
-    if "## Model reduction" in lines:
-        start = lines.index("## Model reduction")
-        end = next((i for i in heads if i > start), len(lines))
-    else:
-        charts = {f"## {t}" for t in CHART_TITLES.values()}
-        start = end = next((i for i in heads if lines[i] in charts), len(lines))
-        if start == len(lines):
-            lines.append("")
-            start = end = len(lines)
-    return "\n".join([*lines[:start], *section, *lines[end:]]).rstrip() + "\n"
-
-
 def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
     """The page of one scene: findings, time split (two bodies), stability summary, locking, model reduction and charts
     (copied into ``out``)."""
@@ -204,14 +187,16 @@ def _strip(lines: Sequence[str]) -> list[str]:
     return lines
 
 
-def add_sections(page: str, kept: dict[str, list[str]]) -> str:
-    """``page`` with the sections ``kept`` (by title, from :func:`kept_sections`) put in their place in ``ORDER``;
-    a section ``page`` has already is its own."""
+def add_sections(page: str, kept: dict[str, list[str]], replace: bool = False) -> str:
+    """``page`` with the sections ``kept`` (by title, their lines after the title; :func:`kept_sections`) put in
+    their place in ``ORDER``; a section ``page`` has already is its own, or with ``replace`` ``kept``'s."""
     head, sections = _split(page)
     rank = {title: i for i, title in enumerate(ORDER)}
     merged = dict(sections)
     for title, body in kept.items():
         if title in merged:
+            if replace:
+                merged[title] = body
             continue
         titles = list(merged)
         at = next((i for i, t in enumerate(titles) if rank.get(t, -1) > rank[title]), len(titles))
@@ -307,8 +292,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     for scene in (n for n in reduced if n not in scenes):  # the model-reduction rows alone were rerun
         page = out / f"{scene}.md"
         if page.exists():
-            page.write_text(_replace_reduction(page.read_text(), reduction_section(scene, results, out,
-                                                                                   by_scene[scene])))
+            section = reduction_section(scene, results, out, by_scene[scene])  # "## Model reduction", its lines
+            page.write_text(add_sections(page.read_text(), {REDUCTION: section[1:]}, replace=True))
         else:
             page.write_text(scene_page(scene, results, by_scene[scene], out))
         pages.append(page)
