@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Sequence
 
 from . import bench
-from .run_record import read_runs
+from .run_record import PARTS, read_runs
 
 __all__ = ["run_parts", "header", "time_split", "reduction_section", "scene_page", "OPTIONAL", "kept_sections",
            "add_sections", "demo_checks", "write_index", "write_pages", "main"]
@@ -52,9 +52,9 @@ ORDER = ("Fastest run of each method", "Where the time goes", STABILITY, LOCKING
 
 
 def run_parts(run: dict) -> list[str]:
-    """The parts of its scenes' results that ``run`` computed (``sweep`` and the keys of ``OPTIONAL``; a run
-    recorded without them: every part)."""
-    return list(run.get("parts", ["sweep", *OPTIONAL]))
+    """The parts of its scenes' results (of ``PARTS``) that ``run`` computed (a run recorded without them: every
+    part)."""
+    return list(run.get("parts", PARTS))
 
 
 def header(run: dict) -> str:

@@ -23,7 +23,7 @@ from mpi4py import MPI
 from . import bench
 from .cli import EXIT_ERROR
 
-__all__ = ["MAIN_SCENES", "ERROR_FILE", "cpu_seconds", "time_table", "run_parts", "sweep_scene", "main"]
+__all__ = ["MAIN_SCENES", "ERROR_FILE", "cpu_seconds", "time_table", "parts_computed", "sweep_scene", "main"]
 
 # make bench: every method's speed against accuracy on the main scenes, in minutes: the rigid plane (hertz: penalty,
 # cross, auglag, nitsche, SNES VI), two deformable bodies (hertz_twobody: lagrange, exact coulomb, the three
@@ -51,9 +51,9 @@ def time_table(times: Sequence[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def run_parts(args) -> list[str]:
-    """The parts of a scene's results (``sweep``, ``stability``, ``locking``, ``reduction``) that the command line
-    ``args`` computes, where the scene has them (the benchmark pages keep the others from their previous page)."""
+def parts_computed(args) -> list[str]:
+    """The parts of a scene's results (``run_record.PARTS``) that the command line ``args`` computes, where the
+    scene has them (the benchmark pages keep the others from their previous page)."""
     if args.reduction_only:
         return ["reduction"]
     skipped = {"stability": args.no_stability, "locking": args.no_locking, "reduction": args.no_reduction}
@@ -146,7 +146,7 @@ def main(argv: Sequence[str]) -> None:
     if not args.charts_only:  # the machine, date, commit and command of the results (the benchmark pages' header)
         from .run_record import record_run
 
-        record_run(out, argv, scenes, run_parts(args))
+        record_run(out, argv, scenes, parts_computed(args))
     reduced: dict[str, str] = {}  # model-reduction rows per scene, one table at the end
     times = []
     for scene in scenes:
