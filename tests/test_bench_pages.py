@@ -190,7 +190,8 @@ def test_added_reduction_rows_replace_that_section_and_keep_other_pages(tmp_path
 @serial
 def test_a_rewritten_page_drops_the_charts_its_run_did_not_draw(tmp_path):
     """``--add`` (make bench: the main scenes' pages rewritten, the others kept): a rewritten scene's charts are
-    this run's (an earlier stability map of it is gone); another scene's, whose name starts alike, are kept."""
+    this run's or its previous page's kept sections' (a stability map no page shows is gone); another scene's,
+    whose name starts alike, are kept."""
     results, out = tmp_path / "bench", tmp_path / "docs"
     _fixture(results)
     out.mkdir()
@@ -201,3 +202,78 @@ def test_a_rewritten_page_drops_the_charts_its_run_did_not_draw(tmp_path):
     assert not (out / "hertz_stability.png").exists() and "stability" not in (out / "hertz.md").read_text()
     assert (out / "hertz_pareto.png").read_bytes() == (results / "hertz_pareto.png").read_bytes()
     assert (out / "hertz_twobody_pareto.png").read_bytes() == b"old" and (out / "hertz_twobody.md").exists()
+
+
+@serial
+def test_a_rewritten_page_keeps_the_sections_its_run_did_not_compute(tmp_path):
+    """``--add`` from a run without the stability map and model reduction (make bench): the previous page's
+    stability section and charts and its model-reduction rows are kept, each headed by the run that measured them,
+    and the index keeps their rows and headers; a run with the stability map replaces that section, and the index
+    drops the header of a run that no page section comes from any more."""
+    results, out = tmp_path / "bench", tmp_path / "docs"
+    _fixture(results)
+    out.mkdir()
+    old_run = ("Measured on somewhere, 2 cores, 1 GB memory, Linux; 2026-01-01 00:00 UTC; commit `abc`; "
+               "command `python demos/bench.py --quick --scene hertz`.\n")
+    reduction_run = old_run.replace("00:00", "01:00").replace("--quick --scene hertz", "--reduction-only")
+    old_rows = "\n".join([*bench.REDUCTION_HEADER, "| hertz: quarter disk (used) | 3990 | old |"])
+    (out / "hertz.md").write_text(
+        f"# hertz\n\n{old_run}\n## Fastest run of each method\n\nold findings\n\n"
+        "## Stability over the parameter and the load steps\n\nold stability table\n\n"
+        f"## Model reduction\n\n{reduction_run}\n{old_rows}\n\n![hertz: model reduction](hertz_reduction.png)\n\n"
+        "## Error against solver time\n\n![hertz: Error against solver time](hertz_pareto.png)\n\n"
+        "## Stability map\n\n![hertz: Stability map](hertz_stability.png)\n")
+    for chart in ("pareto", "stability", "reduction"):
+        (out / f"hertz_{chart}.png").write_bytes(b"old")
+    bench_pages.write_pages(results, out, add=True)  # the fixture's run: no stability map, no model reduction
+    [run] = run_record.read_runs(results)
+    hertz = (out / "hertz.md").read_text()
+    titles = re.findall(r"^## (.+)$", hertz, flags=re.M)
+    assert titles == ["Fastest run of each method", "Stability over the parameter and the load steps",
+                      "Model reduction", "Error against solver time", "Stability map"], titles
+    assert "old findings" not in hertz and hertz.index(run["command"]) < hertz.index("## Fastest run")
+    stability = hertz[hertz.index("## Stability over"):hertz.index("## Model reduction")]
+    assert old_run in stability and "old stability table" in stability
+    reduction = hertz[hertz.index("## Model reduction"):hertz.index("## Error against")]
+    assert reduction_run in reduction and old_run not in reduction and reduction.count("| old |") == 1
+    assert old_run in hertz[hertz.index("## Stability map"):]
+    assert (out / "hertz_stability.png").read_bytes() == b"old" == (out / "hertz_reduction.png").read_bytes()
+    assert (out / "hertz_pareto.png").read_bytes() == (results / "hertz_pareto.png").read_bytes()
+    index = (out / "index.md").read_text()
+    assert index.count("| old |") == 1 and all(h in index for h in (old_run, reduction_run, run["command"]))
+
+    (results / "hertz_stability.md").write_text("new stability table\n")  # a run that computed the stability map
+    bench_pages.write_pages(results, out, add=True)
+    hertz = (out / "hertz.md").read_text()
+    assert "new stability table" in hertz and "old stability table" not in hertz
+    assert "## Stability map" not in hertz and not (out / "hertz_stability.png").exists()  # this run drew none
+    assert old_run not in hertz and reduction_run in hertz  # the model reduction still kept
+    index = (out / "index.md").read_text()
+    assert old_run not in index and reduction_run in index and index.count("| old |") == 1
+
+
+@serial
+def test_a_run_without_a_part_leaves_an_earlier_runs_results_of_it_off_the_page(tmp_path):
+    """Results of an earlier run in the same folder (a stability map, findings) are not the new run's: a sweep
+    without the stability map (``parts`` ``sweep``) keeps the previous page's stability section, not the folder's
+    older one; a run of the model-reduction rows alone keeps the page's findings under their own run."""
+    results, out = tmp_path / "bench", tmp_path / "docs"
+    _fixture(results)
+    (results / "hertz_stability.md").write_text("earlier stability table\n")
+    (results / "hertz_stability.png").write_bytes(b"earlier")
+    bench_pages.write_pages(results, out)  # the fixture's run (every part): its stability map
+    first = (out / "hertz.md").read_text()
+    assert "earlier stability table" in first and (out / "hertz_stability.png").read_bytes() == b"earlier"
+    (out / "hertz.md").write_text(first.replace("earlier stability table", "the page's stability table"))
+    main = run_record.record_run(results, ["--quick", "--main"], ["hertz"], ["sweep"])
+    bench_pages.write_pages(results, out, add=True)
+    hertz = (out / "hertz.md").read_text()
+    assert "the page's stability table" in hertz and "earlier stability table" not in hertz
+    assert hertz.index(main["command"]) < hertz.index("## Fastest run") < hertz.index("## Stability over")
+    assert (out / "hertz_stability.png").read_bytes() == b"earlier"  # the kept section's chart
+    (results / "hertz_reduction.md").write_text("\n".join([*bench.REDUCTION_HEADER, "| hertz: (used) | 1 | new |"]))
+    reduction = run_record.record_run(results, ["--reduction-only", "--scene", "hertz"], ["hertz"], ["reduction"])
+    bench_pages.write_pages(results, out, add=True)
+    page = (out / "hertz.md").read_text()
+    assert page.startswith(hertz.split("## ")[0]) and reduction["command"] not in page.split("## ")[0]
+    assert "| new |" in page[page.index(reduction["command"]):] and "the page's stability table" in page

@@ -8,7 +8,7 @@ import pytest
 from mpi4py import MPI
 
 from fenics_contact import methods
-from fenics_contact.app import bench, bench_pages, bench_run
+from fenics_contact.app import bench, bench_pages, bench_run, run_record
 from fenics_contact.app.cli import EXIT_ERROR
 
 
@@ -110,3 +110,15 @@ def test_time_table_adds_up():
     lines = bench_run.time_table(times).splitlines()
     assert lines[2] == "| hertz | 30 | 1 | 100 | 90 | done |"
     assert lines[-1] == "| total | 36 | 1 | 120 | 108 | 1 failed |"
+
+
+def test_the_run_record_names_the_parts_it_computes(elsewhere):
+    """``make bench`` (``--main``) records that its scenes' results are the sweep alone (the pages keep the
+    stability maps, locking and model reduction of an earlier run); the other command lines their parts."""
+    bench.main(["--scene", "slab", "--quick", "--main", "--quiet", "--out", "b"])
+    [run] = run_record.read_runs(elsewhere / "b")
+    assert run["scenes"] == ["slab"] and run["parts"] == ["sweep"]
+    parse = bench_run._parser().parse_args
+    assert bench_run.parts_computed(parse(["--quick"])) == list(run_record.PARTS)
+    assert bench_run.parts_computed(parse(["--no-locking", "--no-reduction"])) == ["sweep", "stability"]
+    assert bench_run.parts_computed(parse(["--reduction-only"])) == ["reduction"]

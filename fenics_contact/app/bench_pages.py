@@ -5,15 +5,18 @@
     python -m fenics_contact.app.bench_pages results/bench docs/bench --add   # a run of some scenes only
 
 Reads what :mod:`fenics_contact.app.bench` writes into its output folder (``run.json``: the machine, date,
-commit and command of the run, :mod:`~fenics_contact.app.run_record`; per scene ``<scene>_findings.md``,
+commit and command of each run and the parts of its scenes' results it computed,
+:mod:`~fenics_contact.app.run_record`; per scene ``<scene>_findings.md``,
 ``<scene>_stability.md``, ``<scene>_locking.md``, ``<scene>_reduction.md`` and the charts ``<scene>_*.png``)
 and, with ``--demos``, the ``<demo>/summary.json`` of every demo in that folder (their checks against the scenes'
 references). Writes ``<scene>.md`` with the charts copied next to them and ``index.md`` (the runs' headers, a
 page per scene, the model-reduction rows of every page, the demos' checks). Every page starts with the header:
 machine (CPU model, cores, memory, from /proc), date, commit, command. ``--add``: the pages of scenes the results do
-not hold are kept, and a scene whose model-reduction rows alone were rerun (``bench --reduction-only``) keeps its
-page with that section replaced (headed by its own run). The pages hold numbers only; docs/benchmarks.md explains
-how to read them.
+not hold are kept; a rewritten page keeps the sections of its previous page that the run did not compute (stability
+map, locking, model reduction: ``bench --main`` computes none of them), with their charts and the index's rows, each
+headed by the run that measured it; a scene whose model-reduction rows alone were rerun (``bench --reduction-only``)
+keeps its page with that section replaced (headed by its own run). The pages hold numbers only; docs/benchmarks.md
+explains how to read them.
 """
 from __future__ import annotations
 
@@ -26,14 +29,32 @@ from pathlib import Path
 from typing import Sequence
 
 from . import bench
-from .run_record import read_runs
+from .run_record import PARTS, read_runs
 
-__all__ = ["header", "time_split", "reduction_section", "scene_page", "demo_checks", "write_pages", "main"]
+__all__ = ["run_parts", "header", "time_split", "reduction_section", "scene_page", "OPTIONAL", "kept_sections",
+           "add_sections", "demo_checks", "write_index", "write_pages", "main"]
 
 CHARTS = ("pareto", "dofs", "iterations", "stability", "stability_accuracy", "locking")
 CHART_TITLES = {"pareto": "Error against solver time", "dofs": "Error against dofs",
                 "iterations": "Newton iterations against K", "stability": "Stability map",
                 "stability_accuracy": "The K each method needs", "locking": "Locking against Poisson's ratio"}
+STABILITY, LOCKING, REDUCTION = ("Stability over the parameter and the load steps",
+                                 "Locking: the bulk models over Poisson's ratio", "Model reduction")
+# The sections a run computes only when asked (bench-all does, bench --main does not), by the file of its results
+# (``<scene>_<key>.md``): its section and its charts' sections.
+OPTIONAL = {"stability": (STABILITY, CHART_TITLES["stability"], CHART_TITLES["stability_accuracy"]),
+            "locking": (LOCKING, CHART_TITLES["locking"]), "reduction": (REDUCTION,)}
+CHART_PARTS = {"pareto": "sweep", "dofs": "sweep", "iterations": "sweep", "stability": "stability",
+               "stability_accuracy": "stability", "locking": "locking"}  # the part of a run that draws each chart
+# The order of a page's sections (scene_page's)
+ORDER = ("Fastest run of each method", "Where the time goes", STABILITY, LOCKING, REDUCTION,
+         *(CHART_TITLES[c] for c in CHARTS))
+
+
+def run_parts(run: dict) -> list[str]:
+    """The parts of its scenes' results (of ``PARTS``) that ``run`` computed (a run recorded without them: every
+    part)."""
+    return list(run.get("parts", PARTS))
 
 
 def header(run: dict) -> str:
@@ -82,29 +103,12 @@ def reduction_section(scene: str, results: Path, out: Path, run: dict | None = N
     rows = results / f"{scene}_reduction.md"
     if not rows.exists():
         return []
-    lines = ["## Model reduction", "", *([header(run)] if run is not None else []), rows.read_text().rstrip(), ""]
+    lines = [f"## {REDUCTION}", "", *([header(run)] if run is not None else []), rows.read_text().rstrip(), ""]
     png = results / f"{scene}_reduction.png"
     if png.exists():
         shutil.copyfile(png, out / png.name)
         lines += [f"![{scene}: model reduction, error against solver time and peak memory]({png.name})", ""]
     return lines
-
-
-def _replace_reduction(page: str, section: list[str]) -> str:
-    """``page`` with its model-reduction section replaced by ``section`` (or, without one, inserted before the
-    first chart)."""
-    lines = page.rstrip().splitlines()
-    heads = [i for i, line in enumerate(lines) if line.startswith("## ")]
-    if "## Model reduction" in lines:
-        start = lines.index("## Model reduction")
-        end = next((i for i in heads if i > start), len(lines))
-    else:
-        charts = {f"## {t}" for t in CHART_TITLES.values()}
-        start = end = next((i for i in heads if lines[i] in charts), len(lines))
-        if start == len(lines):
-            lines.append("")
-            start = end = len(lines)
-    return "\n".join([*lines[:start], *section, *lines[end:]]).rstrip() + "\n"
 
 
 def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
@@ -115,19 +119,91 @@ def scene_page(scene: str, results: Path, run: dict, out: Path) -> str:
     if error.exists():
         last = error.read_text().strip().splitlines()[-1:] or ["(no message)"]
         lines += [f"**This scene's run failed** (`{last[0]}`): the sections below are what it wrote before.", ""]
-    lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
-    split = time_split(bench.read_rows(results / f"{scene}.csv")) if (results / f"{scene}.csv").exists() else ""
-    if split:
-        lines += ["## Where the time goes", "", "The fastest converged run of each method and quadrature; times in s.",
-                  "", split]
-    lines += _section("Stability over the parameter and the load steps", results / f"{scene}_stability.md")
-    lines += _section("Locking: the bulk models over Poisson's ratio", results / f"{scene}_locking.md")
-    lines += reduction_section(scene, results, out)
+    parts = run_parts(run)  # the results of an earlier run in the folder are not this page's
+    if "sweep" in parts:
+        lines += _section("Fastest run of each method", results / f"{scene}_findings.md")
+        csv = results / f"{scene}.csv"
+        split = time_split(bench.read_rows(csv)) if csv.exists() else ""
+        if split:
+            lines += ["## Where the time goes", "",
+                      "The fastest converged run of each method and quadrature; times in s.", "", split]
+    if "stability" in parts:
+        lines += _section(STABILITY, results / f"{scene}_stability.md")
+    if "locking" in parts:
+        lines += _section(LOCKING, results / f"{scene}_locking.md")
+    if "reduction" in parts:
+        lines += reduction_section(scene, results, out)
     for chart in CHARTS:
         png = results / f"{scene}_{chart}.png"
-        if png.exists():
+        if png.exists() and CHART_PARTS[chart] in parts:
             shutil.copyfile(png, out / png.name)
             lines += [f"## {CHART_TITLES[chart]}", "", f"![{scene}: {CHART_TITLES[chart]}]({png.name})", ""]
+    return "\n".join(lines).rstrip() + "\n"
+
+
+def _split(page: str) -> tuple[list[str], dict[str, list[str]]]:
+    """``page``'s lines before its first section, and each section's lines (after its ``## title`` line) by title."""
+    head: list[str] = []
+    sections: dict[str, list[str]] = {}
+    current = head
+    for line in page.rstrip().splitlines():
+        if line.startswith("## "):
+            current = sections.setdefault(line[3:], [])
+        else:
+            current.append(line)
+    return head, sections
+
+
+def _images(lines: Sequence[str]) -> list[str]:
+    """The charts (file names) that ``lines`` show."""
+    return re.findall(r"\]\(([^)]+\.png)\)", "\n".join(lines))
+
+
+def kept_sections(previous: str, computed: Sequence[str]) -> dict[str, list[str]]:
+    """The sections of ``previous`` (a scene's page) that a run which computed only the ``OPTIONAL`` parts
+    ``computed`` does not replace, by title, each headed by the run that measured it (its own header, else the
+    page's)."""
+    head, sections = _split(previous)
+    run = next((line for line in head if line.startswith("Measured on ")), None)
+    kept = {}
+    for key, titles in OPTIONAL.items():
+        for title in titles if key not in computed else ():
+            if title not in sections:
+                continue
+            body = _strip(sections[title])
+            if run is not None and not (body and body[0].startswith("Measured on ")):
+                body = [run, "", *body]
+            kept[title] = body
+    return kept
+
+
+def _strip(lines: Sequence[str]) -> list[str]:
+    """``lines`` without the blank lines they start and end with."""
+    lines = list(lines)
+    while lines and not lines[0].strip():
+        lines.pop(0)
+    while lines and not lines[-1].strip():
+        lines.pop()
+    return lines
+
+
+def add_sections(page: str, kept: dict[str, list[str]], replace: bool = False) -> str:
+    """``page`` with the sections ``kept`` (by title, their lines after the title; :func:`kept_sections`) put in
+    their place in ``ORDER``; a section ``page`` has already is its own, or with ``replace`` ``kept``'s."""
+    head, sections = _split(page)
+    rank = {title: i for i, title in enumerate(ORDER)}
+    merged = dict(sections)
+    for title, body in kept.items():
+        if title in merged:
+            if replace:
+                merged[title] = body
+            continue
+        titles = list(merged)
+        at = next((i for i, t in enumerate(titles) if rank.get(t, -1) > rank[title]), len(titles))
+        merged = {t: merged[t] for t in titles[:at]} | {title: body} | {t: merged[t] for t in titles[at:]}
+    lines = [*_strip(head), ""]
+    for title, body in merged.items():
+        lines += [f"## {title}", "", *_strip(body), ""]
     return "\n".join(lines).rstrip() + "\n"
 
 
@@ -192,7 +268,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     def held(suffix: str) -> list[str]:
         return sorted(n for n in (p.name[: -len(suffix)] for p in results.glob(f"*{suffix}")) if n in by_scene)
 
-    scenes, reduced = held("_findings.md"), held("_reduction.md")
+    scenes = [n for n in held("_findings.md") if "sweep" in run_parts(by_scene[n])]
+    reduced = [n for n in held("_reduction.md") if "reduction" in run_parts(by_scene[n])]
     if not scenes and not (add and reduced):
         raise ValueError(f"{results} holds no <scene>_findings.md of a recorded run: no benchmark results")
     out.mkdir(parents=True, exist_ok=True)
@@ -203,19 +280,30 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     pages = []
     for scene in scenes:
         page = out / f"{scene}.md"
-        for chart in (*CHARTS, "reduction"):  # an earlier page's charts that this run may not draw
-            (out / f"{scene}_{chart}.png").unlink(missing_ok=True)
-        page.write_text(scene_page(scene, results, by_scene[scene], out))
+        computed = [key for key in OPTIONAL if key in run_parts(by_scene[scene])
+                    and (results / f"{scene}_{key}.md").exists()]
+        kept = kept_sections(page.read_text(), computed) if add and page.exists() else {}
+        shown = set(_images([line for body in kept.values() for line in body]))
+        for chart in (*CHARTS, "reduction"):  # an earlier page's charts that this run may not draw, unless kept
+            if f"{scene}_{chart}.png" not in shown:
+                (out / f"{scene}_{chart}.png").unlink(missing_ok=True)
+        page.write_text(add_sections(scene_page(scene, results, by_scene[scene], out), kept))
         pages.append(page)
     for scene in (n for n in reduced if n not in scenes):  # the model-reduction rows alone were rerun
         page = out / f"{scene}.md"
         if page.exists():
-            page.write_text(_replace_reduction(page.read_text(), reduction_section(scene, results, out,
-                                                                                   by_scene[scene])))
+            section = reduction_section(scene, results, out, by_scene[scene])  # "## Model reduction", its lines
+            page.write_text(add_sections(page.read_text(), {REDUCTION: section[1:]}, replace=True))
         else:
             page.write_text(scene_page(scene, results, by_scene[scene], out))
         pages.append(page)
-    # the index: every page in `out`, the runs that measured them (oldest first), their model-reduction rows
+    return [write_index(out, demos), *pages]
+
+
+def write_index(out: str | Path, demos: str | Path | None = None) -> Path:
+    """Write ``out/index.md``: the header of every run that measured a section of a page in ``out`` (oldest
+    first), the pages, their model-reduction rows and, with ``demos``, the demos' checks; returns its path."""
+    out = Path(out)
     texts = {p.stem: p.read_text() for p in sorted(out.glob("*.md")) if p.stem not in ("index", PEER_PAGE)}
     headers = sorted(dict.fromkeys(line + "\n" for t in texts.values() for line in t.splitlines()
                                    if line.startswith("Measured on ")), key=_date)
@@ -223,14 +311,14 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
              "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
              "```{toctree}", ":maxdepth: 1", "", *texts, *([PEER_PAGE] if (out / f"{PEER_PAGE}.md").exists() else []),
              "```", ""]
-    rows = [row for t in texts.values() for row in _table_rows(t, "Model reduction")]
+    rows = [row for t in texts.values() for row in _table_rows(t, REDUCTION)]
     if rows:  # one table: each scene's rows under the common header
-        index += ["## Model reduction", "", *bench.REDUCTION_HEADER, *rows, ""]
+        index += [f"## {REDUCTION}", "", *bench.REDUCTION_HEADER, *rows, ""]
     checks = demo_checks(demos) if demos is not None else ""
     if checks:
         index += ["## Demo checks", "", "Each demo's figure against its scene's reference.", "", checks]
     (out / "index.md").write_text("\n".join(index).rstrip() + "\n")
-    return [out / "index.md", *pages]
+    return out / "index.md"
 
 
 def main(argv: Sequence[str] | None = None) -> None:
@@ -242,7 +330,8 @@ def main(argv: Sequence[str] | None = None) -> None:
     p.add_argument("out", help="the folder of the pages (docs/bench)")
     p.add_argument("--demos", default=None, help="a folder of demo results (summary.json) to tabulate")
     p.add_argument("--add", action="store_true",
-                   help="keep the pages of scenes these results do not hold (a run of some scenes only)")
+                   help="keep the pages of scenes these results do not hold and the sections of a rewritten page "
+                        "that the run did not compute (a run of some scenes or parts only: make bench)")
     args = p.parse_args(argv)
     try:
         pages = write_pages(args.results, args.out, args.demos, add=args.add)

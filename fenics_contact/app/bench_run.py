@@ -23,7 +23,7 @@ from mpi4py import MPI
 from . import bench
 from .cli import EXIT_ERROR
 
-__all__ = ["MAIN_SCENES", "ERROR_FILE", "cpu_seconds", "time_table", "sweep_scene", "main"]
+__all__ = ["MAIN_SCENES", "ERROR_FILE", "cpu_seconds", "time_table", "parts_computed", "sweep_scene", "main"]
 
 # make bench: every method's speed against accuracy on the main scenes, in minutes: the rigid plane (hertz: penalty,
 # cross, auglag, nitsche, SNES VI), two deformable bodies (hertz_twobody: lagrange, exact coulomb, the three
@@ -49,6 +49,15 @@ def time_table(times: Sequence[dict]) -> str:
                  f"{sum(t['wall_s'] for t in times):.0f} | {sum(t['cpu_s'] for t in times):.0f} | "
                  f"{sum(t['status'] != 'done' for t in times)} failed |")
     return "\n".join(lines) + "\n"
+
+
+def parts_computed(args) -> list[str]:
+    """The parts of a scene's results (``run_record.PARTS``) that the command line ``args`` computes, where the
+    scene has them (the benchmark pages keep the others from their previous page)."""
+    if args.reduction_only:
+        return ["reduction"]
+    skipped = {"stability": args.no_stability, "locking": args.no_locking, "reduction": args.no_reduction}
+    return ["sweep", *(part for part, skip in skipped.items() if not skip)]
 
 
 def sweep_scene(scene: str, args, out: Path, reduced: dict[str, str]) -> None:
@@ -137,7 +146,7 @@ def main(argv: Sequence[str]) -> None:
     if not args.charts_only:  # the machine, date, commit and command of the results (the benchmark pages' header)
         from .run_record import record_run
 
-        record_run(out, argv, scenes)
+        record_run(out, argv, scenes, parts_computed(args))
     reduced: dict[str, str] = {}  # model-reduction rows per scene, one table at the end
     times = []
     for scene in scenes:

@@ -10,9 +10,12 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Sequence
 
-__all__ = ["RUN_FILE", "machine", "record_run", "read_runs"]
+__all__ = ["RUN_FILE", "PARTS", "machine", "record_run", "read_runs"]
 
 RUN_FILE = "run.json"  # the run's record in the benchmark's output folder
+# The parts of a scene's results a run may compute: its sweep (findings, charts), stability map, locking map, model
+# reduction (the files ``<scene>.csv``, ``<scene>_<part>.md`` and their charts)
+PARTS = ("sweep", "stability", "locking", "reduction")
 
 
 def machine() -> dict:
@@ -56,15 +59,17 @@ def _commit(root: Path) -> str:
     return out.stdout.strip() if out.returncode == 0 and out.stdout.strip() else "unknown"
 
 
-def record_run(out: str | Path, argv: Sequence[str], scenes: Sequence[str]) -> dict:
+def record_run(out: str | Path, argv: Sequence[str], scenes: Sequence[str],
+               parts: Sequence[str] | None = None) -> dict:
     """Add this run to ``<out>/run.json`` (the runs whose results are in ``out``): this machine, the date (UTC),
     the commit of the package's checkout, the command ``python demos/bench.py <argv>``, the load average at the
-    start and the ``scenes`` it runs; an earlier run keeps only the scenes this one does not rerun. Returns the
-    new run's record."""
+    start, the ``scenes`` it runs and, if given, the ``parts`` of their results it computes (of ``PARTS``: the
+    others in ``out`` are an earlier run's); an earlier run keeps
+    only the scenes this one does not rerun. Returns the new run's record."""
     run = {"date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
            "commit": _commit(Path(__file__).resolve().parents[2]),
            "command": " ".join(["python demos/bench.py", *argv]), "machine": machine(),
-           "load_average": _load_average(), "scenes": list(scenes)}
+           "load_average": _load_average(), "scenes": list(scenes), **({} if parts is None else {"parts": list(parts)})}
     path = Path(out) / RUN_FILE
     earlier = json.loads(path.read_text())["runs"] if path.exists() else []
     kept = [dict(r, scenes=[s for s in r["scenes"] if s not in run["scenes"]]) for r in earlier]
