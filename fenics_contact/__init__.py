@@ -56,7 +56,7 @@ from .problem import ContactProblem, Dirichlet, Stabilised
 from .solver import INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
 from .surface import StepSolver, Surface
 from .twobody import TwoBodySurface
-from .twobody_friction import FrictionalTwoBodySurface
+from .twobody.friction import FrictionalTwoBodySurface
 
 __all__ = [
     # materials

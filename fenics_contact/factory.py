@@ -72,8 +72,8 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     point of both passes, each at weight 1/2 (quadratic facets: a second-pass point that coincides with a
     first-pass one in the reference configuration is left out). ``cls``: the surface class of the pointwise
     quadratures (default :class:`TwoBodySurface`, or
-    :class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface` for a law with friction). ``material``:
-    the bulk material, which method ``nitsche`` needs (:class:`~fenics_contact.twobody_nitsche.NitscheTwoBody`,
+    :class:`~fenics_contact.twobody.friction.FrictionalTwoBodySurface` for a law with friction). ``material``:
+    the bulk material, which method ``nitsche`` needs (:class:`~fenics_contact.twobody.nitsche.NitscheTwoBody`,
     with ``segment`` :class:`~fenics_contact.mortar.NitscheSegmentSurface` (2D); two passes: the unbiased
     variant). A combination the capability matrix refuses raises
     :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly.

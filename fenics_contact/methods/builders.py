@@ -20,9 +20,9 @@ from ..mortar import NitscheSegmentSurface, SegmentSurface
 from ..multipliers import MultiplierContact, TwoBodyMultiplier
 from ..nitsche import NitscheContact
 from ..twobody import TwoBodySurface
-from ..twobody_friction import FrictionalTwoBodySurface
-from ..twobody_nitsche import NitscheTwoBody
-from ..twobody_nitsche_friction import NitscheFrictionTwoBody
+from ..twobody.friction import FrictionalTwoBodySurface
+from ..twobody.nitsche import NitscheTwoBody
+from ..twobody.nitsche_friction import NitscheFrictionTwoBody
 
 __all__ = ["law_surface", "bound_surface", "condensed_surface", "multiplier_surface", "nitsche_surface",
            "law_two_body", "condensed_two_body", "multiplier_two_body", "nitsche_two_body"]
