@@ -54,7 +54,7 @@ class NitscheTwoBody(TwoBodySurface):
     def __init__(self, u: fem.Function, facet_tags, slave_tag, master_tag, law: ContactLaw, load: fem.Constant,
                  quadrature: str = "nodal", weight: float = 1.0, radius: float | None = None, name: str = "twobody",
                  work_quadrature: str | None = None, exclude: np.ndarray | None = None,
-                 material: Material | Materials | None = None, sliding: str = "finite"):
+                 material: Material | Materials | None = None, sliding: str = "finite", self_contact: bool = False):
         material = material if material is not None else getattr(self, "material", None)  # a subclass's
         if material is None:
             raise ValueError("method 'nitsche' needs the bulk material (material=...) for the surface stress")
@@ -63,7 +63,7 @@ class NitscheTwoBody(TwoBodySurface):
                              f"{quadrature!r}, got {work_quadrature!r}")
         self.material = material
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, quadrature, weight, radius, name,
-                         work_quadrature, exclude, sliding=sliding)
+                         work_quadrature, exclude, sliding=sliding, self_contact=self_contact)
 
     def _pressure(self):
         mesh = self.u.function_space.mesh
