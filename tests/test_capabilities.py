@@ -186,7 +186,8 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
 FAMILIES = ("penalty", "lagrange", "nitsche", "vi", "coulomb")
 DEFAULT = {"method": "penalty", "kind": "rigid", "quadrature": "nodal", "passes": "one", "dim": 2, "degree": 1,
            "model": "linear", "solver": "direct", "friction": False, "obstacle": "aligned", "geometry": "cartesian"}
-OBSTACLE = {"rigid": "aligned", "two-body": "none", "self": "none"}  # the covering set's obstacle per kind (run_rigid's plane)
+# the covering set's obstacle per kind (run_rigid's plane)
+OBSTACLE = {"rigid": "aligned", "two-body": "none", "self": "none"}
 
 
 def _structural(kind):

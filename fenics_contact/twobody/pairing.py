@@ -13,20 +13,28 @@ slave points are projected in the reference configuration (the same pair at ever
 displacements, :class:`~.mirror.MirrorObstacle`).
 
 Self-contact (``self_contact=True``, the slave surface its own master): a point never pairs with its own
-neighbourhood, the master facets that share a node with its slave facet or whose current normal faces the same
-way as that facet's (``n_s . n_m >= 0``; quadratic facets: the normals of their chords). What remains is the
-surface across a gap or a fold, as another body's would be.
+neighbourhood: a master facet whose current normal faces the same way as the point's facet's (the normals less
+than 60 degrees apart, :data:`FACING`; quadratic facets: the normals of their chords), or a facet sharing a node
+with the point's facet that the point lies behind in the reference configuration (the other face of a convex
+corner of the body). What remains is the surface across a gap or a fold, as another body's would be, including the
+facet next to the point across the tip of a fold (a concave crease: the point is in front of it, or on it, gap 0,
+if it is the facets' common node).
 """
 from __future__ import annotations
 
 import numpy as np
 from mpi4py import MPI
 
-from ..search import facet_normals, project, quadratic_normals, quadratic_shape, stretch
+from ..search import TIE, facet_normals, project, quadratic_normals, quadratic_shape, stretch
 from .exchange import MasterExchange
 from .facets import FacetData, SlavePoints
 
-__all__ = ["Pairing"]
+__all__ = ["FACING", "Pairing"]
+
+# Self-contact: a master facet faces a point's facet when their normals are more than 60 degrees apart (n_s . n_m <
+# 1/2): a fold is seen while it closes, before its two sides overlap (from 90 degrees on, Newton's iterates had crossed
+# it at the tube's crease before it was seen)
+FACING = 0.5
 
 
 class Pairing:
@@ -154,19 +162,26 @@ class Pairing:
         return facet
 
     def _allowed(self, u: np.ndarray, xm: np.ndarray, nq: int):
-        """Self-contact: the test of :func:`search.project` that leaves out each point's own neighbourhood (the
-        master facets sharing a node with its slave facet, or facing the same way)."""
+        """Self-contact: the test of :func:`search.project` that leaves out each point's own neighbourhood (module
+        docstring)."""
         ends = [0, -1] if self.quadratic else slice(None)
-        ns = facet_normals(self.slave.current(u)[:, ends]) if len(self.slave.X) else np.zeros((0, xm.shape[-1]))
-        nm = facet_normals(xm[:, ends]) if len(xm) else np.zeros((0, xm.shape[-1]))
+        d = xm.shape[-1]
+        ns = facet_normals(self.slave.current(u)[:, ends]) if len(self.slave.X) else np.zeros((0, d))
+        nm = facet_normals(xm[:, ends]) if len(xm) else np.zeros((0, d))
+        Xm = self.master["X"]
+        nm_ref = facet_normals(Xm[:, ends]) if len(Xm) else np.zeros((0, d))
         slave_nodes = self.slave.global_comp[..., 0]  # (nf, nv): one global number per node
         master_nodes = self.master["G"][..., 0]
+        X_points = self.points.reference().reshape(-1, d)
+        size = np.linalg.norm(Xm[:, -1] - Xm[:, 0], axis=1) if len(Xm) else np.zeros(0)
 
         def allowed(points: np.ndarray, facets: np.ndarray) -> np.ndarray:
             own = points // nq  # the point's slave facet
             shared = np.any(slave_nodes[own][:, :, None] == master_nodes[facets][:, None, :], axis=(1, 2))
-            opposed = np.einsum("ij,ij->i", ns[own], nm[facets]) < 0.0
-            return opposed & ~shared
+            # behind the facet's reference line, beyond round-off (a point on it, its own node, is not behind)
+            behind = np.einsum("ij,ij->i", X_points[points] - Xm[facets][:, 0], nm_ref[facets]) < -TIE * size[facets]
+            opposed = np.einsum("ij,ij->i", ns[own], nm[facets]) < FACING
+            return opposed & ~(shared & behind)
 
         return allowed
 
