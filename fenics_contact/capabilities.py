@@ -89,6 +89,8 @@ _SELF = (
          quadrature="segment"),
     rule("sliding 'finite'", "a fold's pairs are found in the current configuration", kind="self", sliding="small"),
     rule("kind 'two-body' or mu 0", "self-contact is frictionless", kind="self", friction=True),
+    rule("dim 2 (plane strain, plane stress, axisymmetric)", "self-contact is checked on 2D folds only (no 3D fold "
+         "case yet)", kind="self", dim=3),
 )
 _GEOMETRY = (
     rule("dim 2 (the meridian section (r, z))", "an axisymmetric body is modelled on its 2D meridian section",
@@ -140,8 +142,8 @@ _MIXED = (
 
 
 def rules() -> tuple[Rule, ...]:
-    """Every rule, in the order they are tried: the kind, the geometry, the methods without two-body or
-    self-contact surfaces, self-contact, two-body friction, the methods without friction, each method's own rules
+    """Every rule, in the order they are tried: the kind, the geometry, the methods without self-contact or
+    two-body surfaces, self-contact, two-body friction, the methods without friction, each method's own rules
     (registry order), the mixed model, quadrature and degree; every two-body rule refuses self-contact too."""
     ms = _methods.methods()
     two_body = [m.name for m in ms if m.two_body is not None]
@@ -157,7 +159,7 @@ def rules() -> tuple[Rule, ...]:
                         "these methods have no tangential law", friction=True, method=frictionless),) if frictionless \
         else ()
     own = tuple(r for m in ms for r in m.rules)
-    every = (_KIND + _GEOMETRY + no_two_body + no_self + _SELF + _TWO_BODY_FRICTION + no_friction + own + _MIXED
+    every = (_KIND + _GEOMETRY + no_self + no_two_body + _SELF + _TWO_BODY_FRICTION + no_friction + own + _MIXED
              + _SLIDING + _QUADRATURE)
     return tuple(_also_self(r) for r in every)
 
