@@ -64,9 +64,17 @@ class NamedTags:
 
 
 def merge_regions(mesh, tags: NamedTags, name: str, regions: Sequence[str]) -> NamedTags:
-    """``tags`` (facet or cell tags of ``mesh``) with one more region ``name``: the entities of ``regions`` (names
-    of ``tags``), which keep their own names too; e.g. the union of two surfaces that may touch each other, for
-    self-contact.
+    """``tags`` with one more region ``name``: the entities of ``regions``, which keep their own names too; e.g.
+    the union of two surfaces that may touch each other, for self-contact.
+
+    Args:
+        mesh: the mesh of ``tags``.
+        tags: facet or cell tags with names (:class:`NamedTags`).
+        name: the new region's name.
+        regions: names of ``tags`` whose entities make the new region.
+
+    Returns:
+        The tags with the new region (a new :class:`NamedTags`; ``tags`` is not changed).
 
     Raises:
         ValueError: ``name`` is already a region, or a region of ``regions`` is not one.
