@@ -62,3 +62,27 @@ def test_refusals():
             build("tube", law=fc.make_law("penalty", K=K), **kw)
     with pytest.raises(ValueError, match="method must be one of"):
         build("tube", law=fc.make_law("nitsche"))
+
+
+def test_the_demos_check_fails_on_a_difference_or_an_overlap():
+    """The demo's check (exit 3 when it fails): the worst difference of the two forces past first contact per the
+    plate force against 1e-3, and the fold's overlap against E / K."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent.parent / "fenics_contact" / "app" / "demos" / "tube.py"
+    spec = importlib.util.spec_from_file_location("demo_tube", path)
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    half = [{"approach": 1.0, "plate_force": 100.0, "fold_force": 0.0, "fold_overlap": -0.1},
+            {"approach": 2.0, "plate_force": 200.0, "fold_force": 50.0, "fold_overlap": 1e-4}]
+    same = [dict(h) for h in half]
+    assert demo.agreement(same, half, 1e-3)["passed"]
+    off = [dict(h) for h in half]
+    off[1]["fold_force"] += 0.5  # 2.5e-3 of the plate force
+    c = demo.agreement(off, half, 1e-3)
+    assert not c["passed"] and c["rel_error"] == pytest.approx(2.5e-3)
+    deep = [dict(h) for h in half]
+    deep[1]["fold_overlap"] = 2e-3
+    assert not demo.agreement(deep, half, 1e-3)["passed"]
+    assert not demo.agreement(same[:1], half[:1], 1e-3)["passed"]  # the fold never closed
