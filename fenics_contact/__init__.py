@@ -28,8 +28,8 @@ from .cells import MeshError, check_cells
 from .compat import function_space, interpolate_expression
 from .condensed import CondensedContact, CondensedCoulomb, CondensedTwoBody, CondensedTwoBodyCoulomb, step_solver_for
 from .contact import ContactSurface, contact_measure
-from .domain import NamedTags, read_gmsh, tag_boundary
-from .factory import contact_surface, two_body_multipliers, two_body_surfaces
+from .domain import NamedTags, merge_regions, read_gmsh, tag_boundary
+from .factory import contact_surface, self_contact_surfaces, two_body_multipliers, two_body_surfaces
 from .friction import Friction, FrictionalContact
 from .incompressible import Kinematics, MixedLinearElastic, MixedNeoHookean
 from .laws import (
@@ -58,7 +58,7 @@ from .reading import XDMFSeries, read_xdmf
 from .solver import INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
 from .surface import StepSolver, Surface
 from .twobody import TwoBodySurface
-from .twobody_friction import FrictionalTwoBodySurface
+from .twobody.friction import FrictionalTwoBodySurface
 
 __all__ = [
     # materials
@@ -72,13 +72,14 @@ __all__ = [
     # rigid obstacles
     "Obstacle", "HalfPlane", "Ball", "Cylinder", "Sphere",
     # contact surfaces: the interface, the constructors, the enforcements
-    "Surface", "StepSolver", "contact_surface", "two_body_surfaces", "two_body_multipliers", "unknown",
+    "Surface", "StepSolver", "contact_surface", "two_body_surfaces", "self_contact_surfaces", "two_body_multipliers",
+    "unknown",
     "step_solver_for", "contact_measure", "ContactSurface", "FrictionalContact", "BoundContact", "NitscheContact",
     "MultiplierContact", "CondensedContact", "CondensedCoulomb", "CondensedTwoBody",
     "CondensedTwoBodyCoulomb", "TwoBodySurface", "SegmentSurface",
     "TwoBodyMultiplier", "FrictionalTwoBodySurface",
     # your own mesh: gmsh physical names
-    "read_gmsh", "NamedTags", "tag_boundary", "check_cells", "MeshError",
+    "read_gmsh", "NamedTags", "merge_regions", "tag_boundary", "check_cells", "MeshError",
     # problem, boundary conditions, solver
     "ContactProblem", "Dirichlet", "Stabilised", "Solver", "StepRecord", "ConvergenceError", "LINEAR_SOLVERS",
     "INEXACT_NEWTON",

@@ -1,8 +1,9 @@
 """The capability matrix: which combinations of options the suite supports, declared once as data.
 
 Axes (:func:`axes`): contact method (the registered methods of :mod:`fenics_contact.methods`), contact kind (a rigid
-obstacle or two deformable bodies), contact quadrature, passes (two-body), dimension, displacement degree, bulk
-model, linear solver, friction, geometry (cartesian: 3D, plane strain or stress; axisymmetric: the meridian section
+obstacle, two deformable bodies, or ``self``: a surface against itself), contact quadrature, passes (two-body),
+dimension, displacement degree, bulk model, linear solver, friction, geometry (cartesian: 3D, plane strain or
+stress; axisymmetric: the meridian section
 of a body of revolution, every integral weighted by ``2 pi r``). Every combination is supported unless a rule of
 :func:`rules` refuses it; a rule names the axis values it refuses and what to use instead. A method's own rules are
 part of its declaration; the rules that follow from what it declares (no two-body surface, no friction) and the
@@ -30,7 +31,7 @@ __all__ = ["AXES", "MIXED_MODELS", "Rule", "UnsupportedCombination", "axes", "ce
            "markdown", "of", "refusal", "rules", "supported"]
 
 _FIXED_AXES: dict[str, tuple] = {
-    "kind": ("rigid", "two-body"),
+    "kind": ("rigid", "two-body", "self"),  # self: a surface against itself (and the rest of its body)
     "obstacle": ("aligned", "plane", "curved", "none"),  # Obstacle.shape; two bodies: none
     "quadrature": ("nodal", "gauss", "segment", "simpson"),
     "passes": ("one", "two"),
@@ -80,6 +81,16 @@ _KIND = (
          kind="rigid", passes="two"),
     rule("quadrature 'nodal' or 'gauss'", "segment-to-segment integration pairs two meshed surfaces",
          kind="rigid", quadrature="segment"),
+)
+_SELF = (
+    rule("passes 'two'", "a surface against itself is both sides of each contact: every point is a slave at weight "
+         "1/2, the unbiased two-pass form", kind="self", passes="one"),
+    rule("quadrature 'nodal', 'gauss' or 'simpson'", "self-contact pairs points, not segments", kind="self",
+         quadrature="segment"),
+    rule("sliding 'finite'", "a fold's pairs are found in the current configuration", kind="self", sliding="small"),
+    rule("kind 'two-body' or mu 0", "self-contact is frictionless", kind="self", friction=True),
+    rule("dim 2 (plane strain, plane stress, axisymmetric)", "self-contact is checked on 2D folds only (no 3D fold "
+         "case yet)", kind="self", dim=3),
 )
 _GEOMETRY = (
     rule("dim 2 (the meridian section (r, z))", "an axisymmetric body is modelled on its 2D meridian section",
@@ -131,9 +142,9 @@ _MIXED = (
 
 
 def rules() -> tuple[Rule, ...]:
-    """Every rule, in the order they are tried: the kind, the geometry, the methods without two-body surfaces,
-    two-body friction, the methods without friction, each method's own rules (registry order), the mixed model,
-    quadrature and degree."""
+    """Every rule, in the order they are tried: the kind, the geometry, the methods without self-contact or
+    two-body surfaces, self-contact, two-body friction, the methods without friction, each method's own rules
+    (registry order), the mixed model, quadrature and degree; every two-body rule refuses self-contact too."""
     ms = _methods.methods()
     two_body = [m.name for m in ms if m.two_body is not None]
     with_friction = [m.name for m in ms if m.friction != "none"]
@@ -141,11 +152,25 @@ def rules() -> tuple[Rule, ...]:
                              m.no_two_body or f"{m.name} has no two-body surface", kind="two-body", method=m.name)
                         for m in ms if m.two_body is None)
     frictionless = tuple(m.name for m in ms if m.friction == "none")
+    with_self = [m.name for m in ms if m.self_contact is not None]
+    no_self = tuple(rule(f"method {', '.join(with_self[:-1])} or {with_self[-1]}", f"{m.name} has no self-contact "
+                         "surface", kind="self", method=m.name) for m in ms if m.self_contact is None)
     no_friction = (rule(f"a method with friction ({', '.join(with_friction)}) or mu 0",
                         "these methods have no tangential law", friction=True, method=frictionless),) if frictionless \
         else ()
     own = tuple(r for m in ms for r in m.rules)
-    return _KIND + _GEOMETRY + no_two_body + _TWO_BODY_FRICTION + no_friction + own + _MIXED + _SLIDING + _QUADRATURE
+    every = (_KIND + _GEOMETRY + no_self + no_two_body + _SELF + _TWO_BODY_FRICTION + no_friction + own + _MIXED
+             + _SLIDING + _QUADRATURE)
+    return tuple(_also_self(r) for r in every)
+
+
+def _also_self(r: Rule) -> Rule:
+    """A two-body rule refuses self-contact too: a surface against itself is a two-body surface whose master is its
+    own slave."""
+    kinds = r.when.get("kind", ())
+    if "two-body" not in kinds or "self" in kinds:
+        return r
+    return Rule({**r.when, "kind": kinds + ("self",)}, r.use, r.why)
 
 
 def _fmt(axis: str, value: Any) -> str:

@@ -64,6 +64,36 @@ class NamedTags:
         return f"NamedTags(dim={self.dim}, {self.names})"
 
 
+def merge_regions(mesh, tags: NamedTags, name: str, regions: Sequence[str]) -> NamedTags:
+    """``tags`` with one more region ``name``: the entities of ``regions``, which keep their own names too; e.g.
+    the union of two surfaces that may touch each other, for self-contact.
+
+    Args:
+        mesh: the mesh of ``tags``.
+        tags: facet or cell tags with names (:class:`NamedTags`).
+        name: the new region's name.
+        regions: names of ``tags`` whose entities make the new region.
+
+    Returns:
+        The tags with the new region (a new :class:`NamedTags`; ``tags`` is not changed).
+
+    Raises:
+        ValueError: ``name`` is already a region, or a region of ``regions`` is not one.
+    """
+    from dolfinx import mesh as dmesh
+
+    if name in tags.names:
+        raise ValueError(f"region {name!r} exists already; the mesh has {sorted(tags.names)}")
+    value = max(tags.names.values(), default=0) + 1
+    extra = np.unique(np.concatenate([tags.find(r) for r in regions])).astype(np.int32)
+    index = np.concatenate([tags.indices, extra]).astype(np.int32)
+    values = np.concatenate([tags.values, np.full(len(extra), value, np.int32)]).astype(np.int32)
+    order = np.argsort(index, kind="stable")
+    merged = dmesh.meshtags(mesh, tags.dim, index[order], values[order])
+    merged.name = tags.meshtags.name
+    return NamedTags(merged, {**tags.names, name: value})
+
+
 def tag_value(tags, tag: int | str) -> tuple[object, int]:
     """``(dolfinx MeshTags, integer value)`` of ``tag`` (a name of :class:`NamedTags`, or an integer value of
     plain ``MeshTags``)."""

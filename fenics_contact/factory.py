@@ -14,12 +14,12 @@ from . import methods
 from .capabilities import check, of
 from .laws import ContactLaw
 from .materials import Material
-from .methods.builders import law_surface, law_two_body
+from .methods.builders import law_self, law_surface, law_two_body
 from .obstacles import Obstacle
 from .surface import Surface
 from .twobody import PASSES, QUADRATURES, SLIDING
 
-__all__ = ["contact_surface", "two_body_surfaces", "two_body_multipliers"]
+__all__ = ["contact_surface", "two_body_surfaces", "two_body_multipliers", "self_contact_surfaces"]
 
 
 def contact_surface(u: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: ContactLaw,
@@ -72,8 +72,8 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
     point of both passes, each at weight 1/2 (quadratic facets: a second-pass point that coincides with a
     first-pass one in the reference configuration is left out). ``cls``: the surface class of the pointwise
     quadratures (default :class:`TwoBodySurface`, or
-    :class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface` for a law with friction). ``material``:
-    the bulk material, which method ``nitsche`` needs (:class:`~fenics_contact.twobody_nitsche.NitscheTwoBody`,
+    :class:`~fenics_contact.twobody.friction.FrictionalTwoBodySurface` for a law with friction). ``material``:
+    the bulk material, which method ``nitsche`` needs (:class:`~fenics_contact.twobody.nitsche.NitscheTwoBody`,
     with ``segment`` :class:`~fenics_contact.mortar.NitscheSegmentSurface` (2D); two passes: the unbiased
     variant). A combination the capability matrix refuses raises
     :class:`~fenics_contact.capabilities.UnsupportedCombination` before any assembly.
@@ -141,3 +141,38 @@ def two_body_multipliers(w: fem.Function, facet_tags, slave_tag: int, master_tag
     """
     return two_body_surfaces(w, facet_tags, slave_tag, master_tag, lambda: law,
                              load, "nodal", passes, radius, name, work_quadrature)
+
+
+def self_contact_surfaces(u: fem.Function, facet_tags, tag: int | str, law_factory: Callable[[], ContactLaw],
+                          load: fem.Constant, quadrature: str = "nodal", radius: float | None = None,
+                          name: str = "self", material: Material | None = None) -> list[Surface]:
+    """Self-contact: the surface ``tag`` against itself (and so against any other part of its body that ``tag``
+    covers; :func:`~fenics_contact.domain.merge_regions` names a union), finite sliding, frictionless. Every point
+    is paired with the closest point of the rest of the surface beyond its own neighbourhood (facets sharing its
+    nodes, or facing the same way) and carries weight 1/2, so that each contact is counted once from each side
+    (the unbiased two-pass form; Nitsche: each side with its own stress). A combination the capability matrix
+    refuses (kind ``self``) raises :class:`~fenics_contact.capabilities.UnsupportedCombination` before any
+    assembly.
+
+    Args:
+        u: the problem's unknown (a displacement, or a mixed (displacement, pressure) one).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the surface: a tag value, or a region name.
+        law_factory: a callable returning a fresh law (``lambda: fc.make_law(...)``).
+        load: the load parameter ``t`` (a scalar ``Constant``).
+        quadrature: ``nodal``, ``gauss`` or ``simpson`` (quadratic facets).
+        radius: the search radius (length; default twice the longest facet); farther points have no pair.
+        name: the surface's name, in messages and output.
+        material: the bulk material (method ``nitsche``; else not used).
+
+    Returns:
+        The surfaces (one), to pass to :class:`ContactProblem`.
+    """
+    if quadrature not in QUADRATURES + ("simpson",):
+        raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
+    probe = law_factory()
+    check(**of(probe, u, material), kind="self", quadrature=quadrature, passes="two", obstacle="none",
+          sliding="finite")
+    method = methods.of_law(probe)
+    build = law_self if method is None else method.build_self
+    return build(u, facet_tags, tag, law_factory, load, quadrature, radius, name, material)

@@ -271,7 +271,7 @@ def _first_per_group(group: np.ndarray, keys: tuple[np.ndarray, ...]) -> np.ndar
 
 
 def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.ndarray | None = None,
-            hysteresis: float = 1e-2, quadratic: bool = False):
+            hysteresis: float = 1e-2, quadratic: bool = False, allowed=None):
     """Closest master facet to each point within ``radius``: ``(facet or -1, barycentric coordinates,
     distance)``, and for ``quadratic`` facets (n, 3, 2) also the local coordinate ``xi`` (the
     "barycentric coordinates" are then the shape function values). Ties go to the lowest facet index
@@ -279,7 +279,10 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
     both facets there, takes the facet whose plane is farthest (the gap is then continuous as it moves across).
     ``previous`` (facet per point, -1 for none): a point keeps its previous facet while that facet is no
     more than ``hysteresis`` x its own size farther than the closest one, so that a point sitting where
-    two facets are (almost) equally close does not switch back and forth between Newton iterations."""
+    two facets are (almost) equally close does not switch back and forth between Newton iterations.
+    ``allowed(points, facets)`` (index arrays of equal length -> bool array): the pairs that may pair at all
+    (self-contact: not a point's own neighbourhood); None: every pair. With it, every facet within ``radius``
+    is a candidate (the nearest master node may be the point itself)."""
     n = len(points)
     nv = master.shape[1] if master.ndim == 3 else 2
     facet = np.full(n, -1, np.int64)
@@ -295,7 +298,9 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
     if n and len(master):
         flat = _control_points(master, quadratic).reshape(-1, master.shape[-1])
         near_box = np.flatnonzero(_box_distance(points, flat.min(axis=0), flat.max(axis=0)) <= radius)
-    if len(near_box):
+    if len(near_box) and allowed is not None:
+        bound = np.full(len(near_box), float(radius))
+    elif len(near_box):
         near = cKDTree(master.reshape(-1, master.shape[-1])).query(points[near_box])[0] * (1 + TIE) + 1e-14 * radius
         bound = np.where(near < radius, near, radius)
     else:
@@ -306,6 +311,11 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
         old = np.unique(pi[facet[pi] >= 0])
         if len(old):
             pi, fi = np.concatenate([pi, old]), np.concatenate([fi, facet[old]])
+        if allowed is not None:
+            keep = allowed(pi, fi)
+            pi, fi = pi[keep], fi[keep]
+            if not len(pi):
+                continue
         p, mf = points[pi], master[fi]
         if quadratic:
             d, xi = closest_point_on_quadratic(p, mf)
@@ -331,6 +341,8 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
         facet[i], bary[i], dist[i], xis[i] = fi[best], b[best], d[best], xi[best]
     if previous is not None:  # hysteresis: keep the previous facet (a candidate) if it is nearly as close
         i = np.flatnonzero((previous >= 0) & (facet >= 0) & (facet != previous))
+        if len(i) and allowed is not None:
+            i = i[allowed(i, previous[i])]
         if len(i):
             mp = master[previous[i]]
             lo, hi = _boxes(mp)

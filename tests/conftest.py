@@ -176,7 +176,7 @@ def pytest_runtest_logfinish(nodeid, location):
 SCENE = (  # a benchmark scene, its demo, or the application around it (harness, command line)
     "test_block.py", "test_hertz.py", "test_sphere.py", "test_pin.py", "test_slab.py", "test_ring.py",
     "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
-    "test_wedges.py", "test_ironing.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
+    "test_wedges.py", "test_ironing.py", "test_tube.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
     "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py", "test_options.py", "test_bench_pages.py",
     "test_bench_run.py",
     "test_units.py::test_*scene*", "test_units.py::test_rings_*", "test_axisphere.py", "test_oring.py",
@@ -192,6 +192,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_bench.py::test_stability_harness_classifies_the_ring", "test_bench.py::test_ring_through_the_scene_runner",
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*two-body*]",
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*-3*]",
+    "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*self*]",
     "test_capabilities.py::test_two_pass_coinciding_points_carry_the_one_pass_pressure",
     "test_checkpoint.py::test_restart_gives_the_uninterrupted_figures[ironing]",
     "test_cli.py::test_gmsh_out_of_memory_is_one_line",
@@ -258,6 +259,7 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_twobody_nitsche.py::test_serial_equals_two_ranks*",
     "test_twobody_nitsche.py::test_wedges_serial_equals_ranks",
     "test_twobody_nitsche.py::test_segment_serial_equals_two_ranks",
+    "test_tube.py::test_parallel_equals_serial",
 )
 
 

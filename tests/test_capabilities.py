@@ -11,6 +11,7 @@ Problems (a few dozen cells each):
   tangential contact force is ``mu`` times the normal one.
 - two-body: two stacked unit blocks with matching meshes, uniform pressure ``P`` on the top: the contact
   pressure is ``P`` at every slave point (nominal, per reference area; a dead load), whatever the law.
+- self: the same blocks, their two facing sides one surface against itself: the same pressure ``P``.
 
 Covering set (why it covers the matrix). The axes act on three independent parts of the code:
 
@@ -148,7 +149,7 @@ def run_rigid(method, quadrature, dim, degree, model, solver, friction, geometry
 
 
 def run_two_body(method, quadrature, passes, dim, degree, model, solver, friction=False,
-                 geometry="cartesian") -> tuple[float, float]:
+                 geometry="cartesian", kind="two-body") -> tuple[float, float]:
     """(largest |p - P| / P over the slave points of every surface, 0). With friction: the same (the two blocks
     expand alike under P, nothing slides) and no tangential force."""
     law = law_for(method, friction)
@@ -159,7 +160,11 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
     dirichlet = [fc.Dirichlet.on_facets(V, ft, "lower_bottom", dim - 1), fc.Dirichlet.on_facets(V, ft, "left", 0)]
     if dim == 3:
         dirichlet.append(fc.Dirichlet.on_facets(V, ft, "front", 1))
-    if method in MULTIPLIERS:
+    if kind == "self":  # the two facing sides as one surface, against itself
+        ft = fc.merge_regions(mesh, ft, "interface", ["upper_bottom", "lower_top"])
+        contacts = fc.self_contact_surfaces(u, ft, "interface", lambda: law_for(method, friction), load, quadrature,
+                                            material=fc.MODELS[model](E, NU))
+    elif method in MULTIPLIERS:
         contacts = fc.two_body_multipliers(u, ft, "upper_bottom", "lower_top", law, load, passes=passes,
                                         work_quadrature=None if quadrature == "nodal" else quadrature)
     else:
@@ -181,7 +186,8 @@ def run_two_body(method, quadrature, passes, dim, degree, model, solver, frictio
 FAMILIES = ("penalty", "lagrange", "nitsche", "vi", "coulomb")
 DEFAULT = {"method": "penalty", "kind": "rigid", "quadrature": "nodal", "passes": "one", "dim": 2, "degree": 1,
            "model": "linear", "solver": "direct", "friction": False, "obstacle": "aligned", "geometry": "cartesian"}
-OBSTACLE = {"rigid": "aligned", "two-body": "none"}  # the covering set's obstacle per kind (run_rigid's plane)
+# the covering set's obstacle per kind (run_rigid's plane)
+OBSTACLE = {"rigid": "aligned", "two-body": "none", "self": "none"}
 
 
 def _structural(kind):
@@ -248,7 +254,7 @@ def test_supported_cell_solves_to_its_closed_form(cell):
         assert abs(got - ref) <= 1e-6 * abs(ref), (got, ref)
     else:
         dev, _ = run_two_body(c["method"], c["quadrature"], c["passes"], c["dim"], c["degree"], c["model"],
-                              c["solver"], c["friction"], c["geometry"])
+                              c["solver"], c["friction"], c["geometry"], c["kind"])
         assert dev <= 1e-6, dev
 
 

@@ -124,7 +124,7 @@ def test_results_have_the_surface_signatures():
 
     from fenics_contact.mortar import SegmentSurface
     from fenics_contact.surface import Surface
-    from fenics_contact.twobody_friction import FrictionalTwoBodySurface
+    from fenics_contact.twobody.friction import FrictionalTwoBodySurface
 
     def params(f):
         return [(p.name, p.kind, p.default) for p in inspect.signature(f).parameters.values()]

@@ -98,9 +98,11 @@ CASES = {
     "sphere": dict(kw=dict(), lengths=("R", "approach"), stresses=("E",), law=("penalty", {"K": (1e6, "S/L")})),
     "wedges": dict(kw=dict(), lengths=("length", "push"), stresses=("E", "load"),
                    law=("penalty", {"K": (1e6, "S/L")}), friction=(0.3, 1e4)),
+    "tube": dict(kw=dict(n_theta=32, n_r=2, steps=8, fold_steps=4, approach=0.5), lengths=("r_in", "thickness"),
+                 stresses=("E",), law=("penalty", {"K": (5e5, "S/L")})),
 }
 SLOW_CASES = ("compliance3d", "cylinders", "hertz.nitsche", "ironing", "mindlin", "mindlin3d", "oring", "patch",
-              "rings.collocated", "seal", "sheet", "sphere", "wedges")
+              "rings.collocated", "seal", "sheet", "sphere", "wedges", "tube")
 
 
 def _units(unit: str, L: float, S: float) -> float:
@@ -318,6 +320,7 @@ DEMO_SCALES = {
     "ironing": ("E", "H"), "mindlin": ("E", "R"), "mindlin3d": ("E", "R"), "patch": ("E-lower", "h-lower"),
     "pin": ("E", "R"), "ring": ("E", "R-out", "R-in"), "seal": ("E", "R-out", "R-in", "h", "plate-distance"),
     "slab": ("E", "width"), "sphere": ("E", "R"), "wedges": ("E", "length"), "oring": ("E", "d"),
+    "tube": ("E", "r-in", "thickness"),
 }
 
 

@@ -5,7 +5,8 @@ capability grid first and then call the method's builder.
 Rigid builders take ``(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized, material)``;
 two-body builders ``(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
 work_quadrature, cls, material, sliding)`` and return a list of surfaces (``sliding`` None: the surface's
-default).
+default); self-contact builders ``(u, facet_tags, tag, law_factory, load, quadrature, radius, name, material)``
+and return a list of surfaces.
 """
 from __future__ import annotations
 
@@ -20,12 +21,12 @@ from ..mortar import NitscheSegmentSurface, SegmentSurface
 from ..multipliers import MultiplierContact, TwoBodyMultiplier
 from ..nitsche import NitscheContact
 from ..twobody import TwoBodySurface
-from ..twobody_friction import FrictionalTwoBodySurface
-from ..twobody_nitsche import NitscheTwoBody
-from ..twobody_nitsche_friction import NitscheFrictionTwoBody
+from ..twobody.friction import FrictionalTwoBodySurface
+from ..twobody.nitsche import NitscheTwoBody
+from ..twobody.nitsche_friction import NitscheFrictionTwoBody
 
 __all__ = ["law_surface", "bound_surface", "condensed_surface", "multiplier_surface", "nitsche_surface",
-           "law_two_body", "condensed_two_body", "multiplier_two_body", "nitsche_two_body"]
+           "law_two_body", "condensed_two_body", "multiplier_two_body", "nitsche_two_body", "law_self", "nitsche_self"]
 
 
 # --- rigid obstacle ---------------------------------------------------------------------------------------
@@ -133,3 +134,20 @@ def nitsche_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature,
     cls = NitscheFrictionTwoBody if isinstance(law_factory(), Friction) else NitscheTwoBody
     return law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,
                         work_quadrature, functools.partial(cls, material=material), sliding=sliding)
+
+
+# --- a surface against itself ------------------------------------------------------------------------------
+def law_self(u, facet_tags, tag, law_factory, load, quadrature, radius, name, material=None, cls=None):
+    """Self-contact of a law of the gap: one :class:`TwoBodySurface` of ``tag`` against itself at weight 1/2
+    (every contact seen from both of its sides: the unbiased two-pass form), finite sliding."""
+    cls = cls or TwoBodySurface
+    return [cls(u, facet_tags, tag, tag, law_factory(), load, quadrature, 0.5, radius, name, self_contact=True)]
+
+
+def nitsche_self(u, facet_tags, tag, law_factory, load, quadrature, radius, name, material=None):
+    """Nitsche's self-contact (:class:`NitscheTwoBody` of ``tag`` against itself at weight 1/2: each side of a
+    contact with its own stress, the unbiased two-pass form; needs the bulk ``material``)."""
+    if material is None:
+        raise ValueError("method 'nitsche' needs the bulk material (material=...) for the surface stress")
+    return law_self(u, facet_tags, tag, law_factory, load, quadrature, radius, name,
+                    cls=functools.partial(NitscheTwoBody, material=material))

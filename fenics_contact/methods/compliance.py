@@ -9,4 +9,5 @@ METHOD = Method(
     parameters=(Parameter("c_n", "c_n", "c_n in F = c_n <g>^m_n (pressure per length^m_n; default: --K)",
                           default="K"),
                 Parameter("m_n", "m_n", "exponent m_n >= 1", "exponent", 1.0)),
+    self_contact="fenics_contact.methods.builders:law_self",
     friction="law", sweep=Sweep("narrow", "K"))

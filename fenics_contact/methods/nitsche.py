@@ -15,6 +15,7 @@ METHOD = Method(
                           range="sign", default=1.0)),
     rigid="fenics_contact.methods.builders:nitsche_surface",
     two_body="fenics_contact.methods.builders:nitsche_two_body",
+    self_contact="fenics_contact.methods.builders:nitsche_self",
     friction="law", sweep=Sweep("gamma0", "gamma0", colour="tab:purple", size=9.0, reference=True),
     rules=(rule("model 'linear' or 'neohookean' (or another method)", "Nitsche's surface stress P(u) N would need "
                 "a mixed model's pressure field", method="nitsche", model=mixed_models()),

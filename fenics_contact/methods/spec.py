@@ -104,6 +104,8 @@ class Method:
         two_body: builds the two-body surfaces (signature of :func:`fenics_contact.methods.builders.law_two_body`),
             or None: two bodies are refused, for the reason ``no_two_body``.
         no_two_body: why two bodies are refused (with ``two_body=None``): the capability grid's reason.
+        self_contact: builds the surfaces of a surface against itself (signature of
+            :func:`fenics_contact.methods.builders.law_self`), or None: self-contact is refused.
         augment: default augmentations per load step (0: none).
         friction: ``none`` (no tangential law), ``law`` (friction on top of the law: ``Friction(law, ...)``) or
             ``own`` (the law's own parameter ``mu``).
@@ -119,6 +121,7 @@ class Method:
     rigid: Callable | str = "fenics_contact.methods.builders:law_surface"
     two_body: Callable | str | None = "fenics_contact.methods.builders:law_two_body"
     no_two_body: str = ""
+    self_contact: Callable | str | None = None
     augment: int = 0
     friction: str = "none"
     rules: tuple[Rule, ...] = ()
@@ -149,6 +152,13 @@ class Method:
         if self.two_body is None:
             raise ValueError(f"method {self.name!r} does not do two deformable bodies")
         return resolve(self.two_body)(*args, **kwargs)
+
+
+    def build_self(self, *args, **kwargs):
+        """The surfaces of a surface against itself (see ``self_contact``)."""
+        if self.self_contact is None:
+            raise ValueError(f"method {self.name!r} does not do self-contact")
+        return resolve(self.self_contact)(*args, **kwargs)
 
 
 def resolve(target: Callable | str) -> Callable:

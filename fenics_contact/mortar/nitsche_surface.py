@@ -4,7 +4,7 @@
 slave facet's cell (its three vertices: the stress) against the master facets its sub-segments project on. The
 master part ``int p v_m(Pi x) ds`` is integrated exactly on each sub-segment, so the uniform state of the
 contact patch test is the discrete solution on non-matching meshes (the pointwise rules of
-:class:`~fenics_contact.twobody_nitsche.NitscheTwoBody` integrate it across the kinks of the master shape
+:class:`~fenics_contact.twobody.nitsche.NitscheTwoBody` integrate it across the kinks of the master shape
 functions).
 """
 from __future__ import annotations
@@ -14,7 +14,7 @@ from dolfinx import fem
 
 from ..compat import space_degree
 from ..search import facet_normals
-from ..twobody_nitsche import NitscheTwoBody
+from ..twobody.nitsche import NitscheTwoBody
 from .cell_stress import CellStress
 from .element import reference_measure
 from .nitsche_element import segment_element, uncovered_element

@@ -14,7 +14,11 @@ and the master dofs enter through the sparse operator ``I`` with ``w = I u``. Th
 - :mod:`~.report`: pressures and point tables at the slave points, timings;
 - :mod:`~.surface`: :class:`TwoBodySurface`, which composes them.
 
-Segment-to-segment integration (:mod:`mortar`) and two-body friction (:mod:`twobody_friction`) are built on
+Self-contact (:func:`fenics_contact.factory.self_contact_surfaces`) is a :class:`TwoBodySurface` whose slave surface
+is its own master (``self_contact=True``): :mod:`~.pairing` leaves out each point's own neighbourhood.
+
+The enforcements built on these parts: :mod:`~.friction` (Coulomb friction by return mapping), :mod:`~.nitsche`
+(Nitsche's stress term), :mod:`~.nitsche_friction` (both); segment-to-segment integration (:mod:`mortar`) is built on
 the same parts. Flat facets: segments (2D), triangles (3D); quadratic: curved segments (2D).
 """
 from .coupling import JacobianPattern, MirrorCoupling, dirichlet_columns, interpolation_operator

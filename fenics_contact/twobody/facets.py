@@ -116,15 +116,20 @@ class FacetData:
 
 
 def facet_pair(u: fem.Function, facet_tags, slave_tag: int | str, master_tag: int | str,
-               name: str) -> tuple[FacetData, FacetData]:
+              name: str, self_contact: bool = False) -> tuple[FacetData, FacetData]:
     """Slave and master :class:`FacetData` of the facets tagged ``slave_tag`` and ``master_tag`` (values, or
     names of :class:`domain.NamedTags`) on the mesh of the unknown ``u`` (a displacement, or a mixed
-    (displacement, pressure) Function: the displacement's components then). Collective.
+    (displacement, pressure) Function: the displacement's components then). ``self_contact``: the tags must be
+    equal (a surface against itself). Collective.
 
     Raises:
-        ValueError: the tags are equal, or no rank has a facet with one of them (named after ``name``).
+        ValueError: the tags are equal (differ, for ``self_contact``), or no rank has a facet with one of them
+            (named after ``name``).
     """
-    if slave_tag == master_tag:
+    if self_contact and slave_tag != master_tag:
+        raise ValueError(f"self-contact pairs one surface with itself: slave_tag {slave_tag} and master_tag "
+                         f"{master_tag} must be equal")
+    if slave_tag == master_tag and not self_contact:
         raise ValueError(f"slave_tag and master_tag must differ, both are {slave_tag}")
     V = u.function_space
     slave = check_facet_tag(V.mesh, facet_tags, slave_tag, f"{name} slave_tag")

@@ -11,17 +11,30 @@ survives a re-routing and does not depend on the partition. An iterate that stre
 slave points are projected in the reference configuration (the same pair at every iterate) and the gap is
 ``-(x_s - sum_k N_k x_k) . n`` with the reference weights ``N_k`` and the reference normal ``n`` (linear in the
 displacements, :class:`~.mirror.MirrorObstacle`).
+
+Self-contact (``self_contact=True``, the slave surface its own master): a point never pairs with its own
+neighbourhood: a master facet whose current normal faces the same way as the point's facet's (the normals less
+than 60 degrees apart, :data:`FACING`; quadratic facets: the normals of their chords), or a facet sharing a node
+with the point's facet that the point lies behind in the reference configuration (the other face of a convex
+corner of the body). What remains is the surface across a gap or a fold, as another body's would be, including the
+facet next to the point across the tip of a fold (a concave crease: the point is in front of it, or on it, gap 0,
+if it is the facets' common node).
 """
 from __future__ import annotations
 
 import numpy as np
 from mpi4py import MPI
 
-from ..search import facet_normals, project, quadratic_normals, quadratic_shape, stretch
+from ..search import TIE, facet_normals, project, quadratic_normals, quadratic_shape, stretch
 from .exchange import MasterExchange
 from .facets import FacetData, SlavePoints
 
-__all__ = ["Pairing"]
+__all__ = ["FACING", "Pairing"]
+
+# Self-contact: a master facet faces a point's facet when their normals are more than 60 degrees apart (n_s . n_m <
+# 1/2): a fold is seen while it closes, before its two sides overlap (from 90 degrees on, Newton's iterates had crossed
+# it at the tube's crease before it was seen)
+FACING = 0.5
 
 
 class Pairing:
@@ -35,6 +48,7 @@ class Pairing:
             farther from the master surface have no pair.
         seconds: the surface's timings; ``exchange_s`` and ``search_s`` are added to it.
         sliding: ``finite`` (pair the current positions) or ``small`` (pair the reference positions).
+        self_contact: the slave surface is its own master: exclude each point's own neighbourhood.
 
     After :meth:`update` (unless ``exploded``): ``master`` the received master facets ``{"X", "G", "U", "ids",
     "x"}`` (reference and current coordinates, global displacement dofs, displacements, global facet numbers;
@@ -49,8 +63,9 @@ class Pairing:
     """
 
     def __init__(self, comm, slave: FacetData, master: FacetData, points: SlavePoints, radius: float | None,
-                 seconds, sliding: str = "finite"):
+                 seconds, sliding: str = "finite", self_contact: bool = False):
         self.comm, self.slave, self.master_facets, self.points = comm, slave, master, points
+        self.self_contact = self_contact
         self.small = sliding == "small"
         self.quadratic, self.nv = slave.quadratic, slave.nv
         own = master.owned
@@ -116,8 +131,10 @@ class Pairing:
         pts = self.points.current(u)
         nf, nq, d = pts.shape if pts.size else (0, self.points.per_facet, pts.shape[-1])
         previous = None if self.ids is None else self._local_facets(self.ids.ravel())
+        allowed = self._allowed(u, xm, nq) if self.self_contact else None
         found = project((self.points.reference() if self.small else pts).reshape(-1, d),
-                        self.master["X"] if self.small else xm, self.radius, previous, quadratic=self.quadratic)
+                        self.master["X"] if self.small else xm, self.radius, previous, quadratic=self.quadratic,
+                        allowed=allowed)
         facet, bary, dist = found[:3]
         facet = facet.reshape(nf, nq)
         facet[self.points.excluded] = -1
@@ -143,6 +160,30 @@ class Pairing:
                            "gap": gap, "normal": normal}
         self.local_coordinate = xi
         return facet
+
+    def _allowed(self, u: np.ndarray, xm: np.ndarray, nq: int):
+        """Self-contact: the test of :func:`search.project` that leaves out each point's own neighbourhood (module
+        docstring)."""
+        ends = [0, -1] if self.quadratic else slice(None)
+        d = xm.shape[-1]
+        ns = facet_normals(self.slave.current(u)[:, ends]) if len(self.slave.X) else np.zeros((0, d))
+        nm = facet_normals(xm[:, ends]) if len(xm) else np.zeros((0, d))
+        Xm = self.master["X"]
+        nm_ref = facet_normals(Xm[:, ends]) if len(Xm) else np.zeros((0, d))
+        slave_nodes = self.slave.global_comp[..., 0]  # (nf, nv): one global number per node
+        master_nodes = self.master["G"][..., 0]
+        X_points = self.points.reference().reshape(-1, d)
+        size = np.linalg.norm(Xm[:, -1] - Xm[:, 0], axis=1) if len(Xm) else np.zeros(0)
+
+        def allowed(points: np.ndarray, facets: np.ndarray) -> np.ndarray:
+            own = points // nq  # the point's slave facet
+            shared = np.any(slave_nodes[own][:, :, None] == master_nodes[facets][:, None, :], axis=(1, 2))
+            # behind the facet's reference line, beyond round-off (a point on it, its own node, is not behind)
+            behind = np.einsum("ij,ij->i", X_points[points] - Xm[facets][:, 0], nm_ref[facets]) < -TIE * size[facets]
+            opposed = np.einsum("ij,ij->i", ns[own], nm[facets]) < FACING
+            return opposed & ~(shared & behind)
+
+        return allowed
 
     def _local_facets(self, ids: np.ndarray) -> np.ndarray:
         """Indices into ``master`` of global facet numbers ``ids`` (-1: none, or not received, i.e. beyond the

@@ -58,6 +58,9 @@ class TwoBodySurface(ContactSurface):
             sliding) or ``small`` (flat facets: the pair, its weights and the master normal of the reference
             configuration, the gap linear in the displacements: the kinematics of small strains, as the
             linear material's).
+        self_contact: the surface ``slave_tag == master_tag`` against itself (finite sliding): each point paired
+            with the rest of the surface beyond its own neighbourhood (:class:`~.pairing.Pairing`); with
+            ``weight = 1/2`` every contact is counted from both sides, the unbiased two-pass form.
 
     Raises:
         ValueError: equal or absent tags, ``weight`` or ``radius`` not finite and > 0, a quadrature the facets
@@ -73,16 +76,17 @@ class TwoBodySurface(ContactSurface):
     def __init__(self, u: fem.Function, facet_tags, slave_tag: int, master_tag: int, law: ContactLaw,
                  load: fem.Constant, quadrature: str = "nodal", weight: float = 1.0,
                  radius: float | None = None, name: str = "twobody", work_quadrature: str | None = None,
-                 exclude: np.ndarray | None = None, sliding: str = "finite"):
+                 exclude: np.ndarray | None = None, sliding: str = "finite", self_contact: bool = False):
         if sliding not in SLIDING:
             raise ValueError(f"sliding must be one of {SLIDING}, got {sliding!r}")
-        check(**of(law, u), kind="two-body", quadrature=work_quadrature or quadrature,  # before any assembly
-              sliding=sliding)
+        check(**of(law, u), kind="self" if self_contact else "two-body",  # before any assembly
+              quadrature=work_quadrature or quadrature, sliding=sliding)
         mesh = u.function_space.mesh
         if not (np.isfinite(weight) and weight > 0):
             raise ValueError(f"weight must be a finite number > 0, got {weight!r}")
         self.comm = mesh.comm
-        self.slave_data, self.master_data = facet_pair(u, facet_tags, slave_tag, master_tag, name)
+        self.self_contact = self_contact
+        self.slave_data, self.master_data = facet_pair(u, facet_tags, slave_tag, master_tag, name, self_contact)
         self.quadratic = self.slave_data.quadratic
         allowed = ("nodal", "simpson") if self.quadratic else ("nodal", "gauss")
         if quadrature not in allowed or (work_quadrature or quadrature) not in allowed:
@@ -93,7 +97,8 @@ class TwoBodySurface(ContactSurface):
         self.mirror = MirrorFields(mesh, self.slave_data, self.points, quadrature, name)
         self._seconds = Timings()
         self.sliding = sliding
-        self.pairs = Pairing(self.comm, self.slave_data, self.master_data, self.points, radius, self._seconds, sliding)
+        self.pairs = Pairing(self.comm, self.slave_data, self.master_data, self.points, radius, self._seconds, sliding,
+                             self_contact)
         self.radius = self.pairs.radius
         self.report = PointReport(self.comm, self.slave_data, self.points, self.mirror.scalar_dofs)
         self._dirichlet = np.zeros(0, np.int64)  # global Dirichlet dofs, left out of I (bind_problem)

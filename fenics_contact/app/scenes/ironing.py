@@ -10,7 +10,7 @@ radius ``r`` turning up to ``theta`` from the vertical, its top at ``y = height`
 
 Contact. Node-to-segment, one pass: the block's top is the slave (its nodes, ``h`` apart), the punch's face the
 master, Coulomb friction ``mu`` on a penalty-type normal law
-(:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`). The choices against the oscillating force
+(:class:`~fenics_contact.twobody.friction.FrictionalTwoBodySurface`). The choices against the oscillating force
 ratio of a sharp-cornered punch (slave nodes crossing master vertices):
 
 * the master's flat face is straight (its facets in line: the normal does not jump from facet to facet) and most of
@@ -50,7 +50,7 @@ from ...friction import SLIP, Friction
 from ...laws import ContactLaw
 from ...materials import Materials, NeoHookean
 from ...problem import ContactProblem, Dirichlet
-from ...twobody_friction import FrictionalTwoBodySurface
+from ...twobody.friction import FrictionalTwoBodySurface
 from ..meshes.ironing import punch_on_block
 from . import Option, Setup, log_dofs, poisson, positive, refuse_fine
 

@@ -5,7 +5,7 @@ on a block ``[-L, L] x [-D, 0]`` fixed at its base; both ``E``, ``nu``: Dundurs'
 tangential problems uncouple and the pressure stays Hertz's while the tangential load grows. Two-body contact,
 one pass, the arc the slave (node-to-segment, nodal quadrature; ``passes="two"``: each surface slave once, weight
 1/2), Coulomb friction ``mu`` on a penalty-type normal
-law (:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`), or exact Signorini-Coulomb on the
+law (:class:`~fenics_contact.twobody.friction.FrictionalTwoBodySurface`), or exact Signorini-Coulomb on the
 condensed system (method ``coulomb``: :class:`~fenics_contact.condensed.CondensedTwoBody`, small sliding).
 
 Loading. ``t`` in (0, 1]: the top moves down by ``t * approach`` (displacement control; ``u_x`` free), pressing

@@ -5,7 +5,7 @@ base; both ``E``, ``nu``: Dundurs' ``beta = 0``, so the normal and tangential pr
 stays Hertz's while the tangential load grows. Half model: the plane ``y = 0`` is a symmetry plane of both
 bodies (``u_y = 0``; the tangential load is along ``x``). Two-body contact, one pass, the cap's surface the
 slave (node-to-triangle, nodal quadrature), Coulomb friction ``mu`` on a penalty-type normal law
-(:class:`~fenics_contact.twobody_friction.FrictionalTwoBodySurface`), or exact Signorini-Coulomb on the condensed
+(:class:`~fenics_contact.twobody.friction.FrictionalTwoBodySurface`), or exact Signorini-Coulomb on the condensed
 system (method ``coulomb``: :class:`~fenics_contact.condensed.CondensedTwoBody`, small sliding; the slave
 vertices within ``EXACT_RADIUS`` times the approach of the block paired, each on its Coulomb disk).
 
