@@ -16,7 +16,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from table import CASES, COMPARED, MATERIAL, TOLERANCE, comparison_table, finest, lindley, mesh_table, meshes  # noqa: E402
+import table  # noqa: E402
+from table import CASES, COMPARED, MATERIAL, TOLERANCE, at, finest, lindley  # noqa: E402
 
 INTRO = """\
 An independent code on the same problems: [FElupe](https://github.com/adtzlr/felupe) (A. Dutzler, pure Python,
@@ -45,9 +46,16 @@ Force: per unit circumference (axisymmetric: the ring's radial force on the bore
 length (plane strain). **Lindley's relation** `F = pi D d E (1.25 s^1.5 + 50 s^6)` (P. B. Lindley, 1967, as quoted
 in the O-ring literature; its text could not be read here), per unit circumference `d E (1.25 s^1.5 + 50 s^6)`,
 is an empirical fit to ring tests, drawn as a line and
-not used as a reference. Columns: `dofs` displacement unknowns (FElupe: of its half cord; here of the whole cord,
-pressure excluded); `Newton` Newton iterations of all steps (here with augmentations); `time` the solver's wall time
-(s); `total` the process's; p0 the peak contact pressure (Cauchy), width the contact width, both at the bore.
+not used as a reference. Columns: `dofs` unknowns (FElupe: the displacement of its half cord, its cell-wise
+pressure and volume ratio condensed; here the whole cord's displacement and pressure); `Newton` Newton iterations of
+all steps (here with the augmentations and any cut-back steps); `time` the solver's wall time (s); `total` the
+process's; p0 the peak contact pressure (Cauchy), width the contact width, both at the bore.
+
+Where the codes differ more than in the force: the peak pressure and the width are read off each code's own
+discrete contact (FElupe: nodal forces over each node's share of the contact line, the consistent nodal forces of a
+bilinear element lumped; here the pressure recovered at the P2 vertices from the Gauss points), so they carry the
+resolution of the contact zone: a few nodes across it at low squeeze. The width's ends are extrapolated from those
+few points; it is the figure that differs most, and most at 5 % squeeze, where the zone spans the fewest nodes.
 """
 
 
@@ -55,7 +63,7 @@ def _chart(rows: list[dict], case: str, path: Path) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(13, 4))
     styles = {"FElupe": ("tab:blue", "s"), "fenics_contact": ("tab:red", "o")}
     for code, (color, marker) in styles.items():
-        levels = [m for m in meshes(rows, case, code) if all(r["status"] == "done" for r in m)]
+        levels = [m for m in table.meshes(rows, case, code) if all(r["status"] == "done" for r in m)]
         for i, mesh in enumerate(levels):
             last = i == len(levels) - 1
             s = [r["squeeze"] for r in mesh]
@@ -80,6 +88,19 @@ def _chart(rows: list[dict], case: str, path: Path) -> None:
     plt.close(fig)
 
 
+def _spread(rows: list[dict], case: str) -> str:
+    """The largest relative differences of the peak pressure and the width at the compared squeezes."""
+    fe, ours = finest(rows, case, "FElupe"), finest(rows, case, "fenics_contact")
+    out = []
+    for key, name in (("p0", "peak pressure"), ("width", "contact width")):
+        d = [b[key] / a[key] - 1 for s in COMPARED if (a := at(fe, s)) and (b := at(ours, s)) and a[key] > 0]
+        if d:
+            out.append(f"{name} {min(d):+.1%} to {max(d):+.1%}")
+        else:
+            out.append(f"{name} not compared")
+    return "At the same squeezes: " + ", ".join(out) + "."
+
+
 def write_page(rows_json: Path, docs: Path) -> Path:
     """Write ``docs``/felupe.md and its charts from a run's ``rows.json``; return the page's path."""
     data = json.loads(Path(rows_json).read_text())
@@ -94,7 +115,7 @@ def write_page(rows_json: Path, docs: Path) -> Path:
             "How to run it: [benchmarks](../benchmarks.md) (`make felupe`).\n", INTRO]
     docs.mkdir(parents=True, exist_ok=True)
     for case in rec["cases"]:
-        table, diffs = comparison_table(rows, case)
+        comparison, diffs = table.comparison_table(rows, case)
         worst = max((abs(d) for _, d in diffs), default=float("nan"))
         verdict = (f"the force agrees within {TOLERANCE:.0%} at " if worst <= TOLERANCE else
                    f"the force differs by more than {TOLERANCE:.0%} somewhere among ") + \
@@ -102,9 +123,9 @@ def write_page(rows_json: Path, docs: Path) -> Path:
             ", ".join(f"{d:+.2%}" for _, d in diffs) + " (this suite over FElupe, finest meshes)."
         _chart(rows, case, docs / f"felupe_{case}.png")
         text += [f"## {CASES[case]['title']}\n",
-                 f"Both codes' finest meshes; {verdict}\n", table + "\n",
+                 f"Both codes' finest meshes; {verdict} {_spread(rows, case)}\n", comparison + "\n",
                  "Mesh study (force at 10, 20, 30 % squeeze; in brackets its change from the next coarser mesh):\n",
-                 mesh_table(rows, case) + "\n",
+                 table.mesh_table(rows, case) + "\n",
                  f"![{CASES[case]['title']}: force, peak pressure and width against squeeze](felupe_{case}.png)\n"]
     failed = [r for r in rows if r["status"] != "done"]
     if failed:

@@ -4,6 +4,8 @@
     python demos/oring.py --plane strain                   # the same cross-section in plane strain
     python demos/oring.py --mu 0.2                         # friction on every wall (stick penalty E / h)
     mpirun -n 2 python demos/oring.py --h 0.04 --squeeze 0.2 --steps 4
+    python demos/oring.py --mu 0.1 --stroke 0.1            # a rod seal: then the inner wall slides along z by 0.1
+    python demos/oring.py --housing-E 4e7                  # the groove body meshed, steel (two-body contact)
 
 The cord (d = 1) on the groove bottom r = 5 of a gland 1.5 d wide; neo-Hookean rubber (E = 1000, nu = 0.4999),
 Taylor-Hood P2-P1 mixed by default; rigid walls (analytic half-planes); the bore moves toward the axis by
@@ -42,19 +44,24 @@ def main(argv=None) -> dict:
                    help="degree of the displacement (the mixed models: 2, Taylor-Hood)")
     p.add_argument("--steps", type=cli.COUNT, default=3, help="squeeze steps (3: 10, 20, 30 %% at --squeeze 0.3)")
     p.add_argument("--pressure-steps", type=cli.COUNT, default=2, help="pressure steps after the squeeze")
+    p.add_argument("--stroke-steps", type=cli.COUNT, default=4, help="steps of the rod's stroke (with --stroke)")
     scene = add_scene_options(p, oring.build)  # --d, --r-in, --E, --nu, --squeeze, --gland-width, --pressure, ...
     args = cli.parse(p, argv)
     out = Path(args.out or "results/oring")
     given = argv if argv is not None else sys.argv[1:]
     if not any(a.startswith("--omega-t") for a in given):  # the stick penalty: K (100 E / h) diverges with friction
         args.omega_t = oring.OMEGA_T * args.E / (args.h or oring.H * args.d)
+    if args.housing_E is not None and not any(a.startswith("--quadrature") for a in given):
+        args.quadrature = "simpson"  # the meshed gland: two-body contact on the P2 cord's quadratic facets
     # Refused combinations: one line, before any work (P2: the mixed models are Taylor-Hood).
-    cli.refuse_unsupported(args, kind="rigid", dim=2, degree=args.degree, model=args.model,
+    cli.refuse_unsupported(args, kind="rigid" if args.housing_E is None else "two-body", dim=2, degree=args.degree,
+                           model=args.model,
                            geometry="axisymmetric" if args.plane == oring.PLANES[0] else "cartesian")
 
     # 2. The scene: the cord's section, four rigid walls, the bore's motion, the fluid pressure.
     setup = build("oring", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps,
-                  pressure_steps=args.pressure_steps, model=args.model, plane=args.plane, degree=args.degree,
+                  pressure_steps=args.pressure_steps, stroke_steps=args.stroke_steps, model=args.model,
+                  plane=args.plane, degree=args.degree,
                   **scene_arguments(args, scene))
     comm = setup.problem.comm
 
