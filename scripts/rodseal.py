@@ -7,7 +7,8 @@ sliding drag against the pressure, beside mu times the rod's normal force.
         [--out results/rodseal] [--chart docs/rodseal_friction.png]
 
 Writes rodseal.csv (every step of every pressure) into --out and the chart; prints one Markdown row per pressure.
-Pressures are per E; the rod's stroke is 0.1 d in --stroke-steps steps.
+Pressures are per E; the rod's stroke is 0.6 d in --stroke-steps steps (the cord rolls with the rod until the side
+wall stops it, then the rod slides under it).
 """
 from __future__ import annotations
 
@@ -28,7 +29,7 @@ def run(mu: float, squeeze: float, pressure: float, h: float, stroke_steps: int,
     law = fc.Friction(fc.make_law("penalty", K=oring.DEFAULT_K * oring.E / h), mu=mu,
                       omega_t=oring.OMEGA_T * oring.E / h)
     setup = build("oring", law=law, comm=comm, h=h, steps=2, squeeze=squeeze, pressure=pressure * oring.E,
-                  pressure_steps=2, stroke=0.1 * oring.D, stroke_steps=stroke_steps)
+                  pressure_steps=2, stroke=0.6 * oring.D, stroke_steps=stroke_steps)
     history = []
     with fc.Solver(setup.problem, quiet=True) as solver:
         solver.on_step = lambda t: history.append(setup.figures())
@@ -72,7 +73,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--squeeze", type=float, default=0.2)
     p.add_argument("--pressures", type=float, nargs="+", default=[0.0, 0.025, 0.05, 0.1])
     p.add_argument("--h", type=float, default=oring.H * oring.D)
-    p.add_argument("--stroke-steps", type=int, default=8)
+    p.add_argument("--stroke-steps", type=int, default=12)
     p.add_argument("--out", default="results/rodseal")
     p.add_argument("--chart", default="docs/rodseal_friction.png")
     a = p.parse_args(argv)

@@ -282,6 +282,8 @@ STUDY = (  # studies of many solves (refinement series, heavy scenes rescaled): 
     "test_oring.py::test_peak_contact_stress_is_hertz_*",  # make test: the squeeze and pressure on a coarse mesh
     "test_oring.py::test_squeeze_then_pressure_converges_and_balances[strain]",  # make test: [axisymmetric]
     "test_oring.py::test_friction_holds_the_cord_against_the_pressure",
+    "test_oring.py::test_meshed_gland_converges_squeezed_and_pressurised",  # make test: its stiff limit
+    "test_oring.py::test_rod_seal_breaks_out_to_sliding_friction",  # make test: mu = 0 and its ranks
     "test_units.py::test_slow_scene_any_units[oring]",
     "test_mindlin3d.py::test_exact_coulomb_stick_radius_against_cattaneo_mindlin",  # make test: its ranks, coarse
 )

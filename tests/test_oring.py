@@ -155,28 +155,29 @@ def test_meshed_gland_converges_squeezed_and_pressurised():
 
 
 def _rod_seal(mu: float, comm=MPI.COMM_WORLD, **kw) -> list[dict]:
-    """A rod seal: 20 % squeeze, the pressure 0.05 E, then the rod (the inner wall) sliding 0.1 d along +z; Coulomb
-    friction ``mu`` on every wall (penalty, stick penalty E / h)."""
+    """A rod seal: 20 % squeeze, the pressure 0.05 E, then the rod (the inner wall) sliding 0.6 d along +z in steps of
+    0.1 d; Coulomb friction ``mu`` on every wall (penalty, stick penalty E / h)."""
     h = COARSE["h"]
     law = fc.Friction(fc.make_law("penalty", K=oring.DEFAULT_K * oring.E / h), mu=mu,
                       omega_t=oring.OMEGA_T * oring.E / h)
-    args = dict(COARSE, steps=2, squeeze=0.2, pressure=0.05 * oring.E, pressure_steps=2, stroke=0.1, stroke_steps=4)
+    args = dict(COARSE, steps=2, squeeze=0.2, pressure=0.05 * oring.E, pressure_steps=2, stroke=0.6, stroke_steps=6)
     return solve(comm, law=law, **{**args, **kw})
 
 
 def test_rod_seal_without_friction_has_no_axial_force():
     """mu = 0: the rod slides without any axial force on it, and the side wall alone balances the fluid."""
-    history = _rod_seal(0.0)
+    history = _rod_seal(0.0, stroke=0.2, stroke_steps=2)
     assert all(h["friction_rod"] == 0 and h["friction_axial_force"] == 0 for h in history)
     end = history[-1]
-    assert end["stroke"] == pytest.approx(0.1, rel=1e-12)
+    assert end["stroke"] == pytest.approx(0.2, rel=1e-12)
     assert abs(end["walls_axial_force"] + end["fluid_axial_force"]) <= 1e-6 * end["fluid_axial_force"], end
 
 
 def test_rod_seal_breaks_out_to_sliding_friction():
-    """mu = 0.2: before the stroke the rod carries part of the fluid's axial force by sticking friction; as it
-    slides, its loaded points go from partly sticking to all sliding (the break-out), and then its drag is mu
-    times its normal force per unit circumference; the axial forces balance at every step."""
+    """mu = 0.2: before the stroke the rod and the groove bottom hold the cord against the fluid by sticking
+    friction; as the rod moves the cord rolls with it until the side wall stops it, and the rod's loaded points go
+    from partly sticking to all sliding (the break-out); then its drag is mu times its normal force per unit
+    circumference; the axial forces balance at the end of every step after the pressure phase."""
     history = _rod_seal(0.2)
     stroke = [h for h in history if h["stroke"] > 0]
     assert stroke[0]["rod_slip_share"] < 1 and stroke[-1]["rod_slip_share"] == 1, [h["rod_slip_share"] for h in stroke]
@@ -189,7 +190,7 @@ def test_rod_seal_breaks_out_to_sliding_friction():
 
 def test_rod_seal_parallel_equals_serial():
     """Under mpirun -n 2: the rod seal's figures at every step equal each rank's own serial run to 1e-8."""
-    kw = dict(steps=1, pressure_steps=1, stroke_steps=2)
+    kw = dict(steps=1, pressure_steps=1, stroke=0.2, stroke_steps=2)
     parallel, serial = _rod_seal(0.2, MPI.COMM_WORLD, **kw), _rod_seal(0.2, MPI.COMM_SELF, **kw)
     for a, b in zip(parallel, serial):
         for k in a:

@@ -27,9 +27,9 @@ unit circumference (axisymmetric: the ring's radial force ``int p 2 pi r ds`` ov
 per unit length), the peak contact stress (nominal, per reference area; ``_cauchy``: per current area) and the
 contact width (the loaded zone along the wall in the current configuration, its ends extrapolated as Hertz's
 ``p^2`` linear in the squared distance, :func:`~fenics_contact.app.scenes.hertz.contact_half_width`). The balance
-of axial forces: ``fluid_axial_force`` (the fluid pressure's axial resultant), ``walls_axial_force`` (the side
-walls' normal forces) and ``friction_axial_force`` (the friction of every wall; ring totals in axisymmetry) add up to
-0 at the end of the pressure phase (no spring left).
+of axial forces: ``fluid_axial_force`` (the fluid pressure's axial resultant), ``walls_axial_force`` (the walls'
+normal forces: the side walls', and those of a meshed gland's deformed walls) and ``friction_axial_force`` (the
+friction of every wall; ring totals in axisymmetry) add up to 0 at the end of the pressure phase (no spring left).
 
 References (small strain, plane strain, a cylinder of radius ``R = d/2`` between two rigid planes, ``E* = E / (1 -
 nu^2)``): Hertz's half-width ``a = sqrt(4 P R / (pi E*))`` and peak ``p0 = 2 P / (pi a)`` for the computed force
@@ -38,10 +38,14 @@ nu^2)``): Hertz's half-width ``a = sqrt(4 P R / (pi E*))`` and peak ``p0 = 2 P /
 eq. 5.36; :func:`~fenics_contact.app.scenes.hertz.hertz`,
 :func:`~fenics_contact.app.scenes.hertz.approach_half_width`); ``p0_error`` and ``width_error``: the bore's peak
 and width against Hertz's for its force, ``force_error``: its force against Johnson's for the squeeze
-(relative). Kim et al. (Engineering Failure Analysis 14, 2007, 1680-1692) found the normalised FE
-contact-stress profiles of a compressed O-ring to follow Hertz's; Green & English (14th Int. Conf. on Fluid Sealing, BHR
-Group, 1994) computed axisymmetric hyperelastic O-rings up to 32 % squeeze (peak contact stress and contact width
-against squeeze).
+(relative). The independent reference of the cord between two plates (the gland wide enough that its side walls
+stay clear) is another code, FElupe, on the same problem: ``scripts/felupe/run.py``, docs/bench/felupe.md.
+
+Variants: ``housing_E`` meshes the groove body (:func:`~fenics_contact.app.meshes.gland_section`: linear elastic,
+held at its far face, its lands ``CLEARANCE d`` below the squeezed bore), in two-body contact with the cord; the bore
+stays rigid. ``stroke`` makes the inner wall a rod that slides along ``+z`` by ``stroke`` after the pressure phase
+(``2 < t <= 3``): with friction its drag per unit circumference is ``friction_rod`` and ``rod_slip_share`` the share of
+its loaded points that slide.
 """
 from __future__ import annotations
 
@@ -83,6 +87,9 @@ OMEGA_T = 1.0  # the demo's stick penalty per E / h with friction (100 E / h, th
 DEFAULT_K = 100.0  # penalty per E / h: the penetration ~1e-3 d, below the P2 chords' own sag (max_penetration)
 SPRING = 1e-6  # per E / d^2, while squeezed (module docstring)
 SPRING_PRESSURE = 1e-2  # per E / d^2, at the start of the pressure phase, falling to 0 at its end
+# ... with a meshed gland: its walls are found by a search, which a cord pushed through the side wall by a pressure
+# step's first Newton iterate (the spring alone resists it then) escapes; this spring keeps that iterate within d / 30
+HOUSING_SPRING_PRESSURE = 1.0
 PLANES = (AXISYMMETRIC, "strain")
 HOUSING_NU = 0.3  # the meshed gland's Poisson's ratio (steel, aluminium)
 CLEARANCE = 0.05  # the meshed gland's extrusion gap, per d: the lands sit this far below the squeezed bore
@@ -236,12 +243,13 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         if stroke > 0:
             raise ValueError("stroke needs the rigid gland (no housing_E): the rod is the meshed groove's bottom")
         dirichlet = [Dirichlet.on_facets(V, facets, "groove_fixed", i) for i in (0, 1)]
-        # the walls' pairing radius d/2: the pressure moves the cord by more than a facet toward the side wall
+        # the walls' pairing radius 3 d: the first Newton iterate of a pressure step may push the cord through the side
+        # wall by more than d (the spring alone holds it then); the wall must still see it to push it back
         walls = {name: f"{name}_wall" if name != "bore" else wall for name, wall in walls.items()}
     contacts = {name: contact_surface(u, facets, "surface", wall, copy.deepcopy(law), t, quadrature, name=name,
                                       material=material) if isinstance(wall, HalfPlane) else
                 two_body_surfaces(u, facets, "surface", wall, lambda: copy.deepcopy(law), t, quadrature, name=name,
-                                  material=material, radius=0.5 * d)[0] for name, wall in walls.items()}
+                                  material=material, radius=3.0 * d)[0] for name, wall in walls.items()}
 
     # the fluid pressure: a follower load on the reference arc within pressure_arc of -z
     x = ufl.SpatialCoordinate(mesh)
@@ -257,7 +265,7 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     def spring_factor(s: float) -> float:
         if s <= 1.0 or p_fluid == 0:
             return SPRING
-        return SPRING_PRESSURE * max(0.0, 2.0 - s)
+        return (HOUSING_SPRING_PRESSURE if elastic else SPRING_PRESSURE) * max(0.0, 2.0 - s)
 
     loads = [(ufl.as_vector([nominal[0], nominal[1]]) * arc, ds, ([0.0, 1.0, 2.0], [0.0, 0.0, 1.0])),
              (-k * wu, dx_cord, spring_factor)]
@@ -306,7 +314,8 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         total = out["force_bore"] * (2 * math.pi * (r_in + d - s * d) if plane == AXISYMMETRIC else 1.0)
         fluid = out["pressure"] / p_fluid * comm.allreduce(fem.assemble_scalar(fluid_form), op=MPI.SUM) \
             if p_fluid > 0 else 0.0
-        walls_axial = sum(float(contacts[n].total_force()[1]) for n in ("upstream", "side"))
+        # every wall's normal force along z: the side walls', and a meshed wall's, whose deformed normal tilts
+        walls_axial = sum(float(c.total_force()[1]) for c in contacts.values())
         friction_axial = sum(float(c.tangential_force()[1]) for c in contacts.values())
         # the rod's friction: the axial force the rod's tangential tractions put on the cord (the drag on the rod,
         # opposing its motion), per unit circumference of the rod; the share of its loaded points that slide
