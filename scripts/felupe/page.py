@@ -104,17 +104,20 @@ def _spread(rows: list[dict], case: str) -> str:
 def write_page(rows_json: Path, docs: Path) -> Path:
     """Write ``docs``/felupe.md and its charts from a run's ``rows.json``; return the page's path."""
     data = json.loads(Path(rows_json).read_text())
-    rec, rows = data["record"], data["rows"]
-    m = rec["machine"]
-    where = ", ".join(str(x) for x in (m.get("cpu"), f"{m.get('cores')} cores", f"{m.get('memory_gb')} GB",
-                                      m.get("system")) if x)
-    text = ["# FElupe side by side: an O-ring cord between two plates\n",
-            f"Cases {', '.join(rec['cases'])}: `{rec['command']}` on {rec['date']}, {where}, load average "
-            f"{rec['load_average']} at the start (other jobs shared the cores: times are noisy); FElupe "
-            f"{rec['felupe']} in its own venv, this suite on dolfinx under the system Python, every job serial. "
-            "How to run it: [benchmarks](../benchmarks.md) (`make felupe`).\n", INTRO]
+    runs, rows = data["runs"], data["rows"]
+    text = ["# FElupe side by side: an O-ring cord between two plates\n"]
+    for rec in runs:
+        m = rec["machine"]
+        where = ", ".join(str(x) for x in (m.get("cpu"), f"{m.get('cores')} cores", f"{m.get('memory_gb')} GB",
+                                          m.get("system")) if x)
+        text.append(f"Cases {', '.join(rec['cases'])}: `{rec['command']}` on {rec['date']}, {where}, load average "
+                    f"{rec['load_average']} at the start (other jobs shared the cores: times are noisy); FElupe "
+                    f"{rec['felupe']} in its own venv, this suite on dolfinx under the system Python, every job "
+                    "serial.\n")
+    text += ["How to run it: [benchmarks](../benchmarks.md) (`make felupe`).\n", INTRO]
+    cases = [c for c in CASES if any(c in rec["cases"] for rec in runs)]
     docs.mkdir(parents=True, exist_ok=True)
-    for case in rec["cases"]:
+    for case in cases:
         comparison, diffs = table.comparison_table(rows, case)
         worst = max((abs(d) for _, d in diffs), default=float("nan"))
         verdict = (f"the force agrees within {TOLERANCE:.0%} at " if worst <= TOLERANCE else

@@ -8,7 +8,8 @@ in one run; then the page docs/bench/felupe.md with one table and one chart per 
 FElupe is installed from the package index into ``--venv`` (default ``~/.cache/fenics_contact/felupe-venv``, made
 with ``/usr/bin/python3 -m venv`` and ``pip install felupe`` if it is not there). Each job is a fresh serial
 process; the figures go to ``--out``/rows.json with the run's record (machine, date, load average, command).
-Exit status: 0 all jobs done, 1 a job failed, 2 bad command line or no FElupe.
+The rows of cases a run does not redo are kept with their own run's record. Exit status: 0 all jobs done, 1 a job
+failed, 2 bad command line or no FElupe.
 """
 from __future__ import annotations
 
@@ -150,13 +151,18 @@ def main(argv: list[str] | None = None) -> int:
               "load_average": round(os.getloadavg()[0], 1),
               "command": " ".join(["python scripts/felupe/run.py", *(argv if argv is not None else sys.argv[1:])]),
               "felupe": version, "cases": list(args.cases)}
+    # Rows of cases this run does not redo are kept, with the record of the run that measured them.
+    earlier = json.loads((out / "rows.json").read_text()) if (out / "rows.json").exists() else {"runs": [], "rows": []}
+    runs = [dict(r, cases=[c for c in r["cases"] if c not in args.cases]) for r in earlier["runs"]]
+    runs = [r for r in runs if r["cases"]] + [record]
+    kept = [r for r in earlier["rows"] if r["case"] not in args.cases]
     rows = []
     for case in args.cases:
         for n in FELUPE_N[size]:
             rows += felupe_rows(case, n, py, out, args.timeout)
         for h in OURS_H[size]:
             rows += ours_rows(case, h, out, args.timeout)
-        (out / "rows.json").write_text(json.dumps({"record": record, "rows": rows}, indent=1) + "\n")
+        (out / "rows.json").write_text(json.dumps({"runs": runs, "rows": kept + rows}, indent=1) + "\n")
     from page import write_page  # scripts/felupe/page.py
 
     write_page(out / "rows.json", Path(args.docs))

@@ -44,8 +44,8 @@ stay clear) is another code, FElupe, on the same problem: ``scripts/felupe/run.p
 Variants: ``housing_E`` meshes the groove body (:func:`~fenics_contact.app.meshes.gland_section`: linear elastic,
 held at its far face, its lands ``CLEARANCE d`` below the squeezed bore), in two-body contact with the cord; the bore
 stays rigid. ``stroke`` makes the inner wall a rod that slides along ``+z`` by ``stroke`` after the pressure phase
-(``2 < t <= 3``): with friction its drag per unit circumference is ``friction_rod`` and ``rod_slip_share`` the share of
-its loaded points that slide.
+(``2 < t <= 3``): with friction its drag per unit circumference is ``friction_rod`` and ``rod_mobilised`` the share of
+its capacity ``int mu F(g) ds`` the drag takes (1: it slides everywhere it is loaded).
 """
 from __future__ import annotations
 
@@ -318,16 +318,14 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         walls_axial = sum(float(c.total_force()[1]) for c in contacts.values())
         friction_axial = sum(float(c.tangential_force()[1]) for c in contacts.values())
         # the rod's friction: the axial force the rod's tangential tractions put on the cord (the drag on the rod,
-        # opposing its motion), per unit circumference of the rod; the share of its loaded points that slide
-        drag = float(contacts["bottom"].tangential_force()[1]) / (2 * math.pi * r_in if plane == AXISYMMETRIC else 1.0)
-        try:
-            prof = contacts["bottom"].friction_profile()
-            loaded = prof["pressure"] > 0
-            slip_share = float(np.mean(prof["state"][loaded] == 1)) if loaded.any() else 0.0
-        except ValueError:  # frictionless
-            slip_share = float("nan")
+        # opposing its motion), per unit circumference of the rod; the share of its capacity mu F(g) it mobilises
+        # (1: every loaded point slides)
+        rod = contacts["bottom"]
+        drag = float(rod.tangential_force()[1]) / (2 * math.pi * r_in if plane == AXISYMMETRIC else 1.0)
+        capacity = float(rod.capacity()) if hasattr(rod, "capacity") else 0.0
+        mobilised = abs(float(rod.tangential_force()[1])) / capacity if capacity > 0 else float("nan")
         out.update({"stroke": stroke * load_factor(STROKE_PATH, float(t.value)), "friction_rod": drag,
-                    "rod_slip_share": slip_share})
+                    "rod_mobilised": mobilised})
         out.update({**ref, "spring_share": spring / total if total > 0 else 0.0, "fluid_axial_force": fluid,
                     "walls_axial_force": walls_axial, "friction_axial_force": friction_axial,
                     "max_penetration": max(c.max_penetration() for c in contacts.values())})
