@@ -45,7 +45,7 @@ Variants: ``housing_E`` meshes the groove body (:func:`~fenics_contact.app.meshe
 held at its far face, its lands ``CLEARANCE d`` below the squeezed bore), in two-body contact with the cord; the bore
 stays rigid. ``stroke`` makes the inner wall a rod that slides along ``+z`` by ``stroke`` after the pressure phase
 (``2 < t <= 3``): with friction its drag per unit circumference is ``friction_rod`` and ``rod_mobilised`` the share of
-its capacity ``int mu F(g) ds`` the drag takes (1: it slides everywhere it is loaded).
+its capacity ``int mu F(g) ds`` the drag takes (1: it slides everywhere it is loaded; 0 without friction).
 """
 from __future__ import annotations
 
@@ -323,7 +323,7 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         rod = contacts["bottom"]
         drag = float(rod.tangential_force()[1]) / (2 * math.pi * r_in if plane == AXISYMMETRIC else 1.0)
         capacity = float(rod.capacity()) if hasattr(rod, "capacity") else 0.0
-        mobilised = abs(float(rod.tangential_force()[1])) / capacity if capacity > 0 else float("nan")
+        mobilised = abs(float(rod.tangential_force()[1])) / capacity if capacity > 0 else 0.0  # 0: no friction
         out.update({"stroke": stroke * load_factor(STROKE_PATH, float(t.value)), "friction_rod": drag,
                     "rod_mobilised": mobilised})
         out.update({**ref, "spring_share": spring / total if total > 0 else 0.0, "fluid_axial_force": fluid,
