@@ -34,7 +34,7 @@ PARALLEL_LANE := (not slow and not scene) or mpi
 
 .PHONY: setup demo demo-all bench bench-all bench-pages scaling docs test test-fast test-all lint test-serial test-serial-all test-mpi \
         test-mpi-all \
-        test-debian13 clean peer
+        test-debian13 clean peer felupe
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
@@ -80,6 +80,13 @@ PEER_ARGS ?=
 peer: setup
 	@test -n "$(PEER_SRC)" || { echo "make peer: give PEER_SRC=/path/to/asimov-contact (its source checkout)" >&2; exit 2; }
 	$(PY) scripts/peer/run.py --peer-src "$(PEER_SRC)" --peer-prefix "$(PEER_PREFIX)" $(PEER_ARGS)
+
+# FElupe side by side: FElupe (from the package index, in its own venv under ~/.cache/fenics_contact, made if
+# missing) and this suite on the O-ring cord between two plates, plane strain and axisymmetric, one run ->
+# docs/bench/felupe.md (not part of make test; see docs/benchmarks.md)
+FELUPE_ARGS ?=
+felupe: setup
+	$(PY) scripts/felupe/run.py $(FELUPE_ARGS)
 
 # the generated pages (capability matrix, methods, layout; tests check the committed files), then the HTML
 # documentation with the API reference in docs/_build/html (warnings are errors)

@@ -323,7 +323,7 @@ class Materials:
     def energy_form(self, u) -> ufl.Form:
         """``sum over tags of int W_tag dx(tag)`` (what :class:`~fenics_contact.problem.ContactProblem` uses;
         axisymmetric: weighted by ``2 pi r``)."""
-        return sum(m.energy(u) * m.weight(u) * self.dx(t) for t, m in self.by_tag.items())
+        return sum(m.energy(u) * m.weight(u) * self._dx_of(t, m) for t, m in self.by_tag.items())
 
     def weight(self, u) -> ufl.core.expr.Expr:
         """The factor of every integral over the bodies (:meth:`Material.weight`, the same for all)."""
@@ -334,7 +334,12 @@ class Materials:
         differentiates)."""
         from .contact import displacement
 
-        return sum(m.density(w) * m.weight(displacement(w)) * self.dx(t) for t, m in self.by_tag.items())
+        return sum(m.density(w) * m.weight(displacement(w)) * self._dx_of(t, m) for t, m in self.by_tag.items())
+
+    def _dx_of(self, tag: int, m: Material) -> ufl.Measure:
+        """The measure of the body ``tag``, with its material's :attr:`~Material.quadrature_degree` when set."""
+        q = m.quadrature_degree
+        return self.dx(tag) if q is None else self.dx(tag, metadata={"quadrature_degree": int(q)})
 
     def energy(self, u):
         """The energy density per body (through the indicators): ``energy(u) * dx`` equals :meth:`energy_form`."""

@@ -62,19 +62,23 @@ def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
 
 
 @serial
-def test_pages_keep_and_list_the_peer_page(tmp_path):
-    """The side-by-side page with the peer (written by scripts/peer/run.py, which needs the peer's build) survives
-    a rewrite of the scene pages and is in the index's toctree; a scene page of an earlier run does not survive."""
+def test_pages_keep_and_list_the_side_by_side_pages(tmp_path):
+    """The side-by-side pages (the peer's of scripts/peer/run.py, which needs the peer's build; FElupe's of
+    scripts/felupe/run.py) survive a rewrite of the scene pages and are in the index's toctree; a scene page of an
+    earlier run does not survive."""
     results, out = tmp_path / "bench", tmp_path / "docs"
     _fixture(results)
     out.mkdir()
     (out / "peer.md").write_text("# peer\n")
     (out / "peer_hertz2d.png").write_bytes(b"png")
+    (out / "felupe.md").write_text("# felupe\n")
+    (out / "felupe_strain.png").write_bytes(b"png")
     (out / "sphere.md").write_text("# an earlier run\n")
     bench_pages.write_pages(results, out)
     assert (out / "peer.md").read_text() == "# peer\n" and (out / "peer_hertz2d.png").exists()
+    assert (out / "felupe.md").read_text() == "# felupe\n" and (out / "felupe_strain.png").exists()
     assert not (out / "sphere.md").exists()
-    assert "hertz\npeer\n```" in (out / "index.md").read_text()
+    assert "hertz\npeer\nfelupe\n```" in (out / "index.md").read_text()
 
 
 @serial
@@ -102,7 +106,7 @@ def test_committed_peer_page_states_its_runs_and_no_history():
 
 
 def test_committed_pages_state_the_machine_and_date_and_no_history():
-    pages = sorted(p for p in (ROOT / "docs" / "bench").glob("*.md") if p.stem != bench_pages.PEER_PAGE)
+    pages = sorted(p for p in (ROOT / "docs" / "bench").glob("*.md") if p.stem not in bench_pages.SIDE_BY_SIDE)
     assert pages and pages[0].name != "index.md" or len(pages) > 1
     for page in pages:
         text = page.read_text()

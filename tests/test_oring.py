@@ -126,3 +126,74 @@ def test_demo_refuses_bad_options_in_one_line(argv, code, words, capsys, tmp_pat
     if MPI.COMM_WORLD.rank == 0:
         line = capsys.readouterr().err.strip().splitlines()[-1]
         assert all(w in line for w in words), line
+
+
+STEEL = 4e4 * oring.E  # the meshed gland's Young's modulus: steel beside rubber
+
+
+def test_meshed_gland_stiff_limit_is_the_rigid_gland():
+    """The groove body meshed (two-body contact of the cord with its walls, the same penalty and Simpson points) at
+    1e3 times steel's modulus: at 10 % squeeze the bore's and the groove bottom's forces equal the rigid gland's to
+    1e-3 (measured 2e-7; steel itself: 1.5e-5); the groove body is held only at its far face, so its strain, and the
+    difference, vanish as its modulus grows."""
+    kw = dict(COARSE, quadrature="simpson", steps=1, squeeze=0.1, pressure=0.0)
+    rigid = solve(**kw)[-1]
+    meshed = solve(housing_E=1e3 * STEEL, **kw)[-1]
+    for key in ("force_bore", "force_bottom"):
+        assert meshed[key] == pytest.approx(rigid[key], rel=1e-3), (key, meshed[key], rigid[key])
+
+
+def test_meshed_gland_converges_squeezed_and_pressurised():
+    """Steel groove body: 10, 20, 30 % squeeze, then the pressure in two steps converge; the forces grow with the
+    squeeze, and at the end the meshed side wall balances the fluid's axial force to the solver's tolerance."""
+    history = solve(quadrature="simpson", housing_E=STEEL, **COARSE)
+    bore = [h["force_bore"] for h in history[:3]]
+    assert all(b > a > 0 for a, b in zip(bore, bore[1:])), bore
+    end = history[-1]
+    assert end["force_side"] > 0 and end["fluid_axial_force"] > 0
+    assert abs(end["walls_axial_force"] + end["fluid_axial_force"]) <= 1e-6 * end["fluid_axial_force"], end
+
+
+def _rod_seal(mu: float, comm=MPI.COMM_WORLD, **kw) -> list[dict]:
+    """A rod seal: 20 % squeeze, the pressure 0.05 E, then the rod (the inner wall) sliding 0.6 d along +z in steps of
+    0.1 d; Coulomb friction ``mu`` on every wall (penalty, stick penalty E / h)."""
+    h = COARSE["h"]
+    law = fc.Friction(fc.make_law("penalty", K=oring.DEFAULT_K * oring.E / h), mu=mu,
+                      omega_t=oring.OMEGA_T * oring.E / h)
+    args = dict(COARSE, steps=2, squeeze=0.2, pressure=0.05 * oring.E, pressure_steps=2, stroke=0.6, stroke_steps=6)
+    return solve(comm, law=law, **{**args, **kw})
+
+
+def test_rod_seal_without_friction_has_no_axial_force():
+    """mu = 0: the rod slides without any axial force on it, and the side wall alone balances the fluid."""
+    history = _rod_seal(0.0, stroke=0.2, stroke_steps=2)
+    assert all(h["friction_rod"] == 0 and h["friction_axial_force"] == 0 for h in history)
+    end = history[-1]
+    assert end["stroke"] == pytest.approx(0.2, rel=1e-12)
+    assert abs(end["walls_axial_force"] + end["fluid_axial_force"]) <= 1e-6 * end["fluid_axial_force"], end
+
+
+def test_rod_seal_breaks_out_to_sliding_friction():
+    """mu = 0.2: before the stroke the rod and the groove bottom hold the cord against the fluid by sticking
+    friction; as the rod moves the cord rolls with it until the side wall stops it, and the rod's drag goes from a
+    part of its capacity int mu F(g) ds (sticking points) to all of it (the break-out: every loaded point slides);
+    then its drag is mu times its normal force per unit circumference; the axial forces balance at the end of every
+    step after the pressure phase."""
+    history = _rod_seal(0.2)
+    stroke = [h for h in history if h["stroke"] > 0]
+    mobilised = [h["rod_mobilised"] for h in stroke]
+    assert mobilised[0] < 0.99 and mobilised[-1] == pytest.approx(1.0, rel=1e-6), mobilised
+    end = stroke[-1]
+    assert end["friction_rod"] == pytest.approx(0.2 * end["force_bottom"], rel=1e-6), end
+    for h in history[2:]:  # under pressure: fluid, side walls and friction in balance (no spring at the end)
+        total = h["fluid_axial_force"] + h["walls_axial_force"] + h["friction_axial_force"]
+        assert abs(total) <= 1e-6 * h["fluid_axial_force"] or h["t"] < 2, h
+
+
+def test_rod_seal_parallel_equals_serial():
+    """Under mpirun -n 2: the rod seal's figures at every step equal each rank's own serial run to 1e-8."""
+    kw = dict(steps=1, pressure_steps=1, stroke=0.2, stroke_steps=2)
+    parallel, serial = _rod_seal(0.2, MPI.COMM_WORLD, **kw), _rod_seal(0.2, MPI.COMM_SELF, **kw)
+    for a, b in zip(parallel, serial):
+        for k in a:
+            assert a[k] == pytest.approx(b[k], rel=1e-8, abs=1e-8 * max(abs(b["force_bore"]), 1.0)), (k, a[k], b[k])

@@ -251,16 +251,19 @@ def _date(header_line: str) -> str:
     return found.group() if found else ""
 
 
-# The side-by-side page with the peer (dolfinx_contact), written by scripts/peer/run.py: kept and listed here.
+# The side-by-side pages, written by their own scripts (not by a benchmark run): kept and listed here. The peer
+# (dolfinx_contact): scripts/peer/run.py; FElupe: scripts/felupe/run.py.
 PEER_PAGE = "peer"
+FELUPE_PAGE = "felupe"
+SIDE_BY_SIDE = (PEER_PAGE, FELUPE_PAGE)
 
 
 def write_pages(results: str | Path, out: str | Path, demos: str | Path | None = None,
                 add: bool = False) -> list[Path]:
     """Write a page per scene with results in ``results`` and ``out/index.md``; returns the pages written.
     Pages and charts of an earlier run in ``out`` are removed first, unless ``add`` (see the module), except the
-    side-by-side page with the peer (``peer.md``, ``peer_*.png``: written by scripts/peer/run.py, which needs the
-    peer's build), which the index lists when present."""
+    side-by-side pages (:data:`SIDE_BY_SIDE`: ``peer.md``, ``peer_*.png`` of scripts/peer/run.py, which needs the
+    peer's build; ``felupe.md``, ``felupe_*.png`` of scripts/felupe/run.py), which the index lists when present."""
     results, out = Path(results).resolve(), Path(out).resolve()  # absolute from the start
     runs = read_runs(results)
     by_scene = {scene: run for run in runs for scene in run["scenes"]}
@@ -275,7 +278,7 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     out.mkdir(parents=True, exist_ok=True)
     if not add:
         for old in [*out.glob("*.md"), *out.glob("*.png")]:
-            if not old.name.startswith(PEER_PAGE):
+            if not old.name.startswith(SIDE_BY_SIDE):
                 old.unlink()
     pages = []
     for scene in scenes:
@@ -304,12 +307,13 @@ def write_index(out: str | Path, demos: str | Path | None = None) -> Path:
     """Write ``out/index.md``: the header of every run that measured a section of a page in ``out`` (oldest
     first), the pages, their model-reduction rows and, with ``demos``, the demos' checks; returns its path."""
     out = Path(out)
-    texts = {p.stem: p.read_text() for p in sorted(out.glob("*.md")) if p.stem not in ("index", PEER_PAGE)}
+    texts = {p.stem: p.read_text() for p in sorted(out.glob("*.md")) if p.stem not in ("index", *SIDE_BY_SIDE)}
     headers = sorted(dict.fromkeys(line + "\n" for t in texts.values() for line in t.splitlines()
                                    if line.startswith("Measured on ")), key=_date)
     index = ["# Benchmark results", "", *headers,
              "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
-             "```{toctree}", ":maxdepth: 1", "", *texts, *([PEER_PAGE] if (out / f"{PEER_PAGE}.md").exists() else []),
+             "```{toctree}", ":maxdepth: 1", "", *texts,
+             *(page for page in SIDE_BY_SIDE if (out / f"{page}.md").exists()),
              "```", ""]
     rows = [row for t in texts.values() for row in _table_rows(t, REDUCTION)]
     if rows:  # one table: each scene's rows under the common header

@@ -4,14 +4,17 @@
     python demos/oring.py --plane strain                   # the same cross-section in plane strain
     python demos/oring.py --mu 0.2                         # friction on every wall (stick penalty E / h)
     mpirun -n 2 python demos/oring.py --h 0.04 --squeeze 0.2 --steps 4
+    python demos/oring.py --mu 0.1 --stroke 0.1            # a rod seal: then the inner wall slides along z by 0.1
+    python demos/oring.py --housing-E 4e7                  # the groove body meshed, steel (two-body contact)
 
 The cord (d = 1) on the groove bottom r = 5 of a gland 1.5 d wide; neo-Hookean rubber (E = 1000, nu = 0.4999),
 Taylor-Hood P2-P1 mixed by default; rigid walls (analytic half-planes); the bore moves toward the axis by
 squeeze * d, then the fluid pressure pushes the cord onto the far side wall (fenics_contact.app.scenes.oring). Per
 step: the force per unit circumference, the peak contact stress and the contact width on each wall. The check, at
 the first squeeze step: the bore's peak contact stress against Hertz's for the computed force (K. L. Johnson,
-Contact Mechanics, 1985, section 4.2). Writes oring.xdmf, summary.json, oring_figures.csv, oring_profiles.csv and
-oring_pressure.png to --out.
+Contact Mechanics, 1985, section 4.2); with --housing-E and a pressure, the walls' and the friction's axial force
+against the fluid's at the end of the pressure phase. Writes oring.xdmf, summary.json, oring_figures.csv,
+oring_profiles.csv and oring_pressure.png to --out.
 """
 import csv
 import sys
@@ -29,6 +32,7 @@ from fenics_contact.app.scenes import add_scene_options, oring, scene_arguments
 # at h = 0.1 d the mesh alone is -8 % from the 0.03 d figure, passing only by Hertz's +1.6 %: the quick line
 # (demos/quick.txt) runs h = 0.07 d (-2.7 % from the 0.03 d figure)
 TOLERANCE = 5e-2
+BALANCE_TOLERANCE = 1e-6  # the meshed gland's check: the solver's relative tolerance on the forces
 
 
 def main(argv=None) -> dict:
@@ -42,19 +46,24 @@ def main(argv=None) -> dict:
                    help="degree of the displacement (the mixed models: 2, Taylor-Hood)")
     p.add_argument("--steps", type=cli.COUNT, default=3, help="squeeze steps (3: 10, 20, 30 %% at --squeeze 0.3)")
     p.add_argument("--pressure-steps", type=cli.COUNT, default=2, help="pressure steps after the squeeze")
+    p.add_argument("--stroke-steps", type=cli.COUNT, default=4, help="steps of the rod's stroke (with --stroke)")
     scene = add_scene_options(p, oring.build)  # --d, --r-in, --E, --nu, --squeeze, --gland-width, --pressure, ...
     args = cli.parse(p, argv)
     out = Path(args.out or "results/oring")
     given = argv if argv is not None else sys.argv[1:]
     if not any(a.startswith("--omega-t") for a in given):  # the stick penalty: K (100 E / h) diverges with friction
         args.omega_t = oring.OMEGA_T * args.E / (args.h or oring.H * args.d)
+    if args.housing_E is not None and not any(a.startswith("--quadrature") for a in given):
+        args.quadrature = "simpson"  # the meshed gland: two-body contact on the P2 cord's quadratic facets
     # Refused combinations: one line, before any work (P2: the mixed models are Taylor-Hood).
-    cli.refuse_unsupported(args, kind="rigid", dim=2, degree=args.degree, model=args.model,
+    cli.refuse_unsupported(args, kind="rigid" if args.housing_E is None else "two-body", dim=2, degree=args.degree,
+                           model=args.model,
                            geometry="axisymmetric" if args.plane == oring.PLANES[0] else "cartesian")
 
     # 2. The scene: the cord's section, four rigid walls, the bore's motion, the fluid pressure.
     setup = build("oring", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps,
-                  pressure_steps=args.pressure_steps, model=args.model, plane=args.plane, degree=args.degree,
+                  pressure_steps=args.pressure_steps, stroke_steps=args.stroke_steps, model=args.model,
+                  plane=args.plane, degree=args.degree,
                   **scene_arguments(args, scene))
     comm = setup.problem.comm
 
@@ -66,6 +75,12 @@ def main(argv=None) -> dict:
         profiles[f"{t:.6g}"] = {w: [a.tolist() for a in prof] for w, prof in setup.profiles().items()}
 
     def check(s: dict) -> dict:
+        end = [h for h in history if h["t"] == 2.0]  # the end of the pressure phase: the spring is 0
+        if args.housing_E is not None and end:  # the meshed gland (Simpson points): the balance of axial forces
+            e = end[0]
+            return reference_check("walls' and friction's axial force (end of the pressure phase)",
+                                   -(e["walls_axial_force"] + e["friction_axial_force"]), e["fluid_axial_force"],
+                                   BALANCE_TOLERANCE, "the fluid pressure's axial resultant on the cord")
         first = history[0] if history else {}
         a_h = 0.5 * first.get("width_hertz", float("nan"))
         return reference_check("p0_bore (first squeeze step)", first.get("p0_bore"), first.get("p0_hertz"),

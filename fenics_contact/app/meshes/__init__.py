@@ -13,7 +13,7 @@ on ``comm``. The seal geometry is documented in :mod:`fenics_contact.app.meshes.
 """
 from .hertz import hertz_quarter_disk
 from .mindlin3d import cap_on_block
-from .oring import cord_section
+from .oring import cord_section, gland_section
 from .pin import pin_plate
 from .rectangle import check_tags, rectangle
 from .ring import ring_quarter
@@ -34,4 +34,5 @@ __all__ = [
     "hertz_quarter_disk", "pin_plate", "check_tags", "rectangle", "ring_quarter", "concentric_rings",
     "seal_geometry", "seal_s_geometry", "seal_s_section", "seal_section", "seal_wave_geometry", "seal_wave_section",
     "sheet_over_cylinder", "sphere_octant", "stacked_blocks", "two_half_disks", "cap_on_block", "cord_section",
+    "gland_section",
 ]

@@ -27,9 +27,9 @@ unit circumference (axisymmetric: the ring's radial force ``int p 2 pi r ds`` ov
 per unit length), the peak contact stress (nominal, per reference area; ``_cauchy``: per current area) and the
 contact width (the loaded zone along the wall in the current configuration, its ends extrapolated as Hertz's
 ``p^2`` linear in the squared distance, :func:`~fenics_contact.app.scenes.hertz.contact_half_width`). The balance
-of axial forces: ``fluid_axial_force`` (the fluid pressure's axial resultant), ``walls_axial_force`` (the side
-walls' normal forces) and ``friction_axial_force`` (the friction of every wall; ring totals in axisymmetry) add up to
-0 at the end of the pressure phase (no spring left).
+of axial forces: ``fluid_axial_force`` (the fluid pressure's axial resultant), ``walls_axial_force`` (the walls'
+normal forces: the side walls', and those of a meshed gland's deformed walls) and ``friction_axial_force`` (the
+friction of every wall; ring totals in axisymmetry) add up to 0 at the end of the pressure phase (no spring left).
 
 References (small strain, plane strain, a cylinder of radius ``R = d/2`` between two rigid planes, ``E* = E / (1 -
 nu^2)``): Hertz's half-width ``a = sqrt(4 P R / (pi E*))`` and peak ``p0 = 2 P / (pi a)`` for the computed force
@@ -38,10 +38,14 @@ nu^2)``): Hertz's half-width ``a = sqrt(4 P R / (pi E*))`` and peak ``p0 = 2 P /
 eq. 5.36; :func:`~fenics_contact.app.scenes.hertz.hertz`,
 :func:`~fenics_contact.app.scenes.hertz.approach_half_width`); ``p0_error`` and ``width_error``: the bore's peak
 and width against Hertz's for its force, ``force_error``: its force against Johnson's for the squeeze
-(relative). Kim et al. (Engineering Failure Analysis 14, 2007, 1680-1692) found the normalised FE
-contact-stress profiles of a compressed O-ring to follow Hertz's; Green & English (14th Int. Conf. on Fluid Sealing, BHR
-Group, 1994) computed axisymmetric hyperelastic O-rings up to 32 % squeeze (peak contact stress and contact width
-against squeeze).
+(relative). The independent reference of the cord between two plates (the gland wide enough that its side walls
+stay clear) is another code, FElupe, on the same problem: ``scripts/felupe/run.py``, docs/bench/felupe.md.
+
+Variants: ``housing_E`` meshes the groove body (:func:`~fenics_contact.app.meshes.gland_section`: linear elastic,
+held at its far face, its lands ``CLEARANCE d`` below the squeezed bore), in two-body contact with the cord; the bore
+stays rigid. ``stroke`` makes the inner wall a rod that slides along ``+z`` by ``stroke`` after the pressure phase
+(``2 < t <= 3``): with friction its drag per unit circumference is ``friction_rod`` and ``rod_mobilised`` the share of
+its capacity ``int mu F(g) ds`` the drag takes (1: it slides everywhere it is loaded; 0 without friction).
 """
 from __future__ import annotations
 
@@ -54,18 +58,22 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ...contact import displacement
-from ...factory import contact_surface
+from ...factory import contact_surface, two_body_surfaces
 from ...kinematics import AXISYMMETRIC, deformation_gradient
 from ...laws import ContactLaw
+from ...materials import Materials
 from ...models import MODELS
 from ...multipliers import unknown
 from ...obstacles import HalfPlane
-from ...problem import ContactProblem
-from ..meshes import cord_section
+from ...paths import load_factor
+from ...problem import ContactProblem, Dirichlet
+from ..cli import GIVEN
+from ..meshes import cord_section, gland_section
 from . import Option, Setup, log_dofs, poisson, positive, refuse_fine
 from .hertz import approach_half_width, contact_half_width, hertz
 
 __all__ = ["D", "E", "NU", "DEFAULT_K", "OMEGA_T", "SQUEEZE", "PRESSURE", "PLANES", "SPRING", "WALLS", "BENCH",
+           "profile_width",
            "OPTIONS", "build", "references"]
 
 D, E, NU = 1.0, 1000.0, 0.4999
@@ -79,7 +87,14 @@ OMEGA_T = 1.0  # the demo's stick penalty per E / h with friction (100 E / h, th
 DEFAULT_K = 100.0  # penalty per E / h: the penetration ~1e-3 d, below the P2 chords' own sag (max_penetration)
 SPRING = 1e-6  # per E / d^2, while squeezed (module docstring)
 SPRING_PRESSURE = 1e-2  # per E / d^2, at the start of the pressure phase, falling to 0 at its end
+# ... with a meshed gland: its walls are found by a search, which a cord pushed through the side wall by a pressure
+# step's first Newton iterate (the spring alone resists it then) escapes; this spring keeps that iterate within d / 30
+HOUSING_SPRING_PRESSURE = 1.0
 PLANES = (AXISYMMETRIC, "strain")
+HOUSING_NU = 0.3  # the meshed gland's Poisson's ratio (steel, aluminium)
+CLEARANCE = 0.05  # the meshed gland's extrusion gap, per d: the lands sit this far below the squeezed bore
+SQUEEZE_PATH = ([0.0, 1.0, 2.0], [0.0, 1.0, 1.0])  # the bore's radial motion: squeezed up to t = 1, then held
+STROKE_PATH = ([0.0, 2.0, 3.0], [0.0, 0.0, 1.0])  # the rod's axial motion: after the pressure phase
 # The bulk's quadrature: degree 4, twice the P2 displacement's (UFL's estimate for J^(-2/3) and u_r / r is 112
 # points per cell, several times the cost for figures that agree to 0.4 %: measured on the default mesh)
 QUADRATURE_DEGREE = 4
@@ -120,6 +135,12 @@ OPTIONS = {
     "pressure_arc": Option(f"half-angle of the arc the pressure acts on, about -z (degrees; default "
                            f"{PRESSURE_ARC:g})", (5.0, 80.0)),
     "h": Option(f"mesh size on the cord's surface (length; default: d / {1 / H:g})"),
+    "stroke": Option("axial travel of the rod (the inner wall r = r_in) toward +z after the pressure phase, over "
+                     "2 < t <= 3 (length; default 0: the rod stays)", "nonnegative"),
+    "housing_E": Option("Young's modulus of a meshed, linear elastic gland (stress; default: none, the walls rigid "
+                        "analytic planes; steel beside rubber: 1e4-1e5 E)"),
+    "housing_nu": Option(f"Poisson's ratio of the meshed gland (default {HOUSING_NU:g})", "poisson",
+                         needs=("housing_E", GIVEN)),
 }
 
 
@@ -140,7 +161,7 @@ def _relative(value: float, reference: float) -> float:
     return abs(value - reference) / reference if reference > 0 else float("nan")
 
 
-def _profile_width(s: np.ndarray, p: np.ndarray) -> float:
+def profile_width(s: np.ndarray, p: np.ndarray) -> float:
     """Width of the loaded zone of ``p(s)`` along the wall coordinate ``s``: each side of the peak extrapolated
     as Hertz's edge (:func:`contact_half_width`)."""
     if not np.any(p > 0):
@@ -158,25 +179,31 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
           comm: MPI.Comm = MPI.COMM_WORLD, model: str = "neohookean-mixed", plane: str = AXISYMMETRIC,
           degree: int = 2, d: float = D, r_in: float | None = None, E: float = E, nu: float = NU,
           squeeze: float = SQUEEZE, gland_width: float | None = None, pressure: float | None = None,
-          pressure_arc: float = PRESSURE_ARC, h: float | None = None) -> Setup:
+          pressure_arc: float = PRESSURE_ARC, h: float | None = None, stroke: float = 0.0,
+          stroke_steps: int = 4, housing_E: float | None = None, housing_nu: float | None = None) -> Setup:
     """``steps`` squeeze steps up to ``squeeze`` (t in (0, 1]), then ``pressure_steps`` pressure steps (t in
     (1, 2]; none if ``pressure`` is 0); ``plane``: ``axisymmetric`` or ``strain``; ``model``: a bulk model of
     :data:`~fenics_contact.models.MODELS` (P2: Taylor-Hood for the mixed ones); ``degree``: the displacement's
     (1 or 2; the mixed models take 2 only). ``OPTIONS`` describes each parameter; the module docstring the
-    model."""
+    model. ``housing_E``: the groove body meshed (:func:`~fenics_contact.app.meshes.gland_section`), linear
+    elastic (``linear-mixed`` beside a mixed rubber model), two-body contact of the cord (slave) with the groove's
+    walls (masters; ``quadrature`` ``simpson`` on the P2 cord); the bore stays a rigid plane."""
     if plane not in PLANES:
         raise ValueError(f"oring plane must be one of {PLANES}, got {plane!r}")
     if model not in MODELS:
         raise ValueError(f"model must be one of {tuple(MODELS)}, got {model!r}")
     if degree not in (1, 2) or (degree == 1 and MODELS[model].mixed):
         raise ValueError(f"degree must be 1 or 2 (2 with the mixed model {model!r}), got {degree!r}")
-    for name, n in (("steps", steps), ("pressure_steps", pressure_steps)):
+    for name, n in (("steps", steps), ("pressure_steps", pressure_steps), ("stroke_steps", stroke_steps)):
         if int(n) != n or n < 1:
             raise ValueError(f"{name} must be an integer >= 1, got {n!r}")
-    positive(d=d, E=E, r_in=r_in, gland_width=gland_width, h=h)
-    poisson(nu=nu)
+    positive(d=d, E=E, r_in=r_in, gland_width=gland_width, h=h, housing_E=housing_E)
+    poisson(nu=nu, housing_nu=housing_nu)
+    housing_nu = HOUSING_NU if housing_nu is None else housing_nu
     if not 0.01 <= squeeze <= 0.45:
         raise ValueError(f"squeeze must be in [0.01, 0.45], got {squeeze!r}")
+    if not (math.isfinite(stroke) and stroke >= 0):
+        raise ValueError(f"stroke must be a finite number >= 0, got {stroke!r}")
     if not 5.0 <= pressure_arc <= 80.0:
         raise ValueError(f"pressure_arc must be in [5, 80] degrees, got {pressure_arc!r}")
     r_in = R_IN * d if r_in is None else r_in
@@ -191,17 +218,40 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     refuse_fine("h", h, log_dofs((1.5 if degree == 1 else 6.0, d / h, 2)), 2, comm)
     rc = r_in + 0.5 * d
 
-    mesh, _, facets = cord_section(comm, d, (rc, 0.0), h, pressure_arc)
+    elastic = housing_E is not None
+    if elastic:  # the lands CLEARANCE d below the squeezed bore
+        land = r_in + d * (1 - squeeze - CLEARANCE)
+        mesh, cells, facets = gland_section(comm, d, (rc, 0.0), h, pressure_arc, w, land)
+        dx_cord = ufl.Measure("dx", domain=mesh, subdomain_data=cells.meshtags, subdomain_id=cells["cord"])
+    else:
+        mesh, _, facets = cord_section(comm, d, (rc, 0.0), h, pressure_arc)
+        dx_cord = ufl.dx
     u, V = unknown(mesh, degree, law, model=model)
     t = fem.Constant(mesh, 0.0)
     material = MODELS[model](E, nu, plane)
     material.quadrature_degree = QUADRATURE_DEGREE
     bore = HalfPlane([r_in + d, 0.0], [-1.0, 0.0], motion=[-squeeze * d, 0.0])
-    bore.path = ([0.0, 1.0, 2.0], [0.0, 1.0, 1.0])  # squeezed up to t = 1, then held
-    walls = {"bottom": HalfPlane([r_in, 0.0], [1.0, 0.0]), "bore": bore,
+    bore.path = SQUEEZE_PATH
+    rod = HalfPlane([r_in, 0.0], [1.0, 0.0], motion=[0.0, stroke] if stroke > 0 else None)  # or the groove bottom
+    if stroke > 0:
+        rod.path = STROKE_PATH
+    walls = {"bottom": rod, "bore": bore,
              "upstream": HalfPlane([0.0, -0.5 * w], [0.0, 1.0]), "side": HalfPlane([0.0, 0.5 * w], [0.0, -1.0])}
-    contacts = {name: contact_surface(u, facets, "surface", obstacle, copy.deepcopy(law), t, quadrature,
-                                      name=name, material=material) for name, obstacle in walls.items()}
+    dirichlet = []
+    if elastic:  # the groove's walls meshed, held at the groove body's far face; the bore stays rigid
+        metal = MODELS["linear-mixed" if MODELS[model].mixed else "linear"](housing_E, housing_nu, plane)
+        metal.quadrature_degree = QUADRATURE_DEGREE
+        material = Materials(mesh, cells, {"cord": material, "groove": metal})
+        if stroke > 0:
+            raise ValueError("stroke needs the rigid gland (no housing_E): the rod is the meshed groove's bottom")
+        dirichlet = [Dirichlet.on_facets(V, facets, "groove_fixed", i) for i in (0, 1)]
+        # the walls' pairing radius 3 d: the first Newton iterate of a pressure step may push the cord through the side
+        # wall by more than d (the spring alone holds it then); the wall must still see it to push it back
+        walls = {name: f"{name}_wall" if name != "bore" else wall for name, wall in walls.items()}
+    contacts = {name: contact_surface(u, facets, "surface", wall, copy.deepcopy(law), t, quadrature, name=name,
+                                      material=material) if isinstance(wall, HalfPlane) else
+                two_body_surfaces(u, facets, "surface", wall, lambda: copy.deepcopy(law), t, quadrature, name=name,
+                                  material=material, radius=3.0 * d)[0] for name, wall in walls.items()}
 
     # the fluid pressure: a follower load on the reference arc within pressure_arc of -z
     x = ufl.SpatialCoordinate(mesh)
@@ -215,14 +265,16 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     k = E / d**2
 
     def spring_factor(s: float) -> float:
-        return SPRING if s <= 1.0 else SPRING_PRESSURE * (2.0 - s)
+        if s <= 1.0 or p_fluid == 0:
+            return SPRING
+        return (HOUSING_SPRING_PRESSURE if elastic else SPRING_PRESSURE) * max(0.0, 2.0 - s)
 
     loads = [(ufl.as_vector([nominal[0], nominal[1]]) * arc, ds, ([0.0, 1.0, 2.0], [0.0, 0.0, 1.0])),
-             (-k * wu, ufl.dx, spring_factor)]
-    problem = ContactProblem(u, material, t, [], list(contacts.values()), loads)
+             (-k * wu, dx_cord, spring_factor)]
+    problem = ContactProblem(u, material, t, dirichlet, list(contacts.values()), loads)
     # the fluid's axial resultant (ring total in axisymmetry) at the full pressure, for the balance of forces
     fluid_form = fem.form(nominal[1] * arc * material.weight(wu) * ds)
-    spring_forms = [fem.form(k * wu[i] * material.weight(wu) * ufl.dx) for i in range(2)]
+    spring_forms = [fem.form(k * wu[i] * material.weight(wu) * dx_cord) for i in range(2)]
 
     def wall_values(name: str, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray]:
         """The wall's contact pressure at the cord's surface vertices on the wall's half of the circle (the P2
@@ -243,14 +295,14 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         c = contacts[name]
         force = float(abs(c.total_force()[0 if name in ("bottom", "bore") else 1]))
         if plane == AXISYMMETRIC:  # per unit circumference
-            r_wall = r_in if name == "bottom" else (r_in + d - bore.factor(float(t.value)) * squeeze * d) \
-                if name == "bore" else rc
+            squeezed = load_factor(SQUEEZE_PATH, float(t.value)) * squeeze * d
+            r_wall = r_in if name == "bottom" else (r_in + d - squeezed) if name == "bore" else rc
             force /= 2 * math.pi * r_wall
         return {f"force_{name}": force, f"p0_{name}": float(p.max(initial=0.0)),
-                f"p0_cauchy_{name}": float(pc.max(initial=0.0)), f"width_{name}": _profile_width(s, p)}
+                f"p0_cauchy_{name}": float(pc.max(initial=0.0)), f"width_{name}": profile_width(s, p)}
 
     def figures() -> dict:
-        s = bore.factor(float(t.value)) * squeeze
+        s = load_factor(SQUEEZE_PATH, float(t.value)) * squeeze
         out = {"t": float(t.value), "squeeze": s, "pressure": p_fluid * max(0.0, min(1.0, float(t.value) - 1.0))}
         for name in WALLS:
             out.update(wall_figures(name))
@@ -264,8 +316,18 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
         total = out["force_bore"] * (2 * math.pi * (r_in + d - s * d) if plane == AXISYMMETRIC else 1.0)
         fluid = out["pressure"] / p_fluid * comm.allreduce(fem.assemble_scalar(fluid_form), op=MPI.SUM) \
             if p_fluid > 0 else 0.0
-        walls_axial = sum(float(contacts[n].total_force()[1]) for n in ("upstream", "side"))
+        # every wall's normal force along z: the side walls', and a meshed wall's, whose deformed normal tilts
+        walls_axial = sum(float(c.total_force()[1]) for c in contacts.values())
         friction_axial = sum(float(c.tangential_force()[1]) for c in contacts.values())
+        # the rod's friction: the axial force the rod's tangential tractions put on the cord (the drag on the rod,
+        # opposing its motion), per unit circumference of the rod; the share of its capacity mu F(g) it mobilises
+        # (1: every loaded point slides)
+        rod = contacts["bottom"]
+        drag = float(rod.tangential_force()[1]) / (2 * math.pi * r_in if plane == AXISYMMETRIC else 1.0)
+        capacity = float(rod.capacity()) if hasattr(rod, "capacity") else 0.0
+        mobilised = abs(float(rod.tangential_force()[1])) / capacity if capacity > 0 else 0.0  # 0: no friction
+        out.update({"stroke": stroke * load_factor(STROKE_PATH, float(t.value)), "friction_rod": drag,
+                    "rod_mobilised": mobilised})
         out.update({**ref, "spring_share": spring / total if total > 0 else 0.0, "fluid_axial_force": fluid,
                     "walls_axial_force": walls_axial, "friction_axial_force": friction_axial,
                     "max_penetration": max(c.max_penetration() for c in contacts.values())})
@@ -279,11 +341,14 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
     loads_t = [(i + 1) / steps for i in range(int(steps))]
     if p_fluid > 0:
         loads_t += [1.0 + (i + 1) / pressure_steps for i in range(int(pressure_steps))]
+    if stroke > 0:
+        loads_t += [2.0 + (i + 1) / stroke_steps for i in range(int(stroke_steps))]
     params = {"d": d, "r_in": r_in, "E": E, "nu": nu, "squeeze": squeeze, "gland_width": w, "pressure": p_fluid,
-              "pressure_arc": pressure_arc, "h": h, "plane": plane, "material": model,
+              "pressure_arc": pressure_arc, "h": h, "stroke": stroke, "plane": plane, "material": model,
               "quadrature": quadrature, "degree": degree,
+              "housing": f"meshed, linear elastic, E {housing_E:g}, nu {housing_nu:g}" if elastic else "rigid",
               "model": ("axisymmetric (r, z)" if plane == AXISYMMETRIC else "plane strain") + ": the cord's whole "
-              "cross-section in a rigid rectangular gland"}
+              "cross-section in a " + ("meshed elastic" if elastic else "rigid") + " rectangular gland"}
     setup = Setup("oring", problem, list(contacts.values()), loads_t, params, figures,
                   [contacts["bore"].displacement_out, contacts["bore"].pressure_out])
     setup.profiles = profiles
