@@ -7,7 +7,7 @@ import pytest
 from mpi4py import MPI
 
 from fenics_contact import methods
-from fenics_contact.app import bench
+from fenics_contact.app import bench, bench_run
 
 
 def test_pareto_front_hand_made():
@@ -143,7 +143,7 @@ def test_ring_through_the_scene_runner(tmp_path):
     augmentation cycles after the first augmentation, cross-constraints converges; no error figure."""
     out = tmp_path / f"rank{MPI.COMM_WORLD.rank}"
     runs = [bench.run_config("penalty", 1e5, 1), bench.run_config("cross", 1e5, 1)]
-    assert bench.command("ring", runs[0], out)[1:4] == ["-m", "fenics_contact.app.bench", "--run-scene"]
+    assert bench.command("ring", runs[0], out)[1:4] == ["-m", "fenics_contact.app.bench_run", "--run-scene"]
     penalty, cross = bench.bench("ring", out, runs, quiet=True)
     assert not penalty["converged"] and cross["converged"] and cross["augmentations"] == 1
     assert math.isnan(cross["error"]) and cross["plate_force"] > 0
@@ -254,7 +254,7 @@ def test_reduction_only_refuses_a_scene_without_rows(capsys):
     from fenics_contact.app.cli import EXIT_ERROR
 
     with pytest.raises(SystemExit) as exit_:
-        bench.main(["--reduction-only", "--scene", "block", "--out", "/nonexistent/never-written"])
+        bench_run.main(["--reduction-only", "--scene", "block", "--out", "/nonexistent/never-written"])
     assert exit_.value.code == EXIT_ERROR
     err = capsys.readouterr().err  # one line, from rank 0
     if MPI.COMM_WORLD.rank == 0:

@@ -42,7 +42,7 @@ def test_locking_report_is_written_from_another_working_directory(elsewhere):
     """The O-ring's sweep and locking map into a relative ``--out`` from another working directory: the locking
     table and chart are where the CSV is, the scene's findings are its accuracy rows' (not the locking rows'), and
     the working directory is the one the program started in."""
-    bench.main(["--scene", "oring", "--quick", "--no-stability", "--no-reduction", "--quiet", "--out", "rel/bench"])
+    bench_run.main(["--scene", "oring", "--quick", "--no-stability", "--no-reduction", "--quiet", "--out", "rel/bench"])
     out = elsewhere / "rel" / "bench"
     assert os.getcwd() == str(elsewhere)
     for name in ("oring.csv", "oring_findings.md", "oring_locking.csv", "oring_locking.json", "oring_locking.md",
@@ -66,7 +66,7 @@ def test_a_scene_that_fails_is_one_line_and_the_others_are_written(elsewhere, mo
 
     monkeypatch.setattr(bench, "report", broken)
     with pytest.raises(SystemExit) as exit_:
-        bench.main(["--scene", "block", "--scene", "slab", "--quick", "--out", "results/bench"])
+        bench_run.main(["--scene", "block", "--scene", "slab", "--quick", "--out", "results/bench"])
     assert exit_.value.code == EXIT_ERROR
     captured = capsys.readouterr()
     out = elsewhere / "results" / "bench"
@@ -115,7 +115,7 @@ def test_time_table_adds_up():
 def test_the_run_record_names_the_parts_it_computes(elsewhere):
     """``make bench`` (``--main``) records that its scenes' results are the sweep alone (the pages keep the
     stability maps, locking and model reduction of an earlier run); the other command lines their parts."""
-    bench.main(["--scene", "slab", "--quick", "--main", "--quiet", "--out", "b"])
+    bench_run.main(["--scene", "slab", "--quick", "--main", "--quiet", "--out", "b"])
     [run] = run_record.read_runs(elsewhere / "b")
     assert run["scenes"] == ["slab"] and run["parts"] == ["sweep"]
     parse = bench_run._parser().parse_args

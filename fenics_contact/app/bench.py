@@ -1,6 +1,6 @@
 """Speed against accuracy: run every method over a parameter sweep, one fresh process per run.
 
-    python -m fenics_contact.app.bench --scene hertz --quick --out results/bench
+    python -m fenics_contact.app.bench_run --scene hertz --quick --out results/bench
     python demos/bench.py --quick --main                # make bench: the main scenes (bench_run.MAIN_SCENES)
     python demos/bench.py --quick                       # make bench-all: every scene with a BENCH entry
 
@@ -61,7 +61,7 @@ __all__ = [
     "write_rows",
     "read_rows", "findings", "convergence_findings", "pareto_front", "MARKERS", "figure",
     "plot_pareto", "plot_dofs", "plot_iterations", "KIND_SHORT", "plot_stability", "plot_stability_accuracy",
-    "run_scene", "main"
+    "run_scene"
 ]
 
 DEMOS = Path(str(resources.files("fenics_contact.app") / "demos"))
@@ -256,7 +256,7 @@ def child_env() -> dict:
 def command(scene: str, cfg: dict, folder: Path) -> list[str]:
     """The demo command line of one run (scene options from ``BENCH``; the run's own options last, so they win)."""
     s = spec(scene)
-    script = ["-m", "fenics_contact.app.bench", "--run-scene", scene] if "build" in s else \
+    script = ["-m", "fenics_contact.app.bench_run", "--run-scene", scene] if "build" in s else \
         [str(DEMOS / f"{s.get('demo', scene)}.py")]
     cmd = [sys.executable, *script, "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder), "--overwrite",
            "--method", cfg["method"], "--augment", str(cfg["augment"]), "--quadrature", cfg["quadrature"],
@@ -1115,19 +1115,3 @@ def run_scene(scene: str, argv: Sequence[str]) -> None:
         options={**cli.solver_options(args), **(s.get("options") or {})}, max_cutbacks=s.get("max_cutbacks", 4),
         predictor=s.get("predictor", False),
         xdmf=not args.no_xdmf, restart=args.restart, overwrite=args.overwrite, args=args)
-
-
-def main(argv: Sequence[str] | None = None) -> None:
-    """The benchmark's command line (strict: :mod:`cli`; bad input ends in one line, exit status 2)."""
-    from . import cli
-
-    argv = sys.argv[1:] if argv is None else list(argv)
-    if argv[:1] == ["--run-scene"]:  # one run: bad input and failed solves end in one line (cli.main)
-        return cli.main(lambda rest: run_scene(argv[1], rest), argv[2:])
-    from . import bench_run
-
-    return cli.main(bench_run.main, argv)
-
-
-if __name__ == "__main__":
-    main()

@@ -23,7 +23,8 @@ from mpi4py import MPI
 from . import bench
 from .cli import EXIT_ERROR
 
-__all__ = ["MAIN_SCENES", "ERROR_FILE", "cpu_seconds", "time_table", "parts_computed", "sweep_scene", "main"]
+__all__ = ["MAIN_SCENES", "ERROR_FILE", "cpu_seconds", "time_table", "parts_computed", "sweep_scene", "sweep_command",
+           "main"]
 
 # make bench: every method's speed against accuracy on the main scenes, in minutes: the rigid plane (hertz: penalty,
 # cross, auglag, nitsche, SNES VI), two deformable bodies (hertz_twobody: lagrange, exact coulomb, the three
@@ -124,8 +125,8 @@ def _parser():
     return p
 
 
-def main(argv: Sequence[str]) -> None:
-    """The sweep's command line (run by :func:`bench.main` under :func:`cli.main`: bad input is one line, exit 2);
+def sweep_command(argv: Sequence[str]) -> None:
+    """The sweep's command line (run by :func:`main` under :func:`cli.main`: bad input is one line, exit 2);
     exits with status 1 after the time table if a scene failed."""
     args = _parser().parse_args(argv)
     if args.main and args.reduction_only:
@@ -173,3 +174,18 @@ def main(argv: Sequence[str]) -> None:
     bench._say(f"Time of each scene ({out}):\n" + time_table(times))
     if any(t["status"] != "done" for t in times):
         raise SystemExit(EXIT_ERROR)
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """The benchmark's command line (strict: :mod:`cli`; bad input ends in one line, exit status 2): the sweep, or
+    with ``--run-scene SCENE`` one run of a scene (the sweep's child process)."""
+    from . import cli
+
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["--run-scene"]:  # one run: bad input and failed solves end in one line (cli.main)
+        return cli.main(lambda rest: bench.run_scene(argv[1], rest), argv[2:])
+    return cli.main(sweep_command, argv)
+
+
+if __name__ == "__main__":
+    main()

@@ -64,6 +64,19 @@ class _Delegated:
         setattr(getattr(solver, self.part), self.name, value)
 
 
+def _check_arguments(options, augment_max, augment_tol, max_cutbacks, predictor) -> None:
+    """Refuse, before any work, a :class:`Solver` argument out of its range (one line naming it)."""
+    if predictor not in PREDICTORS:
+        raise ValueError(f"predictor must be one of {PREDICTORS}, got {predictor!r}")
+    if augment_max < 0:
+        raise ValueError(f"augment_max must be >= 0, got {augment_max}")
+    if not augment_tol > 0:
+        raise ValueError(f"augment_tol must be > 0, got {augment_tol}")
+    if max_cutbacks < 0:
+        raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
+    check_option_values(options)
+
+
 class Solver:
     """Drives a :class:`ContactProblem` through a sequence of load values.
 
@@ -115,15 +128,7 @@ class Solver:
                  augment_max: int = 0, augment_tol: float = 1e-12, max_cutbacks: int = 4,
                  quiet: bool = False, on_step: Callable[[float], None] | None = None,
                  on_iterate: Callable[[int], None] | None = None, predictor: bool | str = False):
-        if predictor not in PREDICTORS:
-            raise ValueError(f"predictor must be one of {PREDICTORS}, got {predictor!r}")
-        if augment_max < 0:
-            raise ValueError(f"augment_max must be >= 0, got {augment_max}")
-        if not augment_tol > 0:
-            raise ValueError(f"augment_tol must be > 0, got {augment_tol}")
-        if max_cutbacks < 0:
-            raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
-        check_option_values(options)
+        _check_arguments(options, augment_max, augment_tol, max_cutbacks, predictor)
         self.problem, self.quiet, self.on_step = problem, quiet, on_step
         show_progress(not quiet)
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks

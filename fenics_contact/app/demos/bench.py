@@ -7,6 +7,6 @@
 Writes <out>/<scene>.csv, .json, <scene>_pareto.png and <scene>_iterations.png
 (see fenics_contact/app/bench.py).
 """
-from fenics_contact.app.bench import main
+from fenics_contact.app.bench_run import main
 
 main()
