@@ -89,8 +89,6 @@ _SELF = (
          quadrature="segment"),
     rule("sliding 'finite'", "a fold's pairs are found in the current configuration", kind="self", sliding="small"),
     rule("kind 'two-body' or mu 0", "self-contact is frictionless", kind="self", friction=True),
-    rule("dim 2 (plane strain, plane stress, axisymmetric)", "self-contact is checked on 2D folds only (no 3D fold "
-         "case yet)", kind="self", dim=3),
 )
 _GEOMETRY = (
     rule("dim 2 (the meridian section (r, z))", "an axisymmetric body is modelled on its 2D meridian section",

@@ -194,6 +194,9 @@ SLOW = (  # studies of more than a few seconds each
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*-3*]",
     "test_capabilities.py::test_supported_cell_solves_to_its_closed_form[*self*]",
     "test_capabilities.py::test_two_pass_coinciding_points_carry_the_one_pass_pressure",
+    "test_selfcontact3d.py::test_arms_pressed_together_equal_the_half_on_its_symmetry_plane[auglag-nodal]",
+    "test_selfcontact3d.py::test_arms_pressed_together_equal_the_half_on_its_symmetry_plane[compliance-nodal]",
+    "test_selfcontact3d.py::test_arms_pressed_together_equal_the_half_on_its_symmetry_plane[*-gauss]",
     "test_checkpoint.py::test_restart_gives_the_uninterrupted_figures[ironing]",
     "test_cli.py::test_gmsh_out_of_memory_is_one_line",
     "test_hertz.py::test_curved_non_matching_interface_pointwise_pressure[*]",
@@ -259,7 +262,7 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_twobody_nitsche.py::test_serial_equals_two_ranks*",
     "test_twobody_nitsche.py::test_wedges_serial_equals_ranks",
     "test_twobody_nitsche.py::test_segment_serial_equals_two_ranks",
-    "test_tube.py::test_parallel_equals_serial",
+    "test_tube.py::test_parallel_equals_serial", "test_selfcontact3d.py::test_parallel_equals_serial",
 )
 
 
