@@ -5,6 +5,7 @@ import math
 import re
 from pathlib import Path
 
+import dolfinx
 import pytest
 from history import HISTORY
 from mpi4py import MPI
@@ -50,6 +51,7 @@ def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
         text = page.read_text()
         assert machine["cpu"] in text and f"{machine['cores']} cores" in text and "GB memory" in text
         assert run["date"] in text and run["commit"] in text
+        assert f", dolfinx {dolfinx.__version__} (PETSc " in text  # the dolfinx each figure was measured on
         assert "command `python demos/bench.py --quick --scene hertz" in text and "; scenes hertz." in text
         assert not HISTORY.search(text), HISTORY.search(text)
     scene = (out / "hertz.md").read_text()

@@ -37,10 +37,12 @@ CHART_TITLES = {"pareto": "Error against solver time", "dofs": "Error against do
 
 
 def header(run: dict) -> str:
-    """The line a page starts with, per run: machine, date, commit, command, load, the scenes it ran."""
+    """The line a page starts with, per run: machine, dolfinx and PETSc, date, commit, command, load, the scenes it
+    ran."""
     m = run["machine"]
     memory = "unknown memory" if m.get("memory_gb") is None else f"{m['memory_gb']:g} GB memory"
-    return (f"Measured on {m['cpu']}, {m['cores']} cores, {memory}, {m['system']}; {run['date']}; "
+    software = f", dolfinx {run['dolfinx']} (PETSc {run.get('petsc', 'unknown')})" if "dolfinx" in run else ""
+    return (f"Measured on {m['cpu']}, {m['cores']} cores, {memory}, {m['system']}{software}; {run['date']}; "
             f"commit `{run['commit']}`; command `{run['command']}`. Times are wall times of serial runs on this "
             "machine" + ("" if run.get("load_average") is None else
                          f", load average {run['load_average']:g} at the start (other jobs on its cores)") +
