@@ -4,7 +4,7 @@
 # (scripts/lane_root.sh) without the system site packages (the root's apt dolfinx 0.9 stays out), the wheel, then
 # `pip install <copy of the checkout>[tests]`. MPI runs use the wheel's own mpiexec (MPICH), which needs /proc and
 # /sys: mounted for each command in a private mount namespace, gone when it ends.
-#   WHEEL_PARTS   what to run, any of: tests (the parallel lane's tests, serially), mpi (the same under mpiexec -n 2),
+#   WHEEL_PARTS   what to run, any of: setup (nothing but the set-up), tests (the parallel lane's tests, serially), mpi (the same under mpiexec -n 2),
 #                 tutorials (serially and under mpiexec -n 2), demos (the quick set under mpiexec -n 2), figures
 #                 (the lane figures against Debian 12's, serially and under mpiexec -n 2); default: all
 #   WHEEL_TESTS   pytest arguments (default: tests), WHEEL_MARK a marker expression (make test-wheel: the parallel
@@ -71,7 +71,9 @@ for part in $PARTS; do
       for f in figures-wheel011.json figures-wheel011-np2.json; do
         "$PY" scripts/lane_figures.py --compare "$DEB13/$PROJECT/figures-debian12.json" "$DEB13/$PROJECT/$f"
       done ;;
-    *) echo "wheel011 lane: unknown part '$part' of WHEEL_PARTS (tests mpi tutorials demos figures)" >&2; exit 2 ;;
+    setup) ;;
+    *) echo "wheel011 lane: unknown part '$part' of WHEEL_PARTS (setup tests mpi tutorials demos figures)" >&2
+       exit 2 ;;
   esac
 done
 echo "wheel011 lane: $PARTS passed in $(( $(date +%s) - start )) s"

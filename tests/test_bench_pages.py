@@ -72,11 +72,13 @@ def test_pages_keep_and_list_the_peer_page(tmp_path):
     out.mkdir()
     (out / "peer.md").write_text("# peer\n")
     (out / "peer_hertz2d.png").write_bytes(b"png")
+    (out / "versions.md").write_text("# versions\n")
     (out / "sphere.md").write_text("# an earlier run\n")
     bench_pages.write_pages(results, out)
     assert (out / "peer.md").read_text() == "# peer\n" and (out / "peer_hertz2d.png").exists()
+    assert (out / "versions.md").read_text() == "# versions\n"
     assert not (out / "sphere.md").exists()
-    assert "hertz\npeer\n```" in (out / "index.md").read_text()
+    assert "hertz\npeer\nversions\n```" in (out / "index.md").read_text()
 
 
 @serial
@@ -104,7 +106,7 @@ def test_committed_peer_page_states_its_runs_and_no_history():
 
 
 def test_committed_pages_state_the_machine_and_date_and_no_history():
-    pages = sorted(p for p in (ROOT / "docs" / "bench").glob("*.md") if p.stem != bench_pages.PEER_PAGE)
+    pages = sorted(p for p in (ROOT / "docs" / "bench").glob("*.md") if p.stem not in bench_pages.KEPT_PAGES)
     assert pages and pages[0].name != "index.md" or len(pages) > 1
     for page in pages:
         text = page.read_text()

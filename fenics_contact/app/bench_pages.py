@@ -173,8 +173,11 @@ def _date(header_line: str) -> str:
     return found.group() if found else ""
 
 
-# The side-by-side page with the peer (dolfinx_contact), written by scripts/peer/run.py: kept and listed here.
+# The side-by-side page with the peer (dolfinx_contact), written by scripts/peer/run.py, and the page of the same
+# scenes on two dolfinx versions, written by scripts/versions_bench.py: kept and listed here.
 PEER_PAGE = "peer"
+VERSIONS_PAGE = "versions"
+KEPT_PAGES = (PEER_PAGE, VERSIONS_PAGE)
 
 
 def write_pages(results: str | Path, out: str | Path, demos: str | Path | None = None,
@@ -182,7 +185,8 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     """Write a page per scene with results in ``results`` and ``out/index.md``; returns the pages written.
     Pages and charts of an earlier run in ``out`` are removed first, unless ``add`` (see the module), except the
     side-by-side page with the peer (``peer.md``, ``peer_*.png``: written by scripts/peer/run.py, which needs the
-    peer's build), which the index lists when present."""
+    peer's build) and the dolfinx versions page (``versions.md``: scripts/versions_bench.py, which needs the wheel
+    lane's root), which the index lists when present."""
     results, out = Path(results), Path(out)
     runs = read_runs(results)
     by_scene = {scene: run for run in runs for scene in run["scenes"]}
@@ -196,7 +200,7 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     out.mkdir(parents=True, exist_ok=True)
     if not add:
         for old in [*out.glob("*.md"), *out.glob("*.png")]:
-            if not old.name.startswith(PEER_PAGE):
+            if not old.name.startswith(KEPT_PAGES):
                 old.unlink()
     pages = []
     for scene in scenes:
@@ -212,12 +216,12 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
             page.write_text(scene_page(scene, results, by_scene[scene], out))
         pages.append(page)
     # the index: every page in `out`, the runs that measured them (oldest first), their model-reduction rows
-    texts = {p.stem: p.read_text() for p in sorted(out.glob("*.md")) if p.stem not in ("index", PEER_PAGE)}
+    texts = {p.stem: p.read_text() for p in sorted(out.glob("*.md")) if p.stem not in ("index", *KEPT_PAGES)}
     headers = sorted(dict.fromkeys(line + "\n" for t in texts.values() for line in t.splitlines()
                                    if line.startswith("Measured on ")), key=_date)
     index = ["# Benchmark results", "", *headers,
              "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
-             "```{toctree}", ":maxdepth: 1", "", *texts, *([PEER_PAGE] if (out / f"{PEER_PAGE}.md").exists() else []),
+             "```{toctree}", ":maxdepth: 1", "", *texts, *(p for p in KEPT_PAGES if (out / f"{p}.md").exists()),
              "```", ""]
     rows = [row for t in texts.values() for row in _table_rows(t, "Model reduction")]
     if rows:  # one table: each scene's rows under the common header
