@@ -15,7 +15,8 @@ lane_root() {
   [ "$(id -u)" -eq 0 ] || skip "needs root (chroot)"
   if ! command -v debootstrap >/dev/null; then
     command -v apt-get >/dev/null || skip "no debootstrap and no apt-get to install it"
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -q debootstrap >/dev/null || skip "apt-get install debootstrap failed"
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -q debootstrap >/dev/null \
+      || skip "apt-get install debootstrap failed"
   fi
   if [ ! -x "$DEB13/usr/bin/apt-get" ]; then
     echo "$LANE lane: debootstrap --variant=minbase trixie $DEB13"

@@ -5,8 +5,8 @@
 # `pip install <copy of the checkout>[tests]`. MPI runs use the wheel's own mpiexec (MPICH), which needs /proc and
 # /sys: mounted for each command in a private mount namespace, gone when it ends.
 #   WHEEL_PARTS   what to run, any of: setup (nothing but the set-up), tests (the tests, serially), mpi (the same
-#                 under mpiexec -n 2), tutorials (serially and under mpiexec -n 2), demos (the quick set under mpiexec -n 2), figures
-#                 (the lane figures against Debian 12's, serially and under mpiexec -n 2); default: all
+#                 under mpiexec -n 2), tutorials (serially and under mpiexec -n 2), demos (the quick set under
+#                 mpiexec -n 2), figures (the lane figures against Debian 12's, serially and under mpiexec -n 2); default: all
 #   WHEEL_TESTS   the test files (default: tests/test_*.py)
 #   WHEEL_MARK    a marker expression (make test-wheel: the parallel lane's; empty: every test)
 # OPTIONAL=1 (used by `make test`): skip, saying why, when this machine cannot build the lane.
