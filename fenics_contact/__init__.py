@@ -17,10 +17,11 @@ complete, tested example)::
 Every contact enforcement implements :class:`Surface` (the hooks the solver calls, declared once);
 a :class:`StepSolver` solves whole load steps instead of SNES (method ``coulomb``; the problem takes the
 one its surface needs). Output:
-:class:`XDMFWriter`, :func:`write_summary`. Importing the package imports neither gmsh nor the application
-(:mod:`fenics_contact.app`: the benchmark scenes, demos, command line, plots and tables, built on this API).
+:class:`XDMFWriter`, :func:`write_summary`; read back without dolfinx: :func:`read_xdmf`. Importing the package
+imports neither gmsh nor the application (:mod:`fenics_contact.app`: the benchmark scenes, demos, command line,
+plots and tables, built on this API).
 """
-from . import capabilities, cells, compat, domain, failure, kinematics, laws, methods, search
+from . import capabilities, cells, compat, domain, failure, jitlog, kinematics, laws, methods, search
 from .bounds import BoundContact
 from .capabilities import UnsupportedCombination
 from .cells import MeshError, check_cells
@@ -53,6 +54,7 @@ from .nitsche import NitscheContact
 from .obstacles import Ball, Cylinder, HalfPlane, Obstacle, Sphere
 from .output import XDMFWriter, write_summary
 from .problem import ContactProblem, Dirichlet, Stabilised
+from .reading import XDMFSeries, read_xdmf
 from .solver import INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError, Solver, StepRecord
 from .surface import StepSolver, Surface
 from .twobody import TwoBodySurface
@@ -83,7 +85,7 @@ __all__ = [
     # spaces (the same call on every supported dolfinx)
     "function_space", "interpolate_expression",
     # output
-    "XDMFWriter", "write_summary",
+    "XDMFWriter", "write_summary", "read_xdmf", "XDMFSeries",
     # the capability matrix: a refused combination of options (capabilities.check, docs/capabilities.md)
     "UnsupportedCombination",
     # public submodules
@@ -103,3 +105,6 @@ def __getattr__(name: str):
                       stacklevel=2)
         return globals()[new]
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+jitlog.quiet_compiler()  # the form compiler's build commands kept out of a script's INFO log

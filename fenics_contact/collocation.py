@@ -211,7 +211,7 @@ class CollocatedSurface(TwoBodyMultiplier):
     def total_force(self) -> np.ndarray:
         """Force of the other body on this surface's body, shape (2,) (per unit thickness): the element's
         Simpson sum ``-sum_e sum_k w_k p_k (x'_y, -x'_x)(xi_k)`` (this surface's pressure on its own current
-        surface, the middle values of the last assembly); the same on every rank."""
+        surface, the middle values of the last assembly); the same on every rank. Collective."""
         xa, pa = self._current()
         ends = self._static["ends"]
         p = np.stack([pa[ends[:, 0]], self._pmid, pa[ends[:, 1]]], axis=1)  # (nf, 3)

@@ -36,7 +36,7 @@ def space_degree(V) -> int:
 
 
 def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None = None):
-    """Lagrange-type space; ``shape=(gdim,)`` for a vector space.
+    """Lagrange-type space; ``shape=(gdim,)`` for a vector space, ``(d, d)`` for a tensor space.
 
     Args:
         mesh: the mesh.
@@ -49,6 +49,8 @@ def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None
     """
     if hasattr(fem, "functionspace"):  # dolfinx >= 0.8
         return fem.functionspace(mesh, (family, degree, *([shape] if shape else [])))
+    if shape and len(shape) == 2:
+        return fem.TensorFunctionSpace(mesh, (family, degree), shape=tuple(shape))
     if shape:
         return fem.VectorFunctionSpace(mesh, (family, degree), dim=shape[0])
     return fem.FunctionSpace(mesh, (family, degree))

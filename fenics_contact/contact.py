@@ -15,6 +15,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
+from .closed_area import closed_measure
 from .compat import (
     collapse,
     entities_to_geometry,
@@ -318,7 +319,7 @@ class ContactSurface(Surface):
     def point_forces(self) -> tuple[np.ndarray, np.ndarray]:
         """Coordinates and nodal contact forces ``F(g_i) int phi_i ds`` (per unit thickness in 2D) of this
         rank's contact vertices at the current ``u`` (nodal quadrature only, where they are exact): the
-        nominal pressure times the vertex's reference area, a force (no kind)."""
+        nominal pressure times the vertex's reference area, a force (no kind). Collective."""
         if self.quadrature != "nodal":
             raise ValueError("point_forces needs quadrature 'nodal' (one contact point per vertex)")
         if not hasattr(self, "_weights"):
@@ -337,12 +338,12 @@ class ContactSurface(Surface):
         """Force of the obstacle on the body, ``int F n ds`` (the normal contact force; a frictional surface's
         friction force is its ``tangential_force``), shape ``(gdim,)``, per unit thickness in 2D; axisymmetric:
         ``int F n 2 pi r ds``, component 1 the axial force on the whole ring (component 0 the radial sum, no
-        resultant); the same on every rank."""
+        resultant); the same on every rank. Collective."""
         return np.array([self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in self._force_forms])
 
     def update_output(self) -> None:
         """Nodal gap and pressure into ``gap_out`` and ``pressure_out`` (and a mixed unknown's displacement into
-        ``displacement_out``)."""
+        ``displacement_out``). Collective."""
         if self.displacement_out is not self.u:
             self.displacement_out.x.array[:] = self.u.x.array[self._v_to_w]
         for rhs, f in self._out_rhs:
@@ -352,7 +353,7 @@ class ContactSurface(Surface):
     def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
                                                                                      np.ndarray]:
         """Position, gap and pressure at the contact-surface vertices, gathered on every rank and sorted by
-        reference position.
+        reference position. Collective.
 
         Args:
             reference: the reference position ``X`` instead of the current one ``X + u(X)``.
@@ -403,22 +404,48 @@ class ContactSurface(Surface):
         connected), the same on every rank. Loaded: pressure above ``relative`` times the largest on the
         surface (not ``g > 0``: a law with an open-side branch carries load at a small opening). For each
         zone the number of points, the mean and range of their reference coordinates and the largest
-        pressure, sorted by the mean x."""
+        pressure, sorted by the mean x. Collective."""
+        x, _, p = self._vertex_table()
+        return _loaded_zones(x, p, self._facet_nodes(), relative)
+
+    def _facet_nodes(self) -> np.ndarray:
+        """The coordinates of the geometry nodes of every rank's contact facets (nf, nodes, 3), on every rank."""
         mesh = self.u.function_space.mesh
         fdim = mesh.topology.dim - 1
         mesh.topology.create_connectivity(fdim, 0)
         nodes = mesh.geometry.x[entities_to_geometry(mesh, fdim, self.facets)] if len(self.facets) else np.zeros(
             (0, fdim + 1, 3))
-        facets = np.concatenate(self.comm.allgather(nodes))
-        x, _, p = self._vertex_table()
-        return _loaded_zones(x, p, facets, relative)
+        return np.concatenate(self.comm.allgather(nodes))
+
+    def contact_area(self, tolerance: float = 1e-8) -> float:
+        """The closed part of the surface from the gap (:mod:`~fenics_contact.closed_area`): the measure, on the
+        reference surface, of the set where the gap, linear between the vertices of each facet, is ``>= -tolerance
+        L`` (``L``: the surface's extent; exact methods close to round-off). A length in 2D (the contact width; a
+        symmetric half model's: the half-width), an area in 3D; axisymmetric: the length along the meridian (a
+        flat contact's radius), not the ring's area. It ends where the gap crosses zero, between the last closed
+        vertex and the first open one; the loaded vertices (``p > 0``, :meth:`contact_zones`) overstate it by up to
+        an element where a Gauss rule's pressure, recovered at the vertices, spills onto the first open one.
+        Collective."""
+        x, g, _ = self._vertex_table()
+        key = _point_key(x)
+        index = {key(c): i for i, c in enumerate(x)}
+        mesh = self.u.function_space.mesh
+        facet = facet_cell_name(mesh)
+        nodes = self._facet_nodes()[:, :{"interval": 2, "triangle": 3, "quadrilateral": 4}[facet]]  # the vertices
+        ids = np.array([[index.get(key(c), -1) for c in f] for f in nodes], dtype=np.int64).reshape(len(nodes), -1)
+        unique = {tuple(sorted(f)): k for k, f in enumerate(ids) if (f >= 0).all()}  # ghost facets once
+        rows = np.array(sorted(unique.values()), dtype=np.int64)
+        if not len(rows):
+            return 0.0
+        extent = float(np.ptp(x, axis=0).max()) if len(x) else 0.0
+        return closed_measure(nodes[rows], g[ids[rows]] + tolerance * extent)
 
     def max_penetration(self) -> float:
-        """Largest gap over the contact vertices (positive = penetration, negative = open)."""
+        """Largest gap over the contact vertices (positive = penetration, negative = open). Collective."""
         return float(np.max(self._vertex_table()[1]))
 
     def area(self, kind: str = "nominal") -> float:
-        """Area (length in 2D) of the contact surface: reference (``nominal``) or current (``cauchy``)."""
+        """Area (length in 2D) of the contact surface: reference (``nominal``) or current (``cauchy``). Collective."""
         self._check_kind(kind)
         if kind == "cauchy":
             self._cauchy_forms()
@@ -428,17 +455,23 @@ class ContactSurface(Surface):
     def mean_pressure(self, kind: str = "nominal") -> float:
         """Mean contact pressure over the surface: ``nominal`` (default), ``int p dA / A``, the force per
         reference area, or ``cauchy``, ``int p dA / a``, the force per current area ``a = int (da/dA) dA``
-        (the same in small strain)."""
+        (the same in small strain). Collective."""
         return self.comm.allreduce(fem.assemble_scalar(self._mean_p_form), op=MPI.SUM) / self.area(kind)
+
+
+def _point_key(x: np.ndarray):
+    """A function of a point's coordinates whose value is the same for points closer than 1e-9 of the extent of
+    the points ``x`` (n, 3): a dictionary key that finds a vertex by its coordinates."""
+    extent = float(np.ptp(x)) if x.size else 0.0
+    scale = 1e-9 * (extent if extent > 0 else 1.0)
+    return lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))
 
 
 def _loaded_zones(x: np.ndarray, p: np.ndarray, facets: np.ndarray, relative: float) -> list[dict]:
     """Connected sets of the points ``x`` (n, 3) whose pressure ``p`` is above ``relative`` times the largest,
     points of a common facet (``facets``: (nf, nodes, 3) coordinates) connected; see
     :meth:`ContactSurface.contact_zones`."""
-    extent = float(np.ptp(x)) if x.size else 0.0
-    scale = 1e-9 * (extent if extent > 0 else 1.0)  # coincident points: equal to 1e-9 of the surface's extent
-    key = lambda c: tuple(np.round(np.asarray(c) / scale).astype(np.int64))  # noqa: E731
+    key = _point_key(x)
     index = {key(c): i for i, c in enumerate(x)}
     parent = list(range(len(x)))
 

@@ -295,21 +295,22 @@ class FrictionHistory:
         self.dissipated = state["dissipated"]
 
     def tangential_force(self) -> np.ndarray:
-        """Tangential force of the other side on the body, ``int q ds`` (global components)."""
+        """Tangential force of the other side on the body, ``int q ds`` (global components). Collective."""
         return np.array([self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for f in self._tangential_forms])
 
     def update_output(self) -> None:
+        """The gap, pressure and tangential traction into the output Functions. Collective."""
         super().update_output()
         interpolate_expression(self.traction_out, ufl.as_vector(self._traction_out))
 
     def friction_profile(self) -> dict[str, np.ndarray]:
         """Vertex values on the contact surface, gathered on every rank and sorted by reference position.
+        Collective.
 
         ``x`` (n, gdim) reference position, ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction``
         (tangential traction of the other side on the body: 2D scalar along the tangent ``(n_y, -n_x)``,
         which is +x for the plane y = 0; 3D vector (n, 3)) and ``state`` (0 open, 1 slip, 2 stick) of the
-        last committed step (``gauss`` quadrature: the state field's vertex value, rounded).
-        """
+        last committed step (``gauss`` quadrature: the state field's vertex value, rounded)."""
         self.update_output()
         V = self.gap_out.function_space
         dofs = self._out.surface_dofs
@@ -325,11 +326,11 @@ class FrictionHistory:
                 "state": np.clip(np.rint(s[order]), OPEN, STICK).astype(int)}
 
     def capacity(self) -> float:
-        """``int b(g) ds``: the largest tangential force the surface can carry at the current gap."""
+        """``int b(g) ds``: the largest tangential force the surface can carry at the current gap. Collective."""
         return self.comm.allreduce(fem.assemble_scalar(self._capacity_form), op=MPI.SUM)
 
     def state_areas(self) -> dict[str, float]:
-        """Area (length in 2D) of the contact surface in each state, by the contact quadrature rule."""
+        """Area (length in 2D) of the contact surface in each state, by the contact quadrature rule. Collective."""
         return {k: self.comm.allreduce(fem.assemble_scalar(f), op=MPI.SUM) for k, f in self._state_area_forms.items()}
 
 

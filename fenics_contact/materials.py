@@ -152,12 +152,14 @@ SMALL_STRAIN = 0.05
 class LinearElastic(Material):
     """Small-strain isotropic elasticity: ``W = mu eps:eps + lambda/2 (tr eps)^2``; plane stress in 2D with
     ``lambda* = 2 lambda mu / (lambda + 2 mu)`` (``sigma_zz = 0`` eliminates ``eps_zz``). Valid for strains
-    (and rotations) well below :data:`SMALL_STRAIN`; the solver flags a run that goes past it.
+    (and rotations) well below :data:`SMALL_STRAIN`; the solver flags a run that goes past it. Axisymmetric: the
+    3x3 strain with the hoop strain ``u_r / r``, every integral weighted by ``2 pi r``.
 
     Args:
         E: Young's modulus (stress), > 0.
         nu: Poisson's ratio, in (-1, 0.5).
-        plane: the 2D assumption, ``strain`` or ``stress`` (3D: ``strain``, a 3D body with ``stress`` is refused).
+        plane: the 2D assumption, ``strain``, ``stress`` or ``axisymmetric`` (the meridian section ``(r, z)``);
+            3D: ``strain`` (a 3D body with ``stress`` or ``axisymmetric`` is refused).
     """
 
     linear = True

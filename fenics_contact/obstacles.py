@@ -117,7 +117,8 @@ class HalfPlane(Obstacle):
 
 
 class Ball(Obstacle):
-    """Rigid disk (2D), cylinder with an axis (3D) or sphere (3D) of radius ``radius``.
+    """Rigid disk (2D), cylinder with an axis (3D) or sphere (3D) of radius ``radius``; on an axisymmetric body
+    (the meridian section ``(r, z)``) the 2D disk with its center on the axis ``(0, z)`` is a sphere.
 
     ``body_outside=True``: the body lies outside the obstacle (a pin, a
     punch); ``False``: the body lies inside a rigid cavity.
@@ -175,7 +176,8 @@ class Cylinder(Ball):
 
 
 class Sphere(Ball):
-    """A rigid sphere (3D) of radius ``radius``.
+    """A rigid sphere (3D) of radius ``radius``. In an axisymmetric model (the meridian section ``(r, z)``) a sphere
+    is a :class:`Ball` with its center on the axis, ``(0, z)``.
 
     Args:
         center: the centre (a point on the axis for a cylinder), length.
@@ -186,5 +188,7 @@ class Sphere(Ball):
 
     def __init__(self, center, radius: float, motion=None, body_outside: bool = True):
         if len(center) != 3:
-            raise ValueError(f"a sphere obstacle is 3D: its center needs 3 coordinates, got {len(center)}")
+            raise ValueError(f"a sphere obstacle is 3D: its center needs 3 coordinates, got {len(center)}; in 2D use "
+                             "fc.Ball(center, radius): a disk in plane strain, and a sphere in an axisymmetric "
+                             "model (material plane='axisymmetric', the center on the axis, (0, z))")
         super().__init__(center, radius, motion, None, body_outside)

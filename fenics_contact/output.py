@@ -159,7 +159,7 @@ class XDMFWriter:
         self._write_index()
 
     def write(self, t: float) -> None:
-        """The functions at time ``t``: a complete file for the step, then the index that lists it."""
+        """The functions at time ``t``: a complete file for the step, then the index that lists it. Collective."""
         step = self.steps + 1
         with io.XDMFFile(self.comm, str(self._step_file(step)), "w") as f:
             for u, w in zip(self.functions, self._written):

@@ -5,6 +5,7 @@ and Dirichlet values and traction factors are ``Constant``s set from their load 
 """
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -23,6 +24,7 @@ from .compat import (
     evaluate_expression,
     lift_and_set_bc,
     petsc_vec,
+    space_degree,
     vertex_expression,
 )
 from .condensed import step_solver_for
@@ -30,10 +32,13 @@ from .contact import displacement, is_mixed
 from .domain import tag_value
 from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
+from .models import locking_warning
 from .paths import LoadPath, check_path, load_factor
 from .surface import StepSolver, Surface
 
 __all__ = ["DIRICHLET_WEIGHT", "load_factor", "Dirichlet", "ContactProblem", "Stabilised"]
+
+logger = logging.getLogger(__name__)
 
 # The Dirichlet rows' weight against the bodies' stiffness: small, so that the l2 line search (the residual norm
 # along the step) follows the equilibrium rows; a Dirichlet row is linear and met by any full step (weight 1 took
@@ -116,6 +121,17 @@ def _vertex_kinematics(u: fem.Function, material) -> tuple:
     return vertex_expression(ufl.as_vector(values), mesh), mesh, cells
 
 
+def setup_warnings(material, V) -> list[str]:
+    """What a set-up says of its answer before any solve, logged (WARNING, rank 0): a displacement-only model
+    on the space ``V`` at ``nu >=`` :data:`~fenics_contact.models.LOCKING_NU` locks
+    (:func:`~fenics_contact.models.locking_warning`). Not failures: the solver's run warnings start with them."""
+    warnings = [w for w in [locking_warning(material, space_degree(V.sub(0) if is_mixed(V) else V))] if w]
+    if V.mesh.comm.rank == 0:
+        for w in warnings:
+            logger.warning(w)
+    return warnings
+
+
 class ContactProblem:
     """Residual ``F(u; v) = dW[v] - sum_k f_k(t) f_ext,k[v] + sum_c F_c(g) dg[v]`` and its Jacobian; on an
     axisymmetric body (``material.axisymmetric``) every integral, the loads' too, is weighted by ``2 pi r``.
@@ -141,6 +157,7 @@ class ContactProblem:
         step_solver: a :class:`~fenics_contact.surface.StepSolver` that solves each load step instead of SNES;
             None: the one a surface with ``requires_step_solver`` (method ``coulomb``) needs
             (:func:`~fenics_contact.condensed.step_solver_for`), else SNES.
+    ``warnings``: what the set-up says of the answer (:func:`setup_warnings`), the first of the run's warnings.
     """
 
     def __init__(self, u: fem.Function, material: Material | Materials, load: fem.Constant,
@@ -168,6 +185,7 @@ class ContactProblem:
                 check(**of(c.law, material=material))
         if getattr(material, "axisymmetric", False):
             self._check_axisymmetric(u, material)
+        self.warnings = setup_warnings(material, V)
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
         bulk = ufl.derivative(material.bulk_form(u), u, v)  # per body with Materials
         body = bulk
@@ -223,8 +241,6 @@ class ContactProblem:
     def _check_axisymmetric(self, u, material) -> None:
         """Refuse, before any form is compiled, a contact the capability grid or the surface's integrals do not
         allow on an axisymmetric body."""
-        from .capabilities import check, of
-
         for c in self.contacts:
             if c.law is not None:  # the entry points checked the rest; the quadrature matters here for segments
                 segment = getattr(c, "quadrature", None) == "segment"
@@ -339,15 +355,15 @@ class ContactProblem:
         return self.vertex_kinematics()[0].min(axis=1)
 
     def min_jacobian(self) -> float:
-        """Smallest ``J = det F`` (``F = I + grad u``) at the current displacement over every cell's vertices,
-        over all ranks. ``J <= 0``: an inverted element, no answer even
-        if Newton converged to it (a finite-strain material has no such state; a small-strain one gives it
-        without complaint, its displacement overlapping itself)."""
+        """Smallest ``J = det F`` of the displacement (:meth:`vertex_kinematics`) at the cells' vertices, over all
+        ranks: ``J <= 0``, an inverted element, is no answer even if Newton converged to it. Not a measure of
+        incompressibility: a mixed model meets ``J = 1`` weakly (on average over a cell); at the vertices of a
+        nearly incompressible body ``J`` is a few per cent off 1 (0.93-0.99 under a rigid sphere). Collective."""
         local = self._cell_jacobians()
         return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
 
     def inverted_cells(self) -> tuple[int, int]:
-        """``(cells with det F <= 0 at a vertex, cells)`` at the current displacement, over all ranks."""
+        """``(cells with det F <= 0 at a vertex, cells)`` at the current displacement, over all ranks. Collective."""
         local = self._cell_jacobians()
         return (self.comm.allreduce(int(np.count_nonzero(local <= 0.0)), op=MPI.SUM),
                 self.comm.allreduce(local.size, op=MPI.SUM))
@@ -363,7 +379,7 @@ class ContactProblem:
 
     def reaction(self, dofs: np.ndarray) -> float:
         """Sum of the internal forces over ``dofs`` (local, owned-or-ghost indices of ``u``'s space),
-        summed over ranks: the force the support exerts on the body."""
+        summed over ranks: the force the support exerts on the body. Collective."""
         n_owned = self.u.function_space.dofmap.index_map.size_local * self.u.function_space.dofmap.index_map_bs
         return self.comm.allreduce(float(np.sum(self.internal_force()[dofs[dofs < n_owned]])), op=MPI.SUM)
 

@@ -18,7 +18,9 @@ a surface that needs nothing at that point. Order of the calls in a load step (s
 
 Results (the same calls with the same signatures on every surface; figures gathered on every rank):
 ``total_force()``, ``tangential_force()``, ``point_values(reference, kind)``, ``surface_values(kind)``,
-``friction_profile()``.
+``friction_profile()``. They and the other results of the surfaces (:data:`COLLECTIVE`) are collective: every
+rank calls them, in the same order (:mod:`~fenics_contact.collective`: ``FENICS_CONTACT_COLLECTIVE_TIMEOUT`` turns a
+rank left alone in one into a message).
 Sign convention: the gap is positive for penetration, the pressure positive in compression.
 """
 from __future__ import annotations
@@ -32,7 +34,15 @@ if TYPE_CHECKING:
     import ufl
     from petsc4py import PETSc
 
-__all__ = ["Surface", "StepSolver"]
+from .collective import collective
+
+__all__ = ["COLLECTIVE", "Surface", "StepSolver"]
+
+# The surfaces' public methods that reduce or gather over the ranks: each says "Collective" in its docstring and is
+# checked by :func:`~fenics_contact.collective.collective` wherever a surface class defines it.
+COLLECTIVE = ("total_force", "tangential_force", "point_values", "surface_values", "friction_profile",
+              "contact_zones", "contact_area", "max_penetration", "area", "mean_pressure", "point_forces",
+              "state_areas", "capacity", "update_output")
 
 
 class Surface(abc.ABC):
@@ -52,6 +62,7 @@ class Surface(abc.ABC):
     """
 
     name: str = "contact"
+    comm = None  # the communicator of the mesh (the ranks that call the collective methods together)
     law = None  # the ContactLaw the surface enforces (a method without a law of the gap: its marker law)
     bcs: tuple = ()
     solver_options: dict = {}
@@ -164,19 +175,20 @@ class Surface(abc.ABC):
 
     # --- output ---------------------------------------------------------------------------
     def update_output(self) -> None:
-        """Refresh the output Functions (gap, pressure, ...) from the current state before they are written."""
+        """Refresh the output Functions (gap, pressure, ...) from the current state before they are written.
+        Collective."""
         return None  # a no-op unless a surface needs it
 
     # --- results ----------------------------------------------------------------------------
     def total_force(self) -> np.ndarray:
         """Resultant of the contact pressure on this surface's body from the other side (the obstacle, or the
         master body): the normal part of the contact force, global components, shape ``(gdim,)``; per unit
-        thickness in 2D. The same on every rank. Friction's part: :meth:`tangential_force`."""
+        thickness in 2D. The same on every rank. Friction's part: :meth:`tangential_force`. Collective."""
         raise NotImplementedError(f"{type(self).__name__} does not report its total force")
 
     def tangential_force(self) -> np.ndarray:
         """Resultant of the friction traction on this surface's body, like :meth:`total_force` (zero on a
-        frictionless surface)."""
+        frictionless surface). Collective."""
         return np.zeros_like(self.total_force())
 
     def point_values(self, reference: bool = False, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray,
@@ -184,19 +196,36 @@ class Surface(abc.ABC):
         """Position ``x`` (n, gdim) of the contact points (current configuration; ``reference=True``: reference
         configuration), gap ``g`` (n,) (> 0 penetration) and pressure ``p`` (n,) (> 0 compression; ``kind``
         ``nominal``: per reference area, ``cauchy``: per current area), gathered on every rank and sorted by
-        reference position."""
+        reference position. Collective."""
         raise NotImplementedError(f"{type(self).__name__} does not report point values")
 
     def surface_values(self, kind: str = "nominal") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Reference position, gap and pressure along the surface: ``point_values(reference=True, kind)``."""
+        """Reference position, gap and pressure along the surface: ``point_values(reference=True, kind)``.
+        Collective."""
         return self.point_values(reference=True, kind=kind)
 
     def friction_profile(self) -> dict[str, np.ndarray]:
         """Friction figures at the contact points, sorted by reference position: ``x`` (n, gdim) reference
         position, ``gap``, ``pressure``, ``traction`` (tangential traction of the other side on the body: 2D
         a scalar along the tangent ``(n_y, -n_x)``, 3D a vector (n, 3)) and ``state`` (0 open, 1 slip, 2
-        stick). ``ValueError`` on a frictionless surface."""
+        stick). ``ValueError`` on a frictionless surface. Collective."""
         raise ValueError(f"{self.name}: this surface has no friction (no friction profile)")
+
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        _check_collective(cls)
+
+
+def _check_collective(cls) -> None:
+    """Wrap the :data:`COLLECTIVE` methods ``cls`` defines itself (:func:`~fenics_contact.collective.collective`)."""
+    for name in COLLECTIVE:
+        method = vars(cls).get(name)
+        if callable(method) and not getattr(method, "collective", False):
+            setattr(cls, name, collective(method))
+
+
+_check_collective(Surface)
 
 
 class StepSolver(abc.ABC):

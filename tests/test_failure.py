@@ -81,6 +81,8 @@ def test_krylov_failure_is_a_linear_solve_failure(comm):
         solver.run(setup.loads)
     assert info.value.failure["kind"] == "linear_solve" and info.value.failure["ksp_reason"] == "DIVERGED_MAX_IT"
     assert len(solver.failures) == 2  # the step and its one cutback, both diagnosed
+    cuts = [w for w in solver.summary()["warnings"] if "cut back" in w]  # the cutback is a warning of the run
+    assert len(cuts) == 1 and "step 1 (t = 1" in cuts[0] and "linear_solve" in cuts[0] and "to t = 0.5" in cuts[0]
 
 
 def test_singular_jacobian_is_ill_conditioning():

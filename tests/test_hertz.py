@@ -289,3 +289,17 @@ def test_max_strain_is_the_largest_principal_value(d):
     for k, (i, j) in enumerate(pairs):
         tensor[:, i, j] = tensor[:, j, i] = values.reshape(-1, len(pairs))[:, k]
     assert np.isclose(max_strain(Problem()), np.abs(np.linalg.eigvalsh(tensor)).max(), rtol=1e-13)
+
+
+@pytest.mark.parametrize("quadrature", ["gauss", "simpson"])
+def test_contact_width_from_the_gap_within_one_element_of_hertz(quadrature):
+    """P2 (the quadratic facets Simpson's rule needs): the width where the gap closes is Hertz's half-width within
+    one element; with Gauss points the loaded vertices (``p > 0``, recovered at the vertices) reach past it."""
+    setup = hertz.build(Penalty(hertz.DEFAULT_K), quadrature=quadrature, model="linear-mixed")
+    Solver(setup.problem, quiet=True).run(setup.loads)
+    f, contact = setup.figures(), setup.contacts[0]
+    width = contact.contact_area()
+    assert abs(width - f["a_hertz"]) < f["h_contact"]
+    if quadrature == "gauss":  # the pressure spilt onto the first open vertex: the loaded vertices reach further
+        loaded = contact.contact_zones()[0]["X_max"][0]
+        assert abs(loaded - f["a_hertz"]) > abs(width - f["a_hertz"])

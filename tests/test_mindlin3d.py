@@ -131,6 +131,9 @@ def test_exact_coulomb_stick_radius_against_cattaneo_mindlin():
     assert all(r.newton_iterations <= 15 for r in solver.records), [r.newton_iterations for r in solver.records]
     K = setup.problem.step_solver.K
     assert (K.assemblies, K.factorizations) == (1, 1)
+    # the nodal maximum scatters (7 % high here, 17 % at refinement 1); the fitted Hertz peak is the one to trust,
+    # and the summary says which is which
+    assert f["p0_fit_error"] < 0.01 and "scatter" in f["notes"]["p0"] and "p0_fit" in f["notes"]
 
 
 @pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="compares a parallel run with the serial one")

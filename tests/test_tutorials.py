@@ -13,6 +13,7 @@ ROOT = Path(__file__).resolve().parents[1]
 TUTORIALS = sorted(p.stem for p in (ROOT / "tutorials").glob("[0-9]*.py"))
 TWO_BODY = {"03_two_blocks_patch"}  # run under mpirun as well: figures reduced over the ranks
 FIGURES = {"03_two_blocks_patch": "deviation"}  # the figure each rank must agree on
+PICTURES = {"07_results_and_paraview": "pictures"}  # the PNG files a tutorial plots from its written output
 
 
 def _converter():
@@ -50,6 +51,11 @@ def test_tutorial_runs(name, tmp_path, monkeypatch):
     if comm.size == 1:
         monkeypatch.chdir(tmp_path)  # where a tutorial writes its output
     scope = runpy.run_path(str(ROOT / "tutorials" / f"{name}.py"), run_name="__main__")
+    if name in PICTURES and comm.rank == 0:
+        pytest.importorskip("matplotlib")
+        pictures = scope[PICTURES[name]]
+        assert pictures and all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 10_000
+                                for p in pictures)
     if name in FIGURES:
         figure = scope[FIGURES[name]]
         assert np.allclose(comm.allgather(figure), figure, rtol=0, atol=0)

@@ -1,7 +1,8 @@
 """Self-checks of the demos: a figure against its scene's reference (closed form, published number, or a
 documented converged reference), recorded as ``check`` in ``summary.json`` and logged as one line. A reference
 applied beyond its range (Hertz's at a contact half-width ``a/R > HERTZ_RANGE``) is flagged in the check, its
-line and the summary's ``warnings``."""
+line and the summary's ``warnings``; the check's line notes how many warnings the run has (``check["warnings"]``:
+a limit the solver met, a model past its range, a reference out of its range)."""
 from __future__ import annotations
 
 import logging
@@ -53,6 +54,8 @@ def log_check(c: dict, comm=None) -> None:
     error = "" if c["rel_error"] is None else f", rel. error {c['rel_error']:.2e}"
     reference = "none" if c["reference"] is None else f"{c['reference']:.8g}"
     flag = f" (reference out of its range: {c['flag']})" if c.get("flag") else ""
-    logger.log(logging.INFO if c["passed"] and not flag else logging.WARNING,
+    n = c.get("warnings") or 0
+    noted = f"; the run has {n} warning{'s' if n > 1 else ''} (summary.json)" if n else ""
+    logger.log(logging.INFO if c["passed"] and not flag and not n else logging.WARNING,
                f"check: {c['figure']} = {value}, reference {reference} ({c['source']}){error}, "
-               f"tolerance {c['tolerance']:.0e}: {'passed' if c['passed'] else 'FAILED'}{flag}")
+               f"tolerance {c['tolerance']:.0e}: {'passed' if c['passed'] else 'FAILED'}{flag}{noted}")

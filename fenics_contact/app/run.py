@@ -126,6 +126,7 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
             summary["check"] = check(summary)
             if summary["check"].get("flag"):  # the reference out of its range
                 summary["warnings"].append(f"check: {summary['check']['flag']}")
+            summary["check"]["warnings"] = len(summary["warnings"])  # the check's line notes them
         record.write(summary)
         on_rank0(comm, str(lock.path), lock.release)  # every rank returns with the folder free
     except BaseException as exc:

@@ -112,7 +112,7 @@ class CondensedContact(ContactSurface):
         """The condensed vertices sorted by reference position (the same on every rank): ``x`` (n, dim) reference
         position, ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction`` (tangential traction of
         the obstacle on the body: 2D the scalar along ``+e_kt``, +x on a base facing +y; 3D the vector (n, 3)),
-        ``state`` (0 open, 1 slip, 2 stick, by :func:`~.states.classify`)."""
+        ``state`` (0 open, 1 slip, 2 stick, by :func:`~.states.classify`). Collective."""
         vx, _, pn, pt, gap = self._need()
         if self.dim == 2:
             traction = pt[:, 0].copy()
@@ -124,7 +124,7 @@ class CondensedContact(ContactSurface):
 
     def tangential_force(self) -> np.ndarray:
         """Tangential (friction) force of the obstacle on the body, the sum of the nodal ones, shape (dim,)
-        (per unit thickness in 2D)."""
+        (per unit thickness in 2D). Collective."""
         _, w, _, pt, _ = self._need()
         f = np.zeros(self.dim)
         f[self.kts] = np.sum(pt * w[:, None], axis=0)

@@ -176,7 +176,7 @@ class CondensedTwoBody(Surface):
         """Slave vertices sorted by reference position (the same on every rank): ``x`` (n, dim) reference
         position, ``gap`` (> 0 penetration), ``pressure`` (> 0 compression), ``traction`` (of the master on the
         slave: 2D the scalar along the tangent ``(n_y, -n_x)`` of the master normal, +x on a master facing +y;
-        3D the vector (n, 3)), ``state`` (0 open, 1 slip, 2 stick)."""
+        3D the vector (n, 3)), ``state`` (0 open, 1 slip, 2 stick). Collective."""
         fn, ft, gap, state, _ = self._need()
         q = ft / self.weight[:, None]
         traction = np.einsum("ij,ij->i", q, self.tangent[:, 0]) if self.dim == 2 else q
@@ -196,7 +196,7 @@ class CondensedTwoBody(Surface):
                                                                                      np.ndarray]:
         """Current position (n, dim) (``reference=True``: reference position), gap (> 0 penetration) and pressure
         (> 0 compression) of the slave vertices, sorted by reference position (as the penalty two-body surfaces';
-        small strain: the nominal and Cauchy pressures are the same)."""
+        small strain: the nominal and Cauchy pressures are the same). Collective."""
         if kind not in PRESSURE_KINDS:
             raise ValueError(f"pressure kind must be one of {PRESSURE_KINDS}, got {kind!r}")
         fn, _, gap, _, _ = self._need()
@@ -204,21 +204,23 @@ class CondensedTwoBody(Surface):
 
     def total_force(self) -> np.ndarray:
         """Normal contact force of the master on the slave body, ``sum_i f_n,i n_i``, shape (dim,) (per unit
-        thickness in 2D; the friction force is :meth:`tangential_force`)."""
+        thickness in 2D; the friction force is :meth:`tangential_force`). Collective."""
         fn = self._need()[0]
         return np.sum(fn[:, None] * self.normal, axis=0)
 
     def tangential_force(self) -> np.ndarray:
-        """Tangential (friction) force of the master on the slave body, the sum of the nodal ones, shape (dim,)."""
+        """Tangential (friction) force of the master on the slave body, the sum of the nodal ones, shape (dim,).
+        Collective."""
         return np.sum(self._need()[1], axis=0)
 
     def capacity(self) -> float:
-        """``mu sum_i f_n,i``: the largest tangential force the surface can carry at the current contact forces."""
+        """``mu sum_i f_n,i``: the largest tangential force the surface can carry at the current contact forces.
+        Collective."""
         return self.mu * float(np.sum(self._need()[0]))
 
     def state_areas(self) -> dict[str, float]:
         """Length (2D) or area (3D) of the slave surface in each state by the vertex rule (sum of the vertex
-        weights)."""
+        weights). Collective."""
         state = self._need()[3]
         return {k: float(np.sum(self.weight[state == v])) for k, v in (("open", OPEN), ("slip", SLIP),
                                                                        ("stick", STICK))}

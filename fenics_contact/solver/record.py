@@ -2,12 +2,16 @@
 (``summary.json``)."""
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 
 from mpi4py import MPI
 from petsc4py import PETSc
 
-__all__ = ["ConvergenceError", "RunRecord", "StepRecord", "describe", "progress_line", "reason_text"]
+__all__ = ["ConvergenceError", "RunRecord", "StepRecord", "augmentation_warning", "cutback_warning", "describe",
+           "progress_line", "reason_text"]
+
+logger = logging.getLogger(__package__)
 
 
 class ConvergenceError(RuntimeError):
@@ -97,6 +101,12 @@ class RunRecord:
     timings: dict[str, float] = field(default_factory=_timings)
     newton_spent: int = 0
 
+    def warn(self, text: str, comm: MPI.Comm) -> None:
+        """A line of the run's warnings (a limit the run met, not a failure), logged on rank 0 (WARNING)."""
+        self.warnings.append(text)
+        if comm.rank == 0:
+            logger.warning(text)
+
     def summary(self, comm: MPI.Comm, contacts, linear_iterations: int, condition: float | None) -> dict:
         """Totals over the converged steps; the time split is the maximum over ranks. ``contacts``: the surfaces
         (their own timings); ``linear_iterations``: Krylov iterations of all Newton steps; ``condition``: the
@@ -124,6 +134,20 @@ class RunRecord:
                 "failure": None if not self.records or self.records[-1].converged else self.records[-1].failure,
                 "failures": self.failures, "warnings": list(self.warnings),
                 "steps": [r.as_dict() for r in self.records]}
+
+
+def augmentation_warning(rec: StepRecord, tolerance: float) -> str:
+    """The warning of a step accepted at ``augment_max`` (``rec.augmentations``) with the gaps' change above
+    ``tolerance`` (a length: ``augment_tol`` times the mesh size)."""
+    return (f"augmentation stopped at augment_max = {rec.augmentations} at step {rec.step} (t = {rec.load:.6g}): the "
+            f"gaps' change R = {rec.constraint_change[-1]:.3g} > augment_tol D = {tolerance:.3g}; the constraint is "
+            "met only to R (raise augment_max, or K)")
+
+
+def cutback_warning(rec: StepRecord, start: float, to: float) -> str:
+    """The warning of a failed attempt ``rec`` from the load ``start``, cut back to the load ``to``."""
+    return (f"step {rec.step} (t = {rec.load:.6g}, from t = {start:.6g}) failed: {describe(rec.failure)}; cut back "
+            f"to t = {to:.6g}")
 
 
 def reason_text(code: int) -> str:

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import logging
 import os
+import sys
 import time
 from typing import Callable, Sequence
 
@@ -16,12 +17,35 @@ from ..problem import ContactProblem
 from .newton import Newton
 from .options import ScopedOptions, solver_options
 from .predictor import PREDICTORS, Predictor
-from .record import ConvergenceError, RunRecord, StepRecord, describe, progress_line, reason_text
+from .record import (
+    ConvergenceError,
+    RunRecord,
+    StepRecord,
+    augmentation_warning,
+    cutback_warning,
+    describe,
+    progress_line,
+    reason_text,
+)
 from .validity import inverted_failure, strain_warning
 
 __all__ = ["Solver"]
 
 logger = logging.getLogger(__package__)
+
+
+def show_progress(wanted: bool = True) -> None:
+    """If ``wanted`` (a solver not ``quiet``), make the progress lines (INFO) of the package's logger
+    ``fenics_contact`` visible where no one chose its level: FFCx configures the root logger on import (a handler
+    on stderr, level WARNING), which hides them. The package's logger then gets level INFO (and a handler on stderr
+    if none reaches it): a plain script shows them on stderr. A level set by the user
+    (``logging.getLogger("fenics_contact").setLevel(...)``) or by the command line is left alone."""
+    package = logging.getLogger(__package__.rpartition(".")[0])
+    if not wanted or package.level != logging.NOTSET or package.getEffectiveLevel() <= logging.INFO:
+        return
+    package.setLevel(logging.INFO)
+    if not package.hasHandlers():
+        package.addHandler(logging.StreamHandler(sys.stderr))
 
 
 class _Delegated:
@@ -43,21 +67,19 @@ class _Delegated:
 class Solver:
     """Drives a :class:`ContactProblem` through a sequence of load values.
 
-    ``augment_max`` augmentations at most per load step (0: none), stopping
-    when ``R = ||g_new - g_old|| <= augment_tol D`` (``R``: the gaps' change; ``D``: the size of the mesh,
-    :meth:`ContactProblem.mesh_size`). A step whose SNES diverges is halved up to ``max_cutbacks`` times.
-    ``on_step(t)`` is called after every converged step (output); ``on_iterate(it)`` after
-    every Newton iterate, with ``problem.u`` at that iterate. Progress: one
-    line per load step on rank 0 through ``logging`` (logger
-    ``fenics_contact.solver``, INFO; ``quiet``: DEBUG, i.e. silent unless
-    the log asks for it). ``predictor`` chooses the state each load
-    step starts from: ``False`` the last converged state; ``"secant"`` (or
-    ``True``) the linear extrapolation in ``t`` of the last two converged
-    states; ``"tangent"`` the Euler predictor of :meth:`Predictor.tangent`
-    (the tangent of the load path at the last converged state, scaled back
-    to the energy's stationary point along it when the energy rises before
-    its end: a contact that the step closes is not driven far into the
-    obstacle). The tangent needs a force-based contact law (not ``bounded``).
+    ``augment_max`` augmentations at most per load step (0: none), stopping when ``R = ||g_new - g_old|| <=
+    augment_tol D`` (``R``: the gaps' change; ``D``: the size of the mesh, :meth:`ContactProblem.mesh_size`); a step
+    that reaches ``augment_max`` first is accepted with a line in the run's warnings (``summary()["warnings"]``,
+    logged at WARNING). A step whose SNES diverges is halved up to ``max_cutbacks`` times, each cutback a line of
+    the warnings too (the failed solves: :attr:`failures`). ``on_step(t)`` is called after every converged step
+    (output); ``on_iterate(it)`` after every Newton iterate, with ``problem.u`` at that iterate. Progress: one line
+    per load step on rank 0 through ``logging`` (logger ``fenics_contact.solver``, INFO, shown in a plain script:
+    :func:`show_progress`; ``quiet``: DEBUG, silent unless the log asks for it). ``predictor`` chooses the state
+    each load step starts from: ``False`` the last converged state; ``"secant"`` (or ``True``) the linear
+    extrapolation in ``t`` of the last two converged states; ``"tangent"`` the Euler predictor of
+    :meth:`Predictor.tangent` (the tangent of the load path at the last converged state, scaled back to the
+    energy's stationary point along it when the energy rises before its end: a contact that the step closes is
+    not driven far into the obstacle). The tangent needs a force-based contact law (not ``bounded``).
 
     PETSc options (``prefix``, ``options``): see :mod:`.options`. The solver owns its PETSc objects (the SNES,
     ``A``, ``b``): :meth:`destroy` them, or use the solver as a context manager.
@@ -101,9 +123,10 @@ class Solver:
         if max_cutbacks < 0:
             raise ValueError(f"max_cutbacks must be >= 0, got {max_cutbacks}")
         self.problem, self.quiet, self.on_step = problem, quiet, on_step
+        show_progress(not quiet)
         self.augment_max, self.augment_tol, self.max_cutbacks = augment_max, augment_tol, max_cutbacks
         self.options = ScopedOptions(prefix, solver_options(problem, options), options)
-        self.record = RunRecord()
+        self.record = RunRecord(warnings=list(getattr(problem, "warnings", ())))
         self.newton = Newton(problem, self.options, self.record.timings, on_iterate)
         try:  # a misspelt option of the caller's: refused now, not silently ignored
             self.options.refuse_unused()
@@ -132,22 +155,21 @@ class Solver:
         return self.newton.linear.grow_mumps_workspace(failure)
 
     def condition_estimate(self) -> float | None:
-        """Condition estimate of the last Jacobian (:func:`failure.condition_estimate`; direct solvers only,
-        else None). Collective."""
+        """The last Jacobian's condition estimate (:func:`failure.condition_estimate`; direct solvers, else None).
+        Collective."""
         return self.newton.condition_estimate()
 
     def linear_solve_time(self) -> float:
-        """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind
-        (factorization included): the cost floor of one linear elastic solve on this mesh, max over ranks
-        (:meth:`LinearSolver.solve_time`)."""
+        """Seconds for one Jacobian assembly and one solve with a fresh linear solver of the same kind (factorization
+        included): the cost floor of one linear elastic solve here, max over ranks (:meth:`LinearSolver.solve_time`).
+        Collective."""
         newton = self.newton
         return newton.linear.solve_time(newton.A, newton.b,
                                         lambda: newton.jacobian(newton.snes, newton.x, newton.A, newton.A))
 
     def summary(self) -> dict:
-        """Totals over the converged steps; the time split is the maximum over ranks (:meth:`RunRecord.summary`).
-        ``-fc_condition_estimate``: also the condition estimate of the last Jacobian (benchmarks' stability map).
-        Collective."""
+        """Totals over the converged steps; the time split is the maximum over ranks (:meth:`RunRecord.summary`);
+        ``-fc_condition_estimate``: also the last Jacobian's condition estimate (stability map). Collective."""
         condition = self.condition_estimate() if self.options.get_bool("condition_estimate", False) else None
         return self.record.summary(self.problem.comm, self.problem.contacts, self.linear_iterations, condition)
 
@@ -155,8 +177,8 @@ class Solver:
     def run(self, loads: Sequence[float], checkpoint: str | os.PathLike | None = None) -> list[StepRecord]:
         """Solve at every load value of ``loads`` in turn (cutting steps in half when needed). ``checkpoint``: a
         folder that gets the converged state after every step, after ``on_step`` (:func:`checkpoint.save
-        <fenics_contact.checkpoint.save>`; :meth:`restart` goes on from it)."""
-        loads = list(loads)
+        <fenics_contact.checkpoint.save>`; :meth:`restart` goes on from it). Collective."""
+        loads, comm = list(loads), self.problem.comm
         self.prediction.start(self.t)
         for i, target in enumerate(loads):
             cuts = 0
@@ -173,6 +195,8 @@ class Solver:
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
                     strain_warning(self.problem, rec.step, rec.load, self.record.warnings, self.timings)
+                    if not rec.augmentation_converged:
+                        self.record.warn(augmentation_warning(rec, self.augment_tol * self.problem.mesh_size()), comm)
                     self.options.refuse_unused_later(self.linear_iterations > 0)
                     self.t, self.pending = t, loads[i + 1:] if t == target else loads[i:]
                     self.prediction.accept(t)
@@ -191,6 +215,8 @@ class Solver:
                     continue  # the same step again, with more room for MUMPS: not a cutback
                 cuts += 1
                 hopeless = not cutback_helps(rec.failure)  # out of memory: a smaller step factors the same pattern
+                if cuts <= self.max_cutbacks and not hopeless:
+                    self.record.warn(cutback_warning(rec, self.t, self.t + (target - self.t) / 2**cuts), comm)
                 if cuts > self.max_cutbacks or hopeless:
                     self.records.append(rec)
                     raise ConvergenceError(
@@ -203,17 +229,15 @@ class Solver:
 
     def restart(self, folder: str | os.PathLike) -> list[float]:
         """Go back to the last checkpoint in ``folder`` with a step to solve (:func:`checkpoint.restore
-        <fenics_contact.checkpoint.restore>`; this solver made as for the run that wrote it); returns the load
-        targets that run had still to reach: ``solver.run(solver.restart(folder), checkpoint=folder)`` finishes it.
-        ``ValueError`` if there is none. Collective."""
+        <fenics_contact.checkpoint.restore>`; this solver made as for the run that wrote it); returns the loads that
+        run had still to reach (``solver.run(solver.restart(folder), checkpoint=folder)`` finishes it). Collective."""
         found = checkpoints.restore(self, folder)
         if found is None:
             raise ValueError(f"no checkpoint to go on from in {folder}")
         return found["pending"]
 
     def _progress(self, rec: StepRecord, failed: bool = False) -> None:
-        """One progress line per load step (and per failed attempt) on rank 0, through ``logging`` (INFO;
-        ``quiet``: DEBUG)."""
+        """One progress line per load step (and failed attempt) on rank 0, logged (INFO; ``quiet``: DEBUG)."""
         level = logging.DEBUG if self.quiet else logging.INFO
         if self.problem.comm.rank == 0 and logger.isEnabledFor(level):
             logger.log(level, progress_line(rec, failed))

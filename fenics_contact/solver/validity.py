@@ -10,6 +10,7 @@ import numpy as np
 from mpi4py import MPI
 
 from ..materials import SMALL_STRAIN
+from ..models import locking_warning
 from ..problem import ContactProblem
 
 __all__ = ["inverted_failure", "max_strain", "strain_warning"]
@@ -70,8 +71,10 @@ def strain_warning(problem: ContactProblem, step: int, load: float, warnings: li
     strain = max_strain(problem)
     timings["validity_s"] += time.perf_counter() - start
     if strain > SMALL_STRAIN:
+        # nearly incompressible: the displacement-only neohookean locks as the linear model does
+        model = "neohookean-mixed" if locking_warning(problem.material, 1) else "neohookean"
         text = (f"small-strain model past its range: strain {strain:.3g} (largest principal value of sym(grad u)) "
-                f"> {SMALL_STRAIN:g} at step {step} (t = {load:.6g}); a finite-strain model (neohookean) holds there")
+                f"> {SMALL_STRAIN:g} at step {step} (t = {load:.6g}); a finite-strain model ({model}) holds there")
         warnings.append(text)
         if problem.comm.rank == 0:
             logger.warning(text)
