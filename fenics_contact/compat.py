@@ -23,8 +23,8 @@ __all__ = [
     "function_space", "space_degree", "mixed_space", "facet_cell_name", "collapse", "petsc_vec", "create_vector",
     "assemble_matrix", "lift_and_set_bc", "bc_dofs", "compile_expression", "interpolate_expression",
     "vertex_expression", "evaluate_expression", "cell_sizes", "entities_to_geometry", "cell_dofs", "geometry_dofs",
-    "cell_partitioner", "model_to_mesh", "create_mesh", "release_free_memory", "free_petsc_garbage", "redundant_ksp",
-    "petsc_library", "check_petsc"
+    "cell_partitioner", "model_to_mesh", "create_mesh", "xdmf_tensor_padding", "release_free_memory",
+    "free_petsc_garbage", "redundant_ksp", "petsc_library", "check_petsc"
 ]
 
 
@@ -357,6 +357,35 @@ def create_mesh(comm, cells, x, cell: str, owners=None):
         return dmesh.create_mesh(comm, cells, x, domain, partitioner=partitioner)
     # By name: dolfinx 0.10 put the coordinate element ``e`` before ``x``.
     return dmesh.create_mesh(comm, cells=cells, x=x, e=domain, partitioner=partitioner)
+
+
+_TENSOR_PADDING: list[str] = []
+
+
+def xdmf_tensor_padding() -> str:
+    """How dolfinx's XDMF output pads a 2 x 2 tensor to XDMF's 9 components: ``rows`` (each row to 3 values, then a
+    zero row: dolfinx 0.5, 0.6) or ``end`` (the 4 values, then 5 zeros: 0.7 on). Found once per process by writing
+    one such tensor (ASCII, into a temporary folder, on this rank alone)."""
+    if not _TENSOR_PADDING:
+        import tempfile
+        import xml.etree.ElementTree as ET
+
+        from dolfinx import io
+        from dolfinx import mesh as dmesh
+        from mpi4py import MPI
+
+        mesh = dmesh.create_unit_square(MPI.COMM_SELF, 1, 1)
+        f = fem.Function(function_space(mesh, "DG", 0, (2, 2)))
+        f.x.array[:] = np.tile([1.0, 2.0, 3.0, 4.0], f.x.array.size // 4)
+        with tempfile.TemporaryDirectory() as folder:
+            path = f"{folder}/tensor.xdmf"
+            with io.XDMFFile(MPI.COMM_SELF, path, "w", encoding=io.XDMFFile.Encoding.ASCII) as out:
+                out.write_mesh(mesh)
+                out.write_function(f)
+            item = ET.parse(path).getroot().find(".//Attribute/DataItem")
+            values = np.array(item.text.split(), dtype=float)[:9]
+        _TENSOR_PADDING.append("rows" if values[3] == 3.0 else "end")
+    return _TENSOR_PADDING[0]
 
 
 def _malloc_trim():

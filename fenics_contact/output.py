@@ -208,8 +208,10 @@ class XDMFWriter:
 
     def _write_index(self) -> None:
         names = list(dict.fromkeys(name for grids in self._grids for name, _ in grids))
+        # how a 2D tensor's 4 values sit in XDMF's 9 (fenics_contact.reading reads them back by it)
+        padding = f'    <Information Name="tensor_padding" Value="{compat.xdmf_tensor_padding()}" />\n'
         parts = [_HEAD, '<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">\n  <Domain>\n',
-                 self._mesh, "\n"]
+                 padding, self._mesh, "\n"]
         for name in names:
             parts.append(f'    <Grid Name={quoteattr(name)} GridType="Collection" CollectionType="Temporal">\n')
             parts += [text + "\n" for grids in self._grids for n, text in grids if n == name]
