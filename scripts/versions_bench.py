@@ -105,9 +105,9 @@ def main(argv=None) -> int:
     if args.page:
         Path(args.page).write_text("\n".join([
             "# dolfinx 0.5.2 against 0.11", "", head, "",
-            "The same demo, options and mesh on both (pictures off); set-up is mesh, spaces and forms (their compilation included "
-            "when not cached), solve the load steps. The last column compares the scene's figures (`p0`, "
-            "`total_force`) between the two versions, 1e-8 relative.", "", *table, ""]))
+            "The same demo, options and mesh on both (pictures off); set-up is mesh, spaces and forms (their "
+            "compilation included when not cached), solve the load steps. The last column compares the scene's "
+            "figures (`p0`, `total_force`) between the two versions, 1e-8 relative.", "", *table, ""]))
     return 0
 
 
