@@ -6,7 +6,8 @@
 # /sys: mounted for each command in a private mount namespace, gone when it ends.
 #   WHEEL_PARTS   what to run, any of: setup (nothing but the set-up), tests (the tests, serially), mpi (the same
 #                 under mpiexec -n 2), tutorials (serially and under mpiexec -n 2), demos (the quick set under
-#                 mpiexec -n 2), figures (the lane figures against Debian 12's, serially and under mpiexec -n 2); default: all
+#                 mpiexec -n 2), figures (the lane figures against Debian 12's, serially and under mpiexec -n 2);
+#                 default: all
 #   WHEEL_TESTS   the test files (default: tests/test_*.py)
 #   WHEEL_MARK    a marker expression (make test-wheel: the parallel lane's; empty: every test)
 # OPTIONAL=1 (used by `make test`): skip, saying why, when this machine cannot build the lane.
@@ -26,7 +27,8 @@ MPIEXEC="$VENV/bin/mpiexec -n 2"
 command -v unshare >/dev/null || skip "no unshare (util-linux) for the mounts MPICH needs"
 lane_root
 # python3-venv: the venv; gcc, python3-dev: FFCx compiles the forms; the rest: the gmsh wheel's libraries.
-lane_apt python3-venv gcc python3-dev libgl1 libglu1-mesa libxcursor1 libxinerama1 libxft2 libgomp1
+lane_apt python3-venv gcc python3-dev libgl1 libglu1-mesa libxcursor1 libxinerama1 libxft2 libgomp1 \
+  || skip "apt-get install in $DEB13 failed"
 # pip in the root checks the index's certificate against the host's authorities (a proxy's may be among them).
 cp /etc/ssl/certs/ca-certificates.crt "$DEB13/etc/ssl/host-ca-certificates.crt"
 PIP_ENV=(PIP_CERT=/etc/ssl/host-ca-certificates.crt PIP_DISABLE_PIP_VERSION_CHECK=1)
