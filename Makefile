@@ -2,9 +2,10 @@
 #            and print one table of their checks (figure, reference, error, passed); make demo-all: default sizes
 # make test: set up and run ruff, every test but the studies serially (two at a time), and under mpirun -n 2 (on
 #            dolfinx 0.5 and on Debian 13's 0.9) the library's unit and closed-form tests and every comparison of
-#            ranks; within 20 minutes on 2 cores
+#            ranks; on the dolfinx 0.11 wheel the tutorials and the lane figures; within 20 minutes on 2 cores
 # make test-fast: the library's unit and closed-form tests (not slow, no scene), under 2 minutes
-# make test-all: every test serially, under mpirun -n 2 and on Debian 13 (serial and mpirun -n 2)
+# make test-all: every test serially, under mpirun -n 2 and on Debian 13 (serial and mpirun -n 2), and the whole
+#            dolfinx 0.11 wheel lane (make test-wheel)
 # make bench: the quick benchmark sweep (the main scenes, every method, within 10 minutes on 2 cores) into
 #             results/bench and its pages into docs/bench/ (make bench-pages); make bench-all: every scene with its
 #             stability map, locking and model reduction into results/bench-all, then every page (docs/benchmarks.md)
@@ -34,7 +35,7 @@ PARALLEL_LANE := (not slow and not scene) or mpi
 
 .PHONY: setup demo demo-all bench bench-all bench-pages scaling docs test test-fast test-all lint test-serial test-serial-all test-mpi \
         test-mpi-all \
-        test-debian13 clean peer felupe
+        test-debian13 test-wheel clean peer felupe
 
 setup:
 	@VENV=$(VENV) bash scripts/setup.sh
@@ -119,10 +120,17 @@ test-mpi-all: setup
 test-debian13: setup
 	bash scripts/debian13.sh
 
+# dolfinx 0.11 lane: the PyPI wheel dolfinx-solver-real in a venv of the Debian 13 root, the project pip-installed
+# into it; the library's and the parallel lane's tests serially and under the wheel's mpiexec -n 2, the tutorials,
+# the quick demos and the lane figures (WHEEL_PARTS picks some). `make test` runs the tutorials and the figures.
+test-wheel: setup
+	WHEEL_MARK="$(PARALLEL_LANE)" bash scripts/wheel011.sh
+
 test: lint test-serial test-mpi
 	@OPTIONAL=1 SERIAL=0 DEB13_MARK="$(PARALLEL_LANE)" bash scripts/debian13.sh
+	@OPTIONAL=1 WHEEL_PARTS="tutorials figures" bash scripts/wheel011.sh
 
-test-all: lint test-serial-all test-mpi-all test-debian13
+test-all: lint test-serial-all test-mpi-all test-debian13 test-wheel
 
 clean:
 	rm -rf results .pytest_cache docs/_build

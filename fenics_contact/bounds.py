@@ -20,7 +20,7 @@ from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .compat import bc_dofs, petsc_vec
+from .compat import bc_dofs, collapse, petsc_vec
 from .contact import ContactSurface
 from .laws import ContactLaw
 from .obstacles import HalfPlane, Obstacle
@@ -41,7 +41,7 @@ class PlaneVertices:
         self.obstacle = obstacle
         self.k = int(np.flatnonzero(obstacle.n)[0])
         self.sign = float(np.sign(obstacle.n[self.k]))
-        self.Vk, parent = V.sub(self.k).collapse()
+        self.Vk, parent = collapse(V.sub(self.k))
         self.parent = np.asarray(parent, dtype=np.int32)
         self.dofs = self.weight = self.X = None
 

@@ -20,9 +20,10 @@ if typing.TYPE_CHECKING:
     from petsc4py import PETSc
 
 __all__ = [
-    "function_space", "space_degree", "mixed_space", "petsc_vec", "lift_and_set_bc", "bc_dofs", "compile_expression",
-    "interpolate_expression", "vertex_expression", "evaluate_expression", "cell_sizes", "entities_to_geometry",
-    "cell_dofs", "geometry_dofs", "cell_partitioner", "model_to_mesh", "create_mesh", "release_free_memory",
+    "function_space", "space_degree", "mixed_space", "facet_cell_name", "collapse", "petsc_vec", "create_vector",
+    "assemble_matrix", "lift_and_set_bc", "bc_dofs", "compile_expression", "interpolate_expression",
+    "vertex_expression", "evaluate_expression", "cell_sizes", "entities_to_geometry", "cell_dofs", "geometry_dofs",
+    "cell_partitioner", "model_to_mesh", "create_mesh", "xdmf_tensor_padding", "release_free_memory",
     "free_petsc_garbage", "redundant_ksp", "petsc_library", "check_petsc"
 ]
 
@@ -73,9 +74,40 @@ def mixed_space(mesh, degree: int, pressure_degree: int = 1):
     return fem.FunctionSpace(mesh, el)
 
 
+def facet_cell_name(mesh) -> str:
+    """The UFL name of the facets' cell (``interval``, ``triangle``, ``quadrilateral``) of a mesh of one cell type
+    (UFL's ``facet_types`` and ``cellname`` methods before UFL 2025.2, properties after)."""
+    types = mesh.ufl_cell().facet_types
+    name = (types() if callable(types) else types)[0].cellname
+    return name() if callable(name) else name
+
+
+def collapse(V) -> tuple[typing.Any, np.ndarray]:
+    """The subspace ``V`` collapsed: the new space and the map of its dofs to ``V``'s parent's (local, int32).
+    dolfinx >= 0.11 gives one map per cell type: a mesh of one cell type has one."""
+    Vc, dofs = V.collapse()
+    dofs = np.asarray(dofs, dtype=np.int32)
+    return Vc, (dofs[0] if dofs.ndim == 2 else dofs)
+
+
 def petsc_vec(f: fem.Function) -> PETSc.Vec:
     """The PETSc vector wrapping a Function's values (shares memory)."""
     return f.x.petsc_vec if hasattr(f.x, "petsc_vec") else f.vector
+
+
+def create_vector(L) -> PETSc.Vec:
+    """A PETSc vector for the compiled linear form ``L`` (dolfinx >= 0.10 takes its function space instead)."""
+    import inspect
+
+    if "V" in inspect.signature(fem_petsc.create_vector).parameters:  # dolfinx >= 0.10
+        return fem_petsc.create_vector(L.function_spaces[0])
+    return fem_petsc.create_vector(L)
+
+
+def assemble_matrix(A: PETSc.Mat, a, bcs, diagonal: float) -> None:
+    """Add the compiled bilinear form ``a`` into ``A``, with ``diagonal`` on the rows and columns of the Dirichlet
+    conditions ``bcs`` (dolfinx >= 0.10 calls it ``diag``; passed by position, the same in every version)."""
+    fem_petsc.assemble_matrix(A, a, bcs, diagonal)
 
 
 def lift_and_set_bc(b: PETSc.Vec, a, bcs, x0: PETSc.Vec, scale: float, diagonal: float = 1.0) -> None:
@@ -251,16 +283,31 @@ def _rcm_partition(comm, nparts: int, graph, ghosting: bool):
 
 def cell_partitioner():
     """The deterministic cell partitioner (:func:`_rcm_partition`) in the form ``dolfinx.mesh.create_mesh`` and the
-    builtin mesh builders take (``partitioner=``)."""
+    builtin mesh builders take (``partitioner=``); no ghost cells."""
     from dolfinx import mesh as dmesh
 
-    return dmesh.create_cell_partitioner(_rcm_partition)
+    try:
+        return dmesh.create_cell_partitioner(_rcm_partition)
+    except TypeError:  # dolfinx >= 0.11: the ghost mode and the most cells a facet joins are required
+        return dmesh.create_cell_partitioner(_rcm_partition, dmesh.GhostMode.none, 2)
 
 
 def model_to_mesh(model, comm, rank: int, gdim: int):
-    """``dolfinx.io.gmshio.model_to_mesh`` with the deterministic partitioner (:func:`cell_partitioner`)."""
+    """``dolfinx.io.gmsh.model_to_mesh`` (``gmshio`` before dolfinx 0.10) with the deterministic partitioner
+    (:func:`cell_partitioner`).
+
+    Returns:
+        ``(mesh, cell_tags, facet_tags)``.
+    """
     import inspect
 
+    try:  # dolfinx >= 0.10: dolfinx.io.gmsh, returning a MeshData
+        from dolfinx.io import gmsh as dgmsh
+    except ImportError:
+        dgmsh = None
+    if dgmsh is not None and hasattr(dgmsh, "MeshData"):
+        data = dgmsh.model_to_mesh(model, comm, rank, gdim=gdim, partitioner=cell_partitioner())
+        return data.mesh, data.cell_tags, data.facet_tags
     from dolfinx.io import gmshio
 
     if "partitioner" in inspect.signature(gmshio.model_to_mesh).parameters:  # dolfinx >= 0.7
@@ -295,18 +342,50 @@ def create_mesh(comm, cells, x, cell: str, owners=None):
         domain = ufl.Mesh(ufl.VectorElement("Lagrange", cell, 1))
         new = False
     if owners is None or comm.size == 1:
-        return dmesh.create_mesh(comm, cells, x, domain, partitioner=cell_partitioner())
-    dest = np.asarray(owners, dtype=np.int32) if comm.rank == 0 else np.zeros(0, np.int32)
+        partitioner = cell_partitioner()
+    else:
+        dest = np.asarray(owners, dtype=np.int32) if comm.rank == 0 else np.zeros(0, np.int32)
+        if not new:
+            def partitioner(comm_, nparts, tdim, local_cells, ghost_mode):
+                return cpp.graph.AdjacencyList_int32(dest[: local_cells.num_nodes].copy())
+
+            return dmesh.create_mesh(comm, cells, x, domain, dmesh.GhostMode.none, partitioner)
+
+        def partitioner(comm_, nparts, cell_types, local_cells):  # dolfinx >= 0.8
+            return cpp.graph.AdjacencyList_int32(dest.copy())
     if not new:
-        def partitioner(comm_, nparts, tdim, local_cells, ghost_mode):
-            return cpp.graph.AdjacencyList_int32(dest[: local_cells.num_nodes].copy())
+        return dmesh.create_mesh(comm, cells, x, domain, partitioner=partitioner)
+    # By name: dolfinx 0.10 put the coordinate element ``e`` before ``x``.
+    return dmesh.create_mesh(comm, cells=cells, x=x, e=domain, partitioner=partitioner)
 
-        return dmesh.create_mesh(comm, cells, x, domain, dmesh.GhostMode.none, partitioner)
 
-    def partitioner(comm_, nparts, cell_types, local_cells):  # dolfinx 0.8 / 0.9
-        return cpp.graph.AdjacencyList_int32(dest.copy())
+_TENSOR_PADDING: list[str] = []
 
-    return dmesh.create_mesh(comm, cells, x, domain, partitioner=partitioner)
+
+def xdmf_tensor_padding() -> str:
+    """How dolfinx's XDMF output pads a 2 x 2 tensor to XDMF's 9 components: ``rows`` (each row to 3 values, then a
+    zero row: dolfinx 0.5, 0.6) or ``end`` (the 4 values, then 5 zeros: 0.7 on). Found once per process by writing
+    one such tensor (ASCII, into a temporary folder, on this rank alone)."""
+    if not _TENSOR_PADDING:
+        import tempfile
+        import xml.etree.ElementTree as ET
+
+        from dolfinx import io
+        from dolfinx import mesh as dmesh
+        from mpi4py import MPI
+
+        mesh = dmesh.create_unit_square(MPI.COMM_SELF, 1, 1)
+        f = fem.Function(function_space(mesh, "DG", 0, (2, 2)))
+        f.x.array[:] = np.tile([1.0, 2.0, 3.0, 4.0], f.x.array.size // 4)
+        with tempfile.TemporaryDirectory() as folder:
+            path = f"{folder}/tensor.xdmf"
+            with io.XDMFFile(MPI.COMM_SELF, path, "w", encoding=io.XDMFFile.Encoding.ASCII) as out:
+                out.write_mesh(mesh)
+                out.write_function(f)
+            item = ET.parse(path).getroot().find(".//Attribute/DataItem")
+            values = np.array(item.text.split(), dtype=float)[:9]
+        _TENSOR_PADDING.append("rows" if values[3] == 3.0 else "end")
+    return _TENSOR_PADDING[0]
 
 
 def _malloc_trim():

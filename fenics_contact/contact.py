@@ -16,7 +16,15 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .closed_area import closed_measure
-from .compat import entities_to_geometry, function_space, interpolate_expression, petsc_vec, space_degree
+from .compat import (
+    collapse,
+    entities_to_geometry,
+    facet_cell_name,
+    function_space,
+    interpolate_expression,
+    petsc_vec,
+    space_degree,
+)
 from .domain import check_tags, tag_value
 from .laws import ContactLaw, ufl_ops
 from .obstacles import Obstacle
@@ -63,7 +71,7 @@ def contact_measure(mesh, facet_tags, tag: int | str, quadrature: str) -> ufl.Me
         md = {"quadrature_rule": "custom", "quadrature_degree": 3,
               "quadrature_points": pts, "quadrature_weights": wts}
     elif quadrature == "nodal":
-        facet_cell = mesh.ufl_cell().facet_types()[0].cellname()
+        facet_cell = facet_cell_name(mesh)
         pts, wts = _VERTEX_RULES[facet_cell]
         md = {"quadrature_rule": "custom", "quadrature_degree": 1,
               "quadrature_points": pts, "quadrature_weights": wts}
@@ -143,7 +151,7 @@ class ContactSurface(Surface):
         obstacle.bind(load)
         self.displacement_out = u  # the displacement Function for output (a collapsed copy if u is mixed)
         if is_mixed(u.function_space):
-            Vd, self._v_to_w = u.function_space.sub(0).collapse()
+            Vd, self._v_to_w = collapse(u.function_space.sub(0))
             self.displacement_out = fem.Function(Vd, name="displacement")
         X = ufl.SpatialCoordinate(mesh)
         if linearized:  # first order in u: dg/du = -n (n points from the obstacle into the body)
@@ -422,7 +430,7 @@ class ContactSurface(Surface):
         key = _point_key(x)
         index = {key(c): i for i, c in enumerate(x)}
         mesh = self.u.function_space.mesh
-        facet = mesh.ufl_cell().facet_types()[0].cellname()
+        facet = facet_cell_name(mesh)
         nodes = self._facet_nodes()[:, :{"interval": 2, "triangle": 3, "quadrilateral": 4}[facet]]  # the vertices
         ids = np.array([[index.get(key(c), -1) for c in f] for f in nodes], dtype=np.int64).reshape(len(nodes), -1)
         unique = {tuple(sorted(f)): k for k, f in enumerate(ids) if (f >= 0).all()}  # ghost facets once

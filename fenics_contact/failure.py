@@ -172,6 +172,10 @@ def mumps_factors(ksp) -> list:
 def mumps_error(ksp) -> tuple[int, int] | None:
     """``(INFOG(1), INFOG(2))`` of the first MUMPS factorization of ``ksp`` that failed (INFOG(1) < 0; the
     same on every rank), else None."""
+    # Only after a failed preconditioner: a solve that stopped before any linear solve leaves a factor matrix never
+    # factored, and PETSc 3.25 hands it out, whose INFOG is then a segmentation fault.
+    if ksp.getConvergedReason() != PETSc.KSP.ConvergedReason.DIVERGED_PCSETUP_FAILED:
+        return None
     for F in mumps_factors(ksp):
         info = F.getMumpsInfog(1)
         if info < 0:

@@ -97,7 +97,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .capabilities import check, of
-from .compat import function_space, mixed_space
+from .compat import collapse, function_space, mixed_space
 from .contact import ContactSurface, contact_measure, is_mixed
 from .laws import ContactLaw, LagrangeMultiplier, ufl_ops
 from .obstacles import Obstacle
@@ -180,7 +180,7 @@ class PressureUnknown:
             return ()
         if self._bcs is None:
             W = self.u.function_space
-            _, q_to_w = W.sub(1).collapse()
+            _, q_to_w = collapse(W.sub(1))
             on = np.unique(np.concatenate([c._on_surface for c in surfaces]))
             off = np.setdiff1d(np.asarray(q_to_w, dtype=np.int32), on).astype(np.int32)
             self._bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
@@ -222,7 +222,7 @@ class PressureUnknown:
         start = imap.local_range[0] * W.dofmap.index_map_bs
         free = fields[0][1].getIndices() - start  # owned, local, sorted
         offset = comm.exscan(len(free)) or 0
-        V, v_to_w = W.sub(0).collapse()
+        V, v_to_w = collapse(W.sub(0))
         v_to_w = np.asarray(v_to_w)
         owned = v_to_w < n_owned
         u_local = v_to_w[owned]

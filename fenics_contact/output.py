@@ -100,15 +100,17 @@ def element_family(V) -> str:
 
 
 def _written(f: fem.Function) -> fem.Function:
-    """``f`` itself where XDMF takes it (degree 0 or 1), else a function of degree 1 of its family and name that
-    :meth:`XDMFWriter.write` interpolates ``f`` into (its vertex values: exact for a Lagrange field)."""
+    """``f`` itself where XDMF takes it (degree 0, or the mesh's geometry degree), else a function of the mesh's
+    degree (1 for straight cells: its vertex values, exact for a Lagrange field; 2 for 9-node quadrilaterals, which
+    dolfinx >= 0.7 requires of nodal output) of its family and name that :meth:`XDMFWriter.write` interpolates ``f``
+    into."""
     V = f.function_space
-    degree = compat.space_degree(V)
-    if degree <= 1:
+    degree, mesh_degree = compat.space_degree(V), int(V.mesh.geometry.cmap.degree)
+    if degree == 0 or degree == mesh_degree:
         return f
     discontinuous = element_family(V) in ("discontinuous lagrange", "dg", "dq")
     family = "DG" if discontinuous else "Lagrange"
-    return fem.Function(compat.function_space(V.mesh, family, 1, f.ufl_shape or None), name=f.name)
+    return fem.Function(compat.function_space(V.mesh, family, mesh_degree, f.ufl_shape or None), name=f.name)
 
 
 class XDMFWriter:
@@ -221,8 +223,10 @@ class XDMFWriter:
 
     def _write_index(self) -> None:
         names = list(dict.fromkeys(name for grids in self._grids for name, _ in grids))
+        # how a 2D tensor's 4 values sit in XDMF's 9 (fenics_contact.reading reads them back by it)
+        padding = f'    <Information Name="tensor_padding" Value="{compat.xdmf_tensor_padding()}" />\n'
         parts = [_HEAD, '<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">\n  <Domain>\n',
-                 self._mesh, "\n"]
+                 padding, self._mesh, "\n"]
         for name in names:
             parts.append(f'    <Grid Name={quoteattr(name)} GridType="Collection" CollectionType="Temporal">\n')
             parts += [text + "\n" for grids in self._grids for n, text in grids if n == name]

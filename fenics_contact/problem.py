@@ -19,6 +19,8 @@ from petsc4py import PETSc
 from .capabilities import check, of
 from .cells import check_cells, check_meridian
 from .compat import (
+    assemble_matrix,
+    create_vector,
     evaluate_expression,
     lift_and_set_bc,
     petsc_vec,
@@ -318,9 +320,9 @@ class ContactProblem:
         (a solver must then factor from scratch)."""
         A.zeroEntries()
         for a in self._a_parts[1:]:  # Dirichlet diagonal 0 (added or inserted, the bulk's 1 follows)
-            fem_petsc.assemble_matrix(A, a, bcs=self.bcs, diagonal=0.0)
+            assemble_matrix(A, a, self.bcs, 0.0)
             A.assemble(PETSc.Mat.AssemblyType.FLUSH)  # its inserted diagonal before the bulk's added values
-        fem_petsc.assemble_matrix(A, self._a_parts[0], bcs=self.bcs, diagonal=self.stiffness)
+        assemble_matrix(A, self._a_parts[0], self.bcs, self.stiffness)
         A.assemble()
         # PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change: report it.
         return any([c.add_jacobian(A, self.bcs) for c in self.contacts])
@@ -331,7 +333,7 @@ class ContactProblem:
 
     def create_vector(self) -> PETSc.Vec:
         """A vector for :meth:`F` (the residual's layout)."""
-        return fem_petsc.create_vector(self._L_parts[0])
+        return create_vector(self._L_parts[0])
 
     def create_matrix(self) -> PETSc.Mat:
         """A matrix for :meth:`J` (the Jacobian form's sparsity; contact couplings widen it when needed)."""

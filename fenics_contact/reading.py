@@ -25,6 +25,8 @@ class XDMFSeries:
         fields: name -> one array per step: nodal values (n,) or (n, components) (vectors and tensors padded to 3
             and 9 components as XDMF stores them), or cell values (nc, ...) for a degree-0 field (``centers``).
         centers: name -> ``Node`` or ``Cell``.
+        tensor_padding: where a 2D tensor's 4 values sit in the 9 stored: ``rows`` (as rows of a 3 x 3 matrix) or
+            ``end`` (first), as the writer's dolfinx pads them.
     """
 
     points: np.ndarray
@@ -33,6 +35,7 @@ class XDMFSeries:
     times: list[float] = field(default_factory=list)
     fields: dict[str, list[np.ndarray]] = field(default_factory=dict)
     centers: dict[str, str] = field(default_factory=dict)
+    tensor_padding: str = "rows"
 
     def at(self, name: str, step: int = -1) -> np.ndarray:
         """The values of field ``name`` at step ``step`` (an index into :attr:`times`; -1: the last): (n,) for a
@@ -43,6 +46,8 @@ class XDMFSeries:
         values = self.fields[name][step]
         gdim = self.points.shape[1]
         if values.ndim == 2 and values.shape[1] == 9:
+            if self.tensor_padding == "end":
+                return values[:, :gdim * gdim].reshape(-1, gdim, gdim)
             return values.reshape(-1, 3, 3)[:, :gdim, :gdim]
         return values[:, :gdim] if values.ndim == 2 and values.shape[1] == 3 else values
 
@@ -74,6 +79,9 @@ def read_xdmf(path: str | os.PathLike) -> XDMFSeries:
     series = XDMFSeries(points=_dataset(geometry.find("DataItem"), path.parent),
                         cells=_dataset(topology.find("DataItem"), path.parent).astype(np.int64),
                         cell_type=topology.get("TopologyType"))
+    padding = root.find("Domain/Information[@Name='tensor_padding']")
+    if padding is not None:
+        series.tensor_padding = padding.get("Value")
     times: list[float] = []
     for collection in (g for g in grids if g.get("GridType") == "Collection"):
         for grid in collection.findall("Grid"):

@@ -1,4 +1,4 @@
-"""Figures of block, hertz and slab as JSON, for comparing dolfinx versions (the Debian 13 lane).
+"""Figures of block, hertz and slab as JSON, for comparing dolfinx versions (the Debian 13 and wheel lanes).
 
     python scripts/lane_figures.py figures.json
     python scripts/lane_figures.py --compare a.json b.json   # exit 1 if any differs by > 1e-8 relative
@@ -11,6 +11,7 @@ CASES = [("block", "penalty", {"K": 1e5}, 0, "nodal"),
          ("block", "cross", {"K_hat": 1e5, "F_hat": 100.0}, 10, "gauss"),
          ("hertz", "cross", {"K_hat": 1e6}, 30, "nodal"),
          ("hertz", "auglag", {"K": 1e6}, 30, "nodal"),
+         ("hertz", "lagrange", {}, 0, "nodal"),
          ("slab", "coulomb", {"mu": 1.0}, 0, "nodal")]
 
 

@@ -180,7 +180,7 @@ SCENE = (  # a benchmark scene, its demo, or the application around it (harness,
     "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py", "test_options.py", "test_bench_pages.py",
     "test_bench_run.py",
     "test_units.py::test_*scene*", "test_units.py::test_rings_*", "test_axisphere.py", "test_oring.py",
-    "test_cells.py::test_a_program_reading_a_tangled_mesh_file_ends_in_one_line",
+    "test_cells.py::test_a_program_reading_a_tangled_mesh_file_ends_in_one_line", "test_plotting.py",
 )
 SLOW = (  # studies of more than a few seconds each
     "test_units.py::test_slow_scene_any_units*",

@@ -5,6 +5,7 @@ import math
 import re
 from pathlib import Path
 
+import dolfinx
 import pytest
 from history import HISTORY
 from mpi4py import MPI
@@ -50,6 +51,7 @@ def test_pages_from_a_fixture_carry_the_run_and_its_figures(tmp_path):
         text = page.read_text()
         assert machine["cpu"] in text and f"{machine['cores']} cores" in text and "GB memory" in text
         assert run["date"] in text and run["commit"] in text
+        assert f", dolfinx {dolfinx.__version__} (PETSc " in text  # the dolfinx each figure was measured on
         assert "command `python demos/bench.py --quick --scene hertz" in text and "; scenes hertz." in text
         assert not HISTORY.search(text), HISTORY.search(text)
     scene = (out / "hertz.md").read_text()
@@ -73,12 +75,14 @@ def test_pages_keep_and_list_the_side_by_side_pages(tmp_path):
     (out / "peer_hertz2d.png").write_bytes(b"png")
     (out / "felupe.md").write_text("# felupe\n")
     (out / "felupe_strain.png").write_bytes(b"png")
+    (out / "versions.md").write_text("# versions\n")
     (out / "sphere.md").write_text("# an earlier run\n")
     bench_pages.write_pages(results, out)
     assert (out / "peer.md").read_text() == "# peer\n" and (out / "peer_hertz2d.png").exists()
     assert (out / "felupe.md").read_text() == "# felupe\n" and (out / "felupe_strain.png").exists()
+    assert (out / "versions.md").read_text() == "# versions\n"
     assert not (out / "sphere.md").exists()
-    assert "hertz\npeer\nfelupe\n```" in (out / "index.md").read_text()
+    assert "hertz\npeer\nfelupe\nversions\n```" in (out / "index.md").read_text()
 
 
 @serial
@@ -106,7 +110,7 @@ def test_committed_peer_page_states_its_runs_and_no_history():
 
 
 def test_committed_pages_state_the_machine_and_date_and_no_history():
-    pages = sorted(p for p in (ROOT / "docs" / "bench").glob("*.md") if p.stem not in bench_pages.SIDE_BY_SIDE)
+    pages = sorted(p for p in (ROOT / "docs" / "bench").glob("*.md") if p.stem not in bench_pages.KEPT_PAGES)
     assert pages and pages[0].name != "index.md" or len(pages) > 1
     for page in pages:
         text = page.read_text()

@@ -20,6 +20,7 @@ from fenics_contact.failure import (
     cutback_helps,
     find_cycle,
     fingerprint,
+    mumps_error,
     mumps_factors,
     stalled,
 )
@@ -172,3 +173,27 @@ def test_mumps_out_of_memory_stops_at_once(comm):
     with pytest.raises(ConvergenceError, match=r"a cutback cannot help.*out_of_memory.*INFOG\(1\) = -13") as info:
         solver.run(setup.loads)
     assert info.value.failure["kind"] == "out_of_memory" and len(solver.failures) == 1
+
+
+def test_mumps_error_only_after_a_failed_factorization():
+    """A MUMPS LU never factored has no INFOG to read (None, not a crash), one factored with a zero pivot has
+    INFOG(1) = -10."""
+    from petsc4py import PETSc
+
+    A = PETSc.Mat().createAIJ([4, 4], nnz=1, comm=PETSc.COMM_SELF)
+    A.setUp()
+    for i in range(4):
+        A.setValue(i, i, 0.0 if i == 2 else 1.0)
+    A.assemble()
+    ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+    ksp.setOperators(A)
+    ksp.setType("preonly")
+    ksp.getPC().setType("lu")
+    ksp.getPC().setFactorSolverType("mumps")
+    assert mumps_error(ksp) is None
+    b, x = A.createVecLeft(), A.createVecRight()
+    b.set(1.0)
+    ksp.solve(b, x)
+    assert mumps_error(ksp)[0] == -10
+    for obj in (ksp, A, b, x):
+        obj.destroy()

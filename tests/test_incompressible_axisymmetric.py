@@ -23,6 +23,7 @@ from test_axisymmetric import A, annulus_section, lame_plane_strain
 from test_incompressible import NU, STRAIN, E, closed_form
 
 import fenics_contact as fc
+from fenics_contact.compat import collapse
 from fenics_contact.incompressible import Kinematics, MixedNeoHookean
 
 R0, H = 1.0, 1.0
@@ -60,7 +61,7 @@ def test_neohookean_cylinder_at_nu_04999_is_the_closed_form():
     m = problem.material
     a = brentq(lambda x: m.uniaxial(x, 1 - STRAIN, 3)[0], 1.0, 2.0 / (1 - STRAIN))
     w = problem.u
-    _, q_to_w = w.function_space.sub(1).collapse()
+    _, q_to_w = collapse(w.function_space.sub(1))
     pressure = w.x.array[q_to_w]
     expected = m.kappa * (a * a * (1 - STRAIN) - 1)
     assert np.allclose(pressure, expected, rtol=1e-8, atol=1e-10 * exact), (pressure, expected)
@@ -87,7 +88,7 @@ def solve_lame(model: str, degree: int, nr: int, p: float = 10.0):
     problem = fc.ContactProblem(u, fc.MODELS[model](E, NU, "axisymmetric"), load, dirichlet, [],
                                 [(ufl.as_vector((p, 0.0)), ds)])
     fc.Solver(problem, quiet=True).run([1.0])
-    Vc, to_u = V.collapse() if V is not u.function_space else (V, np.arange(u.x.array.size))
+    Vc, to_u = collapse(V) if V is not u.function_space else (V, np.arange(u.x.array.size))
     X = Vc.tabulate_dof_coordinates()
     n = Vc.dofmap.index_map.size_local
     ur = u.x.array[np.asarray(to_u)].reshape(-1, 2)[:n, 0]

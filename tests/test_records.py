@@ -145,6 +145,22 @@ def test_a_field_xdmf_cannot_take_is_refused_by_name(tmp_path_factory, comm):
         XDMFWriter(_folder(tmp_path_factory, comm, "refused") / "x.xdmf", mesh, [q])
 
 
+def test_a_2d_tensor_reads_back_as_written(tmp_path_factory, comm):
+    """A 2 x 2 tensor (not symmetric) written by XDMFWriter reads back the same, whichever way the dolfinx pads it
+    to XDMF's 9 components."""
+    from fenics_contact import read_xdmf
+
+    mesh = dmesh.create_unit_square(comm, 2, 2)
+    f = fem.Function(compat.function_space(mesh, "DG", 0, (2, 2)), name="tensor")
+    f.x.array[:] = np.tile([1.0, 2.0, 3.0, 4.0], f.x.array.size // 4)
+    path = _folder(tmp_path_factory, comm, "tensor") / "t.xdmf"
+    with XDMFWriter(path, mesh, [f]) as writer:
+        writer.write(1.0)
+    if comm.rank == 0:
+        values = read_xdmf(path).at("tensor")
+        assert values.shape == (8, 2, 2) and np.all(values == [[1.0, 2.0], [3.0, 4.0]])
+
+
 # --- the output folder -------------------------------------------------------------------------------------------
 
 def _block(comm, **kw):

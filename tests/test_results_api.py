@@ -15,6 +15,7 @@ import fenics_contact as fc
 from fenics_contact.app.meshes import stacked_blocks
 from fenics_contact.app.scenes import build
 from fenics_contact.collocation import CollocatedSurface
+from fenics_contact.compat import collapse
 from fenics_contact.contact import is_mixed
 
 RESULTS = ("total_force", "point_values", "surface_values", "friction_profile")
@@ -43,7 +44,7 @@ def _surface_displacement(u: fem.Function, facets: np.ndarray) -> tuple[np.ndarr
     mesh = V.mesh
     gdim = mesh.geometry.dim
     if is_mixed(V):
-        Vd, to_w = V.sub(0).collapse()
+        Vd, to_w = collapse(V.sub(0))
         values = u.x.array[np.asarray(to_w)]
     else:
         Vd, values = V, u.x.array

@@ -7,7 +7,7 @@ import pytest
 from mpi4py import MPI
 
 from fenics_contact.app.scenes import build, sheet
-from fenics_contact.compat import bc_dofs, petsc_vec
+from fenics_contact.compat import bc_dofs, collapse, petsc_vec
 from fenics_contact.laws import LagrangeMultiplier, Penalty, PenaltyMultiplier
 from fenics_contact.solver import LINEAR_SOLVERS, Solver
 
@@ -164,7 +164,7 @@ def test_three_point_penalty_independent_of_ranks(runs):
 
 def test_dofs_count_the_surface_pressures_only():
     setup = build("sheet", law=LagrangeMultiplier(), **MESH)
-    V, _ = setup.problem.u.function_space.sub(0).collapse()
+    V, _ = collapse(setup.problem.u.function_space.sub(0))
     u_dofs = V.dofmap.index_map.size_global * V.dofmap.index_map_bs
     vertices = MESH["n_arc"] + MESH["n_leg"] + 1  # the sheet's contact vertices (one-pass two-point)
     assert setup.dofs == u_dofs + vertices

@@ -58,10 +58,12 @@ def run_parts(run: dict) -> list[str]:
 
 
 def header(run: dict) -> str:
-    """The line a page starts with, per run: machine, date, commit, command, load, the scenes it ran."""
+    """The line a page starts with, per run: machine, dolfinx and PETSc, date, commit, command, load, the scenes it
+    ran."""
     m = run["machine"]
     memory = "unknown memory" if m.get("memory_gb") is None else f"{m['memory_gb']:g} GB memory"
-    return (f"Measured on {m['cpu']}, {m['cores']} cores, {memory}, {m['system']}; {run['date']}; "
+    software = f", dolfinx {run['dolfinx']} (PETSc {run.get('petsc', 'unknown')})" if "dolfinx" in run else ""
+    return (f"Measured on {m['cpu']}, {m['cores']} cores, {memory}, {m['system']}{software}; {run['date']}; "
             f"commit `{run['commit']}`; command `{run['command']}`. Times are wall times of serial runs on this "
             "machine" + ("" if run.get("load_average") is None else
                          f", load average {run['load_average']:g} at the start (other jobs on its cores)") +
@@ -251,19 +253,22 @@ def _date(header_line: str) -> str:
     return found.group() if found else ""
 
 
-# The side-by-side pages, written by their own scripts (not by a benchmark run): kept and listed here. The peer
-# (dolfinx_contact): scripts/peer/run.py; FElupe: scripts/felupe/run.py.
+# The pages written by their own scripts (not by a benchmark run), kept and listed here: the side-by-side pages
+# with the peer (dolfinx_contact, scripts/peer/run.py) and FElupe (scripts/felupe/run.py), and the page of the same
+# scenes on two dolfinx versions (scripts/versions_bench.py).
 PEER_PAGE = "peer"
 FELUPE_PAGE = "felupe"
-SIDE_BY_SIDE = (PEER_PAGE, FELUPE_PAGE)
+VERSIONS_PAGE = "versions"
+KEPT_PAGES = (PEER_PAGE, FELUPE_PAGE, VERSIONS_PAGE)
 
 
 def write_pages(results: str | Path, out: str | Path, demos: str | Path | None = None,
                 add: bool = False) -> list[Path]:
     """Write a page per scene with results in ``results`` and ``out/index.md``; returns the pages written.
     Pages and charts of an earlier run in ``out`` are removed first, unless ``add`` (see the module), except the
-    side-by-side pages (:data:`SIDE_BY_SIDE`: ``peer.md``, ``peer_*.png`` of scripts/peer/run.py, which needs the
-    peer's build; ``felupe.md``, ``felupe_*.png`` of scripts/felupe/run.py), which the index lists when present."""
+    pages written by their own scripts (:data:`KEPT_PAGES`: ``peer.md``, ``peer_*.png`` of scripts/peer/run.py, which
+    needs the peer's build; ``felupe.md``, ``felupe_*.png`` of scripts/felupe/run.py; ``versions.md`` of
+    scripts/versions_bench.py, which needs the wheel lane's root), which the index lists when present."""
     results, out = Path(results).resolve(), Path(out).resolve()  # absolute from the start
     runs = read_runs(results)
     by_scene = {scene: run for run in runs for scene in run["scenes"]}
@@ -278,7 +283,7 @@ def write_pages(results: str | Path, out: str | Path, demos: str | Path | None =
     out.mkdir(parents=True, exist_ok=True)
     if not add:
         for old in [*out.glob("*.md"), *out.glob("*.png")]:
-            if not old.name.startswith(SIDE_BY_SIDE):
+            if not old.name.startswith(KEPT_PAGES):
                 old.unlink()
     pages = []
     for scene in scenes:
@@ -307,13 +312,12 @@ def write_index(out: str | Path, demos: str | Path | None = None) -> Path:
     """Write ``out/index.md``: the header of every run that measured a section of a page in ``out`` (oldest
     first), the pages, their model-reduction rows and, with ``demos``, the demos' checks; returns its path."""
     out = Path(out)
-    texts = {p.stem: p.read_text() for p in sorted(out.glob("*.md")) if p.stem not in ("index", *SIDE_BY_SIDE)}
+    texts = {p.stem: p.read_text() for p in sorted(out.glob("*.md")) if p.stem not in ("index", *KEPT_PAGES)}
     headers = sorted(dict.fromkeys(line + "\n" for t in texts.values() for line in t.splitlines()
                                    if line.startswith("Measured on ")), key=_date)
     index = ["# Benchmark results", "", *headers,
              "One page per scene; [the benchmark page](../benchmarks.md) says what the columns and charts mean.", "",
-             "```{toctree}", ":maxdepth: 1", "", *texts,
-             *(page for page in SIDE_BY_SIDE if (out / f"{page}.md").exists()),
+             "```{toctree}", ":maxdepth: 1", "", *texts, *(p for p in KEPT_PAGES if (out / f"{p}.md").exists()),
              "```", ""]
     rows = [row for t in texts.values() for row in _table_rows(t, REDUCTION)]
     if rows:  # one table: each scene's rows under the common header

@@ -6,6 +6,8 @@ without them.
 from __future__ import annotations
 
 import contextlib
+import importlib.util
+import logging
 import os
 import sys
 from collections.abc import Callable, Iterator, Sequence
@@ -70,10 +72,15 @@ def plot_deformed(u: Function, scalar: Function, path: str | Path, title: str = 
     same mesh, its name titles the scalar bar; ``clim``: colour range (default:
     data range). 2D meshes are viewed from +z. Collective: every rank calls it;
     the owned cells are gathered to rank 0, which renders and writes ``path``.
-    Updates the ghost values of ``u`` and ``scalar``.
+    Updates the ghost values of ``u`` and ``scalar``. Without pyvista (the ``demos`` extra): no picture, a
+    warning.
     """
     V, S = u.function_space, scalar.function_space
     comm = V.mesh.comm
+    if importlib.util.find_spec("pyvista") is None:
+        if comm.rank == 0:
+            logging.getLogger(__name__).warning("no picture %s: pyvista is not installed (pip install pyvista)", path)
+        return
     u.x.scatter_forward()
     from fenics_contact.compat import space_degree
 

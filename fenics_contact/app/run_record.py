@@ -1,5 +1,6 @@
-"""The record of a benchmark run: the machine (CPU model, cores, memory, from /proc), the date, the commit and the
-command, written as ``run.json`` into the run's output folder and read by the benchmark pages."""
+"""The record of a benchmark run: the machine (CPU model, cores, memory, from /proc), the dolfinx and PETSc it ran
+on, the date, the commit and the command, written as ``run.json`` into the run's output folder and read by the
+benchmark pages."""
 from __future__ import annotations
 
 import json
@@ -10,7 +11,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Sequence
 
-__all__ = ["RUN_FILE", "PARTS", "machine", "record_run", "read_runs"]
+__all__ = ["RUN_FILE", "PARTS", "machine", "versions", "record_run", "read_runs"]
 
 RUN_FILE = "run.json"  # the run's record in the benchmark's output folder
 # The parts of a scene's results a run may compute: its sweep (findings, charts), stability map, locking map, model
@@ -42,6 +43,21 @@ def machine() -> dict:
     return {"cpu": cpu, "cores": os.cpu_count(), "memory_gb": memory, "system": system}
 
 
+def versions() -> dict:
+    """The versions of dolfinx and PETSc this Python imports (``unknown`` where one is not importable)."""
+    out = {"dolfinx": "unknown", "petsc": "unknown"}
+    try:
+        import dolfinx
+
+        out["dolfinx"] = dolfinx.__version__
+        from petsc4py import PETSc
+
+        out["petsc"] = ".".join(str(v) for v in PETSc.Sys.getVersion())
+    except ImportError:
+        pass
+    return out
+
+
 def _load_average() -> float | None:
     """The 1-minute load average (other jobs share the cores: times are noisy above the core count)."""
     try:
@@ -61,14 +77,15 @@ def _commit(root: Path) -> str:
 
 def record_run(out: str | Path, argv: Sequence[str], scenes: Sequence[str],
                parts: Sequence[str] | None = None) -> dict:
-    """Add this run to ``<out>/run.json`` (the runs whose results are in ``out``): this machine, the date (UTC),
+    """Add this run to ``<out>/run.json`` (the runs whose results are in ``out``): this machine, the dolfinx and
+    PETSc versions (:func:`versions`), the date (UTC),
     the commit of the package's checkout, the command ``python demos/bench.py <argv>``, the load average at the
     start, the ``scenes`` it runs and, if given, the ``parts`` of their results it computes (of ``PARTS``: the
     others in ``out`` are an earlier run's); an earlier run keeps
     only the scenes this one does not rerun. Returns the new run's record."""
     run = {"date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
            "commit": _commit(Path(__file__).resolve().parents[2]),
-           "command": " ".join(["python demos/bench.py", *argv]), "machine": machine(),
+           "command": " ".join(["python demos/bench.py", *argv]), "machine": machine(), **versions(),
            "load_average": _load_average(), "scenes": list(scenes), **({} if parts is None else {"parts": list(parts)})}
     path = Path(out) / RUN_FILE
     earlier = json.loads(path.read_text())["runs"] if path.exists() else []

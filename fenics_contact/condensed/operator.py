@@ -29,7 +29,7 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from ..compat import bc_dofs
+from ..compat import bc_dofs, create_vector
 from .loadmodes import LoadModes
 from .schur import SchurFactor
 
@@ -79,7 +79,7 @@ class CondensedStiffness:
         self._seen = self._input_values()
         self.assemblies, self.factorizations = 1, 0  # of K (each factorization with its S)
         self.modes = LoadModes(comm)  # earlier steps' load modes (their combinations need no solve)
-        self._f = fem_petsc.create_vector(problem.L)
+        self._f = create_vector(problem.L)
         lo, hi = self.A.getOwnershipRange()
         # Dirichlet dofs (owned, global) and the Dirichlet condition each belongs to (its value at t, per step).
         self._dirichlet = []

@@ -7,6 +7,7 @@ from mpi4py import MPI
 
 from ..bounds import PlaneVertices
 from ..capabilities import check, of
+from ..compat import collapse
 from ..contact import ContactSurface
 from ..laws import ContactLaw
 from ..obstacles import HalfPlane, Obstacle
@@ -62,7 +63,7 @@ class CondensedContact(ContactSurface):
         self.dim = u.function_space.mesh.geometry.dim
         self.kts = [j for j in range(self.dim) if j != self.plane.k]  # the tangential components
         # each one's collapsed dofs -> the unknown's (the collapsed spaces of the components share one numbering)
-        self.parent_ts = [np.asarray(u.function_space.sub(j).collapse()[1], dtype=np.int32) for j in self.kts]
+        self.parent_ts = [collapse(u.function_space.sub(j))[1] for j in self.kts]
         # 2D: the scalar traction along +e_kt; 3D: the traction vector (zero normal component)
         self.traction_out = fem.Function(self.plane.Vk if self.dim == 2 else u.function_space,
                                          name="tangential_traction")

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from dolfinx import fem
 
+from ..compat import collapse
 from ..contact import check_facet_tag, is_mixed
 from ..search import facet_normals
 
@@ -135,7 +136,7 @@ def facet_pair(u: fem.Function, facet_tags, slave_tag: int | str, master_tag: in
     slave = check_facet_tag(V.mesh, facet_tags, slave_tag, f"{name} slave_tag")
     master = check_facet_tag(V.mesh, facet_tags, master_tag, f"{name} master_tag")
     if is_mixed(V):  # the displacement is the first field of a mixed unknown (method lagrange)
-        Vd, to_parent = V.sub(0).collapse()
+        Vd, to_parent = collapse(V.sub(0))
         return FacetData(Vd, slave, (to_parent, V)), FacetData(Vd, master, (to_parent, V))
     return FacetData(V, slave), FacetData(V, master)
 

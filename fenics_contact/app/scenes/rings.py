@@ -101,7 +101,7 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
-from ...compat import function_space
+from ...compat import collapse, function_space
 from ...contact import is_mixed
 from ...factory import two_body_multipliers, two_body_surfaces
 from ...laws import ContactLaw, LagrangeMultiplier
@@ -263,7 +263,7 @@ def build(law: ContactLaw | None = None, law_factory=None, degree: int = 1, quad
     ua_lame, uc_lame = lame_displacements(q, E[0], nu[0], E[1], nu[1], plane, a, b, c)
     # Radial displacement at the nodes of r = a and r = c (owned, gathered).
     if is_mixed(u.function_space):
-        Vd, to_parent = u.function_space.sub(0).collapse()
+        Vd, to_parent = collapse(u.function_space.sub(0))
         to_parent = np.asarray(to_parent)
     else:
         Vd, to_parent = u.function_space, np.arange(len(u.x.array))
