@@ -5,6 +5,7 @@ import sys
 import warnings
 
 import pytest
+from mpi4py import MPI
 
 
 @pytest.mark.parametrize("old, new, name", [
@@ -21,6 +22,7 @@ def test_old_path_reexports_with_a_warning(old, new, name):
     assert any(issubclass(w.category, DeprecationWarning) and new in str(w.message) for w in caught)
 
 
+@pytest.mark.skipif(MPI.COMM_WORLD.size > 1, reason="a subprocess from the serial lane only")
 def test_package_does_not_use_old_paths():
     """The library and the application import the new paths only: no DeprecationWarning on importing them all."""
     code = ("import pkgutil, importlib, fenics_contact, fenics_contact.app.scenes as s\n"
