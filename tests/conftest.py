@@ -98,6 +98,19 @@ def _petsc_options_unchanged():
     assert not leaked, f"options left in PETSc's database: {leaked}"
 
 
+@pytest.fixture(autouse=True)
+def _package_log_restored():
+    """The package's logger as it was before the test: the command line run in-process (``cli.main``) gives it its
+    own handler and stops its propagation, after which a later test's ``caplog`` (a handler of the root logger)
+    would see none of its records."""
+    package = logging.getLogger("fenics_contact")
+    state = package.level, package.propagate, list(package.handlers)
+    yield
+    package.setLevel(state[0])
+    package.propagate = state[1]
+    package.handlers[:] = state[2]
+
+
 # --- PETSc objects a test drops ----------------------------------------------------------------------------
 # petsc4py (>= 3.18) does not destroy an object on a communicator when its last Python reference goes: it puts it on
 # that communicator's garbage list, freed by the collective PETSc.garbage_cleanup(comm). A mesh's communicator is
@@ -153,6 +166,61 @@ def _free_dropped_petsc_objects(_hold_problem_meshes):
         if sys.getrefcount(mesh) > 3:  # more than _MESHES, `mesh` and the argument: held elsewhere too
             kept.append(mesh)
     _MESHES[:] = kept
+
+
+def _real_stderr(config):
+    """The terminal's standard error (pytest's faulthandler plugin keeps a copy of it: the process's own is
+    pytest's capture file while a test runs)."""
+    import sys
+
+    import _pytest.faulthandler as plugin
+
+    for key in ("fault_handler_stderr_fd_key", "fault_handler_stderr_key"):  # pytest >= 8, pytest 7
+        if hasattr(plugin, key) and getattr(plugin, key) in config.stash:
+            return config.stash[getattr(plugin, key)]
+    return sys.__stderr__
+
+
+# --- a test that does not end -------------------------------------------------------------------------------
+# A lane must fail, naming the test, rather than hang until CI's own limit: a test still running after
+# $FC_TEST_TIMEOUT seconds (default 1200) prints every thread's Python traceback and ends its process (under
+# mpirun the launcher then ends the other ranks; under xdist the worker is replaced and the test reported).
+# Under mpirun, a test that fails on one rank before a collective call leaves the other ranks waiting in it:
+# after each test function every rank waits at most $FC_TEST_DESYNC seconds (default 600) for the others to end it too,
+# then says so and aborts the job.
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    import faulthandler
+
+    faulthandler.dump_traceback_later(float(os.environ.get("FC_TEST_TIMEOUT", "1200")), exit=True,
+                                      file=_real_stderr(item.config))
+    try:
+        yield
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_call(item):
+    """After the test function (before its fixtures' teardown, which makes collective calls of its own)."""
+    import sys
+    import time
+
+    outcome = yield
+    comm = MPI.COMM_WORLD
+    if comm.size == 1:
+        return
+    limit = float(os.environ.get("FC_TEST_DESYNC", "600"))
+    request, start = comm.Ibarrier(), time.monotonic()
+    while not request.Test():
+        if time.monotonic() - start > limit:
+            if outcome.excinfo is not None:
+                sys.stderr.write(f"rank {comm.rank}: {item.nodeid} failed: {outcome.excinfo[1]!r}\n")
+            sys.stderr.write(f"rank {comm.rank}: {item.nodeid} ended here; another rank was still inside it "
+                             f"{limit:g} s later (a failure on one rank before a collective call): aborting\n")
+            sys.stderr.flush()
+            comm.Abort(1)
+        time.sleep(0.001)
 
 
 def pytest_runtest_logfinish(nodeid, location):

@@ -115,6 +115,9 @@ _PROBE = "fc_probe_option_"
 # Options that take a value (a flag without one, ``None``, is ignored by PETSc without a word): by their name's end
 _VALUED = ("_type", "tol", "_max_it", "_max_funcs", "_damping", "_restart", "_threshold", "_levels", "_maxstep")
 # The PETSc object whose types a ``<kind>_type`` option names (for the accepted values of a type it does not know)
+# Tolerances and iteration limits: a negative value is an error on PETSc 3.18 but "the default" on later releases
+# (PETSC_DETERMINE): refused on every release, as the user meant a number, not the default.
+_NON_NEGATIVE = ("_rtol", "_atol", "_stol", "_max_it", "_max_funcs")
 _TYPES = {"snes_type": lambda: PETSc.SNES.Type, "ksp_type": lambda: PETSc.KSP.Type, "pc_type": lambda: PETSc.PC.Type,
           "pc_factor_mat_solver_type": lambda: PETSc.Mat.SolverType}
 
@@ -180,7 +183,8 @@ def check_option_values(options: object) -> None:
 def value_problem(name: str, value: object) -> str | None:
     """What is wrong with PETSc option ``name`` (without dash or prefix) ``= value`` (None: a flag without a value),
     with the values accepted, or None: a value other than a string, number, bool or None; a number that is not
-    finite; None for an option that takes a value; a value PETSc rejects on its own (:func:`probe_option`)."""
+    finite; None for an option that takes a value; a value PETSc rejects on its own (:func:`probe_option`); a
+    negative tolerance or iteration limit (which later PETSc releases take as "the default")."""
     if value is not None and not isinstance(value, (str, bool, int, float)):
         return f"accepted: a string, a number, a bool or None (a flag), got {type(value).__name__}"
     if not isinstance(value, bool) and _is_number(value) and not math.isfinite(float(value)):
@@ -189,6 +193,9 @@ def value_problem(name: str, value: object) -> str | None:
             DEFAULT_OPTIONS[name], bool))):
         return "this option takes a value, none was given"
     complaint = probe_option(name, value)
+    if (complaint is None and name.endswith(_NON_NEGATIVE) and not isinstance(value, bool) and _is_number(value)
+            and float(value) < 0):
+        complaint = f"{name} {value} must be non-negative; accepted: a finite number >= 0"
     if complaint is not None and name in _TYPES and "Unable to find" in complaint:
         kind = _TYPES[name]()
         known = sorted(str(getattr(kind, k)) for k in dir(kind) if not k.startswith("_"))

@@ -7,27 +7,11 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ...domain import NamedTags
-from .structured import facet_tags
+from .structured import exterior_facets, facet_tags, kuhn_tetrahedra
 
 __all__ = ["FACETS", "horseshoe"]
 
 FACETS = {"outer_low": 1, "outer_high": 2, "inner_low": 3, "inner_high": 4, "back": 5, "bottom": 6, "cut": 7}
-
-
-def _kuhn(idx: np.ndarray) -> np.ndarray:
-    """The 6 tetrahedra of each hexahedron of the structured grid of node numbers ``idx`` (shape (l, m, n)),
-    along its main diagonal (conforming across faces), hexahedron by hexahedron."""
-    shape = [s - 1 for s in idx.shape]
-    corner = {(i, j, k): idx[i:i + shape[0], j:j + shape[1], k:k + shape[2]]
-              for i in (0, 1) for j in (0, 1) for k in (0, 1)}
-    tets = []
-    for perm in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
-        p, path = [0, 0, 0], [corner[(0, 0, 0)]]
-        for ax in perm:
-            p[ax] = 1
-            path.append(corner[tuple(p)])
-        tets.append(np.stack(path, -1))
-    return np.stack(tets, -2)  # (l - 1, m - 1, n - 1, 6, 4)
 
 
 def horseshoe(comm: MPI.Comm, length: float, height: float, depth: float, spine: float, arm: float,
@@ -58,7 +42,7 @@ def horseshoe(comm: MPI.Comm, length: float, height: float, depth: float, spine:
     grid = np.meshgrid(xs, ys, zs, indexing="ij")
     x = np.stack([g.ravel() for g in grid], axis=1)
     idx = np.arange(x.shape[0]).reshape(grid[0].shape)
-    tets = _kuhn(idx)
+    tets = kuhn_tetrahedra(idx)
     keep = np.ones(tets.shape[:3], bool)
     keep[n_spine:, ny:, :] = False  # the slot
     cells = tets[keep].reshape(-1, 4)
@@ -75,10 +59,7 @@ def horseshoe(comm: MPI.Comm, length: float, height: float, depth: float, spine:
         x, cells = np.zeros((0, 3)), np.zeros((0, 4), np.int64)
     msh = create_mesh(comm, cells, x, "tetrahedron")
     msh.name = "horseshoe_half" if half else "horseshoe"
-    fdim = 2
-    msh.topology.create_connectivity(fdim, 3)
-    facets = dmesh.exterior_facet_indices(msh.topology)
-    mid = dmesh.compute_midpoints(msh, fdim, facets)
+    facets, mid = exterior_facets(msh)
     tol = 1e-9 * max(length, height)
     values = np.zeros(len(facets), np.int32)
     slot = mid[:, 0] > spine + tol

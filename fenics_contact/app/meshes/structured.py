@@ -1,6 +1,7 @@
-"""Structured triangle meshes of two bodies without a shared node (the ``ironing``, ``mindlin`` and ``wedges``
-meshes): grid triangles, layer grading, and the tagging every such builder does (cells by body, exterior facets
-with their midpoints and body). Collective where a mesh is made."""
+"""Structured meshes: grid triangles and tetrahedra, layer grading, and the tagging every structured builder does
+(cells by body, exterior facets with their midpoints and body), used by the meshes of two bodies without a shared
+node (``ironing``, ``mindlin``, ``wedges``, the stacked blocks) and of one body (``tube``, ``horseshoe``). Collective
+where a mesh is made."""
 from __future__ import annotations
 
 from typing import Callable, Mapping
@@ -11,7 +12,8 @@ from mpi4py import MPI
 
 from ...domain import NamedTags
 
-__all__ = ["grid_triangles", "layer_fractions", "grid", "two_bodies", "facet_tags"]
+__all__ = ["grid_triangles", "kuhn_tetrahedra", "layer_fractions", "grid", "two_bodies", "exterior_facets",
+           "facet_tags"]
 
 
 def grid_triangles(idx: np.ndarray) -> np.ndarray:
@@ -19,6 +21,22 @@ def grid_triangles(idx: np.ndarray) -> np.ndarray:
     along its diagonal ``(i, j)``-``(i + 1, j + 1)``; first all the lower triangles, then all the upper ones."""
     a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
     return np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+
+
+def kuhn_tetrahedra(idx: np.ndarray) -> np.ndarray:
+    """The 6 tetrahedra of each hexahedron of the structured grid of node numbers ``idx`` (shape (l, m, n)),
+    along its main diagonal (Kuhn's subdivision: conforming across faces), shape (l - 1, m - 1, n - 1, 6, 4)."""
+    shape = [s - 1 for s in idx.shape]
+    corner = {(i, j, k): idx[i:i + shape[0], j:j + shape[1], k:k + shape[2]]
+              for i in (0, 1) for j in (0, 1) for k in (0, 1)}
+    tets = []
+    for perm in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
+        p, path = [0, 0, 0], [corner[(0, 0, 0)]]
+        for ax in perm:
+            p[ax] = 1
+            path.append(corner[tuple(p)])
+        tets.append(np.stack(path, -1))
+    return np.stack(tets, -2)
 
 
 def layer_fractions(length: float, h: float, n: int) -> np.ndarray:
@@ -60,6 +78,14 @@ def two_bodies(comm: MPI.Comm, x: np.ndarray, cells: np.ndarray, name: str, seco
     f2c = msh.topology.connectivity(fdim, tdim)
     on_second = np.array([body[f2c.links(f)[0]] for f in facets], dtype=bool)
     return msh, NamedTags(cell_tags, cell_names), facets, dmesh.compute_midpoints(msh, fdim, facets), on_second
+
+
+def exterior_facets(msh: dmesh.Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """The exterior facets of ``msh`` (local indices) and their midpoints (shape (n, 3))."""
+    fdim = msh.topology.dim - 1
+    msh.topology.create_connectivity(fdim, msh.topology.dim)
+    facets = dmesh.exterior_facet_indices(msh.topology)
+    return facets, dmesh.compute_midpoints(msh, fdim, facets)
 
 
 def facet_tags(msh: dmesh.Mesh, facets: np.ndarray, values: np.ndarray, names: Mapping[str, int]) -> NamedTags:

@@ -7,7 +7,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ...domain import NamedTags
-from .structured import facet_tags
+from .structured import exterior_facets, facet_tags
 
 __all__ = ["tube_section"]
 
@@ -54,10 +54,7 @@ def tube_section(comm: MPI.Comm, r_in: float, thickness: float, n_theta: int, n_
         x, cells = np.zeros((0, 2)), np.zeros((0, 3), np.int64)
     msh = create_mesh(comm, cells, x, "triangle")
     msh.name = "tube_half" if half else "tube"
-    fdim = 1
-    msh.topology.create_connectivity(fdim, 2)
-    facets = dmesh.exterior_facet_indices(msh.topology)
-    mid = dmesh.compute_midpoints(msh, fdim, facets)
+    facets, mid = exterior_facets(msh)
     radius = np.hypot(mid[:, 0], mid[:, 1])
     on_cut = np.abs(mid[:, 1]) < 1e-9 * (r_in + thickness)  # the half's faces (the full mesh has none outside)
     values = np.where(on_cut, FACETS["cut"], np.where(radius > r_in + 0.5 * thickness, FACETS["outer"],

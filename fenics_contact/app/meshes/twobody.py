@@ -13,6 +13,7 @@ if TYPE_CHECKING:
 
 from ...domain import NamedTags
 from .gmshutil import _GRADING, _from_gmsh, _load_geo, _positive, geo_path, gmsh
+from .structured import kuhn_tetrahedra
 
 __all__ = ["stacked_blocks", "two_half_disks"]
 
@@ -58,17 +59,8 @@ def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float,
         if dim == 2:
             a, bb, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
             cs.append(np.concatenate([np.stack([a, bb, c], 1), np.stack([a, c, d], 1)]))
-        else:  # Kuhn: 6 tetrahedra along the main diagonal, conforming across faces
-            corner = {(i, j, k): idx[i:idx.shape[0] - 1 + i, j:idx.shape[1] - 1 + j, k:idx.shape[2] - 1 + k].ravel()
-                      for i in (0, 1) for j in (0, 1) for k in (0, 1)}
-            tets = []
-            for perm in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
-                p, path = [0, 0, 0], [corner[(0, 0, 0)]]
-                for ax in perm:
-                    p[ax] = 1
-                    path.append(corner[tuple(p)])
-                tets.append(np.stack(path, 1))
-            cs.append(np.concatenate(tets))
+        else:  # the 6 tetrahedra of each hexahedron, one subdivision pattern after the other
+            cs.append(np.moveaxis(kuhn_tetrahedra(idx), 3, 0).reshape(-1, 4))
         body.append(np.full(len(cs[-1]), b))
         offset += grid[0].size
     x, cells, owner = np.concatenate(xs), np.concatenate(cs), np.concatenate(body)

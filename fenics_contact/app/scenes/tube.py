@@ -92,6 +92,7 @@ def _vertex_dofs(V, component: int, where) -> np.ndarray:
     """Dofs of displacement component ``component`` at the mesh vertices where ``where(x)`` holds."""
     mesh = V.mesh
     vertices = dmesh.locate_entities(mesh, 0, where)
+    mesh.topology.create_connectivity(0, mesh.topology.dim)  # dolfinx >= 0.9 does not make it on demand
     return fem.locate_dofs_topological(V.sub(component), 0, vertices)
 
 
