@@ -139,11 +139,22 @@ _MIXED = (
 )
 
 
+_RULES: tuple | None = None  # (the registered methods, their rules): the grid asks for every cell
+
+
 def rules() -> tuple[Rule, ...]:
     """Every rule, in the order they are tried: the kind, the geometry, the methods without self-contact or
     two-body surfaces, self-contact, two-body friction, the methods without friction, each method's own rules
     (registry order), the mixed model, quadrature and degree; every two-body rule refuses self-contact too."""
-    ms = _methods.methods()
+    global _RULES
+    ms = tuple(_methods.methods())
+    if _RULES is None or len(_RULES[0]) != len(ms) or any(a is not b for a, b in zip(_RULES[0], ms)):
+        _RULES = ms, _rules(ms)  # holding the methods: no other object can take their ids
+    return _RULES[1]
+
+
+def _rules(ms: tuple) -> tuple[Rule, ...]:
+    """:func:`rules` of the methods ``ms``."""
     two_body = [m.name for m in ms if m.two_body is not None]
     with_friction = [m.name for m in ms if m.friction != "none"]
     no_two_body = tuple(rule(f"method {', '.join(two_body[:-1])} or {two_body[-1]}",
@@ -200,11 +211,12 @@ def describe(**combo: Any) -> str:
 
 
 def _validate(combo: Mapping[str, Any]) -> None:
+    now = axes()
     for axis, value in combo.items():
-        if axis not in AXES:
-            raise ValueError(f"unknown capability axis {axis!r}; accepted: {', '.join(AXES)}")
-        if value is not None and value not in axes()[axis]:
-            raise ValueError(f"{axis} must be one of {axes()[axis]}, got {value!r}")
+        if axis not in now:
+            raise ValueError(f"unknown capability axis {axis!r}; accepted: {', '.join(now)}")
+        if value is not None and value not in now[axis]:
+            raise ValueError(f"{axis} must be one of {now[axis]}, got {value!r}")
 
 
 def refusal(**combo: Any) -> Rule | None:

@@ -12,6 +12,42 @@ logging.getLogger().setLevel(logging.WARNING)
 logging.getLogger("UFL").setLevel(logging.ERROR)
 
 
+def _jit_modules_found_by_name():
+    """FFCx (0.5 to 0.11) finds each compiled form's module with a new ``importlib`` FileFinder on its cache
+    directory, which lists the whole directory (every form compiled on this machine: tens of thousands of files,
+    about 10 ms) each time it loads a form; a test session loads thousands. Its finder is given one that looks for
+    the module's own file names instead (the same module, found in microseconds)."""
+    import importlib.machinery
+    import importlib.util
+    import types
+
+    try:
+        from ffcx.codegeneration import jit
+    except ImportError:
+        return
+
+    class ByName:
+        def __init__(self, path, *loader_details):
+            self.path = path
+
+        def invalidate_caches(self):
+            pass
+
+        def find_spec(self, name, target=None):
+            for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+                path = os.path.join(self.path, name + suffix)
+                if os.path.exists(path):
+                    return importlib.util.spec_from_file_location(name, path)
+            return None
+
+    machinery = types.SimpleNamespace(FileFinder=ByName, ExtensionFileLoader=importlib.machinery.ExtensionFileLoader,
+                                      EXTENSION_SUFFIXES=importlib.machinery.EXTENSION_SUFFIXES)
+    jit.importlib = types.SimpleNamespace(machinery=machinery, util=importlib.util)
+
+
+_jit_modules_found_by_name()
+
+
 @pytest.fixture
 def comm():
     return MPI.COMM_WORLD
@@ -333,6 +369,12 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_tube.py::test_parallel_equals_serial", "test_selfcontact3d.py::test_parallel_equals_serial",
 )
 
+# Of those, the comparisons alone (each rank's serial run against the ranks' run): the same run twice in a serial
+# session, where they are skipped.
+RANKS_ONLY = ("*::test_*parallel_equals_serial*", "*::test_*serial_equals*ranks*",
+              "test_sheet.py::test_three_point_penalty_independent_of_ranks",
+              "test_twobody.py::test_slave_and_master_on_different_ranks_equal_serial*")
+
 
 STUDY = (  # studies of many solves (refinement series, heavy scenes rescaled): slow, and only in make test-all
     "test_twobody_nitsche.py::test_mindlin_stick_zone",  # make test: the wedges and two-body Hertz with it
@@ -387,6 +429,12 @@ def pytest_collection_modifyitems(config, items):
                 used[p] = True
             if hits:
                 item.add_marker(getattr(pytest.mark, marker))
+    if MPI.COMM_WORLD.size == 1:
+        skip = pytest.mark.skip(reason="compares ranks: under mpirun only")
+        for item in items:
+            name = item.nodeid.split("/")[-1]
+            if item.get_closest_marker("mpi") and any(_matches(name, p) for p in RANKS_ONLY):
+                item.add_marker(skip)
     # make test runs every comparison of ranks: none of them may be left to make test-all
     both = [i.nodeid for i in items if i.get_closest_marker("mpi") and i.get_closest_marker("study")]
     if both:
