@@ -7,45 +7,15 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+from fenics_contact.app.jitcache import find_modules_by_name
+
 # FFCx/UFL chatter at INFO level on every JIT compile.
 logging.getLogger().setLevel(logging.WARNING)
 logging.getLogger("UFL").setLevel(logging.ERROR)
 
 
-def _jit_modules_found_by_name():
-    """FFCx (0.5 to 0.11) finds each compiled form's module with a new ``importlib`` FileFinder on its cache
-    directory, which lists the whole directory (every form compiled on this machine: tens of thousands of files,
-    about 10 ms) each time it loads a form; a test session loads thousands. Its finder is given one that looks for
-    the module's own file names instead (the same module, found in microseconds)."""
-    import importlib.machinery
-    import importlib.util
-    import types
-
-    try:
-        from ffcx.codegeneration import jit
-    except ImportError:
-        return
-
-    class ByName:
-        def __init__(self, path, *loader_details):
-            self.path = path
-
-        def invalidate_caches(self):
-            pass
-
-        def find_spec(self, name, target=None):
-            for suffix in importlib.machinery.EXTENSION_SUFFIXES:
-                path = os.path.join(self.path, name + suffix)
-                if os.path.exists(path):
-                    return importlib.util.spec_from_file_location(name, path)
-            return None
-
-    machinery = types.SimpleNamespace(FileFinder=ByName, ExtensionFileLoader=importlib.machinery.ExtensionFileLoader,
-                                      EXTENSION_SUFFIXES=importlib.machinery.EXTENSION_SUFFIXES)
-    jit.importlib = types.SimpleNamespace(machinery=machinery, util=importlib.util)
-
-
-_jit_modules_found_by_name()
+# FFCx's compiled forms loaded by file name, as in the application: a session loads thousands.
+find_modules_by_name()
 
 
 @pytest.fixture

@@ -16,6 +16,7 @@ from mpi4py import MPI
 
 import fenics_contact as fc
 import fenics_contact.app as app
+import fenics_contact.app.meshes  # noqa: F401  (app.meshes below)
 
 PACKAGE = Path(fc.__file__).parent
 

@@ -5,8 +5,12 @@ The library (:mod:`fenics_contact`) never imports this package. ``build(name, **
 ``run(setup, out, ...)`` solves it and writes its output; the demos (``fenics_contact/app/demos``, also
 ``demos/`` at the top of a checkout) are the command-line programs.
 """
-from . import cli
-from .run import run
-from .scenes import Setup, build, scene_names
+from .jitcache import find_modules_by_name
+
+find_modules_by_name()  # FFCx's compiled forms loaded without listing its cache directory each time
+
+from . import cli  # noqa: E402
+from .run import run  # noqa: E402
+from .scenes import Setup, build, scene_names  # noqa: E402
 
 __all__ = ["Setup", "build", "cli", "run", "scene_names"]
