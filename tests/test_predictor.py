@@ -45,3 +45,27 @@ def test_a_far_predicted_state_does_not_pass_the_relative_tolerance():
         assert r.converged and r.residuals[-1][-1] < 1e-9, (r.load, r.residuals[-1])
     f = setup.figures()
     assert f["load_error"] < 1e-9 and f["p0_error"] < 5e-3, (f["load_error"], f["p0_error"])
+
+
+def test_a_singular_tangent_is_dropped_for_the_last_converged_state():
+    """The seal under a penalty law at t = 0: its points touch with g = 0, where the law has no stiffness, so the
+    tangent of the load path is singular (its predicted state ~1e17 times out of balance). The tangent predictor
+    drops it (``PREDICTOR_WORSE``): the first step, its cutback included, is the one without a predictor, iterate
+    for iterate, and the run reaches its last load."""
+    from fenics_contact.app.scenes import seal
+    from fenics_contact.solver import PREDICTOR_WORSE
+
+    runs = {}
+    for predictor in (False, "tangent"):
+        setup = build("seal", law=Penalty(1e5), h=0.5)
+        setup.loads = setup.loads[:2]
+        solver = Solver(setup.problem, quiet=True, predictor=predictor, options=seal.SOLVER_OPTIONS)
+        solver.run(setup.loads)
+        assert all(r.converged for r in solver.records) and solver.records[-1].load == setup.loads[-1]
+        runs[predictor] = solver
+    plain, tangent = runs[False], runs["tangent"]
+    assert [(f["load"], f["kind"]) for f in tangent.failures] == [(f["load"], f["kind"]) for f in plain.failures]
+    first, dropped = plain.records[0], tangent.records[0]
+    assert dropped.predictor_scale == 0.0 and PREDICTOR_WORSE > 1.0
+    assert dropped.residuals[-1] == pytest.approx(first.residuals[-1], rel=1e-12)
+    assert dropped.newton_iterations == first.newton_iterations

@@ -9,13 +9,17 @@ import numpy as np
 from ..compat import petsc_vec
 from .newton import Newton
 
-__all__ = ["PREDICTORS", "PREDICTOR_ETA", "PREDICTOR_FD", "Predictor"]
+__all__ = ["PREDICTORS", "PREDICTOR_ETA", "PREDICTOR_FD", "PREDICTOR_WORSE", "Predictor"]
 
 PREDICTORS = (False, True, "secant", "tangent")  # Solver(predictor=...)
 PREDICTOR_FD = 1e-6  # forward-difference step of dR/dt in the tangent predictor, relative to the load step
 # Line-search tolerance of the tangent predictor: |slope| <= PREDICTOR_ETA |slope at 0|. Near-exact (0.01 to 0.1
 # give the same seal history); 0.5 accepts the full tangent where the seal's corner lands (16 iterations).
 PREDICTOR_ETA = 0.05
+# A tangent whose predicted state is out of balance by more than this times the last converged state's (at the new
+# load) is dropped and the step starts from that state: a tangent through a contact without stiffness (points that
+# touch with g = 0 under a penalty law: the seal at t = 0) is singular, and its state ~1e17 times out of balance.
+PREDICTOR_WORSE = 1e6
 
 
 class Predictor:
@@ -47,8 +51,8 @@ class Predictor:
     def predict(self, t: float, t_n: float) -> tuple[float | None, float | None]:
         """Move ``problem.u``, converged at ``t_n``, to the predicted state at ``t`` (the load already set to
         ``t``). Returns ``(reference, scale)``: the residual norm of the converged state at ``t`` (the rtol
-        reference of :meth:`Newton.convergence_test`) if a prediction was made, and the tangent's scale ``s``;
-        None each otherwise."""
+        reference of :meth:`Newton.convergence_test`) if a prediction was made, and the tangent's scale ``s`` (0:
+        the tangent dropped, :data:`PREDICTOR_WORSE`); None each otherwise."""
         tangent = self.kind == "tangent" and not self.newton.bounded and t != t_n
         secant = self.kind == "secant" and len(self.converged) == 2
         reference = scale = None
@@ -59,7 +63,17 @@ class Predictor:
             reference = newton.b.norm()
             x.destroy()
         if tangent:
+            before = petsc_vec(self.problem.u).copy()
             scale = self.tangent(t, t_n)
+            newton = self.newton
+            x = petsc_vec(self.problem.u).copy()
+            newton.residual(newton.snes, x, newton.b)
+            predicted = newton.b.norm()
+            if not np.isfinite(predicted) or predicted > PREDICTOR_WORSE * reference:  # a singular tangent: u_n
+                newton.set_u(before)
+                scale = 0.0
+            x.destroy()
+            before.destroy()
         elif secant:
             (t0, u0), (t1, u1) = self.converged
             self.problem.u.x.array[:] = u1 + (t - t1) / (t1 - t0) * (u1 - u0)
