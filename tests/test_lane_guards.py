@@ -41,7 +41,9 @@ def session(tmp_path: Path, source: str, launcher: list[str], **env: str) -> sub
     """pytest on ``source`` (a test file) with this suite's conftest, under ``launcher`` (empty or mpirun)."""
     shutil.copy(ROOT / "tests" / "conftest.py", tmp_path / "conftest.py")
     (tmp_path / "test_made_to_hang.py").write_text(source)
-    environment = {**os.environ, "PYTHONPATH": str(ROOT), "OMPI_ALLOW_RUN_AS_ROOT": "1",
+    # not this process's own MPI environment (a singleton's PMIx variables would make mpirun's ranks join it)
+    mine = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "PMI_"))}
+    environment = {**mine, "PYTHONPATH": str(ROOT), "OMPI_ALLOW_RUN_AS_ROOT": "1",
                    "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1", "OMPI_MCA_rmaps_base_oversubscribe": "1", **env}
     return subprocess.run([*launcher, sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
                            "test_made_to_hang.py"], cwd=tmp_path, env=environment, capture_output=True, text=True,
