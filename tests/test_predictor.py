@@ -1,6 +1,7 @@
 """The solver's load-step predictors: on a linear problem the tangent (Euler) predictor is the solution of the next
 step; a bad predictor name is refused."""
 import pytest
+from mpi4py import MPI
 
 from fenics_contact.app.scenes import build
 from fenics_contact.laws import Penalty
@@ -50,8 +51,8 @@ def test_a_far_predicted_state_does_not_pass_the_relative_tolerance():
 def test_a_singular_tangent_is_dropped_for_the_last_converged_state():
     """The seal under a penalty law at t = 0: its points touch with g = 0, where the law has no stiffness, so the
     tangent of the load path is singular (its predicted state ~1e17 times out of balance). The tangent predictor
-    drops it (``PREDICTOR_WORSE``): the first step, its cutback included, is the one without a predictor, iterate
-    for iterate, and the run reaches its last load."""
+    drops it (``PREDICTOR_WORSE``): the run reaches its last load, and (serially) the first step, its cutback
+    included, is the one without a predictor, iterate for iterate."""
     from fenics_contact.app.scenes import seal
     from fenics_contact.solver import PREDICTOR_WORSE
 
@@ -63,6 +64,8 @@ def test_a_singular_tangent_is_dropped_for_the_last_converged_state():
         solver.run(setup.loads)
         assert all(r.converged for r in solver.records) and solver.records[-1].load == setup.loads[-1]
         runs[predictor] = solver
+    if MPI.COMM_WORLD.size > 1:  # a singular system's factors depend on the partition: the run's end alone
+        return
     plain, tangent = runs[False], runs["tangent"]
     assert [(f["load"], f["kind"]) for f in tangent.failures] == [(f["load"], f["kind"]) for f in plain.failures]
     first, dropped = plain.records[0], tangent.records[0]
