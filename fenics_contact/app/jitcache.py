@@ -38,8 +38,10 @@ def find_modules_by_name() -> bool:
         from ffcx.codegeneration import jit
     except ImportError:
         return False
+    if isinstance(getattr(jit, "importlib", None), types.SimpleNamespace):
+        return True  # given already
     if getattr(jit, "importlib", None) is not importlib or not hasattr(jit, "_load_objects"):
-        return isinstance(getattr(jit, "importlib", None), types.SimpleNamespace)  # given already, or unknown
+        return False  # another layout than 0.5 to 0.11
     machinery = types.SimpleNamespace(FileFinder=_ByName, ExtensionFileLoader=importlib.machinery.ExtensionFileLoader,
                                       EXTENSION_SUFFIXES=importlib.machinery.EXTENSION_SUFFIXES)
     jit.importlib = types.SimpleNamespace(machinery=machinery, util=importlib.util)
