@@ -105,6 +105,9 @@ def two_body_surfaces(u: fem.Function, facet_tags, tag_a: int, tag_b: int, law_f
         raise ValueError(f"contact quadrature must be one of {QUADRATURES + ('simpson',)}, got {quadrature!r}")
     if sliding not in SLIDING + (None,):
         raise ValueError(f"sliding must be one of {SLIDING}, got {sliding!r}")
+    if not callable(law_factory):
+        raise ValueError(f"law_factory must be a callable returning a fresh law for each surface "
+                         f"(lambda: fc.make_law(...)), got {type(law_factory).__name__} {law_factory!r}")
     # The capability matrix (multipliers: the rule of the work term is the option; the constraint is nodal).
     probe = law_factory()
     check(**of(probe, u, material), kind="two-body", quadrature=work_quadrature or quadrature, passes=passes,

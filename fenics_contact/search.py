@@ -30,9 +30,9 @@ import itertools
 import numpy as np
 from scipy.spatial import cKDTree
 
-__all__ = ["PAIR_BUDGET", "SIZE_CLASSES", "STRETCH_LIMIT", "candidates", "closest_point_on_facets",
-           "closest_point_on_quadratic",
-           "facet_normals", "facet_pairs", "project", "quadratic_normals", "quadratic_shape", "stretch"]
+__all__ = ["EXTENSION", "PAIR_BUDGET", "SIZE_CLASSES", "STRETCH_LIMIT", "beyond_free_sides", "candidates",
+           "closest_point_on_facets", "closest_point_on_quadratic", "facet_normals", "facet_pairs", "free_sides",
+           "project", "quadratic_normals", "quadratic_shape", "stretch"]
 
 PAIR_BUDGET = 1 << 20  # (point, facet) pairs held at once: ~100 MB of work arrays at most
 # A facet whose extent grew beyond this factor of its reference extent within one iterate is an exploded
@@ -42,6 +42,11 @@ STRETCH_LIMIT = 10.0
 SIZE_CLASSES = 8
 # Relative tolerance of the closest-facet comparisons: values this close are ties (decided by the facet order).
 TIE = 1e-9
+# A surface's free boundary is extended by this fraction of its facet (barycentric units: of the facet's length in
+# 2D, of its height over that edge in 3D), as commercial codes' default extension zone: a point sliding just past
+# the last node (a block's corner under a drag) keeps its pair; the error is of the facet's size, gone under
+# refinement, and a point farther beyond has no pair.
+EXTENSION = 0.1
 
 
 def _boxes(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -259,6 +264,76 @@ def quadratic_normals(x: np.ndarray, xi: np.ndarray) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------------------------
+# The surface's free boundary
+# --------------------------------------------------------------------------------------------
+def free_sides(nodes: np.ndarray, surface: np.ndarray, segments: bool | None = None) -> np.ndarray:
+    """Which sides of the facets ``nodes`` lie on the free boundary of ``surface``: (n, 2) in 2D, ``[:, k]`` end
+    ``k`` (node column 0 or -1) is the end of no other facet; (n, 3) in 3D, ``[:, k]`` the edge opposite vertex
+    ``k`` is an edge of no other facet.
+
+    Args:
+        nodes: (n, nv) node ids of the facets (any numbering that is the same for a node in every facet).
+        surface: (N, nv) node ids of every facet of the whole surface, each facet once.
+        segments: the facets are 2D segments (``nv`` 2, or 3 for quadratic segments: end, middle, end); default:
+            ``nv == 2``.
+    """
+    nodes, surface = np.asarray(nodes, np.int64), np.asarray(surface, np.int64)
+    if segments is None:
+        segments = nodes.shape[1] == 2
+    if segments:
+        mine, every = nodes[:, [0, -1]], surface[:, [0, -1]].ravel()
+        ids, count = np.unique(every, return_counts=True)
+        once = ids[count == 1]
+        return np.isin(mine, once)
+    key = np.sort(nodes[:, [[1, 2], [2, 0], [0, 1]]], axis=2)
+    every = np.sort(surface[:, [[1, 2], [2, 0], [0, 1]]], axis=2).reshape(-1, 2)
+    ids, count = np.unique(every, axis=0, return_counts=True)
+    once = ids[count == 1]
+    if not len(once):
+        return np.zeros(key.shape[:2], bool)
+    # Edge (a, b) as one integer a * (largest + 1) + b for np.isin.
+    base = int(max(surface.max(initial=0), nodes.max(initial=0))) + 1
+    return np.isin(key[..., 0] * base + key[..., 1], once[:, 0] * base + once[:, 1])
+
+
+def beyond_free_sides(p: np.ndarray, x: np.ndarray, free: np.ndarray, xi: np.ndarray | None = None,
+                      tol: float | np.ndarray = EXTENSION) -> np.ndarray:
+    """Whether point ``p[i]`` lies beyond a free side of facet ``x[i]``: its projection on the facet's line or
+    plane, unclipped, is outside the facet across a side flagged in ``free[i]`` (:func:`free_sides`) by more
+    than ``tol`` of the facet (barycentric coordinate below ``-tol``; default :data:`EXTENSION`). There the
+    surface ends: the point has no closest point on it, though the clipped one is the side.
+
+    Args:
+        p: (n, gdim) points.
+        x: (n, nv, gdim) facets (flat, or quadratic segments: end, middle, end).
+        free: (n, 2) in 2D, (n, 3) in 3D, from :func:`free_sides`.
+        xi: quadratic segments: the closest point's local coordinate in [0, 1] (:func:`closest_point_on_quadratic`);
+            None for flat facets.
+        tol: the extension (a number, or one per point).
+    """
+    n = len(p)
+    if n == 0:
+        return np.zeros(0, bool)
+    tol = np.broadcast_to(np.asarray(tol, dtype=float), (n,))
+    if xi is not None:  # quadratic: clipped to an end with the point still beyond it along the curve's tangent
+        dN = quadratic_shape(xi)[1]
+        tangent = np.einsum("ik,ikj->ij", dN, x)
+        along = _dot(p - np.einsum("ik,ikj->ij", quadratic_shape(xi)[0], x), tangent) / _dot(tangent, tangent)
+        return ((xi <= 0) & (along < -tol) & free[:, 0]) | ((xi >= 1) & (along > tol) & free[:, 1])
+    if x.shape[1] == 2:
+        t = x[:, 1] - x[:, 0]
+        s = _dot(p - x[:, 0], t) / _dot(t, t)
+        return ((s < -tol) & free[:, 0]) | ((s > 1 + tol) & free[:, 1])
+    ab, ac, ap = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], p - x[:, 0]
+    g11, g12, g22 = _dot(ab, ab), _dot(ab, ac), _dot(ac, ac)
+    r1, r2 = _dot(ab, ap), _dot(ac, ap)
+    det = g11 * g22 - g12 * g12
+    l1, l2 = (g22 * r1 - g12 * r2) / det, (g11 * r2 - g12 * r1) / det
+    lam = np.stack([1 - l1 - l2, l1, l2], axis=1)
+    return np.any((lam < -tol[:, None]) & free, axis=1)
+
+
+# --------------------------------------------------------------------------------------------
 # Projection
 # --------------------------------------------------------------------------------------------
 def _first_per_group(group: np.ndarray, keys: tuple[np.ndarray, ...]) -> np.ndarray:
@@ -271,7 +346,7 @@ def _first_per_group(group: np.ndarray, keys: tuple[np.ndarray, ...]) -> np.ndar
 
 
 def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.ndarray | None = None,
-            hysteresis: float = 1e-2, quadratic: bool = False, allowed=None):
+            hysteresis: float = 1e-2, quadratic: bool = False, allowed=None, free: np.ndarray | None = None):
     """Closest master facet to each point within ``radius``: ``(facet or -1, barycentric coordinates,
     distance)``, and for ``quadratic`` facets (n, 3, 2) also the local coordinate ``xi`` (the
     "barycentric coordinates" are then the shape function values). Ties go to the lowest facet index
@@ -282,13 +357,21 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
     two facets are (almost) equally close does not switch back and forth between Newton iterations.
     ``allowed(points, facets)`` (index arrays of equal length -> bool array): the pairs that may pair at all
     (self-contact: not a point's own neighbourhood); None: every pair. With it, every facet within ``radius``
-    is a candidate (the nearest master node may be the point itself)."""
+    is a candidate (the nearest master node may be the point itself). ``free`` (one row per master facet, from
+    :func:`free_sides`): a point whose closest point lies past a free side of a facet that attains it
+    (:func:`beyond_free_sides`: past the end of the surface, beyond :data:`EXTENSION` for a point with a
+    ``previous`` facet, on the surface for one without; in 3D a free vertex is attained by facets with and
+    without a free edge) has no pair; None: every closest point counts (the last facets extend the surface)."""
     n = len(points)
     nv = master.shape[1] if master.ndim == 3 else 2
     facet = np.full(n, -1, np.int64)
     bary = np.zeros((n, nv))
     dist = np.full(n, np.inf)
     xis = np.zeros(n)
+    beyond = np.full(n, np.inf)  # the distance at which a point's closest point lay past a free side
+    # The extension holds a paired point; an unpaired one pairs again on the surface (a point released at the end of
+    # the extension is not taken back within it: Newton's iterates cannot cycle across its edge).
+    extension = np.full(n, EXTENSION) if previous is None else np.where(previous >= 0, EXTENSION, TIE)
     # Each point's search radius: the distance to the nearest master node bounds the distance to the closest facet
     # (the node lies on a facet), with the tie tolerance below; most points then have a few candidates, not every
     # facet within ``radius`` (a graded master surface's radius is several of its largest facets).
@@ -333,6 +416,9 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
         dmin = np.full(n, np.inf)
         np.minimum.at(dmin, pi, d)
         k = np.flatnonzero(d <= dmin[pi] * (1 + TIE) + 1e-14 * radius)
+        if free is not None:  # the closest point lies past a free side of a facet that attains it
+            out = k[beyond_free_sides(p[k], mf[k], free[fi[k]], xi[k] if quadratic else None, extension[pi[k]])]
+            np.minimum.at(beyond, pi[out], d[out])
         lmax = np.full(n, -np.inf)
         np.maximum.at(lmax, pi[k], line[k])
         k = k[line[k] >= lmax[pi[k]] * (1 - TIE) - 1e-14 * radius]
@@ -359,5 +445,7 @@ def project(points: np.ndarray, master: np.ndarray, radius: float, previous: np.
             i = i[keep]
             facet[i], bary[i], dist[i], xis[i] = previous[i], b[keep], d[keep], xi[keep]
     far = dist > radius
+    if free is not None:  # the closest point is on the surface's free boundary, and the point lies past it
+        far |= beyond <= dist * (1 + TIE) + 1e-14 * radius
     facet[far], bary[far], dist[far], xis[far] = -1, 0.0, np.inf, 0.0
     return (facet, bary, dist, xis) if quadratic else (facet, bary, dist)

@@ -250,7 +250,8 @@ def pytest_runtest_logfinish(nodeid, location):
 SCENE = (  # a benchmark scene, its demo, or the application around it (harness, command line)
     "test_block.py", "test_hertz.py", "test_sphere.py", "test_pin.py", "test_slab.py", "test_ring.py",
     "test_seal.py", "test_cylinders.py", "test_sheet.py", "test_rings.py", "test_mindlin.py", "test_mindlin3d.py",
-    "test_wedges.py", "test_ironing.py", "test_tube.py", "test_demos.py", "test_bench.py", "test_model_reduction.py",
+    "test_wedges.py", "test_ironing.py", "test_tube.py", "test_lipseal.py", "test_demos.py", "test_bench.py",
+    "test_model_reduction.py",
     "test_scenes.py", "test_cli.py", "test_run.py", "test_records.py", "test_options.py", "test_bench_pages.py",
     "test_bench_run.py", "test_restarts.py",
     "test_units.py::test_*scene*", "test_units.py::test_rings_*", "test_axisphere.py", "test_oring.py",
@@ -337,6 +338,7 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_twobody_nitsche.py::test_wedges_serial_equals_ranks",
     "test_twobody_nitsche.py::test_segment_serial_equals_two_ranks",
     "test_tube.py::test_parallel_equals_serial", "test_selfcontact3d.py::test_parallel_equals_serial",
+    "test_lipseal.py::test_parallel_equals_serial",
 )
 
 # Of those, the comparisons alone (each rank's serial run against the ranks' run): the same run twice in a serial

@@ -200,3 +200,42 @@ def test_exploded_iterate_is_a_failure_kind():
     assert [f["kind"] for f in solver.failures] == ["exploded_geometry"] * 2  # the step and its cut
     split = solver.summary()["time_split"]
     assert {"search_s", "exchange_s", "coupling_s"} <= set(split)
+
+
+def test_free_sides_of_open_and_closed_surfaces():
+    """The ends of a polyline and the boundary edges of a triangulated square are free; a closed polyline has no
+    free end; quadratic segments count their end nodes only."""
+    line = np.array([[0, 1], [1, 2], [2, 3]])
+    assert search.free_sides(line, line).tolist() == [[True, False], [False, False], [False, True]]
+    loop = np.array([[0, 1], [1, 2], [2, 0]])
+    assert not search.free_sides(loop, loop).any()
+    quadratic = np.array([[0, 10, 1], [1, 11, 2]])  # (end, middle, end)
+    assert search.free_sides(quadratic, quadratic, segments=True).tolist() == [[True, False], [False, True]]
+    square = np.array([[0, 1, 2], [0, 2, 3]])  # the diagonal 0-2 shared; side k: the edge opposite vertex k
+    assert search.free_sides(square, square).tolist() == [[True, False, True], [True, True, False]]
+
+
+def test_a_point_past_a_free_end_has_no_pair():
+    """A master surface ends at its free boundary: a point past it (beyond the extension of a tenth of the facet)
+    has no pair, where its clipped closest point would pair it with the last facet as if the surface went on; a
+    point within the extension, or in front of the surface, keeps its pair. 2D (flat and quadratic) and 3D (past
+    a free edge, and past the square's corner, a vertex that facets without a free edge also reach)."""
+    x = np.array([[[1.0, 0], [0, 0]], [[2.0, 0], [1, 0]]])  # y = 0 facing +y, x in [0, 2]
+    free = search.free_sides(np.array([[1, 0], [2, 1]]), np.array([[1, 0], [2, 1]]))
+    pts = np.array([[1.5, 0.01], [2.05, 0.01], [2.5, 0.01], [-0.3, -0.01]])
+    assert project(pts, x, 1.0)[0].tolist() == [1, 1, 1, 0]  # without the free boundary: every point paired
+    assert project(pts, x, 1.0, free=free)[0].tolist() == [1, 1, -1, -1]
+    xq = np.array([[[2.0, 0], [1.5, 0.02], [1, 0]], [[1.0, 0], [0.5, 0.02], [0, 0]]])
+    quadratic_nodes = np.array([[2, 5, 1], [1, 4, 0]])
+    fq = search.free_sides(quadratic_nodes, quadratic_nodes, segments=True)
+    assert project(pts, xq, 1.0, quadratic=True, free=fq)[0].tolist() == [0, 0, -1, -1]
+    # The unit square at z = 0, a fan round the node (1, 0.5) of its right side: the first two triangles reach that
+    # node with interior edges only, the tie at it goes to the first.
+    nodes = np.array([[2, 5, 0], [2, 4, 5], [1, 2, 0], [2, 3, 4]])
+    xs = np.array([[0.0, 0, 0], [1, 0, 0], [1, 0.5, 0], [1, 1, 0], [0, 1, 0], [0, 0.5, 0]])[nodes]
+    pts3 = np.array([[0.3, 0.6, 0.01], [1.05, 0.2, -0.01], [1.5, 0.2, -0.01], [1.5, 0.5, 0.01], [1.3, 1.3, 0.01],
+                     [0.5, -0.4, 0.0]])
+    assert (project(pts3, xs, 1.0)[0] >= 0).all()
+    assert project(pts3, xs, 1.0)[0][3] == 0
+    assert (project(pts3, xs, 1.0, free=search.free_sides(nodes, nodes))[0] >= 0).tolist() == [
+        True, True, False, False, False, False]

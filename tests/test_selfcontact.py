@@ -25,6 +25,33 @@ def test_a_smooth_wall_at_rest_pairs_with_nothing(wall):
     assert MPI.COMM_WORLD.allreduce(int(np.sum(surface.pairs.facet >= 0))) == 0
 
 
+@pytest.mark.parametrize("quadrature", ["nodal", "gauss"])
+def test_a_block_with_sharp_corners_at_rest_pairs_with_nothing(quadrature):
+    """A square's whole boundary as one self-contact surface, at rest: a point near a corner lies behind the
+    other face's facets (turned by 90 degrees, so not facing its way), the first ones and those a few facets
+    round the corner alike, and pairs with none of them (a contact force without a fold); squeezed, likewise. A
+    corner node may pair with the other face's first facet, on it: gap 0, no force."""
+    from dolfinx import mesh as dmesh
+
+    from fenics_contact.app.meshes.structured import exterior_facets, facet_tags
+
+    msh = dmesh.create_unit_square(MPI.COMM_WORLD, 8, 8, diagonal=dmesh.DiagonalType.crossed)
+    facets, _ = exterior_facets(msh)
+    ft = facet_tags(msh, facets, np.ones(len(facets), np.int32), {"boundary": 1})
+    law = fc.make_law("penalty", K=1e5)
+    u, V = fc.unknown(msh, 1, law)
+    (surface,) = fc.self_contact_surfaces(u, ft, "boundary", lambda: law, fem.Constant(msh, 0.0),
+                                          quadrature=quadrature)
+
+    def largest_gap():  # > 0: penetration
+        return MPI.COMM_WORLD.allreduce(float(np.max(surface.pairs.projection["gap"], initial=-np.inf)), op=MPI.MAX)
+
+    assert largest_gap() <= 1e-12
+    u.interpolate(lambda x: np.stack([0.05 * x[0], -0.1 * x[1]]))  # squeezed 10 %, bulging 5 %
+    surface.update()
+    assert largest_gap() <= 1e-12
+
+
 def _blocks(self_contact: bool, method: str):
     """Two stacked blocks (non-matching meshes), the upper one pressed by a traction on half of its top: the two
     facing sides as one surface against itself, or as the two-pass two-body contact of the two sides."""

@@ -6,6 +6,7 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
+import fenics_contact as fc
 from fenics_contact.app.meshes import stacked_blocks
 from fenics_contact.app.scenes import build
 from fenics_contact.compat import bc_dofs, petsc_vec
@@ -328,3 +329,31 @@ def test_new_coupling_pattern_keeps_the_near_nullspace():
         assert p.J(x, solver.A)
         near = solver.A.getNearNullSpace()
         assert near.handle and len(near.getVecs()) == 3
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_an_overhang_past_the_master_surface_carries_no_pressure(dim):
+    """An upper block wider than the lower one, pressed down by a platen: the master surface (the lower block's
+    top) ends at the block's edge, so the overhang's points past it (beyond the extension of a tenth of a master
+    facet) carry no contact pressure, as the master surface went on past its edge they would (penetration of its
+    plane: the overhang is pressed down too); the points above the lower block carry the load."""
+    n_lower, n_upper = ((8, 4), (12, 4)) if dim == 2 else ((4, 4, 2), (6, 6, 2))
+    mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 0.5, 0.5, n_lower, n_upper, upper_span=(-0.25, 1.25))
+    law = lambda: make_law("penalty", K=1e5)  # noqa: E731
+    u, V = fc.unknown(mesh, 1, law())
+    load = fem.Constant(mesh, 0.0)
+    bcs = [fc.Dirichlet.on_facets(V, ft, "lower_bottom", i) for i in range(dim)]
+    bcs += [fc.Dirichlet.on_facets(V, ft, "upper_top", i, -0.01 if i == dim - 1 else 0.0) for i in range(dim)]
+    (c,) = two_body_surfaces(u, ft, "upper_bottom", "lower_top", law, load)
+    problem = fc.ContactProblem(u, fc.LinearElastic(1000, 0.3), load, bcs, [c])
+    solver = Solver(problem, quiet=True)
+    solver.run([1.0])
+    assert solver.records[0].converged
+    x, _, p = c.point_values(reference=True)
+    h = 1.0 / n_lower[0]  # the master facets' size across the edge
+    past = np.any((x[:, :dim - 1] < -0.1 * h) | (x[:, :dim - 1] > 1 + 0.1 * h), axis=1)
+    over = np.all((x[:, :dim - 1] > 0.2) & (x[:, :dim - 1] < 0.8), axis=1)
+    comm = MPI.COMM_WORLD
+    assert comm.allreduce(int(past.sum())) > 0 and comm.allreduce(float(np.max(p[past], initial=0.0)),
+                                                                   op=MPI.MAX) == 0.0
+    assert comm.allreduce(float(np.min(p[over], initial=np.inf)), op=MPI.MIN) > 5.0  # about E x strain = 20

@@ -122,10 +122,12 @@ def test_consistent_tangent_with_master_dofs(passes, dim, quadrature, contact_ta
 
 
 def _sheared_blocks(law_factory, T, P=10.0, comm=MPI.COMM_WORLD):
-    """Two stacked unit blocks (2D), the lower one clamped at its base; on the top of the upper one the pressure
-    ``P`` over the load 0..1, then the tangential traction ``T`` over 1..2 (its horizontal rigid mode is held
-    only by friction)."""
-    mesh, _, ft = stacked_blocks(comm, 1.0, 1.0, 1.0, (4, 2), (3, 2), 1e-6)  # touching: stick at once
+    """A unit block (2D) on the middle of a block twice as wide, clamped at its base; on the top of the upper one
+    the pressure ``P`` over the load 0..1, then the tangential traction ``T`` over 1..2 (its horizontal rigid mode
+    is held only by friction; under the soft tangential penalty it slides by about half a lower facet, which stays
+    within the lower block's top)."""
+    mesh, _, ft = stacked_blocks(comm, 2.0, 1.0, 1.0, (8, 2), (3, 2), 1e-6,  # touching: stick at once
+                                 upper_span=(0.5, 1.5))
     u, V = fc.unknown(mesh, 1, law_factory())
     load = fem.Constant(mesh, 0.0)
     bcs = [fc.Dirichlet.on_facets(V, ft, "lower_bottom", 0), fc.Dirichlet.on_facets(V, ft, "lower_bottom", 1)]

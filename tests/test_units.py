@@ -100,9 +100,12 @@ CASES = {
                    law=("penalty", {"K": (1e6, "S/L")}), friction=(0.3, 1e4)),
     "tube": dict(kw=dict(n_theta=32, n_r=2, steps=8, fold_steps=4, approach=0.5), lengths=("r_in", "thickness"),
                  stresses=("E",), law=("penalty", {"K": (5e5, "S/L")})),
+    "lipseal": dict(kw=dict(nx=4, ny_heel=2, ny_lip=8, steps=8, squeeze=0.16),
+                    lengths=("width", "heel", "lip", "flare", "slot"), stresses=("E",),
+                    law=("penalty", {"K": (2e5, "S/L")})),
 }
 SLOW_CASES = ("compliance3d", "cylinders", "hertz.nitsche", "ironing", "mindlin", "mindlin3d", "oring", "patch",
-              "rings.collocated", "seal", "sheet", "sphere", "wedges", "tube")
+              "rings.collocated", "seal", "sheet", "sphere", "wedges", "tube", "lipseal")
 
 
 def _units(unit: str, L: float, S: float) -> float:
@@ -320,7 +323,7 @@ DEMO_SCALES = {
     "ironing": ("E", "H"), "mindlin": ("E", "R"), "mindlin3d": ("E", "R"), "patch": ("E-lower", "h-lower"),
     "pin": ("E", "R"), "ring": ("E", "R-out", "R-in"), "seal": ("E", "R-out", "R-in", "h", "plate-distance"),
     "slab": ("E", "width"), "sphere": ("E", "R"), "wedges": ("E", "length"), "oring": ("E", "d"),
-    "tube": ("E", "r-in", "thickness"),
+    "tube": ("E", "r-in", "thickness"), "lipseal": ("E", "lip", "width", "heel", "flare", "slot"),
 }
 
 

@@ -10,7 +10,7 @@ import math
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["HERTZ_RANGE", "hertz_range", "reference_check", "log_check"]
+__all__ = ["HERTZ_RANGE", "hertz_range", "reference_check", "mirror_agreement", "log_check"]
 
 # a/R past which Hertz's reference is flagged. Hertz replaces the circle (sphere) by the parabola (paraboloid)
 # R - sqrt(R^2 - x^2) ~ x^2 / (2R) and each body by a half-space; the profile's relative error at the contact edge
@@ -44,6 +44,36 @@ def reference_check(figure: str, value: float | None, reference: float | None, t
             "reference": None if reference is None else float(reference),
             "rel_error": rel, "tolerance": float(tolerance), "passed": bool(ok and rel <= tolerance),
             "source": source, "flag": flag}
+
+
+def mirror_agreement(full: list[dict], half: list[dict], tolerance: float, overlap_tolerance: float, *,
+                     force: str, contact: str, overlap: str, at: str, models: str, closed: str) -> dict:
+    """The check of a full model with self-contact against its half on the symmetry plane (the same problem): the
+    largest difference of the figures ``force`` and ``contact`` between the two over the steps past first contact
+    (``contact`` > 0 in either), per the step's ``force``, against ``tolerance``; failed too if the full model's
+    figure ``overlap`` (a length; > 0 interpenetration) exceeds ``overlap_tolerance`` at any step, or if the contact
+    never closed (``closed``: what to do then). ``full``, ``half``: the figures of each step, in step order; ``at``:
+    the figure that names a step (e.g. the approach); ``models``: the two models, for the check's source."""
+    worst, where, largest = 0.0, None, 0.0
+    for f, h in zip(full, half):
+        largest = max(largest, f[overlap])
+        if h[contact] <= 0 and f[contact] <= 0:
+            continue
+        for key in (force, contact):
+            d = abs(f[key] - h[key]) / h[force]
+            if d >= worst:
+                worst, where = d, (key, f, h)
+    if where is None:
+        return reference_check(f"{contact} (full against half)", None, None, tolerance, closed)
+    key, f, h = where
+    c = reference_check(f"1 + (full - half) / {force}, the worst step past first contact ({key} at {at} "
+                        f"{h[at]:.4g})", 1.0 + (f[key] - h[key]) / h[force], 1.0, tolerance,
+                        f"{models}; largest overlap {largest:.3g} (at most {overlap_tolerance:.3g})")
+    if largest > overlap_tolerance:
+        c["passed"] = False
+        c["flag"] = f"the two sides overlap by {largest:.3g} > {overlap_tolerance:.3g}"
+    c["overlap"] = largest
+    return c
 
 
 def log_check(c: dict, comm=None) -> None:

@@ -1,7 +1,8 @@
 """The two-body contact surface of method ``coulomb``: slave vertices paired once with the master facets.
 
 Small sliding (2D or 3D, P1, nodal, one pass, linear elasticity): each slave vertex ``i`` is paired once, in the
-reference configuration, with its closest point on the master surface (:func:`~fenics_contact.search.project`):
+reference configuration, with its closest point on the master surface (:func:`~fenics_contact.search.project`;
+none past the master surface's free boundary):
 master facet, shape-function weights ``N_ik`` of its vertices (two in 2D, three in 3D), the facet's outward normal
 ``n_i`` and tangent basis ``t_i`` (:func:`~.disk.tangent_basis`: ``(n_{i,y}, -n_{i,x})`` in 2D, two directions
 in 3D), and the reference distance ``d0_i`` of the vertex from the facet's plane (> 0 open). Pairing, normals
@@ -18,7 +19,7 @@ from ..capabilities import check, of
 from ..compat import function_space
 from ..contact import PRESSURE_KINDS, check_facet_tag
 from ..laws import ContactLaw, ExactCoulomb
-from ..search import facet_normals, project
+from ..search import facet_normals, free_sides, project
 from ..surface import Surface
 from ..twobody import FacetData
 from .disk import tangent_basis
@@ -109,7 +110,8 @@ class CondensedTwoBody(Surface):
             raise ValueError(f"{name}: the slave and master surfaces share vertices (two bodies do not)")
 
         # The pairing, fixed (small sliding): closest master facet, weights N, normal, tangents, distance d0.
-        facet, bary, _ = project(self.X, self.master_X, self.radius)
+        facet, bary, _ = project(self.X, self.master_X, self.radius,
+                                 free=free_sides(self.master_facets, self.master_facets, segments=dim == 2))
         self.facet, self.N = facet, bary
         self.paired = facet >= 0
         self.normal = np.zeros((len(facet), dim))

@@ -2,8 +2,9 @@
 
 Each update routes the master facets near this rank's slave facets (:class:`~.exchange.MasterExchange`),
 projects the slave points on their current positions (:func:`search.project`: a k-d tree, memory bounded by
-the surfaces' size whatever the iterate) and evaluates the normal gap (positive = penetration, see
-:mod:`laws`) and the master normal at each point, in NumPy with the formulas of the UFL gap
+the surfaces' size whatever the iterate; a point past the master surface's free boundary, an end in 2D or an edge
+of one facet in 3D, has no pair there: :func:`search.free_sides`) and evaluates the normal gap (positive =
+penetration, see :mod:`laws`) and the master normal at each point, in NumPy with the formulas of the UFL gap
 (:class:`~.mirror.MirrorObstacle`). A point keeps its facet while that facet stays nearly as close as the
 closest one (the hysteresis of :func:`search.project`); the pairing is kept in global facet numbers, so it
 survives a re-routing and does not depend on the partition. An iterate that stretched a master facet past
@@ -14,27 +15,38 @@ displacements, :class:`~.mirror.MirrorObstacle`).
 
 Self-contact (``self_contact=True``, the slave surface its own master): a point never pairs with its own
 neighbourhood: a master facet whose current normal faces the same way as the point's facet's (the normals less
-than 60 degrees apart, :data:`FACING`; quadratic facets: the normals of their chords), or a facet sharing a node
-with the point's facet that the point lies behind in the reference configuration (the other face of a convex
-corner of the body). What remains is the surface across a gap or a fold, as another body's would be, including the
-facet next to the point across the tip of a fold (a concave crease: the point is in front of it, or on it, gap 0,
-if it is the facets' common node).
+than 60 degrees apart, :data:`FACING`; quadratic facets: the normals of their chords), or a facet near the point
+in the reference configuration (within :data:`NEIGHBOURHOOD` search radii) that the point lies behind there
+(by more than :data:`BEHIND` of its size: the other face of a convex corner of the body, rounded over a few facets
+or sharp). What remains is the surface across a gap or a fold, as another body's would be, including the facet
+next to the point across the tip of a fold (a concave crease: the point is in front of it, or on it, gap 0, if it
+is the facets' common node).
 """
 from __future__ import annotations
 
 import numpy as np
 from mpi4py import MPI
 
-from ..search import TIE, facet_normals, project, quadratic_normals, quadratic_shape, stretch
+from ..search import facet_normals, free_sides, project, quadratic_normals, quadratic_shape, stretch
 from .exchange import MasterExchange
 from .facets import FacetData, SlavePoints
 
-__all__ = ["FACING", "Pairing"]
+__all__ = ["BEHIND", "FACING", "NEIGHBOURHOOD", "Pairing"]
 
 # Self-contact: a master facet faces a point's facet when their normals are more than 60 degrees apart (n_s . n_m <
 # 1/2): a fold is seen while it closes, before its two sides overlap (from 90 degrees on, Newton's iterates had crossed
 # it at the tube's crease before it was seen)
 FACING = 0.5
+# Self-contact: the facets within this many search radii of a point in the reference configuration are its
+# neighbourhood, where a facet it lies behind is the other face of a convex corner of the body (around a corner of
+# a few facets, not only the facets sharing its node). Farther on, a point behind a facet's line may meet it in a
+# fold of a convex body.
+NEIGHBOURHOOD = 2.0
+# ... "behind" by more than this fraction of the facet's size: a sharp corner's faces (turning by 60 degrees or more,
+# FACING) put the contact points of the first facets past the corner at least 0.18 of a facet behind each other,
+# while two sides of the surface that overlap slightly in the reference configuration (a mesh made with an
+# interference) still meet.
+BEHIND = 0.05
 
 
 class Pairing:
@@ -71,6 +83,13 @@ class Pairing:
         own = master.owned
         self.exchange = MasterExchange(comm, master.X[own], master.global_comp[own], master.global_facets[own],
                                        self.quadratic)
+        # The master surface's free boundary (ends, or edges of one facet), per global facet number: a point past
+        # it has no closest point on the surface (the surface does not go on along its last facet).
+        ids, nodes = (np.concatenate(a) for a in zip(*comm.allgather(
+            (master.global_facets[own], master.global_comp[own][..., 0]))))
+        order = np.argsort(ids)
+        self._free_ids = ids[order]
+        self._free = free_sides(nodes, nodes, segments=master.X.shape[-1] == 2)[order]
         if radius is None:
             Xo = master.X[own]
             sides = (Xo[:, -1:] - Xo[:, :1]) if self.quadratic else np.diff(Xo, axis=1)
@@ -132,9 +151,10 @@ class Pairing:
         nf, nq, d = pts.shape if pts.size else (0, self.points.per_facet, pts.shape[-1])
         previous = None if self.ids is None else self._local_facets(self.ids.ravel())
         allowed = self._allowed(u, xm, nq) if self.self_contact else None
+        free = self._free[np.searchsorted(self._free_ids, self.master["ids"])]
         found = project((self.points.reference() if self.small else pts).reshape(-1, d),
                         self.master["X"] if self.small else xm, self.radius, previous, quadratic=self.quadratic,
-                        allowed=allowed)
+                        allowed=allowed, free=free)
         facet, bary, dist = found[:3]
         facet = facet.reshape(nf, nq)
         facet[self.points.excluded] = -1
@@ -170,18 +190,18 @@ class Pairing:
         nm = facet_normals(xm[:, ends]) if len(xm) else np.zeros((0, d))
         Xm = self.master["X"]
         nm_ref = facet_normals(Xm[:, ends]) if len(Xm) else np.zeros((0, d))
-        slave_nodes = self.slave.global_comp[..., 0]  # (nf, nv): one global number per node
-        master_nodes = self.master["G"][..., 0]
         X_points = self.points.reference().reshape(-1, d)
         size = np.linalg.norm(Xm[:, -1] - Xm[:, 0], axis=1) if len(Xm) else np.zeros(0)
+        reach = NEIGHBOURHOOD * self.radius
 
         def allowed(points: np.ndarray, facets: np.ndarray) -> np.ndarray:
             own = points // nq  # the point's slave facet
-            shared = np.any(slave_nodes[own][:, :, None] == master_nodes[facets][:, None, :], axis=(1, 2))
-            # behind the facet's reference line, beyond round-off (a point on it, its own node, is not behind)
-            behind = np.einsum("ij,ij->i", X_points[points] - Xm[facets][:, 0], nm_ref[facets]) < -TIE * size[facets]
+            Xp = X_points[points]
+            near = np.min(np.linalg.norm(Xm[facets] - Xp[:, None, :], axis=2), axis=1) <= reach
+            # behind the facet's reference line by more than BEHIND of the facet (a point on it, its own node, is not)
+            behind = np.einsum("ij,ij->i", Xp - Xm[facets][:, 0], nm_ref[facets]) < -BEHIND * size[facets]
             opposed = np.einsum("ij,ij->i", ns[own], nm[facets]) < FACING
-            return opposed & ~(shared & behind)
+            return opposed & ~(near & behind)
 
         return allowed
 

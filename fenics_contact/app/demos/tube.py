@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from fenics_contact.app import build, cli, run
-from fenics_contact.app.checks import reference_check
+from fenics_contact.app.checks import mirror_agreement
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, tube
 
 TOLERANCE = 1e-3  # the two models' forces, per the plate force (both solve the same problem to round-off)
@@ -115,29 +115,11 @@ def main(argv=None) -> dict:
 def agreement(full: list, half: list, overlap_tolerance: float) -> dict:
     """The check: the largest difference of the plate force and the fold force between the full and the half model
     over the steps past first contact, per the step's plate force; failed too if the fold's sides overlap by more
-    than ``overlap_tolerance`` (a length)."""
-    worst, where, overlap = 0.0, None, 0.0
-    for f, h in zip(full, half):
-        overlap = max(overlap, f["fold_overlap"])
-        if h["fold_force"] <= 0 and f["fold_force"] <= 0:
-            continue
-        for key in ("plate_force", "fold_force"):
-            d = abs(f[key] - h[key]) / h["plate_force"]
-            if d >= worst:
-                worst, where = d, (key, f, h)
-    if where is None:
-        return reference_check("fold force (full against half)", None, None, TOLERANCE,
-                               "the fold never closed: increase --approach")
-    key, f, h = where
-    c = reference_check(f"1 + (full - half) / plate force, the worst step past first contact ({key} at approach "
-                        f"{h['approach']:.4g})", 1.0 + (f[key] - h[key]) / h["plate_force"], 1.0, TOLERANCE,
-                        f"the full tube (self-contact) against the half tube on its symmetry plane; largest overlap "
-                        f"of the fold {overlap:.3g} (at most E / K = {overlap_tolerance:.3g})")
-    if overlap > overlap_tolerance:
-        c["passed"] = False
-        c["flag"] = f"the fold's sides overlap by {overlap:.3g} > E / K = {overlap_tolerance:.3g}"
-    c["overlap"] = overlap
-    return c
+    than ``overlap_tolerance`` (a length, E / K)."""
+    return mirror_agreement(full, half, TOLERANCE, overlap_tolerance, force="plate_force", contact="fold_force",
+                            overlap="fold_overlap", at="approach",
+                            models="the full tube (self-contact) against the half tube on its symmetry plane",
+                            closed="the fold never closed: increase --approach")
 
 
 def _pictures(history: list, reference: list | None, profiles: dict, out: Path) -> None:

@@ -31,10 +31,12 @@ STACKED_FACETS = {"lower_bottom": LOWER_BOTTOM, "lower_top": LOWER_TOP, "upper_b
 
 
 def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float, n_lower: tuple[int, ...],
-                   n_upper: tuple[int, ...], overlap: float = 0.0, by_body: bool = False
-                   ) -> tuple[Mesh, NamedTags, NamedTags]:
+                   n_upper: tuple[int, ...], overlap: float = 0.0, by_body: bool = False,
+                   upper_span: tuple[float, float] | None = None) -> tuple[Mesh, NamedTags, NamedTags]:
     """Two blocks in one mesh, not sharing nodes: ``[0, width] x [0, h_lower]`` with ``n_lower = (nx, ny)``
-    triangles pairs, and ``[0, width] x [h_lower - overlap, h_lower - overlap + h_upper]`` with ``n_upper``.
+    triangles pairs, and ``[0, width] x [h_lower - overlap, h_lower - overlap + h_upper]`` with ``n_upper``
+    (``upper_span = (a, b)``: the upper block spans ``[a, b]`` instead of ``[0, width]`` along each horizontal
+    axis: an overhang where it is wider).
     Three counts ``(nx, ny, nz)`` give boxes ``[0, width]^2 x [..]`` of tetrahedra (6 per hexahedron), the
     height along z. Different ``nx`` give non-matching interfaces. ``by_body``: the lower block on rank 0,
     the upper on rank 1 (with 2 or more ranks; the test of a slave/master pair on different ranks).
@@ -51,8 +53,11 @@ def stacked_blocks(comm: MPI.Comm, width: float, h_lower: float, h_upper: float,
             raise ValueError(f"{name} must be 2 (2D) or 3 (3D) cell counts >= 1, the same number for both, got {n!r}")
     xs, cs, body = [], [], []
     offset = 0
+    if upper_span is not None and not (np.all(np.isfinite(upper_span)) and upper_span[1] > upper_span[0]):
+        raise ValueError(f"upper_span must be two finite numbers a < b, got {upper_span!r}")
+    spans = ((0.0, width), (0.0, width) if upper_span is None else tuple(map(float, upper_span)))
     for b, (y0, h, n) in enumerate(((0.0, h_lower, n_lower), (h_lower - overlap, h_upper, n_upper))):
-        axes = [np.linspace(0, width, m + 1) for m in n[:-1]] + [np.linspace(y0, y0 + h, n[-1] + 1)]
+        axes = [np.linspace(*spans[b], m + 1) for m in n[:-1]] + [np.linspace(y0, y0 + h, n[-1] + 1)]
         grid = np.meshgrid(*axes, indexing="ij")
         xs.append(np.stack([g.ravel() for g in grid], axis=1))
         idx = np.arange(grid[0].size).reshape(grid[0].shape) + offset

@@ -36,7 +36,6 @@ import copy
 import numpy as np
 import ufl
 from dolfinx import fem
-from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 from ...factory import contact_surface, self_contact_surfaces
@@ -47,6 +46,7 @@ from ...obstacles import HalfPlane
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.tube import tube_section
 from . import Option, Setup, poisson, positive
+from ._mirror import line_dofs, stiffer, vertex_dofs
 
 __all__ = ["R_IN", "THICKNESS", "E", "NU", "APPROACH", "DEFAULT_K", "N_THETA", "N_R", "STEPS", "FOLD_STEPS",
            "FINE_FROM", "METHODS", "OPTIONS",
@@ -71,35 +71,6 @@ OPTIONS = {
     "approach": Option(f"the plates' total approach, a fraction of the outer diameter (default {APPROACH:g})",
                        (0.05, 0.9)),
 }
-
-
-def stiffer(law: ContactLaw) -> ContactLaw:
-    """A copy of ``law`` whose pressure at a gap ``g`` is its pressure at ``2 g``: the symmetry plane's law of the
-    half model (the full model's gap is the overlap of both walls). Laws linear in the gap on the closed side
-    (penalty, auglag, compliance with any ``m_n``)."""
-    law = copy.deepcopy(law)
-    scalars = law.scalars
-    if "K" in scalars:
-        scalars["K"] *= 2.0
-    elif "c_n" in scalars:
-        scalars["c_n"] *= 2.0 ** scalars.get("m_n", 1.0)
-    else:
-        raise ValueError(f"tube: method {law.name!r} is not one of {', '.join(METHODS)}")
-    return law
-
-
-def _vertex_dofs(V, component: int, where) -> np.ndarray:
-    """Dofs of displacement component ``component`` at the mesh vertices where ``where(x)`` holds."""
-    mesh = V.mesh
-    vertices = dmesh.locate_entities(mesh, 0, where)
-    mesh.topology.create_connectivity(0, mesh.topology.dim)  # dolfinx >= 0.9 does not make it on demand
-    return fem.locate_dofs_topological(V.sub(component), 0, vertices)
-
-
-def _plane_dofs(V, where) -> np.ndarray:
-    """Dofs of the displacement's ``y`` component on the (interior) edges where ``where(x)`` holds."""
-    edges = dmesh.locate_entities(V.mesh, 1, where)
-    return fem.locate_dofs_topological(V.sub(1), 1, edges)
 
 
 def build(law: ContactLaw, quadrature: str = "simpson", steps: int = STEPS, fold_steps: int = FOLD_STEPS,
@@ -136,15 +107,15 @@ def build(law: ContactLaw, quadrature: str = "simpson", steps: int = STEPS, fold
         fold = contact_surface(u, facets, "inner", HalfPlane([0.0, 0.0], [0.0, 1.0]), stiffer(law), t, quadrature,
                                name="symmetry plane", material=material)
         contacts.append(fold)
-        dirichlet = [Dirichlet.on_facets(V, facets, "cut", 1), Dirichlet(V.sub(0), _vertex_dofs(V, 0, on_axis))]
+        dirichlet = [Dirichlet.on_facets(V, facets, "cut", 1), Dirichlet(V.sub(0), vertex_dofs(V, 0, on_axis))]
     else:
         bottom = contact_surface(u, facets, "outer", HalfPlane([0.0, -r_out], [0.0, 1.0], motion=[0.0, 0.5 * d]),
                                  copy.deepcopy(law), t, quadrature, name="bottom plate", material=material)
         (fold,) = self_contact_surfaces(u, facets, "inner", lambda: copy.deepcopy(law), t, quadrature,
                                         name="fold", material=material)
         contacts += [bottom, fold]
-        dirichlet = [Dirichlet(V.sub(0), _vertex_dofs(V, 0, on_axis)),
-                     Dirichlet(V.sub(1), _plane_dofs(V, lambda x: np.abs(x[1]) < tol))]
+        dirichlet = [Dirichlet(V.sub(0), vertex_dofs(V, 0, on_axis)),
+                     Dirichlet(V.sub(1), line_dofs(V, 1, lambda x: np.abs(x[1]) < tol))]
     problem = ContactProblem(u, material, t, dirichlet, contacts)
     # The fold's force on the upper wall: the pressure's y-resultant over the inner wall's upper half (reference
     # y > 0); in the full model the lower wall's points carry the mirror image (their reaction on the upper wall).
