@@ -3,8 +3,9 @@
 // the cord diameter and moves the cord's centre. x is the radial, y the axial coordinate. The two bodies share no
 // node: the cord touches the groove bottom at (-0.5, 0).
 // Physical names: cells "cord", "groove"; facets "surface" (the cord's circle), "bottom_wall" (the groove bottom),
-// "upstream_wall" (the groove's side wall y = -w/2), "side_wall" (y = w/2), "land" (the groove body's faces x = xl
-// beside the groove), "groove_fixed" (its face x = -0.5 - b), "housing_ends" (its faces y = -+(w/2 + land)).
+// "upstream_wall" (the groove's side wall y = -w/2), "side_wall" (y = w/2), "upstream_land" and "side_land" (the
+// groove body's faces x = xl beside the groove, y < 0 and y > 0), "groove_fixed" (its face x = -0.5 - b),
+// "housing_ends" (its faces y = -+(w/2 + land)).
 // Parameters: h (the cord's mesh size and the walls'), hh (the housing's far mesh size), alpha (half-angle of the
 // pressurised arc, degrees), w (the groove's width), xl (the lands' x: the groove's depth is xl + 0.5), b (the
 // groove body's thickness below the groove bottom), land (the lands' length beside the groove).
@@ -65,6 +66,7 @@ Physical Curve("surface") = {1, 2, 3, 4, 5};
 Physical Curve("bottom_wall") = {14};
 Physical Curve("upstream_wall") = {13};
 Physical Curve("side_wall") = {15};
-Physical Curve("land") = {12, 16};
+Physical Curve("upstream_land") = {12};
+Physical Curve("side_land") = {16};
 Physical Curve("groove_fixed") = {18};
 Physical Curve("housing_ends") = {11, 17};

@@ -44,9 +44,10 @@ def gland_section(comm: MPI.Comm, d: float, center: tuple[float, float], h: floa
     ``z = +-w/2``, lands at ``r = land_x`` reaching ``d/2`` beyond the side walls, ``thickness`` thick below the
     bottom, default ``d/2``); the two share no node. Triangles of size ``h`` on the cord and the walls near it,
     ``h_housing`` (default ``4 h``, at most ``d/4``) far from it. Cells ``cord``, ``groove``; facets ``surface``
-    (the cord's circle), ``bottom_wall``, ``upstream_wall`` (``z = -w/2``), ``side_wall`` (``z = w/2``), ``land``,
-    ``groove_fixed`` (the groove body's face away from the cord), ``housing_ends``. The geometry:
-    ``geo/gland.geo``. Collective; initialises and finalises gmsh on every rank."""
+    (the cord's circle), ``bottom_wall``, ``upstream_wall`` (``z = -w/2``), ``side_wall`` (``z = w/2``),
+    ``upstream_land`` and ``side_land`` (the lands beside them), ``groove_fixed`` (the groove body's face away from
+    the cord), ``housing_ends``. The geometry: ``geo/gland.geo``. Collective; initialises and finalises gmsh on every
+    rank."""
     thickness = 0.5 * d if thickness is None else thickness
     h_housing = min(4 * h, 0.25 * d) if h_housing is None else h_housing
     _positive(d=d, h=h, w=w, thickness=thickness, h_housing=h_housing)

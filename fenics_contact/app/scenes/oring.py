@@ -58,6 +58,7 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ...contact import displacement
+from ...domain import merge_regions
 from ...factory import contact_surface, two_body_surfaces
 from ...kinematics import AXISYMMETRIC, deformation_gradient
 from ...laws import ContactLaw
@@ -246,8 +247,13 @@ def build(law: ContactLaw, quadrature: str = "gauss", steps: int = 3, pressure_s
             raise ValueError("stroke needs the rigid gland (no housing_E): the rod is the meshed groove's bottom")
         dirichlet = [Dirichlet.on_facets(V, facets, "groove_fixed", i) for i in (0, 1)]
         # the walls' pairing radius 3 d: the first Newton iterate of a pressure step may push the cord through the side
-        # wall by more than d (the spring alone holds it then); the wall must still see it to push it back
-        walls = {name: f"{name}_wall" if name != "bore" else wall for name, wall in walls.items()}
+        # wall by more than d (the spring alone holds it then); the wall must still see it to push it back. A side
+        # wall and its land are one master surface: the cord extruding into the clearance gap past the wall's corner
+        # meets the land (a master surface ends at its last facet).
+        for side in ("upstream", "side"):
+            facets = merge_regions(mesh, facets, f"{side}_face", [f"{side}_wall", f"{side}_land"])
+        names = {"bottom": "bottom_wall", "upstream": "upstream_face", "side": "side_face"}
+        walls = {name: names.get(name, wall) for name, wall in walls.items()}
     contacts = {name: contact_surface(u, facets, "surface", wall, copy.deepcopy(law), t, quadrature, name=name,
                                       material=material) if isinstance(wall, HalfPlane) else
                 two_body_surfaces(u, facets, "surface", wall, lambda: copy.deepcopy(law), t, quadrature, name=name,
