@@ -12,7 +12,10 @@ candidates of every point within a coarse facet's size) and the answer is
 filtered by the exact point-to-box distance. The distance to each candidate
 facet (flat segment or triangle, or quadratic segment) is evaluated for all
 pairs at once; each point keeps its nearest facet, with the rules of
-:func:`project` for ties and hysteresis.
+:func:`project` for ties and hysteresis. A surface ends at its free boundary
+(:func:`free_sides`: the ends of a curve, the edges of one facet): a point
+whose closest point lies past it (:func:`beyond_free_sides`, beyond an
+extension of :data:`EXTENSION` of the facet) has no pair.
 
 Memory is bounded whatever an iterate does: the number of pairs is counted
 before any is listed (``return_length``) and facets are processed in
