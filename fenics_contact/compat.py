@@ -56,21 +56,23 @@ def function_space(mesh, family: str, degree: int, shape: tuple[int, ...] | None
     return fem.FunctionSpace(mesh, (family, degree))
 
 
-def mixed_space(mesh, degree: int, pressure_degree: int = 1):
-    """Lagrange (displacement, vector, ``degree``) x Lagrange (pressure, scalar) on the whole mesh."""
+def mixed_space(mesh, degree: int, pressure_degree: int = 1, vector: bool = False):
+    """Lagrange (displacement, vector, ``degree``) x Lagrange (pressure: scalar, or ``vector`` with one component
+    per axis, the contact traction) on the whole mesh."""
     gdim = mesh.geometry.dim
     if hasattr(fem, "functionspace"):  # dolfinx >= 0.8: basix.ufl elements
         import basix.ufl
 
         cell = mesh.topology.cell_name()
-        el = basix.ufl.mixed_element([basix.ufl.element("Lagrange", cell, degree, shape=(gdim,)),
-                                      basix.ufl.element("Lagrange", cell, pressure_degree)])
+        second = basix.ufl.element("Lagrange", cell, pressure_degree, shape=(gdim,) if vector else ())
+        el = basix.ufl.mixed_element([basix.ufl.element("Lagrange", cell, degree, shape=(gdim,)), second])
         return fem.functionspace(mesh, el)
     import ufl
 
     cell = mesh.ufl_cell()
-    el = ufl.MixedElement([ufl.VectorElement("Lagrange", cell, degree, dim=gdim),
-                           ufl.FiniteElement("Lagrange", cell, pressure_degree)])
+    second = (ufl.VectorElement("Lagrange", cell, pressure_degree, dim=gdim) if vector
+              else ufl.FiniteElement("Lagrange", cell, pressure_degree))
+    el = ufl.MixedElement([ufl.VectorElement("Lagrange", cell, degree, dim=gdim), second])
     return fem.FunctionSpace(mesh, el)
 
 

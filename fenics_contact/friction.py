@@ -34,7 +34,7 @@ from mpi4py import MPI
 
 from .compat import function_space, interpolate_expression
 from .contact import ContactSurface, displacement
-from .laws import NUMPY, ContactLaw, Nitsche, NormalCompliance, _check_exponent, ufl_ops
+from .laws import NUMPY, ContactLaw, LagrangeMultiplier, Nitsche, NormalCompliance, _check_exponent, ufl_ops
 
 __all__ = ["OPEN", "SLIP", "STICK", "friction_ops", "Friction", "FrictionHistory", "FrictionalContact"]
 
@@ -81,8 +81,8 @@ class Friction(ContactLaw):
 
     def __init__(self, normal: ContactLaw, mu: float | None = None, omega_t: float = 1.0,
                  c_t: float | None = None, m_t: float | None = None, tresca: float | None = None):
-        if isinstance(normal, Friction) or not isinstance(normal, (ContactLaw, Nitsche)):
-            raise ValueError(f"friction needs a normal law (penalty, cross, auglag, compliance, nitsche), "
+        if isinstance(normal, Friction) or not isinstance(normal, (ContactLaw, Nitsche, LagrangeMultiplier)):
+            raise ValueError(f"friction needs a normal law (penalty, cross, auglag, compliance, nitsche, lagrange), "
                              f"got {normal!r}")
         if sum(x is not None for x in (mu, c_t, tresca)) != 1:
             raise ValueError("friction: give exactly one of mu (Coulomb), c_t (normal compliance bound) and tresca "
@@ -199,12 +199,14 @@ class FrictionHistory:
     :meth:`_init_friction` takes the slip increment ``ds`` since the last accepted step and the tracked position
     ``r`` (UFL); ``r_old`` (one Function of the law's state space ``S`` per global component) is ``r`` at the last
     accepted step, ``q_old`` the traction there. ``factor`` multiplies the return-mapped traction (two-body: 1 on
-    paired points, 0 on the others). ``dissipated`` is the friction work dissipated up to the last committed step
-    (energy per unit thickness in 2D); ``log`` has the forces, capacity, dissipation and state areas of every
-    committed step.
+    paired points, 0 on the others); ``exact(ds)`` replaces the return mapping where the traction is an unknown
+    (:mod:`~fenics_contact.multiplier_friction`): it returns the traction, the slip state, the dissipation
+    density and the friction bound (UFL) at the slip increment ``ds``. ``dissipated`` is the friction work
+    dissipated up to the last committed step (energy per unit thickness in 2D); ``log`` has the forces, capacity,
+    dissipation and state areas of every committed step.
     """
 
-    def _init_friction(self, law: Friction, load: fem.Constant, r, ds_of_r_old, factor=None) -> None:
+    def _init_friction(self, law: Friction, load: fem.Constant, r, ds_of_r_old, factor=None, exact=None) -> None:
         if not isinstance(law, Friction):
             raise ValueError(f"{type(self).__name__} needs a Friction law")
         mesh = self.u.function_space.mesh
@@ -213,12 +215,16 @@ class FrictionHistory:
         self.r_old = [fem.Function(self.S, name=f"r_old_{i}") for i in range(gdim)]
         args = (self.gap, ufl.as_vector(self.q_old), ds_of_r_old(ufl.as_vector(self.r_old)), self.normal, self.params,
                 ufl_ops())
-        self.traction = law.traction(*args) if factor is None else factor * law.traction(*args)
-        self.slip_state_expr = law.slip_state(*args)  # UFL: 0 open, 1 slip, 2 stick at the current u
-        dissipation = law.dissipation(*args) if factor is None else factor * law.dissipation(*args)
+        if exact is not None:  # the traction an unknown: traction, slip state, dissipation, bound at the increment
+            self.traction, self.slip_state_expr, dissipation, bound = exact(args[2])
+        else:
+            self.traction = law.traction(*args) if factor is None else factor * law.traction(*args)
+            self.slip_state_expr = law.slip_state(*args)  # UFL: 0 open, 1 slip, 2 stick at the current u
+            dissipation = law.dissipation(*args) if factor is None else factor * law.dissipation(*args)
+            bound = law.bound(self.gap, self.params, ufl_ops())
         self._dissipation_form = fem.form(dissipation * self.ring * self.ds)
         self._tangential_forms = [fem.form(self.traction[i] * self.ring * self.ds) for i in range(gdim)]
-        self._capacity_form = fem.form(law.bound(self.gap, self.params, ufl_ops()) * self.ring * self.ds)
+        self._capacity_form = fem.form(bound * self.ring * self.ds)
         # The state of the last accepted step, kept at commit: after a commit the next trial starts at
         # the bound, so the current expression would call a sliding point sticking.
         self.slip_state = fem.Function(self.S, name="slip_state_committed")

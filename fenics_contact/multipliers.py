@@ -111,7 +111,8 @@ def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement",
     """The problem's unknown and the displacement (sub)space for Dirichlet data.
 
     ``(u, V)`` with ``u`` on the vector Lagrange space ``V`` of ``degree``, or ``(w, W.sub(0))`` with ``w`` on a
-    mixed space: for method ``lagrange`` (displacement of ``degree``, contact pressure P1), or for a mixed bulk
+    mixed space: for method ``lagrange`` (displacement of ``degree``, contact pressure P1; with friction the contact
+    traction, a P1 vector: :mod:`~fenics_contact.multiplier_friction`), or for a mixed bulk
     ``model`` (``neohookean-mixed``, ``linear-mixed``; Taylor-Hood: displacement of ``degree``, the bulk pressure
     of ``degree - 1``). ``V.sub(i)`` are the components either way.
 
@@ -129,6 +130,10 @@ def unknown(mesh, degree: int, law: ContactLaw, name: str = "displacement",
     from .models import MODELS
 
     check(**of(law), dim=mesh.geometry.dim, degree=degree, model=model)
+    traction = isinstance(getattr(law, "normal", None), LagrangeMultiplier)  # with friction: the traction vector
+    if traction:
+        W = mixed_space(mesh, degree, 1, vector=True)
+        return fem.Function(W, name="displacement_traction"), W.sub(0)
     if isinstance(law, LagrangeMultiplier) or (model is not None and MODELS[model].mixed):
         W = mixed_space(mesh, degree, 1 if isinstance(law, LagrangeMultiplier) else degree - 1)
         return fem.Function(W, name="displacement_pressure"), W.sub(0)
@@ -180,10 +185,18 @@ class PressureUnknown:
             return ()
         if self._bcs is None:
             W = self.u.function_space
-            _, q_to_w = collapse(W.sub(1))
+            Q, q_to_w = collapse(W.sub(1))
+            q_to_w = np.asarray(q_to_w, dtype=np.int32)
             on = np.unique(np.concatenate([c._on_surface for c in surfaces]))
-            off = np.setdiff1d(np.asarray(q_to_w, dtype=np.int32), on).astype(np.int32)
-            self._bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
+            # and the components a surface found prescribed (friction: the support takes that force)
+            prescribed = np.concatenate([getattr(c, "_prescribed", np.zeros(0, np.int32)) for c in surfaces])
+            off_q = np.flatnonzero(~np.isin(q_to_w, on) | np.isin(q_to_w, prescribed)).astype(np.int32)
+            order = np.argsort(q_to_w[off_q])
+            off, off_q = q_to_w[off_q][order], off_q[order]
+            if Q.dofmap.index_map_bs == 1 and Q.num_sub_spaces == 0:  # a pressure
+                self._bcs = (fem.dirichletbc(fem.Constant(W.mesh, 0.0), off, W.sub(1)),)
+            else:  # a traction vector: a zero Function on the collapsed space
+                self._bcs = (fem.dirichletbc(fem.Function(Q), [off, off_q], W.sub(1)),)
             n_owned = W.dofmap.index_map.size_local * W.dofmap.index_map_bs
             self._pinned_owned = off[off < n_owned]
             self.pinned_dofs = W.mesh.comm.allreduce(len(self._pinned_owned))

@@ -199,6 +199,8 @@ class ContactProblem:
         if step_solver is None:
             step_solver = step_solver_for(self.contacts)
         self.step_solver = step_solver  # solves whole load steps instead of SNES (None: SNES)
+        for c in self.contacts:
+            c.given_dirichlet([d.bc for d in self.dirichlet])
         self.bcs = [d.bc for d in self.dirichlet] + [bc for c in self.contacts for bc in c.bcs]
         V = u.function_space
         if material.mixed and not is_mixed(V):

@@ -5,6 +5,8 @@ Every hook the solver may call is declared here, once; the defaults are the no-o
 a surface that needs nothing at that point. Order of the calls in a load step (see
 :class:`~fenics_contact.solver.Solver`):
 
+0. Once, building the problem: ``given_dirichlet(bcs)``, then ``bcs`` read, ``bind_material(material)``,
+   ``residual(v)``.
 1. ``bounds(t, like)`` on the ``bounded`` surfaces (SNES VI), ``forget_gap()`` on the ``augmentable`` ones.
 2. Every residual evaluation :meth:`ContactProblem.F <fenics_contact.problem.ContactProblem.F>`: ``prepare(problem)``
    with ``u`` at the iterate, the forms (with ``residual(v)`` compiled in once), then ``add_residual(b)``; every
@@ -83,6 +85,11 @@ class Surface(abc.ABC):
     def bind_material(self, material) -> None:
         """Called once by the problem with its bulk material(s), before :meth:`residual` (a surface whose
         figures need the bulk, e.g. the Cauchy pressure at finite strain)."""
+        return None  # a no-op unless a surface needs it
+
+    def given_dirichlet(self, bcs: list) -> None:
+        """Called once by the problem with its own Dirichlet conditions, before it reads :attr:`bcs` (multipliers
+        with friction: a traction component whose displacement component is prescribed is not an unknown)."""
         return None  # a no-op unless a surface needs it
 
     @property

@@ -338,7 +338,7 @@ MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel
     "test_twobody_nitsche.py::test_wedges_serial_equals_ranks",
     "test_twobody_nitsche.py::test_segment_serial_equals_two_ranks",
     "test_tube.py::test_parallel_equals_serial", "test_selfcontact3d.py::test_parallel_equals_serial",
-    "test_lipseal.py::test_parallel_equals_serial",
+    "test_lipseal.py::test_parallel_equals_serial", "test_sparse_friction.py::test_parallel_equals_serial",
 )
 
 # Of those, the comparisons alone (each rank's serial run against the ranks' run): the same run twice in a serial

@@ -223,13 +223,13 @@ def test_former_names_warn_and_give_the_new_class(old, new):
 
 def test_a_method_without_a_law_of_the_gap_is_no_contact_law():
     """vi, coulomb, the multipliers and Nitsche are formulations, not laws of the gap: they have no force to call,
-    and friction on top of them is refused but for Nitsche's (its own tangential term, between two bodies)."""
+    and friction on top of them is refused but for Nitsche's and the multipliers' (their own tangential terms)."""
     for formulation in (fc.SnesVI(), fc.ExactCoulomb(0.3), fc.LagrangeMultiplier(), fc.Nitsche()):
         assert isinstance(formulation, fc.Formulation) and not isinstance(formulation, fc.ContactLaw)
         assert not hasattr(formulation, "force")
-        if isinstance(formulation, fc.Nitsche):
+        if isinstance(formulation, (fc.Nitsche, fc.LagrangeMultiplier)):
             law = fc.Friction(formulation, mu=0.3)
-            assert law.has_friction and law.method == "nitsche"
+            assert law.has_friction and law.method == formulation.name
             continue
         with pytest.raises(ValueError, match="friction needs a normal law"):
             fc.Friction(formulation, mu=0.3)

@@ -60,8 +60,9 @@ P = {"linear": 10.0, "neohookean": 100.0, "neohookean-mixed": 100.0, "linear-mix
 # friction: sideways top motion, beyond the stick limit mu p / omega_t, the elastic shear and the lateral expansion
 SLIDE = {"linear": 0.05, "neohookean": 0.3, "neohookean-mixed": 0.3, "linear-mixed": 0.05}
 EXACT = ("auglag", "vi", "lagrange", "nitsche", "coulomb")
-LAWS = tuple(m.name for m in fc.methods.methods() if m.friction == "law")  # laws of the gap, friction on top
 MULTIPLIERS = ("lagrange", "penalty_multiplier")  # the pressure an unknown
+# laws of the gap, friction on top (lagrange's friction is its own exact law: the multipliers' family)
+LAWS = tuple(m.name for m in fc.methods.methods() if m.friction == "law" and m.name not in MULTIPLIERS)
 
 
 def law_for(method: str, friction: bool):
@@ -222,7 +223,7 @@ def covering_cells() -> list[dict]:
             for axis in ("model", "solver", "geometry"):
                 for value in cap.AXES[axis]:
                     cells.append(_first_supported(method=method, kind=kind, **{axis: value}))
-    for method in LAWS + ("coulomb",):  # friction: every law; structural variants with penalty
+    for method in LAWS + ("coulomb", "lagrange"):  # friction: every law; structural variants with penalty
         cells.append(_first_supported(method=method, friction=True))
     cells += [c for s in _structural("rigid") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
     for model in ("neohookean", "neohookean-mixed"):  # friction on the displacement field of a mixed unknown too

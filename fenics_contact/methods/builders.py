@@ -18,6 +18,7 @@ from ..condensed import CondensedContact, CondensedTwoBody
 from ..contact import ContactSurface
 from ..friction import Friction, FrictionalContact
 from ..mortar import NitscheSegmentSurface, SegmentSurface
+from ..multiplier_friction import MultiplierFrictionalContact
 from ..multipliers import MultiplierContact, TwoBodyMultiplier
 from ..nitsche import NitscheContact
 from ..twobody import TwoBodySurface
@@ -50,7 +51,10 @@ def condensed_surface(u, facet_tags, tag, obstacle, law, load, quadrature, name,
 
 def multiplier_surface(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized, material):
     """The pressure as an unknown (:class:`MultiplierContact`; ``u`` the mixed unknown of
-    :func:`~fenics_contact.multipliers.unknown`)."""
+    :func:`~fenics_contact.multipliers.unknown`); with friction the traction
+    (:class:`~fenics_contact.multiplier_friction.MultiplierFrictionalContact`)."""
+    if isinstance(law, Friction):
+        return MultiplierFrictionalContact(u, facet_tags, tag, obstacle, law, load, quadrature, name, linearized)
     if linearized:
         raise ValueError(f"method {law.name!r} enforces the current gap: linearized=True is not available")
     return MultiplierContact(u, facet_tags, tag, obstacle, law, load, quadrature, name)

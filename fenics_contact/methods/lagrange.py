@@ -28,10 +28,19 @@ def multiplier_rules(method: str) -> tuple:
                  method=method, sliding="small"))
 
 
+# Exact friction with the traction an unknown (Alart-Curnier, fenics_contact.multiplier_friction): what it takes.
+FRICTION_RULES = (
+    rule("kind 'rigid' (exact two-body friction: method coulomb) or mu 0", "the multipliers' tangential law is for "
+         "rigid obstacles", method="lagrange", friction=True, kind=("two-body", "self")),
+    rule("degree 1 or mu 0", "the multipliers' tangential law sits at the vertices of flat facets", method="lagrange",
+         friction=True, degree=2),
+)
+
 METHOD = Method(
-    name="lagrange", summary="exact nodal Signorini conditions, the pressure an unknown (semismooth Newton)",
+    name="lagrange", summary="exact nodal Signorini conditions (with friction: Alart-Curnier's Coulomb or Tresca "
+                             "law), the pressure (traction) an unknown, one semismooth Newton on the sparse system",
     law=LagrangeMultiplier,
     parameters=(Parameter("c", "K", "complementarity parameter c (pressure per length; steers Newton only)"),),
     rigid="fenics_contact.methods.builders:multiplier_surface",
     two_body="fenics_contact.methods.builders:multiplier_two_body",
-    sweep=Sweep("narrow", "K"), rules=multiplier_rules("lagrange"))
+    friction="law", sweep=Sweep("narrow", "K"), rules=multiplier_rules("lagrange") + FRICTION_RULES)

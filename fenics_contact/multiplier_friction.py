@@ -1,0 +1,173 @@
+"""Exact Coulomb and Tresca friction against rigid obstacles with the contact traction an unknown (method
+``lagrange`` with friction): Alart and Curnier's complementarity functions, solved with the displacement by one
+semismooth Newton on the whole sparse system.
+
+The unknown is ``w = (u, lam)`` (:func:`~fenics_contact.multipliers.unknown`): ``lam`` the traction of the
+obstacle on the body, a P1 vector on the whole mesh, fixed to 0 off the contact surfaces
+(:class:`~fenics_contact.multipliers.PressureUnknown`: the same field split, MUMPS on the real unknowns). At each
+contact vertex (vertex rule), with ``p = lam . n`` (> 0 compression), ``q = P_T lam`` (``P_T = I - n n``), the gap
+``g`` (> 0 penetration) and the slip increment ``ds = P_T (r - r_old)`` since the last accepted step (``r`` the
+position relative to the obstacle):
+
+    normal        C_n = p - max(0, p + c g)
+    tangential    C_t = q - proj_b(q - c ds),   b = mu max(0, p + c g)  (Coulomb),  b = s [p + c g > 0]  (Tresca)
+
+``proj_b`` the projection on the disk (ball) of radius ``b``; ``C = 0`` iff Signorini's conditions and Coulomb's law
+(stick: ``ds = 0``, ``|q| <= b``; slip: ``|q| = b``, ``q`` against ``ds``) hold, for any ``c > 0`` (the law's
+complementarity parameter, which steers the iterates only). The residual is
+
+    u rows:    dW[v] + int p dg[v] ds - int q . v ds
+    lam rows:  int (-C_n (mu . n) - C_t . P_T mu) ds
+
+(forces, like the multipliers' normal rows), and its Jacobian ``ufl.derivative`` of it: the derivatives of ``max``
+and of the projection are UFL's generalized ones, so SNES ``newtonls`` is a semismooth Newton on displacements and
+tractions together: sparse and distributed, no condensed (dense) block, no gather. Time discretization as the
+condensed method's (backward Euler in the load: slip increments per step), so that on a flat obstacle with linear
+elasticity both solve the same discrete problem.
+"""
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from scipy.spatial import cKDTree
+
+from .contact import ContactSurface, contact_measure, displacement
+from .friction import OPEN, SLIP, STICK, Friction, FrictionalContact, friction_ops
+from .laws import LagrangeMultiplier, ufl_ops
+from .multipliers import PressureUnknown
+from .obstacles import Obstacle
+
+__all__ = ["MultiplierFrictionalContact"]
+
+_TINY = 1e-300  # |x| = sqrt(x . x + tiny): a finite derivative at x = 0 (the stick branch never uses it)
+
+
+class MultiplierFrictionalContact(PressureUnknown, FrictionalContact):
+    """A contact surface (rigid obstacle) with exact Coulomb or Tresca friction, its traction (of the obstacle on
+    the body) the second field of the mixed unknown ``w``; the results of
+    :class:`~fenics_contact.friction.FrictionalContact` (forces, profile, slip states, dissipation).
+
+    Args:
+        w: the mixed unknown of :func:`~fenics_contact.multipliers.unknown` (a traction vector).
+        facet_tags: the facet tags (dolfinx ``MeshTags`` or :class:`NamedTags`).
+        tag: the contact boundary: a tag value, or a region name of ``facet_tags``.
+        obstacle: the rigid :class:`Obstacle`.
+        law: a :class:`~fenics_contact.friction.Friction` on a
+            :class:`~fenics_contact.laws.LagrangeMultiplier` (``mu`` or ``tresca``; its ``c`` steers Newton only).
+        load: the load parameter ``t`` (a scalar ``Constant``); the obstacle moves by ``t * motion``.
+        quadrature: ``nodal`` (the vertex rule; the only one).
+        name: the surface's name, in messages and output.
+        linearized: the small-displacement gap ``g(X) - n(X) . u`` (normal at the reference point).
+
+    Raises:
+        ValueError: the law is not friction on multipliers, or has a normal-compliance bound (``c_t``).
+    """
+
+    def __init__(self, w: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: Friction,
+                 load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
+        if not (isinstance(law, Friction) and isinstance(law.normal, LagrangeMultiplier)):
+            raise ValueError(f"MultiplierFrictionalContact needs friction on method 'lagrange', got {law!r}")
+        if "c_t" in law.scalars:
+            raise ValueError("method 'lagrange' with friction takes mu (Coulomb) or tresca, not c_t (a normal "
+                             "compliance bound needs a penetration)")
+        if quadrature != "nodal":
+            raise ValueError(f"method 'lagrange' with friction enforces its conditions at the vertices: quadrature "
+                             f"'nodal', got {quadrature!r}")
+        ContactSurface.__init__(self, w, facet_tags, tag, obstacle, law, load, "nodal", name, linearized)
+        self._pressure_setup(w, self.facets)
+        self._n = self._coefficient_normal()
+        self.work_quadrature = quadrature
+        self.ds_work = contact_measure(w.function_space.mesh, facet_tags, tag, quadrature)
+        r = ufl.SpatialCoordinate(w.function_space.mesh) + displacement(w) - obstacle.origin()
+        self._init_friction(law, load, r, lambda r_old: r - r_old, exact=self._exact)
+
+    # --- the unknown traction ------------------------------------------------------------------------------
+    def _coefficient_normal(self):
+        """The obstacle's normal; a flat obstacle's (literal numbers) as a ``Constant``: with literal normals some
+        blocks of the Jacobian are literal numbers, for which FFCx 0.5 generates no code."""
+        gdim = self.u.function_space.mesh.geometry.dim
+        try:
+            values = np.array([float(self.normal[i]) for i in range(gdim)])
+        except (TypeError, ValueError, ufl.UFLException):
+            return self.normal
+        return fem.Constant(self.u.function_space.mesh, values)
+
+    def _lam(self):
+        return ufl.split(self.u)[1]
+
+    def _pressure(self):
+        return ufl.dot(self._lam(), self.normal)
+
+    def _tangential(self, a):
+        return a - ufl.dot(a, self._n) * self._n
+
+    def _bound(self):
+        """``b``: ``mu max(0, p + c g)`` or Tresca's ``s`` where ``p + c g > 0``."""
+        c = self.params
+        closing = self.pressure + c["c"] * self.gap
+        if "mu" in c:
+            return c["mu"] * ufl.max_value(closing, 0.0)
+        return ufl.conditional(ufl.gt(closing, 0.0), c["tresca"], 0.0)
+
+    def _exact(self, ds):
+        """The traction ``q``, the slip state, the dissipation density ``-q . ds`` and the bound ``b`` (UFL) at slip
+        increment ``ds``."""
+        f = friction_ops(ufl_ops())
+        q = self._tangential(self._lam())
+        trial = q - self.params["c"] * self._tangential(ds)
+        norm, b = f.sqrt(f.dot(trial, trial) + _TINY), self._bound()
+        closing = self.pressure + self.params["c"] * self.gap
+        state = f.select(0.0, closing, f.select(norm, b, float(STICK), float(SLIP)), float(OPEN))
+        self._trial, self._trial_norm = trial, norm
+        return q, state, -ufl.dot(q, self._tangential(ds)), b
+
+    def given_dirichlet(self, bcs: list) -> None:
+        """A flat obstacle whose normal is a coordinate axis (the condensed method's case): at a contact vertex
+        whose displacement component ``i`` is prescribed, the traction component ``i`` is no unknown (fixed to 0:
+        the support takes that force; the vertex sticks and slips along its free axes only). Otherwise its
+        constraint row would be empty (``u_i`` fixed) and the system singular."""
+        self._prescribed = np.zeros(0, np.int32)
+        if not isinstance(self._n, fem.Constant):
+            return
+        n = np.asarray(self._n.value, dtype=float)
+        if not np.all(np.isclose(np.abs(n), 0.0) | np.isclose(np.abs(n), 1.0)):
+            return
+        W = self.u.function_space
+        fixed = np.unique(np.concatenate([bc.dof_indices()[0] for bc in bcs] or [np.zeros(0, np.int32)]))
+        out = []
+        for i in range(W.mesh.geometry.dim):  # the traction and displacement dofs of component i at one vertex
+            Vi, ui = W.sub(0).sub(i).collapse()
+            Qi, qi = W.sub(1).sub(i).collapse()
+            ui, qi = np.asarray(ui), np.asarray(qi)
+            held = np.isin(ui, fixed)
+            surface = np.isin(qi, self._on_surface)
+            if not (np.any(held) and np.any(surface)):
+                continue
+            tree = cKDTree(Vi.tabulate_dof_coordinates()[held])
+            distance, k = tree.query(Qi.tabulate_dof_coordinates()[surface])
+            size = float(np.ptp(Vi.tabulate_dof_coordinates(), axis=0).max()) or 1.0
+            out.append(qi[surface][distance <= 1e-12 * size])
+        self._prescribed = np.unique(np.concatenate(out)).astype(np.int32) if out else np.zeros(0, np.int32)
+
+    @property
+    def augmentable(self) -> bool:
+        """False: the multipliers are exact (nothing to augment)."""
+        return False
+
+    # --- residual ------------------------------------------------------------------------------------------
+    def residual(self, v: ufl.Argument) -> ufl.Form:
+        """``int p dg[v] ds - int q . v ds + int (-C_n (mu . n) - C_t . P_T mu) ds`` (``v`` the mixed test
+        function, ``mu`` its traction part; the vertex rule)."""
+        c = self.params["c"]
+        mu = ufl.split(v)[1]
+        n, g = self._n, self.gap
+        p = ufl.dot(self._lam(), n)
+        f = friction_ops(ufl_ops())
+        b = self._bound()
+        projected = f.select(self._trial_norm, b, 1.0, b / self._trial_norm) * self._trial
+        C_n = p - ufl.max_value(0.0, p + c * g)
+        C_t = self.traction - projected
+        work = p * ufl.derivative(g, self.u, v) - ufl.dot(self.traction, displacement(v))
+        rows = -C_n * ufl.dot(mu, n) - ufl.dot(C_t, self._tangential(mu))
+        return (work * self.ring) * self.ds_work + rows * self.ds

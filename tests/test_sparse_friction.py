@@ -1,0 +1,122 @@
+"""Exact friction with the traction an unknown (method ``lagrange`` with friction, Alart-Curnier's functions, one
+semismooth Newton on the sparse system): the condensed exact method's discrete problem, solved without its dense
+block; Tresca's bound; the same on 1 and 2 ranks; what it does not take refused up front."""
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from dolfinx import fem
+from mpi4py import MPI
+
+import fenics_contact as fc
+from fenics_contact.app.scenes import build
+from fenics_contact.laws import ExactCoulomb, LagrangeMultiplier
+from fenics_contact.solver import Solver
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_coulomb3d import PRESS, _box, _top_motion  # noqa: E402
+
+SLAB_C = 1e3  # Alart-Curnier's c for the slab, E / h / 10 (steers Newton only)
+
+
+def _slab(law, comm=MPI.COMM_WORLD) -> tuple[dict, Solver]:
+    setup = build("slab", law=law, comm=comm)
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    return setup.figures(), solver
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.4, 1.3, 1.5])
+def test_slab_equals_the_condensed_exact_method(mu):
+    """Renaud and Feng's slab (flat rigid plate, linear, small sliding): u_x(A), u_y(A), the zones and both forces
+    are the condensed method's to round-off (1e-10), in at most 6 Newton iterations; also at mu = 1.5, where the
+    paper's FEM diverged."""
+    exact, _ = _slab(ExactCoulomb(mu))
+    sparse, solver = _slab(fc.Friction(LagrangeMultiplier(SLAB_C), mu=mu))
+    scale = abs(exact["ux_A"])
+    assert abs(sparse["ux_A"] - exact["ux_A"]) <= 1e-10 * scale
+    assert abs(sparse["uy_A"] - exact["uy_A"]) <= 1e-10 * scale
+    assert sparse["zones"] == pytest.approx(exact["zones"], abs=1e-12)
+    assert sparse["zone_pattern"] == exact["zone_pattern"]
+    for k in ("normal_force", "tangential_force"):
+        assert sparse[k] == pytest.approx(exact[k], rel=1e-10, abs=1e-10 * exact["normal_force"]), k
+    assert sparse["normal_equilibrium_error"] < 1e-10 and sparse["tangential_equilibrium_error"] < 1e-10
+    assert solver.records[-1].newton_iterations <= 6
+
+
+def _box_on_plane(law, mu_drag, comm=MPI.COMM_WORLD):
+    """The box of tests/test_coulomb3d.py on the plane z = 0, pressed then dragged 30 degrees off x; the base's
+    friction profile after each of the loads."""
+    msh, facets = _box(comm)
+    load = fem.Constant(msh, 0.0)
+    if isinstance(law, ExactCoulomb):
+        V = fc.function_space(msh, "Lagrange", 1, (3,))
+        u = fem.Function(V)
+    else:
+        u, V = fc.unknown(msh, 1, law)
+    c = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, load)
+    step = {"step_solver": fc.step_solver_for([c])} if isinstance(law, ExactCoulomb) else {}
+    problem = fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.0), load, _top_motion(V, facets, "top", mu_drag),
+                                [c], **step)
+    solver = fc.Solver(problem, quiet=True)
+    solver.run([1.0, 1.25, 1.5, 1.75, 2.0])
+    profile = c.friction_profile()
+    order = np.lexsort(np.round(profile["x"], 9).T[::-1])  # by position, whatever the round-off of the partition
+    return {k: np.asarray(v)[order] for k, v in profile.items()}, solver
+
+
+@pytest.mark.parametrize("mu, drag", [(0.3, 40 * PRESS), (2.0, PRESS / 20)])
+def test_box_in_3d_equals_the_condensed_exact_method(mu, drag):
+    """3D, the Coulomb disk: a box dragged far with little friction (every vertex slides) or a little with much
+    (every vertex sticks): each base vertex's pressure and traction are the condensed method's to 1e-9 of the
+    largest pressure, the same slip states."""
+    exact, _ = _box_on_plane(ExactCoulomb(mu), drag)
+    sparse, solver = _box_on_plane(fc.Friction(LagrangeMultiplier(100.0), mu=mu), drag)
+    assert all(r.converged for r in solver.records)
+    scale = np.abs(exact["pressure"]).max()
+    assert np.allclose(sparse["x"], exact["x"])
+    assert np.abs(sparse["pressure"] - exact["pressure"]).max() <= 1e-9 * scale
+    assert np.abs(sparse["traction"] - exact["traction"]).max() <= 1e-9 * scale
+    assert np.array_equal(sparse["state"], exact["state"])
+
+
+def test_tresca_bound_on_the_slab():
+    """Tresca (a fixed bound s on the closed points): pushed harder than s times the base can hold, the slab is held
+    at the symmetry plane; the friction force on the sliding part is s per unit length, every closed vertex's
+    traction at most s, the sliding ones at s."""
+    s = 1.0
+    f, _ = _slab(fc.Friction(LagrangeMultiplier(SLAB_C), tresca=s))
+    base = f["base"]
+    closed = np.asarray(base["pressure"]) > 0
+    q = np.abs(np.asarray(base["traction"]))
+    state = np.asarray(base["state"])
+    assert np.all(q[closed] <= s * (1 + 1e-10))
+    assert np.allclose(q[closed & (state == 1)], s, rtol=1e-10)
+    assert f["zones"]["sliding"] > 0 and f["tangential_equilibrium_error"] < 1e-10
+
+
+def test_parallel_equals_serial():
+    """Under mpirun -n 2 the slab's figures (mu = 0.4) equal each rank's own serial run to 1e-10."""
+    law = lambda: fc.Friction(LagrangeMultiplier(SLAB_C), mu=0.4)  # noqa: E731
+    parallel, _ = _slab(law(), MPI.COMM_WORLD)
+    serial, _ = _slab(law(), MPI.COMM_SELF)
+    for k in ("ux_A", "uy_A", "normal_force", "tangential_force", "symmetry_reaction"):
+        assert parallel[k] == pytest.approx(serial[k], rel=1e-10, abs=1e-12), k
+    assert parallel["zones"] == pytest.approx(serial["zones"], abs=1e-12)
+
+
+def test_what_it_does_not_take_is_refused():
+    """Two bodies, quadratic displacements and a normal-compliance bound are refused before any assembly."""
+    from fenics_contact.app.meshes import stacked_blocks
+
+    law = fc.Friction(LagrangeMultiplier(1e3), mu=0.3)
+    mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (2, 2), 1e-6)
+    u, _ = fc.unknown(mesh, 1, law)
+    with pytest.raises(fc.UnsupportedCombination, match="rigid"):
+        fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law, fem.Constant(mesh, 0.0))
+    with pytest.raises(fc.UnsupportedCombination, match="degree 1"):
+        fc.unknown(mesh, 2, law)
+    with pytest.raises(ValueError, match="not c_t"):
+        fc.contact_surface(u, ft, "lower_bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]),
+                           fc.Friction(LagrangeMultiplier(1e3), c_t=1e3), fem.Constant(mesh, 0.0))
