@@ -37,10 +37,51 @@ from .friction import OPEN, SLIP, STICK, Friction, FrictionalContact, friction_o
 from .laws import LagrangeMultiplier, ufl_ops
 from .multipliers import PressureUnknown
 from .obstacles import Obstacle
+from .twobody.friction import FrictionalTwoBodySurface
 
-__all__ = ["MultiplierFrictionalContact"]
+__all__ = ["alart_curnier", "MultiplierFrictionalContact", "MultiplierFrictionalTwoBody"]
 
 _TINY = 1e-300  # |x| = sqrt(x . x + tiny): a finite derivative at x = 0 (the stick branch never uses it)
+
+
+def alart_curnier(lam, n, g, ds, params: dict) -> dict:
+    """Alart and Curnier's functions at a contact point (UFL): the traction ``lam`` (of the other side on the
+    body), the unit normal ``n``, the gap ``g`` (> 0 penetration), the slip increment ``ds`` and the law's
+    ``params`` (``c``; ``mu`` or ``tresca``). Returns ``p``, ``q`` (normal and tangential traction), ``bound``,
+    ``C_n``, ``C_t`` (see the module), ``state`` (0 open, 1 slip, 2 stick) and ``dissipation`` (``-q . ds``)."""
+    f = friction_ops(ufl_ops())
+    c = params["c"]
+
+    def tangential(a):
+        return a - ufl.dot(a, n) * n
+
+    p = ufl.dot(lam, n)
+    q = tangential(lam)
+    closing = p + c * g
+    if "mu" in params:
+        bound = params["mu"] * ufl.max_value(closing, 0.0)
+    else:
+        bound = ufl.conditional(ufl.gt(closing, 0.0), params["tresca"], 0.0)
+    slip = tangential(ds)
+    trial = q - c * slip
+    norm = f.sqrt(f.dot(trial, trial) + _TINY)
+    projected = f.select(norm, bound, 1.0, bound / norm) * trial
+    state = f.select(0.0, closing, f.select(norm, bound, float(STICK), float(SLIP)), float(OPEN))
+    return {"p": p, "q": q, "bound": bound, "C_n": p - ufl.max_value(0.0, closing), "C_t": q - projected,
+            "state": state, "dissipation": -ufl.dot(q, slip)}
+
+
+def _rows(rows: dict, n, mu):
+    """The multiplier rows' integrand for the traction test function ``mu``: ``-C_n (mu . n) - C_t . P_T mu``."""
+    return -rows["C_n"] * ufl.dot(mu, n) - ufl.dot(rows["C_t"], mu - ufl.dot(mu, n) * n)
+
+
+def _check_law(law) -> None:
+    if not (isinstance(law, Friction) and isinstance(law.normal, LagrangeMultiplier)):
+        raise ValueError(f"friction with the traction an unknown needs friction on method 'lagrange', got {law!r}")
+    if "c_t" in law.scalars:
+        raise ValueError("method 'lagrange' with friction takes mu (Coulomb) or tresca, not c_t (a normal "
+                         "compliance bound needs a penetration)")
 
 
 class MultiplierFrictionalContact(PressureUnknown, FrictionalContact):
@@ -66,11 +107,7 @@ class MultiplierFrictionalContact(PressureUnknown, FrictionalContact):
 
     def __init__(self, w: fem.Function, facet_tags, tag: int, obstacle: Obstacle, law: Friction,
                  load: fem.Constant, quadrature: str = "nodal", name: str = "contact", linearized: bool = False):
-        if not (isinstance(law, Friction) and isinstance(law.normal, LagrangeMultiplier)):
-            raise ValueError(f"MultiplierFrictionalContact needs friction on method 'lagrange', got {law!r}")
-        if "c_t" in law.scalars:
-            raise ValueError("method 'lagrange' with friction takes mu (Coulomb) or tresca, not c_t (a normal "
-                             "compliance bound needs a penetration)")
+        _check_law(law)
         if quadrature != "nodal":
             raise ValueError(f"method 'lagrange' with friction enforces its conditions at the vertices: quadrature "
                              f"'nodal', got {quadrature!r}")
@@ -99,28 +136,12 @@ class MultiplierFrictionalContact(PressureUnknown, FrictionalContact):
     def _pressure(self):
         return ufl.dot(self._lam(), self.normal)
 
-    def _tangential(self, a):
-        return a - ufl.dot(a, self._n) * self._n
-
-    def _bound(self):
-        """``b``: ``mu max(0, p + c g)`` or Tresca's ``s`` where ``p + c g > 0``."""
-        c = self.params
-        closing = self.pressure + c["c"] * self.gap
-        if "mu" in c:
-            return c["mu"] * ufl.max_value(closing, 0.0)
-        return ufl.conditional(ufl.gt(closing, 0.0), c["tresca"], 0.0)
-
     def _exact(self, ds):
-        """The traction ``q``, the slip state, the dissipation density ``-q . ds`` and the bound ``b`` (UFL) at slip
-        increment ``ds``."""
-        f = friction_ops(ufl_ops())
-        q = self._tangential(self._lam())
-        trial = q - self.params["c"] * self._tangential(ds)
-        norm, b = f.sqrt(f.dot(trial, trial) + _TINY), self._bound()
-        closing = self.pressure + self.params["c"] * self.gap
-        state = f.select(0.0, closing, f.select(norm, b, float(STICK), float(SLIP)), float(OPEN))
-        self._trial, self._trial_norm = trial, norm
-        return q, state, -ufl.dot(q, self._tangential(ds)), b
+        """The traction ``q``, the slip state, the dissipation density and the bound (UFL) at slip increment
+        ``ds`` (:func:`alart_curnier`)."""
+        self._rows = alart_curnier(self._lam(), self._n, self.gap, ds, self.params)
+        r = self._rows
+        return r["q"], r["state"], r["dissipation"], r["bound"]
 
     def given_dirichlet(self, bcs: list) -> None:
         """A flat obstacle whose normal is a coordinate axis (the condensed method's case): at a contact vertex
@@ -159,15 +180,62 @@ class MultiplierFrictionalContact(PressureUnknown, FrictionalContact):
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """``int p dg[v] ds - int q . v ds + int (-C_n (mu . n) - C_t . P_T mu) ds`` (``v`` the mixed test
         function, ``mu`` its traction part; the vertex rule)."""
-        c = self.params["c"]
-        mu = ufl.split(v)[1]
-        n, g = self._n, self.gap
-        p = ufl.dot(self._lam(), n)
-        f = friction_ops(ufl_ops())
-        b = self._bound()
-        projected = f.select(self._trial_norm, b, 1.0, b / self._trial_norm) * self._trial
-        C_n = p - ufl.max_value(0.0, p + c * g)
-        C_t = self.traction - projected
-        work = p * ufl.derivative(g, self.u, v) - ufl.dot(self.traction, displacement(v))
-        rows = -C_n * ufl.dot(mu, n) - ufl.dot(C_t, self._tangential(mu))
-        return (work * self.ring) * self.ds_work + rows * self.ds
+        r = self._rows
+        work = r["p"] * ufl.derivative(self.gap, self.u, v) - ufl.dot(r["q"], displacement(v))
+        return (work * self.ring) * self.ds_work + _rows(r, self._n, ufl.split(v)[1]) * self.ds
+
+
+class MultiplierFrictionalTwoBody(PressureUnknown, FrictionalTwoBodySurface):
+    """Two-body contact with exact Coulomb or Tresca friction, the slave points' traction (of the master body on
+    the slave) the second field of the mixed unknown: Alart and Curnier's functions at the slave vertices against
+    the master facets (finite or small sliding, :class:`~fenics_contact.twobody.TwoBodySurface`), the slip
+    increment relative to the paired master point
+    (:class:`~fenics_contact.twobody.friction.FrictionalTwoBodySurface`); ``-q`` acts on the master point. Results
+    of the frictional two-body surface.
+
+    Args:
+        args: the arguments of :class:`~fenics_contact.twobody.TwoBodySurface`, in its order; ``u`` is the mixed
+            unknown of :func:`~fenics_contact.multipliers.unknown`, ``law`` friction on a
+            :class:`~fenics_contact.laws.LagrangeMultiplier`.
+        kwargs: its keyword arguments.
+    """
+
+    def __init__(self, *args, **kwargs):
+        _check_law(args[4] if len(args) > 4 else kwargs["law"])
+        super().__init__(*args, **kwargs)
+        self._pressure_setup(self.u, self.facets)
+
+    def _pressure(self):
+        return ufl.dot(ufl.split(self.u)[1], self.normal)
+
+    def _exact_friction(self, ds):
+        """The traction ``q``, the slip state, the dissipation density and the bound (UFL) at the slip increment
+        ``ds`` (:func:`alart_curnier`, against the master normal)."""
+        self._rows = alart_curnier(ufl.split(self.u)[1], self.normal, self.gap, ds, self.params)
+        r = self._rows
+        return r["q"], r["state"], r["dissipation"], r["bound"]
+
+    @property
+    def augmentable(self) -> bool:
+        """False: the multipliers are exact (nothing to augment)."""
+        return False
+
+    def residual(self, v: ufl.Argument) -> ufl.Form:
+        """Slave part ``weight (p dg/du[v] - q . v) ds + int (-C_n (mu . n) - C_t . P_T mu) ds``; the master part
+        is :meth:`master_residual`."""
+        self._ensure_friction()
+        r = self._rows
+        work = r["p"] * ufl.derivative(self.gap, self.u, v) - ufl.dot(r["q"], displacement(v))
+        return self.weight * self.ring * work * self.ds_work + _rows(r, self.normal, ufl.split(v)[1]) * self.ds
+
+    def _point_pressure(self, g):
+        """The normal traction ``lam . n`` at the slave points (the vertices), ``n`` the paired master normal."""
+        sd, W = self.slave_data, self.u.function_space
+        pr = self.projection
+        lam = []
+        for i in range(self.gdim):
+            Wi = W.sub(1).sub(i)
+            dofs = np.array([Wi.dofmap.cell_dofs(c)[lo] for c, lo in zip(sd.cells, sd.local)],
+                            dtype=np.int32).reshape(-1, sd.local.shape[1])
+            lam.append(np.einsum("qk,fk->fq", self.B, self.u.x.array[dofs]) if len(dofs) else np.zeros_like(g))
+        return np.einsum("ifq,fqi->fq", np.array(lam), pr["normal"]) if len(g) else np.zeros_like(g)

@@ -18,7 +18,7 @@ from ..condensed import CondensedContact, CondensedTwoBody
 from ..contact import ContactSurface
 from ..friction import Friction, FrictionalContact
 from ..mortar import NitscheSegmentSurface, SegmentSurface
-from ..multiplier_friction import MultiplierFrictionalContact
+from ..multiplier_friction import MultiplierFrictionalContact, MultiplierFrictionalTwoBody
 from ..multipliers import MultiplierContact, TwoBodyMultiplier
 from ..nitsche import NitscheContact
 from ..twobody import TwoBodySurface
@@ -111,9 +111,12 @@ def multiplier_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadratu
                         work_quadrature, cls, material=None, sliding=None):
     """The slave pressure as an unknown (:class:`TwoBodyMultiplier`): nodal Signorini conditions of the slave
     vertices against the current master facets; ``work_quadrature`` ``simpson`` on quadratic facets (the
-    two-point element)."""
+    two-point element). With friction the slave traction
+    (:class:`~fenics_contact.multiplier_friction.MultiplierFrictionalTwoBody`)."""
+    friction = isinstance(law_factory(), Friction)
     return law_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, "nodal", passes, radius, name,
-                        work_quadrature, cls or TwoBodyMultiplier, sliding=sliding)
+                        work_quadrature, cls or (MultiplierFrictionalTwoBody if friction else TwoBodyMultiplier),
+                        sliding=sliding)
 
 
 def nitsche_two_body(u, facet_tags, tag_a, tag_b, law_factory, load, quadrature, passes, radius, name,

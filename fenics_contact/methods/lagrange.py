@@ -24,14 +24,13 @@ def multiplier_rules(method: str) -> tuple:
                  model=mixed_models()),
             rule("passes 'one'", "two passes of exact constraints over-constrain the surface (surface locking, "
                  "a pressure split arbitrarily between the passes)", method=method, passes="two"),
-            rule("sliding 'finite' (or method coulomb)", "the multipliers enforce the gap of the current facets",
-                 method=method, sliding="small"))
+            *((rule("sliding 'finite' (or method coulomb or lagrange)", "the regularised multipliers enforce the gap "
+                    "of the current facets", method=method, sliding="small"),) if method != "lagrange" else ()))
 
 
 # Exact friction with the traction an unknown (Alart-Curnier, fenics_contact.multiplier_friction): what it takes.
 FRICTION_RULES = (
-    rule("kind 'rigid' (exact two-body friction: method coulomb) or mu 0", "the multipliers' tangential law is for "
-         "rigid obstacles", method="lagrange", friction=True, kind=("two-body", "self")),
+
     rule("degree 1 or mu 0", "the multipliers' tangential law sits at the vertices of flat facets", method="lagrange",
          friction=True, degree=2),
 )

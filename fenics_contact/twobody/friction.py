@@ -37,6 +37,7 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from ..contact import displacement
 from ..friction import Friction, FrictionHistory
 from ..laws import ContactLaw
 from .surface import TwoBodySurface
@@ -87,22 +88,26 @@ class FrictionalTwoBodySurface(FrictionHistory, TwoBodySurface):
         d = self.gdim
         self.u_old = fem.Function(self.u.function_space, name="u_old")  # the displacement at the last accepted step
         self.w_old = fem.Function(self.mirror.space, name="mirror_u_old")  # its values at the current master vertices
-        x = ufl.SpatialCoordinate(mesh) + self.u
+        x = ufl.SpatialCoordinate(mesh) + displacement(self.u)
         self._N = self.obstacle.weights(x)
         w = self.mirror.displacement
         dw = [ufl.as_vector([w[k * d + i] - self.w_old[k * d + i] for i in range(d)]) for k in range(self.nv)]
         master_motion = sum(N * v for N, v in zip(self._N, dw))
         self._init_friction(self.law, self._friction_load, x, lambda r_old: x - r_old - master_motion,
-                            factor=self.obstacle.active)
+                            factor=self.obstacle.active, exact=self._exact_friction)
         # Master normal at the output vertices (the 2D traction profile's tangent).
         P1 = self.gap_out.function_space
         self._normal_out = [fem.Function(P1) for _ in range(d)]
         self._out_rhs += [(self._out.compile(self.normal[i]), f) for i, f in enumerate(self._normal_out)]
 
+    # the traction an unknown (multipliers): its (traction, state, dissipation, bound) of the slip increment
+    _exact_friction = None
+
     def residual(self, v: ufl.Argument) -> ufl.Form:
         """Slave part ``weight (F(g) dg/du[v] - q . v) ds``; the master part is :meth:`master_residual`."""
         self._ensure_friction()
-        return super().residual(v) - self.weight * self.ring * ufl.dot(self.traction, v) * self.ds_work
+        return (super().residual(v)
+                - self.weight * self.ring * ufl.dot(self.traction, displacement(v)) * self.ds_work)
 
     def master_residual(self, vw: ufl.Argument) -> ufl.Form:
         """Master part ``weight (F(g) dg/dw[vw] + q . sum_k N_k(xi) vw_k) ds`` on the mirror test function."""
