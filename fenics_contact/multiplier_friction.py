@@ -39,7 +39,7 @@ from .multipliers import PressureUnknown
 from .obstacles import Obstacle
 from .twobody.friction import FrictionalTwoBodySurface
 
-__all__ = ["alart_curnier", "MultiplierFrictionalContact", "MultiplierFrictionalTwoBody"]
+__all__ = ["alart_curnier", "prescribed_traction", "MultiplierFrictionalContact", "MultiplierFrictionalTwoBody"]
 
 _TINY = 1e-300  # |x| = sqrt(x . x + tiny): a finite derivative at x = 0 (the stick branch never uses it)
 
@@ -74,6 +74,27 @@ def alart_curnier(lam, n, g, ds, params: dict) -> dict:
 def _rows(rows: dict, n, mu):
     """The multiplier rows' integrand for the traction test function ``mu``: ``-C_n (mu . n) - C_t . P_T mu``."""
     return -rows["C_n"] * ufl.dot(mu, n) - ufl.dot(rows["C_t"], mu - ufl.dot(mu, n) * n)
+
+
+def prescribed_traction(w: fem.Function, on_surface: np.ndarray, bcs: list) -> np.ndarray:
+    """The traction dofs (of the mixed unknown ``w``, among ``on_surface``) whose displacement component at the
+    same vertex is prescribed by one of ``bcs``."""
+    W = w.function_space
+    fixed = np.unique(np.concatenate([bc.dof_indices()[0] for bc in bcs] or [np.zeros(0, np.int32)]))
+    out = []
+    for i in range(W.mesh.geometry.dim):  # the traction and displacement dofs of component i at one vertex
+        Vi, ui = W.sub(0).sub(i).collapse()
+        Qi, qi = W.sub(1).sub(i).collapse()
+        ui, qi = np.asarray(ui), np.asarray(qi)
+        held = np.isin(ui, fixed)
+        surface = np.isin(qi, on_surface)
+        if not (np.any(held) and np.any(surface)):
+            continue
+        X = Vi.tabulate_dof_coordinates()
+        distance, _ = cKDTree(X[held]).query(Qi.tabulate_dof_coordinates()[surface])
+        size = float(np.ptp(X, axis=0).max()) or 1.0
+        out.append(qi[surface][distance <= 1e-12 * size])
+    return np.unique(np.concatenate(out)).astype(np.int32) if out else np.zeros(0, np.int32)
 
 
 def _check_law(law) -> None:
@@ -152,24 +173,8 @@ class MultiplierFrictionalContact(PressureUnknown, FrictionalContact):
         if not isinstance(self._n, fem.Constant):
             return
         n = np.asarray(self._n.value, dtype=float)
-        if not np.all(np.isclose(np.abs(n), 0.0) | np.isclose(np.abs(n), 1.0)):
-            return
-        W = self.u.function_space
-        fixed = np.unique(np.concatenate([bc.dof_indices()[0] for bc in bcs] or [np.zeros(0, np.int32)]))
-        out = []
-        for i in range(W.mesh.geometry.dim):  # the traction and displacement dofs of component i at one vertex
-            Vi, ui = W.sub(0).sub(i).collapse()
-            Qi, qi = W.sub(1).sub(i).collapse()
-            ui, qi = np.asarray(ui), np.asarray(qi)
-            held = np.isin(ui, fixed)
-            surface = np.isin(qi, self._on_surface)
-            if not (np.any(held) and np.any(surface)):
-                continue
-            tree = cKDTree(Vi.tabulate_dof_coordinates()[held])
-            distance, k = tree.query(Qi.tabulate_dof_coordinates()[surface])
-            size = float(np.ptp(Vi.tabulate_dof_coordinates(), axis=0).max()) or 1.0
-            out.append(qi[surface][distance <= 1e-12 * size])
-        self._prescribed = np.unique(np.concatenate(out)).astype(np.int32) if out else np.zeros(0, np.int32)
+        if np.all(np.isclose(np.abs(n), 0.0) | np.isclose(np.abs(n), 1.0)):
+            self._prescribed = prescribed_traction(self.u, self._on_surface, bcs)
 
     @property
     def augmentable(self) -> bool:
@@ -207,6 +212,13 @@ class MultiplierFrictionalTwoBody(PressureUnknown, FrictionalTwoBodySurface):
 
     def _pressure(self):
         return ufl.dot(ufl.split(self.u)[1], self.normal)
+
+    def given_dirichlet(self, bcs: list) -> None:
+        """At a slave vertex whose displacement component ``i`` is prescribed (a symmetry plane across the
+        surface), the traction component ``i`` is no unknown (fixed to 0: the vertex slips along its free
+        directions only, as the condensed method's); otherwise its row would be empty where the master point's is
+        prescribed too."""
+        self._prescribed = prescribed_traction(self.u, self._on_surface, bcs)
 
     def _exact_friction(self, ds):
         """The traction ``q``, the slip state, the dissipation density and the bound (UFL) at the slip increment

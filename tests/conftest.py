@@ -312,6 +312,7 @@ SLOW = (  # studies of more than a few seconds each
     "test_twobody_nitsche.py::test_consistent_tangent_with_master_dofs[nodal-two-3-1.0-coulomb]",
     "test_twobody_nitsche.py::test_consistent_tangent_with_master_dofs[nodal-two-2-1.0-coulomb]",
     "test_wedges.py::test_force_ratio_of_a_block_sliding_up_a_wedge[0.3-20.0]",
+    "test_sparse_friction.py::test_cattaneo_mindlin_equals_the_condensed_exact_method[mindlin3d-2.0]",
 )
 MPI_COMPARED = (  # compares a parallel run with the serial one: in the parallel lanes even when slow
     "test_axisphere.py::test_parallel_equals_serial",

@@ -228,7 +228,7 @@ def covering_cells() -> list[dict]:
     cells += [c for s in _structural("rigid") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
     for model in ("neohookean", "neohookean-mixed"):  # friction on the displacement field of a mixed unknown too
         cells.append(_first_supported(method="penalty", friction=True, model=model))
-    for method in LAWS + ("coulomb",):  # two-body friction: every law; structural variants with penalty
+    for method in LAWS + ("coulomb", "lagrange"):  # two-body friction: every law; structural variants with penalty
         cells.append(_first_supported(method=method, kind="two-body", friction=True))
     cells += [c for s in _structural("two-body") if cap.supported(**(c := {**DEFAULT, **s, "friction": True}))]
     unique = {tuple(c.items()): c for c in cells if c is not None}

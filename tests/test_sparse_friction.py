@@ -1,6 +1,7 @@
 """Exact friction with the traction an unknown (method ``lagrange`` with friction, Alart-Curnier's functions, one
-semismooth Newton on the sparse system): the condensed exact method's discrete problem, solved without its dense
-block; Tresca's bound; the same on 1 and 2 ranks; what it does not take refused up front."""
+semismooth Newton on the sparse system): the condensed exact method's discrete problem, rigid obstacles and two
+bodies, 2D and 3D, solved without its dense block; Tresca's bound; the same on 1 and 2 ranks; what it does not take
+refused up front."""
 import sys
 from pathlib import Path
 
@@ -106,15 +107,35 @@ def test_parallel_equals_serial():
     assert parallel["zones"] == pytest.approx(serial["zones"], abs=1e-12)
 
 
+@pytest.mark.parametrize("scene, h", [("mindlin", 4.0), ("mindlin3d", 2.0)])
+def test_cattaneo_mindlin_equals_the_condensed_exact_method(scene, h):
+    """Two bodies, small sliding: Cattaneo-Mindlin's cylinder (2D) and sphere (3D) on a block, the contact mesh
+    coarsened by ``h``: the force, each ratio's shear and stick radii, the contact radius and the errors against
+    Cattaneo-Mindlin (relative figures: to 1e-9 absolutely) are the condensed method's to 1e-9."""
+    from fenics_contact.app.scenes import mindlin, mindlin3d
+
+    size = {"mindlin": mindlin.R / 600, "mindlin3d": mindlin3d.H_CONTACT * mindlin3d.R}[scene]
+    figures = []
+    for law in (ExactCoulomb(0.3), fc.Friction(LagrangeMultiplier(1e3), mu=0.3)):
+        setup = build(scene, law=law, h_contact=h * size)
+        with fc.Solver(setup.problem, quiet=True) as solver:
+            solver.run(setup.loads)
+            assert all(r.converged for r in solver.records)
+        figures.append(setup.figures())
+    exact, sparse = figures
+    compared = [k for k, v in exact.items() if isinstance(v, float) and k in sparse]
+    assert {"P", "Q_0.5", "a", "c_0.5"} <= set(compared)
+    for k in compared:  # the errors are relative figures: to 1e-9 absolutely (the fits' round-off on the ranks)
+        assert sparse[k] == pytest.approx(exact[k], rel=1e-9, abs=1e-9 if "error" in k else 1e-12), k
+
+
 def test_what_it_does_not_take_is_refused():
-    """Two bodies, quadratic displacements and a normal-compliance bound are refused before any assembly."""
+    """Quadratic displacements and a normal-compliance bound are refused before any assembly."""
     from fenics_contact.app.meshes import stacked_blocks
 
     law = fc.Friction(LagrangeMultiplier(1e3), mu=0.3)
     mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 1.0, 1.0, (2, 2), (2, 2), 1e-6)
     u, _ = fc.unknown(mesh, 1, law)
-    with pytest.raises(fc.UnsupportedCombination, match="rigid"):
-        fc.two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: law, fem.Constant(mesh, 0.0))
     with pytest.raises(fc.UnsupportedCombination, match="degree 1"):
         fc.unknown(mesh, 2, law)
     with pytest.raises(ValueError, match="not c_t"):

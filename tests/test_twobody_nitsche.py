@@ -256,8 +256,8 @@ def test_bad_input():
 
 def test_small_sliding_refusals():
     """Small sliding is refused up front, with one line naming the option, where it does not hold: an unknown
-    value, segment integration, quadratic facets, a finite-strain material, the multipliers and (finite) the
-    condensed method, which is small sliding by construction."""
+    value, segment integration, quadratic facets, a finite-strain material, the regularised multipliers and
+    (finite) the condensed method, which is small sliding by construction."""
     from fenics_contact.app.meshes import stacked_blocks
     from fenics_contact.compat import function_space
     from fenics_contact.materials import LinearElastic, NeoHookean
@@ -278,8 +278,9 @@ def test_small_sliding_refusals():
     with pytest.raises(UnsupportedCombination, match="small sliding.*flat facets"):
         two_body_surfaces(u2, ft, "upper_bottom", "lower_top", lambda: make_law("penalty", K=1.0), load, "simpson",
                           sliding="small")
-    with pytest.raises(UnsupportedCombination, match="multipliers enforce the gap of the current facets"):
-        two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: make_law("lagrange"), load, sliding="small")
+    with pytest.raises(UnsupportedCombination, match="regularised multipliers enforce the gap of the current facets"):
+        two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: make_law("penalty_multiplier", K=1.0), load,
+                          sliding="small")
     with pytest.raises(UnsupportedCombination, match="reference configuration and keeps the pairs"):
         two_body_surfaces(u, ft, "upper_bottom", "lower_top", lambda: make_law("coulomb", mu=0.3), load,
                           sliding="finite")

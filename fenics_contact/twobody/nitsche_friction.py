@@ -86,13 +86,13 @@ class NitscheFrictionTwoBody(FrictionalTwoBodySurface, NitscheTwoBody):
         super().__init__(u, facet_tags, slave_tag, master_tag, law, load, quadrature, weight, radius, name,
                          work_quadrature, exclude, sliding=sliding)
 
-    def _init_friction(self, law, load, r, ds_of_r_old, factor=None) -> None:
+    def _init_friction(self, law, load, r, ds_of_r_old, factor=None, exact=None) -> None:
         """The frictional state with Nitsche's return mapping; keeps the slip increment's UFL (``_slip``)."""
         N = ufl.FacetNormal(self.u.function_space.mesh)
         self._ts = Friction.tangential(ufl.dot(self.material.piola(self.u), N), self.stress_normal, ufl_ops())
         self._slip_of = ds_of_r_old
         super()._init_friction(_NitscheReturnMapping(law, self._ts, self.gamma, self.pressure), load, r,
-                               self._capture_slip, factor)
+                               self._capture_slip, factor, exact)
         # The figures of a step are its converged traction, which commit keeps in q_old: a committed state's slip
         # increment is 0, so its live traction is the projected stress, not the step's.
         q = ufl.as_vector(self.q_old)

@@ -40,6 +40,7 @@ from ...factory import two_body_surfaces
 from ...friction import Friction
 from ...laws import ContactLaw, ExactCoulomb
 from ...materials import LinearElastic
+from ...multipliers import unknown
 from ...problem import ContactProblem, Dirichlet
 from ..meshes.mindlin import disk_on_block
 from . import Option, Setup, log_dofs, poisson, positive, refuse_refined
@@ -206,6 +207,17 @@ OPTIONS = {
 }
 
 
+def exact_friction(law: ContactLaw) -> bool:
+    """Exact Coulomb friction (no regularisation, small sliding): method ``coulomb`` (the condensed system), or
+    method ``lagrange`` with friction (the sparse system)."""
+    return isinstance(law, ExactCoulomb) or (isinstance(law, Friction) and law.method == "lagrange")
+
+
+def coulomb_mu(law: ContactLaw) -> float:
+    """The friction coefficient of a Coulomb law (0 without one)."""
+    return float(law.mu if isinstance(law, ExactCoulomb) else law.scalars.get("mu", 0.0))
+
+
 def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MPI.Comm = MPI.COMM_WORLD,
           R: float = R, E: float = E, nu: float = NU, approach: float | None = None, press_steps: int | None = None,
           width: float | None = None, height: float | None = None, depth: float | None = None,
@@ -225,13 +237,15 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     approach = APPROACH * R if approach is None else approach
     positive(R=R, E=E, approach=approach, width=width, height=height, depth=depth, h_contact=h_contact)
     poisson(nu=nu)
-    exact = isinstance(law, ExactCoulomb)  # method coulomb: exact Coulomb on the condensed system
-    if not (exact and law.mu > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
+    exact = exact_friction(law)
+    if not (exact and coulomb_mu(law) > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
         raise ValueError(f"mindlin needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
     if press_steps is None:
         press_steps = PRESS_STEPS_EXACT if exact else PRESS_STEPS_NITSCHE if law.method == "nitsche" else PRESS_STEPS
     ratios = check_loading(ratios, refinement, press_steps)
-    mu = float(law.mu if exact else law.scalars["mu"])
+    mu = coulomb_mu(law)
+    if exact and sliding is None:  # the exact methods' kinematics, Cattaneo-Mindlin's
+        sliding = None if isinstance(law, ExactCoulomb) else "small"
     L = 0.5 * (R if width is None else width)
     H = 0.5 * R if height is None else height
     D = 0.5 * R if depth is None else depth
@@ -241,8 +255,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
                    log_dofs((2.0 * 24 * 2 ** int(refinement), 0.18 * R / h, 1)), 1, 2 * math.log10(2.0), comm)
     mesh, cells, facets = disk_on_block(comm, R, L, H, D, h, w=0.09 * R, n_coarse=20, ny=24 * 2 ** int(refinement),
                                         overlap=1e-9 * R)
-    u = fem.Function(_space(mesh), name="displacement")
-    V = u.function_space
+    u, V = unknown(mesh, 1, law)  # the displacement, or (displacement, traction) for method lagrange
     t = fem.Constant(mesh, 0.0)
     dirichlet = [Dirichlet.on_facets(V, facets, "lower_bottom", 0), Dirichlet.on_facets(V, facets, "lower_bottom", 1),
                  Dirichlet(V.sub(1), fem.locate_dofs_topological(V.sub(1), 1, facets.find("upper_top")), 1.0,
@@ -304,15 +317,10 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
               "passes": passes, "sliding": "small" if exact else sliding or "finite",
               "model": "disk segment on a block, same material, node-to-segment Coulomb friction"}
     setup = Setup("mindlin", problem, [contact], loads, params, figures,
-                  [u, contact.gap_out, contact.pressure_out, contact.traction_out, contact.state_out])
+                  [contact.displacement_out, contact.gap_out, contact.pressure_out, contact.traction_out,
+                   contact.state_out])
     setup.profile = profile  # the friction profile at the current state (the demo's per-step pictures)
     return setup
-
-
-def _space(mesh):
-    from ...compat import function_space
-
-    return function_space(mesh, "Lagrange", 1, (2,))
 
 
 # Speed against accuracy (fenics_contact.app.bench): the stick half-width at the worst ratio against Cattaneo-Mindlin;

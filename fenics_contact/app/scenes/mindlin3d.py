@@ -46,15 +46,18 @@ import ufl
 from dolfinx import fem
 from mpi4py import MPI
 
+from ...compat import function_space
+from ...contact import displacement
 from ...factory import two_body_surfaces
 from ...friction import STICK, Friction
 from ...laws import ContactLaw, ExactCoulomb
 from ...materials import LinearElastic
+from ...multipliers import unknown
 from ...problem import Dirichlet
 from ...solver import LINEAR_SOLVERS
 from ..meshes.mindlin3d import cap_on_block
 from . import Option, Setup, log_dofs, poisson, positive, refuse_fine, refuse_refined
-from .mindlin import ShearProblem, check_loading, stick_figures, worst_ratio
+from .mindlin import ShearProblem, check_loading, coulomb_mu, exact_friction, stick_figures, worst_ratio
 from .sphere import FIT_INNER, hertz_fit
 
 __all__ = ["OPTIONS",
@@ -214,15 +217,17 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     positive(R=R, E=E, approach=approach, cap_height=cap_height, width=width, depth=depth, h_contact=h_contact,
              contact_width=contact_width, h_far=h_far)
     poisson(nu=nu)
-    exact = isinstance(law, ExactCoulomb)  # method coulomb: exact Coulomb on the condensed system
-    if not (exact and law.mu > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
+    exact = exact_friction(law)
+    if not (exact and coulomb_mu(law) > 0) and not (isinstance(law, Friction) and law.scalars.get("mu", 0) > 0):
         raise ValueError(f"mindlin3d needs a Coulomb friction law with mu > 0 (e.g. --mu 0.3), got {law!r}")
     press_steps = (1 if exact else PRESS_STEPS) if press_steps is None else press_steps
     ratios = check_loading(ratios, refinement, press_steps)
     H = 0.5 * R if cap_height is None else cap_height
     if not H < R:
         raise ValueError(f"cap_height must be in (0, R), got {H!r}")
-    mu = float(law.mu if exact else law.scalars["mu"])
+    mu = coulomb_mu(law)
+    if exact and sliding is None:  # the exact methods' kinematics, Cattaneo-Mindlin's
+        sliding = None if isinstance(law, ExactCoulomb) else "small"
     L = R if width is None else width
     D = 0.5 * R if depth is None else depth
     h = contact_size(refinement, h_contact, R)
@@ -233,10 +238,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
                    1.5 * math.log10(2.0), comm)
     refuse_fine("h_far", hf, log_dofs((0.5, (L * L * D) ** (1 / 3) / hf, 3)), 3, comm)
     mesh, cells, facets = cap_on_block(comm, R, H, L, D, h, hf, cw, overlap=1e-9 * R)
-    from ...compat import function_space
-
-    V = function_space(mesh, "Lagrange", 1, (3,))
-    u = fem.Function(V, name="displacement")
+    u, V = unknown(mesh, 1, law)  # the displacement, or (displacement, traction) for method lagrange
     t = fem.Constant(mesh, 0.0)
     fdim = 2
     dirichlet = [Dirichlet.on_facets(V, facets, "block_bottom", i) for i in range(3)]
@@ -271,7 +273,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     cap.x.scatter_forward()
     # The exact method has no spring (it presses with friction): without the term its stiffness is the same at
     # every load (a term scaled by t, even at zero spring, makes the condensed method re-assemble K every step).
-    held = [] if exact else [(ufl.as_vector((-spring * cap * u[0], 0.0, 0.0)), ufl.dx(domain=mesh))]
+    held = [] if exact else [(ufl.as_vector((-spring * cap * displacement(u)[0], 0.0, 0.0)), ufl.dx(domain=mesh))]
     problem = _Problem(u, material, t, dirichlet, [contact], [(traction, ds(facets["cap_top"]))] + held,
                        amplitude=amplitude, mu=mu, area=area, measure=measure, spring=spring,
                        k=PRESS_SPRING * E / R**2, exact=exact)
@@ -338,7 +340,8 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
               "model": "half spherical cap on a block (symmetry y = 0), same material, node-to-triangle Coulomb "
                        "friction", "pairing_radius": contact.radius if exact else 0.1 * R}
     setup = Setup("mindlin3d", problem, [contact], loads, params, figures,
-                  [u, contact.gap_out, contact.pressure_out, contact.traction_out, contact.state_out])
+                  [contact.displacement_out, contact.gap_out, contact.pressure_out, contact.traction_out,
+                   contact.state_out])
     setup.profile = profile  # the friction profile at the current state (the demo's pictures)
     return setup
 
