@@ -141,3 +141,24 @@ def test_what_it_does_not_take_is_refused():
     with pytest.raises(ValueError, match="not c_t"):
         fc.contact_surface(u, ft, "lower_bottom", fc.HalfPlane([0.0, 0.0], [0.0, 1.0]),
                            fc.Friction(LagrangeMultiplier(1e3), c_t=1e3), fem.Constant(mesh, 0.0))
+
+
+def test_the_run_takes_the_sparse_method_where_the_condensed_one_is_too_large(monkeypatch, caplog):
+    """A scene built with method coulomb whose condensed system exceeds its dense limit (lowered here to 10 contact
+    dofs) is solved by the sparse exact method instead, said in one line: the same answer to round-off."""
+    import logging
+
+    from fenics_contact.condensed import operator
+    from fenics_contact.multiplier_friction import MultiplierFrictionalContact
+
+    exact, _ = _slab(ExactCoulomb(0.4))
+    monkeypatch.setattr(operator, "MAX_CONDENSED", 10)
+    with caplog.at_level(logging.WARNING, logger="fenics_contact"):
+        setup = build("slab", law=ExactCoulomb(0.4))
+    assert isinstance(setup.contacts[0], MultiplierFrictionalContact)
+    if MPI.COMM_WORLD.rank == 0:
+        said = [r.getMessage() for r in caplog.records if "sparse exact method instead" in r.getMessage()]
+        assert len(said) == 1 and "more than its dense condensed system's 10" in said[0], said
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads)
+    assert abs(setup.figures()["ux_A"] - exact["ux_A"]) <= 1e-10 * abs(exact["ux_A"])

@@ -33,7 +33,7 @@ from ..compat import bc_dofs, create_vector
 from .loadmodes import LoadModes
 from .schur import SchurFactor
 
-__all__ = ["CondensedStiffness", "MAX_CONDENSED", "check_size"]
+__all__ = ["CondensedStiffness", "CondensedTooLarge", "MAX_CONDENSED", "check_size"]
 
 # The largest condensed system held dense: S, the semismooth Newton's matrix, its inverse and the blocks of the
 # Jacobian are n_c x n_c arrays of 8 bytes on every rank (about 7 of them: 2 GB at 6000), and the Newton's
@@ -42,13 +42,23 @@ MAX_CONDENSED = 6000
 DENSE_ARRAYS = 7
 
 
+class CondensedTooLarge(ValueError):
+    """A condensed system larger than :data:`MAX_CONDENSED`; ``n_c`` its contact dofs."""
+
+    def __init__(self, message: str, n_c: int):
+        super().__init__(message)
+        self.n_c = n_c
+
+
 def check_size(n_c: int, where: str) -> None:
-    """Refuse (``ValueError``, one line) a condensed system of more than :data:`MAX_CONDENSED` dofs: ``n_c`` the
-    contact dofs (an upper bound is enough), ``where`` what sets them (the contact surface and how to have fewer)."""
+    """Refuse (:class:`CondensedTooLarge`, one line) a condensed system of more than :data:`MAX_CONDENSED` dofs:
+    ``n_c`` the contact dofs (an upper bound is enough), ``where`` what sets them (the contact surface and how to
+    have fewer)."""
     if n_c > MAX_CONDENSED:
         gb = DENSE_ARRAYS * 8.0 * n_c**2 / 1e9
-        raise ValueError(f"method 'coulomb': {where} gives {n_c} contact dofs, more than the {MAX_CONDENSED} its "
-                         f"dense condensed system allows (about {gb:.3g} GB per rank)")
+        raise CondensedTooLarge(f"method 'coulomb': {where} gives {n_c} contact dofs, more than the {MAX_CONDENSED} "
+                                f"its dense condensed system allows (about {gb:.3g} GB per rank); the sparse exact "
+                                f"method has no such limit: fc.Friction(fc.make_law('lagrange', c=...), mu=...)", n_c)
 
 
 class CondensedStiffness:

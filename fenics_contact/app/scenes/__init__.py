@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import inspect
+import logging
 import math
 import pkgutil
 import re
@@ -22,7 +23,11 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from ...cells import MeshError
-from ...problem import ContactProblem, Stabilised
+from ...condensed import operator
+from ...condensed.operator import CondensedTooLarge
+from ...friction import Friction
+from ...laws import ExactCoulomb, LagrangeMultiplier
+from ...problem import DIRICHLET_WEIGHT, ContactProblem, Stabilised
 from ...surface import Surface
 from ..cli import GIVEN, UsageError  # GIVEN, Option.needs: the other option must be given (any value)
 from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
@@ -64,6 +69,36 @@ def scene_names() -> list[str]:
     return sorted(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_"))
 
 
+logger = logging.getLogger(__name__)
+
+# The sparse exact method's Alart-Curnier c where the condensed method is too large: this fraction of E / h, from the
+# problem's own stiffness (the mean diagonal, ~ E h^(d-2)) and the contact's mean vertex spacing (steers Newton only).
+SPARSE_C = 0.1
+
+
+def _sparse_instead(builder: Callable, kwargs: dict, exc: CondensedTooLarge) -> Setup:
+    """The scene with method ``lagrange`` with friction (the sparse exact method, the same discrete Coulomb problem)
+    where method ``coulomb``'s condensed system is too large; says so in one line."""
+    law = kwargs.get("law")
+    if not isinstance(law, ExactCoulomb):
+        raise exc
+    comm = kwargs.get("comm", MPI.COMM_WORLD)
+    setup = builder(**{**kwargs, "law": Friction(LagrangeMultiplier(1.0), mu=law.mu)})
+    contacts = [c for c in setup.contacts if "c" in getattr(c, "constants", {})]
+    points = sum(len(c.point_values()[0]) for c in contacts)  # every rank's (collective)
+    area = sum(c.area() for c in contacts)
+    diagonal = setup.problem.stiffness / DIRICHLET_WEIGHT  # the bodies' mean diagonal stiffness
+    c = SPARSE_C * diagonal * points / max(area, 1e-300)
+    for contact in contacts:
+        contact.constants["c"].value = c
+    if comm.rank == 0:
+        logger.warning("method coulomb: %d contact dofs, more than its dense condensed system's %d: solved by the "
+                       "sparse exact method instead (method lagrange with friction, Alart-Curnier c = %.3g)",
+                       exc.n_c, operator.MAX_CONDENSED, c)
+    setup.parameters = {**setup.parameters, "solved_by": "lagrange (sparse exact Coulomb)"}
+    return setup
+
+
 def build(name: str, **kwargs) -> Setup:
     """Build scene ``name`` (see :func:`scene_names`) with keyword arguments of its builder."""
     if name not in scene_names():
@@ -71,7 +106,10 @@ def build(name: str, **kwargs) -> Setup:
     b = importlib.import_module(f"{__name__}.{name}").build
     start = time.perf_counter()
     try:
-        setup = b(**kwargs)
+        try:
+            setup = b(**kwargs)
+        except CondensedTooLarge as exc:  # the same exact Coulomb problem on the sparse system
+            setup = _sparse_instead(b, kwargs, exc)
     except MeshError as exc:  # the user gave no mesh: the options that made it are at fault
         raise _mesh_from_options(b, kwargs, exc) from None
     comm = setup.problem.comm
