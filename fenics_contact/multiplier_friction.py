@@ -32,6 +32,7 @@ import ufl
 from dolfinx import fem
 from scipy.spatial import cKDTree
 
+from .compat import collapse
 from .contact import ContactSurface, contact_measure, displacement
 from .friction import OPEN, SLIP, STICK, Friction, FrictionalContact, friction_ops
 from .laws import LagrangeMultiplier, ufl_ops
@@ -83,9 +84,8 @@ def prescribed_traction(w: fem.Function, on_surface: np.ndarray, bcs: list) -> n
     fixed = np.unique(np.concatenate([bc.dof_indices()[0] for bc in bcs] or [np.zeros(0, np.int32)]))
     out = []
     for i in range(W.mesh.geometry.dim):  # the traction and displacement dofs of component i at one vertex
-        Vi, ui = W.sub(0).sub(i).collapse()
-        Qi, qi = W.sub(1).sub(i).collapse()
-        ui, qi = np.asarray(ui), np.asarray(qi)
+        Vi, ui = collapse(W.sub(0).sub(i))
+        Qi, qi = collapse(W.sub(1).sub(i))
         held = np.isin(ui, fixed)
         surface = np.isin(qi, on_surface)
         if not (np.any(held) and np.any(surface)):
