@@ -16,14 +16,14 @@ Writes to --out: summary.json and lipseal.xdmf (full), half/ (the half's), lipse
 lipseal_forces.png (force against squeeze), lipseal_slot.png (the slot's pressure profile), lipseal_deformed.png
 and lipseal_half_deformed.png.
 """
-import csv
 import math
 from pathlib import Path
 
 import numpy as np
 
-from fenics_contact.app import build, cli, run
+from fenics_contact.app import cli
 from fenics_contact.app.checks import mirror_agreement
+from fenics_contact.app.mirror_demo import solve_full_and_half, write_models
 from fenics_contact.app.scenes import add_scene_options, lipseal, scene_arguments
 
 TOLERANCE = 1e-3  # the two models' forces, per the plate force (both solve the same problem to round-off)
@@ -55,59 +55,21 @@ def main(argv=None) -> dict:
     out = Path(args.out or "results/lipseal")
     cli.refuse_unsupported(args, kind="rigid" if args.half else "self", dim=2, degree=2, model="neohookean-mixed")
 
-    # 2. Each model: build, solve, keep the figures and the slot's profile of every step.
-    def solve(half: bool, folder: Path, history: list, check=None) -> tuple[dict, dict, object]:
-        setup = build("lipseal", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps,
-                      half=half, nx=args.nx, ny_heel=args.ny_heel, ny_lip=args.ny_lip,
-                      **scene_arguments(args, scene))
-        profiles = {}
+    # 2. Each model: build, solve, keep the figures and the slot's profile of every step (the half first: the
+    # reference of the full model's check).
+    def profile(setup) -> list:
+        y, _, pressure = setup.profile()
+        return [y.tolist(), pressure.tolist()]
 
-        def after_step(t: float) -> None:
-            history.append(setup.figures())
-            y, x, pr = setup.profile()
-            profiles[f"{t:.6g}"] = [y.tolist(), pr.tolist()]
-
-        summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps},
-                      args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args),
-                      on_step=after_step, keep=(history, profiles), check=check, xdmf=not args.no_xdmf,
-                      restart=args.restart, overwrite=args.overwrite)
-        summary["history"] = history
-        return summary, profiles, setup
-
-    history, reference = [], None
-    if args.half:
-        summary, profiles, setup = solve(True, out, history)
-    else:
-        reference = []
-        _, _, half_setup = solve(True, out / "half", reference)
-        law = cli.law_from_args(args)
-        K = law.scalars.get("K", law.scalars.get("c_n"))
-        summary, profiles, setup = solve(False, out, history,
-                                         check=lambda s: agreement(history, reference, args.E / K))
+    scene_kwargs = dict(steps=args.steps, nx=args.nx, ny_heel=args.ny_heel, ny_lip=args.ny_lip,
+                        **scene_arguments(args, scene))
+    summary, profiles, setup, history, reference, half_setup = solve_full_and_half(
+        args, "lipseal", scene_kwargs, {"steps": args.steps}, out, profile, agreement)
 
     # 3. Tables and pictures (rank 0; every figure is already reduced over ranks).
-    comm = setup.problem.comm
-    if not args.no_pictures:
-        from fenics_contact.app.plotting import plot_deformed
-
-        slot = setup.contacts[-1]
-        slot.update_output()
-        plot_deformed(slot.displacement_out, slot.pressure_out, out / "lipseal_deformed.png",
-                      title=f"{'half' if args.half else 'full'} lip seal, squeeze {history[-1]['squeeze']:.3g}")
-        if reference is not None:
-            hs = half_setup.contacts[-1]
-            hs.update_output()
-            plot_deformed(hs.displacement_out, hs.pressure_out, out / "lipseal_half_deformed.png",
-                          title=f"half lip seal, squeeze {reference[-1]['squeeze']:.3g}")
-    if comm.rank == 0:
-        with open(out / "lipseal_figures.csv", "w", newline="") as fh:
-            rows = [{"model": "half" if args.half else "full", **h} for h in history]
-            rows += [{"model": "half", **h} for h in (reference or [])]
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
-        if not args.no_pictures:
-            _pictures(history, reference, profiles, out)
+    if write_models(args, out, "lipseal", "lip seal", "squeeze", setup, history, reference, half_setup) \
+            and not args.no_pictures:
+        _pictures(history, reference, profiles, out)
     return summary
 
 

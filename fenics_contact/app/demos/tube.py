@@ -14,14 +14,14 @@ the fold's two sides overlap by no more than the law's penetration at a pressure
 summary.json and tube.xdmf (full), half/ (the half's), tube_figures.csv, tube_forces.png (force against
 approach), tube_fold.png (the fold's pressure profile), tube_deformed.png and tube_half_deformed.png.
 """
-import csv
 import math
 from pathlib import Path
 
 import numpy as np
 
-from fenics_contact.app import build, cli, run
+from fenics_contact.app import cli
 from fenics_contact.app.checks import mirror_agreement
+from fenics_contact.app.mirror_demo import solve_full_and_half, write_models
 from fenics_contact.app.scenes import add_scene_options, scene_arguments, tube
 
 TOLERANCE = 1e-3  # the two models' forces, per the plate force (both solve the same problem to round-off)
@@ -55,60 +55,21 @@ def main(argv=None) -> dict:
     out = Path(args.out or "results/tube")
     cli.refuse_unsupported(args, kind="rigid" if args.half else "self", dim=2, degree=2, model="neohookean-mixed")
 
-    # 2. Each model: build, solve, keep the figures and the fold's profile of every step.
-    def solve(half: bool, folder: Path, history: list, check=None) -> tuple[dict, dict, object]:
-        setup = build("tube", law=cli.law_from_args(args), quadrature=args.quadrature, steps=args.steps,
-                      fold_steps=args.fold_steps, half=half, n_theta=args.n_theta, n_r=args.n_r,
-                      **scene_arguments(args, scene))
-        profiles = {}
+    # 2. Each model: build, solve, keep the figures and the fold's profile of every step (the half first: the
+    # reference of the full model's check).
+    def profile(setup) -> list:
+        _, x, pressure = setup.profile()
+        return [x[:, 0].tolist(), pressure.tolist()]
 
-        def after_step(t: float) -> None:
-            history.append(setup.figures())
-            _, x, pr = setup.profile()
-            profiles[f"{t:.6g}"] = [x[:, 0].tolist(), pr.tolist()]
-
-        summary = run(setup, folder, args.method, {**cli.method_parameters(args), "steps": args.steps,
-                                                       "fold_steps": args.fold_steps},
-                      args.augment, args.augment_tol, args.quiet, options=cli.solver_options(args),
-                      on_step=after_step, keep=(history, profiles), check=check, xdmf=not args.no_xdmf,
-                      restart=args.restart, overwrite=args.overwrite)
-        summary["history"] = history
-        return summary, profiles, setup
-
-    history, reference = [], None
-    if args.half:
-        summary, profiles, setup = solve(True, out, history)
-    else:
-        reference = []
-        _, _, half_setup = solve(True, out / "half", reference)
-        law = cli.law_from_args(args)
-        K = law.scalars.get("K", law.scalars.get("c_n"))
-        summary, profiles, setup = solve(False, out, history,
-                                         check=lambda s: agreement(history, reference, args.E / K))
+    scene_kwargs = dict(steps=args.steps, fold_steps=args.fold_steps, n_theta=args.n_theta, n_r=args.n_r,
+                        **scene_arguments(args, scene))
+    summary, profiles, setup, history, reference, half_setup = solve_full_and_half(
+        args, "tube", scene_kwargs, {"steps": args.steps, "fold_steps": args.fold_steps}, out, profile, agreement)
 
     # 3. Tables and pictures (rank 0; every figure is already reduced over ranks).
-    comm = setup.problem.comm
-    if not args.no_pictures:
-        from fenics_contact.app.plotting import plot_deformed
-
-        fold = setup.contacts[-1]
-        fold.update_output()
-        plot_deformed(fold.displacement_out, fold.pressure_out, out / "tube_deformed.png",
-                      title=f"{'half' if args.half else 'full'} tube, approach {history[-1]['approach']:.3g}")
-        if reference is not None:
-            hf = half_setup.contacts[-1]
-            hf.update_output()
-            plot_deformed(hf.displacement_out, hf.pressure_out, out / "tube_half_deformed.png",
-                          title=f"half tube, approach {reference[-1]['approach']:.3g}")
-    if comm.rank == 0:
-        with open(out / "tube_figures.csv", "w", newline="") as fh:
-            rows = [{"model": "half" if args.half else "full", **h} for h in history]
-            rows += [{"model": "half", **h} for h in (reference or [])]
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
-        if not args.no_pictures:
-            _pictures(history, reference, profiles, out)
+    if write_models(args, out, "tube", "tube", "approach", setup, history, reference, half_setup) \
+            and not args.no_pictures:
+        _pictures(history, reference, profiles, out)
     return summary
 
 
