@@ -106,6 +106,15 @@ def _form_inputs(form) -> tuple[list, list]:
     return extract_constants(form), extract_coefficients(form)
 
 
+def input_values(inputs: tuple[list, list], u: fem.Function) -> list[np.ndarray] | None:
+    """Copies of the values of a form's ``inputs`` (:func:`_form_inputs`: Constants, Functions); None if they include
+    the displacement ``u`` itself (a form that changes with every iterate)."""
+    constants, functions = inputs
+    if any(f is u for f in functions):
+        return None
+    return [np.array(c.value, copy=True) for c in constants] + [f.x.array.copy() for f in functions]
+
+
 def _scaled_rows(residual: ufl.Form, v: ufl.Argument, material) -> ufl.Form:
     """The bulk's ``residual`` in the test function ``v``, its pressure rows times the mixed material's
     ``constraint_scale`` (forces, like the displacement's rows); as it is for a displacement model."""
@@ -241,6 +250,11 @@ class ContactProblem:
         self._a_parts = [fem.form(ufl.derivative(body, u, du))] + \
             ([fem.form(ufl.derivative(surface, u, du))] if surface is not None else [])
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
+        # The bodies' Jacobian while the values it depends on stay the same (linear elasticity: the whole run), and
+        # those values: J adds it instead of assembling it again (see _constant_bulk).
+        self._bulk_inputs = _form_inputs(ufl.derivative(body, u, du))
+        self._bulk_jacobian: tuple[PETSc.Mat, list] | None = None
+        self.reuse_bulk = True  # False: J assembles the bodies' Jacobian every time (the cost of a fresh solve)
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
         self._vertex_expr = _vertex_kinematics(u, material)  # compiled with the forms: the checks of every step
@@ -324,10 +338,38 @@ class ContactProblem:
         for a in self._a_parts[1:]:  # Dirichlet diagonal 0 (added or inserted, the bulk's 1 follows)
             assemble_matrix(A, a, self.bcs, 0.0)
             A.assemble(PETSc.Mat.AssemblyType.FLUSH)  # its inserted diagonal before the bulk's added values
-        assemble_matrix(A, self._a_parts[0], self.bcs, self.stiffness)
-        A.assemble()
+        K = self._constant_bulk()
+        if K is None:
+            assemble_matrix(A, self._a_parts[0], self.bcs, self.stiffness)
+            A.assemble()
+        else:  # A's pattern holds K's (A was assembled from the bulk before); a contact may have widened it
+            A.assemble()
+            info = PETSc.Mat.InfoType.GLOBAL_SUM  # the same choice on every rank (MatAXPY is collective)
+            same = A.getInfo(info)["nz_used"] == K.getInfo(info)["nz_used"]
+            A.axpy(1.0, K, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN if same else
+                   PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
         # PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change: report it.
         return any([c.add_jacobian(A, self.bcs) for c in self.contacts])
+
+    def _constant_bulk(self) -> PETSc.Mat | None:
+        """The bodies' Jacobian (Dirichlet rows and columns: :attr:`stiffness` times the identity) as assembled at an
+        earlier call with the same values of everything its form depends on; None if it depends on the displacement
+        or something it depends on has changed since (the matrix is then assembled here for the next call; the
+        caller assembles the form into its own matrix, so that its pattern holds the bulk's). Collective."""
+        now = input_values(self._bulk_inputs, self.u) if self.reuse_bulk else None
+        if now is None:
+            return None
+        kept = self._bulk_jacobian
+        same = kept is not None and all(np.array_equal(a, b) for a, b in zip(now, kept[1]))
+        if self.comm.allreduce(int(same), op=MPI.MIN):  # a Function's values may differ on one rank only
+            return kept[0]
+        if kept is not None:
+            kept[0].destroy()
+        K = fem_petsc.create_matrix(self._a_parts[0])
+        assemble_matrix(K, self._a_parts[0], self.bcs, self.stiffness)
+        K.assemble()
+        self._bulk_jacobian = (K, now)
+        return None
 
     def pattern_changes(self) -> bool:
         """True when the next :meth:`J` will change ``A``'s nonzero pattern (a contact's pairing changed)."""

@@ -162,3 +162,24 @@ def test_the_run_takes_the_sparse_method_where_the_condensed_one_is_too_large(mo
     solver = Solver(setup.problem, quiet=True)
     solver.run(setup.loads)
     assert abs(setup.figures()["ux_A"] - exact["ux_A"]) <= 1e-10 * abs(exact["ux_A"])
+
+
+def test_the_bodies_constant_jacobian_is_added_not_assembled_again():
+    """Linear elasticity: the bodies' Jacobian is assembled once and added to the contact's at every Newton
+    iteration; the slab (mu = 0.4) then has the figures (to 1e-12) and Newton iterations of a run that assembles
+    it every time. A neo-Hookean body's Jacobian changes with the displacement: assembled every time."""
+    runs = []
+    for reuse in (False, True):
+        setup = build("slab", law=fc.Friction(LagrangeMultiplier(SLAB_C), mu=0.4))
+        setup.problem.reuse_bulk = reuse
+        with Solver(setup.problem, quiet=True) as solver:
+            solver.run(setup.loads)
+            runs.append((setup.figures(), [r.newton_iterations for r in solver.records]))
+        assert (setup.problem._bulk_jacobian is not None) == reuse
+    (fresh, its_fresh), (reused, its_reused) = runs
+    assert its_fresh == its_reused
+    for k in ("ux_A", "uy_A", "normal_force", "tangential_force"):
+        assert reused[k] == pytest.approx(fresh[k], rel=1e-12, abs=1e-12 * abs(fresh["normal_force"])), k
+    assert reused["zones"] == pytest.approx(fresh["zones"], abs=1e-12)
+    setup = build("slab", law=fc.make_law("penalty", K=1e5), model="neohookean")
+    assert setup.problem._constant_bulk() is None

@@ -361,3 +361,26 @@ def test_demo_default_penalties_follow_the_scene_units(demo, monkeypatch):
         module.main(argv)
     for k in ("K", "omega_t"):
         assert getattr(parsed[1], k) == getattr(parsed[0], k) * STRESS / LENGTH, (k, getattr(parsed[0], k))
+
+
+def test_the_sparse_exact_methods_c_follows_the_units():
+    """Method ``lagrange`` with friction and no ``c`` of the user's (the demos without ``--K``, the run that takes
+    the sparse method where the condensed one is too large): the Alart-Curnier ``c`` from the problem
+    (:func:`~fenics_contact.app.scenes.scale_alart_curnier`) is ``x S / L`` with lengths ``x L`` and stresses
+    ``x S``, and Renaud and Feng's slab (mu = 0.4) is the same problem: the same figures and Newton iterations."""
+    from fenics_contact.app.scenes import scale_alart_curnier, slab
+    from fenics_contact.laws import LagrangeMultiplier
+
+    runs = []
+    for L, S in ((1.0, 1.0), (LENGTH, STRESS)):
+        setup = build("slab", law=fc.Friction(LagrangeMultiplier(1.0), mu=0.4), width=slab.WIDTH * L,
+                      height=slab.HEIGHT * L, E=slab.E * S, top_pressure=slab.TOP_PRESSURE * S,
+                      side_pressure=slab.SIDE_PRESSURE * S)
+        c = scale_alart_curnier(setup)
+        with fc.Solver(setup.problem, quiet=True) as solver:
+            solver.run(setup.loads)
+            runs.append((c, setup.figures(), [r.newton_iterations for r in solver.records]))
+    (c, base, iterations), (c_scaled, scaled, iterations_scaled) = runs
+    assert c_scaled == pytest.approx(c * STRESS / LENGTH, rel=1e-14)
+    assert_same_figures(base, scaled, units=(LENGTH, STRESS), rtol=1e-8)
+    assert iterations == iterations_scaled

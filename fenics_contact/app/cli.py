@@ -46,7 +46,7 @@ from petsc4py import PETSc
 from .. import methods
 from ..contact import QUADRATURES
 from ..jitlog import quiet_compiler
-from ..laws import ContactLaw
+from ..laws import ContactLaw, LagrangeMultiplier
 from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
 from ..solver.options import option_used, petsc_complaint, value_problem
 from .memory import BYTES_PER_DOF, available_memory
@@ -377,6 +377,10 @@ def parse(p: argparse.ArgumentParser, argv: Sequence[str] | None = None) -> argp
     if getattr(args, "inexact", False) and getattr(args, "solver", None) != "iterative":
         raise UsageError(f"--inexact needs --solver iterative, got --solver {getattr(args, 'solver', None)}")
     if hasattr(args, "method"):
+        # Method lagrange with friction and no --K: Alart-Curnier's c from the problem (run.run), not the penalty's
+        # K (a penalty ~ 20 E / h made its Newton cycle between stick and slip: c ~ E / h steers it best).
+        args.scaled_c = (methods.get(args.method).law is LagrangeMultiplier and has_friction(args)
+                         and not any(t == "--K" or t.startswith("--K=") for t in argv))
         if getattr(args, "K", 0) is None and getattr(args, "derive_K", None) is not None:
             args.K = float(args.derive_K(args))
         if getattr(args, "augment", 0) is None:

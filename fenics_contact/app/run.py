@@ -29,7 +29,7 @@ from ..output import OutputError, RunLock, XDMFWriter, on_rank0, process_alive, 
 from ..solver import ConvergenceError, Solver
 from .checks import log_check
 from .cli import check_petsc_options, recorded_options
-from .scenes import Setup
+from .scenes import Setup, scale_alart_curnier
 
 __all__ = ["run", "claim", "claimed", "CHECKPOINT"]
 
@@ -76,6 +76,10 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
     out = Path(out)
     comm = setup.problem.comm
     start = time.perf_counter()
+    if getattr(args, "scaled_c", False):  # method lagrange with friction, no --K: c from the problem
+        c = scale_alart_curnier(setup)
+        if c is not None:
+            method_params = {**method_params, "K": c}
     head = {"scene": setup.name, "method": method, "parameters": {**setup.parameters, **method_params},
             "dofs": setup.dofs, "ranks": comm.size, "loads": [float(t) for t in setup.loads],
             **({"options": recorded_options(args)} if args is not None else {})}

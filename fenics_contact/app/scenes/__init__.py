@@ -34,7 +34,8 @@ from ..memory import BYTES_PER_DOF, available_memory, gigabytes, machine_memory
 
 __all__ = ["Setup", "scene_names", "build", "Stabilised", "positive", "nonnegative", "poisson", "numeric_parameters",
            "Option", "GIVEN", "LIMIT", "unit", "scene_options", "add_scene_options", "scene_arguments", "SizeError",
-           "max_dofs", "log_dofs", "refuse_size", "refuse_fine", "refuse_count", "refuse_refined"]
+           "max_dofs", "log_dofs", "refuse_size", "refuse_fine", "refuse_count", "refuse_refined",
+           "scale_alart_curnier", "SPARSE_C"]
 
 
 @dataclass
@@ -76,6 +77,24 @@ logger = logging.getLogger(__name__)
 SPARSE_C = 0.1
 
 
+def scale_alart_curnier(setup: Setup) -> float | None:
+    """Set the Alart-Curnier ``c`` of the setup's frictional multiplier surfaces (method ``lagrange`` with friction)
+    to :data:`SPARSE_C` times the problem's mean diagonal stiffness over the contact's area per vertex (pressure per
+    length, ~ ``E / h``: the same Newton path in any consistent units and on any mesh). Returns ``c``, or None
+    if the setup has no such surface. Collective."""
+    contacts = [c for c in setup.contacts if isinstance(getattr(c, "law", None), Friction)
+                and isinstance(c.law.normal, LagrangeMultiplier) and "c" in getattr(c, "constants", {})]
+    if not contacts:
+        return None
+    points = sum(len(c.point_values()[0]) for c in contacts)  # every rank's (collective)
+    area = sum(c.area() for c in contacts)
+    diagonal = setup.problem.stiffness / DIRICHLET_WEIGHT  # the bodies' mean diagonal stiffness
+    c = SPARSE_C * diagonal * points / max(area, 1e-300)
+    for contact in contacts:
+        contact.constants["c"].value = c
+    return c
+
+
 def _sparse_instead(builder: Callable, kwargs: dict, exc: CondensedTooLarge) -> Setup:
     """The scene with method ``lagrange`` with friction (the sparse exact method, the same discrete Coulomb problem)
     where method ``coulomb``'s condensed system is too large; says so in one line."""
@@ -84,13 +103,7 @@ def _sparse_instead(builder: Callable, kwargs: dict, exc: CondensedTooLarge) -> 
         raise exc
     comm = kwargs.get("comm", MPI.COMM_WORLD)
     setup = builder(**{**kwargs, "law": Friction(LagrangeMultiplier(1.0), mu=law.mu)})
-    contacts = [c for c in setup.contacts if "c" in getattr(c, "constants", {})]
-    points = sum(len(c.point_values()[0]) for c in contacts)  # every rank's (collective)
-    area = sum(c.area() for c in contacts)
-    diagonal = setup.problem.stiffness / DIRICHLET_WEIGHT  # the bodies' mean diagonal stiffness
-    c = SPARSE_C * diagonal * points / max(area, 1e-300)
-    for contact in contacts:
-        contact.constants["c"].value = c
+    c = scale_alart_curnier(setup)
     if comm.rank == 0:
         logger.warning("method coulomb: %d contact dofs, more than its dense condensed system's %d: solved by the "
                        "sparse exact method instead (method lagrange with friction, Alart-Curnier c = %.3g)",
