@@ -33,7 +33,7 @@ XDIST  := -n $(NP) --dist loadfile
 # of ranks; the demos run under mpirun -n 2 in make demo, every test in parallel in make test-all
 PARALLEL_LANE := (not slow and not scene) or mpi
 
-.PHONY: setup demo demo-all bench bench-all bench-pages scaling docs test test-fast test-all lint test-serial test-serial-all test-mpi \
+.PHONY: setup demo demo-all bench bench-all bench-pages scaling friction-scaling docs test test-fast test-all lint test-serial test-serial-all test-mpi \
         test-mpi-all \
         test-debian13 test-wheel clean peer felupe
 
@@ -71,6 +71,12 @@ bench-pages: setup
 SCALING_ARGS ?=
 scaling: setup
 	$(PY) demos/scaling.py --out results/scaling $(SCALING_ARGS)
+
+# Cattaneo-Mindlin's sphere (mindlin3d) refined: the sparse exact method beside penalty and Nitsche friction, GMRES +
+# GAMG, mpirun -n 2 -> results/friction_scaling/friction_scaling.json (heavy: see docs/benchmarks.md)
+FRICTION_SCALING_ARGS ?=
+friction-scaling: setup
+	$(PY) demos/friction_scaling.py --out results/friction_scaling $(FRICTION_SCALING_ARGS)
 
 # the peer side by side: dolfinx_contact (installed in the Debian 13 root under PEER_PREFIX, default /opt/peer; its
 # demos from the checkout PEER_SRC) and this suite on the same four cases, one run -> docs/bench/peer.md (needs root;

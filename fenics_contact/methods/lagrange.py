@@ -39,7 +39,8 @@ METHOD = Method(
     name="lagrange", summary="exact nodal Signorini conditions (with friction: Alart-Curnier's Coulomb or Tresca "
                              "law), the pressure (traction) an unknown, one semismooth Newton on the sparse system",
     law=LagrangeMultiplier,
-    parameters=(Parameter("c", "K", "complementarity parameter c (pressure per length; steers Newton only)"),),
+    parameters=(Parameter("c", "K", "complementarity parameter c (pressure per length; steers Newton only; with "
+                                    "friction and no --K: a tenth of E / h, from the problem)"),),
     rigid="fenics_contact.methods.builders:multiplier_surface",
     two_body="fenics_contact.methods.builders:multiplier_two_body",
     friction="law", sweep=Sweep("narrow", "K"), rules=multiplier_rules("lagrange") + FRICTION_RULES)

@@ -248,7 +248,7 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
     material = LinearElastic(E, nu)
     contact = two_body_surfaces(u, facets, "cap_surface", "block_top", lambda: law, t, "nodal",
                                 radius=EXACT_RADIUS * approach if exact else 0.1 * R, name="interface",
-                                material=material if exact else None, sliding=sliding)[0]
+                                material=material, sliding=sliding)[0]
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=facets.meshtags)
     area = comm.allreduce(fem.assemble_scalar(fem.form(fem.Constant(mesh, 1.0) * ds(facets["cap_top"]))),
                           op=MPI.SUM)
