@@ -115,6 +115,48 @@ def input_values(inputs: tuple[list, list], u: fem.Function) -> list[np.ndarray]
     return [np.array(c.value, copy=True) for c in constants] + [f.x.array.copy() for f in functions]
 
 
+class KeptJacobian:
+    """The matrix of a Jacobian form (``form``, compiled) kept while the values of its ``inputs`` (:func:`_form_inputs`)
+    stay the same, e.g. a linear material's stiffness for the whole run; None of it if they include ``u``."""
+
+    def __init__(self, form: fem.Form, inputs: tuple[list, list], u: fem.Function):
+        self.form, self.inputs, self.u = form, inputs, u
+        self.matrix: PETSc.Mat | None = None
+        self.reuse = True  # False: assembled every time (the cost of a fresh linear solve)
+        self._values: list | None = None
+        self._targets: set[int] = set()  # the matrices (handles) the form was assembled into since it was kept
+
+    def add(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
+        """Add the form's matrix (Dirichlet rows and columns: ``diagonal`` times the identity) into ``A`` and
+        assemble ``A``: the kept matrix where ``A`` was assembled from the form before (its pattern holds the
+        form's; a contact may have widened it) and nothing it depends on has changed, else assembled from the form
+        (and kept for the next call); always assembled while :attr:`reuse` is False. Collective."""
+        now = input_values(self.inputs, self.u) if self.reuse else None
+        same = now is not None and self._values is not None and all(
+            np.array_equal(a, b) for a, b in zip(now, self._values))
+        comm = A.getComm().tompi4py()
+        same = bool(comm.allreduce(int(same), op=MPI.MIN))  # a Function's values may differ on one rank only
+        if same and A.handle in self._targets:
+            A.assemble()
+            info = PETSc.Mat.InfoType.GLOBAL_SUM  # the same choice on every rank (MatAXPY is collective)
+            equal = A.getInfo(info)["nz_used"] == self.matrix.getInfo(info)["nz_used"]
+            A.axpy(1.0, self.matrix, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN if equal else
+                   PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+            return
+        assemble_matrix(A, self.form, bcs, diagonal)
+        A.assemble()
+        if now is None:
+            return
+        if not same:
+            if self.matrix is not None:
+                self.matrix.destroy()
+            self.matrix = fem_petsc.create_matrix(self.form)
+            assemble_matrix(self.matrix, self.form, bcs, diagonal)
+            self.matrix.assemble()
+            self._values, self._targets = now, set()
+        self._targets.add(A.handle)
+
+
 def _scaled_rows(residual: ufl.Form, v: ufl.Argument, material) -> ufl.Form:
     """The bulk's ``residual`` in the test function ``v``, its pressure rows times the mixed material's
     ``constraint_scale`` (forces, like the displacement's rows); as it is for a displacement model."""
@@ -250,11 +292,7 @@ class ContactProblem:
         self._a_parts = [fem.form(ufl.derivative(body, u, du))] + \
             ([fem.form(ufl.derivative(surface, u, du))] if surface is not None else [])
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
-        # The bodies' Jacobian while the values it depends on stay the same (linear elasticity: the whole run), and
-        # those values: J adds it instead of assembling it again (see _constant_bulk).
-        self._bulk_inputs = _form_inputs(ufl.derivative(body, u, du))
-        self._bulk_jacobian: tuple[PETSc.Mat, list] | None = None
-        self.reuse_bulk = True  # False: J assembles the bodies' Jacobian every time (the cost of a fresh solve)
+        self.bulk_jacobian = KeptJacobian(self._a_parts[0], _form_inputs(ufl.derivative(body, u, du)), u)
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
         self._vertex_expr = _vertex_kinematics(u, material)  # compiled with the forms: the checks of every step
@@ -338,38 +376,9 @@ class ContactProblem:
         for a in self._a_parts[1:]:  # Dirichlet diagonal 0 (added or inserted, the bulk's 1 follows)
             assemble_matrix(A, a, self.bcs, 0.0)
             A.assemble(PETSc.Mat.AssemblyType.FLUSH)  # its inserted diagonal before the bulk's added values
-        K = self._constant_bulk()
-        if K is None:
-            assemble_matrix(A, self._a_parts[0], self.bcs, self.stiffness)
-            A.assemble()
-        else:  # A's pattern holds K's (A was assembled from the bulk before); a contact may have widened it
-            A.assemble()
-            info = PETSc.Mat.InfoType.GLOBAL_SUM  # the same choice on every rank (MatAXPY is collective)
-            same = A.getInfo(info)["nz_used"] == K.getInfo(info)["nz_used"]
-            A.axpy(1.0, K, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN if same else
-                   PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+        self.bulk_jacobian.add(A, self.bcs, self.stiffness)
         # PETSc >= 3.20 keeps a stale symbolic factorization across MatAXPY's pattern change: report it.
         return any([c.add_jacobian(A, self.bcs) for c in self.contacts])
-
-    def _constant_bulk(self) -> PETSc.Mat | None:
-        """The bodies' Jacobian (Dirichlet rows and columns: :attr:`stiffness` times the identity) as assembled at an
-        earlier call with the same values of everything its form depends on; None if it depends on the displacement
-        or something it depends on has changed since (the matrix is then assembled here for the next call; the
-        caller assembles the form into its own matrix, so that its pattern holds the bulk's). Collective."""
-        now = input_values(self._bulk_inputs, self.u) if self.reuse_bulk else None
-        if now is None:
-            return None
-        kept = self._bulk_jacobian
-        same = kept is not None and all(np.array_equal(a, b) for a, b in zip(now, kept[1]))
-        if self.comm.allreduce(int(same), op=MPI.MIN):  # a Function's values may differ on one rank only
-            return kept[0]
-        if kept is not None:
-            kept[0].destroy()
-        K = fem_petsc.create_matrix(self._a_parts[0])
-        assemble_matrix(K, self._a_parts[0], self.bcs, self.stiffness)
-        K.assemble()
-        self._bulk_jacobian = (K, now)
-        return None
 
     def pattern_changes(self) -> bool:
         """True when the next :meth:`J` will change ``A``'s nonzero pattern (a contact's pairing changed)."""

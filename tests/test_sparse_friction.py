@@ -171,15 +171,17 @@ def test_the_bodies_constant_jacobian_is_added_not_assembled_again():
     runs = []
     for reuse in (False, True):
         setup = build("slab", law=fc.Friction(LagrangeMultiplier(SLAB_C), mu=0.4))
-        setup.problem.reuse_bulk = reuse
+        setup.problem.bulk_jacobian.reuse = reuse
         with Solver(setup.problem, quiet=True) as solver:
             solver.run(setup.loads)
             runs.append((setup.figures(), [r.newton_iterations for r in solver.records]))
-        assert (setup.problem._bulk_jacobian is not None) == reuse
+        assert (setup.problem.bulk_jacobian.matrix is not None) == reuse
     (fresh, its_fresh), (reused, its_reused) = runs
     assert its_fresh == its_reused
     for k in ("ux_A", "uy_A", "normal_force", "tangential_force"):
         assert reused[k] == pytest.approx(fresh[k], rel=1e-12, abs=1e-12 * abs(fresh["normal_force"])), k
     assert reused["zones"] == pytest.approx(fresh["zones"], abs=1e-12)
     setup = build("slab", law=fc.make_law("penalty", K=1e5), model="neohookean")
-    assert setup.problem._constant_bulk() is None
+    with Solver(setup.problem, quiet=True) as solver:
+        solver.run(setup.loads[:1])
+    assert setup.problem.bulk_jacobian.matrix is None

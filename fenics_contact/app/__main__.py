@@ -5,7 +5,7 @@ import runpy
 import sys
 from importlib import resources
 
-DRIVERS = ("bench", "scaling", "table")  # programs of the demos folder that are not scene demos
+DRIVERS = ("bench", "scaling", "friction_scaling", "table")  # programs of the demos folder that are not scene demos
 
 
 def demo_names() -> list[str]:

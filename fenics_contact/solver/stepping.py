@@ -171,12 +171,12 @@ class Solver:
         included): the cost floor of one linear elastic solve here, max over ranks (:meth:`LinearSolver.solve_time`).
         Collective."""
         newton = self.newton
-        self.problem.reuse_bulk = False  # a fresh solve assembles the whole Jacobian
+        self.problem.bulk_jacobian.reuse = False  # a fresh solve assembles the whole Jacobian
         try:
             return newton.linear.solve_time(newton.A, newton.b,
                                             lambda: newton.jacobian(newton.snes, newton.x, newton.A, newton.A))
         finally:
-            self.problem.reuse_bulk = True
+            self.problem.bulk_jacobian.reuse = True
 
     def summary(self) -> dict:
         """Totals over the converged steps; the time split is the maximum over ranks (:meth:`RunRecord.summary`);
