@@ -185,3 +185,12 @@ def test_the_bodies_constant_jacobian_is_added_not_assembled_again():
     with Solver(setup.problem, quiet=True) as solver:
         solver.run(setup.loads[:1])
     assert setup.problem.bulk_jacobian.matrix is None
+
+
+def test_inexact_newton_is_refused_up_front():
+    """Inexact Newton (``snes_ksp_ew``, the demos' ``--inexact``) with method lagrange with friction is refused
+    before any work, naming the option: a loose linear solve let mindlin3d's cap, held along x by friction alone,
+    slide 0.48 R off its contact and "converge" with no contact force."""
+    setup = build("slab", law=fc.Friction(LagrangeMultiplier(SLAB_C), mu=0.4))
+    with pytest.raises(ValueError, match="snes_ksp_ew"):
+        Solver(setup.problem, quiet=True, options={"snes_ksp_ew": True})
