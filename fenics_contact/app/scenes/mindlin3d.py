@@ -350,8 +350,8 @@ def build(law: ContactLaw, ratios: tuple = RATIOS, refinement: int = 0, comm: MP
 # the tests' coarse contact mesh (h_contact = 0.015 R, about 4.5 elements across a) and one ratio, Q / (mu P) = 0.5
 # (the demo scales omega_t with 1 / h_contact): 29-87 Newton iterations, a minute or more a run. The quick sweep
 # leaves out the augmented variants (2.5-2.8 x the iterations for the same stick radius; 24.5 min with them on the
-# loaded machine): six plain runs. Method nitsche (offered by the capability matrix) is not swept: untried on this
-# scene.
+# loaded machine): six plain runs. Method nitsche is not swept: 70-79 Newton iterations at the demo's meshes
+# (demos/friction_scaling.py), about 97 x one linear solve.
 # The iterative linear solver of this scene (the demo's default): GMRES + GAMG with a longer Krylov space. The
 # generic 30-vector restart and 500 iterations were not enough for the first solve of a press step from the
 # committed contact at h = 0.007 (two cutbacks) and 0.0035 (six); with 100 / 1000 the default mesh runs the
