@@ -194,3 +194,25 @@ def test_inexact_newton_is_refused_up_front():
     setup = build("slab", law=fc.Friction(LagrangeMultiplier(SLAB_C), mu=0.4))
     with pytest.raises(ValueError, match="snes_ksp_ew"):
         Solver(setup.problem, quiet=True, options={"snes_ksp_ew": True})
+
+
+@pytest.mark.slow
+def test_the_iterative_solve_gives_the_direct_solves_answer():
+    """Cattaneo-Mindlin's sphere (mindlin3d, the contact mesh coarsened 2 x) with the sparse exact method solved by
+    FGMRES with the multipliers' field split and GAMG (the u rows' augmentation ``AUGMENT`` c keeps the Krylov
+    iterations per Newton iteration low) has the figures of MUMPS LU to 1e-8: the same discrete problem."""
+    from fenics_contact.app.scenes import mindlin3d, scale_alart_curnier
+    from fenics_contact.solver import LINEAR_SOLVERS
+
+    figures = []
+    for options in (LINEAR_SOLVERS["direct"], mindlin3d.ITERATIVE):
+        setup = build("mindlin3d", law=fc.Friction(LagrangeMultiplier(1.0), mu=0.3),
+                      h_contact=2 * mindlin3d.H_CONTACT * mindlin3d.R)
+        scale_alart_curnier(setup)
+        with Solver(setup.problem, quiet=True, options=options) as solver:
+            solver.run(setup.loads)
+            assert all(r.converged for r in solver.records)
+        figures.append(setup.figures())
+    direct, iterative = figures
+    for k in ("P", "Q_0.2", "Q_0.5", "Q_0.8", "c_0.2", "c_0.5", "c_0.8", "a"):
+        assert iterative[k] == pytest.approx(direct[k], rel=1e-8), k
