@@ -17,19 +17,13 @@ iteration, one linear solve, peak memory) are fitted per method and rank count. 
 (rows, slopes), ``friction_scaling.csv`` and ``friction_scaling.png`` (the solve over the elastic linear solve, and the
 worst stick radius error, against the dofs) to --out. Heavy: refinement 2 (1.6e5 dofs) takes minutes a run.
 """
-import csv
-import json
-import os
-import shutil
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 from fenics_contact.app import cli
-from fenics_contact.app.bench import child_env
+from fenics_contact.app.study import run_demo, slope, write_rows
 
 DEMO = Path(__file__).resolve().parent / "mindlin3d.py"
 METHODS = ("lagrange", "penalty", "nitsche")
@@ -57,20 +51,7 @@ def run(method: str, refinement: int, ranks: int) -> dict:
     folder = out / f"{method}_refinement{refinement}_n{ranks}"
     cmd = [sys.executable, str(DEMO), "--quiet", "--no-pictures", "--no-xdmf", "--overwrite", "--out", str(folder),
            "--method", method, "--solver", "iterative", "--refinement", str(refinement)]
-    env = child_env()  # a fresh job, not a member of ours; mpirun keeps the run-as-root settings
-    if ranks > 1:
-        cmd = [shutil.which("mpirun") or "mpirun", "-n", str(ranks), *cmd]
-        env.update({"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-                    "OMPI_MCA_rmaps_base_oversubscribe": "1"})
-    folder.mkdir(parents=True, exist_ok=True)
-    start = time.perf_counter()
-    if args.existing and (folder / "summary.json").exists():
-        proc = subprocess.CompletedProcess(cmd, returncode=-1)  # not run here: its exit status is unknown
-    else:
-        (folder / "summary.json").unlink(missing_ok=True)
-        proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-        (folder / "log.txt").write_text(proc.stdout + proc.stderr)
-    s = json.loads((folder / "summary.json").read_text()) if (folder / "summary.json").exists() else {}
+    s, status, seconds = run_demo(cmd, folder, ranks, existing=args.existing)
     split = s.get("time_split", {})
     spent = s.get("newton_iterations_spent", 0)  # failed attempts too: their time is in the split
     work = split.get("assembly_s", np.nan) + split.get("linear_solve_s", np.nan)
@@ -86,7 +67,7 @@ def run(method: str, refinement: int, ranks: int) -> dict:
             **{f"c_error_{r:g}": s.get(f"c_error_{r:g}", np.nan) for r in RATIOS},
             "c_error_max": s.get("c_error_max", np.nan), "P": s.get("P", np.nan),
             **{f"Q_{r:g}": s.get(f"Q_{r:g}", np.nan) for r in RATIOS},
-            "process_time_s": time.perf_counter() - start, "exit_status": proc.returncode}
+            "process_time_s": seconds, "exit_status": status}
 
 
 # 1. One fresh process per (method, refinement, ranks).
@@ -124,8 +105,7 @@ for method in args.methods:
     for n in args.ranks:
         runs = ok(method, n)
         if len(runs) >= 2:
-            dofs = np.log([r["dofs"] for r in runs])
-            slopes[f"{method}/{n}"] = {k: float(np.polyfit(dofs, np.log([r[k] for r in runs]), 1)[0])
+            slopes[f"{method}/{n}"] = {k: slope([r["dofs"] for r in runs], [r[k] for r in runs])
                                        for k in ("time_per_newton_s", "linear_solve_s", "peak_memory_gb")}
             fit = slopes[f"{method}/{n}"]
             print(f"{method} ranks {n}: time per Newton iteration ~ dofs^{fit['time_per_newton_s']:.2f}, one linear "
@@ -145,13 +125,7 @@ for method in args.methods:
 # 3. CSV, JSON and the chart.
 if not rows:
     sys.exit("friction_scaling.py: no run")
-with open(out / "friction_scaling.csv", "w", newline="") as f:
-    w = csv.DictWriter(f, list(rows[0]))
-    w.writeheader()
-    w.writerows(rows)
-machine = {"cpus": os.cpu_count(), "load_average": os.getloadavg()}  # a loaded machine's timings are noisy
-(out / "friction_scaling.json").write_text(json.dumps({"rows": rows, "slopes": slopes, "agreement": agreement,
-                                                       "machine": machine}, indent=1, default=float) + "\n")
+write_rows(out, "friction_scaling", rows, slopes=slopes, agreement=agreement)
 if not any(r["converged"] for r in rows):  # nothing to chart (a log axis of no data fails)
     sys.exit(f"friction_scaling.py: no run converged: see each run's log.txt under {out}")
 from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402

@@ -21,20 +21,15 @@ moments; ``p0_deviation`` the same signed; ``p0_max_error``, signed, of the bloc
 3.5 GB and took 13 minutes serial on a shared machine (4 of them gmsh, once per level); check ``free -g``
 first.
 """
-import csv
-import json
-import os
-import shutil
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 from fenics_contact.app import cli
-from fenics_contact.app.bench import child_env, figure
+from fenics_contact.app.bench import figure
 from fenics_contact.app.scenes import sphere
+from fenics_contact.app.study import run_demo, slope, write_rows
 
 DEMO = Path(__file__).resolve().parent / "sphere.py"
 # scene name -> the sphere demo's options (the two-body case takes its approach in two steps: in one, the first
@@ -77,18 +72,8 @@ for scene in args.scenes:
             cmd = [sys.executable, str(DEMO), "--quiet", "--no-pictures", "--no-xdmf", "--out", str(folder),
                    "--method", args.method, "--solver", "iterative", "--level", str(level), *SCENES[scene],
                    *(["--size", str(BLOCK_SIZES[level])] if scene == "block" else [])]
-            env = child_env()  # a fresh job, not a member of ours; mpirun keeps the run-as-root settings
-            env["FC_MESH_CACHE"] = str((out / "meshes").resolve())  # gmsh once per mesh, not per rank count
-            if n > 1:
-                cmd = [shutil.which("mpirun") or "mpirun", "-n", str(n), *cmd]
-                env.update({"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-                            "OMPI_MCA_rmaps_base_oversubscribe": "1"})
-            folder.mkdir(parents=True, exist_ok=True)
-            (folder / "summary.json").unlink(missing_ok=True)
-            start = time.perf_counter()
-            proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-            (folder / "log.txt").write_text(proc.stdout + proc.stderr)
-            s = json.loads((folder / "summary.json").read_text()) if (folder / "summary.json").exists() else {}
+            # gmsh once per mesh, not per rank count
+            s, status, seconds = run_demo(cmd, folder, n, env={"FC_MESH_CACHE": str((out / "meshes").resolve())})
             split = s.get("time_split", {})
             spent = s.get("newton_iterations_spent", 0)  # failed attempts too: their time is in the split
             work = split.get("assembly_s", np.nan) + split.get("linear_solve_s", np.nan)
@@ -107,8 +92,8 @@ for scene in args.scenes:
                    "p0": s.get("p0", np.nan), "p0_hertz": s.get("p0_hertz", np.nan),
                    "p0_error": s.get("p0_error", np.nan), "p0_deviation": relative(s.get("p0"), s.get("p0_hertz")),
                    "p0_max_error": relative(s.get("p0_max"), s.get("p0_hertz")),
-                   "K": s.get("parameters", {}).get("K", np.nan), "process_time_s": time.perf_counter() - start,
-                   "exit_status": proc.returncode}
+                   "K": s.get("parameters", {}).get("K", np.nan), "process_time_s": seconds,
+                   "exit_status": status}
             rows.append(row)
             print(f"{scene:5s} level {level} ranks {n}: dofs {row['dofs']:8d} converged {row['converged']!s:5s} "
                   f"newton {spent:2d} ksp/newton {row['ksp_iterations_per_newton']:5.1f} time/newton "
@@ -128,8 +113,7 @@ for scene in args.scenes:
     for n in args.ranks:
         runs = ok(scene, n)
         if len(runs) >= 2:
-            slopes[f"{scene}/{n}"] = float(np.polyfit(np.log([r["dofs"] for r in runs]),
-                                                      np.log([r["time_per_newton_s"] for r in runs]), 1)[0])
+            slopes[f"{scene}/{n}"] = slope([r["dofs"] for r in runs], [r["time_per_newton_s"] for r in runs])
             print(f"{scene} ranks {n}: time per Newton iteration ~ dofs^{slopes[f'{scene}/{n}']:.2f}")
     serial = {r["level"]: r for r in ok(scene, 1)}
     for n in (m for m in args.ranks if m > 1):
@@ -143,13 +127,7 @@ for scene in args.scenes:
 # 3. CSV, JSON and the chart.
 if not rows:
     sys.exit("scaling.py: no run")
-with open(out / "scaling.csv", "w", newline="") as f:
-    w = csv.DictWriter(f, list(rows[0]))
-    w.writeheader()
-    w.writerows(rows)
-machine = {"cpus": os.cpu_count(), "load_average": os.getloadavg()}  # a loaded machine's timings are noisy
-(out / "scaling.json").write_text(json.dumps({"rows": rows, "slopes": slopes, "speedups": speedups,
-                                              "machine": machine}, indent=1, default=float) + "\n")
+write_rows(out, "scaling", rows, slopes=slopes, speedups=speedups)
 failed = [f"{r['scene']} level {r['level']} ranks {r['ranks']}" for r in rows if not r["converged"]]
 if len(failed) == len(rows):  # nothing to chart (a log axis of no data fails)
     sys.exit(f"scaling.py: no run converged ({', '.join(failed)}): see each run's log.txt under {out}")
