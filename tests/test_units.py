@@ -363,7 +363,8 @@ def test_demo_default_penalties_follow_the_scene_units(demo, monkeypatch):
         assert getattr(parsed[1], k) == getattr(parsed[0], k) * STRESS / LENGTH, (k, getattr(parsed[0], k))
 
 
-def test_the_sparse_exact_methods_c_follows_the_units():
+@pytest.mark.parametrize("L, S", [(LENGTH, STRESS), *DECIMAL])
+def test_the_sparse_exact_methods_c_follows_the_units(L, S):
     """Method ``lagrange`` with friction and no ``c`` of the user's (the demos without ``--K``, the run that takes
     the sparse method where the condensed one is too large): the Alart-Curnier ``c`` from the problem
     (:func:`~fenics_contact.app.scenes.scale_alart_curnier`) is ``x S / L`` with lengths ``x L`` and stresses
@@ -372,15 +373,15 @@ def test_the_sparse_exact_methods_c_follows_the_units():
     from fenics_contact.laws import LagrangeMultiplier
 
     runs = []
-    for L, S in ((1.0, 1.0), (LENGTH, STRESS)):
-        setup = build("slab", law=fc.Friction(LagrangeMultiplier(1.0), mu=0.4), width=slab.WIDTH * L,
-                      height=slab.HEIGHT * L, E=slab.E * S, top_pressure=slab.TOP_PRESSURE * S,
-                      side_pressure=slab.SIDE_PRESSURE * S)
+    for length, stress in ((1.0, 1.0), (L, S)):
+        setup = build("slab", law=fc.Friction(LagrangeMultiplier(1.0), mu=0.4), width=slab.WIDTH * length,
+                      height=slab.HEIGHT * length, E=slab.E * stress, top_pressure=slab.TOP_PRESSURE * stress,
+                      side_pressure=slab.SIDE_PRESSURE * stress)
         c = scale_alart_curnier(setup)
         with fc.Solver(setup.problem, quiet=True) as solver:
             solver.run(setup.loads)
             runs.append((c, setup.figures(), [r.newton_iterations for r in solver.records]))
     (c, base, iterations), (c_scaled, scaled, iterations_scaled) = runs
-    assert c_scaled == pytest.approx(c * STRESS / LENGTH, rel=1e-14)
-    assert_same_figures(base, scaled, units=(LENGTH, STRESS), rtol=1e-8)
+    assert c_scaled == pytest.approx(c * S / L, rel=1e-12)
+    assert_same_figures(base, scaled, units=(L, S), rtol=1e-8)
     assert iterations == iterations_scaled
