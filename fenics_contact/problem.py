@@ -30,6 +30,7 @@ from .compat import (
 from .condensed import step_solver_for
 from .contact import displacement, is_mixed
 from .domain import tag_value
+from .form_inputs import form_inputs, input_values
 from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
 from .models import locking_warning
@@ -97,27 +98,10 @@ class Dirichlet:
         return self.amplitude * load_factor(self.path, t)
 
 
-def _form_inputs(form) -> tuple[list, list]:
-    """The Constants and the Functions of ``form`` after expanding its derivatives."""
-    from ufl.algorithms import expand_derivatives
-    from ufl.algorithms.analysis import extract_coefficients, extract_constants
-
-    form = expand_derivatives(form)
-    return extract_constants(form), extract_coefficients(form)
-
-
-def input_values(inputs: tuple[list, list], u: fem.Function) -> list[np.ndarray] | None:
-    """Copies of the values of a form's ``inputs`` (:func:`_form_inputs`: Constants, Functions); None if they include
-    the displacement ``u`` itself (a form that changes with every iterate)."""
-    constants, functions = inputs
-    if any(f is u for f in functions):
-        return None
-    return [np.array(c.value, copy=True) for c in constants] + [f.x.array.copy() for f in functions]
-
-
 class KeptJacobian:
-    """The matrix of a Jacobian form (``form``, compiled) kept while the values of its ``inputs`` (:func:`_form_inputs`)
-    stay the same, e.g. a linear material's stiffness for the whole run; None of it if they include ``u``."""
+    """The matrix of the compiled Jacobian ``form``, kept while the values of its ``inputs``
+    (:func:`~.form_inputs.form_inputs`) stay the same (a linear material's stiffness: the whole run); never kept if
+    they include the displacement ``u``."""
 
     def __init__(self, form: fem.Form, inputs: tuple[list, list], u: fem.Function):
         self.form, self.inputs, self.u = form, inputs, u
@@ -292,7 +276,7 @@ class ContactProblem:
         self._a_parts = [fem.form(ufl.derivative(body, u, du))] + \
             ([fem.form(ufl.derivative(surface, u, du))] if surface is not None else [])
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
-        self.bulk_jacobian = KeptJacobian(self._a_parts[0], _form_inputs(ufl.derivative(body, u, du)), u)
+        self.bulk_jacobian = KeptJacobian(self._a_parts[0], form_inputs(ufl.derivative(body, u, du)), u)
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
         self._vertex_expr = _vertex_kinematics(u, material)  # compiled with the forms: the checks of every step
@@ -347,7 +331,7 @@ class ContactProblem:
         can change the Jacobian between two assemblies (``u`` among the Functions: a nonlinear Jacobian).
         Analysed once per problem."""
         if not hasattr(self, "_jacobian_inputs"):
-            self._jacobian_inputs = _form_inputs(ufl.derivative(self._residual_ufl, self.u, self._du))
+            self._jacobian_inputs = form_inputs(ufl.derivative(self._residual_ufl, self.u, self._du))
         return self._jacobian_inputs
 
     def F(self, x: PETSc.Vec, b: PETSc.Vec) -> None:

@@ -30,6 +30,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..compat import bc_dofs, create_vector
+from ..form_inputs import input_values
 from .loadmodes import LoadModes
 from .schur import SchurFactor
 
@@ -86,7 +87,7 @@ class CondensedStiffness:
         # What K depends on (the values of the Constants and Functions of its form): changed re-assembles K only
         # when one of them has changed (a re-assembly per step costs about a third of a factorization).
         self._u, self._inputs = problem.u, problem.jacobian_inputs()
-        self._seen = self._input_values()
+        self._seen = input_values(self._inputs, self._u)  # None: K depends on u (re-assembled each step)
         self.assemblies, self.factorizations = 1, 0  # of K (each factorization with its S)
         self.modes = LoadModes(comm)  # earlier steps' load modes (their combinations need no solve)
         self._f = create_vector(problem.L)
@@ -124,19 +125,11 @@ class CondensedStiffness:
         self.S = 0.5 * (self._factor.S + self._factor.S.T)
         self.diag = float(np.mean(np.abs(np.diag(self.S)))) if nc else 1.0
 
-    def _input_values(self) -> list[np.ndarray] | None:
-        """Copies of the values of the Constants and Functions ``K``'s form depends on; None if it depends on the
-        displacement itself (then :meth:`changed` re-assembles at every step)."""
-        constants, functions = self._inputs
-        if any(f is self._u for f in functions):
-            return None
-        return [np.array(c.value, copy=True) for c in constants] + [f.x.array.copy() for f in functions]
-
     def changed(self, problem) -> bool:
         """True (and ``K`` replaced) if ``K`` at the step differs from the condensed one beyond round-off (a
         load-dependent stiffness, e.g. the vanishing spring of a force-controlled scene): the caller then calls
         :meth:`factor` for the step. ``K`` is re-assembled only when a value its form depends on has changed."""
-        now = self._input_values()
+        now = input_values(self._inputs, self._u)
         same = now is not None and self._seen is not None and all(np.array_equal(a, b)
                                                                   for a, b in zip(now, self._seen))
         if self.comm.allreduce(int(same), op=MPI.MIN):  # a Function's values may differ on one rank only
