@@ -21,7 +21,10 @@ pressures: ``pinned_dofs`` are subtracted). Not PETSc's PCREDISTRIBUTE
 rows are diagonal-only too, so its reduced size changes with the active set
 and PETSc 3.18 stops at the second Newton iteration ("Cannot change local
 size of Amat after use"); the field split's index sets are fixed (the
-surfaces are).
+surfaces are). The Jacobian's matrix holds only what can be nonzero
+(:func:`~fenics_contact.sparse.trimmed_matrix`: the bodies' displacement
+pairs, the contact cells' blocks, the diagonal), not dolfinx's pattern of
+every pair of a cell's dofs (a third of its entries on mindlin3d).
 
 Constraint, per contact vertex (vertex quadrature ``contact_measure(...,
 "nodal")``, so the integrals are weighted nodal values): the spec's

@@ -35,6 +35,7 @@ from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
 from .models import locking_warning
 from .paths import LoadPath, check_path, load_factor
+from .sparse import trimmed_matrix
 from .surface import StepSolver, Surface
 
 __all__ = ["DIRICHLET_WEIGHT", "load_factor", "Dirichlet", "ContactProblem", "Stabilised"]
@@ -103,8 +104,9 @@ class KeptJacobian:
     (:func:`~.form_inputs.form_inputs`) stay the same (a linear material's stiffness: the whole run); never kept if
     they include the displacement ``u``."""
 
-    def __init__(self, form: fem.Form, inputs: tuple[list, list], u: fem.Function):
+    def __init__(self, form: fem.Form, inputs: tuple[list, list], u: fem.Function, create=None):
         self.form, self.inputs, self.u = form, inputs, u
+        self.create = create or (lambda: fem_petsc.create_matrix(form))  # the kept matrix, A's pattern
         self.matrix: PETSc.Mat | None = None
         self.reuse = True  # False: assembled every time (the cost of a fresh linear solve)
         self._values: list | None = None
@@ -134,7 +136,7 @@ class KeptJacobian:
         if not same:
             if self.matrix is not None:
                 self.matrix.destroy()
-            self.matrix = fem_petsc.create_matrix(self.form)
+            self.matrix = self.create()
             assemble_matrix(self.matrix, self.form, bcs, diagonal)
             self.matrix.assemble()
             self._values, self._targets = now, set()
@@ -276,7 +278,10 @@ class ContactProblem:
         self._a_parts = [fem.form(ufl.derivative(body, u, du))] + \
             ([fem.form(ufl.derivative(surface, u, du))] if surface is not None else [])
         self._bulk = self._L_parts[0] if not tractions else fem.form(bulk)
-        self.bulk_jacobian = KeptJacobian(self._a_parts[0], form_inputs(ufl.derivative(body, u, du)), u)
+        # A multiplier's Jacobian: the bodies couple the displacement alone (sparse.trimmed_matrix)
+        self._trimmed = is_mixed(V) and not material.mixed
+        self.bulk_jacobian = KeptJacobian(self._a_parts[0], form_inputs(ufl.derivative(body, u, du)), u,
+                                          self.create_matrix)
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
         self._vertex_expr = _vertex_kinematics(u, material)  # compiled with the forms: the checks of every step
@@ -357,6 +362,8 @@ class ContactProblem:
         ``x``, as in a Newton iteration. Returns True when a contact's coupling changed ``A``'s nonzero pattern
         (a solver must then factor from scratch)."""
         A.zeroEntries()
+        if self._trimmed:  # the bodies' zero blocks stay out (a contact's coupling may have rebuilt A)
+            A.setOption(PETSc.Mat.Option.NEW_NONZERO_LOCATIONS, False)
         for a in self._a_parts[1:]:  # Dirichlet diagonal 0 (added or inserted, the bulk's 1 follows)
             assemble_matrix(A, a, self.bcs, 0.0)
             A.assemble(PETSc.Mat.AssemblyType.FLUSH)  # its inserted diagonal before the bulk's added values
@@ -373,7 +380,10 @@ class ContactProblem:
         return create_vector(self._L_parts[0])
 
     def create_matrix(self) -> PETSc.Mat:
-        """A matrix for :meth:`J` (the Jacobian form's sparsity; contact couplings widen it when needed)."""
+        """A matrix for :meth:`J` (the Jacobian form's sparsity; contact couplings widen it when needed; a
+        multiplier's: :func:`~fenics_contact.sparse.trimmed_matrix`)."""
+        if self._trimmed:
+            return trimmed_matrix(self.u.function_space, 0, self._a_parts[1:])
         return fem_petsc.create_matrix(self._a_parts[0])
 
     def set_load(self, t: float) -> None:

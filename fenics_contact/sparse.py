@@ -7,11 +7,13 @@ reallocate while inserting (it did, for 3D segment pairs: 90 % of the Jacobian's
 """
 from __future__ import annotations
 
+from typing import Sequence
+
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-__all__ = ["aij_matrix"]
+__all__ = ["aij_matrix", "trimmed_matrix"]
 
 
 def aij_matrix(comm: MPI.Comm, sizes: tuple[tuple[int, int], tuple[int, int]], rows: np.ndarray, cols: np.ndarray,
@@ -48,4 +50,49 @@ def aij_matrix(comm: MPI.Comm, sizes: tuple[tuple[int, int], tuple[int, int]], r
         indptr = np.append(start, len(rows)).astype(PETSc.IntType)
         A.setValuesIJV(indptr, cols.astype(PETSc.IntType), vals, addv=addv, rowmap=urows.astype(PETSc.IntType))
     A.assemble()
+    return A
+
+
+def trimmed_matrix(W, field: int, keep: Sequence) -> PETSc.Mat:
+    """A matrix for the Jacobian of the mixed unknown on ``W`` whose field ``field`` (the displacement) is the
+    only one the bodies couple, the other a surface multiplier: the pairs of ``field``'s dofs of every cell, every
+    entry of the compiled forms ``keep`` (the contact terms: their cells' whole blocks) and the diagonal, with
+    dolfinx's local-to-global map. dolfinx's own pattern couples every pair of a cell's dofs, the multiplier's too:
+    4 times the bodies' entries in 3D (P1 x P1 vector), all zero off the contact. Insertions outside the pattern
+    (the bodies' zero blocks) are dropped (``MAT_NEW_NONZERO_LOCATIONS`` false: set it again after anything that
+    rebuilds the matrix). Collective."""
+    import dolfinx.fem.petsc as fem_petsc
+    from scipy import sparse
+
+    from .compat import cell_dofs
+
+    comm = W.mesh.comm
+    imap = W.dofmap.index_map
+    n, N = imap.size_local, imap.size_global  # a mixed space: block size 1
+    n_all = n + imap.num_ghosts
+    to_global = np.asarray(imap.local_to_global(np.arange(n_all, dtype=np.int32)), np.int64)
+    start = int(to_global[0]) if n else 0
+    # the cells this rank owns (each cell once over the ranks); rows of any rank: aij_matrix sends them
+    dofs = cell_dofs(W.sub(field))[:W.mesh.topology.index_map(W.mesh.topology.dim).size_local]
+    C = sparse.csr_matrix((np.ones(dofs.size, np.int8), dofs.ravel(), np.arange(0, dofs.size + 1, dofs.shape[1])),
+                          shape=(len(dofs), n_all))
+    pairs = (C.T @ C).tocoo()
+    del C, dofs
+    rows, cols = [to_global[pairs.row]], [to_global[pairs.col]]
+    del pairs
+    for form in keep:  # assembled: dolfinx inserts each cell's whole block, zeros too (an unassembled one is empty)
+        M = fem_petsc.assemble_matrix(form)
+        M.assemble()
+        indptr, cc, _ = M.getValuesCSR()
+        rows.append(start + np.repeat(np.arange(n, dtype=np.int64), np.diff(indptr)))
+        cols.append(np.asarray(cc, np.int64))
+        M.destroy()
+    rows.append(np.arange(start, start + n, dtype=np.int64))
+    cols.append(rows[-1])
+    key = np.unique(np.concatenate(rows) * N + np.concatenate(cols))
+    del rows, cols
+    A = aij_matrix(comm, ((n, N), (n, N)), key // N, key % N, np.zeros(len(key)))
+    lgmap = PETSc.LGMap().create(to_global.astype(PETSc.IntType), comm=comm)
+    A.setLGMap(lgmap, lgmap)
+    A.setOption(PETSc.Mat.Option.NEW_NONZERO_LOCATIONS, False)
     return A
