@@ -99,6 +99,9 @@ class Dirichlet:
         return self.amplitude * load_factor(self.path, t)
 
 
+_KEPT = "fc_kept_jacobian"  # the PETSc attribute of a matrix KeptJacobian assembled into
+
+
 class KeptJacobian:
     """The matrix of the compiled Jacobian ``form``, kept while the values of its ``inputs``
     (:func:`~.form_inputs.form_inputs`) stay the same (a linear material's stiffness: the whole run); never kept if
@@ -110,7 +113,9 @@ class KeptJacobian:
         self.matrix: PETSc.Mat | None = None
         self.reuse = True  # False: assembled every time (the cost of a fresh linear solve)
         self._values: list | None = None
-        self._targets: set[int] = set()  # the matrices (handles) the form was assembled into since it was kept
+        # Marks the matrices the form was assembled into since it was kept: an attribute of the PETSc object (a
+        # handle, the address, may come back for a new matrix after one is destroyed, on one rank and not another)
+        self._mark = object()
 
     def add(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
         """Add the form's matrix (Dirichlet rows and columns: ``diagonal`` times the identity) into ``A`` and
@@ -120,9 +125,12 @@ class KeptJacobian:
         now = input_values(self.inputs, self.u) if self.reuse else None
         same = now is not None and self._values is not None and all(
             np.array_equal(a, b) for a, b in zip(now, self._values))
+        marked = A.getAttr(_KEPT) is self._mark
         comm = A.getComm().tompi4py()
-        same = bool(comm.allreduce(int(same), op=MPI.MIN))  # a Function's values may differ on one rank only
-        if same and A.handle in self._targets:
+        # a Function's values may differ on one rank only, a matrix be marked on one rank only
+        flags = comm.allreduce(int(same) | 2 * int(marked), op=MPI.BAND)  # each flag: on every rank
+        same, marked = bool(flags & 1), bool(flags & 2)
+        if same and marked:
             A.assemble()
             info = PETSc.Mat.InfoType.GLOBAL_SUM  # the same choice on every rank (MatAXPY is collective)
             equal = A.getInfo(info)["nz_used"] == self.matrix.getInfo(info)["nz_used"]
@@ -139,8 +147,8 @@ class KeptJacobian:
             self.matrix = self.create()
             assemble_matrix(self.matrix, self.form, bcs, diagonal)
             self.matrix.assemble()
-            self._values, self._targets = now, set()
-        self._targets.add(A.handle)
+            self._values, self._mark = now, object()
+        A.setAttr(_KEPT, self._mark)
 
 
 def _scaled_rows(residual: ufl.Form, v: ufl.Argument, material) -> ufl.Form:

@@ -108,7 +108,8 @@ def _sparse_instead(builder: Callable, kwargs: dict, exc: CondensedTooLarge) -> 
         logger.warning("method coulomb: %d contact dofs, more than its dense condensed system's %d: solved by the "
                        "sparse exact method instead (method lagrange with friction, Alart-Curnier c = %.3g)",
                        exc.n_c, operator.MAX_CONDENSED, c)
-    setup.parameters = {**setup.parameters, "solved_by": "lagrange (sparse exact Coulomb)"}
+    setup.parameters = {**setup.parameters, "solved_by": "lagrange (sparse exact Coulomb)",
+                        "condensed_contact_dofs": exc.n_c}
     return setup
 
 
