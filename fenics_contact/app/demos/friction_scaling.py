@@ -36,7 +36,8 @@ p.add_argument("--refinements", type=cli.number(int, 0, 4), nargs="+", default=[
 p.add_argument("--ranks", type=cli.COUNT, nargs="+", default=[2], help="MPI rank counts")
 p.add_argument("--out", default="results/friction_scaling", help="output folder")
 p.add_argument("--existing", action="store_true",
-               help="read the runs already in --out (their summary.json) instead of running them again")
+               help="read the runs already in --out (their summary.json) instead of running them; the others are "
+                    "left out")
 try:
     args = p.parse_args()
 except cli.UsageError as exc:
@@ -46,9 +47,11 @@ out = Path(args.out)
 out.mkdir(parents=True, exist_ok=True)
 
 
-def run(method: str, refinement: int, ranks: int) -> dict:
-    """One run of the mindlin3d demo in a fresh process; its row."""
+def run(method: str, refinement: int, ranks: int) -> dict | None:
+    """One run of the mindlin3d demo in a fresh process; its row (None: --existing and not in --out)."""
     folder = out / f"{method}_refinement{refinement}_n{ranks}"
+    if args.existing and not (folder / "summary.json").exists():
+        return None
     cmd = [sys.executable, str(DEMO), "--quiet", "--no-pictures", "--no-xdmf", "--overwrite", "--out", str(folder),
            "--method", method, "--solver", "iterative", "--refinement", str(refinement)]
     s, status, seconds = run_demo(cmd, folder, ranks, existing=args.existing)
@@ -76,6 +79,9 @@ for method in args.methods:
     for refinement in args.refinements:
         for n in args.ranks:
             row = run(method, refinement, n)
+            if row is None:
+                print(f"{method:8s} refinement {refinement} ranks {n}: not in {out}, left out", flush=True)
+                continue
             rows.append(row)
             print(f"{method:8s} refinement {refinement} ranks {n}: dofs {row['dofs']:7d} contact dofs "
                   f"{row['contact_dofs']:6d} converged {row['converged']!s:5s} newton {row['newton_iterations']:3d} "
