@@ -1,4 +1,5 @@
-"""Parallel PETSc AIJ matrices from coordinate entries, preallocated from the entries themselves.
+"""Parallel PETSc AIJ matrices preallocated from their own entries: from coordinate entries, and the multipliers'
+Jacobian without the zero blocks of dolfinx's pattern (:func:`trimmed_matrix`).
 
 A matrix whose rows span a whole space but whose entries sit on a contact surface (the two-body mirror
 operator ``I``, the segment and collocated tangents) gets each row's exact count, not a fixed count per row:
