@@ -146,7 +146,8 @@ def test_what_it_does_not_take_is_refused():
 
 def test_the_run_takes_the_sparse_method_where_the_condensed_one_is_too_large(monkeypatch, caplog):
     """A scene built with method coulomb whose condensed system exceeds its dense limit (lowered here to 10 contact
-    dofs) is solved by the sparse exact method instead, said in one line: the same answer to round-off."""
+    dofs) is solved by the sparse exact method instead, said in one line with the size it refused (also in the run's
+    parameters): the same answer to round-off."""
     import logging
 
     from fenics_contact.condensed import operator
@@ -157,9 +158,11 @@ def test_the_run_takes_the_sparse_method_where_the_condensed_one_is_too_large(mo
     with caplog.at_level(logging.WARNING, logger="fenics_contact"):
         setup = build("slab", law=ExactCoulomb(0.4))
     assert isinstance(setup.contacts[0], MultiplierFrictionalContact)
+    refused = setup.parameters["condensed_contact_dofs"]  # the size it refused, recorded with the run
+    assert refused > 10
     if MPI.COMM_WORLD.rank == 0:
         said = [r.getMessage() for r in caplog.records if "sparse exact method instead" in r.getMessage()]
-        assert len(said) == 1 and "more than its dense condensed system's 10" in said[0], said
+        assert len(said) == 1 and f"{refused} contact dofs, more than its dense condensed system's 10" in said[0], said
     solver = Solver(setup.problem, quiet=True)
     solver.run(setup.loads)
     assert abs(setup.figures()["ux_A"] - exact["ux_A"]) <= 1e-10 * abs(exact["ux_A"])
