@@ -190,6 +190,19 @@ def _vertex_kinematics(u: fem.Function, material) -> tuple:
     return vertex_expression(ufl.as_vector(values), mesh), mesh, cells
 
 
+def _check_axisymmetric(contacts, u, material) -> None:
+    """Refuse, before any form is compiled, a mesh past the axis and a contact the capability grid or the surface's
+    integrals do not allow on an axisymmetric body."""
+    check_meridian(u.function_space.mesh)  # r < 0: the 2 pi r weight turns negative
+    for c in contacts:
+        if c.law is not None:  # the entry points checked the rest; the quadrature matters here for segments
+            segment = getattr(c, "quadrature", None) == "segment"
+            check(**of(c.law, u, material), quadrature="segment" if segment else None)
+        if not c.ring_weighted:
+            raise ValueError(f"contact {c.name}: {type(c).__name__} does not weight its integrals by 2 pi r; "
+                             "an axisymmetric body needs a surface that does (capabilities: geometry)")
+
+
 def setup_warnings(material, V) -> list[str]:
     """What a set-up says of its answer before any solve, logged (WARNING, rank 0): a displacement-only model
     on the space ``V`` at ``nu >=`` :data:`~fenics_contact.models.LOCKING_NU` locks
@@ -255,7 +268,7 @@ class ContactProblem:
             if getattr(c, "law", None) is not None:
                 check(**of(c.law, material=material))
         if getattr(material, "axisymmetric", False):
-            self._check_axisymmetric(u, material)
+            _check_axisymmetric(self.contacts, u, material)
         self.warnings = setup_warnings(material, V)
         v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
         bulk = _scaled_rows(ufl.derivative(material.bulk_form(u), u, v), v, material)  # per body with Materials
@@ -309,18 +322,6 @@ class ContactProblem:
         A.destroy()
         self.u.x.array[:] = saved
         return DIRICHLET_WEIGHT * (total / count if count and total > 0 and np.isfinite(total) else 1.0)
-
-    def _check_axisymmetric(self, u, material) -> None:
-        """Refuse, before any form is compiled, a mesh past the axis and a contact the capability grid or the
-        surface's integrals do not allow on an axisymmetric body."""
-        check_meridian(u.function_space.mesh)  # r < 0: the 2 pi r weight turns negative
-        for c in self.contacts:
-            if c.law is not None:  # the entry points checked the rest; the quadrature matters here for segments
-                segment = getattr(c, "quadrature", None) == "segment"
-                check(**of(c.law, u, material), quadrature="segment" if segment else None)
-            if not c.ring_weighted:
-                raise ValueError(f"contact {c.name}: {type(c).__name__} does not weight its integrals by 2 pi r; "
-                                 "an axisymmetric body needs a surface that does (capabilities: geometry)")
 
     @property
     def L(self) -> fem.Form:
