@@ -105,11 +105,11 @@ _KEPT = "fc_kept_jacobian"  # the PETSc attribute of a matrix KeptJacobian assem
 class KeptJacobian:
     """The matrix of the compiled Jacobian ``form``, kept while the values of its ``inputs``
     (:func:`~.form_inputs.form_inputs`) stay the same (a linear material's stiffness: the whole run); never kept if
-    they include the displacement ``u``."""
+    they include the displacement ``u``. ``create()`` makes an empty matrix of the problem's pattern."""
 
-    def __init__(self, form: fem.Form, inputs: tuple[list, list], u: fem.Function, create=None):
+    def __init__(self, form: fem.Form, inputs: tuple[list, list], u: fem.Function, create):
         self.form, self.inputs, self.u = form, inputs, u
-        self.create = create or (lambda: fem_petsc.create_matrix(form))  # the kept matrix, A's pattern
+        self.create = create  # makes the kept matrix, with the pattern of the matrices it is added to
         self.matrix: PETSc.Mat | None = None
         self.reuse = True  # False: assembled every time (the cost of a fresh linear solve)
         self._values: list | None = None

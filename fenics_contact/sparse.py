@@ -75,7 +75,8 @@ def trimmed_matrix(W, field: int, keep: Sequence) -> PETSc.Mat:
     start = int(to_global[0]) if n else 0
     # the cells this rank owns (each cell once over the ranks); rows of any rank: aij_matrix sends them
     dofs = cell_dofs(W.sub(field))[:W.mesh.topology.index_map(W.mesh.topology.dim).size_local]
-    C = sparse.csr_matrix((np.ones(dofs.size, np.int8), dofs.ravel(), np.arange(0, dofs.size + 1, dofs.shape[1])),
+    # int32 counts: scipy's product drops a sum that wraps to 0 (int8: 256 cells sharing a pair)
+    C = sparse.csr_matrix((np.ones(dofs.size, np.int32), dofs.ravel(), np.arange(0, dofs.size + 1, dofs.shape[1])),
                           shape=(len(dofs), n_all))
     pairs = (C.T @ C).tocoo()
     del C, dofs
