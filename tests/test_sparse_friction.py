@@ -14,7 +14,7 @@ from petsc4py import PETSc
 import fenics_contact as fc
 from fenics_contact.app.scenes import build
 from fenics_contact.laws import ExactCoulomb, LagrangeMultiplier
-from fenics_contact.solver import Solver
+from fenics_contact.solver import LINEAR_SOLVERS, Solver
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_coulomb3d import PRESS, _box, _top_motion  # noqa: E402
@@ -166,6 +166,35 @@ def test_the_run_takes_the_sparse_method_where_the_condensed_one_is_too_large(mo
     solver = Solver(setup.problem, quiet=True)
     solver.run(setup.loads)
     assert abs(setup.figures()["ux_A"] - exact["ux_A"]) <= 1e-10 * abs(exact["ux_A"])
+
+
+def test_coulomb_takes_the_iterative_solver_only_where_it_switches_to_the_sparse_method(monkeypatch, tmp_path_factory):
+    """Method coulomb with ``--solver iterative``: refused in one line, before anything is written, where the condensed
+    system solves the scene (it factors the stiffness itself); where the condensed system is too large (its limit
+    lowered here) the run takes the sparse exact method with that solver, and the condensed method's answer (1e-8).
+    A 3D demo's own default solver (mindlin3d: iterative) serves the switched run when ``--solver`` is not given."""
+    from fenics_contact.app.cli import UsageError
+    from fenics_contact.app.demos import mindlin3d, slab
+    from fenics_contact.condensed import operator
+
+    tmp_path = Path(MPI.COMM_WORLD.bcast(str(tmp_path_factory.mktemp("switch"))))  # one folder for all ranks
+    argv = ["--method", "coulomb", "--mu", "0.4", "--solver", "iterative", "--no-pictures", "--quiet"]
+    out = tmp_path / "condensed"
+    with pytest.raises(UsageError, match="^--solver iterative: method coulomb solves this scene on its condensed"):
+        slab.main(argv + ["--out", str(out)])
+    assert not out.exists()
+    exact, _ = _slab(ExactCoulomb(0.4))
+    monkeypatch.setattr(operator, "MAX_CONDENSED", 10)
+    summary = slab.main(argv + ["--out", str(tmp_path / "sparse")])
+    assert summary["parameters"]["solved_by"].startswith("lagrange") and summary["parameters"]["solver"] == "iterative"
+    assert summary["ux_A"] == pytest.approx(exact["ux_A"], rel=1e-8)
+
+    seen = {}
+    monkeypatch.setattr(mindlin3d, "run", lambda setup, *a, **k: seen.update(k) or {})
+    for limit, solver in ((10, "iterative"), (6000, "direct")):
+        monkeypatch.setattr(operator, "MAX_CONDENSED", limit)
+        mindlin3d.main(["--method", "coulomb", "--h-contact", "0.015", "--out", str(tmp_path / "m"), "--no-pictures"])
+        assert seen["args"].solver == solver and seen["options"]["ksp_type"] == LINEAR_SOLVERS[solver]["ksp_type"]
 
 
 def test_the_bodies_constant_jacobian_is_added_not_assembled_again():

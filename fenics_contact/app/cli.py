@@ -44,6 +44,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .. import methods
+from ..condensed import operator as condensed_operator
 from ..contact import QUADRATURES
 from ..jitlog import quiet_compiler
 from ..laws import ContactLaw, LagrangeMultiplier
@@ -474,7 +475,21 @@ def refuse_unsupported(args: argparse.Namespace, **axes) -> None:
     combo = {"method": args.method, "quadrature": args.quadrature, "solver": getattr(args, "solver", None),
              "friction": has_friction(args),
              "passes": getattr(args, "passes", None), "sliding": getattr(args, "sliding", None)}
+    if combo["method"] == "coulomb" and combo["solver"] == "iterative":
+        combo["solver"] = None  # the sparse method's, if the size switches to it: refuse_condensed_solver, once built
     check_combination(**{**combo, **axes})
+
+
+def refuse_condensed_solver(args: argparse.Namespace, setup) -> None:
+    """:class:`UsageError` for ``--solver iterative`` with method coulomb where the built scene is solved by the
+    condensed system (it factors the stiffness itself); the solver serves the sparse exact method the run takes
+    where the condensed system is too large (its size is known once the contact is paired)."""
+    if args.method == "coulomb" and getattr(args, "solver", None) == "iterative" and \
+            setup.problem.step_solver is not None:
+        raise UsageError(f"--solver iterative: method coulomb solves this scene on its condensed system (at most "
+                         f"{condensed_operator.MAX_CONDENSED} contact dofs), which factors the stiffness itself "
+                         "(MUMPS); accepted: --solver direct (iterative serves method coulomb only above that size, "
+                         "where the run takes the sparse exact method)")
 
 
 def say(*parts: object) -> None:

@@ -28,7 +28,7 @@ from .. import checkpoint
 from ..output import OutputError, RunLock, XDMFWriter, on_rank0, process_alive, write_atomically, write_summary
 from ..solver import ConvergenceError, Solver
 from .checks import log_check
-from .cli import check_petsc_options, recorded_options
+from .cli import check_petsc_options, recorded_options, refuse_condensed_solver
 from .scenes import Setup, scale_alart_curnier
 
 __all__ = ["run", "claim", "claimed", "CHECKPOINT"]
@@ -76,6 +76,8 @@ def run(setup: Setup, out: str | Path, method: str, method_params: dict, augment
     out = Path(out)
     comm = setup.problem.comm
     start = time.perf_counter()
+    if args is not None:
+        refuse_condensed_solver(args, setup)
     if getattr(args, "scaled_c", False):  # method lagrange with friction, no --K: c from the problem
         c = scale_alart_curnier(setup)
         if c is not None:

@@ -14,7 +14,8 @@ The stick radius c (from the stick area by the vertex rule, sqrt(2 A / pi); also
 compared with Cattaneo-Mindlin c = a (1 - Q/(mu P))^(1/3) (a: Hertz for P, 1/E* = 2 (1 - nu^2) / E), the
 traction along the x axis with Mindlin's q(r). Writes mindlin3d.xdmf, summary.json and mindlin3d.png (the
 traction along x against Mindlin, and the stick/slip map of the last step) to --out. The linear solver is
-GMRES + GAMG by default (--solver iterative; --method coulomb factors with MUMPS, --solver direct): MUMPS's LU
+GMRES + GAMG by default (--solver iterative; --method coulomb factors with MUMPS, --solver direct, unless its
+condensed system is too large and the run takes the sparse exact method, by default iterative): MUMPS's LU
 of this 3D Jacobian grows like dofs^2 (Debian's MUMPS orders with PORD: 4.7 GFlop at 12k dofs), GAMG about
 linearly, with the same Newton iterations and figures.
 """
@@ -42,7 +43,8 @@ def main(argv=None) -> dict:
     scene = add_scene_options(p, mindlin3d.build)  # --R, --E, --nu, --approach, --width, --h-contact, ...
     args = cli.parse(p, argv)
     given = sys.argv[1:] if argv is None else argv
-    if args.method == "coulomb" and not any(a == "--solver" or a.startswith("--solver=") for a in given):
+    default_solver = args.method == "coulomb" and not any(a == "--solver" or a.startswith("--solver=") for a in given)
+    if default_solver:
         args.solver = "direct"  # the exact method factors the stiffness itself (MUMPS)
     mindlin.check_ratios_option(args.ratios)
     if args.c_t is not None or args.tresca is not None or args.mu <= 0:
@@ -55,6 +57,8 @@ def main(argv=None) -> dict:
     # 2. The scene: graded two-body mesh, displacement-controlled press, force-controlled shear.
     setup = build("mindlin3d", law=cli.law_from_args(args), ratios=tuple(args.ratios), refinement=args.refinement,
                   press_steps=args.press_steps, sliding=args.sliding, **scene_arguments(args, scene))
+    if default_solver and "solved_by" in setup.parameters:  # too large for the condensed system: the sparse method
+        args.solver = p.get_default("solver")  # with the scene's own linear solver
     profiles = []
 
     def on_step(t: float) -> None:  # the friction profile of the last shear step (collective)
