@@ -73,19 +73,24 @@ Solver ``iterative`` (:attr:`PressureUnknown.iterative_solver_options`): the
 same additive split (the pinned pressure dofs out, Jacobi), its ``free``
 block split again into the displacement ``u`` and the surface pressures
 ``p`` (:meth:`PressureUnknown.schur_split`, index sets in the free block's
-numbering) and preconditioned by the full Schur factorization
-(``pc_fieldsplit_schur_fact_type full``) with ``S ~ A_pp - A_pu
+numbering) and preconditioned by the upper triangular Schur factorization
+(``pc_fieldsplit_schur_fact_type upper``: one ``A_uu`` cycle per Krylov
+iteration, where ``full`` takes two) with ``S ~ A_pp - A_pu
 diag(A_uu)^-1 A_up`` (``selfp``; inactive pressure rows keep their ``-1``
 (times the vertex weight) diagonal, active rows get ``A_pu D^-1 A_up``): ``A_uu`` by one GAMG cycle
 with the rigid-body modes as near-nullspace (block size 2 or 3), ``S`` by
 block Jacobi ILU(0); outer FGMRES, ``rtol 1e-8``, restart 100, at most 500
 iterations. A block's options can be replaced on the command line
 (``-fc_fieldsplit_free_fieldsplit_u_pc_type lu``: an exact displacement
-block). Measured on the sheet (collocated element, 4 load steps, serial;
-Krylov iterations per Newton iteration): n_arc = 24 (1742 dofs) 70, 48 (3458)
-180, 96 (6890) 300-2700 (over the 500 cap at the first step: the run fails
-with the default cap). The Schur approximation is not what degrades: with
-an exact ``A_uu`` (LU) the counts are 11-19, 13-32, 16-51. GAMG (and
+block). Measured (one run each, 2 ranks unless said): mindlin3d with
+friction (sliding field, 3D) at 72,461 / 162,021 dofs, the same Newton
+iterations (+-1), Krylov iterations and figures as ``full`` in 0.75 / 0.67 of
+its linear solve time; the sheet (collocated element, 4 load steps; Krylov
+iterations per Newton iteration, ``full`` -> ``upper``): n_arc = 24 (1742
+dofs, serial) 73 -> 81, 48 (3458, serial) 176 -> 224 (0.9 of the time), 96
+(6890) over the 500 cap at the first step (the run fails with the default
+cap). The Schur approximation is not what degrades: with an exact ``A_uu``
+(LU) the counts are 17, 26 and 43 (docs/benchmarks.md). GAMG (and
 BoomerAMG with nodal coarsening: 44-120, 48-147, 133-469) on the thin sheet
 wrapped on a 100x stiffer cylinder is: plain GAMG on the three-point
 penalty's Jacobian of the same sheet needs 174 and 470 iterations per
@@ -166,7 +171,7 @@ class PressureUnknown:
         "pc_type": "fieldsplit", "pc_fieldsplit_type": "additive",
         "fieldsplit_pinned_ksp_type": "preonly", "fieldsplit_pinned_pc_type": "jacobi",
         "fieldsplit_free_ksp_type": "preonly", "fieldsplit_free_pc_type": "fieldsplit",
-        "fieldsplit_free_pc_fieldsplit_type": "schur", "fieldsplit_free_pc_fieldsplit_schur_fact_type": "full",
+        "fieldsplit_free_pc_fieldsplit_type": "schur", "fieldsplit_free_pc_fieldsplit_schur_fact_type": "upper",
         "fieldsplit_free_pc_fieldsplit_schur_precondition": "selfp",
         "fieldsplit_free_fieldsplit_u_ksp_type": "preonly", "fieldsplit_free_fieldsplit_u_pc_type": "gamg",
         "fieldsplit_free_fieldsplit_p_ksp_type": "preonly", "fieldsplit_free_fieldsplit_p_pc_type": "bjacobi"}
