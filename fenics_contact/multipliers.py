@@ -83,7 +83,7 @@ block Jacobi ILU(0); outer FGMRES, ``rtol 1e-8``, restart 100, at most 500
 iterations. A block's options can be replaced on the command line
 (``-fc_fieldsplit_free_fieldsplit_u_pc_type lu``: an exact displacement
 block). Measured (one run each, 2 ranks unless said): mindlin3d with
-friction (sliding field, 3D) at 72,461 / 162,021 dofs, the same Newton
+friction (two bodies, 3D) at 72,461 / 162,021 dofs, the same Newton
 iterations (+-1), Krylov iterations and figures as ``full`` in 0.75 / 0.67 of
 its linear solve time; the sheet (collocated element, 4 load steps; Krylov
 iterations per Newton iteration, ``full`` -> ``upper``): n_arc = 24 (1742

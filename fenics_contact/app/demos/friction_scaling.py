@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fenics_contact import methods
 from fenics_contact.app import cli
 from fenics_contact.app.study import run_demo, slope, write_rows
 
@@ -146,9 +147,15 @@ ratio = "ratio_to_elastic_solve" if elastic else "ratio_to_linear_solve"
 for method in args.methods:
     for n in args.ranks:
         runs = ok(method, n)
-        label = f"{method}, {n} rank{'s' * (n > 1)}"
-        ax.plot([r["dofs"] for r in runs], [r[ratio] for r in runs], marker="o", label=label)
-        bx.plot([r["dofs"] for r in runs], [r["c_error_max"] for r in runs], marker="o", label=label)
+        if not runs:  # a legend entry only for what was run
+            continue
+        style = {"label": f"{method}, {n} rank{'s' * (n > 1)}", "color": methods.get(method).sweep.colour,
+                 "marker": "o" if n > 1 else "s", "linestyle": "-" if n > 1 else "--", "fillstyle": "full" if n > 1
+                 else "none"}  # the method's colour in both panels
+        cost = [(r["dofs"], r[ratio]) for r in runs if np.isfinite(r[ratio])]  # no elastic solve at every size
+        if cost:
+            ax.plot(*zip(*cost), **style)
+        bx.plot([r["dofs"] for r in runs], [r["c_error_max"] for r in runs], **style)
 ax.set(xscale="log", yscale="log", xlabel="dofs",
        ylabel=f"whole load path / one {'elastic' if elastic else 'own'} linear solve",
        title=f"cost: solve time over {'penalty' if elastic else 'its own'}'s linear solve (GMRES + GAMG)")

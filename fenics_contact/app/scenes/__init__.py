@@ -9,6 +9,7 @@ needs), from which :func:`add_scene_options` makes the demos' range-checked comm
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib
 import inspect
 import logging
@@ -120,10 +121,14 @@ def build(name: str, **kwargs) -> Setup:
     b = importlib.import_module(f"{__name__}.{name}").build
     start = time.perf_counter()
     try:
+        too_large = None
         try:
             setup = b(**kwargs)
-        except CondensedTooLarge as exc:  # the same exact Coulomb problem on the sparse system
-            setup = _sparse_instead(b, kwargs, exc)
+        except CondensedTooLarge as exc:
+            too_large = exc.with_traceback(None)  # its frames hold the condensed scene: freed before the next
+        if too_large is not None:  # the same exact Coulomb problem on the sparse system
+            gc.collect()  # (dolfinx's objects refer to each other)
+            setup = _sparse_instead(b, kwargs, too_large)
     except MeshError as exc:  # the user gave no mesh: the options that made it are at fault
         raise _mesh_from_options(b, kwargs, exc) from None
     comm = setup.problem.comm
