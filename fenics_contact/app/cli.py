@@ -484,7 +484,7 @@ def refuse_condensed_solver(args: argparse.Namespace, setup) -> None:
     """:class:`UsageError` for ``--solver iterative`` with method coulomb where the built scene is solved by the
     condensed system (it factors the stiffness itself); the solver serves the sparse exact method the run takes
     where the condensed system is too large (its size is known once the contact is paired)."""
-    if args.method == "coulomb" and getattr(args, "solver", None) == "iterative" and \
+    if getattr(args, "method", None) == "coulomb" and getattr(args, "solver", None) == "iterative" and \
             setup.problem.step_solver is not None:
         raise UsageError(f"--solver iterative: method coulomb solves this scene on its condensed system (at most "
                          f"{condensed_operator.MAX_CONDENSED} contact dofs), which factors the stiffness itself "
