@@ -184,6 +184,7 @@ def test_coulomb_takes_the_iterative_solver_only_where_it_switches_to_the_sparse
         slab.main(argv + ["--out", str(out)])
     assert not out.exists()
     exact, _ = _slab(ExactCoulomb(0.4))
+    default_limit = operator.MAX_CONDENSED
     monkeypatch.setattr(operator, "MAX_CONDENSED", 10)
     summary = slab.main(argv + ["--out", str(tmp_path / "sparse")])
     assert summary["parameters"]["solved_by"].startswith("lagrange") and summary["parameters"]["solver"] == "iterative"
@@ -191,7 +192,7 @@ def test_coulomb_takes_the_iterative_solver_only_where_it_switches_to_the_sparse
 
     seen = {}
     monkeypatch.setattr(mindlin3d, "run", lambda setup, *a, **k: seen.update(k) or {})
-    for limit, solver in ((10, "iterative"), (6000, "direct")):
+    for limit, solver in ((10, "iterative"), (default_limit, "direct")):
         monkeypatch.setattr(operator, "MAX_CONDENSED", limit)
         mindlin3d.main(["--method", "coulomb", "--h-contact", "0.015", "--out", str(tmp_path / "m"), "--no-pictures"])
         assert seen["args"].solver == solver and seen["options"]["ksp_type"] == LINEAR_SOLVERS[solver]["ksp_type"]
