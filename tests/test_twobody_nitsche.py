@@ -12,6 +12,7 @@ from fenics_contact.compat import bc_dofs, petsc_vec
 from fenics_contact.factory import two_body_surfaces
 from fenics_contact.friction import Friction
 from fenics_contact.methods import make_law
+from fenics_contact.search import project as search_project
 from fenics_contact.solver import Solver
 
 
@@ -43,6 +44,43 @@ def test_small_sliding_tangent_and_fixed_pairs(passes, dim, friction, contact_ta
     configuration of the pointwise check (the reference pairs kept, the gap linear in the displacements), to
     1e-6 relative, Coulomb points in stick and in slip."""
     _tangent_check("nodal", passes, dim, 1.0, friction, contact_tangent_error, sliding="small")
+
+
+def test_small_sliding_searches_the_reference_once(monkeypatch):
+    """Small sliding pairs the reference positions: iterates that keep the master facets and the pairs do not
+    search again, and the gaps and normals they get from the kept projection equal a fresh search's at the same
+    state (3D, the pressed patch slid along x and y, every node moved)."""
+    import fenics_contact.twobody.pairing as pairing
+
+    setup = build("patch", law_factory=_nitsche(), quadrature="nodal", passes="two", n_lower=(2, 2, 1),
+                  n_upper=(3, 3, 1), sliding="small")
+    u = setup.problem.u
+    X = u.function_space.tabulate_dof_coordinates()[: len(u.x.array) // 3]
+    upper = (X[:, 2] > 1.0 + 1e-9) | np.isclose(X[:, 2], 1.0 - 1e-6, rtol=0, atol=1e-9)
+    searches = []
+    monkeypatch.setattr(pairing, "project", lambda *a, **k: searches.append(1) or search_project(*a, **k))
+    states, counts = [], []
+    for k, shift in enumerate((0.0, 0.01, 0.02, 0.03)):
+        h = np.sin(X @ np.array([12.9898, 78.233, 37.719]) + k) * 43758.5453
+        du = 1e-3 * np.stack([np.sin(h * (i + 1.7)) for i in range(3)], axis=1)
+        du[upper] += (shift, 0.5 * shift, -0.002)
+        u.x.array[:] = du.ravel()
+        for c in setup.contacts:
+            c.update()
+        states.append([{key: v.copy() for key, v in c.projection.items()} for c in setup.contacts])
+        counts.append(len(searches))
+    assert counts[1] == counts[2] == counts[3], counts  # the pairs of the second state kept: no search
+    for c in setup.contacts:
+        c.pairs._reference_projection = None  # a fresh search at the last state
+        c.update()
+    assert len(searches) == counts[3] + len(setup.contacts)
+    for kept, c in zip(states[-1], setup.contacts):
+        for key in ("facet", "bary", "distance", "gap", "normal"):
+            assert np.array_equal(kept[key], c.projection[key]), key
+    for before, after in zip(states[1], states[-1]):  # the same pairs, new gaps
+        ok = before["facet"] >= 0
+        assert np.array_equal(before["facet"], after["facet"])
+        assert not ok.any() or np.abs(before["gap"][ok] - after["gap"][ok]).max() > 1e-5
 
 
 @pytest.mark.parametrize("theta", [1.0, -1.0])
