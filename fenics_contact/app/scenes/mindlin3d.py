@@ -66,7 +66,7 @@ __all__ = ["OPTIONS",
            "ITERATIVE"]
 
 R, E, NU = 1.0, 1000.0, 0.3
-APPROACH = 5e-3  # per unit R (default: APPROACH R): gives a ~ 0.068 R with the default bodies
+APPROACH = 5e-3  # per unit R (default: APPROACH R): gives a ~ 0.074 R with the default bodies
 RATIOS = (0.2, 0.5, 0.8)
 # The contact mesh size at refinement 0 (in units of R): about 10 elements across a. R/100 (7 across a) gave the
 # stick radius at Q/(mu P) = 0.8 6.5 % below Cattaneo-Mindlin (0.28 elements): within one element, not within 5 %.
