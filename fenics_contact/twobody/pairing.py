@@ -157,9 +157,7 @@ class Pairing:
         # projection, kept from the last update (a search costs about a tenth of a Newton iteration at 5e5 dofs).
         key = (self.master["ids"], self.ids) if self.small and allowed is None else None
         cached = self._reference_projection
-        if key is not None and cached is not None and all(
-                (a is None and b is None) or (a is not None and b is not None and np.array_equal(a, b))
-                for a, b in zip(key, cached[0])):
+        if key is not None and cached is not None and all(_same(a, b) for a, b in zip(key, cached[0])):
             found = cached[1]
         else:
             free = self._free[np.searchsorted(self._free_ids, self.master["ids"])]
@@ -239,3 +237,8 @@ class Pairing:
         """``"exploded_geometry"`` if an update was rejected since the last call, else None."""
         seen, self._exploded_seen = self._exploded_seen, False
         return "exploded_geometry" if seen else None
+
+
+def _same(a: np.ndarray | None, b: np.ndarray | None) -> bool:
+    """Both None, or equal arrays."""
+    return a is b or (a is not None and b is not None and np.array_equal(a, b))
