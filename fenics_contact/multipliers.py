@@ -78,7 +78,9 @@ numbering) and preconditioned by the upper triangular Schur factorization
 iteration, where ``full`` takes two) with ``S ~ A_pp - A_pu
 diag(A_uu)^-1 A_up`` (``selfp``; inactive pressure rows keep their ``-1``
 (times the vertex weight) diagonal, active rows get ``A_pu D^-1 A_up``): ``A_uu`` by one GAMG cycle
-with the rigid-body modes as near-nullspace (block size 2 or 3), ``S`` by
+with the rigid-body modes as near-nullspace (block size 2 or 3; on a linear body the hierarchy of the first
+solve serves the whole run, set up again only on a new pattern: mindlin3d at 72,461 dofs the same Newton and
+Krylov iterations (1327 -> 1324) and figures, linear solves 20.7 -> 16.8 s), ``S`` by
 block Jacobi ILU(0); outer FGMRES, ``rtol 1e-8``, restart 100, at most 500
 iterations. A block's options can be replaced on the command line
 (``-fc_fieldsplit_free_fieldsplit_u_pc_type lu``: an exact displacement
@@ -175,6 +177,9 @@ class PressureUnknown:
         "fieldsplit_free_pc_fieldsplit_schur_precondition": "selfp",
         "fieldsplit_free_fieldsplit_u_ksp_type": "preonly", "fieldsplit_free_fieldsplit_u_pc_type": "gamg",
         "fieldsplit_free_fieldsplit_p_ksp_type": "preonly", "fieldsplit_free_fieldsplit_p_pc_type": "bjacobi"}
+    # A linear material's displacement block changes from one iterate to the next only in the contact's rows: its
+    # GAMG hierarchy, built at the first solve, serves every later one (set up again only on a new pattern).
+    constant_bulk_solver_options = {"fieldsplit_free_fieldsplit_u_ksp_reuse_preconditioner": True}
 
     def _pressure_setup(self, w: fem.Function, facets: np.ndarray) -> None:
         if not is_mixed(w.function_space):

@@ -117,6 +117,11 @@ class KeptJacobian:
         # handle, the address, may come back for a new matrix after one is destroyed, on one rank and not another)
         self._mark = object()
 
+    @property
+    def constant(self) -> bool:
+        """True if the matrix is the same at every iterate (its inputs leave out the displacement ``u``)."""
+        return not any(f is self.u for f in self.inputs[1])
+
     def add(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
         """Add the form's matrix (Dirichlet rows and columns: ``diagonal`` times the identity) into ``A`` and
         assemble ``A``: the kept matrix where ``A`` was assembled from the form before (its pattern holds the

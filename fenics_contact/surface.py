@@ -54,7 +54,9 @@ class Surface(abc.ABC):
     (multipliers: ``p = 0`` off the surface); ``solver_options`` PETSc defaults the formulation needs (the
     user's options still win); ``direct_solver_options`` what replaces them when the linear solver is a direct
     LU (multipliers: the exact additive field split); ``iterative_solver_options`` what replaces them when the
-    linear solver is the iterative one (multipliers: the Schur complement field split); ``pinned_dofs`` global
+    linear solver is the iterative one (multipliers: the Schur complement field split);
+    ``constant_bulk_solver_options`` what the iterative ones add where the bodies' stiffness is the same at every
+    iterate (a linear material; multipliers: the displacement block's multigrid kept); ``pinned_dofs`` global
     number of unknowns fixed by ``bcs`` that are not real unknowns (not counted in reported sizes); ``bounded``
     True when the surface is
     enforced by variable bounds (SNES VI) instead of a residual term; ``requires_step_solver`` True when its
@@ -70,6 +72,7 @@ class Surface(abc.ABC):
     solver_options: dict = {}
     direct_solver_options: dict = {}
     iterative_solver_options: dict = {}
+    constant_bulk_solver_options: dict = {}
     pinned_dofs: int = 0
     bounded: bool = False
     requires_step_solver: bool = False

@@ -15,6 +15,7 @@ import fenics_contact as fc
 from fenics_contact.app.scenes import build
 from fenics_contact.laws import ExactCoulomb, LagrangeMultiplier
 from fenics_contact.solver import LINEAR_SOLVERS, Solver
+from fenics_contact.solver.options import solver_options
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_coulomb3d import PRESS, _box, _top_motion  # noqa: E402
@@ -47,9 +48,10 @@ def test_slab_equals_the_condensed_exact_method(mu):
     assert solver.records[-1].newton_iterations <= 6
 
 
-def _box_on_plane(law, mu_drag, comm=MPI.COMM_WORLD):
+def _box_on_plane(law, mu_drag, comm=MPI.COMM_WORLD, options=None, material=None):
     """The box of tests/test_coulomb3d.py on the plane z = 0, pressed then dragged 30 degrees off x; the base's
-    friction profile after each of the loads."""
+    friction profile after each of the loads (``options``: the solver's; ``material``: default linear,
+    E = 1000, nu = 0)."""
     msh, facets = _box(comm)
     load = fem.Constant(msh, 0.0)
     if isinstance(law, ExactCoulomb):
@@ -59,9 +61,9 @@ def _box_on_plane(law, mu_drag, comm=MPI.COMM_WORLD):
         u, V = fc.unknown(msh, 1, law)
     c = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, load)
     step = {"step_solver": fc.step_solver_for([c])} if isinstance(law, ExactCoulomb) else {}
-    problem = fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.0), load, _top_motion(V, facets, "top", mu_drag),
-                                [c], **step)
-    solver = fc.Solver(problem, quiet=True)
+    problem = fc.ContactProblem(u, material or fc.LinearElastic(1000.0, 0.0), load,
+                                _top_motion(V, facets, "top", mu_drag), [c], **step)
+    solver = fc.Solver(problem, quiet=True, options=options)
     solver.run([1.0, 1.25, 1.5, 1.75, 2.0])
     profile = c.friction_profile()
     order = np.lexsort(np.round(profile["x"], 9).T[::-1])  # by position, whatever the round-off of the partition
@@ -81,6 +83,31 @@ def test_box_in_3d_equals_the_condensed_exact_method(mu, drag):
     assert np.abs(sparse["pressure"] - exact["pressure"]).max() <= 1e-9 * scale
     assert np.abs(sparse["traction"] - exact["traction"]).max() <= 1e-9 * scale
     assert np.array_equal(sparse["state"], exact["state"])
+
+
+def test_a_linear_bodys_displacement_block_keeps_its_multigrid():
+    """The iterative solve of the multipliers on a linear body (its stiffness the same at every iterate): the
+    displacement block's GAMG hierarchy is built at the first solve and kept (PETSc read the block's
+    ``ksp_reuse_preconditioner``), and the 3D box dragged with friction (every vertex sliding) gets the direct
+    solve's pressures and tractions to 1e-9 of the largest pressure and its slip states. A neo-Hookean body's block
+    is set up at every solve."""
+    law = fc.Friction(LagrangeMultiplier(100.0), mu=0.3)
+    key = "fieldsplit_free_fieldsplit_u_ksp_reuse_preconditioner"
+    direct, _ = _box_on_plane(law, 40 * PRESS)
+    iterative, solver = _box_on_plane(law, 40 * PRESS, options=LINEAR_SOLVERS["iterative"])
+    assert all(r.converged for r in solver.records) and solver.linear_iterations > 0
+    assert key in solver.options.used
+    scale = np.abs(direct["pressure"]).max()
+    assert np.abs(iterative["pressure"] - direct["pressure"]).max() <= 1e-9 * scale
+    assert np.abs(iterative["traction"] - direct["traction"]).max() <= 1e-9 * scale
+    assert np.array_equal(iterative["state"], direct["state"])
+    msh, facets = _box(MPI.COMM_WORLD)
+    load = fem.Constant(msh, 0.0)
+    u, V = fc.unknown(msh, 1, law)
+    c = fc.contact_surface(u, facets, "base", fc.HalfPlane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), law, load)
+    for material, kept in ((fc.LinearElastic(1000.0, 0.0), True), (fc.NeoHookean(1000.0, 0.0), False)):
+        problem = fc.ContactProblem(u, material, load, _top_motion(V, facets, "top", PRESS), [c])
+        assert (key in solver_options(problem, LINEAR_SOLVERS["iterative"])) == kept, material
 
 
 def test_tresca_bound_on_the_slab():

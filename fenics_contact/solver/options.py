@@ -249,7 +249,8 @@ def solver_options(problem: ContactProblem, options: dict | None = None) -> dict
             if c.iterative_solver_options:  # the caller's own options (not those of the generic GAMG) win
                 generic = LINEAR_SOLVERS["iterative"]
                 own = {k: v for k, v in (options or {}).items() if k not in generic or generic[k] != v}
-                wanted.update({**c.iterative_solver_options, **own})
+                kept = c.constant_bulk_solver_options if problem.bulk_jacobian.constant else {}
+                wanted.update({**c.iterative_solver_options, **kept, **own})
                 break
     return wanted
 
