@@ -79,8 +79,9 @@ iteration, where ``full`` takes two) with ``S ~ A_pp - A_pu
 diag(A_uu)^-1 A_up`` (``selfp``; inactive pressure rows keep their ``-1``
 (times the vertex weight) diagonal, active rows get ``A_pu D^-1 A_up``): ``A_uu`` by one GAMG cycle
 with the rigid-body modes as near-nullspace (block size 2 or 3; on a linear body the hierarchy of the first
-solve serves the whole run, set up again only on a new pattern: mindlin3d at 72,461 dofs the same Newton and
-Krylov iterations (1327 -> 1324) and figures, linear solves 20.7 -> 16.8 s), ``S`` by
+solve serves the whole run, set up again only on a new pattern: mindlin3d with friction at 72,461 / 507,916 dofs,
+2 ranks, Newton iterations 33 -> 33 / 44 -> 45, Krylov iterations 1327 -> 1324 / 2376 -> 2478, the same figures,
+linear solves 20.7 -> 16.8 s / 308 -> 252 s), ``S`` by
 block Jacobi ILU(0); outer FGMRES, ``rtol 1e-8``, restart 100, at most 500
 iterations. A block's options can be replaced on the command line
 (``-fc_fieldsplit_free_fieldsplit_u_pc_type lu``: an exact displacement
