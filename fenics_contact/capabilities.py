@@ -38,7 +38,9 @@ _FIXED_AXES: dict[str, tuple] = {
     "dim": (2, 3),
     "degree": (1, 2),
     "model": tuple(MODELS),
-    "solver": ("direct", "iterative"),
+    # iterative: Krylov with multigrid to a fixed tolerance; inexact: the same with each Krylov tolerance following
+    # the Newton residual (Eisenstat-Walker, PETSc's snes_ksp_ew: INEXACT_NEWTON, the demos' --inexact)
+    "solver": ("direct", "iterative", "inexact"),
     "friction": (False, True),
     "geometry": ("cartesian", "axisymmetric"),
     "sliding": ("finite", "small"),  # two-body contact kinematics: current configuration, or linearized
@@ -135,7 +137,7 @@ _MIXED = (
     rule("degree 2", "the mixed model's unknown is Taylor-Hood: P2 displacement, P1 pressure (equal orders are not "
          "inf-sup stable)", model=MIXED_MODELS, degree=1),
     rule("solver 'direct'", "the mixed model's Jacobian is a saddle point (no near-nullspace of the pressure "
-         "field for algebraic multigrid)", model=MIXED_MODELS, solver="iterative"),
+         "field for algebraic multigrid)", model=MIXED_MODELS, solver=("iterative", "inexact")),
 )
 
 

@@ -51,6 +51,7 @@ from fenics_contact import capabilities as cap
 from fenics_contact.app.meshes import rectangle, stacked_blocks
 from fenics_contact.app.meshes.rectangle import tag_boundary
 from fenics_contact.app.scenes.patch import uniform_stretches
+from fenics_contact.solver import linear_solver_options
 
 E, NU, H, MU = 1000.0, 0.3, 1.0, 0.2
 K = 1e6  # penalty-type laws: the regularized closed form includes the penetration p / K
@@ -107,7 +108,7 @@ def rigid_mesh(dim: int):
 
 
 def solve(problem, method: str, solver: str, augment: int = 0, steps: int = 1):
-    s = fc.Solver(problem, options=dict(fc.LINEAR_SOLVERS[solver]), quiet=True, augment_max=augment, augment_tol=1e-10)
+    s = fc.Solver(problem, options=linear_solver_options(solver), quiet=True, augment_max=augment, augment_tol=1e-10)
     s.run([(i + 1) / steps for i in range(steps)])
     assert all(r.converged for r in s.records)
 

@@ -48,7 +48,7 @@ from ..condensed import operator as condensed_operator
 from ..contact import QUADRATURES
 from ..jitlog import quiet_compiler
 from ..laws import ContactLaw, LagrangeMultiplier
-from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError
+from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError, linear_solver_options
 from ..solver.options import option_used, petsc_complaint, value_problem
 from .memory import BYTES_PER_DOF, available_memory
 
@@ -472,7 +472,8 @@ def refuse_unsupported(args: argparse.Namespace, **axes) -> None:
     as keywords. Raises :class:`~fenics_contact.capabilities.UnsupportedCombination`."""
     from ..capabilities import check as check_combination
 
-    combo = {"method": args.method, "quadrature": args.quadrature, "solver": getattr(args, "solver", None),
+    solver = "inexact" if getattr(args, "inexact", False) else getattr(args, "solver", None)
+    combo = {"method": args.method, "quadrature": args.quadrature, "solver": solver,
              "friction": has_friction(args),
              "passes": getattr(args, "passes", None), "sliding": getattr(args, "sliding", None)}
     if combo["method"] == "coulomb" and combo["solver"] == "iterative":
@@ -569,8 +570,7 @@ def method_parameters(args: argparse.Namespace) -> dict:
 
 def solver_options(args: argparse.Namespace) -> dict:
     """PETSc options (prefix ``fc_``) of ``--solver`` (and ``--inexact``); options on the command line still win."""
-    return {**LINEAR_SOLVERS[getattr(args, "solver", "direct")],
-            **(INEXACT_NEWTON if getattr(args, "inexact", False) else {})}
+    return linear_solver_options("inexact" if getattr(args, "inexact", False) else getattr(args, "solver", "direct"))
 
 
 # --- PETSc options and the demos' entry ------------------------------------------------------------------

@@ -23,6 +23,6 @@ METHOD = Method(
            rule("geometry 'cartesian' (or another method)", "coulomb's contact vertices carry unweighted nodal "
                 "areas (no 2 pi r)", method="coulomb", geometry="axisymmetric"),
            rule("solver 'direct'", "coulomb factors the stiffness itself (MUMPS)", method="coulomb",
-                solver="iterative"),
+                solver=("iterative", "inexact")),
            rule("sliding 'small'", "coulomb pairs once in the reference configuration and keeps the pairs (small "
                 "sliding)", kind="two-body", method="coulomb", sliding="finite")))

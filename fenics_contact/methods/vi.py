@@ -19,4 +19,4 @@ METHOD = Method(
            rule("geometry 'cartesian' (or another method)", "vi's pressure is the nodal reaction (a ring total) "
                 "over vertex weights without the ring's 2 pi r", method="vi", geometry="axisymmetric"),
            rule("solver 'direct'", "SNES VI's reduced system changes size between iterations: GAMG cannot follow",
-                method="vi", solver="iterative")))
+                method="vi", solver=("iterative", "inexact"))))

@@ -25,14 +25,14 @@ Modules, one job each:
 import logging
 
 from .linear import MUMPS_WORKSPACE_DEFAULT, MUMPS_WORKSPACE_MAX
-from .options import DEFAULT_OPTIONS, EW_RTOL_MAX, INEXACT_NEWTON, LINEAR_SOLVERS, MULTIGRID
+from .options import DEFAULT_OPTIONS, EW_RTOL_MAX, INEXACT_NEWTON, LINEAR_SOLVERS, MULTIGRID, linear_solver_options
 from .predictor import PREDICTOR_ETA, PREDICTOR_FD, PREDICTOR_WORSE, PREDICTORS
 from .record import ConvergenceError, StepRecord
 from .stepping import Solver
 
 __all__ = [
     "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "PREDICTOR_WORSE", "LINEAR_SOLVERS",
-    "INEXACT_NEWTON",
+    "INEXACT_NEWTON", "linear_solver_options",
     "ConvergenceError", "StepRecord", "Solver", "EW_RTOL_MAX", "MULTIGRID", "MUMPS_WORKSPACE_DEFAULT",
     "MUMPS_WORKSPACE_MAX"
 ]

@@ -23,12 +23,11 @@ from petsc4py import PETSc
 
 from ..capabilities import UnsupportedCombination, check, of
 from ..compat import petsc_library
-from ..friction import Friction
-from ..laws import LagrangeMultiplier
 from ..problem import ContactProblem
 
 __all__ = ["ATOL_RELATIVE", "ROUNDOFF_FACTOR", "COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON",
-           "LINEAR_SOLVERS", "MULTIGRID", "OWN_OPTIONS", "VI_ZERO_TOLERANCE", "ScopedOptions", "check_option_values",
+           "LINEAR_SOLVERS", "MULTIGRID", "linear_solver_options", "OWN_OPTIONS", "VI_ZERO_TOLERANCE", "ScopedOptions",
+           "check_option_values",
            "option_used", "petsc_complaint", "probe_option", "read_at_setup", "solver_options", "value_problem"]
 
 DEFAULT_OPTIONS = {
@@ -89,6 +88,16 @@ LINEAR_SOLVERS = {
     "direct": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"},
     "iterative": {"ksp_type": "gmres", "pc_type": "gamg", "ksp_rtol": 1e-8, "ksp_max_it": 500},
 }
+
+
+def linear_solver_options(solver: str) -> dict:
+    """The PETSc options of the capability grid's ``solver`` value: ``direct`` and ``iterative``
+    (:data:`LINEAR_SOLVERS`), ``inexact`` (the iterative one with :data:`INEXACT_NEWTON`)."""
+    if solver == "inexact":
+        return {**LINEAR_SOLVERS["iterative"], **INEXACT_NEWTON}
+    if solver not in LINEAR_SOLVERS:
+        raise ValueError(f"solver must be one of {(*LINEAR_SOLVERS, 'inexact')}, got {solver!r}")
+    return dict(LINEAR_SOLVERS[solver])
 
 
 # Options the solver reads itself, not PETSc's objects (Solver.summary: the condition estimate of the last Jacobian).
@@ -231,14 +240,13 @@ def solver_options(problem: ContactProblem, options: dict | None = None) -> dict
     for c in problem.contacts:  # what a formulation needs (multipliers: full semismooth Newton steps)
         defaults.update(c.solver_options)
     wanted = {**defaults, **(options or {})}
-    if wanted.get("snes_ksp_ew") not in (None, False, 0, "0", "false", "no") and any(
-            isinstance(getattr(c, "law", None), Friction) and isinstance(c.law.normal, LagrangeMultiplier)
-            for c in problem.contacts):
-        # Measured: mindlin3d (c 1e5, rtol 1e-2) "converged" with the cap slid 0.48 R off its contact, no force
-        raise UnsupportedCombination(
-            f"inexact Newton (snes_ksp_ew = {wanted['snes_ksp_ew']!r}; the demos' --inexact) with method lagrange "
-            "with friction: its semismooth Newton takes exact linear solves (a loose one can slide a body held by "
-            "friction alone off its support); accepted: snes_ksp_ew off")
+    if wanted.get("snes_ksp_ew") not in (None, False, 0, "0", "false", "no"):  # inexact Newton: the grid's solver
+        for c in problem.contacts:
+            try:
+                check(**of(c.law, u=problem.u), solver="inexact")
+            except UnsupportedCombination as exc:  # named by the option that chose it
+                raise UnsupportedCombination(f"snes_ksp_ew = {wanted['snes_ksp_ew']!r} (inexact Newton, the demos' "
+                                             f"--inexact): {exc}") from None
     if wanted.get("pc_type") == "lu":  # a direct solve: a formulation may split off trivial blocks
         for c in problem.contacts:
             wanted.update(c.direct_solver_options)
