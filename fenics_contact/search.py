@@ -33,14 +33,19 @@ import itertools
 import numpy as np
 from scipy.spatial import cKDTree
 
-__all__ = ["EXTENSION", "PAIR_BUDGET", "SIZE_CLASSES", "STRETCH_LIMIT", "beyond_free_sides", "candidates",
-           "closest_point_on_facets", "closest_point_on_quadratic", "facet_normals", "facet_pairs", "free_sides",
-           "project", "quadratic_normals", "quadratic_shape", "stretch"]
+__all__ = ["EXTENSION", "PAIR_BUDGET", "SIZE_CLASSES", "SMALL_SLIDING", "STRETCH_LIMIT", "beyond_free_sides",
+           "candidates", "closest_point_on_facets", "closest_point_on_quadratic", "facet_normals", "facet_pairs",
+           "facet_sizes", "free_sides", "project", "quadratic_normals", "quadratic_shape", "small_sliding_warning",
+           "stretch"]
 
 PAIR_BUDGET = 1 << 20  # (point, facet) pairs held at once: ~100 MB of work arrays at most
 # A facet whose extent grew beyond this factor of its reference extent within one iterate is an exploded
 # iterate, not a deformation: the two-body surfaces reject it (non-finite residual: a failed solve, cut step).
 STRETCH_LIMIT = 10.0
+# Small sliding (the pairs of the reference configuration, kept) holds while each pair stays on its master facet: a
+# point within a facet size of closing that slid more than this fraction of its facet's size (longest edge) relative
+# to its paired master point is over another facet, and its gap is measured against the wrong one.
+SMALL_SLIDING = 0.5
 # Facets are queried in at most this many classes of size (half bounding-box diagonal, factors of 2 below the largest).
 SIZE_CLASSES = 8
 # Relative tolerance of the closest-facet comparisons: values this close are ties (decided by the facet order).
@@ -166,6 +171,22 @@ def facet_normals(x: np.ndarray) -> np.ndarray:
     else:
         n = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
     return n / np.linalg.norm(n, axis=1)[:, None]
+
+
+def small_sliding_warning(ratio: float) -> str | None:
+    """The line of a small-sliding surface whose largest slide is ``ratio`` facet sizes, if past
+    :data:`SMALL_SLIDING`; else None."""
+    if not ratio > SMALL_SLIDING:
+        return None
+    return (f"small sliding past its range: a point slid {ratio:.3g} of its master facet's size relative to its pair "
+            f"(> {SMALL_SLIDING:g}: over another facet); sliding 'finite' holds there")
+
+
+def facet_sizes(x: np.ndarray) -> np.ndarray:
+    """The longest edge of each facet ``x`` (nf, nv, gdim) (a segment: its length)."""
+    nv = x.shape[1]
+    edges = [np.linalg.norm(x[:, i] - x[:, j], axis=1) for i in range(nv) for j in range(i + 1, nv)]
+    return np.max(edges, axis=0) if edges else np.zeros(len(x))
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -44,7 +44,7 @@ __all__ = ["COLLECTIVE", "Surface", "StepSolver"]
 # checked by :func:`~fenics_contact.collective.collective` wherever a surface class defines it.
 COLLECTIVE = ("total_force", "tangential_force", "point_values", "surface_values", "friction_profile",
               "contact_zones", "contact_area", "max_penetration", "area", "mean_pressure", "point_forces",
-              "state_areas", "capacity", "update_output")
+              "state_areas", "capacity", "update_output", "range_warning")
 
 
 class Surface(abc.ABC):
@@ -182,6 +182,11 @@ class Surface(abc.ABC):
     def restore(self, state: dict) -> None:
         """Go back to a :meth:`state` (the step failed and is cut)."""
         return None  # a no-op unless a surface needs it
+
+    def range_warning(self) -> str | None:
+        """At an accepted state: what puts the surface's model past its range there, in one line (small sliding:
+        a pair slid off its master facet, :data:`~fenics_contact.search.SMALL_SLIDING`), or None. Collective."""
+        return None
 
     # --- output ---------------------------------------------------------------------------
     def update_output(self) -> None:

@@ -357,3 +357,38 @@ def test_an_overhang_past_the_master_surface_carries_no_pressure(dim):
     assert comm.allreduce(int(past.sum())) > 0 and comm.allreduce(float(np.max(p[past], initial=0.0)),
                                                                    op=MPI.MAX) == 0.0
     assert comm.allreduce(float(np.min(p[over], initial=np.inf)), op=MPI.MIN) > 5.0  # about E x strain = 20
+
+
+@pytest.mark.parametrize("method", ["penalty", "coulomb"])
+def test_small_sliding_past_its_range_is_a_warning(method):
+    """Small sliding keeps each slave point's reference pair. An upper block pressed on a lower one (master facets
+    0.25 long) and dragged along the interface by 0.6 facets slides off its pairs: the run's warnings say so, with
+    the slide (0.6 facets, the rigid drag) and the step; dragged by 0.2 facets it stays on them: no warning.
+    Pointwise penalty and the condensed exact method (small sliding by construction)."""
+    facet = 0.25
+    found = {}
+    for drag in (0.2, 0.6):
+        mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 0.5, 0.25, (4, 2), (3, 2), upper_span=(0.25, 0.75))
+        from fenics_contact.compat import function_space
+
+        u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)), name="u")
+        V = u.function_space
+        load = fem.Constant(mesh, 0.0)
+        law = (lambda: make_law("penalty", K=1e5)) if method == "penalty" else (lambda: make_law("coulomb", mu=0.3))
+        contacts = two_body_surfaces(u, ft, "upper_bottom", "lower_top", law, load, "nodal", sliding="small",
+                                     material=fc.LinearElastic(1000.0, 0.3))
+        dirichlet = [fc.Dirichlet.on_facets(V, ft, "lower_bottom", 0), fc.Dirichlet.on_facets(V, ft, "lower_bottom", 1),
+                     fc.Dirichlet.on_facets(V, ft, "upper_top", 1, -1e-3),
+                     fc.Dirichlet.on_facets(V, ft, "upper_top", 0, drag * facet)]
+        problem = fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.3), load, dirichlet, contacts,
+                                    step_solver=fc.step_solver_for(contacts))
+        with Solver(problem, quiet=True) as solver:
+            solver.run([0.5, 1.0])
+            found[drag] = [w for w in solver.record.warnings if "small sliding" in w]
+    assert found[0.2] == []
+    assert len(found[0.6]) == 1, found[0.6]
+    import re
+
+    slid = float(re.search(r"a point slid ([0-9.e+-]+) of its master facet", found[0.6][0]).group(1))
+    assert abs(slid - 0.6) < 0.01, found[0.6]
+    assert "at step 2 (t = 1)" in found[0.6][0]  # 0.3 facets at the first step: within range

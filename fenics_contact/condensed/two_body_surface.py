@@ -19,7 +19,7 @@ from ..capabilities import check, of
 from ..compat import function_space
 from ..contact import PRESSURE_KINDS, check_facet_tag
 from ..laws import ContactLaw, ExactCoulomb
-from ..search import facet_normals, free_sides, project
+from ..search import facet_normals, facet_sizes, free_sides, project, small_sliding_warning
 from ..surface import Surface
 from ..twobody import FacetData
 from .disk import tangent_basis
@@ -140,6 +140,7 @@ class CondensedTwoBody(Surface):
         self.traction_out = fem.Function(V, name="tangential_traction")
         self._solution = None  # (force n, force t, gap, state, slip) per slave vertex, from set_solution
         self.dissipated, self.log = 0.0, []
+        self.slid = np.zeros((len(facet), dim))  # the committed steps' slip increments, summed (small sliding's range)
 
     def bind_material(self, material) -> None:
         """Refuse a bulk model the condensation cannot take (neo-Hookean: no constant stiffness) when the problem is
@@ -234,15 +235,29 @@ class CondensedTwoBody(Surface):
             return
         fn, ft, _, _, slip = self._solution
         self.dissipated += float(-np.sum(ft * slip))  # the friction force opposes the slip: >= 0
+        self.slid = self.slid + slip
         self.log.append({"load": float(self.load.value), "normal_force": self.total_force().tolist(),
                          "tangential_force": self.tangential_force().tolist(), "capacity": self.capacity(),
                          "dissipated": self.dissipated, **self.state_areas()})
 
     def state(self) -> dict:
-        return {"solution": self._solution, "dissipated": self.dissipated}
+        return {"solution": self._solution, "dissipated": self.dissipated, "slid": self.slid}
 
     def restore(self, state: dict) -> None:
         if self._solution is not state["solution"] and state["solution"] is not None:
             self.set_solution(*state["solution"])
         self._solution, self.dissipated = state["solution"], state["dissipated"]
+        self.slid = state.get("slid", np.zeros_like(self.slid))
+
+    def range_warning(self) -> str | None:
+        """Small sliding (the fixed pairs) past its range: a slave vertex within a facet size of closing slid more
+        than :data:`~fenics_contact.search.SMALL_SLIDING` of its master facet's size over the committed steps. The
+        same on every rank. Collective."""
+        if self._solution is None or not self.paired.any():
+            return None
+        gap = self._solution[2][self.paired]
+        h = facet_sizes(self.master_X[self.facet[self.paired]])
+        near = gap > -h
+        slid = np.linalg.norm(self.slid[self.paired], axis=1) / h
+        return small_sliding_warning(float(slid[near].max()) if near.any() else 0.0)
 

@@ -27,7 +27,7 @@ from .record import (
     progress_line,
     reason_text,
 )
-from .validity import inverted_failure, strain_warning
+from .validity import inverted_failure, range_warnings, strain_warning
 
 __all__ = ["Solver"]
 
@@ -206,6 +206,7 @@ class Solver:
                         c.commit()  # history (friction, condensed slip reference) advances only on accepted steps
                     self.records.append(rec)
                     strain_warning(self.problem, rec.step, rec.load, self.record.warnings, self.timings)
+                    range_warnings(self.problem, rec.step, rec.load, self.record.warnings, self.timings)
                     if not rec.augmentation_converged:
                         self.record.warn(augmentation_warning(rec, self.augment_tol * self.problem.mesh_size()), comm)
                     self.options.refuse_unused_later(self.linear_iterations > 0)

@@ -1,6 +1,6 @@
-"""What a converged state may not be: cells turned inside out (a failure of the solve), or a small-strain model
-past its range (a warning of the run). Both are checked on the displacement alone, once per converged solve or
-accepted step; their seconds go to ``timings["validity_s"]``."""
+"""What a converged state may not be: cells turned inside out (a failure of the solve), a small-strain model past
+its range, or a contact surface's model past its (small sliding off its facets): warnings of the run. Checked once
+per converged solve or accepted step; their seconds go to ``timings["validity_s"]``."""
 from __future__ import annotations
 
 import logging
@@ -13,7 +13,7 @@ from ..materials import SMALL_STRAIN
 from ..models import locking_warning
 from ..problem import ContactProblem
 
-__all__ = ["inverted_failure", "max_strain", "strain_warning"]
+__all__ = ["inverted_failure", "max_strain", "range_warnings", "strain_warning"]
 
 logger = logging.getLogger(__package__)
 
@@ -78,3 +78,22 @@ def strain_warning(problem: ContactProblem, step: int, load: float, warnings: li
         warnings.append(text)
         if problem.comm.rank == 0:
             logger.warning(text)
+
+
+def range_warnings(problem: ContactProblem, step: int, load: float, warnings: list[str], timings: dict) -> None:
+    """Each contact surface's model past its range at the accepted step ``step`` (load ``load``)
+    (:meth:`~fenics_contact.surface.Surface.range_warning`): a line appended to ``warnings`` and logged (WARNING,
+    rank 0), once per surface and kind per run. Not a failure. Collective."""
+    start = time.perf_counter()
+    found = [(c.name, c.range_warning()) for c in problem.contacts]
+    timings["validity_s"] += time.perf_counter() - start
+    for name, text in found:
+        if text is None:
+            continue
+        kind = f"{name}: {text.split(':')[0]}"
+        if any(w.startswith(kind) for w in warnings):
+            continue
+        line = f"{name}: {text} at step {step} (t = {load:.6g})"
+        warnings.append(line)
+        if problem.comm.rank == 0:
+            logger.warning(line)

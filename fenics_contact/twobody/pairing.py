@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 from mpi4py import MPI
 
-from ..search import facet_normals, free_sides, project, quadratic_normals, quadratic_shape, stretch
+from ..search import facet_normals, facet_sizes, free_sides, project, quadratic_normals, quadratic_shape, stretch
 from .exchange import MasterExchange
 from .facets import FacetData, SlavePoints
 
@@ -190,6 +190,27 @@ class Pairing:
                            "gap": gap, "normal": normal}
         self.local_coordinate = xi
         return facet
+
+    def slide(self, u: np.ndarray) -> float:
+        """The largest slide of a local slave point relative to its paired master point since the reference
+        configuration (the tangential part of their relative displacement, along the pair's normal) over the size
+        of its master facet (:func:`~fenics_contact.search.facet_sizes`), among the points within a facet size of
+        closing (gap > -size) at the last update; 0 if there is none. Flat facets (small sliding)."""
+        p = self.projection
+        if p is None or self.master is None:
+            return 0.0
+        ok = p["facet"] >= 0
+        if not ok.any():
+            return 0.0
+        facet, bary = p["facet"][ok], p["bary"][ok]
+        X, x = self.master["X"][facet], self.master["x"][facet]
+        h = facet_sizes(X)
+        d = (self.points.current(u)[ok] - np.einsum("ik,ikj->ij", bary, x)) \
+            - (self.points.reference()[ok] - np.einsum("ik,ikj->ij", bary, X))
+        n = p["normal"][ok]
+        tangential = d - np.einsum("ij,ij->i", d, n)[:, None] * n
+        near = p["gap"][ok] > -h
+        return float(np.max(np.linalg.norm(tangential[near], axis=1) / h[near])) if near.any() else 0.0
 
     def _allowed(self, u: np.ndarray, xm: np.ndarray, nq: int):
         """Self-contact: the test of :func:`search.project` that leaves out each point's own neighbourhood (module

@@ -16,11 +16,13 @@ from __future__ import annotations
 import numpy as np
 import ufl
 from dolfinx import fem
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..capabilities import check, of
 from ..contact import ContactSurface, contact_measure
 from ..laws import ContactLaw
+from ..search import small_sliding_warning
 from .coupling import JacobianPattern, MirrorCoupling, dirichlet_columns
 from .facets import SlavePoints, facet_pair
 from .mirror import MirrorFields, MirrorObstacle
@@ -161,6 +163,14 @@ class TwoBodySurface(ContactSurface):
     def exploded(self) -> bool:
         """The last update met a master facet stretched past :data:`search.STRETCH_LIMIT`."""
         return self.pairs.exploded
+
+    def range_warning(self) -> str | None:
+        """Small sliding past its range: a point within a facet size of closing slid more than
+        :data:`~fenics_contact.search.SMALL_SLIDING` of its master facet's size (:meth:`.Pairing.slide`). Collective."""
+        if self.sliding != "small":
+            return None
+        ratio = self.comm.allreduce(self.pairs.slide(self.u.x.array), op=MPI.MAX)
+        return small_sliding_warning(ratio)
 
     @property
     def pairing_changes(self) -> int:
