@@ -53,6 +53,8 @@ class Newton:
             if not options.has("snes_convergence_test"):
                 self.snes.setConvergenceTest(self.convergence_test)
             self.linear.configure(self.A)
+            rtol, rtol_max = self.snes.getKSP().getTolerances()[0], options.get_real("ksp_rtol_max", 0.0)
+        self.forcing_range = (rtol, rtol_max) if rtol_max > rtol else None  # see forcing
         self.history: list[float] = []
         self.sets: list = []
         self.closed: list[int] = []
@@ -93,7 +95,21 @@ class Newton:
         if self.problem.J(x, A) and not renewed:  # a pattern known only on assembly (collocated element)
             self.linear.renew_pc()
         release_free_memory()  # before the preconditioner's set-up and the Krylov vectors
+        if self.forcing_range is not None:
+            snes.getKSP().setTolerances(rtol=self.forcing())
         self.timings["assembly_s"] += time.perf_counter() - start
+
+    def forcing(self) -> float:
+        """The Krylov tolerance of this Newton iteration (option ``ksp_rtol_max`` above ``ksp_rtol``): the square
+        of the last residual ratio ``||F_k|| / ||F_k-1||`` (Eisenstat and Walker's second choice, gamma 1, alpha
+        2), within ``[ksp_rtol, ksp_rtol_max]``; ``ksp_rtol_max`` at a solve's first iteration. Loose while the
+        residual falls slowly (the active set still moving), tight where Newton converges fast, so its last
+        iterates keep their rate and the answer is that of tight solves."""
+        low, high = self.forcing_range
+        h = self.history
+        if len(h) < 2 or not h[-2] > 0:
+            return high
+        return float(np.clip((h[-1] / h[-2]) ** 2, low, high))
 
     @property
     def atol(self) -> float:

@@ -100,8 +100,9 @@ def linear_solver_options(solver: str) -> dict:
     return dict(LINEAR_SOLVERS[solver])
 
 
-# Options the solver reads itself, not PETSc's objects (Solver.summary: the condition estimate of the last Jacobian).
-OWN_OPTIONS = ("condition_estimate", "distributed_lu")
+# Options the solver reads itself, not PETSc's objects (Solver.summary: the condition estimate of the last Jacobian;
+# ksp_rtol_max: the Krylov tolerance of each Newton iteration follows the residual, newton.Newton.forcing).
+OWN_OPTIONS = ("condition_estimate", "distributed_lu", "ksp_rtol_max")
 # PETSc options often given (without prefix), besides the library's own: the candidates of "did you mean" for a
 # misspelt one.
 COMMON_OPTIONS = ("snes_atol", "snes_monitor", "snes_converged_reason", "snes_view", "snes_linesearch_monitor",

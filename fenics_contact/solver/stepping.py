@@ -171,9 +171,10 @@ class Solver:
         included): the cost floor of one linear elastic solve here, max over ranks (:meth:`LinearSolver.solve_time`).
         Collective."""
         newton = self.newton
+        petsc_vec(self.problem.u).copy(newton.x)  # the current state (a step solver's too)
         self.problem.bulk_jacobian.reuse = False  # a fresh solve assembles the whole Jacobian
         try:
-            return newton.linear.solve_time(newton.A, newton.b,
+            return newton.linear.solve_time(newton.A, newton.x,
                                             lambda: newton.jacobian(newton.snes, newton.x, newton.A, newton.A))
         finally:
             self.problem.bulk_jacobian.reuse = True
