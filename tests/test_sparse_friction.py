@@ -14,6 +14,7 @@ from petsc4py import PETSc
 import fenics_contact as fc
 from fenics_contact.app.scenes import build
 from fenics_contact.laws import ExactCoulomb, LagrangeMultiplier
+from fenics_contact.multipliers import KRYLOV_RTOL_MAX
 from fenics_contact.solver import LINEAR_SOLVERS, Solver
 from fenics_contact.solver.options import solver_options
 
@@ -108,6 +109,33 @@ def test_a_linear_bodys_displacement_block_keeps_its_multigrid():
     for material, kept in ((fc.LinearElastic(1000.0, 0.0), True), (fc.NeoHookean(1000.0, 0.0), False)):
         problem = fc.ContactProblem(u, material, load, _top_motion(V, facets, "top", PRESS), [c])
         assert (key in solver_options(problem, LINEAR_SOLVERS["iterative"])) == kept, material
+
+
+def test_the_krylov_tolerance_follows_the_newton_residual():
+    """The multipliers' iterative solve takes each Newton iteration's Krylov tolerance from the residual
+    (``ksp_rtol_max``, :meth:`Newton.forcing`): the square of the last residual ratio within [ksp_rtol,
+    ksp_rtol_max], loose at a solve's start. On the 3D box dragged with friction (every vertex sliding) it spends
+    fewer Krylov iterations than the fixed tolerance (``ksp_rtol_max`` 0: off) and gets the direct solve's
+    pressures and tractions to 1e-9 of the largest pressure and its slip states."""
+    law = fc.Friction(LagrangeMultiplier(100.0), mu=0.3)
+    direct, _ = _box_on_plane(law, 40 * PRESS)
+    runs = {}
+    for name, extra in (("forcing", {}), ("fixed", {"ksp_rtol_max": 0.0})):
+        profile, solver = _box_on_plane(law, 40 * PRESS, options={**LINEAR_SOLVERS["iterative"], **extra})
+        assert all(r.converged for r in solver.records)
+        runs[name] = profile, solver.linear_iterations, solver.newton
+    scale = np.abs(direct["pressure"]).max()
+    for name, (profile, _, _) in runs.items():
+        assert np.abs(profile["pressure"] - direct["pressure"]).max() <= 1e-9 * scale, name
+        assert np.abs(profile["traction"] - direct["traction"]).max() <= 1e-9 * scale, name
+        assert np.array_equal(profile["state"], direct["state"]), name
+    assert runs["forcing"][1] < runs["fixed"][1], (runs["forcing"][1], runs["fixed"][1])
+    newton = runs["forcing"][2]
+    assert newton.forcing_range == (1e-8, KRYLOV_RTOL_MAX) and runs["fixed"][2].forcing_range is None
+    for history, eta in (([1.0], KRYLOV_RTOL_MAX), ([1.0, 0.5], KRYLOV_RTOL_MAX), ([1.0, 1e-3], 1e-6),
+                         ([1.0, 1e-6], 1e-8)):
+        newton.history = history
+        assert newton.forcing() == pytest.approx(eta, rel=1e-12), history
 
 
 def test_tresca_bound_on_the_slab():

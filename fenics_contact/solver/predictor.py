@@ -104,6 +104,8 @@ class Predictor:
         newton.residual(newton.snes, x, r1)
         r1.axpy(-1.0, r0)
         r1.scale(-(t - t0) / eps)
+        if newton.forcing_range is not None:  # a start, not an answer: the loosest Krylov tolerance of the solves
+            newton.snes.getKSP().setTolerances(rtol=newton.forcing_range[1])
         reason = newton.linear.solve(newton.A, r1, du)
         p.set_load(t)
         if reason < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
