@@ -1,4 +1,6 @@
 """Two deformable bodies: projection, consistent tangent (with master dofs), patch test, bad input, ranks."""
+import re
+
 import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import pytest
@@ -9,7 +11,7 @@ from mpi4py import MPI
 import fenics_contact as fc
 from fenics_contact.app.meshes import stacked_blocks
 from fenics_contact.app.scenes import build
-from fenics_contact.compat import bc_dofs, petsc_vec
+from fenics_contact.compat import bc_dofs, function_space, petsc_vec
 from fenics_contact.factory import two_body_surfaces
 from fenics_contact.methods import make_law
 from fenics_contact.solver import Solver
@@ -369,8 +371,6 @@ def test_small_sliding_past_its_range_is_a_warning(method):
     found = {}
     for drag in (0.2, 0.6):
         mesh, _, ft = stacked_blocks(MPI.COMM_WORLD, 1.0, 0.5, 0.25, (4, 2), (3, 2), upper_span=(0.25, 0.75))
-        from fenics_contact.compat import function_space
-
         u = fem.Function(function_space(mesh, "Lagrange", 1, (2,)), name="u")
         V = u.function_space
         load = fem.Constant(mesh, 0.0)
@@ -387,8 +387,6 @@ def test_small_sliding_past_its_range_is_a_warning(method):
             found[drag] = [w for w in solver.record.warnings if "small sliding" in w]
     assert found[0.2] == []
     assert len(found[0.6]) == 1, found[0.6]
-    import re
-
     slid = float(re.search(r"a point slid ([0-9.e+-]+) of its master facet", found[0.6][0]).group(1))
     assert abs(slid - 0.6) < 0.01, found[0.6]
     assert "at step 2 (t = 1)" in found[0.6][0]  # 0.3 facets at the first step: within range

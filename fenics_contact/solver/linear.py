@@ -174,7 +174,10 @@ class LinearSolver:
             b, y = x.duplicate(), x.duplicate()
             start = time.perf_counter()
             assemble_jacobian()
-            A.mult(x, b)
+            if x.norm() > 0:
+                A.mult(x, b)
+            else:  # no state yet (a run that failed at its first step): a right-hand side of ones
+                b.set(1.0)
             ksp.setOperators(A)
             with self.options.active(lambda k: k.startswith("fieldsplit_")):  # a nested split: see read_at_setup
                 ksp.solve(b, y)
