@@ -135,6 +135,7 @@ def test_coulomb_with_a_neohookean_body_is_refused_when_the_problem_is_made(body
     ({"snes_rtol": -1}, r"^Solver option snes_rtol = -1: .*must be non-negative"),
     ({"snes_max_it": None}, r"^Solver option snes_max_it = None: this option takes a value"),
     ({"ksp_type": "notakrylov"}, r"^Solver option ksp_type = 'notakrylov': .*; accepted: .*gmres"),
+    ({"ksp_rtol_max": 2.0}, r"^Solver option ksp_rtol_max = 2.0: accepted: a number in \[0, 1\)"),
 ])
 def test_a_solver_option_petsc_cannot_use_is_refused_naming_it(options, said, comm):
     """``Solver(options=...)`` is checked as the command line's PETSc options are, when the solver is made: a value

@@ -49,7 +49,7 @@ from ..contact import QUADRATURES
 from ..jitlog import quiet_compiler
 from ..laws import ContactLaw, LagrangeMultiplier
 from ..solver import DEFAULT_OPTIONS, INEXACT_NEWTON, LINEAR_SOLVERS, ConvergenceError, linear_solver_options
-from ..solver.options import option_used, petsc_complaint, value_problem
+from ..solver.options import OWN_OPTIONS, option_used, petsc_complaint, value_problem
 from .memory import BYTES_PER_DOF, available_memory
 
 logger = logging.getLogger(__name__)
@@ -609,7 +609,8 @@ def check_petsc_values(options: Sequence[tuple[str, str]]) -> None:
             continue
         complaint = value_problem(name[len(_PREFIX):], value if value != "" else None)
         if complaint is not None:
-            raise UsageError(f"PETSc rejected -{name} {value}".rstrip() + f": {complaint}")
+            who = "" if name[len(_PREFIX):] in OWN_OPTIONS else "PETSc rejected "  # the solver's own: not PETSc's
+            raise UsageError(f"{who}-{name} {value}".rstrip() + f": {complaint}")
 
 
 def _petsc_message(exc: PETSc.Error) -> str:

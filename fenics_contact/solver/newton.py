@@ -12,7 +12,7 @@ from .. import failure as _failure
 from ..compat import petsc_vec, release_free_memory
 from ..problem import DIRICHLET_WEIGHT, ContactProblem
 from .linear import LinearSolver
-from .options import ATOL_RELATIVE, ROUNDOFF_FACTOR, ScopedOptions, read_at_setup
+from .options import ATOL_RELATIVE, ROUNDOFF_FACTOR, ScopedOptions, read_at_setup, rtol_max_problem
 
 __all__ = ["Newton"]
 
@@ -54,6 +54,10 @@ class Newton:
                 self.snes.setConvergenceTest(self.convergence_test)
             self.linear.configure(self.A)
             rtol, rtol_max = self.snes.getKSP().getTolerances()[0], options.get_real("ksp_rtol_max", 0.0)
+        complaint = rtol_max_problem(rtol_max)  # a command line's value (Solver's options are checked before)
+        if complaint is not None:
+            self.destroy()
+            raise ValueError(f"-{options.prefix}ksp_rtol_max {rtol_max:g}: {complaint}")
         self.forcing_range = (rtol, rtol_max) if rtol_max > rtol else None  # see forcing
         self.history: list[float] = []
         self.sets: list = []

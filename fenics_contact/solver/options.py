@@ -28,7 +28,8 @@ from ..problem import ContactProblem
 __all__ = ["ATOL_RELATIVE", "ROUNDOFF_FACTOR", "COMMON_OPTIONS", "DEFAULT_OPTIONS", "EW_RTOL_MAX", "INEXACT_NEWTON",
            "LINEAR_SOLVERS", "MULTIGRID", "linear_solver_options", "OWN_OPTIONS", "VI_ZERO_TOLERANCE", "ScopedOptions",
            "check_option_values",
-           "option_used", "petsc_complaint", "probe_option", "read_at_setup", "solver_options", "value_problem"]
+           "option_used", "petsc_complaint", "probe_option", "read_at_setup", "rtol_max_problem", "solver_options",
+           "value_problem"]
 
 DEFAULT_OPTIONS = {
     "snes_type": "newtonls",
@@ -185,18 +186,33 @@ def check_option_values(options: object) -> None:
         if not (isinstance(name, str) and re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name)):
             raise ValueError(f"Solver option name {name!r}: accepted: a PETSc option name without dash or prefix, "
                              "letters, digits and underscores (e.g. 'snes_rtol')")
-        if name in OWN_OPTIONS:
+        if name in OWN_OPTIONS and name != "ksp_rtol_max":  # flags the solver reads itself
             continue
         complaint = value_problem(name, value)
         if complaint is not None:
             raise ValueError(f"Solver option {name} = {value!r}: {complaint}")
 
 
+def rtol_max_problem(value: object) -> str | None:
+    """What is wrong with a value of the solver's own option ``ksp_rtol_max`` (the largest Krylov tolerance of a
+    Newton iteration, :meth:`~.newton.Newton.forcing`), or None."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not 0.0 <= number < 1.0:
+        return "accepted: a number in [0, 1) (at or below ksp_rtol: the Krylov tolerance fixed at ksp_rtol)"
+    return None
+
+
 def value_problem(name: str, value: object) -> str | None:
     """What is wrong with PETSc option ``name`` (without dash or prefix) ``= value`` (None: a flag without a value),
     with the values accepted, or None: a value other than a string, number, bool or None; a number that is not
     finite; None for an option that takes a value; a value PETSc rejects on its own (:func:`probe_option`); a
-    negative tolerance or iteration limit (which later PETSc releases take as "the default")."""
+    negative tolerance or iteration limit (which later PETSc releases take as "the default"). The solver's own
+    ``ksp_rtol_max``: :func:`rtol_max_problem`."""
+    if name == "ksp_rtol_max":
+        return rtol_max_problem(value)
     if value is not None and not isinstance(value, (str, bool, int, float)):
         return f"accepted: a string, a number, a bool or None (a flag), got {type(value).__name__}"
     if not isinstance(value, bool) and _is_number(value) and not math.isfinite(float(value)):
