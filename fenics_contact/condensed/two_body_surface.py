@@ -103,8 +103,7 @@ class CondensedTwoBody(Surface):
         key = np.lexsort(np.round(mX.mean(axis=1), 12).T[::-1])
         self.master_facets, self.master_X = mG[key], mX[key]
         if radius is None:
-            edges = self.master_X - np.roll(self.master_X, 1, axis=1)
-            radius = 2.0 * float(np.max(np.linalg.norm(edges, axis=2)))
+            radius = 2.0 * float(np.max(facet_sizes(self.master_X)))
         self.radius = float(radius)
         if np.intersect1d(self.slave_dofs, self.master_facets).size:
             raise ValueError(f"{name}: the slave and master surfaces share vertices (two bodies do not)")
