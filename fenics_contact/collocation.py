@@ -203,9 +203,11 @@ class CollocatedSurface(TwoBodyMultiplier):
         # one entry per (row, column): the collocated entries summed
         key, inverse = np.unique(rows.astype(np.int64) * sizes[1][1] + cols.astype(np.int64), return_inverse=True)
         vals = np.bincount(inverse.ravel(), weights=vals, minlength=len(key))
-        C = aij_matrix(self.comm, sizes, key // sizes[1][1], key % sizes[1][1], vals)
+        if getattr(self, "_tangent", None) is not None:  # the last call's: valid until this one
+            self._tangent.destroy()
+        self._tangent = aij_matrix(self.comm, sizes, key // sizes[1][1], key % sizes[1][1], vals)
         self._pattern_version += 1  # the collocation may change from one iterate to the next
-        return C
+        return self._tangent
 
     # --- results ------------------------------------------------------------
     def total_force(self) -> np.ndarray:

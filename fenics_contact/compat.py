@@ -21,7 +21,8 @@ if typing.TYPE_CHECKING:
 
 __all__ = [
     "function_space", "space_degree", "mixed_space", "facet_cell_name", "collapse", "petsc_vec", "create_vector",
-    "assemble_matrix", "lift_and_set_bc", "bc_dofs", "compile_expression", "interpolate_expression",
+    "assemble_matrix", "apply_lifting", "set_bc", "lift_and_set_bc", "bc_dofs", "compile_expression",
+    "interpolate_expression",
     "vertex_expression", "evaluate_expression", "cell_sizes", "entities_to_geometry", "cell_dofs", "geometry_dofs",
     "cell_partitioner", "model_to_mesh", "create_mesh", "xdmf_tensor_padding", "release_free_memory",
     "free_petsc_garbage", "redundant_ksp", "petsc_library", "check_petsc"
@@ -112,19 +113,32 @@ def assemble_matrix(A: PETSc.Mat, a, bcs, diagonal: float) -> None:
     fem_petsc.assemble_matrix(A, a, bcs, diagonal)
 
 
+def apply_lifting(b: PETSc.Vec, a, bcs, x0: PETSc.Vec | None, scale: float) -> None:
+    """``b -= scale * A (g - x0)`` (``x0`` None: zero) into ``b``'s local form, ghosts included (``A`` the compiled
+    bilinear form ``a``, ``g`` the values of the Dirichlet conditions ``bcs``); dolfinx >= 0.8 calls ``scale``
+    ``alpha``."""
+    x0 = [] if x0 is None else [x0]
+    try:
+        fem_petsc.apply_lifting(b, [a], bcs=[bcs], x0=x0, scale=scale)
+    except TypeError:
+        fem_petsc.apply_lifting(b, [a], bcs=[bcs], x0=x0, alpha=scale)
+
+
+def set_bc(b: PETSc.Vec, bcs, x0: PETSc.Vec | None = None, scale: float = 1.0) -> None:
+    """``b = scale * (g - x0)`` on the owned Dirichlet rows of ``bcs`` (``x0`` None: zero)."""
+    try:
+        fem_petsc.set_bc(b, bcs, x0, scale)
+    except TypeError:
+        fem_petsc.set_bc(b, bcs, x0, alpha=scale)
+
+
 def lift_and_set_bc(b: PETSc.Vec, a, bcs, x0: PETSc.Vec, scale: float, diagonal: float = 1.0) -> None:
     """``b -= scale * A (g - x0)`` on free rows, ``b = scale * diagonal * (g - x0)`` on Dirichlet rows (``diagonal``:
     the Jacobian's diagonal on those rows). ``a``: the Jacobian form, or a list of forms whose sum it is."""
     for form in (a if isinstance(a, (list, tuple)) else [a]):
-        try:
-            fem_petsc.apply_lifting(b, [form], bcs=[bcs], x0=[x0], scale=scale)
-        except TypeError:  # dolfinx >= 0.8 renamed ``scale`` to ``alpha``
-            fem_petsc.apply_lifting(b, [form], bcs=[bcs], x0=[x0], alpha=scale)
+        apply_lifting(b, form, bcs, x0, scale)
     b.ghostUpdate(addv=_petsc().InsertMode.ADD, mode=_petsc().ScatterMode.REVERSE)
-    try:
-        fem_petsc.set_bc(b, bcs, x0, scale * diagonal)
-    except TypeError:
-        fem_petsc.set_bc(b, bcs, x0, alpha=scale * diagonal)
+    set_bc(b, bcs, x0, scale * diagonal)
 
 
 def bc_dofs(bc) -> typing.Any:
@@ -146,12 +160,12 @@ def compile_expression(expr, V) -> fem.Expression:
     return fem.Expression(expr, pts() if callable(pts) else pts)
 
 
-def vertex_expression(expr, mesh) -> fem.Expression:
-    """``expr`` (UFL) compiled for evaluation at the vertices of the reference cell of ``mesh`` (no function
-    space: :func:`evaluate_expression` returns its values)."""
+def vertex_expression(expr, mesh, vertices: int | None = None) -> fem.Expression:
+    """``expr`` (UFL) compiled for evaluation at the vertices of the reference cell of ``mesh`` (the first
+    ``vertices`` of them; None: all) (no function space: :func:`evaluate_expression` returns its values)."""
     import basix
 
-    return fem.Expression(expr, basix.geometry(getattr(basix.CellType, mesh.topology.cell_name())))
+    return fem.Expression(expr, basix.geometry(getattr(basix.CellType, mesh.topology.cell_name()))[:vertices])
 
 
 def evaluate_expression(expr: fem.Expression, mesh, cells: np.ndarray) -> np.ndarray:

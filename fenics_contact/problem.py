@@ -30,7 +30,8 @@ from .compat import (
 from .condensed import step_solver_for
 from .contact import displacement, is_mixed
 from .domain import tag_value
-from .form_inputs import form_inputs, input_values
+from .form_inputs import form_inputs
+from .kept import AffineResidual, KeptJacobian
 from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
 from .models import locking_warning
@@ -99,63 +100,6 @@ class Dirichlet:
         return self.amplitude * load_factor(self.path, t)
 
 
-_KEPT = "fc_kept_jacobian"  # the PETSc attribute of a matrix KeptJacobian assembled into
-
-
-class KeptJacobian:
-    """The matrix of the compiled Jacobian ``form``, kept while the values of its ``inputs``
-    (:func:`~.form_inputs.form_inputs`) stay the same (a linear material's stiffness: the whole run); never kept if
-    they include the displacement ``u``. ``create()`` makes an empty matrix of the problem's pattern."""
-
-    def __init__(self, form: fem.Form, inputs: tuple[list, list], u: fem.Function, create):
-        self.form, self.inputs, self.u = form, inputs, u
-        self.create = create  # makes the kept matrix, with the pattern of the matrices it is added to
-        self.matrix: PETSc.Mat | None = None
-        self.reuse = True  # False: assembled every time (the cost of a fresh linear solve)
-        self._values: list | None = None
-        # Marks the matrices the form was assembled into since it was kept: an attribute of the PETSc object (a
-        # handle, the address, may come back for a new matrix after one is destroyed, on one rank and not another)
-        self._mark = object()
-
-    @property
-    def constant(self) -> bool:
-        """True if the matrix is the same at every iterate (its inputs leave out the displacement ``u``)."""
-        return not any(f is self.u for f in self.inputs[1])
-
-    def add(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
-        """Add the form's matrix (Dirichlet rows and columns: ``diagonal`` times the identity) into ``A`` and
-        assemble ``A``: the kept matrix where ``A`` was assembled from the form before (its pattern holds the
-        form's; a contact may have widened it) and nothing it depends on has changed, else assembled from the form
-        (and kept for the next call); always assembled while :attr:`reuse` is False. Collective."""
-        now = input_values(self.inputs, self.u) if self.reuse else None
-        same = now is not None and self._values is not None and all(
-            np.array_equal(a, b) for a, b in zip(now, self._values))
-        marked = A.getAttr(_KEPT) is self._mark
-        comm = A.getComm().tompi4py()
-        # a Function's values may differ on one rank only, a matrix be marked on one rank only
-        flags = comm.allreduce(int(same) | 2 * int(marked), op=MPI.BAND)  # each flag: on every rank
-        same, marked = bool(flags & 1), bool(flags & 2)
-        if same and marked:
-            A.assemble()
-            info = PETSc.Mat.InfoType.GLOBAL_SUM  # the same choice on every rank (MatAXPY is collective)
-            equal = A.getInfo(info)["nz_used"] == self.matrix.getInfo(info)["nz_used"]
-            A.axpy(1.0, self.matrix, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN if equal else
-                   PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
-            return
-        assemble_matrix(A, self.form, bcs, diagonal)
-        A.assemble()
-        if now is None:
-            return
-        if not same:
-            if self.matrix is not None:
-                self.matrix.destroy()
-            self.matrix = self.create()
-            assemble_matrix(self.matrix, self.form, bcs, diagonal)
-            self.matrix.assemble()
-            self._values, self._mark = now, object()
-        A.setAttr(_KEPT, self._mark)
-
-
 def _scaled_rows(residual: ufl.Form, v: ufl.Argument, material) -> ufl.Form:
     """The bulk's ``residual`` in the test function ``v``, its pressure rows times the mixed material's
     ``constraint_scale`` (forces, like the displacement's rows); as it is for a displacement model."""
@@ -182,17 +126,22 @@ def _displacement_diagonal(A: PETSc.Mat, V) -> np.ndarray:
 
 def _vertex_kinematics(u: fem.Function, material) -> tuple:
     """The compiled expression of :meth:`ContactProblem.vertex_kinematics` (``det F`` and the small strain's
-    components of ``u``'s displacement), its mesh and the owned cells."""
+    components of ``u``'s displacement), its mesh and the owned cells. At one vertex where the values are the same
+    at every point of a cell (a linear displacement on straight-sided triangles or tetrahedra, not axisymmetric)."""
     w = displacement(u)
     d = len(w)
     detF = ufl.det(ufl.Identity(d) + ufl.grad(w))
-    if getattr(material, "axisymmetric", False):
+    axisymmetric = getattr(material, "axisymmetric", False)
+    if axisymmetric:
         detF = detF * hoop_stretch(w, AXISYMMETRIC)
     eps = ufl.sym(ufl.grad(w))
     values = [detF] + [eps[i, j] for i in range(d) for j in range(i, d)]
     mesh = u.function_space.mesh
     cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
-    return vertex_expression(ufl.as_vector(values), mesh), mesh, cells
+    V = u.function_space
+    constant = (space_degree(V.sub(0) if is_mixed(V) else V) == 1 and int(mesh.geometry.cmap.degree) == 1
+                and mesh.topology.cell_name() in ("triangle", "tetrahedron") and not axisymmetric)
+    return vertex_expression(ufl.as_vector(values), mesh, 1 if constant else None), mesh, cells
 
 
 def _check_axisymmetric(contacts, u, material) -> None:
@@ -308,6 +257,7 @@ class ContactProblem:
         self._trimmed = is_mixed(V) and not material.mixed
         self.bulk_jacobian = KeptJacobian(self._a_parts[0], form_inputs(ufl.derivative(body, u, du)), u,
                                           self.create_matrix)
+        self.bulk_residual = AffineResidual(self._L_parts[0], form_inputs(body), self.bulk_jacobian)
         self.comm = V.mesh.comm
         self.stiffness = self._reference_stiffness()
         self._vertex_expr = _vertex_kinematics(u, material)  # compiled with the forms: the checks of every step
@@ -356,7 +306,8 @@ class ContactProblem:
     def F(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """The residual at ``x`` into ``b``, as dolfinx's ``NonlinearProblem.F``: sets ``u`` to ``x``, lets every
         contact prepare (two-body contact re-pairs), assembles the forms, adds the contacts' terms outside the
-        forms, and sets the Dirichlet rows to ``k (x - g)`` (``k``: :attr:`stiffness`; lifting on the free rows)."""
+        forms, and sets the Dirichlet rows to ``k (x - g)`` (``k``: :attr:`stiffness`; lifting on the free rows); a
+        linear bulk's part is a product with its kept Jacobian (:class:`~fenics_contact.kept.AffineResidual`)."""
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         x.copy(petsc_vec(self.u))
         self.u.x.scatter_forward()
@@ -364,11 +315,14 @@ class ContactProblem:
             c.prepare(self)
         with b.localForm() as bl:
             bl.set(0.0)
-        for L in self._L_parts:
+        first = 1 if self.bulk_residual.active else 0  # the bodies' residual as a product with their kept Jacobian
+        for L in self._L_parts[first:]:
             fem_petsc.assemble_vector(b, L)
         for c in self.contacts:  # coupling terms outside the forms (owned entries)
             c.add_residual(b)
-        lift_and_set_bc(b, self._a_parts, self.bcs, x, -1.0, self.stiffness)
+        if first:
+            self.bulk_residual.add(b, x, self.bcs, self.stiffness)
+        lift_and_set_bc(b, self._a_parts[first:], self.bcs, x, -1.0, self.stiffness)
 
     def J(self, x: PETSc.Vec, A: PETSc.Mat) -> bool:
         """The Jacobian at ``x`` into ``A`` (Dirichlet rows and columns: ``k`` times the identity), as dolfinx's
@@ -420,9 +374,9 @@ class ContactProblem:
         return self._mesh_size
 
     def vertex_kinematics(self) -> tuple[np.ndarray, np.ndarray]:
-        """At the vertices of every owned cell, at the current displacement: ``det F`` (``F = I + grad u``;
-        axisymmetric: times the hoop stretch ``1 + u_r / r``), shape (cells, vertices), and the components
-        ``(i, j)``, ``i <= j`` in row order, of the small strain ``sym(grad u)``, shape (cells, vertices, pairs).
+        """At the vertices of every owned cell (one where the values are constant on a cell: P1 on straight simplices,
+        not axisymmetric), at the current displacement: ``det F`` (``F = I + grad u``; axisymmetric: times ``1 + u_r /
+        r``), shape (cells, vertices), and the components ``(i, j)``, ``i <= j`` in row order, of ``sym(grad u)``.
         One expression, compiled with the problem's forms, serves both (the solver's checks after every step),
         evaluated once per displacement (the values of the last call are kept with the displacement they belong to)."""
         u = self.u.x.array
@@ -433,21 +387,17 @@ class ContactProblem:
         values = kept[1]
         return values[:, :, 0], values[:, :, 1:]
 
-    def _cell_jacobians(self) -> np.ndarray:
-        """Smallest ``det F`` of each owned cell over its vertices (:meth:`vertex_kinematics`)."""
-        return self.vertex_kinematics()[0].min(axis=1)
-
     def min_jacobian(self) -> float:
         """Smallest ``J = det F`` of the displacement (:meth:`vertex_kinematics`) at the cells' vertices, over all
         ranks: ``J <= 0``, an inverted element, is no answer even if Newton converged to it. Not a measure of
         incompressibility: a mixed model meets ``J = 1`` weakly (on average over a cell); at the vertices of a
         nearly incompressible body ``J`` is a few per cent off 1 (0.93-0.99 under a rigid sphere). Collective."""
-        local = self._cell_jacobians()
+        local = self.vertex_kinematics()[0].min(axis=1)  # each owned cell's smallest
         return self.comm.allreduce(float(local.min()) if local.size else np.inf, op=MPI.MIN)
 
     def inverted_cells(self) -> tuple[int, int]:
         """``(cells with det F <= 0 at a vertex, cells)`` at the current displacement, over all ranks. Collective."""
-        local = self._cell_jacobians()
+        local = self.vertex_kinematics()[0].min(axis=1)  # each owned cell's smallest
         return (self.comm.allreduce(int(np.count_nonzero(local <= 0.0)), op=MPI.SUM),
                 self.comm.allreduce(local.size, op=MPI.SUM))
 

@@ -14,7 +14,13 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-__all__ = ["aij_matrix", "trimmed_matrix"]
+from .compat import release_free_memory
+
+__all__ = ["KEPT_ATTRIBUTES", "aij_matrix", "trimmed_matrix", "widen"]
+
+# The PETSc attributes a matrix keeps across :func:`widen` (MatAXPY with a new pattern gives it a new header, which
+# drops them): problem.KeptJacobian's mark (the matrix holds the bulk's pattern, which widening keeps).
+KEPT_ATTRIBUTES = ("fc_kept_jacobian",)
 
 
 def aij_matrix(comm: MPI.Comm, sizes: tuple[tuple[int, int], tuple[int, int]], rows: np.ndarray, cols: np.ndarray,
@@ -98,3 +104,18 @@ def trimmed_matrix(W, field: int, keep: Sequence) -> PETSc.Mat:
     A.setLGMap(lgmap, lgmap)
     A.setOption(PETSc.Mat.Option.NEW_NONZERO_LOCATIONS, False)
     return A
+
+
+def widen(A: PETSc.Mat, C: PETSc.Mat) -> None:
+    """``A += C`` with ``C``'s nonzero pattern joined to ``A``'s (``MatAXPY``, ``DIFFERENT_NONZERO_PATTERN``), ``A``
+    keeping its near-nullspace (GAMG's rigid-body modes) and :data:`KEPT_ATTRIBUTES`, which the new header drops.
+    Collective."""
+    release_free_memory()  # the temporaries' freed pages back to the system before A's copy is allocated
+    near = A.getNearNullSpace()
+    kept = {name: A.getAttr(name) for name in KEPT_ATTRIBUTES}
+    A.axpy(1.0, C, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+    if near is not None and near.handle:
+        A.setNearNullSpace(near)
+    for name, value in kept.items():
+        if value is not None:
+            A.setAttr(name, value)

@@ -80,7 +80,7 @@ def measure(name: str, args, comm) -> None:
         c.add_residual(b)
 
     def jacobian():  # after the residual of the same state, as in a Newton iteration
-        c.coupling_matrix(problem.bcs).destroy()
+        c.coupling_matrix(problem.bcs)
 
     t_res = best(residual, args.repeat, comm)
     t_jac = best(lambda: (residual(), jacobian()), args.repeat, comm) - t_res

@@ -390,3 +390,34 @@ def test_small_sliding_past_its_range_is_a_warning(method):
     slid = float(re.search(r"a point slid ([0-9.e+-]+) of its master facet", found[0.6][0]).group(1))
     assert abs(slid - 0.6) < 0.01, found[0.6]
     assert "at step 2 (t = 1)" in found[0.6][0]  # 0.3 facets at the first step: within range
+
+
+def test_coupling_products_kept_while_the_pairing_stays():
+    """The coupling's matrix products keep their pattern while the pairing stays (only their values are computed):
+    the Jacobian at a new state with the same pairing (the upper block lifted, then pressed in: every point's
+    coupling changes) equals the one made with products from scratch."""
+    from fenics_contact.app.cli import LINEAR_SOLVERS
+
+    setup = build("patch", law_factory=lambda: make_law("penalty", K=1e3), quadrature="nodal", passes="one")
+    p, c = setup.problem, setup.contacts[0]
+    solver = Solver(p, quiet=True, options=dict(LINEAR_SOLVERS["iterative"]))
+    p.set_load(1.0)
+    x, b = p.create_vector(), p.create_vector()
+    V = p.u.function_space
+    upper = V.tabulate_dof_coordinates()[: len(x.array) // 2, 1] > 1.0 - 1e-9
+    jacobians, operators = [], []
+    for shift in (1e-3, -2e-3):  # open, then pressed: the same master facets below every slave point
+        x.array[:] = 0.0
+        x.array[1::2][upper] = shift
+        p.F(x, b)
+        p.J(x, solver.A)
+        jacobians.append(solver.A.copy())
+        operators.append(c.coupling.operator)
+    assert operators[1] is operators[0] and c.coupling._products[0] is operators[0]  # the same pairing: reused
+    c.coupling._destroy_products()
+    p.J(x, solver.A)  # products from scratch
+    opened, pressed = jacobians
+    opened.axpy(-1.0, pressed)
+    assert opened.norm() > 1e-3 * pressed.norm()  # the coupling changed
+    pressed.axpy(-1.0, solver.A)
+    assert pressed.norm() <= 1e-13 * solver.A.norm()

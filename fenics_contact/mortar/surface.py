@@ -81,6 +81,7 @@ class SegmentSurface(ContactSurface):
         self._dirichlet = np.zeros(0, np.int64)  # global Dirichlet dofs, left out of the tangent (bind_problem)
         self._problem = None
         self._pattern = JacobianPattern()
+        self._tangent: PETSc.Mat | None = None  # the last coupling_matrix
         self.weight = fem.Constant(mesh, float(weight))
         m = self.mirror
         obstacle = MirrorObstacle(m.reference, m.displacement, m.active, self.nv, self.gdim, self.radius)
@@ -199,7 +200,8 @@ class SegmentSurface(ContactSurface):
         b.assemblyEnd()
 
     def coupling_matrix(self, bcs) -> PETSc.Mat:
-        """The whole contact tangent (slave and master rows and columns; Dirichlet rows and columns zero)."""
+        """The whole contact tangent (slave and master rows and columns; Dirichlet rows and columns zero): the
+        surface's own matrix, valid until the next call."""
         with self._seconds.measure("coupling_s"):
             (_, K), dofs = self._elements()
             Vmap, bs = self.V.dofmap.index_map, self.V.dofmap.index_map_bs
@@ -215,7 +217,10 @@ class SegmentSurface(ContactSurface):
                 key, inverse = np.unique(rows[keep] * N + cols[keep], return_inverse=True)
                 vals = np.bincount(inverse.ravel(), weights=K.ravel()[keep], minlength=len(key))
                 rows, cols = key // N, key % N
-        return aij_matrix(self.comm, ((n_local, N),) * 2, rows, cols, vals)
+        if self._tangent is not None:
+            self._tangent.destroy()
+        self._tangent = aij_matrix(self.comm, ((n_local, N),) * 2, rows, cols, vals)
+        return self._tangent
 
     def pattern_changes(self) -> bool:
         return self._pattern.changed()

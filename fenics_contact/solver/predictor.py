@@ -64,22 +64,23 @@ class Predictor:
             x.destroy()
         if tangent:
             before = petsc_vec(self.problem.u).copy()
-            scale = self.tangent(t, t_n)
+            scale, predicted = self.tangent(t, t_n)
             newton = self.newton
-            x = petsc_vec(self.problem.u).copy()
-            newton.residual(newton.snes, x, newton.b)
-            predicted = newton.b.norm()
+            if predicted is None:  # the tangent dropped: the residual at u_n
+                x = petsc_vec(self.problem.u).copy()
+                newton.residual(newton.snes, x, newton.b)
+                predicted = newton.b.norm()
+                x.destroy()
             if not np.isfinite(predicted) or predicted > PREDICTOR_WORSE * reference:  # a singular tangent: u_n
                 newton.set_u(before)
                 scale = 0.0
-            x.destroy()
             before.destroy()
         elif secant:
             (t0, u0), (t1, u1) = self.converged
             self.problem.u.x.array[:] = u1 + (t - t1) / (t1 - t0) * (u1 - u0)
         return reference, scale
 
-    def tangent(self, t: float, t0: float) -> float:
+    def tangent(self, t: float, t0: float) -> tuple[float, float | None]:
         """Start the step to load ``t`` from ``u_n + s du``: ``u_n`` converged at ``t_n = t0``, ``du = -J^-1
         dR/dt (t - t_n)`` the tangent of the load path there (``J`` at ``(u_n, t_n)``, so with the contact set of
         ``u_n``; ``dR/dt`` by a forward difference of the residual in ``t``, which also moves Dirichlet values along
@@ -89,12 +90,17 @@ class Predictor:
 
         Why: the tangent holds until the next contact event. A contact that closes within the step (the seal's
         outer corner) is driven far into the obstacle by the tangent of the open state (0.44 at h = 0.5, a force
-        of ~1e4 against plate forces ~1), and Newton rocks from there. Returns ``s``."""
+        of ~1e4 against plate forces ~1), and Newton rocks from there.
+
+        The residual at ``(u_n, t)`` is in ``newton.b`` on entry (:meth:`predict`'s reference). Returns ``(s,
+        norm)``: ``norm`` the residual's at the predicted state, the last one evaluated (None where there is no
+        tangent: the state is ``u_n``)."""
         newton, p = self.newton, self.problem
         start, assembly = time.perf_counter(), self.timings["assembly_s"]
         if self._work is None:
-            self._work = [newton.b.duplicate() for _ in range(4)]
-        x, r0, r1, du = self._work
+            self._work = [newton.b.duplicate() for _ in range(5)]
+        x, r0, r1, du, at_t = self._work
+        newton.b.copy(at_t)  # R(u_n, t): the slope at s = 0
         petsc_vec(p.u).copy(x)
         p.set_load(t0)
         newton.residual(newton.snes, x, r0)
@@ -112,7 +118,7 @@ class Predictor:
             newton.set_u(x)
             self.timings["assembly_s"] = assembly
             self.timings["predictor_s"] += time.perf_counter() - start
-            return 0.0
+            return 0.0, None
 
         def slope(s: float) -> float:
             """The energy's derivative along ``du`` at ``u_n + s du``; +inf where it has none (a non-finite
@@ -123,7 +129,8 @@ class Predictor:
             f = r1.dot(du)
             return f if np.isfinite(f) else np.inf
 
-        s, f0, f1 = 1.0, slope(0.0), slope(1.0)
+        s, f0, f1 = 1.0, at_t.dot(du), slope(1.0)
+        f0 = f0 if np.isfinite(f0) else np.inf
         tol = PREDICTOR_ETA * abs(f0)
         if f0 < 0 < f1 and f1 > tol:  # the energy has a minimum inside: find it (bracket [a, b])
             a, fa, b, fb, side = 0.0, f0, 1.0, f1, 0
@@ -143,4 +150,4 @@ class Predictor:
         newton.set_u(x)
         self.timings["assembly_s"] = assembly  # counted here, not as the Newton iterations' assembly
         self.timings["predictor_s"] += time.perf_counter() - start
-        return s
+        return s, r1.norm()  # r1: the residual at the last slope's s, the state predicted

@@ -15,7 +15,8 @@ the boundary conditions, so the constrained rows and columns stay the identity. 
 another rank is just a column of ``I`` with a global index: PETSc moves the values. The global matrix gets
 the coupling's extra sparsity by ``MatAXPY(DIFFERENT_NONZERO_PATTERN)`` only when the pairing changed since
 the last Jacobian (:class:`JacobianPattern`; the pattern then only grows and the solver resets its
-factorization); otherwise the pattern is reused.
+factorization); otherwise the pattern is reused. While the pairing (``I``) stays, the three products keep their
+patterns too and only their values are computed (``MAT_REUSE_MATRIX``).
 """
 from __future__ import annotations
 
@@ -25,8 +26,8 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
-from ..compat import bc_dofs, release_free_memory
-from ..sparse import aij_matrix
+from ..compat import bc_dofs
+from ..sparse import aij_matrix, widen
 from .mirror import MirrorFields
 
 __all__ = ["dirichlet_columns", "interpolation_operator", "MirrorCoupling", "JacobianPattern"]
@@ -111,12 +112,15 @@ class MirrorCoupling:
         self._seconds = seconds
         self.operator: PETSc.Mat | None = None
         self._blocks: tuple[PETSc.Mat, PETSc.Mat, PETSc.Mat] | None = None  # A_uw, A_wu, A_ww (matrix)
+        # (I, A_uw I, I^T A_wu, I^T A_ww I, their sum) of the last Jacobian: kept while I (the pairing) stays
+        self._products: tuple | None = None
         self._tmp: PETSc.Vec | None = None
 
     def rebuild(self, facet: np.ndarray, master_dofs: np.ndarray, dirichlet: np.ndarray) -> None:
         """A new ``I`` for a pairing (arguments of :func:`interpolation_operator`). Collective."""
         with self._seconds.measure("coupling_s"):
             operator = interpolation_operator(self.comm, self.mirror, self.V, facet, master_dofs, dirichlet)
+            self._destroy_products()
             if self.operator is not None:
                 self.operator.destroy()
             self.operator = operator
@@ -132,7 +136,8 @@ class MirrorCoupling:
         rw.destroy()
 
     def matrix(self, bcs: list) -> PETSc.Mat:
-        """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero); the caller destroys it."""
+        """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero): the coupling's own matrix, valid
+        until the next call (the caller does not destroy it)."""
         # The three blocks' patterns depend on the slave facets only: made once, not per Jacobian (their rows span
         # the whole mirror space, nv gdim values per vertex: each build allocated 0.16 GB at 4e5 dofs).
         if self._blocks is None:
@@ -142,14 +147,30 @@ class MirrorCoupling:
             M.zeroEntries()
             fem_petsc.assemble_matrix(M, a, bcs=b)
             M.assemble()
-        C = A_uw.matMult(self.operator)
-        C2 = self.operator.transposeMatMult(A_wu)
-        C3 = A_ww.PtAP(self.operator)
-        C.axpy(1.0, C2, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
-        C.axpy(1.0, C3, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        op = self.operator
+        if self._products is not None and self._products[0] is op:
+            # the same pairing: the products' patterns hold, only their values are computed (MAT_REUSE_MATRIX)
+            _, C1, C2, C3, C = self._products
+            A_uw.matMult(op, result=C1)
+            op.transposeMatMult(A_wu, result=C2)
+            A_ww.PtAP(op, result=C3)
+            C1.copy(C, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+            for m in (C2, C3):
+                C.axpy(1.0, m, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+            return C
+        self._destroy_products()
+        C1, C2, C3 = A_uw.matMult(op), op.transposeMatMult(A_wu), A_ww.PtAP(op)
+        C = C1.duplicate(copy=True)
         for m in (C2, C3):
-            m.destroy()
+            C.axpy(1.0, m, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        self._products = (op, C1, C2, C3, C)
         return C
+
+    def _destroy_products(self) -> None:
+        if self._products is not None:
+            for m in self._products[1:]:
+                m.destroy()
+        self._products = None
 
 
 class JacobianPattern:
@@ -167,18 +188,11 @@ class JacobianPattern:
         return self.merged != self.version
 
     def add(self, A: PETSc.Mat, C: PETSc.Mat) -> bool:
-        """``A += C``, then destroy ``C``. Returns True when ``A``'s nonzero pattern was rebuilt."""
+        """``A += C`` (``C`` stays the caller's). Returns True when ``A``'s nonzero pattern was rebuilt."""
         rebuild = self.changed()
-        if rebuild:  # the temporaries' freed pages back to the system before A's copy is allocated
-            release_free_memory()
-        structure = PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN if rebuild else \
-            PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN
-        # MatAXPY with a new pattern replaces A's header and drops its near-nullspace (GAMG's rigid-body modes):
-        # put it back, else AMG runs without it from the first pairing change on.
-        near = A.getNearNullSpace() if rebuild else None
-        A.axpy(1.0, C, structure=structure)
-        if near is not None and near.handle:
-            A.setNearNullSpace(near)
+        if rebuild:
+            widen(A, C)
+        else:
+            A.axpy(1.0, C, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
         self.merged = self.version
-        C.destroy()
         return rebuild

@@ -212,7 +212,8 @@ class TwoBodySurface(ContactSurface):
         self.coupling.add_residual(b)
 
     def coupling_matrix(self, bcs) -> PETSc.Mat:
-        """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero)."""
+        """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero): the surface's own matrix, valid
+        until the next call."""
         return self.coupling.matrix(bcs)
 
     def pattern_changes(self) -> bool:

@@ -1,0 +1,158 @@
+"""What a bulk whose Jacobian does not depend on the displacement (a linear material) keeps between iterates: its
+Jacobian matrix (:class:`KeptJacobian`), and with it its residual as a product (:class:`AffineResidual`)."""
+from __future__ import annotations
+
+import dolfinx.fem.petsc as fem_petsc
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from .compat import apply_lifting, assemble_matrix, create_vector, set_bc
+from .form_inputs import input_values
+from .sparse import KEPT_ATTRIBUTES
+
+__all__ = ["KeptJacobian", "AffineResidual"]
+
+_KEPT = KEPT_ATTRIBUTES[0]  # the PETSc attribute of a matrix KeptJacobian assembled into (kept by sparse.widen)
+
+
+def _same_everywhere(comm: MPI.Comm, now: list | None, kept: list | None) -> bool:
+    """True when ``now`` equals ``kept`` on every rank (a Function's values may differ on one rank only)."""
+    same = now is not None and kept is not None and all(np.array_equal(a, b) for a, b in zip(now, kept))
+    return bool(comm.allreduce(int(same), op=MPI.MIN))
+
+
+class KeptJacobian:
+    """The matrix of the compiled Jacobian ``form``, kept while the values of its ``inputs``
+    (:func:`~.form_inputs.form_inputs`) stay the same (a linear material's stiffness: the whole run); never kept if
+    they include the displacement ``u``. ``create()`` makes an empty matrix of the problem's pattern."""
+
+    def __init__(self, form: fem.Form, inputs: tuple[list, list], u: fem.Function, create):
+        self.form, self.inputs, self.u = form, inputs, u
+        self.create = create  # makes the kept matrix, with the pattern of the matrices it is added to
+        self.matrix: PETSc.Mat | None = None
+        self.reuse = True  # False: assembled every time (the cost of a fresh linear solve)
+        self._values: list | None = None
+        # Marks the matrices the form was assembled into since it was kept: an attribute of the PETSc object (a
+        # handle, the address, may come back for a new matrix after one is destroyed, on one rank and not another).
+        # A new mark for every kept matrix: the products made with the last one (AffineResidual) know it by it.
+        self.mark = object()
+
+    @property
+    def constant(self) -> bool:
+        """True if the matrix is the same at every iterate (its inputs leave out the displacement ``u``)."""
+        return not any(f is self.u for f in self.inputs[1])
+
+    def current(self, bcs: list, diagonal: float) -> PETSc.Mat | None:
+        """The kept matrix for the present values of the inputs (Dirichlet rows and columns: ``diagonal`` times the
+        identity), assembled if they changed; None while :attr:`reuse` is False or the form depends on ``u``.
+        Collective."""
+        if not (self.reuse and self.constant):
+            return None
+        now = input_values(self.inputs, self.u)
+        if not _same_everywhere(self.u.function_space.mesh.comm, now, self._values):
+            if self.matrix is not None:
+                self.matrix.destroy()
+            self.matrix = self.create()
+            assemble_matrix(self.matrix, self.form, bcs, diagonal)
+            self.matrix.assemble()
+            self._values, self.mark = now, object()
+        return self.matrix
+
+    def add(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
+        """Add the form's matrix (Dirichlet rows and columns: ``diagonal`` times the identity) into ``A`` and
+        assemble ``A``: the kept matrix (:meth:`current`) where ``A`` was assembled from the form before (its pattern
+        holds the form's; a contact may have widened it), else assembled from the form (and marked for the next
+        call); always assembled while :attr:`reuse` is False. Collective."""
+        K = self.current(bcs, diagonal)
+        marked = K is not None and A.getAttr(_KEPT) is self.mark
+        if A.getComm().tompi4py().allreduce(int(marked), op=MPI.MIN):  # a matrix may be marked on one rank only
+            A.assemble()
+            info = PETSc.Mat.InfoType.GLOBAL_SUM  # the same choice on every rank (MatAXPY is collective)
+            if A.getInfo(info)["nz_used"] != K.getInfo(info)["nz_used"]:
+                # A's pattern is wider (a contact's entries): the kept matrix takes it, once, so that every later
+                # sum is over the same pattern (an axpy of the value arrays, not an insertion row by row: 0.05 s
+                # of every Jacobian at 1.6e5 dofs). Assembled again rather than copied: a third matrix of the
+                # Jacobian's size at once (0.27 GB per rank at 5e5 dofs) would raise the peak memory.
+                K.destroy()
+                self.matrix = K = A.duplicate(copy=False)
+                # entries outside A's pattern are zero (a multiplier's zero blocks, sparse.trimmed_matrix): dropped
+                K.setOption(PETSc.Mat.Option.NEW_NONZERO_LOCATIONS, False)
+                assemble_matrix(K, self.form, bcs, diagonal)
+                K.assemble()
+            A.axpy(1.0, K, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+            return
+        assemble_matrix(A, self.form, bcs, diagonal)
+        A.assemble()
+        if K is not None:
+            A.setAttr(_KEPT, self.mark)
+
+
+class AffineResidual:
+    """The bodies' residual where their Jacobian does not depend on the displacement, and so the residual is affine
+    in it: with ``K`` the kept Jacobian (Dirichlet rows and columns out), ``r0`` the residual at ``u = 0`` (the loads)
+    and ``g`` the Dirichlet values, the assembled residual with its Dirichlet lifting is, on the free rows,
+    ``K x + r0 + K_{:,D} g`` (``K_{:,D}``: the unconstrained Jacobian's columns at the Dirichlet dofs). ``r0`` and the
+    lifting ``K_{:,D} g`` are assembled again only when the loads' or the Dirichlet values change; every iterate
+    costs one matrix-vector product instead of an assembly over every cell and a lifting over every cell at a
+    Dirichlet boundary.
+
+    Args:
+        form: the compiled residual of the bodies (the loads included).
+        inputs: its Constants and Functions (:func:`~.form_inputs.form_inputs`; ``u`` among them is left out).
+        jacobian: its Jacobian's :class:`KeptJacobian`.
+    """
+
+    def __init__(self, form: fem.Form, inputs: tuple[list, list], jacobian: KeptJacobian):
+        self.form, self.jacobian, self.u = form, jacobian, jacobian.u
+        self.inputs = (inputs[0], [f for f in inputs[1] if f is not self.u])
+        self._vectors: list[PETSc.Vec] | None = None  # r0, lifting, g, work
+        self._r0_of: list | None = None
+        self._lifting_of: tuple | None = None
+
+    @property
+    def active(self) -> bool:
+        """True when the residual is the product (the Jacobian kept and constant)."""
+        return self.jacobian.reuse and self.jacobian.constant
+
+    def add(self, b: PETSc.Vec, x: PETSc.Vec, bcs: list, diagonal: float) -> None:
+        """``b += K x + r0 + K_{:,D} g`` (owned entries; ``u`` is ``x``; ``diagonal``: the Jacobian's on the
+        Dirichlet rows, whose entries the caller sets). Only while :attr:`active`. Collective."""
+        comm = self.u.function_space.mesh.comm
+        K = self.jacobian.current(bcs, diagonal)
+        if self._vectors is None:
+            self._vectors = [create_vector(self.form) for _ in range(4)]
+        r0, lifting, g, work = self._vectors
+        now = input_values(self.inputs, self.u)
+        if not _same_everywhere(comm, now, self._r0_of):
+            saved = self.u.x.array.copy()
+            self.u.x.array[:] = 0.0
+            with r0.localForm() as local:
+                local.set(0.0)
+            fem_petsc.assemble_vector(r0, self.form)
+            r0.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+            self.u.x.array[:] = saved
+            self._r0_of = now
+        with g.localForm() as local:
+            local.set(0.0)
+        set_bc(g, bcs)
+        key = (self.jacobian.mark, g.array.copy())
+        same = self._lifting_of is not None and key[0] is self._lifting_of[0] and np.array_equal(
+            key[1], self._lifting_of[1])
+        if not comm.allreduce(int(same), op=MPI.MIN):
+            with lifting.localForm() as local:
+                local.set(0.0)
+            apply_lifting(lifting, self.jacobian.form, bcs, None, -1.0)  # += K_{:,D} g (x0 = 0)
+            lifting.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+            self._lifting_of = key
+        K.mult(x, work)
+        b.axpy(1.0, work)
+        b.axpy(1.0, r0)
+        b.axpy(1.0, lifting)
+
+    def destroy(self) -> None:
+        """Destroy the vectors. Collective."""
+        for v in self._vectors or []:
+            v.destroy()
+        self._vectors = None

@@ -1,0 +1,59 @@
+"""A linear bulk's residual as a product with its kept Jacobian (``kept.AffineResidual``): the same vector as the
+assembled residual with its Dirichlet lifting, at any state, load and Dirichlet value."""
+import dolfinx
+import numpy as np
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+import fenics_contact as fc
+from fenics_contact.compat import function_space, petsc_vec
+
+
+def _plate():
+    """A plate: bottom fixed, top pulled down with t, the left side on rollers, a traction on the right side that
+    follows t and a body force on its own load path."""
+    comm = MPI.COMM_WORLD
+    mesh = dolfinx.mesh.create_unit_square(comm, 12, 9)
+    V = function_space(mesh, "Lagrange", 1, (2,))
+    u = fem.Function(V)
+    fdim = mesh.topology.dim - 1
+
+    def side(test):
+        return dolfinx.mesh.locate_entities_boundary(mesh, fdim, test)
+
+    def fixed(component, facets, amplitude=0.0):
+        Vi = V.sub(component)
+        return fc.Dirichlet(Vi, fem.locate_dofs_topological(Vi, fdim, facets), amplitude)
+
+    bottom, top = side(lambda x: np.isclose(x[1], 0.0)), side(lambda x: np.isclose(x[1], 1.0))
+    left = side(lambda x: np.isclose(x[0], 0.0))
+    dirichlet = [fixed(0, bottom), fixed(1, bottom), fixed(1, top, -0.02), fixed(0, left)]
+    right = side(lambda x: np.isclose(x[0], 1.0))
+    tags = dolfinx.mesh.meshtags(mesh, fdim, right, np.full(len(right), 1, np.int32))
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
+    load = fem.Constant(mesh, 0.0)
+    tractions = [(ufl.as_vector((30.0, 10.0)), ds(1)), (ufl.as_vector((0.0, -5.0)), ufl.dx, ([0.0, 1.0], [0.0, 3.0]))]
+    return fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.3), load, dirichlet, [], tractions)
+
+
+def test_the_linear_bulk_residual_is_its_kept_jacobian_times_the_state():
+    problem = _plate()
+    affine = problem.bulk_residual
+    assert affine.active  # a linear material: the residual is the product
+    rng = np.random.default_rng(MPI.COMM_WORLD.rank)
+    x = petsc_vec(problem.u).copy()
+    b, assembled = problem.create_vector(), problem.create_vector()
+    for t in (0.4, 1.0, 1.0):  # a new load (new loads and Dirichlet values), then the same load at a new state
+        problem.set_load(t)
+        x.array[:] = 1e-2 * rng.standard_normal(x.array.shape)
+        problem.F(x, b)
+        problem.bulk_jacobian.reuse = False  # assembled, as a fresh solve does
+        assert not affine.active
+        problem.F(x, assembled)
+        problem.bulk_jacobian.reuse = True
+        r0, lifting = affine._vectors[:2]
+        assert r0.norm() > 0 and lifting.norm() > 0  # both parts of the product carry something
+        assert assembled.norm() > 0
+        b.axpy(-1.0, assembled)
+        assert b.norm() <= 1e-12 * assembled.norm(), (t, b.norm() / assembled.norm())
