@@ -132,6 +132,10 @@ def restore(solver, folder: str | Path) -> dict | None:
         if "log" in saved:
             c.log = saved["log"]
     problem.set_load(data["t"])  # after the logs: a problem may take its load from them (force control)
+    if problem.step_solver is None:
+        # the kept Jacobian of the load reached, as the run that wrote the checkpoint had it: its residuals are then
+        # products with it where that run's were (kept.AffineResidual), to the last bit
+        problem.bulk_jacobian.current(problem.bcs, problem.stiffness)
     solver.t, solver.pending = data["t"], data["pending"]
     solver.prediction.converged = data["predictor"]
     solver.records[:], solver.failures[:] = data["records"], data["failures"]

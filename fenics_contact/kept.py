@@ -44,6 +44,13 @@ class KeptJacobian:
         """True if the matrix is the same at every iterate (its inputs leave out the displacement ``u``)."""
         return not any(f is self.u for f in self.inputs[1])
 
+    def is_current(self) -> bool:
+        """True when the kept matrix is that of the present values of the inputs (and :attr:`reuse` is on): made by
+        the last :meth:`current` with these values. Collective."""
+        if not (self.reuse and self.constant and self.matrix is not None):
+            return bool(self.u.function_space.mesh.comm.allreduce(0, op=MPI.MIN))
+        return _same_everywhere(self.u.function_space.mesh.comm, input_values(self.inputs, self.u), self._values)
+
     def current(self, bcs: list, diagonal: float) -> PETSc.Mat | None:
         """The kept matrix for the present values of the inputs (Dirichlet rows and columns: ``diagonal`` times the
         identity), assembled if they changed; None while :attr:`reuse` is False or the form depends on ``u``.
@@ -96,7 +103,10 @@ class AffineResidual:
     ``K x + r0 + K_{:,D} g`` (``K_{:,D}``: the unconstrained Jacobian's columns at the Dirichlet dofs). ``r0`` and the
     lifting ``K_{:,D} g`` are assembled again only when the loads' or the Dirichlet values change; every iterate
     costs one matrix-vector product instead of an assembly over every cell and a lifting over every cell at a
-    Dirichlet boundary.
+    Dirichlet boundary. Only where ``K`` is current (:meth:`KeptJacobian.is_current`: the Jacobian assembled since
+    its inputs last changed); elsewhere the residual is assembled: a Jacobian that changes with the load (a
+    load-scaled spring) would otherwise be assembled again at every load a residual is evaluated at (the tangent
+    predictor's three).
 
     Args:
         form: the compiled residual of the bodies (the loads included).
@@ -111,16 +121,16 @@ class AffineResidual:
         self._r0_of: list | None = None
         self._lifting_of: tuple | None = None
 
-    @property
-    def active(self) -> bool:
-        """True when the residual is the product (the Jacobian kept and constant)."""
-        return self.jacobian.reuse and self.jacobian.constant
+    def ready(self) -> bool:
+        """True when the residual is the product: the kept Jacobian current (:meth:`KeptJacobian.is_current`).
+        Collective."""
+        return self.jacobian.is_current()
 
-    def add(self, b: PETSc.Vec, x: PETSc.Vec, bcs: list, diagonal: float) -> None:
-        """``b += K x + r0 + K_{:,D} g`` (owned entries; ``u`` is ``x``; ``diagonal``: the Jacobian's on the
-        Dirichlet rows, whose entries the caller sets). Only while :attr:`active`. Collective."""
+    def add(self, b: PETSc.Vec, x: PETSc.Vec, bcs: list) -> None:
+        """``b += K x + r0 + K_{:,D} g`` (owned entries; ``u`` is ``x``; the caller sets the Dirichlet rows). Only
+        where :meth:`ready`. Collective."""
         comm = self.u.function_space.mesh.comm
-        K = self.jacobian.current(bcs, diagonal)
+        K = self.jacobian.matrix
         if self._vectors is None:
             self._vectors = [create_vector(self.form) for _ in range(4)]
         r0, lifting, g, work = self._vectors

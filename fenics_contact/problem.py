@@ -315,13 +315,13 @@ class ContactProblem:
             c.prepare(self)
         with b.localForm() as bl:
             bl.set(0.0)
-        first = 1 if self.bulk_residual.active else 0  # the bodies' residual as a product with their kept Jacobian
+        first = 1 if self.bulk_residual.ready() else 0  # the bodies' residual as a product with their kept Jacobian
         for L in self._L_parts[first:]:
             fem_petsc.assemble_vector(b, L)
         for c in self.contacts:  # coupling terms outside the forms (owned entries)
             c.add_residual(b)
         if first:
-            self.bulk_residual.add(b, x, self.bcs, self.stiffness)
+            self.bulk_residual.add(b, x, self.bcs)
         lift_and_set_bc(b, self._a_parts[first:], self.bcs, x, -1.0, self.stiffness)
 
     def J(self, x: PETSc.Vec, A: PETSc.Mat) -> bool:

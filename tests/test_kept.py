@@ -10,9 +10,10 @@ import fenics_contact as fc
 from fenics_contact.compat import function_space, petsc_vec
 
 
-def _plate():
+def _plate(spring: float = 0.0):
     """A plate: bottom fixed, top pulled down with t, the left side on rollers, a traction on the right side that
-    follows t and a body force on its own load path."""
+    follows t and a body force on its own load path; with a ``spring``: the vanishing spring of
+    :class:`fenics_contact.Stabilised` (its Jacobian changes with the load)."""
     comm = MPI.COMM_WORLD
     mesh = dolfinx.mesh.create_unit_square(comm, 12, 9)
     V = function_space(mesh, "Lagrange", 1, (2,))
@@ -34,22 +35,27 @@ def _plate():
     ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
     load = fem.Constant(mesh, 0.0)
     tractions = [(ufl.as_vector((30.0, 10.0)), ds(1)), (ufl.as_vector((0.0, -5.0)), ufl.dx, ([0.0, 1.0], [0.0, 3.0]))]
+    if spring:
+        return fc.Stabilised(u, fc.LinearElastic(1000.0, 0.3), load, dirichlet, [], tractions, spring, ufl.dx)
     return fc.ContactProblem(u, fc.LinearElastic(1000.0, 0.3), load, dirichlet, [], tractions)
 
 
 def test_the_linear_bulk_residual_is_its_kept_jacobian_times_the_state():
     problem = _plate()
     affine = problem.bulk_residual
-    assert affine.active  # a linear material: the residual is the product
+    assert not affine.ready()  # no Jacobian kept yet: the residual is assembled
+    problem.J(problem.create_vector(), problem.create_matrix())
+    assert affine.ready()  # a linear material: its Jacobian does not change, the residual is the product
     rng = np.random.default_rng(MPI.COMM_WORLD.rank)
     x = petsc_vec(problem.u).copy()
     b, assembled = problem.create_vector(), problem.create_vector()
     for t in (0.4, 1.0, 1.0):  # a new load (new loads and Dirichlet values), then the same load at a new state
         problem.set_load(t)
         x.array[:] = 1e-2 * rng.standard_normal(x.array.shape)
+        assert affine.ready()
         problem.F(x, b)
         problem.bulk_jacobian.reuse = False  # assembled, as a fresh solve does
-        assert not affine.active
+        assert not affine.ready()
         problem.F(x, assembled)
         problem.bulk_jacobian.reuse = True
         r0, lifting = affine._vectors[:2]
@@ -57,3 +63,21 @@ def test_the_linear_bulk_residual_is_its_kept_jacobian_times_the_state():
         assert assembled.norm() > 0
         b.axpy(-1.0, assembled)
         assert b.norm() <= 1e-12 * assembled.norm(), (t, b.norm() / assembled.norm())
+
+
+def test_a_jacobian_that_changes_with_the_load_is_assembled_by_the_jacobian_alone():
+    """A Jacobian with a load-scaled spring: at a new load the residual is assembled (not the product with the kept
+    matrix of the last load, nor a matrix assembled for it: the tangent predictor evaluates three loads a step)."""
+    problem = _plate(spring=50.0)
+    A = problem.create_matrix()
+    x = problem.create_vector()
+    problem.set_load(0.5)
+    problem.J(x, A)
+    kept = problem.bulk_jacobian.matrix
+    assert problem.bulk_residual.ready()
+    problem.set_load(0.6)  # the spring k (1 - t) / t changes
+    assert not problem.bulk_residual.ready()
+    problem.F(x, problem.create_vector())
+    assert problem.bulk_jacobian.matrix is kept and not problem.bulk_residual.ready()
+    problem.J(x, A)
+    assert problem.bulk_residual.ready()
