@@ -81,6 +81,7 @@ class CollocatedSurface(TwoBodyMultiplier):
             raise ValueError("the collocated element needs quadratic (3-node) facets: a degree-2 displacement")
         self.other = None
         self._static = self._gather_static()
+        self._tangent: PETSc.Mat | None = None  # the last coupling_matrix
 
     def _pair(self, other, first: bool) -> None:
         self.other, self.first = other, first
@@ -203,7 +204,7 @@ class CollocatedSurface(TwoBodyMultiplier):
         # one entry per (row, column): the collocated entries summed
         key, inverse = np.unique(rows.astype(np.int64) * sizes[1][1] + cols.astype(np.int64), return_inverse=True)
         vals = np.bincount(inverse.ravel(), weights=vals, minlength=len(key))
-        if getattr(self, "_tangent", None) is not None:  # the last call's: valid until this one
+        if self._tangent is not None:  # the last call's: valid until this one
             self._tangent.destroy()
         self._tangent = aij_matrix(self.comm, sizes, key // sizes[1][1], key % sizes[1][1], vals)
         self._pattern_version += 1  # the collocation may change from one iterate to the next

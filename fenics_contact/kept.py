@@ -9,18 +9,12 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .compat import apply_lifting, assemble_matrix, create_vector, set_bc
-from .form_inputs import input_values
+from .form_inputs import input_values, same_everywhere
 from .sparse import KEPT_ATTRIBUTES
 
 __all__ = ["KeptJacobian", "AffineResidual"]
 
 _KEPT = KEPT_ATTRIBUTES[0]  # the PETSc attribute of a matrix KeptJacobian assembled into (kept by sparse.widen)
-
-
-def _same_everywhere(comm: MPI.Comm, now: list | None, kept: list | None) -> bool:
-    """True when ``now`` equals ``kept`` on every rank (a Function's values may differ on one rank only)."""
-    same = now is not None and kept is not None and all(np.array_equal(a, b) for a, b in zip(now, kept))
-    return bool(comm.allreduce(int(same), op=MPI.MIN))
 
 
 class KeptJacobian:
@@ -47,9 +41,9 @@ class KeptJacobian:
     def is_current(self) -> bool:
         """True when the kept matrix is that of the present values of the inputs (and :attr:`reuse` is on): made by
         the last :meth:`current` with these values. Collective."""
-        if not (self.reuse and self.constant and self.matrix is not None):
-            return bool(self.u.function_space.mesh.comm.allreduce(0, op=MPI.MIN))
-        return _same_everywhere(self.u.function_space.mesh.comm, input_values(self.inputs, self.u), self._values)
+        if not (self.reuse and self.constant and self.matrix is not None):  # the same on every rank
+            return False
+        return same_everywhere(self.u.function_space.mesh.comm, input_values(self.inputs, self.u), self._values)
 
     def current(self, bcs: list, diagonal: float) -> PETSc.Mat | None:
         """The kept matrix for the present values of the inputs (Dirichlet rows and columns: ``diagonal`` times the
@@ -57,14 +51,13 @@ class KeptJacobian:
         Collective."""
         if not (self.reuse and self.constant):
             return None
-        now = input_values(self.inputs, self.u)
-        if not _same_everywhere(self.u.function_space.mesh.comm, now, self._values):
+        if not self.is_current():
             if self.matrix is not None:
                 self.matrix.destroy()
             self.matrix = self.create()
             assemble_matrix(self.matrix, self.form, bcs, diagonal)
             self.matrix.assemble()
-            self._values, self.mark = now, object()
+            self._values, self.mark = input_values(self.inputs, self.u), object()
         return self.matrix
 
     def add(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
@@ -135,7 +128,7 @@ class AffineResidual:
             self._vectors = [create_vector(self.form) for _ in range(4)]
         r0, lifting, g, work = self._vectors
         now = input_values(self.inputs, self.u)
-        if not _same_everywhere(comm, now, self._r0_of):
+        if not same_everywhere(comm, now, self._r0_of):
             saved = self.u.x.array.copy()
             self.u.x.array[:] = 0.0
             with r0.localForm() as local:

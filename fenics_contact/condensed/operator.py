@@ -26,11 +26,10 @@ from __future__ import annotations
 
 import dolfinx.fem.petsc as fem_petsc
 import numpy as np
-from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..compat import bc_dofs, create_vector
-from ..form_inputs import input_values
+from ..form_inputs import input_values, same_everywhere
 from .loadmodes import LoadModes
 from .schur import SchurFactor
 
@@ -130,9 +129,7 @@ class CondensedStiffness:
         load-dependent stiffness, e.g. the vanishing spring of a force-controlled scene): the caller then calls
         :meth:`factor` for the step. ``K`` is re-assembled only when a value its form depends on has changed."""
         now = input_values(self._inputs, self._u)
-        same = now is not None and self._seen is not None and all(np.array_equal(a, b)
-                                                                  for a, b in zip(now, self._seen))
-        if self.comm.allreduce(int(same), op=MPI.MIN):  # a Function's values may differ on one rank only
+        if same_everywhere(self.comm, now, self._seen):
             return False
         self._seen = now
         self.assemblies += 1
