@@ -421,3 +421,56 @@ def test_coupling_products_kept_while_the_pairing_stays():
     assert opened.norm() > 1e-3 * pressed.norm()  # the coupling changed
     pressed.axpy(-1.0, solver.A)
     assert pressed.norm() <= 1e-13 * solver.A.norm()
+
+
+def _kept_blocks_states(method):
+    """A two-body problem with small sliding (method ``lagrange``: mindlin with friction; ``penalty``: patch), its
+    solver and two states of the same pairing: pressed (the first load step solved) and open (its opposite)."""
+    from fenics_contact.app.scenes import mindlin
+    from fenics_contact.compat import petsc_vec
+
+    if method == "lagrange":
+        law = fc.Friction(make_law("lagrange"), mu=0.3, omega_t=mindlin.DEFAULT_OMEGA_T)
+        setup = build("mindlin", law=law, sliding="small", ratios=(0.5,))
+    else:
+        setup = build("patch", law=make_law("penalty", K=1e3), quadrature="nodal", passes="one", sliding="small")
+    solver = Solver(setup.problem, quiet=True)
+    solver.run(setup.loads[:1])
+    pressed = petsc_vec(setup.problem.u).copy()
+    opened = pressed.copy()
+    opened.scale(-1.0)
+    return setup, solver, (opened, pressed)
+
+
+@pytest.mark.parametrize("method, kept", [("lagrange", [(0, True), (1, False), (2, False)]),
+                                          ("penalty", [(0, True), (1, True), (2, True)])])
+def test_coupling_blocks_kept_while_their_inputs_stay(method, kept):
+    """With small sliding and multipliers the master rows are linear in the pressure alone: ``A_wu`` is assembled
+    again only when its inputs change (not at a new state of the same pairing) and ``A_ww`` is zero (its product
+    left out); a penalty's master rows follow the gap (every block at every Jacobian). The Jacobian so made equals
+    the one with every block assembled and multiplied from scratch, open and pressed."""
+    setup, solver, states = _kept_blocks_states(method)
+    p, coupling = setup.problem, setup.contacts[0].coupling
+    b = p.create_vector()
+    assembled = []
+    original = coupling._assemble
+    coupling._assemble = lambda i, bcs: assembled.append((i, original(i, bcs))) or assembled[-1][1]
+    jacobians, couplings = [], []
+    for x in states:
+        p.F(x, b)
+        del assembled[:]
+        p.J(x, solver.A)
+        jacobians.append(solver.A.copy())
+        couplings.append(coupling._products[4].copy())
+    assert assembled == kept  # the pressed state's Jacobian
+    assert (coupling._products[3] is None) == (method == "lagrange")  # A_ww zero: no product
+    coupling._values = [None, None, None]  # from scratch: every block and product
+    coupling._destroy_products()
+    p.J(x, solver.A)
+    assert [a for _, a in assembled[-3:]] == [True, True, True]
+    opened, pressed = couplings
+    opened.axpy(-1.0, pressed)
+    assert opened.norm() > 1e-3 * pressed.norm()  # the coupling changed
+    pressed = jacobians[1]
+    pressed.axpy(-1.0, solver.A)
+    assert pressed.norm() <= 1e-13 * solver.A.norm()

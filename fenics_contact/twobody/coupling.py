@@ -17,6 +17,12 @@ the coupling's extra sparsity by ``MatAXPY(DIFFERENT_NONZERO_PATTERN)`` only whe
 the last Jacobian (:class:`JacobianPattern`; the pattern then only grows and the solver resets its
 factorization); otherwise the pattern is reused. While the pairing (``I``) stays, the three products keep their
 patterns too and only their values are computed (``MAT_REUSE_MATRIX``).
+
+A block is assembled again only when the values of its form's inputs (:func:`~fenics_contact.form_inputs.form_inputs`)
+changed, and its product only then or on a new ``I``: with small sliding (reference pairs and normals, a gap linear in
+``u``) the master rows ``r_w`` are linear in the pressure alone, so ``A_wu`` changes only with the pairing and
+``A_ww`` is zero (its product is left out); only ``A_uw`` (the constraint rows, through the active set) is made at
+every Jacobian.
 """
 from __future__ import annotations
 
@@ -27,6 +33,7 @@ from dolfinx import fem
 from petsc4py import PETSc
 
 from ..compat import bc_dofs
+from ..form_inputs import form_inputs, input_values, same_everywhere
 from ..sparse import aij_matrix, widen
 from .mirror import MirrorFields
 
@@ -102,17 +109,21 @@ class MirrorCoupling:
     """
 
     def __init__(self, u: fem.Function, mirror: MirrorFields, r_u: ufl.Form, r_w: ufl.Form, seconds):
-        self.comm, self.V, self.mirror = u.function_space.mesh.comm, u.function_space, mirror
+        self.comm, self.V, self.mirror, self._u = u.function_space.mesh.comm, u.function_space, mirror, u
         w = mirror.displacement
         du, dw = ufl.TrialFunction(self.V), ufl.TrialFunction(mirror.space)
         self._r_w = fem.form(r_w)
-        self._a_uw = fem.form(ufl.derivative(r_u, w, dw))
-        self._a_wu = fem.form(ufl.derivative(r_w, u, du))
-        self._a_ww = fem.form(ufl.derivative(r_w, w, dw))
+        blocks = (ufl.derivative(r_u, w, dw), ufl.derivative(r_w, u, du), ufl.derivative(r_w, w, dw))
+        self._forms = tuple(fem.form(a) for a in blocks)  # A_uw, A_wu, A_ww
+        self._inputs = [form_inputs(a) for a in blocks]
         self._seconds = seconds
         self.operator: PETSc.Mat | None = None
         self._blocks: tuple[PETSc.Mat, PETSc.Mat, PETSc.Mat] | None = None  # A_uw, A_wu, A_ww (matrix)
-        # (I, A_uw I, I^T A_wu, I^T A_ww I, their sum) of the last Jacobian: kept while I (the pairing) stays
+        self._values: list = [None, None, None]  # each block's input values when last assembled (None: assemble)
+        # A block that has no inputs and assembled to zero (A_ww with small sliding): its product is left out
+        self._zero = [False, False, False]
+        # (I, A_uw I, I^T A_wu, I^T A_ww I (None: a zero block's), their sum) of the last Jacobian: kept while I (the
+        # pairing) stays
         self._products: tuple | None = None
         self._tmp: PETSc.Vec | None = None
 
@@ -137,39 +148,59 @@ class MirrorCoupling:
 
     def matrix(self, bcs: list) -> PETSc.Mat:
         """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero): the coupling's own matrix, valid
-        until the next call (the caller does not destroy it)."""
+        until the next call (the caller does not destroy it). ``bcs``: the same conditions at every call."""
         # The three blocks' patterns depend on the slave facets only: made once, not per Jacobian (their rows span
         # the whole mirror space, nv gdim values per vertex: each build allocated 0.16 GB at 4e5 dofs).
         if self._blocks is None:
-            self._blocks = tuple(fem_petsc.create_matrix(a) for a in (self._a_uw, self._a_wu, self._a_ww))
+            self._blocks = tuple(fem_petsc.create_matrix(a) for a in self._forms)
+        fresh = [self._assemble(i, b) for i, b in enumerate((bcs, bcs, []))]
         A_uw, A_wu, A_ww = self._blocks
-        for M, a, b in zip(self._blocks, (self._a_uw, self._a_wu, self._a_ww), (bcs, bcs, [])):
-            M.zeroEntries()
-            fem_petsc.assemble_matrix(M, a, bcs=b)
-            M.assemble()
         op = self.operator
         if self._products is not None and self._products[0] is op:
-            # the same pairing: the products' patterns hold, only their values are computed (MAT_REUSE_MATRIX)
+            # the same pairing: the products' patterns hold, only the values of those of new blocks are computed
+            # (MAT_REUSE_MATRIX)
             _, C1, C2, C3, C = self._products
-            A_uw.matMult(op, result=C1)
-            op.transposeMatMult(A_wu, result=C2)
-            A_ww.PtAP(op, result=C3)
+            if fresh[0]:
+                A_uw.matMult(op, result=C1)
+            if fresh[1]:
+                op.transposeMatMult(A_wu, result=C2)
+            if fresh[2] and C3 is not None:
+                A_ww.PtAP(op, result=C3)
             C1.copy(C, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
             for m in (C2, C3):
-                C.axpy(1.0, m, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+                if m is not None:
+                    C.axpy(1.0, m, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
             return C
         self._destroy_products()
-        C1, C2, C3 = A_uw.matMult(op), op.transposeMatMult(A_wu), A_ww.PtAP(op)
+        C1, C2 = A_uw.matMult(op), op.transposeMatMult(A_wu)
+        C3 = None if self._zero[2] else A_ww.PtAP(op)
         C = C1.duplicate(copy=True)
         for m in (C2, C3):
-            C.axpy(1.0, m, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+            if m is not None:
+                C.axpy(1.0, m, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
         self._products = (op, C1, C2, C3, C)
         return C
+
+    def _assemble(self, i: int, bcs: list) -> bool:
+        """Assemble block ``i`` unless its inputs have the values it was last assembled with. Returns True if it was
+        assembled. Collective."""
+        now = input_values(self._inputs[i], self._u)
+        if same_everywhere(self.comm, now, self._values[i]):
+            return False
+        M = self._blocks[i]
+        M.zeroEntries()
+        fem_petsc.assemble_matrix(M, self._forms[i], bcs=bcs)
+        M.assemble()
+        self._values[i] = now
+        constant = not any(self._inputs[i])  # no Constant, no Function: the same matrix for good
+        self._zero[i] = constant and M.norm(PETSc.NormType.INFINITY) == 0.0
+        return True
 
     def _destroy_products(self) -> None:
         if self._products is not None:
             for m in self._products[1:]:
-                m.destroy()
+                if m is not None:
+                    m.destroy()
         self._products = None
 
 
