@@ -25,6 +25,7 @@ Modules, one job each:
 import logging
 
 from .linear import MUMPS_WORKSPACE_DEFAULT, MUMPS_WORKSPACE_MAX
+from .newton import FORCING_MARGIN
 from .options import DEFAULT_OPTIONS, EW_RTOL_MAX, INEXACT_NEWTON, LINEAR_SOLVERS, MULTIGRID, linear_solver_options
 from .predictor import PREDICTOR_ETA, PREDICTOR_FD, PREDICTOR_RTOL, PREDICTOR_WORSE, PREDICTORS
 from .record import ConvergenceError, StepRecord
@@ -32,7 +33,7 @@ from .stepping import Solver
 
 __all__ = [
     "DEFAULT_OPTIONS", "PREDICTORS", "PREDICTOR_FD", "PREDICTOR_ETA", "PREDICTOR_RTOL", "PREDICTOR_WORSE",
-    "LINEAR_SOLVERS", "INEXACT_NEWTON", "linear_solver_options",
+    "LINEAR_SOLVERS", "INEXACT_NEWTON", "FORCING_MARGIN", "linear_solver_options",
     "ConvergenceError", "StepRecord", "Solver", "EW_RTOL_MAX", "MULTIGRID", "MUMPS_WORKSPACE_DEFAULT",
     "MUMPS_WORKSPACE_MAX"
 ]

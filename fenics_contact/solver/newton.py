@@ -14,7 +14,11 @@ from ..problem import DIRICHLET_WEIGHT, ContactProblem
 from .linear import LinearSolver
 from .options import ATOL_RELATIVE, ROUNDOFF_FACTOR, ScopedOptions, read_at_setup, rtol_max_problem
 
-__all__ = ["Newton"]
+__all__ = ["FORCING_MARGIN", "Newton"]
+
+# The Krylov tolerance of a Newton iteration is no tighter than what takes the residual to this fraction of the
+# solve's tolerance (Newton.forcing): the iterate after it converges, with room for the quadratic term.
+FORCING_MARGIN = 0.1
 
 
 class Newton:
@@ -108,12 +112,24 @@ class Newton:
         of the last residual ratio ``||F_k|| / ||F_k-1||`` (Eisenstat and Walker's second choice, gamma 1, alpha
         2), within ``[ksp_rtol, ksp_rtol_max]``; ``ksp_rtol_max`` at a solve's first iteration. Loose while the
         residual falls slowly (the active set still moving), tight where Newton converges fast, so its last
-        iterates keep their rate and the answer is that of tight solves."""
+        iterates keep their rate and the answer is that of tight solves. Never tighter than :data:`FORCING_MARGIN`
+        times the solve's tolerance (:meth:`tolerance`) over the last residual, also above ``ksp_rtol_max`` (Kelley,
+        Iterative Methods for Linear and Nonlinear Equations, 1995, eq. 6.20): a linear error of a tenth of it."""
         low, high = self.forcing_range
         h = self.history
         if len(h) < 2 or not h[-2] > 0:
             return high
-        return float(np.clip((h[-1] / h[-2]) ** 2, low, high))
+        # Kelley's safeguard (a quadratic end's last iteration asked 1e-8 where 0.3 does: 51 Krylov iterations at 7e4)
+        floor = min(FORCING_MARGIN * self.tolerance() / h[-1], FORCING_MARGIN) if h[-1] > 0 else 0.0
+        return float(max(np.clip((h[-1] / h[-2]) ** 2, low, high), floor))
+
+    def tolerance(self) -> float:
+        """The residual norm below which the current solve has converged (:meth:`convergence_test`: :attr:`atol`, or
+        ``rtol`` times the smaller of its first residual and ``reference``); :attr:`atol` before its first residual."""
+        if not self._norms:
+            return self.atol
+        first = self._norms[0] if self.reference is None else min(self._norms[0], self.reference)
+        return max(self.atol, self.snes.getTolerances()[0] * first)
 
     @property
     def atol(self) -> float:
