@@ -124,12 +124,12 @@ class Newton:
         return float(max(np.clip((h[-1] / h[-2]) ** 2, low, high), floor))
 
     def tolerance(self) -> float:
-        """The residual norm below which the current solve has converged (:meth:`convergence_test`: :attr:`atol`, or
-        ``rtol`` times the smaller of its first residual and ``reference``); :attr:`atol` before its first residual."""
-        if not self._norms:
-            return self.atol
-        first = self._norms[0] if self.reference is None else min(self._norms[0], self.reference)
-        return max(self.atol, self.snes.getTolerances()[0] * first)
+        """The residual norm the current solve converges below: :attr:`atol`, or ``rtol`` times :meth:`_first`."""
+        return max(self.atol, self.snes.getTolerances()[0] * self._first()) if self._norms else self.atol
+
+    def _first(self) -> float:
+        """The residual ``rtol`` refers to: the solve's first, or ``reference`` where smaller."""
+        return self._norms[0] if self.reference is None else min(self._norms[0], self.reference)
 
     @property
     def atol(self) -> float:
@@ -167,7 +167,7 @@ class Newton:
         rtol, _, stol, _ = snes.getTolerances()
         if it == 0:
             self._norms = [fnorm]
-            first = fnorm if self.reference is None else min(fnorm, self.reference)
+            first = self._first()
             if np.isfinite(first) and first > (self.force_scale or 0.0):
                 self.force_scale = float(first)
         else:
@@ -179,7 +179,7 @@ class Newton:
         if it == 0:
             return R.CONVERGED_ITERATING
         r = self._norms
-        if fnorm <= rtol * (r[0] if self.reference is None else min(r[0], self.reference)):
+        if fnorm <= rtol * self._first():
             return R.CONVERGED_FNORM_RELATIVE
         if ynorm < stol * xnorm:
             return R.CONVERGED_SNORM_RELATIVE
