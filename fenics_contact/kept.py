@@ -12,9 +12,11 @@ from .compat import apply_lifting, assemble_matrix, create_vector, set_bc
 from .form_inputs import input_values, same_everywhere
 from .sparse import KEPT_ATTRIBUTES
 
-__all__ = ["KeptJacobian", "AffineResidual"]
+__all__ = ["BULK_PATTERN", "KeptJacobian", "AffineResidual"]
 
-_KEPT = KEPT_ATTRIBUTES[0]  # the PETSc attribute of a matrix KeptJacobian assembled into (kept by sparse.widen)
+# The PETSc attributes (kept by sparse.widen) of a matrix the kept matrix was last added into (KeptJacobian's mark)
+# and of one made with the bulk form's pattern explicit, zeros included (ContactProblem.create_matrix of a multiplier)
+_KEPT, BULK_PATTERN = KEPT_ATTRIBUTES
 
 
 class KeptJacobian:
@@ -62,26 +64,27 @@ class KeptJacobian:
 
     def add(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
         """Add the form's matrix (Dirichlet rows and columns: ``diagonal`` times the identity) into ``A`` and
-        assemble ``A``: the kept matrix (:meth:`current`) where ``A`` was assembled from the form before (its pattern
-        holds the form's; a contact may have widened it), else assembled from the form (and marked for the next
-        call); always assembled while :attr:`reuse` is False. Collective."""
+        assemble ``A``: the kept matrix (:meth:`current`) where ``A``'s pattern holds the form's (made explicit with
+        it, :data:`BULK_PATTERN`, or the kept matrix added into it before; a contact may have widened it), else
+        assembled from the form; always assembled while :attr:`reuse` is False. Collective."""
         K = self.current(bcs, diagonal)
-        marked = K is not None and A.getAttr(_KEPT) is self.mark
-        if A.getComm().tompi4py().allreduce(int(marked), op=MPI.MIN):  # a matrix may be marked on one rank only
+        holds = K is not None and (A.getAttr(_KEPT) is self.mark or A.getAttr(BULK_PATTERN) is True)
+        if A.getComm().tompi4py().allreduce(int(holds), op=MPI.MIN):  # a matrix may be marked on one rank only
             A.assemble()
             info = PETSc.Mat.InfoType.GLOBAL_SUM  # the same choice on every rank (MatAXPY is collective)
             if A.getInfo(info)["nz_used"] != K.getInfo(info)["nz_used"]:
                 # A's pattern is wider (a contact's entries): the kept matrix takes it, once, so that every later
                 # sum is over the same pattern (an axpy of the value arrays, not an insertion row by row: 0.05 s
-                # of every Jacobian at 1.6e5 dofs). Assembled again rather than copied: a third matrix of the
-                # Jacobian's size at once (0.27 GB per rank at 5e5 dofs) would raise the peak memory.
+                # of every Jacobian at 1.6e5 dofs); its values copied into the wider pattern, not assembled again
+                # (a bulk assembly: 2.5 s at 1.6e5 dofs). The old and the new kept matrix and A at once: no more
+                # than A's own widening (sparse.widen) holds.
+                wide = A.duplicate(copy=False)
+                wide.setOption(PETSc.Mat.Option.NEW_NONZERO_LOCATIONS, False)
+                wide.axpy(1.0, K, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
                 K.destroy()
-                self.matrix = K = A.duplicate(copy=False)
-                # entries outside A's pattern are zero (a multiplier's zero blocks, sparse.trimmed_matrix): dropped
-                K.setOption(PETSc.Mat.Option.NEW_NONZERO_LOCATIONS, False)
-                assemble_matrix(K, self.form, bcs, diagonal)
-                K.assemble()
+                self.matrix = K = wide
             A.axpy(1.0, K, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+            A.setAttr(_KEPT, self.mark)
             return
         assemble_matrix(A, self.form, bcs, diagonal)
         A.assemble()

@@ -31,7 +31,7 @@ from .condensed import step_solver_for
 from .contact import displacement, is_mixed
 from .domain import tag_value
 from .form_inputs import form_inputs
-from .kept import AffineResidual, KeptJacobian
+from .kept import BULK_PATTERN, AffineResidual, KeptJacobian
 from .kinematics import AXISYMMETRIC, hoop_stretch
 from .materials import Material, Materials
 from .models import locking_warning
@@ -350,9 +350,11 @@ class ContactProblem:
     def create_matrix(self) -> PETSc.Mat:
         """A matrix for :meth:`J` (the Jacobian form's sparsity; contact couplings widen it when needed; a
         multiplier's: :func:`~fenics_contact.sparse.trimmed_matrix`)."""
-        if self._trimmed:
-            return trimmed_matrix(self.u.function_space, 0, self._a_parts[1:])
-        return fem_petsc.create_matrix(self._a_parts[0])
+        if not self._trimmed:  # preallocated: the first assembly gives it its pattern
+            return fem_petsc.create_matrix(self._a_parts[0])
+        A = trimmed_matrix(self.u.function_space, 0, self._a_parts[1:])
+        A.setAttr(BULK_PATTERN, True)  # its pattern explicit: the kept bulk Jacobian is added, not assembled again
+        return A
 
     def set_load(self, t: float) -> None:
         """Load parameter ``t``: obstacles move by ``t * motion``; Dirichlet values and tractions follow their load

@@ -19,8 +19,9 @@ from .compat import release_free_memory
 __all__ = ["KEPT_ATTRIBUTES", "aij_matrix", "trimmed_matrix", "widen"]
 
 # The PETSc attributes a matrix keeps across :func:`widen` (MatAXPY with a new pattern gives it a new header, which
-# drops them): problem.KeptJacobian's mark (the matrix holds the bulk's pattern, which widening keeps).
-KEPT_ATTRIBUTES = ("fc_kept_jacobian",)
+# drops them): kept.KeptJacobian's mark (the kept matrix was added into it last) and kept.BULK_PATTERN (made with the
+# bulk's pattern explicit, ContactProblem.create_matrix); widening keeps the pattern.
+KEPT_ATTRIBUTES = ("fc_kept_jacobian", "fc_bulk_pattern")
 
 
 def aij_matrix(comm: MPI.Comm, sizes: tuple[tuple[int, int], tuple[int, int]], rows: np.ndarray, cols: np.ndarray,

@@ -81,3 +81,33 @@ def test_a_jacobian_that_changes_with_the_load_is_assembled_by_the_jacobian_alon
     assert problem.bulk_jacobian.matrix is kept and not problem.bulk_residual.ready()
     problem.J(x, A)
     assert problem.bulk_residual.ready()
+
+
+def test_a_multipliers_jacobian_assembles_the_bulk_once():
+    """A multiplier's Jacobian (its pattern explicit, widened by the contact's coupling at the first pairing): the
+    kept bulk matrix is assembled once, added at every Jacobian (the first and the widened one included), and the
+    Jacobian equals the one assembled from the forms."""
+    import fenics_contact.kept as kept
+    from fenics_contact.app.scenes import build, mindlin
+    from fenics_contact.methods import make_law
+
+    law = fc.Friction(make_law("lagrange"), mu=0.3, omega_t=mindlin.DEFAULT_OMEGA_T)
+    problem = build("mindlin", law=law, sliding="small", ratios=(0.5,)).problem
+    problem.set_load(0.5)
+    x, b, A = petsc_vec(problem.u).copy(), problem.create_vector(), problem.create_matrix()
+    bulk = []
+    original = kept.assemble_matrix
+    kept.assemble_matrix = lambda M, a, *args: (bulk.append(a), original(M, a, *args))
+    try:
+        for _ in range(2):  # the first Jacobian (the contact widens A's pattern) and one of the same pattern
+            problem.F(x, b)
+            problem.J(x, A)
+    finally:
+        kept.assemble_matrix = original
+    assert len(bulk) == 1 and bulk[0] is problem.bulk_jacobian.form
+    problem.bulk_jacobian.reuse = False  # assembled from the forms, as a fresh solve does
+    fresh = A.duplicate()
+    problem.J(x, fresh)
+    problem.bulk_jacobian.reuse = True
+    fresh.axpy(-1.0, A)
+    assert A.norm() > 0 and fresh.norm() <= 1e-13 * A.norm()
