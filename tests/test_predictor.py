@@ -72,3 +72,29 @@ def test_a_singular_tangent_is_dropped_for_the_last_converged_state():
     assert dropped.predictor_scale == 0.0 and PREDICTOR_WORSE > 1.0
     assert dropped.residuals[-1] == pytest.approx(first.residuals[-1], rel=1e-12)
     assert dropped.newton_iterations == first.newton_iterations
+
+
+def test_a_load_undefined_at_the_last_state_solves_nothing():
+    """mindlin's tangential traction is ``amplitude (t - 1)+ / t`` (the problem scales it by ``t``): 0/0 at t = 0, so
+    ``dR/dt`` there is not finite. The tangent is dropped before any linear solve (a solve of a NaN right-hand side
+    ends before a nested field split is set up; PETSc 3.18's ``-ksp_view`` of it crashes), and the first step is the
+    one without a predictor."""
+    import numpy as np
+
+    import fenics_contact as fc
+    from fenics_contact.app.scenes import mindlin
+    from fenics_contact.methods import make_law
+
+    runs = {}
+    for predictor in (False, "tangent"):
+        law = fc.Friction(make_law("lagrange"), mu=0.3, omega_t=mindlin.DEFAULT_OMEGA_T)
+        setup = build("mindlin", law=law, sliding="small", ratios=(0.5,))
+        solver = Solver(setup.problem, quiet=True, predictor=predictor)
+        linear, rhs = solver.newton.linear, []
+        solve = linear.solve
+        linear.solve = lambda A, b, x, rhs=rhs, solve=solve: (rhs.append(b.norm()), solve(A, b, x))[1]
+        solver.run(setup.loads[:1])
+        assert np.all(np.isfinite(rhs)) and solver.records[0].converged
+        runs[predictor] = solver.records[0]
+    assert runs["tangent"].predictor_scale == 0.0
+    assert runs["tangent"].residuals[-1] == pytest.approx(runs[False].residuals[-1], rel=1e-12)

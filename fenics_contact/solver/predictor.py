@@ -114,11 +114,13 @@ class Predictor:
         newton.residual(newton.snes, x, r1)
         r1.axpy(-1.0, r0)
         r1.scale(-(t - t0) / eps)
-        ksp = newton.snes.getKSP()
-        tolerances = ksp.getTolerances()
-        ksp.setTolerances(rtol=max(tolerances[0], PREDICTOR_RTOL))
-        reason = newton.linear.solve(newton.A, r1, du)
-        ksp.setTolerances(*tolerances)  # the Newton solves' own (the forcing sets its own at every Jacobian)
+        reason = -1  # no solve where dR/dt is not finite (a load undefined at t_n): no tangent
+        if np.isfinite(r1.norm()):
+            ksp = newton.snes.getKSP()
+            tolerances = ksp.getTolerances()
+            ksp.setTolerances(rtol=max(tolerances[0], PREDICTOR_RTOL))
+            reason = newton.linear.solve(newton.A, r1, du)
+            ksp.setTolerances(*tolerances)  # the Newton solves' own (the forcing sets its own at every Jacobian)
         p.set_load(t)
         if reason < 0 or not np.isfinite(du.norm()):  # no tangent (e.g. a singular J): u_n
             newton.set_u(x)
