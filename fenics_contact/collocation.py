@@ -81,7 +81,7 @@ class CollocatedSurface(TwoBodyMultiplier):
             raise ValueError("the collocated element needs quadratic (3-node) facets: a degree-2 displacement")
         self.other = None
         self._static = self._gather_static()
-        self._tangent: PETSc.Mat | None = None  # the last coupling_matrix
+        self._tangent: PETSc.Mat | None = None  # the last coupling_matrices
 
     def _pair(self, other, first: bool) -> None:
         self.other, self.first = other, first
@@ -195,7 +195,7 @@ class CollocatedSurface(TwoBodyMultiplier):
         b.assemblyBegin()
         b.assemblyEnd()
 
-    def coupling_matrix(self, bcs) -> PETSc.Mat:
+    def coupling_matrices(self, bcs) -> tuple[PETSc.Mat]:
         rows, cols, vals = (np.asarray(a) for a in self._entries[1])
         Wmap = self.u.function_space.dofmap.index_map
         sizes = ((Wmap.size_local, Wmap.size_global),) * 2
@@ -208,7 +208,7 @@ class CollocatedSurface(TwoBodyMultiplier):
             self._tangent.destroy()
         self._tangent = aij_matrix(self.comm, sizes, key // sizes[1][1], key % sizes[1][1], vals)
         self._pattern_version += 1  # the collocation may change from one iterate to the next
-        return self._tangent
+        return (self._tangent,)
 
     # --- results ------------------------------------------------------------
     def total_force(self) -> np.ndarray:

@@ -4,7 +4,7 @@
 
 Solves the scene with ``quadrature="segment"`` (penalty, the bench's K), then at the converged state times the
 surface's update (projection and pairing), its residual (``add_residual``) and its tangent
-(``coupling_matrix``, after the residual of the same state, as in a Newton iteration), the best of
+(``coupling_matrices``, after the residual of the same state, as in a Newton iteration), the best of
 ``--repeat`` calls each, and prints them with the number of sub-segment pairs and the residual's norm (to
 compare versions).
 """
@@ -80,7 +80,7 @@ def measure(name: str, args, comm) -> None:
         c.add_residual(b)
 
     def jacobian():  # after the residual of the same state, as in a Newton iteration
-        c.coupling_matrix(problem.bcs)
+        c.coupling_matrices(problem.bcs)
 
     t_res = best(residual, args.repeat, comm)
     t_jac = best(lambda: (residual(), jacobian()), args.repeat, comm) - t_res

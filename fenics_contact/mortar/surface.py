@@ -81,7 +81,7 @@ class SegmentSurface(ContactSurface):
         self._dirichlet = np.zeros(0, np.int64)  # global Dirichlet dofs, left out of the tangent (bind_problem)
         self._problem = None
         self._pattern = JacobianPattern()
-        self._tangent: PETSc.Mat | None = None  # the last coupling_matrix
+        self._tangent: PETSc.Mat | None = None  # the last coupling_matrices
         self.weight = fem.Constant(mesh, float(weight))
         m = self.mirror
         obstacle = MirrorObstacle(m.reference, m.displacement, m.active, self.nv, self.gdim, self.radius)
@@ -199,9 +199,9 @@ class SegmentSurface(ContactSurface):
         b.assemblyBegin()
         b.assemblyEnd()
 
-    def coupling_matrix(self, bcs) -> PETSc.Mat:
+    def coupling_matrices(self, bcs) -> tuple[PETSc.Mat]:
         """The whole contact tangent (slave and master rows and columns; Dirichlet rows and columns zero): the
-        surface's own matrix, valid until the next call."""
+        surface's own matrix (alone in the tuple), valid until the next call."""
         with self._seconds.measure("coupling_s"):
             (_, K), dofs = self._elements()
             Vmap, bs = self.V.dofmap.index_map, self.V.dofmap.index_map_bs
@@ -220,14 +220,14 @@ class SegmentSurface(ContactSurface):
         if self._tangent is not None:
             self._tangent.destroy()
         self._tangent = aij_matrix(self.comm, ((n_local, N),) * 2, rows, cols, vals)
-        return self._tangent
+        return (self._tangent,)
 
     def pattern_changes(self) -> bool:
         return self._pattern.changed()
 
     def add_jacobian(self, A: PETSc.Mat, bcs) -> bool:
         """``A += tangent``; returns True when ``A``'s nonzero pattern was rebuilt (pairs changed)."""
-        return self._pattern.add(A, self.coupling_matrix(bcs))
+        return self._pattern.add(A, self.coupling_matrices(bcs))
 
     # --- figures ---------------------------------------------------------------
     def segment_points(self) -> dict:

@@ -122,8 +122,8 @@ class MirrorCoupling:
         self._values: list = [None, None, None]  # each block's input values when last assembled (None: assemble)
         # A block that has no inputs and assembled to zero (A_ww with small sliding): its product is left out
         self._zero = [False, False, False]
-        # (I, A_uw I, I^T A_wu, I^T A_ww I (None: a zero block's), their sum) of the last Jacobian: kept while I (the
-        # pairing) stays
+        # (I, A_uw I, I^T A_wu, I^T A_ww I (None: a zero block's)) of the last Jacobian: kept while I (the pairing)
+        # stays
         self._products: tuple | None = None
         self._tmp: PETSc.Vec | None = None
 
@@ -146,9 +146,11 @@ class MirrorCoupling:
         b.axpy(1.0, self._tmp)
         rw.destroy()
 
-    def matrix(self, bcs: list) -> PETSc.Mat:
-        """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero): the coupling's own matrix, valid
-        until the next call (the caller does not destroy it). ``bcs``: the same conditions at every call."""
+    def matrices(self, bcs: list) -> tuple[PETSc.Mat, ...]:
+        """``A_uw I``, ``I^T A_wu`` and ``I^T A_ww I`` (Dirichlet rows and columns zero; a zero block's product left
+        out): the coupling's matrix as a sum, valid until the next call (the caller does not destroy them). Added
+        to the Jacobian one by one, not summed first: only ``A_uw I`` changes from one iterate to the next with
+        small sliding, and a sum would copy the others every time. ``bcs``: the same conditions at every call."""
         # The three blocks' patterns depend on the slave facets only: made once, not per Jacobian (their rows span
         # the whole mirror space, nv gdim values per vertex: each build allocated 0.16 GB at 4e5 dofs).
         if self._blocks is None:
@@ -159,27 +161,19 @@ class MirrorCoupling:
         if self._products is not None and self._products[0] is op:
             # the same pairing: the products' patterns hold, only the values of those of new blocks are computed
             # (MAT_REUSE_MATRIX)
-            _, C1, C2, C3, C = self._products
+            _, C1, C2, C3 = self._products
             if fresh[0]:
                 A_uw.matMult(op, result=C1)
             if fresh[1]:
                 op.transposeMatMult(A_wu, result=C2)
             if fresh[2] and C3 is not None:
                 A_ww.PtAP(op, result=C3)
-            C1.copy(C, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
-            for m in (C2, C3):
-                if m is not None:
-                    C.axpy(1.0, m, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
-            return C
-        self._destroy_products()
-        C1, C2 = A_uw.matMult(op), op.transposeMatMult(A_wu)
-        C3 = None if self._zero[2] else A_ww.PtAP(op)
-        C = C1.duplicate(copy=True)
-        for m in (C2, C3):
-            if m is not None:
-                C.axpy(1.0, m, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
-        self._products = (op, C1, C2, C3, C)
-        return C
+        else:
+            self._destroy_products()
+            C1, C2 = A_uw.matMult(op), op.transposeMatMult(A_wu)
+            C3 = None if self._zero[2] else A_ww.PtAP(op)
+            self._products = (op, C1, C2, C3)
+        return tuple(m for m in self._products[1:] if m is not None)
 
     def _assemble(self, i: int, bcs: list) -> bool:
         """Assemble block ``i`` unless its inputs have the values it was last assembled with. Returns True if it was
@@ -218,12 +212,18 @@ class JacobianPattern:
         """True when the next :meth:`add` rebuilds the Jacobian's pattern."""
         return self.merged != self.version
 
-    def add(self, A: PETSc.Mat, C: PETSc.Mat) -> bool:
-        """``A += C`` (``C`` stays the caller's). Returns True when ``A``'s nonzero pattern was rebuilt."""
+    def add(self, A: PETSc.Mat, C: tuple[PETSc.Mat, ...]) -> bool:
+        """``A += sum(C)`` (the matrices stay the caller's). Returns True when ``A``'s nonzero pattern was
+        rebuilt."""
         rebuild = self.changed()
-        if rebuild:
-            widen(A, C)
+        if rebuild:  # one new pattern for the sum: A copied once
+            total = C[0].duplicate(copy=True)
+            for m in C[1:]:
+                total.axpy(1.0, m, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+            widen(A, total)
+            total.destroy()
         else:
-            A.axpy(1.0, C, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+            for m in C:
+                A.axpy(1.0, m, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
         self.merged = self.version
         return rebuild

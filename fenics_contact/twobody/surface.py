@@ -211,17 +211,17 @@ class TwoBodySurface(ContactSurface):
             return
         self.coupling.add_residual(b)
 
-    def coupling_matrix(self, bcs) -> PETSc.Mat:
-        """``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero): the surface's own matrix, valid
-        until the next call."""
-        return self.coupling.matrix(bcs)
+    def coupling_matrices(self, bcs) -> tuple[PETSc.Mat, ...]:
+        """The matrices whose sum is ``A_uw I + I^T A_wu + I^T A_ww I`` (Dirichlet rows and columns zero): the
+        surface's own, valid until the next call."""
+        return self.coupling.matrices(bcs)
 
     def pattern_changes(self) -> bool:
         return self._pattern.changed()
 
     def add_jacobian(self, A: PETSc.Mat, bcs) -> bool:
         """``A += coupling``; returns True when ``A``'s nonzero pattern was rebuilt (pairing changed)."""
-        C = self.coupling_matrix(bcs)  # first: a subclass's matrix may change the pattern (collocation)
+        C = self.coupling_matrices(bcs)  # first: a subclass's matrix may change the pattern (collocation)
         return self._pattern.add(A, C)
 
     # --- figures -------------------------------------------------------------
