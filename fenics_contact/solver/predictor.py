@@ -106,16 +106,16 @@ class Predictor:
         x, r0, r1, du, at_t = self._work
         newton.b.copy(at_t)  # R(u_n, t): the slope at s = 0
         petsc_vec(p.u).copy(x)
-        p.set_load(t0)
-        newton.residual(newton.snes, x, r0)
-        newton.jacobian(newton.snes, x, newton.A, newton.A)
         eps = PREDICTOR_FD * abs(t - t0)
         p.set_load(t0 + eps)
         newton.residual(newton.snes, x, r1)
+        p.set_load(t0)  # last: the Jacobian's state (a two-body pairing) is that of the last residual
+        newton.residual(newton.snes, x, r0)
         r1.axpy(-1.0, r0)
         r1.scale(-(t - t0) / eps)
-        reason = -1  # no solve where dR/dt is not finite (a load undefined at t_n): no tangent
+        reason = -1  # no Jacobian, no solve where dR/dt is not finite (a load undefined at t_n): no tangent
         if np.isfinite(r1.norm()):
+            newton.jacobian(newton.snes, x, newton.A, newton.A)
             ksp = newton.snes.getKSP()
             tolerances = ksp.getTolerances()
             ksp.setTolerances(rtol=max(tolerances[0], PREDICTOR_RTOL))
