@@ -243,14 +243,15 @@ def entities_to_geometry(mesh, dim: int, entities):
             return np.zeros((0, 0), dtype=np.int32)
         return np.zeros((0, call(np.zeros(1, np.int32)).shape[1]), dtype=np.int32)
     return call(entities)
-def _rcm_partition(comm, nparts: int, graph, ghosting: bool):
+def _rcm_partition(comm, nparts: int, graph, ghosting: bool, owners=None):
     """Deterministic graph partitioner (the same partition on every run, unlike PT-SCOTCH, whose threads make
     the 2-rank partition differ from run to run: measured 6 different partitions of a unit square in 6 runs,
     and 1 in 5 with a fixed seed). The distributed dual graph is gathered on rank 0, ordered by reverse
     Cuthill-McKee (scipy's csgraph: level sets of a breadth-first search) and cut into ``nparts`` contiguous
-    chunks of equal size: bands separated by one level-set front. With ``ghosting`` each cell also goes to the
-    ranks of its facet neighbours (shared-facet ghost mode). Gathering is fine for meshes built on one rank
-    (gmsh, dolfinx's builtin meshes): their cells start on rank 0 anyway."""
+    chunks of equal size: bands separated by one level-set front; or, given ``owners`` (one rank per cell in the
+    gathered order, rank 0's cells first: the input order of a mesh built on rank 0), those. With ``ghosting`` each
+    cell also goes to the ranks of its facet neighbours (shared-facet ghost mode). Gathering is fine for meshes
+    built on one rank (gmsh, dolfinx's builtin meshes): their cells start on rank 0 anyway."""
     import numpy as np
     from dolfinx import cpp
     from scipy.sparse import csr_matrix
@@ -266,10 +267,13 @@ def _rcm_partition(comm, nparts: int, graph, ghosting: bool):
         rows = np.concatenate([np.repeat(np.arange(c, dtype=np.int64) + s, np.diff(o))
                                for (o, _), c, s in zip(parts, counts, np.cumsum([0] + counts[:-1]))])
         cols = np.concatenate([a for _, a in parts])
-        adj = csr_matrix((np.ones(len(cols), np.int8), (rows, cols)), shape=(n, n))
-        order = reverse_cuthill_mckee(adj, symmetric_mode=True)
-        owner = np.empty(n, np.int32)
-        owner[order] = (np.arange(n, dtype=np.int64) * nparts // max(n, 1)).astype(np.int32)
+        if owners is not None and len(owners) == n:
+            owner = np.asarray(owners, np.int32)
+        else:
+            adj = csr_matrix((np.ones(len(cols), np.int8), (rows, cols)), shape=(n, n))
+            order = reverse_cuthill_mckee(adj, symmetric_mode=True)
+            owner = np.empty(n, np.int32)
+            owner[order] = (np.arange(n, dtype=np.int64) * nparts // max(n, 1)).astype(np.int32)
         # Destinations per cell, as flat arrays (Python lists per cell: ~0.5 GB at 2e6 cells): the owner
         # first, then the other ranks of its facet neighbours in increasing order (ghosting).
         counts_per_cell = np.ones(n, np.int64)
@@ -297,20 +301,25 @@ def _rcm_partition(comm, nparts: int, graph, ghosting: bool):
     return cpp.graph.AdjacencyList_int32(data, offs)
 
 
-def cell_partitioner():
-    """The deterministic cell partitioner (:func:`_rcm_partition`) in the form ``dolfinx.mesh.create_mesh`` and the
-    builtin mesh builders take (``partitioner=``); no ghost cells."""
+def cell_partitioner(owners=None):
+    """The deterministic cell partitioner (:func:`_rcm_partition`; ``owners``: rank 0's rank for each input cell
+    instead of its ordering) in the form ``dolfinx.mesh.create_mesh`` and the builtin mesh builders take
+    (``partitioner=``); no ghost cells."""
     from dolfinx import mesh as dmesh
 
+    def partition(comm, nparts, graph, ghosting):
+        return _rcm_partition(comm, nparts, graph, ghosting, owners)
+
     try:
-        return dmesh.create_cell_partitioner(_rcm_partition)
+        return dmesh.create_cell_partitioner(partition)
     except TypeError:  # dolfinx >= 0.11: the ghost mode and the most cells a facet joins are required
-        return dmesh.create_cell_partitioner(_rcm_partition, dmesh.GhostMode.none, 2)
+        return dmesh.create_cell_partitioner(partition, dmesh.GhostMode.none, 2)
 
 
-def model_to_mesh(model, comm, rank: int, gdim: int):
+def model_to_mesh(model, comm, rank: int, gdim: int, owners=None):
     """``dolfinx.io.gmsh.model_to_mesh`` (``gmshio`` before dolfinx 0.10) with the deterministic partitioner
-    (:func:`cell_partitioner`).
+    (:func:`cell_partitioner`; ``owners``: on rank 0, the rank of each of the model's cells in dolfinx's input
+    order, e.g. :func:`~fenics_contact.partition.balanced_owners` of a first distribution).
 
     Returns:
         ``(mesh, cell_tags, facet_tags)``.
@@ -322,15 +331,15 @@ def model_to_mesh(model, comm, rank: int, gdim: int):
     except ImportError:
         dgmsh = None
     if dgmsh is not None and hasattr(dgmsh, "MeshData"):
-        data = dgmsh.model_to_mesh(model, comm, rank, gdim=gdim, partitioner=cell_partitioner())
+        data = dgmsh.model_to_mesh(model, comm, rank, gdim=gdim, partitioner=cell_partitioner(owners))
         return data.mesh, data.cell_tags, data.facet_tags
     from dolfinx.io import gmshio
 
     if "partitioner" in inspect.signature(gmshio.model_to_mesh).parameters:  # dolfinx >= 0.7
-        return gmshio.model_to_mesh(model, comm, rank, gdim=gdim, partitioner=cell_partitioner())
+        return gmshio.model_to_mesh(model, comm, rank, gdim=gdim, partitioner=cell_partitioner(owners))
     # dolfinx 0.5: no partitioner argument; its module-level create_mesh is swapped for the call.
     create = gmshio.create_mesh
-    gmshio.create_mesh = lambda *a, **k: create(*a, **k, partitioner=cell_partitioner())
+    gmshio.create_mesh = lambda *a, **k: create(*a, **k, partitioner=cell_partitioner(owners))
     try:
         return gmshio.model_to_mesh(model, comm, rank, gdim=gdim)
     finally:

@@ -22,7 +22,7 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 from mpi4py import MPI
 
-__all__ = ["NamedTags", "read_gmsh", "tag_value", "check_tags", "tag_boundary"]
+__all__ = ["NamedTags", "read_gmsh", "distribute", "tag_value", "check_tags", "tag_boundary"]
 
 
 class NamedTags:
@@ -118,7 +118,33 @@ def physical_names(gmsh) -> dict[int, dict[str, int]]:
     return names
 
 
-def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: int = 3):
+def distribute(model, comm: MPI.Comm, gdim: int, names: Mapping[int, Mapping[str, int]],
+               balance: Sequence[str] = ()):
+    """The dolfinx mesh and tags of rank 0's gmsh ``model`` (``names``: its physical names by dimension,
+    :func:`physical_names`), distributed by the deterministic partitioner; with ``balance`` (facet region names:
+    the contact surfaces) on several ranks, distributed again so that the cells at those facets are split evenly
+    too (:func:`~fenics_contact.partition.balanced_owners`): the contact's assembly and search then run on every
+    rank, not on the one rank a graph partition gives a small contact patch to. Returns ``(mesh, cell_tags,
+    facet_tags)`` (dolfinx ``MeshTags``). Collective."""
+    from .compat import model_to_mesh
+    from .partition import balanced_owners
+
+    mesh, cell_tags, facet_tags = model_to_mesh(model, comm, 0, gdim)
+    if not balance or comm.size == 1:
+        return mesh, cell_tags, facet_tags
+    facet_names = names.get(mesh.topology.dim - 1, {})
+    unknown = [n for n in balance if n not in facet_names]
+    if unknown:
+        raise ValueError(f"balance: no facet region {unknown[0]!r}; the mesh has {', '.join(sorted(facet_names))}")
+    owners = balanced_owners(mesh, facet_tags, [facet_names[n] for n in balance])
+    if not comm.bcast(owners is not None, root=0):
+        return mesh, cell_tags, facet_tags
+    del mesh, cell_tags, facet_tags
+    return model_to_mesh(model, comm, 0, gdim, owners)
+
+
+def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: int = 3,
+              balance: Sequence[str] = ()):
     """Mesh and named cell and facet tags from a gmsh ``.msh``/``.geo`` file or (``source=None``) the gmsh model
     of this process (rank 0's). Returns ``(mesh, cells, facets)`` (:class:`NamedTags`). ``gdim``: the geometric
     dimension, the model's own (2 for a planar mesh in the plane z = 0, 3 for a solid); another is a
@@ -129,6 +155,8 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
         source: a ``.msh`` or ``.geo`` file, or None for the gmsh model of this process (rank 0's).
         comm: the communicator of the mesh.
         gdim: the geometric dimension, 2 or 3 (the model's own).
+        balance: facet region names (the contact surfaces) whose cells are split evenly over the ranks too
+            (:func:`distribute`); none by default.
 
     Returns:
         ``(mesh, cells, facets)``: the mesh and its named cell and facet tags (:class:`NamedTags`).
@@ -136,7 +164,6 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
     import gmsh
 
     from .cells import check_cells
-    from .compat import model_to_mesh
     from .gmshmodel import prepare
 
     if gdim not in (2, 3):
@@ -178,7 +205,7 @@ def read_gmsh(source: str | Path | None, comm: MPI.Comm = MPI.COMM_WORLD, gdim: 
         if error:
             raise ValueError(error)
         names = comm.bcast(names, root=0)
-        mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, gdim)
+        mesh, cell_tags, facet_tags = distribute(gmsh.model, comm, gdim, names, balance)
     finally:
         if own:
             gmsh.finalize()

@@ -14,8 +14,7 @@ from typing import TYPE_CHECKING
 
 from mpi4py import MPI
 
-from ...compat import model_to_mesh
-from ...domain import NamedTags, physical_names
+from ...domain import NamedTags, distribute, physical_names
 from ...gmshmodel import prepare
 from ..memory import available_memory
 
@@ -99,11 +98,12 @@ CACHE_VARIABLE = "FC_MESH_CACHE"
 
 
 def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = True,
-               key: str = "", scale: float = 1.0) -> tuple[Mesh, NamedTags, NamedTags]:
+               key: str = "", scale: float = 1.0, balance: tuple[str, ...] = ()) -> tuple[Mesh, NamedTags, NamedTags]:
     """Run ``build()`` (adds and meshes a ``gdim``-dimensional gmsh model with named physical groups) on rank 0;
     distribute the mesh and its tags. Returns ``(mesh, cells, facets)`` (:class:`~fenics_contact.domain.NamedTags`).
     ``scale``: the model is built with its lengths over ``scale`` and its coordinates are multiplied by it (gmsh's
-    tolerances are absolute: the same mesh, to round-off, in any units).
+    tolerances are absolute: the same mesh, to round-off, in any units). ``balance``: the facet regions (by name)
+    whose cells are split evenly over the ranks too (the contact surfaces; :func:`~fenics_contact.domain.distribute`).
 
     Initialises and finalises gmsh on every rank; a gmsh failure raises :class:`MeshingError` on every rank,
     gmsh running out of memory ``MemoryError``. ``isolate`` (default): mesh in a forked child of rank 0 that writes a
@@ -145,7 +145,7 @@ def _from_gmsh(comm: MPI.Comm, build, what: str, gdim: int = 2, isolate: bool = 
         if error:
             raise MeshingError(error)
         names = comm.bcast(names, root=0)
-        mesh, cell_tags, facet_tags = model_to_mesh(gmsh.model, comm, 0, gdim)
+        mesh, cell_tags, facet_tags = distribute(gmsh.model, comm, gdim, names, balance)
     finally:
         gmsh.finalize()
     mesh.geometry.x[:] *= scale

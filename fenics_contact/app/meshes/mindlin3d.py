@@ -17,8 +17,8 @@ __all__ = ["cap_on_block"]
 
 
 def cap_on_block(comm: MPI.Comm, R: float = 1.0, H: float = 0.5, L: float = 1.0, D: float = 0.5,
-                 h_contact: float = 0.01, h_far: float = 0.15, contact_width: float = 0.1, overlap: float = 0.0
-                 ) -> tuple[Mesh, NamedTags, NamedTags]:
+                 h_contact: float = 0.01, h_far: float = 0.15, contact_width: float = 0.1, overlap: float = 0.0,
+                 balance: tuple[str, ...] = ("cap_surface", "block_top")) -> tuple[Mesh, NamedTags, NamedTags]:
     """The cap ``z <= H`` of the ball of radius ``R`` centred at ``(0, 0, R - overlap)`` and the block
     ``[-L, L] x [0, L] x [-D, 0]``, both cut to ``y >= 0`` (P1 tetrahedra; both bodies are split by the plane
     ``x = 0``, so the contact surfaces have a line of vertices along each axis).
@@ -26,7 +26,9 @@ def cap_on_block(comm: MPI.Comm, R: float = 1.0, H: float = 0.5, L: float = 1.0,
     Size ``h_contact`` within ``contact_width`` of the origin, growing by 0.25 per unit distance up to ``h_far``.
     Cells ``cap``, ``block``; facets ``cap_surface`` (the spherical surface), ``cap_top`` (z = H), ``block_top``
     (z = 0), ``block_bottom`` (z = -D), ``symmetry`` (y = 0, both bodies). The geometry:
-    ``geo/mindlin3d.geo``. gmsh meshes on rank 0, in a child process. Collective.
+    ``geo/mindlin3d.geo``. gmsh meshes on rank 0, in a child process. ``balance``: the facet regions whose cells
+    are split evenly over the ranks too (:func:`~fenics_contact.domain.distribute`; default the contact
+    surfaces, ``()`` the graph partition alone). Collective.
     """
     _positive(R=R, H=H, L=L, D=D, h_contact=h_contact, h_far=h_far, contact_width=contact_width)
     _graded(h_contact, h_far)
@@ -37,7 +39,7 @@ def cap_on_block(comm: MPI.Comm, R: float = 1.0, H: float = 0.5, L: float = 1.0,
     source = geo_path("mindlin3d").read_text()
     args = (1.0, H / R, L / R, D / R, h_contact / R, h_far / R, contact_width / R, overlap / R)
     mesh, cells, facets = _from_gmsh(comm, lambda: _build(*args), "the cap on a block", gdim=3, isolate=True,
-                                     key=repr(args) + source, scale=R)
+                                     key=repr(args) + source, scale=R, balance=balance)
     mesh.name = "cap_on_block"
     return mesh, cells, facets
 
