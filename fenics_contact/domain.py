@@ -129,13 +129,13 @@ def distribute(model, comm: MPI.Comm, gdim: int, names: Mapping[int, Mapping[str
     from .compat import model_to_mesh
     from .partition import balanced_owners
 
+    facet_names = names.get(gdim - 1, {})  # the model's dimension is gdim
+    unknown = [n for n in balance if n not in facet_names]
+    if unknown:  # on any number of ranks (the same names on every rank), before the mesh is made
+        raise ValueError(f"balance: no facet region {unknown[0]!r}; the mesh has {', '.join(sorted(facet_names))}")
     mesh, cell_tags, facet_tags = model_to_mesh(model, comm, 0, gdim)
     if not balance or comm.size == 1:
         return mesh, cell_tags, facet_tags
-    facet_names = names.get(mesh.topology.dim - 1, {})
-    unknown = [n for n in balance if n not in facet_names]
-    if unknown:
-        raise ValueError(f"balance: no facet region {unknown[0]!r}; the mesh has {', '.join(sorted(facet_names))}")
     owners = balanced_owners(mesh, facet_tags, [facet_names[n] for n in balance])
     if not comm.bcast(owners is not None, root=0):
         return mesh, cell_tags, facet_tags

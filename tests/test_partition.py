@@ -1,8 +1,11 @@
 """The contact-balanced partition: every part gets its share of the cells and of the cells at the contact."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 from mpi4py import MPI
 
+from fenics_contact import read_gmsh
 from fenics_contact.app.meshes.mindlin3d import cap_on_block
 from fenics_contact.partition import _bisect, balanced_owners
 
@@ -72,3 +75,15 @@ def test_distributed_with_the_contact_balanced_keeps_every_cell_and_facet():
                 total = comm.allreduce(mine)
                 assert abs(mine - total / comm.size) <= 0.05 * total, (name, mine, total)
     assert totals[0] == totals[1]
+
+
+def test_a_region_to_balance_that_the_mesh_has_not_is_refused():
+    geo = Path(__file__).parents[1] / "fenics_contact" / "app" / "geo" / "half_disk.geo"
+    with pytest.raises(ValueError, match="balance: no facet region 'nowhere'; the mesh has "):
+        read_gmsh(geo, gdim=2, balance=("nowhere",))
+    mesh, _, facets = read_gmsh(geo, gdim=2, balance=("contact",))  # a half disk on its curved side
+    comm = mesh.comm
+    own = facets.meshtags.indices < mesh.topology.index_map(1).size_local
+    mine = int(np.sum(facets.meshtags.values[own] == facets["contact"]))
+    total = comm.allreduce(mine)
+    assert total > 0 and abs(mine - total / comm.size) <= 0.05 * total
