@@ -21,7 +21,7 @@ _ANGLES, _REFINE = 36, 12
 def balanced_owners(mesh, facet_tags, values, nparts: int | None = None) -> np.ndarray | None:
     """The rank of each cell of ``mesh`` (by its input index: ``mesh.topology.original_cell_index``) that balances
     the cells and, as far as one plane per cut can, the cells with a facet among ``facet_tags`` of ``values``. On
-    rank 0 (None elsewhere, on one rank, or where no cell has such a facet). Collective.
+    rank 0 (None on the other ranks, for one part, or where no cell has such a facet). Collective.
 
     Args:
         mesh: the mesh, distributed any way.
