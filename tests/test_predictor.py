@@ -15,6 +15,16 @@ def first_residuals(predictor):
     return solver.records
 
 
+def same_history(a, b):
+    """Two Newton residual histories of one step are the same to round-off of its first residual: on several ranks
+    MUMPS's factors are not bit-reproducible between runs (its dynamic scheduling orders the sums), so a quadratically
+    falling residual differs after a few iterates in its own trailing digits but not against the step's scale."""
+    import numpy as np
+
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and bool(np.all(np.abs(a - b) <= 1e-12 * a[0]))
+
+
 def test_tangent_predictor_is_exact_on_a_linear_problem():
     # once the whole base is closed (steps 2-4) the block is a linear problem in (u, t): the tangent of the load
     # path at the last converged state reaches the next one; without a predictor the step starts far from it
@@ -70,7 +80,7 @@ def test_a_singular_tangent_is_dropped_for_the_last_converged_state():
     assert [(f["load"], f["kind"]) for f in tangent.failures] == [(f["load"], f["kind"]) for f in plain.failures]
     first, dropped = plain.records[0], tangent.records[0]
     assert dropped.predictor_scale == 0.0 and PREDICTOR_WORSE > 1.0
-    assert dropped.residuals[-1] == pytest.approx(first.residuals[-1], rel=1e-12)
+    assert same_history(dropped.residuals[-1], first.residuals[-1]), (dropped.residuals[-1], first.residuals[-1])
     assert dropped.newton_iterations == first.newton_iterations
 
 
@@ -97,4 +107,5 @@ def test_a_load_undefined_at_the_last_state_solves_nothing():
         assert np.all(np.isfinite(rhs)) and solver.records[0].converged
         runs[predictor] = solver.records[0]
     assert runs["tangent"].predictor_scale == 0.0
-    assert runs["tangent"].residuals[-1] == pytest.approx(runs[False].residuals[-1], rel=1e-12)
+    assert same_history(runs["tangent"].residuals[-1], runs[False].residuals[-1]), (runs["tangent"].residuals[-1],
+                                                                                 runs[False].residuals[-1])
