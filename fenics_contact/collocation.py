@@ -207,7 +207,7 @@ class CollocatedSurface(TwoBodyMultiplier):
         if self._tangent is not None:  # the last call's: valid until this one
             self._tangent.destroy()
         self._tangent = aij_matrix(self.comm, sizes, key // sizes[1][1], key % sizes[1][1], vals)
-        self._pattern_version += 1  # the collocation may change from one iterate to the next
+        self._pattern.version += 1  # the collocation may change from one iterate to the next
         return (self._tangent,)
 
     # --- results ------------------------------------------------------------

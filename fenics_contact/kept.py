@@ -62,6 +62,18 @@ class KeptJacobian:
             self._values, self.mark = input_values(self.inputs, self.u), object()
         return self.matrix
 
+    def give_pattern(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
+        """Assemble the form into ``A`` (its values to be set again by the caller) where the kept matrix exists but
+        ``A``'s pattern is not known to hold the form's (a matrix not yet assembled with it). :meth:`add` would
+        otherwise assemble the form into ``A`` over the entries there already, a sum in another order than every
+        later one's (``A``'s entries, then the kept matrix added): with it every Jacobian of a run has the same
+        sums, and a run restarted from a checkpoint solves, bit for bit, what the uninterrupted run solved.
+        Collective."""
+        K = self.current(bcs, diagonal)
+        holds = K is None or A.getAttr(_KEPT) is self.mark or A.getAttr(BULK_PATTERN) is True
+        if not A.getComm().tompi4py().allreduce(int(holds), op=MPI.MIN):
+            self.add(A, bcs, diagonal)
+
     def add(self, A: PETSc.Mat, bcs: list, diagonal: float) -> None:
         """Add the form's matrix (Dirichlet rows and columns: ``diagonal`` times the identity) into ``A`` and
         assemble ``A``: the kept matrix (:meth:`current`) where ``A``'s pattern holds the form's (made explicit with
@@ -88,8 +100,9 @@ class KeptJacobian:
             return
         assemble_matrix(A, self.form, bcs, diagonal)
         A.assemble()
-        if K is not None:
+        if K is not None:  # A holds the form's pattern from now on (explicit: every entry of a cell is inserted)
             A.setAttr(_KEPT, self.mark)
+            A.setAttr(BULK_PATTERN, True)
 
 
 class AffineResidual:

@@ -329,6 +329,7 @@ class ContactProblem:
         ``NonlinearProblem.J``: the state (``u``, contact pairing) is that of the last :meth:`F` at the same
         ``x``, as in a Newton iteration. Returns True when a contact's coupling changed ``A``'s nonzero pattern
         (a solver must then factor from scratch)."""
+        self.bulk_jacobian.give_pattern(A, self.bcs, self.stiffness)  # A's first Jacobian: the sums of every later one
         A.zeroEntries()
         if self._trimmed:  # the bodies' zero blocks stay out (a contact's coupling may have rebuilt A)
             A.setOption(PETSc.Mat.Option.NEW_NONZERO_LOCATIONS, False)

@@ -17,15 +17,14 @@ lane_root
 if ! chroot "$DEB13" python3 -c "import dolfinx, gmsh, pytest, matplotlib, h5py" 2>/dev/null; then
   lane_apt python3-dolfinx python3-gmsh python3-pytest python3-matplotlib python3-h5py openmpi-bin
 fi
-echo "debian13 lane: dolfinx $(chroot "$DEB13" python3 -c 'import dolfinx; print(dolfinx.__version__)')"
 lane_copy "$PROJECT"
 
-# Debian 13's Open MPI may hang here without these transport choices.
-run() {
-  chroot "$DEB13" /usr/bin/env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
-    OMPI_MCA_btl=self,sm OMPI_MCA_pml=ob1 OMPI_MCA_rmaps_base_oversubscribe=1 HOME=/root \
-    PYTHONPATH=/$PROJECT /bin/sh -c "cd /$PROJECT && $1"
-}
+# Debian 13's Open MPI may hang here without these transport choices. With /proc and /sys mounted (lane_mounted)
+# UCX reads the boot id and hwloc the CPU topology.
+MPI_ENV=(OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=self,sm OMPI_MCA_pml=ob1
+         OMPI_MCA_rmaps_base_oversubscribe=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1)
+run() { lane_mounted "$1" "$PROJECT" "${MPI_ENV[@]}" PYTHONPATH=/$PROJECT; }
+echo "debian13 lane: dolfinx $(run "python3 -c 'import dolfinx; print(dolfinx.__version__)'")"
 start=$(date +%s)
 # SERIAL=0 (used by `make test`, to stay within its time): only the mpirun -n 2 run; the serial code paths
 # are tested by the Debian 12 lane, and the figures below are computed serially on both.

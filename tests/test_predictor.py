@@ -60,11 +60,13 @@ def test_a_far_predicted_state_does_not_pass_the_relative_tolerance():
 
 def test_a_singular_tangent_is_dropped_for_the_last_converged_state():
     """The seal under a penalty law at t = 0: its points touch with g = 0, where the law has no stiffness, so the
-    tangent of the load path is singular (its predicted state ~1e17 times out of balance). The tangent predictor
-    drops it (``PREDICTOR_WORSE``): the run reaches its last load, and (serially) the first step, its cutback
-    included, is the one without a predictor, iterate for iterate."""
+    tangent of the load path is singular. The run reaches its last load. Where the factors of the singular Jacobian
+    give a direction whose predicted state is far out of balance (PETSc 3.18's MUMPS: ~1e17 times), the tangent is
+    dropped (``PREDICTOR_WORSE``) and (serially) the first step, its cutback included, is the one without a
+    predictor, iterate for iterate; where they give one along which the energy has its minimum next to the last
+    state (PETSc 3.22's: at s ~ 1e-16), the step starts there, no further out of balance than the plain run's
+    first step."""
     from fenics_contact.app.scenes import seal
-    from fenics_contact.solver import PREDICTOR_WORSE
 
     runs = {}
     for predictor in (False, "tangent"):
@@ -77,11 +79,14 @@ def test_a_singular_tangent_is_dropped_for_the_last_converged_state():
     if MPI.COMM_WORLD.size > 1:  # a singular system's factors depend on the partition: the run's end alone
         return
     plain, tangent = runs[False], runs["tangent"]
-    assert [(f["load"], f["kind"]) for f in tangent.failures] == [(f["load"], f["kind"]) for f in plain.failures]
-    first, dropped = plain.records[0], tangent.records[0]
-    assert dropped.predictor_scale == 0.0 and PREDICTOR_WORSE > 1.0
-    assert same_history(dropped.residuals[-1], first.residuals[-1]), (dropped.residuals[-1], first.residuals[-1])
-    assert dropped.newton_iterations == first.newton_iterations
+    first, start = plain.records[0], tangent.records[0]
+    if start.predictor_scale == 0.0:
+        assert [(f["load"], f["kind"]) for f in tangent.failures] == [(f["load"], f["kind"]) for f in plain.failures]
+        assert same_history(start.residuals[-1], first.residuals[-1]), (start.residuals[-1], first.residuals[-1])
+        assert start.newton_iterations == first.newton_iterations
+    else:
+        assert start.predictor_scale < 1e-6 and start.residuals[0][0] < 10 * first.residuals[0][0], \
+            (start.predictor_scale, start.residuals[0][0], first.residuals[0][0])
 
 
 def test_a_load_undefined_at_the_last_state_solves_nothing():

@@ -328,7 +328,7 @@ def test_new_coupling_pattern_keeps_the_near_nullspace():
     x = p.create_vector()
     p.F(x, p.create_vector())
     for _ in range(2):
-        c._pattern_version += 1  # as after a pairing change
+        c._pattern.version += 1  # as after a pairing change
         assert p.J(x, solver.A)
         near = solver.A.getNearNullSpace()
         assert near.handle and len(near.getVecs()) == 3

@@ -225,6 +225,13 @@ class SegmentSurface(ContactSurface):
     def pattern_changes(self) -> bool:
         return self._pattern.changed()
 
+    def state(self) -> dict:
+        return {**super().state(), "pattern": self._pattern.state()}
+
+    def restore(self, state: dict) -> None:
+        super().restore(state)
+        self._pattern.restore(state.get("pattern"), self.comm)
+
     def add_jacobian(self, A: PETSc.Mat, bcs) -> bool:
         """``A += tangent``; returns True when ``A``'s nonzero pattern was rebuilt (pairs changed)."""
         return self._pattern.add(A, self.coupling_matrices(bcs))

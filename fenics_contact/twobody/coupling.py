@@ -30,6 +30,7 @@ import dolfinx.fem.petsc as fem_petsc
 import numpy as np
 import ufl
 from dolfinx import fem
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from ..compat import bc_dofs
@@ -202,28 +203,52 @@ class JacobianPattern:
     """Whether the contact block's nonzero pattern changed since it was last added to the Jacobian.
 
     ``version`` counts the pattern changes (a pairing change, a new problem); ``merged`` is the version last
-    added to a Jacobian by :meth:`add`."""
+    added to a Jacobian by :meth:`add`; ``seen`` holds (values zero) the union of every pattern added, which the
+    Jacobian's pattern holds beyond the bodies' (it only grows): :meth:`state` and :meth:`restore` carry it over
+    a checkpoint, so that a restarted run widens its Jacobian alike (a direct solver's pivot order follows the
+    pattern, explicit zeros included)."""
 
     def __init__(self):
         self.version = 0
         self.merged = -1
+        self.seen: PETSc.Mat | None = None
 
     def changed(self) -> bool:
         """True when the next :meth:`add` rebuilds the Jacobian's pattern."""
         return self.merged != self.version
 
     def add(self, A: PETSc.Mat, C: tuple[PETSc.Mat, ...]) -> bool:
-        """``A += sum(C)`` (the matrices stay the caller's). Returns True when ``A``'s nonzero pattern was
-        rebuilt."""
+        """``A += sum(C)`` (the matrices stay the caller's), one after the other, on every call alike: the same
+        bits whether the pattern was rebuilt or not. Returns True when ``A``'s nonzero pattern was rebuilt."""
         rebuild = self.changed()
-        if rebuild:  # one new pattern for the sum: A copied once
-            total = C[0].duplicate(copy=True)
+        if rebuild:  # A's pattern widened once by the union of C's (values zero): A copied once
+            union = C[0].duplicate(copy=True)
             for m in C[1:]:
-                total.axpy(1.0, m, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
-            widen(A, total)
-            total.destroy()
-        else:
-            for m in C:
-                A.axpy(1.0, m, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+                union.axpy(1.0, m, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+            union.zeroEntries()
+            if self.seen is not None:
+                union.axpy(1.0, self.seen, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+                self.seen.destroy()
+            widen(A, union)
+            self.seen = union
+        for m in C:
+            A.axpy(1.0, m, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
         self.merged = self.version
         return rebuild
+
+    def state(self) -> dict | None:
+        """``seen`` as this rank's rows: sizes, row offsets and global columns (None before the first :meth:`add`)."""
+        if self.seen is None:
+            return None
+        indptr, cols, _ = self.seen.getValuesCSR()
+        return {"sizes": self.seen.getSizes(), "start": self.seen.getOwnershipRange()[0], "indptr": indptr.copy(),
+                "cols": cols.copy()}
+
+    def restore(self, state: dict | None, comm) -> None:
+        """Take ``seen`` from a :meth:`state` where none is known yet (a fresh surface, restarted from a checkpoint;
+        a step cut back within a run keeps its own, which holds the older one). Collective."""
+        if not comm.allreduce(int(self.seen is None and state is not None), op=MPI.MIN):
+            return
+        rows = state["start"] + np.repeat(np.arange(len(state["indptr"]) - 1), np.diff(state["indptr"]))
+        self.seen = aij_matrix(comm, state["sizes"], rows, state["cols"], np.zeros(len(rows)))
+        self.merged = -1  # the next add widens the Jacobian by it

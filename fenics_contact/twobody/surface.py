@@ -219,6 +219,13 @@ class TwoBodySurface(ContactSurface):
     def pattern_changes(self) -> bool:
         return self._pattern.changed()
 
+    def state(self) -> dict:
+        return {**super().state(), "pattern": self._pattern.state()}
+
+    def restore(self, state: dict) -> None:
+        super().restore(state)
+        self._pattern.restore(state.get("pattern"), self.comm)
+
     def add_jacobian(self, A: PETSc.Mat, bcs) -> bool:
         """``A += coupling``; returns True when ``A``'s nonzero pattern was rebuilt (pairing changed)."""
         C = self.coupling_matrices(bcs)  # first: a subclass's matrix may change the pattern (collocation)
@@ -275,11 +282,3 @@ class TwoBodySurface(ContactSurface):
     @property
     def _bc_array(self) -> np.ndarray:
         return self._dirichlet
-
-    @property
-    def _pattern_version(self) -> int:
-        return self._pattern.version
-
-    @_pattern_version.setter
-    def _pattern_version(self, version: int) -> None:
-        self._pattern.version = version
