@@ -17,8 +17,9 @@ def first_residuals(predictor):
 
 def same_history(a, b):
     """Two Newton residual histories of one step are the same to round-off of its first residual: on several ranks
-    MUMPS's factors are not bit-reproducible between runs (its dynamic scheduling orders the sums), so a quadratically
-    falling residual differs after a few iterates in its own trailing digits but not against the step's scale."""
+    the multipliers' field split solves its free block with MUMPS distributed over the ranks, whose solve sums the
+    ranks' parts in the order they arrive (not bit-reproducible from run to run), so a quadratically falling residual
+    differs after a few iterates in its own trailing digits but not against the step's scale."""
     import numpy as np
 
     a, b = np.asarray(a), np.asarray(b)
