@@ -14,7 +14,7 @@ TESTS=${DEB13_TESTS:-tests}  # pytest arguments (a subset while developing)
 MARK=${DEB13_MARK:-}  # a marker expression (make test: the parallel lane's), empty: every test
 
 lane_root
-if ! chroot "$DEB13" python3 -c "import dolfinx, gmsh, pytest, matplotlib, h5py" 2>/dev/null; then
+if ! chroot "$DEB13" python3 -c "import dolfinx, gmsh, pytest, matplotlib, h5py" >/dev/null 2>&1; then
   lane_apt python3-dolfinx python3-gmsh python3-pytest python3-matplotlib python3-h5py openmpi-bin
 fi
 lane_copy "$PROJECT"
