@@ -204,18 +204,19 @@ def _mesh_in_child(build, what: str, key: str) -> Path:
     said = stderr.read_text(errors="replace") if stderr.exists() else ""
     stderr.unlink(missing_ok=True)
     if code != 0:
-        message = failure.read_text() if failure.exists() else ""
-        unexplained = not message.strip()
-        if failure.exists() and unexplained:  # gmsh 4.13's API: an allocation that failed raises Exception('')
-            message = "gmsh raised an error without a message"
-        elif code < 0:  # a crash; under a memory cap most likely an allocation that failed unchecked
-            message = f"the mesher was killed by signal {-code} ({signal.Signals(-code).name})"
-        elif not failure.exists():
-            message = f"the mesher exited with status {code}"
-        if unexplained and (failure.exists() or code < 0):
+        text = failure.read_text().strip() if failure.exists() else None
+        if text:
+            message = text
+        elif text is not None or code < 0:  # likely out of memory where a memory cap is in force
+            # gmsh 4.13's API raises Exception('') where an allocation failed; a crash (a signal) under a cap is most
+            # likely an allocation that failed unchecked
+            message = ("gmsh raised an error without a message" if text is not None else
+                       f"the mesher was killed by signal {-code} ({signal.Signals(-code).name})")
             nbytes, phrase = available_memory()
             if "ulimit" in phrase or "control group" in phrase:
                 message += f", likely out of memory ({phrase})"
+        else:
+            message = f"the mesher exited with status {code}"
         failure.unlink(missing_ok=True)
         partial.unlink(missing_ok=True)
         path.unlink(missing_ok=True)
